@@ -1,0 +1,240 @@
+// Scene: the engine-neutral, plain-data description of a simulation.
+//
+// The loader (pbd/io/scene_loader.h) fills it from the seed's scene JSON; every engine (the
+// PBD library, Bullet, ODE, MuJoCo) is built from the same Scene, and the validation metrics
+// read masses, inertias, anchors and axes from it. Mass properties are computed once, by the
+// loader, so every engine receives the same numbers.
+//
+// Frames and units: SI units; all positions, axes and velocities are in the world frame of
+// the scene file, at t = 0. A rigid body's *scene frame* is the frame its geometry file is
+// given in (after `scale`); its pose is (translation, rotation). Its *principal frame* sits at
+// the centre of mass, aligned with the principal axes of inertia.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pbd/math/types.h"
+#include "pbd/model/mass_properties.h"
+#include "pbd/model/mesh.h"
+
+namespace pbd {
+
+/// `collisionObjectType` of the seed.
+enum class CollisionObjectType : int {
+  None = 0,
+  Sphere = 1,
+  Box = 2,
+  Cylinder = 3,
+  Torus = 4,
+  SignedDistanceField = 5,
+  HollowSphere = 6,
+  HollowBox = 7,
+};
+
+/// The collision keys shared by rigid bodies and tet models.
+struct CollisionObjectDesc {
+  CollisionObjectType type = CollisionObjectType::None;
+  std::string fileName;  ///< resolved path of `collisionObjectFileName`; empty: use the geometry
+  bool testMesh = true;
+  /// Meaning by type: sphere radius = [0]; box full extents; cylinder (radius, height);
+  /// torus (R, r); hollow sphere radius [0]; hollow box extents; SDF scale.
+  Vector3 scale = Vector3::Ones();
+  bool invertSDF = false;
+  Real thicknessSDF = Real(0.1);
+  Vector3i resolutionSDF = Vector3i(10, 10, 10);
+};
+
+struct RigidBodyDesc {
+  int id = 0;
+  std::string jsonPath;  ///< "RigidBodies[3]", for messages
+  bool isDynamic = true;
+  Real density = 1;
+  std::string geometryFile;             ///< resolved path; empty for a primitive without mesh
+  std::shared_ptr<const TriangleMesh> mesh;  ///< scaled, in the scene frame; null without file
+  Vector3 translation = Vector3::Zero();
+  Quaternion rotation = Quaternion::Identity();  ///< from rotationAxis / rotationAngle
+  Vector3 scale = Vector3::Ones();
+  Vector3 velocity = Vector3::Zero();         ///< of the centre of mass, world
+  Vector3 angularVelocity = Vector3::Zero();  ///< world
+  Real restitution = Real(0.6);
+  Real friction = Real(0.2);
+  bool flatShading = false;
+  CollisionObjectDesc collision;
+  /// Computed by the loader (volume integration or closed form), or overridden by the scene's
+  /// `mass` / `inertia` keys. Used for every engine.
+  MassProperties massProperties;
+
+  /// World position of the centre of mass at t = 0.
+  Vector3 initialCenterOfMass() const { return translation + rotation * massProperties.centerOfMass; }
+  /// World orientation of the principal frame at t = 0.
+  Quaternion initialPrincipalRotation() const {
+    return (rotation * massProperties.principalRotation).normalized();
+  }
+};
+
+/// Every joint block of the seed, in the order the loader creates them.
+enum class JointType : int {
+  Ball,
+  BallOnLine,
+  Hinge,
+  Universal,
+  Slider,
+  RigidBodyParticleBall,
+  RigidBodySpring,
+  Distance,
+  Damper,
+  TargetAngleMotorHinge,
+  TargetVelocityMotorHinge,
+  TargetPositionMotorSlider,
+  TargetVelocityMotorSlider,
+};
+inline constexpr int kJointTypeCount = 13;
+
+/// The scene block name of a joint type ("HingeJoints").
+const char* jointBlockName(JointType type);
+/// A short stable name ("hinge", "target_angle_motor_hinge") used in results and docs.
+const char* jointTypeName(JointType type);
+
+/// A motor's set point: a constant `target`, or a `targetSequence` of (time, value) pairs
+/// interpolated linearly, holding the first value before the first sample and the last value
+/// after the last one, optionally repeated with period t_last − t_first.
+struct MotorTarget {
+  Real constant = 0;
+  std::vector<Real> times;   ///< strictly increasing; empty: use `constant`
+  std::vector<Real> values;  ///< same size as `times`
+  bool repeat = false;
+
+  bool hasSequence() const { return !times.empty(); }
+  Real valueAt(Real time) const;
+};
+
+struct JointDesc {
+  JointType type = JointType::Ball;
+  std::string jsonPath;  ///< "HingeJoints[0]"
+  int bodyId1 = -1;      ///< scene ids as written (rbID for the particle joint)
+  int bodyId2 = -1;
+  int body1 = -1;        ///< indices into Scene::rigidBodies, resolved by the loader
+  int body2 = -1;        ///< -1 for the rigid-body–particle joint
+  int particle = -1;     ///< global particle index (RigidBodyParticleBallJoints)
+  Vector3 position = Vector3::Zero();   ///< connector / point on the axis (world, t = 0)
+  Vector3 position1 = Vector3::Zero();  ///< connector on body 1 (distance joint, spring)
+  Vector3 position2 = Vector3::Zero();  ///< connector on body 2
+  Vector3 axis = Vector3::UnitX();      ///< unit; hinge, slider, motors, damper, ball-on-line
+  Vector3 axis1 = Vector3::UnitX();     ///< unit; universal joint, fixed in body 1
+  Vector3 axis2 = Vector3::UnitY();     ///< unit; universal joint, fixed in body 2
+  Real stiffness = 0;                   ///< spring and damper joints, N/m
+  MotorTarget target;                   ///< motors only
+};
+
+/// One particle of a triangle or tet model (the seed gives every particle mass 1, static ones 0).
+struct ParticleDesc {
+  Vector3 position = Vector3::Zero();
+  Vector3 velocity = Vector3::Zero();
+  Real mass = 1;
+};
+
+struct TriangleModelDesc {
+  int id = 0;
+  std::string jsonPath;
+  std::string geometryFile;
+  TriangleMesh mesh;  ///< transformed to world: R · (v ∘ scale) + translation
+  Vector3 translation = Vector3::Zero();
+  Quaternion rotation = Quaternion::Identity();
+  Vector3 scale = Vector3::Ones();
+  std::vector<int> staticParticles;
+  Real restitution = Real(0.1);
+  Real friction = Real(0.2);
+  int firstParticle = 0;  ///< index of its first vertex in Scene::particles
+};
+
+struct TetModelDesc {
+  int id = 0;
+  std::string jsonPath;
+  std::string nodeFile, eleFile, visFile;
+  TetMesh mesh;  ///< transformed to world
+  std::shared_ptr<const TriangleMesh> visMesh;  ///< transformed to world; null without visFile
+  Vector3 translation = Vector3::Zero();
+  Quaternion rotation = Quaternion::Identity();
+  Vector3 scale = Vector3::Ones();
+  std::vector<int> staticParticles;
+  Real restitution = Real(0.1);
+  Real friction = Real(0.2);
+  CollisionObjectDesc collision;
+  int firstParticle = 0;
+};
+
+/// The `Simulation` block: every key the seed documents, with the seed's code defaults.
+struct SimulationSettings {
+  Real timeStepSize = Real(0.005);
+  Vector3 gravitation = Vector3(0, Real(-9.81), 0);
+  int subSteps = 5;
+  int maxIterations = 1;
+  int maxIterationsV = 5;
+  int velocityUpdateMethod = 0;  ///< 0 first order (the seed's code default), 1 second order
+  Real contactTolerance = Real(0.01);
+  Real contactStiffnessRigidBody = 1;
+  Real contactStiffnessParticleRigidBody = 100;
+
+  int clothSimulationMethod = 2;
+  int clothBendingMethod = 2;
+  Real cloth_stiffness = 1;
+  Real cloth_bendingStiffness = Real(0.01);
+  Real cloth_xxStiffness = 1;
+  Real cloth_yyStiffness = 1;
+  Real cloth_xyStiffness = 1;
+  Real cloth_xyPoissonRatio = Real(0.3);
+  Real cloth_yxPoissonRatio = Real(0.3);
+  bool cloth_normalizeStretch = false;
+  bool cloth_normalizeShear = false;
+
+  int solidSimulationMethod = 2;
+  Real solid_stiffness = 1;
+  Real solid_poissonRatio = Real(0.3);
+  Real solid_volumeStiffness = 1;
+  bool solid_normalizeStretch = false;
+  bool solid_normalizeShear = false;
+
+  Real rod_stretchingStiffness = 1;
+  Real rod_shearingStiffnessX = 1;
+  Real rod_shearingStiffnessY = 1;
+  Real rod_bendingStiffnessX = Real(0.5);
+  Real rod_bendingStiffnessY = Real(0.5);
+  Real rod_twistingStiffness = Real(0.5);
+};
+
+/// Keys of the seed's viewer (DemoBase). Parsed and kept; a headless run ignores them, except
+/// that `pauseAt` > 0 serves as the default duration of `pbdval simulate`.
+struct ViewerSettings {
+  bool pause = true;
+  Real pauseAt = -1;
+  int numberOfStepsPerRenderUpdate = 8;
+  bool renderTets = false, renderTets0 = false, renderContacts = false, renderAABB = false,
+       renderSDF = false;
+  int renderBVHDepth = -1, renderBVHDepthTets = -1;
+  bool exportOBJ = false, exportPLY = false;
+  Real exportFPS = 25;
+  Vector3 cameraPosition = Vector3(5, 10, 30);
+  Vector3 cameraLookat = Vector3(5, 0, 0);
+};
+
+struct Scene {
+  std::string sourceFile;  ///< path of the JSON file it was loaded from
+  std::string name;
+  SimulationSettings simulation;
+  ViewerSettings viewer;
+  std::vector<RigidBodyDesc> rigidBodies;
+  std::vector<JointDesc> joints;  ///< in creation order (block order of JointType, then file order)
+  std::vector<TriangleModelDesc> triangleModels;
+  std::vector<TetModelDesc> tetModels;
+  std::vector<ParticleDesc> particles;  ///< all model vertices: triangle models first, then tets
+  /// The top-level `Validation` block as JSON text (empty when absent). The library does not
+  /// read it; validation/ parses it (docs/scene-format.md).
+  std::string validationJson;
+
+  /// Index of the rigid body with scene id `id`, or -1.
+  int bodyIndexById(int id) const;
+};
+
+}  // namespace pbd

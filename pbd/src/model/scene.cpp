@@ -1,0 +1,67 @@
+#include "pbd/model/scene.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pbd {
+
+const char* jointBlockName(JointType type) {
+  switch (type) {
+    case JointType::Ball: return "BallJoints";
+    case JointType::BallOnLine: return "BallOnLineJoints";
+    case JointType::Hinge: return "HingeJoints";
+    case JointType::Universal: return "UniversalJoints";
+    case JointType::Slider: return "SliderJoints";
+    case JointType::RigidBodyParticleBall: return "RigidBodyParticleBallJoints";
+    case JointType::RigidBodySpring: return "RigidBodySprings";
+    case JointType::Distance: return "DistanceJoints";
+    case JointType::Damper: return "DamperJoints";
+    case JointType::TargetAngleMotorHinge: return "TargetAngleMotorHingeJoints";
+    case JointType::TargetVelocityMotorHinge: return "TargetVelocityMotorHingeJoints";
+    case JointType::TargetPositionMotorSlider: return "TargetPositionMotorSliderJoints";
+    case JointType::TargetVelocityMotorSlider: return "TargetVelocityMotorSliderJoints";
+  }
+  return "?";
+}
+
+const char* jointTypeName(JointType type) {
+  switch (type) {
+    case JointType::Ball: return "ball";
+    case JointType::BallOnLine: return "ball_on_line";
+    case JointType::Hinge: return "hinge";
+    case JointType::Universal: return "universal";
+    case JointType::Slider: return "slider";
+    case JointType::RigidBodyParticleBall: return "rigid_body_particle_ball";
+    case JointType::RigidBodySpring: return "rigid_body_spring";
+    case JointType::Distance: return "distance";
+    case JointType::Damper: return "damper";
+    case JointType::TargetAngleMotorHinge: return "target_angle_motor_hinge";
+    case JointType::TargetVelocityMotorHinge: return "target_velocity_motor_hinge";
+    case JointType::TargetPositionMotorSlider: return "target_position_motor_slider";
+    case JointType::TargetVelocityMotorSlider: return "target_velocity_motor_slider";
+  }
+  return "?";
+}
+
+Real MotorTarget::valueAt(Real time) const {
+  if (times.empty()) return constant;
+  Real t = time;
+  const Real first = times.front();
+  const Real period = times.back() - first;
+  if (repeat && period > 0 && t > first) t = first + std::fmod(t - first, period);
+  if (t <= first) return values.front();
+  if (t >= times.back()) return values.back();
+  // times is strictly increasing (checked by the loader): find the bracketing samples.
+  const auto upper = std::upper_bound(times.begin(), times.end(), t);
+  const auto i = static_cast<std::size_t>(upper - times.begin());
+  const Real s = (t - times[i - 1]) / (times[i] - times[i - 1]);
+  return values[i - 1] + s * (values[i] - values[i - 1]);
+}
+
+int Scene::bodyIndexById(int id) const {
+  for (std::size_t i = 0; i < rigidBodies.size(); ++i)
+    if (rigidBodies[i].id == id) return static_cast<int>(i);
+  return -1;
+}
+
+}  // namespace pbd
