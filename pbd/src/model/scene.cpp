@@ -7,38 +7,64 @@ namespace pbd {
 
 const char* jointBlockName(JointType type) {
   switch (type) {
-    case JointType::Ball: return "BallJoints";
-    case JointType::BallOnLine: return "BallOnLineJoints";
-    case JointType::Hinge: return "HingeJoints";
-    case JointType::Universal: return "UniversalJoints";
-    case JointType::Slider: return "SliderJoints";
-    case JointType::RigidBodyParticleBall: return "RigidBodyParticleBallJoints";
-    case JointType::RigidBodySpring: return "RigidBodySprings";
-    case JointType::Distance: return "DistanceJoints";
-    case JointType::Damper: return "DamperJoints";
-    case JointType::TargetAngleMotorHinge: return "TargetAngleMotorHingeJoints";
-    case JointType::TargetVelocityMotorHinge: return "TargetVelocityMotorHingeJoints";
-    case JointType::TargetPositionMotorSlider: return "TargetPositionMotorSliderJoints";
-    case JointType::TargetVelocityMotorSlider: return "TargetVelocityMotorSliderJoints";
+    case JointType::Ball:
+      return "BallJoints";
+    case JointType::BallOnLine:
+      return "BallOnLineJoints";
+    case JointType::Hinge:
+      return "HingeJoints";
+    case JointType::Universal:
+      return "UniversalJoints";
+    case JointType::Slider:
+      return "SliderJoints";
+    case JointType::RigidBodyParticleBall:
+      return "RigidBodyParticleBallJoints";
+    case JointType::RigidBodySpring:
+      return "RigidBodySprings";
+    case JointType::Distance:
+      return "DistanceJoints";
+    case JointType::Damper:
+      return "DamperJoints";
+    case JointType::TargetAngleMotorHinge:
+      return "TargetAngleMotorHingeJoints";
+    case JointType::TargetVelocityMotorHinge:
+      return "TargetVelocityMotorHingeJoints";
+    case JointType::TargetPositionMotorSlider:
+      return "TargetPositionMotorSliderJoints";
+    case JointType::TargetVelocityMotorSlider:
+      return "TargetVelocityMotorSliderJoints";
   }
   return "?";
 }
 
 const char* jointTypeName(JointType type) {
   switch (type) {
-    case JointType::Ball: return "ball";
-    case JointType::BallOnLine: return "ball_on_line";
-    case JointType::Hinge: return "hinge";
-    case JointType::Universal: return "universal";
-    case JointType::Slider: return "slider";
-    case JointType::RigidBodyParticleBall: return "rigid_body_particle_ball";
-    case JointType::RigidBodySpring: return "rigid_body_spring";
-    case JointType::Distance: return "distance";
-    case JointType::Damper: return "damper";
-    case JointType::TargetAngleMotorHinge: return "target_angle_motor_hinge";
-    case JointType::TargetVelocityMotorHinge: return "target_velocity_motor_hinge";
-    case JointType::TargetPositionMotorSlider: return "target_position_motor_slider";
-    case JointType::TargetVelocityMotorSlider: return "target_velocity_motor_slider";
+    case JointType::Ball:
+      return "ball";
+    case JointType::BallOnLine:
+      return "ball_on_line";
+    case JointType::Hinge:
+      return "hinge";
+    case JointType::Universal:
+      return "universal";
+    case JointType::Slider:
+      return "slider";
+    case JointType::RigidBodyParticleBall:
+      return "rigid_body_particle_ball";
+    case JointType::RigidBodySpring:
+      return "rigid_body_spring";
+    case JointType::Distance:
+      return "distance";
+    case JointType::Damper:
+      return "damper";
+    case JointType::TargetAngleMotorHinge:
+      return "target_angle_motor_hinge";
+    case JointType::TargetVelocityMotorHinge:
+      return "target_velocity_motor_hinge";
+    case JointType::TargetPositionMotorSlider:
+      return "target_position_motor_slider";
+    case JointType::TargetVelocityMotorSlider:
+      return "target_velocity_motor_slider";
   }
   return "?";
 }

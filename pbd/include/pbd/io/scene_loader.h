@@ -2,7 +2,8 @@
 // into a Scene, with strict, located error messages.
 //
 // Errors (SceneError) name the file, the JSON path and what was expected:
-//   scene.json: RigidBodies[3].collisionObjectScale: expected an array of 3 finite numbers, got "abc"
+//   scene.json: RigidBodies[3].collisionObjectScale: expected an array of 3 finite numbers, got
+//   "abc"
 // Warnings name unknown keys with their JSON path (the seed silently drops them); with
 // LoadOptions::strict every warning becomes an error.
 #pragma once

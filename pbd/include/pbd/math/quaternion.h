@@ -21,7 +21,9 @@ inline Matrix3 crossMatrix(const Vector3& v) {
 }
 
 /// The pure quaternion [0, v].
-inline Quaternion pureQuaternion(const Vector3& v) { return Quaternion(Real(0), v.x(), v.y(), v.z()); }
+inline Quaternion pureQuaternion(const Vector3& v) {
+  return Quaternion(Real(0), v.x(), v.y(), v.z());
+}
 
 /// q ← normalize(q + ½ [0, dθ] ⊗ q): the first-order rotation update used by the seed for
 /// both integration and position corrections.

@@ -31,8 +31,8 @@ struct SolidMoments {
 struct MassProperties {
   Real mass = 0;
   Vector3 principalInertia = Vector3::Zero();
-  Vector3 centerOfMass = Vector3::Zero();                     ///< in the scene frame
-  Quaternion principalRotation = Quaternion::Identity();      ///< principal → scene frame
+  Vector3 centerOfMass = Vector3::Zero();                 ///< in the scene frame
+  Quaternion principalRotation = Quaternion::Identity();  ///< principal → scene frame
 };
 
 /// Moments of the solid enclosed by a closed triangle mesh with uniform density.

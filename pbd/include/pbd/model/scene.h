@@ -51,7 +51,7 @@ struct RigidBodyDesc {
   std::string jsonPath;  ///< "RigidBodies[3]", for messages
   bool isDynamic = true;
   Real density = 1;
-  std::string geometryFile;             ///< resolved path; empty for a primitive without mesh
+  std::string geometryFile;                  ///< resolved path; empty for a primitive without mesh
   std::shared_ptr<const TriangleMesh> mesh;  ///< scaled, in the scene frame; null without file
   Vector3 translation = Vector3::Zero();
   Quaternion rotation = Quaternion::Identity();  ///< from rotationAxis / rotationAngle
@@ -67,7 +67,9 @@ struct RigidBodyDesc {
   MassProperties massProperties;
 
   /// World position of the centre of mass at t = 0.
-  Vector3 initialCenterOfMass() const { return translation + rotation * massProperties.centerOfMass; }
+  Vector3 initialCenterOfMass() const {
+    return translation + rotation * massProperties.centerOfMass;
+  }
   /// World orientation of the principal frame at t = 0.
   Quaternion initialPrincipalRotation() const {
     return (rotation * massProperties.principalRotation).normalized();
@@ -115,9 +117,9 @@ struct JointDesc {
   std::string jsonPath;  ///< "HingeJoints[0]"
   int bodyId1 = -1;      ///< scene ids as written (rbID for the particle joint)
   int bodyId2 = -1;
-  int body1 = -1;        ///< indices into Scene::rigidBodies, resolved by the loader
-  int body2 = -1;        ///< -1 for the rigid-body–particle joint
-  int particle = -1;     ///< global particle index (RigidBodyParticleBallJoints)
+  int body1 = -1;                       ///< indices into Scene::rigidBodies, resolved by the loader
+  int body2 = -1;                       ///< -1 for the rigid-body–particle joint
+  int particle = -1;                    ///< global particle index (RigidBodyParticleBallJoints)
   Vector3 position = Vector3::Zero();   ///< connector / point on the axis (world, t = 0)
   Vector3 position1 = Vector3::Zero();  ///< connector on body 1 (distance joint, spring)
   Vector3 position2 = Vector3::Zero();  ///< connector on body 2
@@ -153,7 +155,7 @@ struct TetModelDesc {
   int id = 0;
   std::string jsonPath;
   std::string nodeFile, eleFile, visFile;
-  TetMesh mesh;  ///< transformed to world
+  TetMesh mesh;                                 ///< transformed to world
   std::shared_ptr<const TriangleMesh> visMesh;  ///< transformed to world; null without visFile
   Vector3 translation = Vector3::Zero();
   Quaternion rotation = Quaternion::Identity();

@@ -1,0 +1,28 @@
+// Ball joint: two bodies share a point and rotate freely about it.
+//
+//   C = c₁ − c₀ ∈ ℝ³ (anchors at the scene's `position`)
+//   ∇C: A₀ = −𝟙, B₀ = [r₀]×, A₁ = 𝟙, B₁ = −[r₁]×
+// Solved as one 3×3 Newton step (K₀ + K₁) Δλ = −C, K_k = w_k 𝟙 − [r_k]× J_k [r_k]×.
+// Reference: Deul, Charrier, Bender 2014, "Position-based rigid-body dynamics", §4.2.
+#pragma once
+
+#include "pbd/joints/joint_common.h"
+
+namespace pbd {
+
+class BallJoint : public JointDefaults {
+ public:
+  static constexpr JointType kType = JointType::Ball;
+  static constexpr int kRows = 3;
+
+  BallJoint(const BodyStates& bodies, const JointDesc& desc);
+  void solvePosition(BodyStates& bodies, Real substepSize);
+  ConstraintRows<kRows> positionRows(const BodyStates& bodies) const;
+  JointError error(const BodyStates& bodies) const;
+  JointEnds ends() const { return frames_.ends(); }
+
+ private:
+  PointAxisFrames frames_;
+};
+
+}  // namespace pbd

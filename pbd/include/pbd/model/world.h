@@ -1,0 +1,49 @@
+// World: the complete state of one PBD simulation — bodies and particles (structure of
+// arrays), joints in solve order, settings and time. No globals: several worlds can live and
+// step side by side. Built once from a Scene; stepping allocates nothing.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "pbd/joints/joint.h"
+#include "pbd/model/body_states.h"
+#include "pbd/model/scene.h"
+
+namespace pbd {
+
+/// A rigid body's state in its scene frame (the frame of its geometry file).
+struct SceneFrameState {
+  Vector3 centerOfMass = Vector3::Zero();        ///< world
+  Quaternion rotation = Quaternion::Identity();  ///< scene frame → world
+  Vector3 velocity = Vector3::Zero();            ///< of the centre of mass, world
+  Vector3 angularVelocity = Vector3::Zero();     ///< world
+};
+
+struct World {
+  SimulationSettings settings;
+  BodyStates bodies;
+  std::vector<Joint> joints;         ///< in solve order (greedy colouring of the scene order)
+  std::vector<int> jointSceneIndex;  ///< joints[k] is Scene::joints[jointSceneIndex[k]]
+  Real time = 0;
+  std::int64_t stepCount = 0;
+
+  /// Advances by one settings.timeStepSize (step/step_controller.h).
+  void step();
+
+  SceneFrameState sceneFrameState(std::size_t body) const;
+  /// FNV-1a hash of the raw bits of every position, rotation and velocity: equal hashes for
+  /// bitwise-equal states (the determinism check).
+  std::uint64_t stateHash() const;
+};
+
+/// Builds the world from a scene: bodies in their principal frames, particles, joints
+/// initialised at the scene's initial poses and ordered for the solver.
+World buildWorld(const Scene& scene);
+
+/// The seed's solve order: greedy colouring in creation order (a joint joins the first group
+/// in which none of its bodies or particles is used yet), groups in order. Returns indices
+/// into `ends`.
+std::vector<int> colouredJointOrder(const std::vector<JointEnds>& ends, std::size_t bodyCount);
+
+}  // namespace pbd

@@ -1,0 +1,59 @@
+// Time integration of the seed (PositionBasedDynamics TimeIntegration), per body.
+// All functions leave static bodies and particles (inverse mass 0) untouched.
+//
+//   semi-implicit Euler:   v ← v + h a,  x ← x + h v
+//   rotation:              ω ← ω + h I_w⁻¹ (τ − ω × (I_w ω)),  q ← normalize(q + ½ h [0, ω] ⊗ q)
+//                          (explicit gyroscopic term, world inertia at the current rotation)
+//   velocity update, first order (velocityUpdateMethod 0):
+//                          v = (x − x_old)/h,   ω = 2 vec(q ⊗ q_old⁻¹)/h
+//   second order (velocityUpdateMethod 1, BDF2; the angular part stays first order, as in
+//   the seed):             v = (1.5 x − 2 x_old + 0.5 x_last)/h
+// The angular update takes the shorter of q ⊗ q_old⁻¹ and its negative (the seed does not;
+// the two differ only for rotations above π per substep).
+#pragma once
+
+#include "pbd/math/quaternion.h"
+
+namespace pbd::integration {
+
+inline void semiImplicitEuler(Real h, Real inverseMass, Vector3& position, Vector3& velocity,
+                              const Vector3& acceleration) {
+  if (inverseMass == 0) return;
+  velocity += h * acceleration;
+  position += h * velocity;
+}
+
+inline void semiImplicitEulerRotation(Real h, Real inverseMass, const Vector3& inertia,
+                                      const Vector3& inverseInertia, Quaternion& rotation,
+                                      Vector3& angularVelocity, const Vector3& torque) {
+  if (inverseMass == 0) return;
+  const Matrix3 r = rotation.toRotationMatrix();
+  const Matrix3 inertiaWorld = r * inertia.asDiagonal() * r.transpose();
+  const Matrix3 inverseInertiaWorld = r * inverseInertia.asDiagonal() * r.transpose();
+  angularVelocity +=
+      h * inverseInertiaWorld * (torque - angularVelocity.cross(inertiaWorld * angularVelocity));
+  addAngularDisplacement(rotation, h * angularVelocity);
+}
+
+inline void velocityUpdateFirstOrder(Real h, Real inverseMass, const Vector3& position,
+                                     const Vector3& oldPosition, Vector3& velocity) {
+  if (inverseMass == 0) return;
+  velocity = (position - oldPosition) / h;
+}
+
+inline void velocityUpdateSecondOrder(Real h, Real inverseMass, const Vector3& position,
+                                      const Vector3& oldPosition, const Vector3& lastPosition,
+                                      Vector3& velocity) {
+  if (inverseMass == 0) return;
+  velocity = (Real(1.5) * position - Real(2) * oldPosition + Real(0.5) * lastPosition) / h;
+}
+
+inline void angularVelocityUpdateFirstOrder(Real h, Real inverseMass, const Quaternion& rotation,
+                                            const Quaternion& oldRotation,
+                                            Vector3& angularVelocity) {
+  if (inverseMass == 0) return;
+  const Quaternion relative = withPositiveScalar(rotation * oldRotation.conjugate());
+  angularVelocity = relative.vec() * (Real(2) / h);
+}
+
+}  // namespace pbd::integration

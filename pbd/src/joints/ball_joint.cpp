@@ -1,0 +1,23 @@
+#include "pbd/joints/ball_joint.h"
+
+namespace pbd {
+
+BallJoint::BallJoint(const BodyStates& bodies, const JointDesc& desc)
+    : frames_(PointAxisFrames::init(bodies.rigid, desc.body1, desc.body2, desc.position,
+                                    Vector3::UnitX())) {}
+
+ConstraintRows<BallJoint::kRows> BallJoint::positionRows(const BodyStates& bodies) const {
+  ConstraintRows<kRows> rows;
+  frames_.setPointRows(rows, 0, bodies.rigid);
+  return rows;
+}
+
+void BallJoint::solvePosition(BodyStates& bodies, Real /*substepSize*/) {
+  joint_parts::projectPositions(bodies.rigid, frames_.body0, frames_.body1, positionRows(bodies));
+}
+
+JointError BallJoint::error(const BodyStates& bodies) const {
+  return {positionRows(bodies).value.norm(), 0};
+}
+
+}  // namespace pbd

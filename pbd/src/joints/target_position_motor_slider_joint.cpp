@@ -1,0 +1,29 @@
+#include "pbd/joints/target_position_motor_slider_joint.h"
+
+namespace pbd {
+
+TargetPositionMotorSliderJoint::TargetPositionMotorSliderJoint(const BodyStates& bodies,
+                                                               const JointDesc& desc)
+    : frames_(PointAxisFrames::initAtSecondBody(bodies.rigid, desc.body1, desc.body2, desc.axis)),
+      target_(desc.target) {
+  updateTarget(0);
+}
+
+ConstraintRows<TargetPositionMotorSliderJoint::kRows> TargetPositionMotorSliderJoint::positionRows(
+    const BodyStates& bodies) const {
+  ConstraintRows<kRows> rows;
+  frames_.setAxisRows(rows, 0, bodies.rigid, 0, 3, offset_);
+  frames_.setRotationRows(rows, 3, bodies.rigid, 0, 3);
+  return rows;
+}
+
+void TargetPositionMotorSliderJoint::solvePosition(BodyStates& bodies, Real /*substepSize*/) {
+  joint_parts::projectPositions(bodies.rigid, frames_.body0, frames_.body1, positionRows(bodies));
+}
+
+JointError TargetPositionMotorSliderJoint::error(const BodyStates& bodies) const {
+  const auto rows = positionRows(bodies);
+  return {rowNorm(rows, 0, 3), joint_parts::angleFromHalfSine(rowNorm(rows, 3, 3))};
+}
+
+}  // namespace pbd

@@ -1,0 +1,52 @@
+// Scenes built in code for unit tests (no files): primitive bodies with closed-form mass
+// properties, and joints in world coordinates, as the loader would produce them.
+#pragma once
+
+#include "pbd/model/scene.h"
+
+namespace pbd::test {
+
+inline RigidBodyDesc boxBody(int id, const Vector3& extents, const Vector3& position,
+                             Real density = 1, bool dynamic = true,
+                             const Quaternion& rotation = Quaternion::Identity()) {
+  RigidBodyDesc b;
+  b.id = id;
+  b.jsonPath = "RigidBodies[" + std::to_string(id) + "]";
+  b.isDynamic = dynamic;
+  b.density = density;
+  b.translation = position;
+  b.rotation = rotation;
+  b.collision.type = CollisionObjectType::Box;
+  b.collision.scale = extents;
+  b.massProperties = toPrincipal(boxMoments(extents, density));
+  return b;
+}
+
+inline JointDesc makeJointDesc(JointType type, int body1, int body2) {
+  JointDesc j;
+  j.type = type;
+  j.jsonPath = std::string(jointBlockName(type)) + "[0]";
+  j.bodyId1 = j.body1 = body1;
+  j.bodyId2 = j.body2 = body2;
+  return j;
+}
+
+/// A static anchor box (index 0) and a dynamic box (index 1) hanging `length` below the
+/// joint point `pivot`, displaced sideways by `swing` (so the body moves under gravity).
+inline Scene pendulumScene(JointType type, Real substepSize = Real(1e-3)) {
+  Scene s;
+  s.simulation.timeStepSize = 5 * substepSize;
+  s.simulation.subSteps = 5;
+  s.simulation.maxIterations = 1;
+  s.rigidBodies.push_back(boxBody(0, Vector3(0.2, 0.2, 0.2), Vector3(0, 2, 0), 1, false));
+  s.rigidBodies.push_back(boxBody(1, Vector3(0.1, 0.4, 0.1), Vector3(0.6, 1.2, 0), 100));
+  JointDesc j = makeJointDesc(type, 0, 1);
+  j.position = Vector3(0, 2, 0);
+  j.axis = Vector3(0, 0, 1);
+  j.axis1 = Vector3(0, 0, 1);
+  j.axis2 = Vector3(1, 0, 0);
+  s.joints.push_back(j);
+  return s;
+}
+
+}  // namespace pbd::test

@@ -1,0 +1,141 @@
+// World-level properties: determinism, solve order, and no heap allocation inside a step.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include "pbd/model/world.h"
+#include "scene_fixtures.h"
+
+// Counting allocator for this test binary: every operator new bumps the counter. Only the
+// no-allocation test reads it.
+namespace {
+std::atomic<long> gAllocations{0};
+}
+void* operator new(std::size_t size) {
+  gAllocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+
+namespace pbd {
+namespace {
+
+// A chain of 10 boxes on alternating joint types, plus a motorised end, so that every kind
+// of solve runs.
+Scene chainScene() {
+  Scene s;
+  s.simulation.timeStepSize = Real(0.005);
+  s.rigidBodies.push_back(test::boxBody(0, Vector3(0.2, 0.2, 0.2), Vector3(0, 5, 0), 1, false));
+  const JointType types[] = {JointType::Ball,
+                             JointType::Hinge,
+                             JointType::Universal,
+                             JointType::BallOnLine,
+                             JointType::Distance,
+                             JointType::TargetVelocityMotorHinge,
+                             JointType::RigidBodySpring,
+                             JointType::TargetAngleMotorHinge,
+                             JointType::Ball};
+  for (int i = 1; i <= 9; ++i) {
+    const Vector3 pos(0.5 * i, 5, 0.01 * i);
+    s.rigidBodies.push_back(test::boxBody(i, Vector3(0.4, 0.1, 0.1), pos, 50));
+    JointDesc j = test::makeJointDesc(types[i - 1], i - 1, i);
+    j.position = pos - Vector3(0.25, 0, 0);
+    j.axis = Vector3(0, 0, 1);
+    j.axis1 = Vector3(0, 0, 1);
+    j.axis2 = Vector3(0, 1, 0);
+    j.position1 = pos - Vector3(0.3, 0, 0);
+    j.position2 = pos - Vector3(0.2, 0, 0);
+    j.stiffness = 5000;
+    j.target.times = {0, 1, 2};
+    j.target.values = {0, 0.5, -0.5};
+    j.target.repeat = true;
+    s.joints.push_back(j);
+  }
+  return s;
+}
+
+TEST(World, SameSceneGivesBitwiseIdenticalStates) {
+  const Scene scene = chainScene();
+  World a = buildWorld(scene);
+  World b = buildWorld(scene);
+  for (int n = 0; n < 400; ++n) {
+    a.step();
+    b.step();
+  }
+  EXPECT_EQ(a.stateHash(), b.stateHash());
+  // The hash sees a one-ulp change.
+  b.bodies.rigid.position[3].x() = std::nextafter(b.bodies.rigid.position[3].x(), Real(1e9));
+  EXPECT_NE(a.stateHash(), b.stateHash());
+}
+
+TEST(World, StepAllocatesNothing) {
+  World world = buildWorld(chainScene());
+  world.step();  // warm-up (nothing is lazily allocated, but do not count construction)
+  const long before = gAllocations.load();
+  for (int n = 0; n < 200; ++n)
+    world.step();
+  EXPECT_EQ(gAllocations.load() - before, 0);
+  // The counter works: a vector allocation is seen.
+  std::vector<int> probe(10);
+  EXPECT_GT(gAllocations.load() - before, 0);
+}
+
+// Greedy colouring in creation order: a joint joins the first group in which none of its
+// bodies is used. A chain 0-1, 1-2, 2-3, 3-4 splits into {0-1, 2-3} {1-2, 3-4}.
+TEST(World, JointOrderIsTheSeedsGreedyColouring) {
+  const std::vector<JointEnds> chain = {{0, 1, -1}, {1, 2, -1}, {2, 3, -1}, {3, 4, -1}};
+  EXPECT_EQ(colouredJointOrder(chain, 5), (std::vector<int>{0, 2, 1, 3}));
+  // Particles use their own slots: body 0 with particle 0 does not clash with body 1.
+  const std::vector<JointEnds> mixed = {{0, -1, 0}, {1, 2, -1}, {0, -1, 1}, {2, -1, 0}};
+  EXPECT_EQ(colouredJointOrder(mixed, 3), (std::vector<int>{0, 1, 2, 3}));
+  const std::vector<JointEnds> clash = {{0, -1, 0}, {1, -1, 0}};
+  EXPECT_EQ(colouredJointOrder(clash, 2), (std::vector<int>{0, 1}));
+}
+
+// The seed's ChainDemo: 10 boxes on ball joints, released horizontally. Gauss–Seidel with one
+// iteration per substep solves each joint exactly but its neighbours' corrections move it
+// again, so a chain keeps first-order residuals: at most one per-substep drift δ from each of
+// the other joints, error ≤ N δ with δ = h_s² (|a| + (|ω|² + |α|) ℓ) the largest drift of any
+// link (measured from the links' motion, ℓ = half a link). We assert that.
+TEST(World, BallChainResidualIsBoundedByNeighbourDrift) {
+  Scene s;
+  s.simulation.timeStepSize = Real(0.005);
+  s.rigidBodies.push_back(test::boxBody(0, Vector3(0.2, 0.2, 0.2), Vector3(0, 5, 0), 1, false));
+  for (int i = 1; i <= 10; ++i) {
+    s.rigidBodies.push_back(
+        test::boxBody(i, Vector3(0.5, 0.1, 0.1), Vector3(0.5 * i - 0.25, 5, 0), 50));
+    JointDesc j = test::makeJointDesc(JointType::Ball, i - 1, i);
+    j.position = Vector3(0.5 * (i - 1), 5, 0);
+    s.joints.push_back(j);
+  }
+  World world = buildWorld(s);
+  const Real h = s.simulation.timeStepSize, hs = h / s.simulation.subSteps, lever = 0.25;
+  const auto& b = world.bodies.rigid;
+  Real maxDelta = 0, worst = 0;
+  for (int n = 0; n < 600; ++n) {
+    const auto v = b.velocity;
+    const auto omega = b.angularVelocity;
+    world.step();
+    for (std::size_t i = 1; i < b.size(); ++i) {
+      const Real a = (b.velocity[i] - v[i]).norm() / h;
+      const Real alpha = (b.angularVelocity[i] - omega[i]).norm() / h;
+      maxDelta = std::max(maxDelta, hs * hs * (a + (omega[i].squaredNorm() + alpha) * lever));
+    }
+    for (const Joint& joint : world.joints)
+      worst = std::max(worst, jointError(joint, world.bodies).linear);
+  }
+  EXPECT_LE(worst, 10 * maxDelta);
+  std::printf("  10-link ball chain: max joint error %.3e m (bound %.3e m)\n", double(worst),
+              double(10 * maxDelta));
+}
+
+}  // namespace
+}  // namespace pbd
