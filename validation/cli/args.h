@@ -1,0 +1,61 @@
+// A small command-line parser for the pbdval subcommands: `--name value`, `--name=value`,
+// flags, repeatable options, positionals, and generated --help text.
+#pragma once
+
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace pbdval::cli {
+
+/// Bad usage: the message is printed with a pointer to --help; exit code 2.
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct ParsedArgs {
+  std::map<std::string, std::vector<std::string>> options;
+  std::set<std::string> flags;
+  std::vector<std::string> positionals;
+  bool helpRequested = false;
+
+  bool has(const std::string& name) const { return options.count(name) || flags.count(name); }
+  std::string value(const std::string& name, const std::string& fallback = "") const;
+  const std::vector<std::string>& values(const std::string& name) const;
+  /// A number option; throws UsageError naming the option when it is not a finite number.
+  double number(const std::string& name, double fallback) const;
+  long integer(const std::string& name, long fallback) const;
+};
+
+class ArgParser {
+ public:
+  ArgParser(std::string command, std::string synopsis, std::string description);
+  ArgParser& option(const std::string& name, const std::string& valueName, const std::string& help,
+                    bool repeatable = false);
+  ArgParser& flag(const std::string& name, const std::string& help);
+  ArgParser& positionals(const std::string& name, const std::string& help, int minimum,
+                         int maximum /* -1: unlimited */);
+  /// Appended to --help (examples, notes).
+  ArgParser& epilog(const std::string& text);
+
+  ParsedArgs parse(const std::vector<std::string>& args) const;
+  std::string help() const;
+
+ private:
+  struct Option {
+    std::string name, valueName, help;
+    bool repeatable = false;
+    bool isFlag = false;
+  };
+  const Option* find(const std::string& name) const;
+
+  std::string command_, synopsis_, description_, epilog_;
+  std::vector<Option> options_;
+  std::string positionalName_, positionalHelp_;
+  int minimumPositionals_ = 0, maximumPositionals_ = 0;
+};
+
+}  // namespace pbdval::cli

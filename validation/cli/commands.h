@@ -1,0 +1,23 @@
+// The pbdval subcommands. Each takes its arguments (after the command name) and returns the
+// process exit code: 0 success, 1 a run or check failed, 2 bad usage or unreadable input.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace pbdval::cli {
+
+using Arguments = std::vector<std::string>;
+
+int simulateCommand(const Arguments& args);
+
+struct Command {
+  const char* name;
+  const char* summary;
+  int (*run)(const Arguments& args);
+};
+
+/// All commands, in the order `pbdval --help` lists them.
+const std::vector<Command>& commands();
+
+}  // namespace pbdval::cli

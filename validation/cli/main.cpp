@@ -1,0 +1,52 @@
+// pbdval: the command-line front end (docs/cli.md).
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <iostream>
+
+#include "validation/cli/commands.h"
+
+namespace pbdval::cli {
+
+const std::vector<Command>& commands() {
+  static const std::vector<Command> all = {
+      {"simulate", "run one scene headless in one engine and write its trajectory as CSV",
+       &simulateCommand},
+  };
+  return all;
+}
+
+}  // namespace pbdval::cli
+
+namespace {
+
+void printOverview() {
+  std::printf(
+      "usage: pbdval COMMAND [ARGS...]\n\n"
+      "pbdval runs rigid-body, joint and contact scenes in a position-based dynamics library and\n"
+      "in reference engines, and measures them the same way.\n\ncommands:\n");
+  for (const auto& c : pbdval::cli::commands()) std::printf("  %-10s %s\n", c.name, c.summary);
+  std::printf("\n'pbdval COMMAND --help' describes a command. Documentation: docs/cli.md\n");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") ||
+      !std::strcmp(argv[1], "help")) {
+    printOverview();
+    return argc < 2 ? 2 : 0;
+  }
+  const std::string name = argv[1];
+  for (const auto& command : pbdval::cli::commands()) {
+    if (name != command.name) continue;
+    try {
+      return command.run(pbdval::cli::Arguments(argv + 2, argv + argc));
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "pbdval %s: error: %s\n", command.name, e.what());
+      return 2;
+    }
+  }
+  std::fprintf(stderr, "pbdval: unknown command '%s' (see 'pbdval --help')\n", name.c_str());
+  return 2;
+}

@@ -1,0 +1,141 @@
+#include "validation/simulation.h"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace pbdval {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+const char* runStatusName(RunStatus status) {
+  switch (status) {
+    case RunStatus::Ok: return "ok";
+    case RunStatus::Diverged: return "diverged";
+    case RunStatus::Timeout: return "timeout";
+    case RunStatus::Unsupported: return "unsupported";
+    case RunStatus::Error: return "error";
+  }
+  return "error";
+}
+
+StepPlan planSteps(const RunLength& length, double stepSize) {
+  if (!(length.duration > 0) || !std::isfinite(length.duration))
+    throw std::invalid_argument("duration must be a positive number of seconds");
+  if (!(length.sampleInterval >= 0) || !std::isfinite(length.sampleInterval))
+    throw std::invalid_argument("sample interval must be a non-negative number of seconds");
+  StepPlan plan;
+  plan.steps = std::max(1L, std::lround(length.duration / stepSize));
+  if (std::abs(plan.steps * stepSize - length.duration) > 1e-9 * length.duration) {
+    std::ostringstream note;
+    note << "duration " << length.duration << " s is not a multiple of the step " << stepSize
+         << " s: running " << plan.steps << " steps (" << plan.steps * stepSize << " s)";
+    plan.notes.push_back(note.str());
+  }
+  if (length.sampleInterval > 0) {
+    plan.stride = std::max(1L, std::lround(length.sampleInterval / stepSize));
+    if (std::abs(plan.stride * stepSize - length.sampleInterval) > 1e-9 * length.sampleInterval) {
+      std::ostringstream note;
+      note << "sample interval " << length.sampleInterval << " s rounded to " << plan.stride
+           << " steps (" << plan.stride * stepSize << " s)";
+      plan.notes.push_back(note.str());
+    }
+  }
+  return plan;
+}
+
+std::string divergenceReason(const State& state) {
+  for (std::size_t i = 0; i < state.bodies.size(); ++i) {
+    const BodyState& b = state.bodies[i];
+    const bool finite = b.position.allFinite() && b.rotation.coeffs().allFinite() &&
+                        b.velocity.allFinite() && b.angularVelocity.allFinite();
+    std::ostringstream reason;
+    if (!finite) {
+      reason << "non-finite state of body " << b.id << " at t = " << state.time << " s";
+      return reason.str();
+    }
+    if (b.position.norm() > kDivergenceLimit || b.velocity.norm() > kDivergenceLimit) {
+      reason << "body " << b.id << " blew up at t = " << state.time
+             << " s (|x| = " << b.position.norm() << " m, |v| = " << b.velocity.norm() << " m/s)";
+      return reason.str();
+    }
+  }
+  for (std::size_t i = 0; i < state.particles.size(); ++i)
+    if (!state.particles[i].position.allFinite() || !state.particles[i].velocity.allFinite())
+      return "non-finite state of particle " + std::to_string(i);
+  return {};
+}
+
+RunOutcome runSimulation(Engine& engine, const pbd::Scene& scene, const Method& method,
+                         const RunLength& length, const RunCallbacks& callbacks,
+                         double wallTimeLimit) {
+  RunOutcome outcome;
+  try {
+    const std::vector<std::string> missing = engine.unsupported(scene, method);
+    if (!missing.empty()) {
+      outcome.status = RunStatus::Unsupported;
+      for (const std::string& m : missing) outcome.reason += (outcome.reason.empty() ? "" : "; ") + m;
+      return outcome;
+    }
+    const StepPlan plan = planSteps(length, double(scene.simulation.timeStepSize));
+    double busy = 0;  // wall time in load + step, without sampling
+    const Clock::time_point start = Clock::now();
+    Clock::time_point lastProgress = start;
+
+    Clock::time_point t0 = Clock::now();
+    engine.load(scene, method);
+    busy += secondsSince(t0);
+    outcome.settings = engine.effectiveSettings();
+
+    State state;
+    engine.read(state);
+    if (callbacks.onSample) callbacks.onSample(state);
+    for (long n = 1; n <= plan.steps; ++n) {
+      t0 = Clock::now();
+      engine.step();
+      busy += secondsSince(t0);
+      outcome.steps = n;
+      engine.read(state);
+      outcome.simulatedTime = state.time;
+      const std::string diverged = divergenceReason(state);
+      if (!diverged.empty()) {
+        outcome.status = RunStatus::Diverged;
+        outcome.reason = diverged;
+        if (callbacks.onSample) callbacks.onSample(state);
+        break;
+      }
+      if ((n % plan.stride == 0 || n == plan.steps) && callbacks.onSample) callbacks.onSample(state);
+      if (wallTimeLimit > 0 && secondsSince(start) > wallTimeLimit) {
+        outcome.status = RunStatus::Timeout;
+        std::ostringstream reason;
+        reason << "stopped after " << wallTimeLimit << " s of wall time at t = " << state.time
+               << " s (" << n << " of " << plan.steps << " steps)";
+        outcome.reason = reason.str();
+        break;
+      }
+      if (callbacks.onProgress && std::chrono::duration<double>(Clock::now() - lastProgress).count() > 0.2) {
+        lastProgress = Clock::now();
+        callbacks.onProgress(double(n) / double(plan.steps), secondsSince(start));
+      }
+    }
+    outcome.wallTime = busy;
+    if (auto hash = engine.stateHash()) outcome.stateHash = *hash;
+  } catch (const EngineError& e) {
+    outcome.status = RunStatus::Error;
+    outcome.reason = e.what();
+  } catch (const std::exception& e) {
+    outcome.status = RunStatus::Error;
+    outcome.reason = e.what();
+  }
+  return outcome;
+}
+
+}  // namespace pbdval

@@ -1,0 +1,63 @@
+// Drives one engine through a scene: steps, samples, and detects failures. Shared by
+// `pbdval simulate` and the validation runner, so every engine is driven the same way.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "adapters/engine.h"
+
+namespace pbdval {
+
+/// How long to run and how often to sample (both in seconds of simulated time).
+struct RunLength {
+  double duration = 5;
+  double sampleInterval = 0;  ///< 0: every step
+};
+
+/// The number of steps and the sampling stride for a scene with step size h: steps =
+/// round(duration/h), stride = max(1, round(sampleInterval/h)). Throws std::invalid_argument
+/// for a non-positive duration or a negative interval.
+struct StepPlan {
+  long steps = 0;
+  long stride = 1;
+  std::vector<std::string> notes;  ///< e.g. "sample interval 0.0123 s rounded to 0.0125 s"
+};
+StepPlan planSteps(const RunLength& length, double stepSize);
+
+enum class RunStatus { Ok, Diverged, Timeout, Unsupported, Error };
+const char* runStatusName(RunStatus status);
+
+struct RunOutcome {
+  RunStatus status = RunStatus::Ok;
+  std::string reason;          ///< empty when ok
+  long steps = 0;              ///< steps taken
+  double simulatedTime = 0;    ///< s
+  double wallTime = 0;         ///< s, load + stepping (reading samples excluded)
+  std::map<std::string, std::string> settings;  ///< Engine::effectiveSettings()
+  std::string stateHash;       ///< of the final state, for deterministic engines
+};
+
+struct RunCallbacks {
+  /// Every sample (t = 0 included); may throw to abort.
+  std::function<void(const State&)> onSample;
+  /// Called about every 0.2 s of wall time with the fraction done.
+  std::function<void(double fraction, double elapsedSeconds)> onProgress;
+};
+
+/// Positions beyond this many metres, or speeds beyond this many m/s, count as a blow-up.
+inline constexpr double kDivergenceLimit = 1e6;
+
+/// Loads `scene` into `engine` with `method` and runs it. Never throws for engine failures:
+/// unsupported features, EngineError and other exceptions, NaN/inf or blow-ups, and
+/// `wallTimeLimit` (seconds, 0 = none) become the outcome's status and reason.
+RunOutcome runSimulation(Engine& engine, const pbd::Scene& scene, const Method& method,
+                         const RunLength& length, const RunCallbacks& callbacks,
+                         double wallTimeLimit = 0);
+
+/// Checks a state for NaN/inf and blow-ups; returns a reason, or empty when fine.
+std::string divergenceReason(const State& state);
+
+}  // namespace pbdval

@@ -1,0 +1,74 @@
+#include "validation/trajectory.h"
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace pbdval {
+
+std::string formatNumber(double value) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, result.ptr);
+}
+
+void writeCsvHeader(std::ostream& out) { out << kTrajectoryCsvHeader << '\n'; }
+
+void writeCsvRows(std::ostream& out, const State& state) {
+  // Time is a multiple of the step; print it to 12 significant digits so that 0.3 is 0.3.
+  char time[32];
+  std::snprintf(time, sizeof time, "%.12g", state.time);
+  for (const BodyState& b : state.bodies) {
+    const Quaternion q = b.rotation.w() < 0 ? Quaternion(-b.rotation.coeffs()) : b.rotation;
+    out << time << ',' << b.id;
+    for (double v : {double(b.position.x()), double(b.position.y()), double(b.position.z()),
+                     double(q.w()), double(q.x()), double(q.y()), double(q.z()),
+                     double(b.velocity.x()), double(b.velocity.y()), double(b.velocity.z()),
+                     double(b.angularVelocity.x()), double(b.angularVelocity.y()),
+                     double(b.angularVelocity.z())})
+      out << ',' << formatNumber(v);
+    out << '\n';
+  }
+}
+
+Trajectory readTrajectoryCsv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot read");
+  std::string line;
+  if (!std::getline(in, line) || line != kTrajectoryCsvHeader)
+    throw std::runtime_error(path + ": line 1: expected the header '" +
+                             std::string(kTrajectoryCsvHeader) + "'");
+  Trajectory trajectory;
+  int lineNumber = 1;
+  while (std::getline(in, line)) {
+    ++lineNumber;
+    if (line.empty()) continue;
+    double fields[15];
+    const char* p = line.data();
+    const char* end = line.data() + line.size();
+    for (int f = 0; f < 15; ++f) {
+      const auto r = std::from_chars(p, end, fields[f]);
+      if (r.ec != std::errc() || (f < 14 && (r.ptr == end || *r.ptr != ',')) ||
+          (f == 14 && r.ptr != end))
+        throw std::runtime_error(path + ": line " + std::to_string(lineNumber) +
+                                 ": expected 15 comma-separated numbers");
+      p = r.ptr + 1;
+    }
+    if (trajectory.samples.empty() || trajectory.samples.back().time != fields[0]) {
+      trajectory.samples.emplace_back();
+      trajectory.samples.back().time = fields[0];
+    }
+    BodyState b;
+    b.id = static_cast<int>(fields[1]);
+    b.position = Vector3(Real(fields[2]), Real(fields[3]), Real(fields[4]));
+    b.rotation = Quaternion(Real(fields[5]), Real(fields[6]), Real(fields[7]), Real(fields[8]));
+    b.velocity = Vector3(Real(fields[9]), Real(fields[10]), Real(fields[11]));
+    b.angularVelocity = Vector3(Real(fields[12]), Real(fields[13]), Real(fields[14]));
+    trajectory.samples.back().bodies.push_back(b);
+  }
+  return trajectory;
+}
+
+}  // namespace pbdval

@@ -1,0 +1,33 @@
+// Trajectories: the states sampled during a run, and their CSV form.
+//
+// CSV (docs/cli.md#csv): header `t,id,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz`, one row per rigid
+// body per sample, bodies in scene order. x,y,z: centre of mass (world); q: the body's scene
+// frame → world (w ≥ 0); v, w: linear and angular velocity (world). Numbers are written in
+// the shortest form that reads back to the same double, so a CSV round-trips bit for bit.
+#pragma once
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "adapters/engine.h"
+
+namespace pbdval {
+
+struct Trajectory {
+  std::vector<State> samples;
+};
+
+inline constexpr const char* kTrajectoryCsvHeader = "t,id,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz";
+
+/// Writes the header.
+void writeCsvHeader(std::ostream& out);
+/// Writes the rows of one sample.
+void writeCsvRows(std::ostream& out, const State& state);
+/// Reads a trajectory CSV (bodies only). Throws std::runtime_error naming the file and line.
+Trajectory readTrajectoryCsv(const std::string& path);
+
+/// The shortest decimal text that reads back to `value` exactly.
+std::string formatNumber(double value);
+
+}  // namespace pbdval
