@@ -36,7 +36,7 @@ bool contains(const std::vector<std::string>& keys, const std::string& key) {
 std::string unknownKeyMessage(const std::string& key, const std::vector<std::string>& known) {
   for (const auto& stale : kStaleKeys) {
     if (key == stale.stale && contains(known, stale.current)) {
-      return "unknown key, a stale name that PositionBasedDynamics silently ignores; did you "
+      return "unknown key: a stale name that PositionBasedDynamics silently ignores; did you "
              "mean " +
              quoted(stale.current) + "?";
     }

@@ -1,5 +1,6 @@
 #include "scene_reading.h"
 
+#include <cctype>
 #include <system_error>
 
 #include "pbd/io/mesh_loader.h"
@@ -28,6 +29,11 @@ std::string LoadContext::existingFile(const JsonValue& fileKey) const {
 const TriangleMesh& LoadContext::obj(const std::string& path, const JsonValue& fileKey) {
   auto it = objFiles_.find(path);
   if (it == objFiles_.end()) {
+    std::string extension = std::filesystem::path(path).extension().string();
+    for (char& c : extension)
+      c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (extension == ".ply")
+      fileKey.fail("an OBJ file (PLY, which the seed also reads, is not supported)");
     try {
       it = objFiles_.emplace(path, loadObj(path)).first;
     } catch (const SceneError& e) {
