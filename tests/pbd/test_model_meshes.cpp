@@ -50,10 +50,10 @@ PrismClosedForm regularPrism(int n, Real radius, Real height, Real density) {
   const Real area = n * radius * radius * std::sin(theta) / 2;
   // Polar moment of one such triangle about the centre: (A/6)(|p|² + |q|² + p·q)
   // = R⁴ sin θ (2 + cos θ)/12.
-  const Real polar = n * std::pow(radius, 4) * std::sin(theta) * (2 + std::cos(theta)) / 12;
+  const Real polar = n * std::pow(radius, Real(4)) * std::sin(theta) * (2 + std::cos(theta)) / 12;
   // A regular polygon (n ≥ 3) has an isotropic in-plane second moment: ∫x² = ∫z² = J/2.
   return {area * height, density * height * polar,
-          density * (height * polar / 2 + area * std::pow(height, 3) / 12)};
+          density * (height * polar / 2 + area * std::pow(height, Real(3)) / 12)};
 }
 
 TEST(ModelMeshes, CylinderMatchesTheRegular32GonPrism) {
@@ -97,7 +97,7 @@ TEST(ModelMeshes, CylinderLiesWithinTheDiscretisationBoundOfTheTrueCylinder) {
   }
   // The bound is tight: the prism lacks 1 − sin x / x = x²/6 − x⁴/120 + … of the volume, with
   // x = 2π/n; 1e-4 covers the x⁴/120 ≈ 1.2e-5 term left out here.
-  EXPECT_NEAR(m.volume / volume(outer), 1 - std::pow(2 * kPi / 32, 2) / 6, 1e-4);
+  EXPECT_NEAR(m.volume / volume(outer), 1 - std::pow(2 * kPi / 32, Real(2)) / 6, 1e-4);
 }
 
 TEST(ModelMeshes, IcosphereHasIsotropicInertia) {
@@ -133,8 +133,8 @@ TEST(ModelMeshes, IcosphereLiesBetweenItsInscribedBallAndTheUnitBall) {
   // Ball of radius r: V = 4π r³/3, ∫ r² dV = 4π r⁵/5 = trace(I)/2. Both integrands are
   // non-negative, so both are monotone under inclusion (the polyhedron is convex, contains the
   // inscribed ball and is contained in the unit ball).
-  const auto volume = [](Real r) { return 4 * kPi * std::pow(r, 3) / 3; };
-  const auto radialMoment = [](Real r) { return 4 * kPi * std::pow(r, 5) / 5; };
+  const auto volume = [](Real r) { return 4 * kPi * std::pow(r, Real(3)) / 3; };
+  const auto radialMoment = [](Real r) { return 4 * kPi * std::pow(r, Real(5)) / 5; };
   EXPECT_GT(inner, 0.98);  // sanity: three subdivisions are fine
   EXPECT_GT(m.volume, volume(inner));
   EXPECT_LT(m.volume, volume(1));

@@ -207,7 +207,7 @@ TEST(SceneLoaderEveryKey, PrimitivesWithoutGeometryUseClosedForms) {
   const RigidBodyDesc& sphere = scene.rigidBodies[1];  // r = 0.5, ρ = 1000
   EXPECT_TRUE(sphere.geometryFile.empty());
   EXPECT_FALSE(sphere.mesh);
-  const Real sphereMass = 1000 * 4 * kPi * std::pow(Real(0.5), 3) / 3;
+  const Real sphereMass = 1000 * 4 * kPi * std::pow(Real(0.5), Real(3)) / 3;
   EXPECT_NEAR(sphere.massProperties.mass, sphereMass, kRelative * sphereMass);
   expectVectorNear(sphere.massProperties.principalInertia,
                    Vector3::Constant(Real(0.4) * sphereMass * Real(0.25)), kRelative * sphereMass);
@@ -521,6 +521,13 @@ TEST(SceneLoaderForms, BodiesWithTheSameFileAndScaleShareOneMesh) {
   const auto& bodies = loaded.scene.rigidBodies;
   EXPECT_EQ(bodies[0].mesh, bodies[1].mesh);
   EXPECT_NE(bodies[0].mesh, bodies[2].mesh);
+}
+
+TEST(SceneLoaderForms, CommentKeysAreAllowedEverywhere) {
+  // The seed's shipped scenes annotate objects with "comment".
+  const LoadedScene loaded = parse(R"({"comment": "top", "Simulation": {"comment": 1},
+    "RigidBodies": [{"collisionObjectType": 1, "comment": "1: Sphere, 2: Box"}]})");
+  EXPECT_TRUE(loaded.warnings.empty()) << allWarnings(loaded);
 }
 
 TEST(SceneLoaderForms, IntegralFloatsAreIntegersAndZeroAngleNeedsNoAxis) {
@@ -846,10 +853,10 @@ std::vector<WarningCase> warningCases() {
       {motor + R"("target": 0.5, "targetSequence": [0, 1, 2, 3]}]})",
        "TargetAngleMotorHingeJoints[0].targetSequence", "ignored: \"target\" is also given"},
       {motor + R"("target": 4}]})", "TargetAngleMotorHingeJoints[0].target",
-       "target angle 4 clamped to 3.14159265"},
+       "target angle 4 clamped to 3.14159"},
       {motor + R"("targetSequence": [0, 1, 2, -4]}]})",
        "TargetAngleMotorHingeJoints[0].targetSequence[3]",
-       "target angle -4 clamped to -3.14159265"},
+       "target angle -4 clamped to -3.14159"},
       {R"({"RigidBodies": [{"id": 2, "collisionObjectType": 1}],
           "TriangleModels": [{"geometryFile": "../meshes/plane_3x3.obj"}],
           "RigidBodyParticleBallJoints": [{"rbID": 2, "particleID": 8, "position": [0, 0, 0]}]})",

@@ -11,6 +11,8 @@ namespace pbd::scene_io {
 namespace {
 
 constexpr std::size_t kExcerptLength = 60;
+// Allowed in every object and ignored: the seed's shipped scenes annotate objects with it.
+constexpr const char* kCommentKey = "comment";
 
 // Names the seed's shipped scenes use for keys that were renamed; the seed ignores them.
 struct StaleKey {
@@ -398,7 +400,7 @@ std::string JsonObject::keyPath(const std::string& key) const {
 
 void JsonObject::warnUnknownKeys() const {
   for (const auto& item : value_.node().items()) {
-    if (!contains(knownKeys_, item.key())) {
+    if (item.key() != kCommentKey && !contains(knownKeys_, item.key())) {
       value_.sink().warn(keyPath(item.key()), unknownKeyMessage(item.key(), knownKeys_));
     }
   }

@@ -116,7 +116,8 @@ class JsonObject {
   /// The path a key of this object has ("Simulation.gravity").
   std::string keyPath(const std::string& key) const;
 
-  /// One warning per key that no reader asked for, with a "did you mean" suggestion.
+  /// One warning per key that no reader asked for, with a "did you mean" suggestion. The key
+  /// `comment` is allowed everywhere (the seed's scenes use it for annotations).
   void warnUnknownKeys() const;
 
  private:
