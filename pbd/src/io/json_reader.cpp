@@ -27,6 +27,13 @@ constexpr StaleKey kStaleKeys[] = {
     {"triangleModelBendingMethod", "clothBendingMethod"},
 };
 
+// The text of a JSON value, shortened for messages.
+std::string excerpt(const Json& node) {
+  std::string text = node.dump();
+  if (text.size() > kExcerptLength) text = text.substr(0, kExcerptLength - 3) + "...";
+  return text;
+}
+
 std::string quoted(const std::string& text) {
   return "\"" + text + "\"";
 }
@@ -208,9 +215,6 @@ std::string Bounds::describe() const {
   return "";
 }
 
-Bounds unbounded() {
-  return {};
-}
 Bounds positive() {
   return Bounds{0, std::numeric_limits<double>::infinity(), true};
 }
@@ -233,12 +237,6 @@ Json parseJson(const std::string& text, DiagnosticSink& sink) {
   return root;
 }
 
-std::string excerpt(const Json& node) {
-  std::string text = node.dump();
-  if (text.size() > kExcerptLength) text = text.substr(0, kExcerptLength - 3) + "...";
-  return text;
-}
-
 // ---------------------------------------------------------------------------------------------
 
 JsonValue::JsonValue(const Json& node, std::string path, DiagnosticSink& sink)
@@ -256,9 +254,6 @@ void JsonValue::warn(const std::string& message) const {
   sink_->warn(path_, message);
 }
 
-bool JsonValue::isArray() const {
-  return node_->is_array();
-}
 bool JsonValue::isObject() const {
   return node_->is_object();
 }

@@ -45,7 +45,6 @@ struct Bounds {
   bool contains(double value) const;
   std::string describe() const;  ///< empty for an unbounded interval
 };
-Bounds unbounded();
 Bounds positive();
 Bounds nonNegative();
 Bounds atLeast(double lower);
@@ -54,9 +53,6 @@ Bounds between(double lower, double upper);
 /// Parses JSON text into a document. Syntax errors are reported with line and column, numbers
 /// that overflow (1e999) with their JSON path; duplicate keys are warnings (the last one wins).
 Json parseJson(const std::string& text, DiagnosticSink& sink);
-
-/// The text of a JSON value, shortened for messages.
-std::string excerpt(const Json& node);
 
 class JsonObject;
 
@@ -75,7 +71,6 @@ class JsonValue {
   [[noreturn]] void error(const std::string& message) const;
   void warn(const std::string& message) const;
 
-  bool isArray() const;
   bool isObject() const;
   std::string dump() const;
 

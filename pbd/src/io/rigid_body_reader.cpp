@@ -73,12 +73,6 @@ bool isClosedSurface(const TriangleMesh& mesh) {
   return totalArea > 0 && vectorArea.norm() <= std::sqrt(kEpsilon) * totalArea;
 }
 
-/// Mass properties of a body without volume (static body with an open mesh, or a body whose
-/// `mass` and `inertia` are given): zero, at the scene origin, in the scene axes.
-MassProperties emptyMassProperties() {
-  return MassProperties{};
-}
-
 MassProperties meshMassProperties(RigidBodyInput& in, JsonObject& object, LoadContext& context) {
   RigidBodyDesc& body = in.desc;
   const JsonValue fileKey = *object.find("geometryFile");
@@ -92,7 +86,7 @@ MassProperties meshMassProperties(RigidBodyInput& in, JsonObject& object, LoadCo
                   "); a dynamic body needs a closed, outward-oriented mesh: fix the mesh, or "
                   "give \"mass\" and \"inertia\"");
   }
-  return emptyMassProperties();
+  return MassProperties{};  // no solid: zero, at the scene origin, in the scene axes
 }
 
 MassProperties primitiveMassProperties(const RigidBodyInput& in, JsonObject& object) {
@@ -110,7 +104,7 @@ MassProperties primitiveMassProperties(const RigidBodyInput& in, JsonObject& obj
       moments = cylinderMoments(size.x(), size.y(), body.density);
       break;
     default:
-      return emptyMassProperties();
+      return MassProperties{};
   }
   if (in.pose.scaleGiven && in.pose.scale != Vector3::Ones()) {
     object.find("scale")->warn(
