@@ -42,8 +42,7 @@ TEST(MassProperties, RotatedBoxHasItsPrincipalAxesRecovered) {
   const Vector3 extents(1.0, 2.0, 3.0);
   TriangleMesh mesh = boxMesh(extents, Vector3::Zero());
   const Quaternion rotation(AngleAxis(0.7, Vector3(1, 2, 3).normalized()));
-  for (auto& v : mesh.vertices)
-    v = rotation * v;
+  for (auto& v : mesh.vertices) v = rotation * v;
   const MassProperties p = toPrincipal(integrateSolid(mesh, 2.0));
   const SolidMoments closed = boxMoments(extents, 2.0);
   // The principal moments are distinct, so the principal frame is the box frame up to axis
@@ -51,8 +50,8 @@ TEST(MassProperties, RotatedBoxHasItsPrincipalAxesRecovered) {
   const Matrix3 reconstructed = p.principalRotation.toRotationMatrix() *
                                 p.principalInertia.asDiagonal() *
                                 p.principalRotation.toRotationMatrix().transpose();
-  const Matrix3 expected =
-      rotation.toRotationMatrix() * closed.inertia * rotation.toRotationMatrix().transpose();
+  const Matrix3 expected = rotation.toRotationMatrix() * closed.inertia *
+                           rotation.toRotationMatrix().transpose();
   EXPECT_TRUE(reconstructed.isApprox(expected, 1e-12)) << reconstructed << "\n" << expected;
   EXPECT_NEAR(p.principalInertia.sum(), closed.inertia.trace(), 1e-12 * closed.inertia.trace());
 }
@@ -64,8 +63,7 @@ TEST(MassProperties, DiagonalInertiaKeepsIdentityFrame) {
 
 TEST(MassProperties, InsideOutMeshHasNegativeVolume) {
   TriangleMesh mesh = boxMesh(Vector3::Ones(), Vector3::Zero());
-  for (auto& t : mesh.triangles)
-    std::swap(t[1], t[2]);
+  for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
   EXPECT_LT(integrateSolid(mesh, 1.0).volume, 0.0);
 }
 
