@@ -1,0 +1,144 @@
+// TriangleModels[] and TetModels[]: meshes transformed to the world, and one particle per
+// vertex (triangle models first, then tet models, in file order), of mass 1 as in the seed,
+// or 0 when listed in `staticParticles`.
+#include "scene_reading.h"
+
+namespace pbd::scene_io {
+namespace {
+
+/// The keys triangle and tet models share besides the pose.
+template <class Model>
+KeyTable<Model> commonModelKeys() {
+  return {
+      integerKey("id", &Model::id),
+      {"staticParticles",
+       [](const JsonValue& v, Model& m) { m.staticParticles = v.integers(nonNegative()); }},
+      numberKey("restitution", &Model::restitution, between(0, 1)),
+      numberKey("friction", &Model::friction, nonNegative()),
+  };
+}
+
+void checkStaticParticles(const std::vector<int>& indices, std::size_t vertexCount,
+                          JsonObject& object) {
+  for (std::size_t i = 0; i < indices.size(); ++i) {
+    if (static_cast<std::size_t>(indices[i]) >= vertexCount) {
+      object.find("staticParticles")
+          ->elements("vertex indices")[i]
+          .fail("a vertex index in [0, " + std::to_string(vertexCount - 1) + "] (the model has " +
+                std::to_string(vertexCount) + " vertices)");
+    }
+  }
+}
+
+/// Appends one particle per vertex; returns the index of the first.
+int appendParticles(const std::vector<Vector3>& vertices, const std::vector<int>& staticParticles,
+                    Scene& scene) {
+  const std::size_t first = scene.particles.size();
+  for (const Vector3& vertex : vertices) {
+    ParticleDesc particle;  // mass 1, at rest (the seed's rule)
+    particle.position = vertex;
+    scene.particles.push_back(particle);
+  }
+  for (int index : staticParticles)
+    scene.particles[first + static_cast<std::size_t>(index)].mass = 0;
+  return static_cast<int>(first);
+}
+
+struct TriangleModelInput {
+  TriangleModelDesc desc;
+  PoseInput pose;
+};
+
+TriangleModelDesc readTriangleModel(const JsonValue& element, LoadContext& context, Scene& scene) {
+  JsonObject object = element.object();
+  TriangleModelInput in;
+  TriangleModelDesc& model = in.desc;
+  model.jsonPath = element.path();
+  KeyTable<TriangleModelDesc> keys = commonModelKeys<TriangleModelDesc>();
+  keys.push_back(required(KeyReader<TriangleModelDesc>{
+      "geometryFile", [&context](const JsonValue& v, TriangleModelDesc& m) {
+        m.geometryFile = context.existingFile(v);
+      }}));
+  readKeys(object, keys, model);
+  readKeys(object, poseKeys(), in.pose);
+
+  model.translation = in.pose.translation;
+  model.scale = in.pose.scale;
+  model.rotation = resolveRotation(in.pose, object);
+  model.mesh =
+      *context.scaledObj(model.geometryFile, Vector3::Ones(), *object.find("geometryFile"));
+  for (auto& v : model.mesh.vertices)
+    v = toWorld(v, model.scale, model.rotation, model.translation);
+  checkStaticParticles(model.staticParticles, model.mesh.vertices.size(), object);
+  model.firstParticle = appendParticles(model.mesh.vertices, model.staticParticles, scene);
+  object.warnUnknownKeys();
+  return model;
+}
+
+struct TetModelInput {
+  TetModelDesc desc;
+  PoseInput pose;
+};
+
+KeyTable<TetModelDesc> tetFileKeys(const LoadContext& context) {
+  using T = TetModelDesc;
+  return {
+      required(KeyReader<T>{
+          "nodeFile",
+          [&context](const JsonValue& v, T& m) { m.nodeFile = context.existingFile(v); }}),
+      required(KeyReader<T>{"eleFile", [&context](const JsonValue& v,
+                                                  T& m) { m.eleFile = context.existingFile(v); }}),
+      {"visFile",
+       [&context](const JsonValue& v, T& m) {
+         // Empty: no visual mesh (the seed's default).
+         m.visFile = v.string().empty() ? std::string() : context.existingFile(v);
+       }},
+  };
+}
+
+TetModelDesc readTetModel(const JsonValue& element, LoadContext& context, Scene& scene) {
+  JsonObject object = element.object();
+  TetModelInput in;
+  TetModelDesc& model = in.desc;
+  model.jsonPath = element.path();
+  readKeys(object, tetFileKeys(context), model);
+  readKeys(object, commonModelKeys<TetModelDesc>(), model);
+  readKeys(object, poseKeys(), in.pose);
+  readKeys(object, collisionKeys(context), model.collision);
+  checkCollisionScale(model.collision, object);
+
+  model.translation = in.pose.translation;
+  model.scale = in.pose.scale;
+  model.rotation = resolveRotation(in.pose, object);
+  const auto place = [&model](Vector3& v) {
+    v = toWorld(v, model.scale, model.rotation, model.translation);
+  };
+  model.mesh = context.tetGen(model.nodeFile, model.eleFile, *object.find("nodeFile"));
+  for (auto& v : model.mesh.vertices)
+    place(v);
+  if (!model.visFile.empty()) {
+    TriangleMesh visual =
+        *context.scaledObj(model.visFile, Vector3::Ones(), *object.find("visFile"));
+    for (auto& v : visual.vertices)
+      place(v);
+    model.visMesh = std::make_shared<const TriangleMesh>(std::move(visual));
+  }
+  checkStaticParticles(model.staticParticles, model.mesh.vertices.size(), object);
+  model.firstParticle = appendParticles(model.mesh.vertices, model.staticParticles, scene);
+  object.warnUnknownKeys();
+  return model;
+}
+
+}  // namespace
+
+void readTriangleModels(const JsonValue& block, LoadContext& context, Scene& scene) {
+  for (const JsonValue& element : block.elements("triangle-model objects"))
+    scene.triangleModels.push_back(readTriangleModel(element, context, scene));
+}
+
+void readTetModels(const JsonValue& block, LoadContext& context, Scene& scene) {
+  for (const JsonValue& element : block.elements("tet-model objects"))
+    scene.tetModels.push_back(readTetModel(element, context, scene));
+}
+
+}  // namespace pbd::scene_io

@@ -1,0 +1,171 @@
+// loadScene / parseScene: the top level of the scene file and its `Simulation` block. The
+// other blocks are read in rigid_body_reader.cpp, deformable_reader.cpp and joint_reader.cpp.
+#include "pbd/io/scene_loader.h"
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "scene_reading.h"
+
+namespace pbd {
+namespace scene_io {
+namespace {
+
+KeyTable<SimulationSettings> simulationKeys() {
+  using S = SimulationSettings;
+  return {
+      numberKey("timeStepSize", &S::timeStepSize, positive()),
+      vectorKey("gravitation", &S::gravitation),
+      integerKey("subSteps", &S::subSteps, atLeast(1)),
+      integerKey("maxIterations", &S::maxIterations, atLeast(1)),
+      integerKey("maxIterationsV", &S::maxIterationsV, atLeast(0)),
+      integerKey("velocityUpdateMethod", &S::velocityUpdateMethod, between(0, 1)),
+      numberKey("contactTolerance", &S::contactTolerance, nonNegative()),
+      numberKey("contactStiffnessRigidBody", &S::contactStiffnessRigidBody, nonNegative()),
+      numberKey("contactStiffnessParticleRigidBody", &S::contactStiffnessParticleRigidBody,
+                nonNegative()),
+
+      integerKey("clothSimulationMethod", &S::clothSimulationMethod, between(0, 4)),
+      integerKey("clothBendingMethod", &S::clothBendingMethod, between(0, 3)),
+      numberKey("cloth_stiffness", &S::cloth_stiffness, nonNegative()),
+      numberKey("cloth_bendingStiffness", &S::cloth_bendingStiffness, nonNegative()),
+      numberKey("cloth_xxStiffness", &S::cloth_xxStiffness, nonNegative()),
+      numberKey("cloth_yyStiffness", &S::cloth_yyStiffness, nonNegative()),
+      numberKey("cloth_xyStiffness", &S::cloth_xyStiffness, nonNegative()),
+      numberKey("cloth_xyPoissonRatio", &S::cloth_xyPoissonRatio),
+      numberKey("cloth_yxPoissonRatio", &S::cloth_yxPoissonRatio),
+      booleanKey("cloth_normalizeStretch", &S::cloth_normalizeStretch),
+      booleanKey("cloth_normalizeShear", &S::cloth_normalizeShear),
+
+      integerKey("solidSimulationMethod", &S::solidSimulationMethod, between(0, 6)),
+      numberKey("solid_stiffness", &S::solid_stiffness, nonNegative()),
+      // The seed's FEM solve rejects Poisson ratios outside [0, 0.49].
+      numberKey("solid_poissonRatio", &S::solid_poissonRatio, between(0, 0.49)),
+      numberKey("solid_volumeStiffness", &S::solid_volumeStiffness, nonNegative()),
+      booleanKey("solid_normalizeStretch", &S::solid_normalizeStretch),
+      booleanKey("solid_normalizeShear", &S::solid_normalizeShear),
+
+      numberKey("rod_stretchingStiffness", &S::rod_stretchingStiffness, nonNegative()),
+      numberKey("rod_shearingStiffnessX", &S::rod_shearingStiffnessX, nonNegative()),
+      numberKey("rod_shearingStiffnessY", &S::rod_shearingStiffnessY, nonNegative()),
+      numberKey("rod_bendingStiffnessX", &S::rod_bendingStiffnessX, nonNegative()),
+      numberKey("rod_bendingStiffnessY", &S::rod_bendingStiffnessY, nonNegative()),
+      numberKey("rod_twistingStiffness", &S::rod_twistingStiffness, nonNegative()),
+  };
+}
+
+KeyTable<ViewerSettings> viewerKeys() {
+  using V = ViewerSettings;
+  return {
+      booleanKey("pause", &V::pause),
+      numberKey("pauseAt", &V::pauseAt),
+      integerKey("numberOfStepsPerRenderUpdate", &V::numberOfStepsPerRenderUpdate, atLeast(1)),
+      booleanKey("renderTets", &V::renderTets),
+      booleanKey("renderTets0", &V::renderTets0),
+      booleanKey("renderContacts", &V::renderContacts),
+      booleanKey("renderAABB", &V::renderAABB),
+      booleanKey("renderSDF", &V::renderSDF),
+      integerKey("renderBVHDepth", &V::renderBVHDepth, atLeast(-1)),
+      integerKey("renderBVHDepthTets", &V::renderBVHDepthTets, atLeast(-1)),
+      booleanKey("exportOBJ", &V::exportOBJ),
+      booleanKey("exportPLY", &V::exportPLY),
+      numberKey("exportFPS", &V::exportFPS, positive()),
+  };
+}
+
+/// `gravitation` is the seed's key; `gravity` is parsed by the seed but never used.
+void readGravityAlias(JsonObject& object, SimulationSettings& settings) {
+  const auto gravity = object.find("gravity");
+  if (!gravity) return;
+  if (object.has("gravitation")) {
+    gravity->vector3();  // still a value that was given: it must be well-formed
+    gravity->warn(
+        "ignored: \"gravitation\" is also given (PositionBasedDynamics ignores "
+        "\"gravity\" always)");
+    return;
+  }
+  settings.gravitation = gravity->vector3();
+  gravity->warn("used as \"gravitation\" " + formatVector(settings.gravitation) +
+                ", but PositionBasedDynamics ignores \"gravity\" and would simulate with "
+                "[0, -9.81, 0]; rename the key to \"gravitation\"");
+}
+
+/// `renderBVH` is the documented name of the seed's `renderBVHDepth`.
+void readRenderBvhAlias(JsonObject& object, ViewerSettings& viewer) {
+  const auto alias = object.find("renderBVH");
+  if (!alias) return;
+  const int depth = alias->integer(atLeast(-1));
+  if (object.has("renderBVHDepth")) {
+    alias->warn("ignored: \"renderBVHDepth\" is also given");
+    return;
+  }
+  viewer.renderBVHDepth = depth;
+}
+
+/// The orthotropic cloth model divides by 1 − ν_xy ν_yx.
+void checkClothPoissonRatios(JsonObject& object, const SimulationSettings& settings) {
+  if (settings.cloth_xyPoissonRatio * settings.cloth_yxPoissonRatio < 1) return;
+  const auto given = object.find("cloth_yxPoissonRatio");
+  (given ? *given : *object.find("cloth_xyPoissonRatio"))
+      .fail(
+          "Poisson ratios with cloth_xyPoissonRatio * cloth_yxPoissonRatio < 1 (the "
+          "orthotropic material divides by 1 - their product)");
+}
+
+KeyTable<Scene> topLevelKeys() {
+  return {
+      stringKey("Name", &Scene::name),
+      {"cameraPosition",
+       [](const JsonValue& v, Scene& s) { s.viewer.cameraPosition = v.vector3(); }},
+      {"cameraLookat", [](const JsonValue& v, Scene& s) { s.viewer.cameraLookat = v.vector3(); }},
+      // Not interpreted by the library: validation/ parses it (docs/validation-block.md).
+      {"Validation", [](const JsonValue& v, Scene& s) { s.validationJson = v.dump(); }},
+  };
+}
+
+}  // namespace
+
+void readSimulation(const JsonValue& block, Scene& scene) {
+  JsonObject object = block.object();
+  readKeys(object, simulationKeys(), scene.simulation);
+  readKeys(object, viewerKeys(), scene.viewer);
+  readGravityAlias(object, scene.simulation);
+  readRenderBvhAlias(object, scene.viewer);
+  checkClothPoissonRatios(object, scene.simulation);
+  object.warnUnknownKeys();
+}
+
+}  // namespace scene_io
+
+LoadedScene parseScene(const std::string& jsonText, const std::string& sourcePath,
+                       const LoadOptions& options) {
+  using namespace scene_io;
+  DiagnosticSink sink(sourcePath, options.strict);
+  const Json document = parseJson(jsonText, sink);
+  const JsonValue rootValue(document, "", sink);
+  if (!rootValue.isObject()) rootValue.fail("a JSON object at the top level");
+  JsonObject root(rootValue);
+  LoadContext context(std::filesystem::path(sourcePath).parent_path());
+
+  Scene scene;
+  scene.sourceFile = sourcePath;
+  readKeys(root, topLevelKeys(), scene);
+  if (auto block = root.find("Simulation")) readSimulation(*block, scene);
+  if (auto block = root.find("RigidBodies")) readRigidBodies(*block, context, scene);
+  if (auto block = root.find("TriangleModels")) readTriangleModels(*block, context, scene);
+  if (auto block = root.find("TetModels")) readTetModels(*block, context, scene);
+  readJoints(root, scene);
+  root.warnUnknownKeys();
+  return LoadedScene{std::move(scene), sink.takeWarnings()};
+}
+
+LoadedScene loadScene(const std::string& path, const LoadOptions& options) {
+  std::ifstream stream(path, std::ios::binary);
+  if (!stream) throw SceneError(SceneDiagnostic{path, "", "cannot open the scene file"});
+  std::ostringstream text;
+  text << stream.rdbuf();
+  return parseScene(text.str(), path, options);
+}
+
+}  // namespace pbd

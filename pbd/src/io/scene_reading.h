@@ -1,0 +1,74 @@
+// Private to the scene loader: the readers of the scene blocks and what they share (file
+// resolution, the mesh cache, the pose and collision keys).
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "json_reader.h"
+#include "pbd/model/scene.h"
+
+namespace pbd::scene_io {
+
+/// State shared by the readers of one scene: the scene's folder and the meshes loaded so far.
+class LoadContext {
+ public:
+  explicit LoadContext(std::filesystem::path sceneFolder);
+
+  /// The resolved path of a file key (relative paths against the scene folder); fails, naming
+  /// the key, when the string is empty or the file does not exist.
+  std::string existingFile(const JsonValue& fileKey) const;
+
+  /// The OBJ at `path` scaled component-wise; each file is read once, and bodies with the same
+  /// file and scale share one mesh. Mesh errors are reported at `fileKey`.
+  std::shared_ptr<const TriangleMesh> scaledObj(const std::string& path, const Vector3& scale,
+                                                const JsonValue& fileKey);
+  /// A TetGen mesh; errors are reported at `fileKey`.
+  TetMesh tetGen(const std::string& nodePath, const std::string& elePath,
+                 const JsonValue& fileKey) const;
+
+ private:
+  const TriangleMesh& obj(const std::string& path, const JsonValue& fileKey);
+
+  std::filesystem::path sceneFolder_;
+  std::map<std::string, TriangleMesh> objFiles_;
+  std::map<std::pair<std::string, std::array<Real, 3>>, std::shared_ptr<const TriangleMesh>>
+      scaledObjs_;
+};
+
+/// The pose keys shared by rigid bodies, triangle models and tet models.
+struct PoseInput {
+  Vector3 translation = Vector3::Zero();
+  Vector3 scale = Vector3::Ones();
+  std::optional<Vector3> rotationAxis;
+  std::optional<Real> rotationAngle;
+  bool scaleGiven = false;
+};
+KeyTable<PoseInput> poseKeys();
+/// The seed's rotation rule: applied only when both rotationAxis and rotationAngle are given;
+/// angle 0 is the identity; otherwise the axis must be non-zero (it is normalised).
+Quaternion resolveRotation(const PoseInput& pose, JsonObject& object);
+
+/// The collision keys shared by rigid bodies and tet models.
+KeyTable<CollisionObjectDesc> collisionKeys(const LoadContext& context);
+/// Checks that the collisionObjectScale components the type uses are positive.
+void checkCollisionScale(const CollisionObjectDesc& collision, JsonObject& object);
+
+/// Transforms a point of a model file to the world: R · (v ∘ scale) + translation.
+Vector3 toWorld(const Vector3& vertex, const Vector3& scale, const Quaternion& rotation,
+                const Vector3& translation);
+
+// The block readers, in the order parseScene calls them (joints need the bodies and particles).
+void readSimulation(const JsonValue& block, Scene& scene);
+void readRigidBodies(const JsonValue& block, LoadContext& context, Scene& scene);
+void readTriangleModels(const JsonValue& block, LoadContext& context, Scene& scene);
+void readTetModels(const JsonValue& block, LoadContext& context, Scene& scene);
+/// Reads all 13 joint blocks of the top-level object, in JointType order.
+void readJoints(JsonObject& root, Scene& scene);
+
+}  // namespace pbd::scene_io
