@@ -925,3 +925,70 @@ TEST(SceneLoaderWarnings, StrictModeTurnsEachWarningIntoAnError) {
 
 }  // namespace
 }  // namespace pbd
+
+// --- Contact materials (extension) ----------------------------------------------------------
+namespace pbd {
+namespace {
+
+const char* kTwoPrimitives = R"({
+  "Simulation": {"contactCombineRule": "%RULE%"},
+  "RigidBodies": [
+    {"id": 1, "collisionObjectType": 1, "collisionObjectScale": [0.5, 0.5, 0.5], "friction": 0.3, "restitution": 0.5},
+    {"id": 2, "collisionObjectType": 2, "collisionObjectScale": [1, 1, 1], "friction": 0.1, "restitution": 0.8},
+    {"id": 3, "collisionObjectType": 2, "collisionObjectScale": [1, 1, 1], "friction": 0.6, "restitution": 0.2}
+  ],
+  "ContactPairs": [ {"bodyID1": 3, "bodyID2": 1, "friction": 0.9} ]
+})";
+
+Scene sceneWithRule(const std::string& rule) {
+  std::string text = kTwoPrimitives;
+  text.replace(text.find("%RULE%"), 6, rule);
+  return parseScene(text, "/tmp/rules.json").scene;
+}
+
+TEST(ContactMaterial, RulesCombineAsNamed) {
+  // Bodies 0 (μ 0.3, e 0.5) and 1 (μ 0.1, e 0.8).
+  struct Expected { const char* rule; Real friction, restitution; };
+  for (const Expected& x : {Expected{"seed", 0.4, 0.4}, Expected{"product", 0.03, 0.4},
+                            Expected{"average", 0.2, 0.65}, Expected{"min", 0.1, 0.5},
+                            Expected{"max", 0.3, 0.8}}) {
+    const ContactMaterial m = sceneWithRule(x.rule).pairMaterial(0, 1);
+    EXPECT_NEAR(m.friction, x.friction, 1e-6) << x.rule;  // float-exact decimal inputs
+    EXPECT_NEAR(m.restitution, x.restitution, 1e-6) << x.rule;
+    const ContactMaterial swapped = sceneWithRule(x.rule).pairMaterial(1, 0);
+    EXPECT_EQ(m.friction, swapped.friction) << x.rule;  // symmetric
+  }
+}
+
+TEST(ContactMaterial, ExplicitPairOverridesOnlyItsValues) {
+  const Scene s = sceneWithRule("seed");
+  const ContactMaterial m = s.pairMaterial(0, 2);  // ContactPairs gives friction 0.9 only
+  EXPECT_NEAR(m.friction, 0.9, 1e-6);
+  EXPECT_NEAR(m.restitution, 0.5 * 0.2, 1e-6);  // restitution by the seed rule
+}
+
+TEST(ContactMaterial, BadRuleAndPairsAreLocatedErrors) {
+  auto message = [](const std::string& text) {
+    try {
+      parseScene(text, "/tmp/bad.json");
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  std::string text = kTwoPrimitives;
+  text.replace(text.find("%RULE%"), 6, "sum");
+  EXPECT_NE(message(text).find("Simulation.contactCombineRule: expected one of"), std::string::npos)
+      << message(text);
+  std::string pairs = kTwoPrimitives;
+  pairs.replace(pairs.find("%RULE%"), 6, "seed");
+  const std::string missingValue = std::string(pairs).replace(pairs.find(", \"friction\": 0.9"), 17, "");
+  EXPECT_NE(message(missingValue).find("ContactPairs[0]: a contact pair needs"), std::string::npos)
+      << message(missingValue);
+  const std::string unknownBody = std::string(pairs).replace(pairs.find("\"bodyID1\": 3"), 12, "\"bodyID1\": 9");
+  EXPECT_NE(message(unknownBody).find("ContactPairs[0].bodyID1"), std::string::npos)
+      << message(unknownBody);
+}
+
+}  // namespace
+}  // namespace pbd

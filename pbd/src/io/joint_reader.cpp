@@ -280,6 +280,10 @@ JointDesc readJoint(JointType type, const JsonValue& element, const BodyLookup& 
 
 }  // namespace
 
+int resolveBodyId(const JsonValue& idValue, const Scene& scene) {
+  return BodyLookup(scene).indexOf(idValue, idValue.integer());
+}
+
 void readJoints(JsonObject& root, Scene& scene) {
   const BodyLookup bodies(scene);
   for (int t = 0; t < kJointTypeCount; ++t) {

@@ -12,6 +12,16 @@ namespace pbd {
 namespace scene_io {
 namespace {
 
+/// Extension: "seed" | "product" | "average" | "min" | "max".
+ContactCombineRule combineRule(const JsonValue& value) {
+  const std::string name = value.string();
+  for (ContactCombineRule rule :
+       {ContactCombineRule::Seed, ContactCombineRule::Product, ContactCombineRule::Average,
+        ContactCombineRule::Min, ContactCombineRule::Max})
+    if (name == contactCombineRuleName(rule)) return rule;
+  value.fail("one of \"seed\", \"product\", \"average\", \"min\", \"max\"");
+}
+
 KeyTable<SimulationSettings> simulationKeys() {
   using S = SimulationSettings;
   return {
@@ -25,6 +35,7 @@ KeyTable<SimulationSettings> simulationKeys() {
       numberKey("contactStiffnessRigidBody", &S::contactStiffnessRigidBody, nonNegative()),
       numberKey("contactStiffnessParticleRigidBody", &S::contactStiffnessParticleRigidBody,
                 nonNegative()),
+      {"contactCombineRule", [](const JsonValue& v, S& s) { s.contactCombineRule = combineRule(v); }},
 
       integerKey("clothSimulationMethod", &S::clothSimulationMethod, between(0, 4)),
       integerKey("clothBendingMethod", &S::clothBendingMethod, between(0, 3)),
@@ -155,6 +166,7 @@ LoadedScene parseScene(const std::string& jsonText, const std::string& sourcePat
   if (auto block = root.find("RigidBodies")) readRigidBodies(*block, context, scene);
   if (auto block = root.find("TriangleModels")) readTriangleModels(*block, context, scene);
   if (auto block = root.find("TetModels")) readTetModels(*block, context, scene);
+  if (auto block = root.find("ContactPairs")) readContactPairs(*block, scene);
   readJoints(root, scene);
   root.warnUnknownKeys();
   return LoadedScene{std::move(scene), sink.takeWarnings()};

@@ -68,6 +68,11 @@ void readSimulation(const JsonValue& block, Scene& scene);
 void readRigidBodies(const JsonValue& block, LoadContext& context, Scene& scene);
 void readTriangleModels(const JsonValue& block, LoadContext& context, Scene& scene);
 void readTetModels(const JsonValue& block, LoadContext& context, Scene& scene);
+/// Extension: explicit friction/restitution per pair of rigid bodies.
+void readContactPairs(const JsonValue& block, Scene& scene);
+/// The index of the rigid body with id `idValue`'s value; fails (naming the key) when no body or
+/// several bodies have that id.
+int resolveBodyId(const JsonValue& idValue, const Scene& scene);
 /// Reads all 13 joint blocks of the top-level object, in JointType order.
 void readJoints(JsonObject& root, Scene& scene);
 

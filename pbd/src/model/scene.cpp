@@ -84,6 +84,54 @@ Real MotorTarget::valueAt(Real time) const {
   return values[i - 1] + s * (values[i] - values[i - 1]);
 }
 
+const char* contactCombineRuleName(ContactCombineRule rule) {
+  switch (rule) {
+    case ContactCombineRule::Seed:
+      return "seed";
+    case ContactCombineRule::Product:
+      return "product";
+    case ContactCombineRule::Average:
+      return "average";
+    case ContactCombineRule::Min:
+      return "min";
+    case ContactCombineRule::Max:
+      return "max";
+  }
+  return "?";
+}
+
+ContactMaterial combineMaterials(ContactCombineRule rule, const ContactMaterial& a,
+                                 const ContactMaterial& b) {
+  switch (rule) {
+    case ContactCombineRule::Seed:
+      return {a.friction + b.friction, a.restitution * b.restitution};
+    case ContactCombineRule::Product:
+      return {a.friction * b.friction, a.restitution * b.restitution};
+    case ContactCombineRule::Average:
+      return {(a.friction + b.friction) / 2, (a.restitution + b.restitution) / 2};
+    case ContactCombineRule::Min:
+      return {std::min(a.friction, b.friction), std::min(a.restitution, b.restitution)};
+    case ContactCombineRule::Max:
+      return {std::max(a.friction, b.friction), std::max(a.restitution, b.restitution)};
+  }
+  return {};
+}
+
+ContactMaterial Scene::pairMaterial(int bodyA, int bodyB) const {
+  const RigidBodyDesc& a = rigidBodies[static_cast<std::size_t>(bodyA)];
+  const RigidBodyDesc& b = rigidBodies[static_cast<std::size_t>(bodyB)];
+  ContactMaterial m = combineMaterials(simulation.contactCombineRule, {a.friction, a.restitution},
+                                       {b.friction, b.restitution});
+  for (const ContactPairDesc& pair : contactPairs) {
+    if (!((pair.body1 == bodyA && pair.body2 == bodyB) ||
+          (pair.body1 == bodyB && pair.body2 == bodyA)))
+      continue;
+    if (pair.hasFriction) m.friction = pair.friction;
+    if (pair.hasRestitution) m.restitution = pair.restitution;
+  }
+  return m;
+}
+
 int Scene::bodyIndexById(int id) const {
   for (std::size_t i = 0; i < rigidBodies.size(); ++i)
     if (rigidBodies[i].id == id) return static_cast<int>(i);

@@ -33,6 +33,32 @@ enum class CollisionObjectType : int {
   HollowBox = 7,
 };
 
+/// How the friction and restitution of two bodies combine into the pair's values
+/// (`Simulation.contactCombineRule`). The seed's rule is restitution = e_a·e_b and friction =
+/// μ_a + μ_b; Bullet multiplies both, MuJoCo takes the maximum, ODE leaves it to the caller.
+enum class ContactCombineRule : int { Seed, Product, Average, Min, Max };
+
+const char* contactCombineRuleName(ContactCombineRule rule);
+
+struct ContactMaterial {
+  Real friction = 0;
+  Real restitution = 0;
+};
+
+/// Combines two materials by `rule`.
+ContactMaterial combineMaterials(ContactCombineRule rule, const ContactMaterial& a,
+                                 const ContactMaterial& b);
+
+/// Explicit values for one pair of bodies (`ContactPairs` block); a missing value falls back to
+/// the combination rule.
+struct ContactPairDesc {
+  std::string jsonPath;
+  int bodyId1 = -1, bodyId2 = -1;
+  int body1 = -1, body2 = -1;  ///< indices into Scene::rigidBodies
+  bool hasFriction = false, hasRestitution = false;
+  Real friction = 0, restitution = 0;
+};
+
 /// The collision keys shared by rigid bodies and tet models.
 struct CollisionObjectDesc {
   CollisionObjectType type = CollisionObjectType::None;
@@ -178,6 +204,7 @@ struct SimulationSettings {
   Real contactTolerance = Real(0.01);
   Real contactStiffnessRigidBody = 1;
   Real contactStiffnessParticleRigidBody = 100;
+  ContactCombineRule contactCombineRule = ContactCombineRule::Seed;  ///< extension
 
   int clothSimulationMethod = 2;
   int clothBendingMethod = 2;
@@ -231,12 +258,17 @@ struct Scene {
   std::vector<TriangleModelDesc> triangleModels;
   std::vector<TetModelDesc> tetModels;
   std::vector<ParticleDesc> particles;  ///< all model vertices: triangle models first, then tets
+  std::vector<ContactPairDesc> contactPairs;  ///< extension: explicit per-pair materials
   /// The top-level `Validation` block as JSON text (empty when absent). The library does not
   /// read it; validation/ parses it (docs/scene-format.md).
   std::string validationJson;
 
   /// Index of the rigid body with scene id `id`, or -1.
   int bodyIndexById(int id) const;
+  /// The friction and restitution of a contact between rigid bodies `bodyA` and `bodyB`
+  /// (indices): an explicit ContactPairs entry where given, else the combination rule. Every
+  /// engine uses these values, so the engines' own rules never enter.
+  ContactMaterial pairMaterial(int bodyA, int bodyB) const;
 };
 
 }  // namespace pbd
