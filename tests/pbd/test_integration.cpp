@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "pbd/model/world.h"
-#include "scene_fixtures.h"
+#include "common/scene_fixtures.h"
 
 namespace pbd {
 namespace {

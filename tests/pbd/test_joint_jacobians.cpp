@@ -6,8 +6,8 @@
 #include <cmath>
 
 #include "pbd/model/world.h"
-#include "scene_fixtures.h"
-#include "tolerances.h"
+#include "common/scene_fixtures.h"
+#include "common/tolerances.h"
 
 namespace pbd {
 namespace {

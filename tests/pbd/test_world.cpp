@@ -6,7 +6,7 @@
 #include <new>
 
 #include "pbd/model/world.h"
-#include "scene_fixtures.h"
+#include "common/scene_fixtures.h"
 
 // Counting allocator for this test binary: every operator new bumps the counter. Only the
 // no-allocation test reads it.

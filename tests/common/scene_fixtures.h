@@ -22,6 +22,20 @@ inline RigidBodyDesc boxBody(int id, const Vector3& extents, const Vector3& posi
   return b;
 }
 
+inline RigidBodyDesc sphereBody(int id, Real radius, const Vector3& position, Real density = 1,
+                                bool dynamic = true) {
+  RigidBodyDesc b;
+  b.id = id;
+  b.jsonPath = "RigidBodies[" + std::to_string(id) + "]";
+  b.isDynamic = dynamic;
+  b.density = density;
+  b.translation = position;
+  b.collision.type = CollisionObjectType::Sphere;
+  b.collision.scale = Vector3::Constant(radius);
+  b.massProperties = toPrincipal(sphereMoments(radius, density));
+  return b;
+}
+
 inline JointDesc makeJointDesc(JointType type, int body1, int body2) {
   JointDesc j;
   j.type = type;
