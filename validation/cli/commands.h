@@ -10,6 +10,7 @@ namespace pbdval::cli {
 using Arguments = std::vector<std::string>;
 
 int simulateCommand(const Arguments& args);
+int methodsCommand(const Arguments& args);
 
 struct Command {
   const char* name;

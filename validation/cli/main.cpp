@@ -12,6 +12,8 @@ const std::vector<Command>& commands() {
   static const std::vector<Command> all = {
       {"simulate", "run one scene headless in one engine and write its trajectory as CSV",
        &simulateCommand},
+      {"methods", "list the solver methods of every engine, with parameters and defaults",
+       &methodsCommand},
   };
   return all;
 }
