@@ -1,18 +1,181 @@
 #include "validation/case_spec.h"
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <stdexcept>
+
+#include "adapters/engine.h"
+#include "validation/trajectory.h"
 
 namespace pbdval {
 namespace {
 
-double positiveNumber(const nlohmann::json& block, const char* key, const std::string& where) {
-  const nlohmann::json& v = block.at(key);
-  if (!v.is_number() || !std::isfinite(v.get<double>()) || !(v.get<double>() > 0))
-    throw std::invalid_argument(where + ": Validation." + key + ": expected a positive number, got " +
-                                v.dump());
-  return v.get<double>();
+using Json = nlohmann::json;
+
+// A JSON node with its path, for located errors ("scene.json: Validation.checks[1].max: ...").
+struct Node {
+  const Json& json;
+  std::string path;
+  const std::string& file;
+
+  [[noreturn]] void fail(const std::string& expected) const {
+    std::string got = json.dump();
+    if (got.size() > 60) got = got.substr(0, 57) + "...";
+    throw std::invalid_argument(file + ": " + path + ": expected " + expected + ", got " + got);
+  }
+  Node at(const std::string& key) const { return {json.at(key), path + "." + key, file}; }
+  Node at(std::size_t i) const { return {json.at(i), path + "[" + std::to_string(i) + "]", file}; }
+
+  void requireObject(const std::set<std::string>& allowed) const {
+    if (!json.is_object()) fail("an object");
+    for (const auto& item : json.items())
+      if (!allowed.count(item.key())) {
+        std::string keys;
+        for (const auto& k : allowed) keys += (keys.empty() ? "" : ", ") + k;
+        throw std::invalid_argument(file + ": " + path + "." + item.key() +
+                                    ": unknown key (known: " + keys + ")");
+      }
+  }
+  double positive() const {
+    if (!json.is_number() || !std::isfinite(json.get<double>()) || !(json.get<double>() > 0))
+      fail("a positive number");
+    return json.get<double>();
+  }
+  double finite() const {
+    if (!json.is_number() || !std::isfinite(json.get<double>())) fail("a finite number");
+    return json.get<double>();
+  }
+  std::string text() const {
+    if (!json.is_string()) fail("a string");
+    return json.get<std::string>();
+  }
+  std::vector<std::string> texts() const {
+    if (!json.is_array()) fail("an array of strings");
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i < json.size(); ++i) out.push_back(at(i).text());
+    return out;
+  }
+  /// A number or a string, as text (sweep values).
+  std::string value() const {
+    if (json.is_string()) return json.get<std::string>();
+    return formatNumber(finite());
+  }
+};
+
+void checkEngineName(const Node& node) {
+  const std::string name = node.text();
+  const std::vector<std::string> known = engineNames();
+  if (std::find(known.begin(), known.end(), name) != known.end()) return;
+  std::string list;
+  for (const auto& e : known) list += (list.empty() ? "" : ", ") + e;
+  node.fail("an engine (" + list + ")");
+}
+
+void checkMethodName(const Node& node) {
+  try {
+    findMethod(node.text());
+  } catch (const std::invalid_argument& e) {
+    node.fail(std::string("a method: ") + e.what());
+  }
+}
+
+/// Reads an array of engine or method names, each checked.
+std::vector<std::string> names(const Node& node, void (*check)(const Node&)) {
+  const std::vector<std::string> values = node.texts();
+  for (std::size_t i = 0; i < values.size(); ++i) check(node.at(i));
+  return values;
+}
+
+ReferenceSpec parseReference(const Node& node) {
+  node.requireObject({"type", "model", "parameters", "bodies", "stepDivisor", "engine", "method"});
+  ReferenceSpec r;
+  const std::string type = node.at("type").text();
+  if (type == "none") {
+    r.kind = ReferenceSpec::Kind::None;
+  } else if (type == "analytic") {
+    r.kind = ReferenceSpec::Kind::Analytic;
+    r.model = node.at("model").text();
+    if (node.json.contains("parameters")) {
+      const Node parameters = node.at("parameters");
+      if (!parameters.json.is_object()) parameters.fail("an object");
+      r.parametersJson = parameters.json.dump();
+    }
+    if (node.json.contains("bodies")) {
+      const Node bodies = node.at("bodies");
+      if (!bodies.json.is_array()) bodies.fail("an array of body ids");
+      for (std::size_t i = 0; i < bodies.json.size(); ++i) {
+        const Node id = bodies.at(i);
+        if (!id.json.is_number_integer()) id.fail("a body id (integer)");
+        r.bodyIds.push_back(id.json.get<int>());
+      }
+    }
+  } else if (type == "fine") {
+    r.kind = ReferenceSpec::Kind::Fine;
+    if (node.json.contains("stepDivisor")) {
+      const Node divisor = node.at("stepDivisor");
+      if (!divisor.json.is_number_integer() || divisor.json.get<int>() < 2)
+        divisor.fail("an integer ≥ 2");
+      r.stepDivisor = divisor.json.get<int>();
+    }
+  } else if (type == "engine") {
+    r.kind = ReferenceSpec::Kind::Engine;
+    checkMethodName(node.at("method"));
+    r.method = node.at("method").text();
+    r.engine = findMethod(r.method).engine;
+    if (node.json.contains("stepDivisor")) {
+      const Node divisor = node.at("stepDivisor");
+      if (!divisor.json.is_number_integer() || divisor.json.get<int>() < 1)
+        divisor.fail("an integer ≥ 1");
+      r.stepDivisor = divisor.json.get<int>();
+    } else {
+      r.stepDivisor = 1;
+    }
+  } else {
+    node.at("type").fail("\"analytic\", \"fine\", \"engine\" or \"none\"");
+  }
+  return r;
+}
+
+CheckSpec parseCheck(const Node& node) {
+  node.requireObject({"metric", "max", "min", "engines", "methods", "better", "worse", "description"});
+  CheckSpec c;
+  c.jsonPath = node.path;
+  c.metric = node.at("metric").text();
+  if (node.json.contains("max")) c.max = node.at("max").finite();
+  if (node.json.contains("min")) c.min = node.at("min").finite();
+  if (node.json.contains("engines")) c.engines = names(node.at("engines"), checkEngineName);
+  if (node.json.contains("methods")) c.methods = names(node.at("methods"), checkMethodName);
+  if (node.json.contains("better")) c.better = node.at("better").text();
+  if (node.json.contains("worse")) c.worse = node.at("worse").text();
+  if (node.json.contains("description")) c.description = node.at("description").text();
+  const bool ordering = !c.better.empty() || !c.worse.empty();
+  if (ordering && (c.better.empty() || c.worse.empty()))
+    node.fail("both \"better\" and \"worse\" (an ordering check)");
+  if (ordering) {
+    checkMethodName(node.at("better"));
+    checkMethodName(node.at("worse"));
+  }
+  if (!ordering && !c.max && !c.min) node.fail("\"max\", \"min\", or \"better\"/\"worse\"");
+  return c;
+}
+
+SweepSpec parseSweep(const Node& node) {
+  node.requireObject({"parameters", "methods", "metric"});
+  SweepSpec s;
+  const Node parameters = node.at("parameters");
+  if (!parameters.json.is_object() || parameters.json.empty())
+    parameters.fail("an object of parameter → array of values");
+  for (const auto& item : parameters.json.items()) {
+    const Node values = parameters.at(item.key());
+    if (!values.json.is_array() || values.json.empty()) values.fail("a non-empty array of values");
+    for (std::size_t i = 0; i < values.json.size(); ++i)
+      s.parameters[item.key()].push_back(values.at(i).value());
+  }
+  if (node.json.contains("methods")) s.methods = names(node.at("methods"), checkMethodName);
+  if (node.json.contains("metric")) s.metric = node.at("metric").text();
+  return s;
 }
 
 }  // namespace
@@ -20,14 +183,52 @@ double positiveNumber(const nlohmann::json& block, const char* key, const std::s
 CaseSpec parseCaseSpec(const pbd::Scene& scene) {
   CaseSpec spec;
   if (scene.validationJson.empty()) return spec;
-  const nlohmann::json block = nlohmann::json::parse(scene.validationJson);
-  if (!block.is_object())
-    throw std::invalid_argument(scene.sourceFile + ": Validation: expected an object");
-  if (block.contains("duration")) spec.duration = positiveNumber(block, "duration", scene.sourceFile);
-  if (block.contains("sampleInterval"))
-    spec.sampleInterval = positiveNumber(block, "sampleInterval", scene.sourceFile);
-  if (block.contains("description") && block["description"].is_string())
-    spec.description = block["description"].get<std::string>();
+  const Json block = Json::parse(scene.validationJson);
+  const Node root{block, "Validation", scene.sourceFile};
+  root.requireObject({"schema", "description", "duration", "sampleInterval", "energyScale",
+                      "conserved", "engines", "methods", "reference", "checks", "tolerances",
+                      "sweeps"});
+  if (block.contains("schema")) {
+    const Node schema = root.at("schema");
+    if (!schema.json.is_number_integer() || schema.json.get<int>() != kValidationSchemaVersion)
+      schema.fail("schema version " + std::to_string(kValidationSchemaVersion));
+  }
+  if (block.contains("description")) spec.description = root.at("description").text();
+  if (block.contains("duration")) spec.duration = root.at("duration").positive();
+  if (block.contains("sampleInterval")) spec.sampleInterval = root.at("sampleInterval").positive();
+  if (block.contains("energyScale")) spec.energyScale = root.at("energyScale").positive();
+  if (block.contains("conserved")) {
+    const Node conserved = root.at("conserved");
+    const std::vector<std::string> names = conserved.texts();
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      if (names[i] == "energy") spec.energyConserved = true;
+      else if (names[i] == "linearMomentum") spec.linearMomentumConserved = true;
+      else if (names[i] == "angularMomentum") spec.angularMomentumConserved = true;
+      else conserved.at(i).fail("\"energy\", \"linearMomentum\" or \"angularMomentum\"");
+    }
+  }
+  if (block.contains("engines")) spec.engines = names(root.at("engines"), checkEngineName);
+  if (block.contains("methods")) spec.methods = names(root.at("methods"), checkMethodName);
+  if (block.contains("reference")) spec.reference = parseReference(root.at("reference"));
+  if (block.contains("checks")) {
+    const Node checks = root.at("checks");
+    if (!checks.json.is_array()) checks.fail("an array of checks");
+    for (std::size_t i = 0; i < checks.json.size(); ++i) spec.checks.push_back(parseCheck(checks.at(i)));
+  }
+  if (block.contains("tolerances")) {
+    const Node tolerances = root.at("tolerances");
+    if (!tolerances.json.is_object()) tolerances.fail("an object of metric → tolerance");
+    for (const auto& item : tolerances.json.items()) {
+      const Node t = tolerances.at(item.key());
+      if (!t.json.is_number() || !(t.json.get<double>() >= 0)) t.fail("a tolerance ≥ 0");
+      spec.tolerances[item.key()] = t.json.get<double>();
+    }
+  }
+  if (block.contains("sweeps")) {
+    const Node sweeps = root.at("sweeps");
+    if (!sweeps.json.is_array()) sweeps.fail("an array of sweeps");
+    for (std::size_t i = 0; i < sweeps.json.size(); ++i) spec.sweeps.push_back(parseSweep(sweeps.at(i)));
+  }
   return spec;
 }
 

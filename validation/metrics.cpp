@@ -1,0 +1,8 @@
+// Placeholder until the metrics land: no metrics yet.
+#include "validation/metrics.h"
+
+namespace pbdval {
+
+MetricSet computeMetrics(const MetricInputs& /*inputs*/) { return {}; }
+
+}  // namespace pbdval
