@@ -28,7 +28,8 @@ const std::vector<MethodInfo>& methodCatalog() {
   static const std::vector<MethodInfo> catalog = [] {
     std::vector<MethodInfo> all;
     for (const EngineEntry& entry : engineEntries())
-      for (MethodInfo& m : entry.methods()) all.push_back(std::move(m));
+      for (MethodInfo& m : entry.methods())
+        all.push_back(std::move(m));
     return all;
   }();
   return catalog;
@@ -38,7 +39,8 @@ const MethodInfo& findMethod(const std::string& name) {
   for (const MethodInfo& m : methodCatalog())
     if (m.name == name) return m;
   std::ostringstream known;
-  for (const MethodInfo& m : methodCatalog()) known << (known.tellp() > 0 ? ", " : "") << m.name;
+  for (const MethodInfo& m : methodCatalog())
+    known << (known.tellp() > 0 ? ", " : "") << m.name;
   throw std::invalid_argument("unknown method '" + name + "' (known: " + known.str() + ")");
 }
 
@@ -50,7 +52,8 @@ std::string defaultMethod(const std::string& engine) {
 
 std::vector<std::string> engineNames() {
   std::vector<std::string> names;
-  for (const EngineEntry& entry : engineEntries()) names.push_back(entry.name);
+  for (const EngineEntry& entry : engineEntries())
+    if (!entry.hidden) names.push_back(entry.name);
   return names;
 }
 
@@ -58,14 +61,16 @@ Method resolveMethod(const std::string& name, const std::map<std::string, std::s
   const MethodInfo& info = findMethod(name);
   Method method;
   method.name = name;
-  for (const MethodParameter& p : info.parameters) method.parameters[p.name] = p.defaultValue;
+  for (const MethodParameter& p : info.parameters)
+    method.parameters[p.name] = p.defaultValue;
   for (const auto& [key, value] : overrides) {
     if (method.parameters.count(key) == 0) {
       std::ostringstream valid;
       for (const MethodParameter& p : info.parameters)
         valid << (valid.tellp() > 0 ? ", " : "") << p.name;
-      throw std::invalid_argument("method " + name + " has no parameter '" + key +
-                                  "' (parameters: " + (info.parameters.empty() ? "none" : valid.str()) + ")");
+      throw std::invalid_argument(
+          "method " + name + " has no parameter '" + key +
+          "' (parameters: " + (info.parameters.empty() ? "none" : valid.str()) + ")");
     }
     method.parameters[key] = value;
   }

@@ -103,7 +103,7 @@ const std::vector<MethodInfo>& methodCatalog();
 const MethodInfo& findMethod(const std::string& name);
 /// The default method of an engine ("pbd" → "pbd", "ode" → "ode.quickstep").
 std::string defaultMethod(const std::string& engine);
-/// Names of the engines compiled in.
+/// Names of the engines compiled in (without the hidden self-test engine).
 std::vector<std::string> engineNames();
 /// Resolves a method: defaults, then `overrides` (name → value). Throws std::invalid_argument
 /// on an unknown parameter (naming the valid ones).

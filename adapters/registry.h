@@ -15,6 +15,8 @@ struct EngineEntry {
   std::string defaultMethod;  ///< used when a run names the engine only
   std::vector<MethodInfo> (*methods)();
   std::unique_ptr<Engine> (*make)();
+  /// Hidden engines (the self-test engine) are not listed or run by default, only by name.
+  bool hidden = false;
 };
 
 const std::vector<EngineEntry>& engineEntries();

@@ -16,8 +16,7 @@ AtomicFileWriter::AtomicFileWriter(std::string path)
   const std::filesystem::path parent = std::filesystem::path(path_).parent_path();
   if (!parent.empty()) createFolders(parent.string());
   stream_.open(temporaryPath_, std::ios::out | std::ios::trunc | std::ios::binary);
-  if (!stream_)
-    throw std::runtime_error(path_ + ": cannot write (" + std::strerror(errno) + ")");
+  if (!stream_) throw std::runtime_error(path_ + ": cannot write (" + std::strerror(errno) + ")");
 }
 
 AtomicFileWriter::~AtomicFileWriter() {

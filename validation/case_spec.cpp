@@ -33,7 +33,8 @@ struct Node {
     for (const auto& item : json.items())
       if (!allowed.count(item.key())) {
         std::string keys;
-        for (const auto& k : allowed) keys += (keys.empty() ? "" : ", ") + k;
+        for (const auto& k : allowed)
+          keys += (keys.empty() ? "" : ", ") + k;
         throw std::invalid_argument(file + ": " + path + "." + item.key() +
                                     ": unknown key (known: " + keys + ")");
       }
@@ -54,7 +55,8 @@ struct Node {
   std::vector<std::string> texts() const {
     if (!json.is_array()) fail("an array of strings");
     std::vector<std::string> out;
-    for (std::size_t i = 0; i < json.size(); ++i) out.push_back(at(i).text());
+    for (std::size_t i = 0; i < json.size(); ++i)
+      out.push_back(at(i).text());
     return out;
   }
   /// A number or a string, as text (sweep values).
@@ -69,7 +71,8 @@ void checkEngineName(const Node& node) {
   const std::vector<std::string> known = engineNames();
   if (std::find(known.begin(), known.end(), name) != known.end()) return;
   std::string list;
-  for (const auto& e : known) list += (list.empty() ? "" : ", ") + e;
+  for (const auto& e : known)
+    list += (list.empty() ? "" : ", ") + e;
   node.fail("an engine (" + list + ")");
 }
 
@@ -84,7 +87,8 @@ void checkMethodName(const Node& node) {
 /// Reads an array of engine or method names, each checked.
 std::vector<std::string> names(const Node& node, void (*check)(const Node&)) {
   const std::vector<std::string> values = node.texts();
-  for (std::size_t i = 0; i < values.size(); ++i) check(node.at(i));
+  for (std::size_t i = 0; i < values.size(); ++i)
+    check(node.at(i));
   return values;
 }
 
@@ -139,7 +143,8 @@ ReferenceSpec parseReference(const Node& node) {
 }
 
 CheckSpec parseCheck(const Node& node) {
-  node.requireObject({"metric", "max", "min", "engines", "methods", "better", "worse", "description"});
+  node.requireObject(
+      {"metric", "max", "min", "engines", "methods", "better", "worse", "description"});
   CheckSpec c;
   c.jsonPath = node.path;
   c.metric = node.at("metric").text();
@@ -201,10 +206,14 @@ CaseSpec parseCaseSpec(const pbd::Scene& scene) {
     const Node conserved = root.at("conserved");
     const std::vector<std::string> names = conserved.texts();
     for (std::size_t i = 0; i < names.size(); ++i) {
-      if (names[i] == "energy") spec.energyConserved = true;
-      else if (names[i] == "linearMomentum") spec.linearMomentumConserved = true;
-      else if (names[i] == "angularMomentum") spec.angularMomentumConserved = true;
-      else conserved.at(i).fail("\"energy\", \"linearMomentum\" or \"angularMomentum\"");
+      if (names[i] == "energy")
+        spec.energyConserved = true;
+      else if (names[i] == "linearMomentum")
+        spec.linearMomentumConserved = true;
+      else if (names[i] == "angularMomentum")
+        spec.angularMomentumConserved = true;
+      else
+        conserved.at(i).fail("\"energy\", \"linearMomentum\" or \"angularMomentum\"");
     }
   }
   if (block.contains("engines")) spec.engines = names(root.at("engines"), checkEngineName);
@@ -213,7 +222,8 @@ CaseSpec parseCaseSpec(const pbd::Scene& scene) {
   if (block.contains("checks")) {
     const Node checks = root.at("checks");
     if (!checks.json.is_array()) checks.fail("an array of checks");
-    for (std::size_t i = 0; i < checks.json.size(); ++i) spec.checks.push_back(parseCheck(checks.at(i)));
+    for (std::size_t i = 0; i < checks.json.size(); ++i)
+      spec.checks.push_back(parseCheck(checks.at(i)));
   }
   if (block.contains("tolerances")) {
     const Node tolerances = root.at("tolerances");
@@ -227,7 +237,8 @@ CaseSpec parseCaseSpec(const pbd::Scene& scene) {
   if (block.contains("sweeps")) {
     const Node sweeps = root.at("sweeps");
     if (!sweeps.json.is_array()) sweeps.fail("an array of sweeps");
-    for (std::size_t i = 0; i < sweeps.json.size(); ++i) spec.sweeps.push_back(parseSweep(sweeps.at(i)));
+    for (std::size_t i = 0; i < sweeps.json.size(); ++i)
+      spec.sweeps.push_back(parseSweep(sweeps.at(i)));
   }
   return spec;
 }

@@ -3,6 +3,8 @@
 
 namespace pbdval {
 
-MetricSet computeMetrics(const MetricInputs& /*inputs*/) { return {}; }
+MetricSet computeMetrics(const MetricInputs& /*inputs*/) {
+  return {};
+}
 
 }  // namespace pbdval

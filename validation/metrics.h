@@ -3,11 +3,12 @@
 //
 // Stable names (results.json, baselines and gates depend on them):
 //   energy_drift_max, energy_drift_final, energy_drift_rate          (relative to E_ref; rate /s)
-//   momentum_linear_drift_max, momentum_angular_drift_max             (only when declared conserved)
-//   joint_error_linear_max, joint_error_linear_rms (m), joint_error_angular_max (rad)
+//   momentum_linear_drift_max, momentum_angular_drift_max             (only when declared
+//   conserved) joint_error_linear_max, joint_error_linear_rms (m), joint_error_angular_max (rad)
 //     and per joint type under joint_error_by_type
-//   penetration_max, penetration_mean (m)                             (FCL oracle, margins subtracted)
-//   trajectory_error_max, trajectory_error_rms (m), rotation_error_max (rad)   (against a reference)
+//   penetration_max, penetration_mean (m)                             (FCL oracle, margins
+//   subtracted) trajectory_error_max, trajectory_error_rms (m), rotation_error_max (rad)   (against
+//   a reference)
 // The runner adds wall_time_s, steps, real_time_factor and, for PBD, state_hash.
 #pragma once
 

@@ -28,10 +28,15 @@ int parseInteger(const std::string& key, const std::string& value, int minimum) 
 }  // namespace
 
 const std::vector<std::string>& sceneOverrideKeys() {
-  static const std::vector<std::string> keys = {
-      "timeStepSize",   "subSteps",           "maxIterations",
-      "maxIterationsV", "velocityUpdateMethod", "gravitation",
-      "contactTolerance", "contactStiffnessRigidBody", "contactStiffnessParticleRigidBody"};
+  static const std::vector<std::string> keys = {"timeStepSize",
+                                                "subSteps",
+                                                "maxIterations",
+                                                "maxIterationsV",
+                                                "velocityUpdateMethod",
+                                                "gravitation",
+                                                "contactTolerance",
+                                                "contactStiffnessRigidBody",
+                                                "contactStiffnessParticleRigidBody"};
   return keys;
 }
 
@@ -55,9 +60,11 @@ void applySceneOverride(pbd::Scene& scene, const std::string& key, const std::st
     std::stringstream in(value);
     std::string part;
     std::vector<double> parts;
-    while (std::getline(in, part, ',')) parts.push_back(parseNumber(key, part));
+    while (std::getline(in, part, ','))
+      parts.push_back(parseNumber(key, part));
     if (parts.size() != 3)
-      throw std::invalid_argument("gravitation: expected three comma-separated numbers, got '" + value + "'");
+      throw std::invalid_argument("gravitation: expected three comma-separated numbers, got '" +
+                                  value + "'");
     s.gravitation = pbd::Vector3(pbd::Real(parts[0]), pbd::Real(parts[1]), pbd::Real(parts[2]));
   } else if (key == "contactTolerance" || key == "contactStiffnessRigidBody" ||
              key == "contactStiffnessParticleRigidBody") {
@@ -78,24 +85,28 @@ std::pair<std::string, std::string> splitAssignment(const std::string& text) {
   return {text.substr(0, eq), text.substr(eq + 1)};
 }
 
-std::map<std::string, std::string> applyAssignments(const std::vector<std::string>& assignments,
-                                                    const std::vector<std::string>& methodParameters,
-                                                    pbd::Scene& scene) {
+std::map<std::string, std::string> applyAssignments(
+    const std::vector<std::string>& assignments, const std::vector<std::string>& methodParameters,
+    pbd::Scene& scene) {
   std::map<std::string, std::string> methodValues;
   for (const std::string& assignment : assignments) {
     const auto [key, value] = splitAssignment(assignment);
-    if (std::find(methodParameters.begin(), methodParameters.end(), key) != methodParameters.end()) {
+    if (std::find(methodParameters.begin(), methodParameters.end(), key) !=
+        methodParameters.end()) {
       methodValues[key] = value;
     } else if (std::find(sceneOverrideKeys().begin(), sceneOverrideKeys().end(), key) !=
                sceneOverrideKeys().end()) {
       applySceneOverride(scene, key, value);
     } else {
       std::ostringstream known;
-      for (const auto& p : methodParameters) known << p << ", ";
-      for (const auto& k : sceneOverrideKeys()) known << k << ", ";
+      for (const auto& p : methodParameters)
+        known << p << ", ";
+      for (const auto& k : sceneOverrideKeys())
+        known << k << ", ";
       std::string list = known.str();
       if (list.size() >= 2) list.resize(list.size() - 2);
-      throw std::invalid_argument("unknown setting '" + key + "' (method parameters and scene settings: " + list + ")");
+      throw std::invalid_argument("unknown setting '" + key +
+                                  "' (method parameters and scene settings: " + list + ")");
     }
   }
   return methodValues;

@@ -20,8 +20,8 @@ std::pair<std::string, std::string> splitAssignment(const std::string& text);
 
 /// Splits --set assignments into method parameters (those `methodParameters` names) and scene
 /// overrides (applied to `scene`); throws std::invalid_argument for a key that is neither.
-std::map<std::string, std::string> applyAssignments(const std::vector<std::string>& assignments,
-                                                    const std::vector<std::string>& methodParameters,
-                                                    pbd::Scene& scene);
+std::map<std::string, std::string> applyAssignments(
+    const std::vector<std::string>& assignments, const std::vector<std::string>& methodParameters,
+    pbd::Scene& scene);
 
 }  // namespace pbdval

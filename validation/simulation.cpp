@@ -18,11 +18,16 @@ double secondsSince(Clock::time_point start) {
 
 const char* runStatusName(RunStatus status) {
   switch (status) {
-    case RunStatus::Ok: return "ok";
-    case RunStatus::Diverged: return "diverged";
-    case RunStatus::Timeout: return "timeout";
-    case RunStatus::Unsupported: return "unsupported";
-    case RunStatus::Error: return "error";
+    case RunStatus::Ok:
+      return "ok";
+    case RunStatus::Diverged:
+      return "diverged";
+    case RunStatus::Timeout:
+      return "timeout";
+    case RunStatus::Unsupported:
+      return "unsupported";
+    case RunStatus::Error:
+      return "error";
   }
   return "error";
 }
@@ -82,7 +87,8 @@ RunOutcome runSimulation(Engine& engine, const pbd::Scene& scene, const Method& 
     const std::vector<std::string> missing = engine.unsupported(scene, method);
     if (!missing.empty()) {
       outcome.status = RunStatus::Unsupported;
-      for (const std::string& m : missing) outcome.reason += (outcome.reason.empty() ? "" : "; ") + m;
+      for (const std::string& m : missing)
+        outcome.reason += (outcome.reason.empty() ? "" : "; ") + m;
       return outcome;
     }
     const StepPlan plan = planSteps(length, double(scene.simulation.timeStepSize));
@@ -112,7 +118,8 @@ RunOutcome runSimulation(Engine& engine, const pbd::Scene& scene, const Method& 
         if (callbacks.onSample) callbacks.onSample(state);
         break;
       }
-      if ((n % plan.stride == 0 || n == plan.steps) && callbacks.onSample) callbacks.onSample(state);
+      if ((n % plan.stride == 0 || n == plan.steps) && callbacks.onSample)
+        callbacks.onSample(state);
       if (wallTimeLimit > 0 && secondsSince(start) > wallTimeLimit) {
         outcome.status = RunStatus::Timeout;
         std::ostringstream reason;
@@ -121,7 +128,8 @@ RunOutcome runSimulation(Engine& engine, const pbd::Scene& scene, const Method& 
         outcome.reason = reason.str();
         break;
       }
-      if (callbacks.onProgress && std::chrono::duration<double>(Clock::now() - lastProgress).count() > 0.2) {
+      if (callbacks.onProgress &&
+          std::chrono::duration<double>(Clock::now() - lastProgress).count() > 0.2) {
         lastProgress = Clock::now();
         callbacks.onProgress(double(n) / double(plan.steps), secondsSince(start));
       }

@@ -32,12 +32,12 @@ const char* runStatusName(RunStatus status);
 
 struct RunOutcome {
   RunStatus status = RunStatus::Ok;
-  std::string reason;          ///< empty when ok
-  long steps = 0;              ///< steps taken
-  double simulatedTime = 0;    ///< s
-  double wallTime = 0;         ///< s, load + stepping (reading samples excluded)
+  std::string reason;                           ///< empty when ok
+  long steps = 0;                               ///< steps taken
+  double simulatedTime = 0;                     ///< s
+  double wallTime = 0;                          ///< s, load + stepping (reading samples excluded)
   std::map<std::string, std::string> settings;  ///< Engine::effectiveSettings()
-  std::string stateHash;       ///< of the final state, for deterministic engines
+  std::string stateHash;                        ///< of the final state, for deterministic engines
 };
 
 struct RunCallbacks {

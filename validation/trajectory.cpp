@@ -14,7 +14,9 @@ std::string formatNumber(double value) {
   return std::string(buffer, result.ptr);
 }
 
-void writeCsvHeader(std::ostream& out) { out << kTrajectoryCsvHeader << '\n'; }
+void writeCsvHeader(std::ostream& out) {
+  out << kTrajectoryCsvHeader << '\n';
+}
 
 void writeCsvRows(std::ostream& out, const State& state) {
   // Time is a multiple of the step; print it to 12 significant digits so that 0.3 is 0.3.
@@ -23,11 +25,11 @@ void writeCsvRows(std::ostream& out, const State& state) {
   for (const BodyState& b : state.bodies) {
     const Quaternion q = b.rotation.w() < 0 ? Quaternion(-b.rotation.coeffs()) : b.rotation;
     out << time << ',' << b.id;
-    for (double v : {double(b.position.x()), double(b.position.y()), double(b.position.z()),
-                     double(q.w()), double(q.x()), double(q.y()), double(q.z()),
-                     double(b.velocity.x()), double(b.velocity.y()), double(b.velocity.z()),
-                     double(b.angularVelocity.x()), double(b.angularVelocity.y()),
-                     double(b.angularVelocity.z())})
+    for (double v :
+         {double(b.position.x()), double(b.position.y()), double(b.position.z()), double(q.w()),
+          double(q.x()), double(q.y()), double(q.z()), double(b.velocity.x()),
+          double(b.velocity.y()), double(b.velocity.z()), double(b.angularVelocity.x()),
+          double(b.angularVelocity.y()), double(b.angularVelocity.z())})
       out << ',' << formatNumber(v);
     out << '\n';
   }

@@ -99,7 +99,8 @@ ParsedArgs ArgParser::parse(const std::vector<std::string>& args) const {
       if (hasInline) {
         value = inlineValue;
       } else {
-        if (i + 1 >= args.size()) throw UsageError("--" + name + " needs a value (" + option->valueName + ")");
+        if (i + 1 >= args.size())
+          throw UsageError("--" + name + " needs a value (" + option->valueName + ")");
         value = args[++i];
       }
       auto& slot = parsed.options[name];
@@ -112,16 +113,19 @@ ParsedArgs ArgParser::parse(const std::vector<std::string>& args) const {
   }
   const int count = static_cast<int>(parsed.positionals.size());
   if (count < minimumPositionals_)
-    throw UsageError("missing " + (positionalName_.empty() ? std::string("argument") : positionalName_));
+    throw UsageError("missing " +
+                     (positionalName_.empty() ? std::string("argument") : positionalName_));
   if (maximumPositionals_ >= 0 && count > maximumPositionals_)
-    throw UsageError("unexpected argument '" + parsed.positionals[static_cast<std::size_t>(maximumPositionals_)] + "'");
+    throw UsageError("unexpected argument '" +
+                     parsed.positionals[static_cast<std::size_t>(maximumPositionals_)] + "'");
   return parsed;
 }
 
 std::string ArgParser::help() const {
   std::ostringstream out;
   out << "usage: pbdval " << command_ << ' ' << synopsis_ << "\n\n" << description_ << "\n";
-  if (!positionalName_.empty()) out << "\n  " << positionalName_ << "\n      " << positionalHelp_ << "\n";
+  if (!positionalName_.empty())
+    out << "\n  " << positionalName_ << "\n      " << positionalHelp_ << "\n";
   if (!options_.empty()) {
     out << "\noptions:\n";
     for (const Option& o : options_) {

@@ -26,19 +26,27 @@ ArgParser simulateParser() {
       "  t,id,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n"
       "x,y,z: centre of mass (world); q: the body's scene frame -> world; v, w: linear and\n"
       "angular velocity (world). Warnings and a summary go to stderr.");
-  parser.positionals("SCENE.json", "a scene in the PositionBasedDynamics format (docs/scene-format.md)", 1, 1)
-      .option("duration", "T", "simulated seconds (default: the scene's Validation.duration, else "
-                              "its pauseAt when > 0, else 5)")
+  parser
+      .positionals("SCENE.json",
+                   "a scene in the PositionBasedDynamics format (docs/scene-format.md)", 1, 1)
+      .option("duration", "T",
+              "simulated seconds (default: the scene's Validation.duration, else "
+              "its pauseAt when > 0, else 5)")
       .option("out", "FILE.csv", "write the CSV here, atomically (default: standard output)")
       .option("sample-interval", "S", "seconds between samples (default: every step)")
-      .option("engine", "NAME", "pbd (default), bullet, ode or mujoco ('pbdval methods' lists them)")
+      .option("engine", "NAME",
+              "pbd (default), bullet, ode or mujoco ('pbdval methods' lists them)")
       .option("method", "NAME", "a method of the engine (default: the engine's default method)")
-      .option("set", "KEY=VALUE", "a method parameter or a Simulation setting, e.g. subSteps=10, "
-                                  "timeStepSize=0.001", true)
+      .option("set", "KEY=VALUE",
+              "a method parameter or a Simulation setting, e.g. subSteps=10, "
+              "timeStepSize=0.001",
+              true)
       .flag("strict", "treat scene warnings (unknown keys, `gravity`) as errors")
       .flag("quiet", "no warnings, progress or summary on stderr")
-      .epilog("exit status: 0 ok; 1 the run failed (diverged, engine error, unsupported); 2 bad\n"
-              "usage or scene.\nexample: pbdval simulate cases/hinge_pendulum.json --duration 2 --out hinge.csv");
+      .epilog(
+          "exit status: 0 ok; 1 the run failed (diverged, engine error, unsupported); 2 bad\n"
+          "usage or scene.\nexample: pbdval simulate cases/hinge_pendulum.json --duration 2 --out "
+          "hinge.csv");
   return parser;
 }
 
@@ -70,7 +78,8 @@ int simulateCommand(const Arguments& arguments) {
     return 2;
   }
   if (!quiet)
-    for (const auto& w : loaded.warnings) std::fprintf(stderr, "warning: %s\n", w.text().c_str());
+    for (const auto& w : loaded.warnings)
+      std::fprintf(stderr, "warning: %s\n", w.text().c_str());
   pbd::Scene& scene = loaded.scene;
 
   std::string engineName, methodName;
@@ -81,9 +90,11 @@ int simulateCommand(const Arguments& arguments) {
     methodName = args.value("method", defaultMethod(engineName));
     const MethodInfo& info = findMethod(methodName);
     if (info.engine != engineName)
-      throw UsageError("method " + methodName + " belongs to engine " + info.engine + ", not " + engineName);
+      throw UsageError("method " + methodName + " belongs to engine " + info.engine + ", not " +
+                       engineName);
     std::vector<std::string> parameterNames;
-    for (const auto& p : info.parameters) parameterNames.push_back(p.name);
+    for (const auto& p : info.parameters)
+      parameterNames.push_back(p.name);
     method = resolveMethod(methodName, applyAssignments(args.values("set"), parameterNames, scene));
     const CaseSpec spec = parseCaseSpec(scene);
     length.duration = args.number("duration", defaultDuration(scene, spec));
@@ -109,8 +120,9 @@ int simulateCommand(const Arguments& arguments) {
   };
   if (showProgress)
     callbacks.onProgress = [&](double fraction, double elapsed) {
-      std::fprintf(stderr, "\r  %s/%s: %5.1f%% of %g s simulated, %.1f s elapsed", engineName.c_str(),
-                   methodName.c_str(), 100 * fraction, length.duration, elapsed);
+      std::fprintf(stderr, "\r  %s/%s: %5.1f%% of %g s simulated, %.1f s elapsed",
+                   engineName.c_str(), methodName.c_str(), 100 * fraction, length.duration,
+                   elapsed);
     };
 
   const std::unique_ptr<Engine> engine = makeEngine(engineName);
@@ -119,13 +131,14 @@ int simulateCommand(const Arguments& arguments) {
 
   if (file) file->commit();
   if (!quiet) {
-    std::fprintf(stderr, "%s: %s/%s %s: %ld steps, %g s simulated in %.3f s (%.1fx real time), %zu samples x %zu bodies%s%s\n",
-                 scenePath.c_str(), engineName.c_str(), methodName.c_str(),
-                 runStatusName(outcome.status), outcome.steps, outcome.simulatedTime,
-                 outcome.wallTime,
-                 outcome.wallTime > 0 ? outcome.simulatedTime / outcome.wallTime : 0.0, samples,
-                 scene.rigidBodies.size(), file ? ", wrote " : "",
-                 file ? args.value("out").c_str() : "");
+    std::fprintf(
+        stderr,
+        "%s: %s/%s %s: %ld steps, %g s simulated in %.3f s (%.1fx real time), %zu samples x %zu "
+        "bodies%s%s\n",
+        scenePath.c_str(), engineName.c_str(), methodName.c_str(), runStatusName(outcome.status),
+        outcome.steps, outcome.simulatedTime, outcome.wallTime,
+        outcome.wallTime > 0 ? outcome.simulatedTime / outcome.wallTime : 0.0, samples,
+        scene.rigidBodies.size(), file ? ", wrote " : "", file ? args.value("out").c_str() : "");
     if (outcome.status != RunStatus::Ok)
       std::fprintf(stderr, "reason: %s\n", outcome.reason.c_str());
   }

@@ -11,6 +11,8 @@ using Arguments = std::vector<std::string>;
 
 int simulateCommand(const Arguments& args);
 int methodsCommand(const Arguments& args);
+int runCommand(const Arguments& args);
+int listCommand(const Arguments& args);
 
 struct Command {
   const char* name;

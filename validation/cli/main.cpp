@@ -10,6 +10,9 @@ namespace pbdval::cli {
 
 const std::vector<Command>& commands() {
   static const std::vector<Command> all = {
+      {"run", "run cases in every engine, isolated, and write results.json with the metrics",
+       &runCommand},
+      {"list", "list the cases with a one-line description each", &listCommand},
       {"simulate", "run one scene headless in one engine and write its trajectory as CSV",
        &simulateCommand},
       {"methods", "list the solver methods of every engine, with parameters and defaults",
@@ -27,7 +30,8 @@ void printOverview() {
       "usage: pbdval COMMAND [ARGS...]\n\n"
       "pbdval runs rigid-body, joint and contact scenes in a position-based dynamics library and\n"
       "in reference engines, and measures them the same way.\n\ncommands:\n");
-  for (const auto& c : pbdval::cli::commands()) std::printf("  %-10s %s\n", c.name, c.summary);
+  for (const auto& c : pbdval::cli::commands())
+    std::printf("  %-10s %s\n", c.name, c.summary);
   std::printf("\n'pbdval COMMAND --help' describes a command. Documentation: docs/cli.md\n");
 }
 

@@ -1,0 +1,153 @@
+// pbdval run [CASES or folders ...] [--engines LIST] [--methods LIST] [--out DIR] [--jobs N]
+//            [--timeout S] [--set KEY=VALUE ...] [--no-trajectories] [--strict] [--quiet]
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <thread>
+
+#include "validation/case_library.h"
+#include "validation/cli/args.h"
+#include "validation/cli/commands.h"
+#include "validation/results.h"
+#include "validation/run_plan.h"
+#include "validation/summary.h"
+
+namespace pbdval::cli {
+namespace {
+
+ArgParser runParser() {
+  ArgParser parser(
+      "run", "[CASES or folders ...] [options]",
+      "Runs every case in every engine with each engine's default method (or the case's\n"
+      "Validation.methods), each run isolated in its own process, and computes the metrics.\n"
+      "Writes DIR/results.json (docs/results.md) and DIR/trajectories/CASE/ENGINE-METHOD.csv,\n"
+      "and prints a summary table. A run that diverges, times out, crashes or lacks a feature\n"
+      "gets that status; the others still complete.");
+  parser.positionals("CASES", "scene files or folders of them (default: cases/)", 0, -1)
+      .option("engines", "LIST", "comma-separated engines (default: all; 'pbdval methods')")
+      .option("methods", "LIST",
+              "comma-separated methods (default: each case's, else each engine's default)")
+      .option("out", "DIR", "output folder (default: out)")
+      .option("jobs", "N", "runs in parallel (default: the number of cores)")
+      .option("timeout", "S", "wall-time limit per run in seconds (default: 600; 0: none)")
+      .option("set", "KEY=VALUE", "a method parameter or Simulation setting for every run", true)
+      .flag("no-trajectories", "do not write trajectory CSVs")
+      .flag("strict", "treat scene warnings as errors")
+      .flag("quiet", "no progress, only the summary")
+      .epilog(
+          "exit status: 0 when results.json was written (statuses are data; 'pbdval gate'\n"
+          "judges them), 2 on bad usage.\n"
+          "example: pbdval run cases/joint_hinge.json cases/chain_10.json --engines pbd,ode --jobs "
+          "2");
+  return parser;
+}
+
+std::string clock(double seconds) {
+  char text[16];
+  std::snprintf(text, sizeof text, "%02d:%02d", int(seconds) / 60, int(seconds) % 60);
+  return text;
+}
+
+}  // namespace
+
+int runCommand(const Arguments& arguments) {
+  const ArgParser parser = runParser();
+  ParsedArgs args;
+  try {
+    args = parser.parse(arguments);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "pbdval run: %s (see 'pbdval run --help')\n", e.what());
+    return 2;
+  }
+  if (args.helpRequested) {
+    std::cout << parser.help();
+    return 0;
+  }
+  const bool quiet = args.flags.count("quiet") > 0;
+  PlanOptions options;
+  RunPlan plan;
+  int jobs = 1;
+  double timeout = 600;
+  try {
+    options.engines = splitList(args.value("engines"));
+    options.methods = splitList(args.value("methods"));
+    options.assignments = args.values("set");
+    options.outFolder = args.value("out", "out");
+    options.writeTrajectories = !args.flags.count("no-trajectories");
+    options.strictScene = args.flags.count("strict") > 0;
+    jobs = int(args.integer("jobs", long(std::max(1u, std::thread::hardware_concurrency()))));
+    if (jobs < 1) throw UsageError("--jobs: expected at least 1");
+    timeout = args.number("timeout", 600);
+    if (timeout < 0) throw UsageError("--timeout: expected seconds ≥ 0");
+    const std::vector<std::string> paths =
+        args.positionals.empty() ? std::vector<std::string>{defaultCaseFolder()} : args.positionals;
+    plan = planRuns(collectCaseFiles(paths), options);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "pbdval run: error: %s\n", e.what());
+    return 2;
+  }
+
+  std::ostringstream command;
+  command << "pbdval run";
+  for (const std::string& a : arguments)
+    command << ' ' << a;
+  ResultsFile results;
+  results.metadata = currentMetadata(command.str());
+
+  const bool terminal = !quiet && ::isatty(STDERR_FILENO);
+  const auto start = std::chrono::steady_clock::now();
+  auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  if (!quiet)
+    std::fprintf(stderr, "pbdval run: %zu runs, %d in parallel, timeout %g s, output in %s/\n",
+                 plan.requests.size(), jobs, timeout, options.outFolder.c_str());
+  for (const RunRecord& r : plan.unreadable)
+    if (!quiet)
+      std::fprintf(stderr, "  %s: error: %s\n", r.request.caseName.c_str(), r.reason.c_str());
+
+  RunScheduler scheduler(jobs, timeout, options.outFolder + "/.scratch");
+  std::vector<RunRecord> records = scheduler.runAll(
+      plan.requests,
+      [&](const RunRecord& r, std::size_t done, std::size_t total) {
+        if (quiet) return;
+        if (terminal) std::fprintf(stderr, "\r\033[K");
+        if (!terminal || r.status != RunStatus::Ok)
+          std::fprintf(stderr, "[%3zu/%zu] %s %-34s %-26s %s%s%s\n", done, total,
+                       clock(elapsed()).c_str(), r.request.caseName.c_str(),
+                       runLabel(r.request).c_str(), runStatusName(r.status),
+                       r.reason.empty() ? "" : ": ", r.reason.substr(0, 100).c_str());
+      },
+      [&](const std::vector<const RunRequest*>& running) {
+        if (!terminal || running.empty()) return;
+        static int tick = 0;
+        if (++tick % 10) return;  // redraw every ~0.2 s
+        std::string names;
+        for (const RunRequest* r : running)
+          names += (names.empty() ? "" : ", ") + r->caseName + " " + runLabel(*r);
+        if (names.size() > 90) names = names.substr(0, 87) + "...";
+        std::fprintf(stderr, "\r\033[K  %s running: %s", clock(elapsed()).c_str(), names.c_str());
+      });
+  if (terminal) std::fprintf(stderr, "\r\033[K");
+  std::filesystem::remove_all(options.outFolder + "/.scratch");
+
+  results.runs = plan.unreadable;
+  results.runs.insert(results.runs.end(), records.begin(), records.end());
+  const std::string resultsPath = options.outFolder + "/results.json";
+  try {
+    writeResults(resultsPath, results);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "pbdval run: error: %s\n", e.what());
+    return 2;
+  }
+  printSummaryTable(std::cout, results.runs);
+  std::printf("%s in %s; results in %s\n", statusCounts(results.runs).c_str(),
+              clock(elapsed()).c_str(), resultsPath.c_str());
+  return 0;
+}
+
+}  // namespace pbdval::cli

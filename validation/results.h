@@ -1,0 +1,34 @@
+// results.json (docs/results.md): every run of a `pbdval run` with the metadata needed to
+// reproduce and compare it (build, machine, command). Written atomically.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "validation/run_record.h"
+
+namespace pbdval {
+
+/// Where and how a set of results was produced.
+struct RunMetadata {
+  std::string created;  ///< UTC, ISO 8601
+  std::string command;  ///< the command line
+  std::string version, commit, commitState, buildType, compiler, flags, precision;
+  std::string hostname, cpu;
+  int cores = 0;
+};
+
+/// The metadata of this process (build info compiled in, machine read from the system).
+RunMetadata currentMetadata(const std::string& command);
+
+struct ResultsFile {
+  int schemaVersion = kResultsSchemaVersion;
+  RunMetadata metadata;
+  std::vector<RunRecord> runs;
+};
+
+void writeResults(const std::string& path, const ResultsFile& results);
+/// Throws std::invalid_argument naming the file and the field on bad input.
+ResultsFile readResults(const std::string& path);
+
+}  // namespace pbdval

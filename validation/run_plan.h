@@ -1,0 +1,37 @@
+// Which (case, engine, method) runs a `pbdval run` makes.
+//
+// Engines: --engines, else every engine; a case's Validation.engines restricts them further.
+// Methods: --methods (each belonging to a selected engine), else the case's Validation.methods,
+// else each selected engine's default method.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "validation/run_record.h"
+
+namespace pbdval {
+
+struct PlanOptions {
+  std::vector<std::string> engines;      ///< empty: all
+  std::vector<std::string> methods;      ///< empty: the case's, else the engines' defaults
+  std::vector<std::string> assignments;  ///< --set, passed to every run
+  std::string outFolder = "out";
+  bool writeTrajectories = true;
+  bool strictScene = false;
+};
+
+struct RunPlan {
+  std::vector<RunRequest> requests;
+  /// Cases that could not be read: one `error` record each, reported with the results.
+  std::vector<RunRecord> unreadable;
+};
+
+/// Throws std::invalid_argument for unknown engines or methods in `options`.
+RunPlan planRuns(const std::vector<std::string>& caseFiles, const PlanOptions& options);
+
+/// "trajectories/CASE/ENGINE-METHOD.csv" under the out folder.
+std::string trajectoryPathFor(const std::string& outFolder, const std::string& caseName,
+                              const std::string& method);
+
+}  // namespace pbdval
