@@ -72,6 +72,32 @@ RunMetadata metadataFrom(const Json& j) {
   return m;
 }
 
+Json checkJson(const CheckSpec& c) {
+  Json j = {{"jsonPath", c.jsonPath}, {"metric", c.metric}};
+  if (c.max) j["max"] = *c.max;
+  if (c.min) j["min"] = *c.min;
+  if (!c.engines.empty()) j["engines"] = c.engines;
+  if (!c.methods.empty()) j["methods"] = c.methods;
+  if (!c.better.empty()) j["better"] = c.better;
+  if (!c.worse.empty()) j["worse"] = c.worse;
+  if (!c.description.empty()) j["description"] = c.description;
+  return j;
+}
+
+CheckSpec checkFrom(const Json& j) {
+  CheckSpec c;
+  c.jsonPath = j.value("jsonPath", "");
+  c.metric = j.at("metric").get<std::string>();
+  if (j.contains("max")) c.max = j.at("max").get<double>();
+  if (j.contains("min")) c.min = j.at("min").get<double>();
+  c.engines = j.value("engines", std::vector<std::string>{});
+  c.methods = j.value("methods", std::vector<std::string>{});
+  c.better = j.value("better", "");
+  c.worse = j.value("worse", "");
+  c.description = j.value("description", "");
+  return c;
+}
+
 }  // namespace
 
 RunMetadata currentMetadata(const std::string& command) {
@@ -97,9 +123,20 @@ void writeResults(const std::string& path, const ResultsFile& results) {
   Json runs = Json::array();
   for (const RunRecord& r : results.runs)
     runs.push_back(Json::parse(toJsonText(r)));
+  Json cases = Json::object();
+  for (const auto& [name, data] : results.cases) {
+    Json checks = Json::array();
+    for (const CheckSpec& c : data.checks)
+      checks.push_back(checkJson(c));
+    cases[name] = {{"file", data.file},
+                   {"description", data.description},
+                   {"checks", checks},
+                   {"tolerances", data.tolerances}};
+  }
   const Json document = {{"schema", "pbdval-results"},
                          {"schemaVersion", results.schemaVersion},
                          {"metadata", metadataJson(results.metadata)},
+                         {"cases", cases},
                          {"runs", runs}};
   writeFileAtomically(path, document.dump(2) + "\n");
 }
@@ -125,6 +162,19 @@ ResultsFile readResults(const std::string& path) {
                                 " is not supported (expected " +
                                 std::to_string(kResultsSchemaVersion) + ")");
   results.metadata = metadataFrom(document.value("metadata", Json::object()));
+  try {
+    for (const auto& item : document.value("cases", Json::object()).items()) {
+      CaseGateData data;
+      data.file = item.value().value("file", "");
+      data.description = item.value().value("description", "");
+      for (const Json& c : item.value().value("checks", Json::array()))
+        data.checks.push_back(checkFrom(c));
+      data.tolerances = item.value().value("tolerances", std::map<std::string, double>{});
+      results.cases[item.key()] = data;
+    }
+  } catch (const Json::exception& e) {
+    throw std::invalid_argument(path + ": cases: " + e.what());
+  }
   if (!document.contains("runs") || !document.at("runs").is_array())
     throw std::invalid_argument(path + ": runs: expected an array");
   const Json& runs = document.at("runs");

@@ -21,9 +21,18 @@ struct RunMetadata {
 /// The metadata of this process (build info compiled in, machine read from the system).
 RunMetadata currentMetadata(const std::string& command);
 
+/// A case's gate data, copied into the results so that the gate needs nothing else.
+struct CaseGateData {
+  std::string file;
+  std::string description;
+  std::vector<CheckSpec> checks;
+  std::map<std::string, double> tolerances;
+};
+
 struct ResultsFile {
   int schemaVersion = kResultsSchemaVersion;
   RunMetadata metadata;
+  std::map<std::string, CaseGateData> cases;  ///< by case name
   std::vector<RunRecord> runs;
 };
 

@@ -74,6 +74,7 @@ RunPlan planRuns(const std::vector<std::string>& caseFiles, const PlanOptions& o
       plan.unreadable.push_back(failed);
       continue;
     }
+    plan.cases[name] = {file, spec};
     for (const std::string& engine : engines) {
       if (!spec.engines.empty() && !contains(spec.engines, engine)) continue;
       const std::vector<std::string> methods = methodsFor(engine, options, spec);

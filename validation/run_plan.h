@@ -5,6 +5,7 @@
 // else each selected engine's default method.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,8 @@ struct PlanOptions {
 
 struct RunPlan {
   std::vector<RunRequest> requests;
+  /// The Validation blocks of the cases read, by case name.
+  std::map<std::string, std::pair<std::string, CaseSpec>> cases;  ///< name → (file, spec)
   /// Cases that could not be read: one `error` record each, reported with the results.
   std::vector<RunRecord> unreadable;
 };

@@ -135,6 +135,9 @@ int runCommand(const Arguments& arguments) {
   if (terminal) std::fprintf(stderr, "\r\033[K");
   std::filesystem::remove_all(options.outFolder + "/.scratch");
 
+  for (const auto& [name, entry] : plan.cases)
+    results.cases[name] = {entry.first, entry.second.description, entry.second.checks,
+                           entry.second.tolerances};
   results.runs = plan.unreadable;
   results.runs.insert(results.runs.end(), records.begin(), records.end());
   const std::string resultsPath = options.outFolder + "/results.json";

@@ -13,6 +13,8 @@ int simulateCommand(const Arguments& args);
 int methodsCommand(const Arguments& args);
 int runCommand(const Arguments& args);
 int listCommand(const Arguments& args);
+int gateCommand(const Arguments& args);
+int baselineCommand(const Arguments& args);
 
 struct Command {
   const char* name;

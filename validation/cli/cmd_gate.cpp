@@ -1,0 +1,114 @@
+// pbdval gate --baseline FILE --results DIR [--junit FILE] [--markdown FILE]
+// pbdval baseline --results DIR --out FILE
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include "validation/atomic_file.h"
+#include "validation/cli/args.h"
+#include "validation/cli/commands.h"
+#include "validation/gate.h"
+
+namespace pbdval::cli {
+namespace {
+
+std::string resultsPathOf(const std::string& folderOrFile) {
+  return folderOrFile.size() > 5 && folderOrFile.substr(folderOrFile.size() - 5) == ".json"
+             ? folderOrFile
+             : folderOrFile + "/results.json";
+}
+
+}  // namespace
+
+int gateCommand(const Arguments& arguments) {
+  ArgParser parser("gate", "--baseline FILE --results DIR [--junit FILE] [--markdown FILE]",
+                   "Compares a results folder with a baseline and with each case's own checks\n"
+                   "(docs/gate.md): every metric no worse than the baseline by more than its\n"
+                   "tolerance, no run that was ok and is not any more, no run missing, and the\n"
+                   "cases' bounds and orderings.");
+  parser
+      .option("baseline", "FILE",
+              "a baseline written by 'pbdval baseline' (e.g. reports/baselines/main.json)")
+      .option("results", "DIR", "a results folder (or its results.json) written by 'pbdval run'")
+      .option("junit", "FILE", "also write JUnit XML for CI systems")
+      .option("markdown", "FILE", "also write a Markdown summary")
+      .flag("quiet", "print only the verdict")
+      .epilog(
+          "exit status: 0 every check holds, 1 a check fails, 2 bad usage or unreadable input.");
+  ParsedArgs args;
+  try {
+    args = parser.parse(arguments);
+    if (args.helpRequested) {
+      std::cout << parser.help();
+      return 0;
+    }
+    if (!args.has("baseline") || !args.has("results"))
+      throw UsageError("--baseline and --results are required");
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "pbdval gate: %s (see 'pbdval gate --help')\n", e.what());
+    return 2;
+  }
+  GateReport report;
+  ResultsFile results;
+  try {
+    const Baseline baseline = readBaseline(args.value("baseline"));
+    results = readResults(resultsPathOf(args.value("results")));
+    report = evaluateGate(baseline, results);
+    if (args.has("junit")) {
+      std::ostringstream xml;
+      writeJUnit(xml, report);
+      writeFileAtomically(args.value("junit"), xml.str());
+    }
+    if (args.has("markdown")) {
+      std::ostringstream md;
+      writeMarkdown(md, report, results);
+      writeFileAtomically(args.value("markdown"), md.str());
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "pbdval gate: error: %s\n", e.what());
+    return 2;
+  }
+  if (!args.flags.count("quiet")) {
+    for (const GateOutcome& o : report.outcomes)
+      if (!o.passed)
+        std::printf("FAIL %s: %s: %s\n", o.suite.c_str(), o.name.c_str(), o.message.c_str());
+    for (const std::string& note : report.notes)
+      std::printf("note: %s\n", note.c_str());
+  }
+  std::printf("pbdval gate: %s (%zu checks, %zu failed)\n", report.passed() ? "passed" : "FAILED",
+              report.outcomes.size(), report.failures());
+  return report.passed() ? 0 : 1;
+}
+
+int baselineCommand(const Arguments& arguments) {
+  ArgParser parser("baseline", "--results DIR --out FILE",
+                   "Writes a baseline (statuses and metrics of every run) from a results folder,\n"
+                   "for 'pbdval gate'. The project's own baseline lives in reports/baselines/.");
+  parser.option("results", "DIR", "a results folder (or its results.json)")
+      .option("out", "FILE", "the baseline file to write (atomically)");
+  ParsedArgs args;
+  try {
+    args = parser.parse(arguments);
+    if (args.helpRequested) {
+      std::cout << parser.help();
+      return 0;
+    }
+    if (!args.has("results") || !args.has("out"))
+      throw UsageError("--results and --out are required");
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "pbdval baseline: %s (see 'pbdval baseline --help')\n", e.what());
+    return 2;
+  }
+  try {
+    const ResultsFile results = readResults(resultsPathOf(args.value("results")));
+    writeBaseline(args.value("out"), baselineFromResults(results));
+    std::printf("pbdval baseline: %zu runs from %s written to %s\n", results.runs.size(),
+                resultsPathOf(args.value("results")).c_str(), args.value("out").c_str());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "pbdval baseline: error: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}
+
+}  // namespace pbdval::cli

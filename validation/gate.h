@@ -1,0 +1,58 @@
+// The release gate (docs/gate.md): compares a results folder with a baseline and with each
+// case's own checks. Every check yields a pass/fail outcome with a message; the CLI turns them
+// into an exit code, JUnit XML and a Markdown summary.
+#pragma once
+
+#include <iosfwd>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "validation/results.h"
+
+namespace pbdval {
+
+inline constexpr int kBaselineSchemaVersion = 1;
+
+/// A baseline: the statuses and metrics of a trusted results file.
+struct Baseline {
+  RunMetadata source;  ///< the results it was made from
+  std::vector<RunRecord> runs;
+};
+
+Baseline baselineFromResults(const ResultsFile& results);
+void writeBaseline(const std::string& path, const Baseline& baseline);
+/// Throws std::invalid_argument naming the file and field on bad input.
+Baseline readBaseline(const std::string& path);
+
+/// How much worse than the baseline a metric may get: new ≤ base·(1 + relative) + absolute
+/// (on magnitudes, for signed metrics). `gated` false: not compared by default (cost metrics).
+struct MetricTolerance {
+  double relative = 0.25;
+  double absolute = 1e-9;
+  bool gated = true;
+  bool higherIsBetter = false;
+};
+/// The default tolerance of a metric (docs/gate.md lists them).
+MetricTolerance defaultTolerance(const std::string& metric);
+
+struct GateOutcome {
+  std::string suite;  ///< case name
+  std::string name;   ///< "pbd/pbd energy_drift_max vs baseline", "checks[0] ..."
+  bool passed = true;
+  std::string message;
+};
+
+struct GateReport {
+  std::vector<GateOutcome> outcomes;
+  std::vector<std::string> notes;  ///< runs new since the baseline, metrics without baseline value
+  bool passed() const;
+  std::size_t failures() const;
+};
+
+GateReport evaluateGate(const Baseline& baseline, const ResultsFile& results);
+
+void writeJUnit(std::ostream& out, const GateReport& report);
+void writeMarkdown(std::ostream& out, const GateReport& report, const ResultsFile& results);
+
+}  // namespace pbdval
