@@ -78,6 +78,10 @@ void applySceneOverride(pbd::Scene& scene, const std::string& key, const std::st
   }
 }
 
+bool sceneSettingApplies(const std::string& key, const std::string& engine) {
+  return key == "timeStepSize" || key == "gravitation" || engine == "pbd";
+}
+
 std::pair<std::string, std::string> splitAssignment(const std::string& text) {
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0)

@@ -15,6 +15,10 @@ const std::vector<std::string>& sceneOverrideKeys();
 /// Sets one Simulation key from text; throws std::invalid_argument with the reason.
 void applySceneOverride(pbd::Scene& scene, const std::string& key, const std::string& value);
 
+/// Whether a scene setting has any effect in `engine`: timeStepSize and gravitation apply to
+/// every engine; the solver and contact settings of the Simulation block only to pbd.
+bool sceneSettingApplies(const std::string& key, const std::string& engine);
+
 /// Splits "key=value"; throws std::invalid_argument when there is no '='.
 std::pair<std::string, std::string> splitAssignment(const std::string& text);
 

@@ -51,22 +51,24 @@ LoadedCase loadCase(const RunRequest& request) {
   return c;
 }
 
-RunLength lengthOf(const LoadedCase& c) {
-  return {defaultDuration(c.scene, c.spec), c.spec.sampleInterval.value_or(0)};
+RunLength lengthOf(const LoadedCase& c, const RunRequest& request) {
+  return {defaultDuration(c.scene, c.spec),
+          request.sampleInterval > 0 ? request.sampleInterval : c.spec.sampleInterval.value_or(0)};
 }
 
-/// A run of `engineName`/`method` on `scene` at timeStepSize / divisor, sampled at the same
-/// times as the run being measured.
+/// A run of `engineName`/`method` on `scene` at step `fineStep`, sampled at the same times as
+/// the run being measured (whose step is `coarseStep`).
 std::optional<ReferenceTrajectory> referenceRun(const LoadedCase& c, const std::string& engineName,
-                                                const Method& method, int divisor,
+                                                const Method& method, double fineStep,
                                                 const RunLength& length, double coarseStep,
                                                 std::vector<std::string>& notes) {
   pbd::Scene fine = c.scene;
-  fine.simulation.timeStepSize = pbd::Real(coarseStep / divisor);
+  fine.simulation.timeStepSize = pbd::Real(fineStep);
   RunLength fineLength = length;
   if (fineLength.sampleInterval <= 0) fineLength.sampleInterval = coarseStep;
   ReferenceTrajectory reference;
-  reference.description = engineName + "/" + method.name + " at h/" + std::to_string(divisor);
+  reference.description =
+      engineName + "/" + method.name + " at h = " + formatNumber(fineStep) + " s";
   const std::unique_ptr<Engine> engine = makeEngine(engineName);
   RunCallbacks callbacks;
   callbacks.onSample = [&](const State& s) { reference.samples.push_back(s); };
@@ -89,19 +91,22 @@ std::optional<ReferenceTrajectory> buildReference(const LoadedCase& c, const Run
                                                   const std::vector<State>& samples,
                                                   std::vector<std::string>& notes) {
   const double h = double(c.scene.simulation.timeStepSize);
-  const RunLength length = lengthOf(c);
+  const RunLength length = lengthOf(c, request);
   if (request.referenceMode == "none") return std::nullopt;
   if (request.referenceMode == "fine")
-    return referenceRun(c, request.engine, c.method, request.fineDivisor, length, h, notes);
+    return referenceRun(
+        c, request.engine, c.method,
+        request.referenceStepSize > 0 ? request.referenceStepSize : h / request.fineDivisor, length,
+        h, notes);
   const ReferenceSpec& spec = c.spec.reference;
   switch (spec.kind) {
     case ReferenceSpec::Kind::None:
       return std::nullopt;
     case ReferenceSpec::Kind::Fine:
-      return referenceRun(c, request.engine, c.method, spec.stepDivisor, length, h, notes);
+      return referenceRun(c, request.engine, c.method, h / spec.stepDivisor, length, h, notes);
     case ReferenceSpec::Kind::Engine:
-      return referenceRun(c, spec.engine, resolveMethod(spec.method, {}), spec.stepDivisor, length,
-                          h, notes);
+      return referenceRun(c, spec.engine, resolveMethod(spec.method, {}), h / spec.stepDivisor,
+                          length, h, notes);
     case ReferenceSpec::Kind::Analytic: {
       std::vector<double> times;
       for (const State& s : samples)
@@ -142,7 +147,8 @@ RunRecord executeRun(const RunRequest& request) {
       samples.push_back(s);
       if (csv) writeCsvRows(csv->stream(), s);
     };
-    const RunOutcome outcome = runSimulation(*engine, c.scene, c.method, lengthOf(c), callbacks);
+    const RunOutcome outcome =
+        runSimulation(*engine, c.scene, c.method, lengthOf(c, request), callbacks);
     if (csv) csv->commit();
 
     record.status = outcome.status;
@@ -245,6 +251,8 @@ RunRecord recordFromJsonText(const std::string& text, const std::string& where) 
     r.request.trajectoryPath = j.value("trajectory", std::string());
     r.request.referenceMode = j.value("referenceMode", std::string());
     r.request.fineDivisor = j.value("fineDivisor", 16);
+    r.request.referenceStepSize = j.value("referenceStepSize", 0.0);
+    r.request.sampleInterval = j.value("sampleInterval", 0.0);
     r.status = statusFromName(j.at("status").get<std::string>(), where);
     r.reason = j.value("reason", std::string());
     r.methodParameters = j.value("parameters", std::map<std::string, std::string>{});

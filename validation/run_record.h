@@ -26,6 +26,11 @@ struct RunRequest {
   /// timeStepSize / fineDivisor; "none" no reference.
   std::string referenceMode;
   int fineDivisor = 16;
+  /// Absolute step of the "fine" reference (s); 0: the run's timeStepSize / fineDivisor. Sweeps
+  /// over timeStepSize fix it so that every point is compared with the same reference.
+  double referenceStepSize = 0;
+  /// Sample interval (s) overriding the case's; 0: the case's. Sweeps use a common one.
+  double sampleInterval = 0;
   bool strictScene = false;
 };
 

@@ -14,6 +14,7 @@ int methodsCommand(const Arguments& args);
 int runCommand(const Arguments& args);
 int listCommand(const Arguments& args);
 int gateCommand(const Arguments& args);
+int sweepCommand(const Arguments& args);
 int baselineCommand(const Arguments& args);
 
 struct Command {

@@ -13,6 +13,8 @@ const std::vector<Command>& commands() {
       {"run", "run cases in every engine, isolated, and write results.json with the metrics",
        &runCommand},
       {"list", "list the cases with a one-line description each", &listCommand},
+      {"sweep", "convergence study: a case over parameter values per method, with fitted orders",
+       &sweepCommand},
       {"gate", "compare results with a baseline and the cases' checks; exit 1 on regression",
        &gateCommand},
       {"baseline", "write a baseline from a results folder", &baselineCommand},

@@ -1,0 +1,105 @@
+// pbdval sweep CASE --param NAME=v1,v2,... [--param ...] [--methods LIST] [--metric NAME]
+//                   [--reference fine] [--out DIR] [--jobs N] [--timeout S]
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <thread>
+
+#include "validation/case_library.h"
+#include "validation/cli/args.h"
+#include "validation/cli/commands.h"
+#include "validation/overrides.h"
+#include "validation/sweep.h"
+
+namespace pbdval::cli {
+
+int sweepCommand(const Arguments& arguments) {
+  ArgParser parser(
+      "sweep", "CASE --param NAME=v1,v2,... [options]",
+      "A convergence study: runs CASE for every value of each --param (a grid when several),\n"
+      "for every method, and reports per method the error metric and the wall time against the\n"
+      "parameters, the fitted convergence order (least squares on log-log, with R^2), and the\n"
+      "Pareto front of error against wall time. Parameters: timeStepSize, subSteps,\n"
+      "maxIterations, maxIterationsV, and each method's own ('pbdval methods').");
+  parser.positionals("CASE", "a scene with a Validation block", 1, 1)
+      .option("param", "NAME=v1,v2,...",
+              "a parameter and its values (default: the case's Validation.sweeps)", true)
+      .option("methods", "LIST",
+              "comma-separated methods (default: the case's, else every engine's default)")
+      .option("metric", "NAME",
+              "the error metric (default: trajectory_error_max with a reference, else "
+              "energy_drift_max)")
+      .option("reference", "fine|case",
+              "fine: compare with the same method at a tiny step (consistency, Erez et al. 2015); "
+              "case (default): the case's Validation.reference")
+      .option("fine-divisor", "N",
+              "the fine reference step is the smallest swept step / N (default 16)")
+      .option("out", "DIR", "write DIR/sweep.json (default: out)")
+      .option("jobs", "N", "runs in parallel (default: the number of cores)")
+      .option("timeout", "S", "wall-time limit per run (default 600)")
+      .epilog(
+          "example: pbdval sweep cases/projectile.json --param "
+          "timeStepSize=0.01,0.005,0.0025,0.00125 --methods pbd");
+  ParsedArgs args;
+  SweepOptions options;
+  try {
+    args = parser.parse(arguments);
+    if (args.helpRequested) {
+      std::cout << parser.help();
+      return 0;
+    }
+    options.caseFile = args.positionals[0];
+    for (const std::string& p : args.values("param")) {
+      const auto [name, list] = splitAssignment(p);
+      const std::vector<std::string> values = splitList(list);
+      if (values.empty()) throw UsageError("--param " + name + ": no values");
+      options.parameters.emplace_back(name, values);
+    }
+    options.methods = splitList(args.value("methods"));
+    for (const std::string& m : options.methods)
+      findMethod(m);
+    options.metric = args.value("metric");
+    const std::string reference = args.value("reference", "case");
+    if (reference != "fine" && reference != "case")
+      throw UsageError("--reference: expected fine or case");
+    options.referenceMode = reference == "fine" ? "fine" : "";
+    options.fineDivisor = int(args.integer("fine-divisor", 16));
+    if (options.fineDivisor < 2) throw UsageError("--fine-divisor: expected an integer ≥ 2");
+    options.jobs =
+        int(args.integer("jobs", long(std::max(1u, std::thread::hardware_concurrency()))));
+    options.timeout = args.number("timeout", 600);
+    options.scratchFolder = args.value("out", "out") + "/.scratch";
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "pbdval sweep: %s (see 'pbdval sweep --help')\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "pbdval sweep: error: %s\n", e.what());
+    return 2;
+  }
+  std::ostringstream command;
+  command << "pbdval sweep";
+  for (const std::string& a : arguments)
+    command << ' ' << a;
+  SweepResult result;
+  try {
+    result = runSweep(options, [](const RunRecord& r, std::size_t done, std::size_t total) {
+      std::string values;
+      for (const std::string& a : r.request.assignments)
+        values += " " + a;
+      std::fprintf(stderr, "[%3zu/%zu] %s%s %s\n", done, total, runLabel(r.request).c_str(),
+                   values.c_str(), runStatusName(r.status));
+    });
+    std::filesystem::remove_all(options.scratchFolder);
+    const std::string path = args.value("out", "out") + "/sweep.json";
+    writeSweepJson(path, result, currentMetadata(command.str()));
+    printSweepTable(std::cout, result);
+    std::printf("wrote %s\n", path.c_str());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "pbdval sweep: error: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}
+
+}  // namespace pbdval::cli

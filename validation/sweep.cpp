@@ -1,0 +1,333 @@
+#include "validation/sweep.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <nlohmann/json.hpp>
+#include <ostream>
+
+#include "pbd/io/scene_loader.h"
+#include "validation/atomic_file.h"
+#include "validation/case_library.h"
+#include "validation/overrides.h"
+#include "validation/trajectory.h"
+
+namespace pbdval {
+namespace {
+
+bool parseNumber(const std::string& text, double& value) {
+  char* end = nullptr;
+  value = std::strtod(text.c_str(), &end);
+  return !text.empty() && end == text.c_str() + text.size() && std::isfinite(value);
+}
+
+/// Step-like parameters improve as they shrink; the others as they grow.
+bool isStepLike(const std::string& parameter) {
+  return parameter == "timeStepSize" || parameter == "tolerance";
+}
+
+bool applies(const std::string& parameter, const MethodInfo& method) {
+  for (const MethodParameter& p : method.parameters)
+    if (p.name == parameter) return true;
+  const auto& scene = sceneOverrideKeys();
+  return std::find(scene.begin(), scene.end(), parameter) != scene.end() &&
+         sceneSettingApplies(parameter, method.engine);
+}
+
+std::vector<std::vector<std::pair<std::string, std::string>>> grid(
+    const std::vector<std::pair<std::string, std::vector<std::string>>>& parameters) {
+  std::vector<std::vector<std::pair<std::string, std::string>>> points{{}};
+  for (const auto& [name, values] : parameters) {
+    std::vector<std::vector<std::pair<std::string, std::string>>> next;
+    for (const auto& partial : points)
+      for (const std::string& value : values) {
+        auto extended = partial;
+        extended.emplace_back(name, value);
+        next.push_back(extended);
+      }
+    points = next;
+  }
+  return points;
+}
+
+std::vector<std::string> defaultMethods(const CaseSpec& spec) {
+  if (!spec.methods.empty()) return spec.methods;
+  std::vector<std::string> methods;
+  for (const std::string& engine : engineNames())
+    methods.push_back(defaultMethod(engine));
+  return methods;
+}
+
+}  // namespace
+
+SweepFit fitConvergence(const std::string& method, const std::vector<std::string>& parameterNames,
+                        const std::vector<std::vector<double>>& parameterValues,
+                        const std::vector<double>& errors) {
+  SweepFit fit;
+  fit.method = method;
+  // Keep the parameters that vary and the points with a positive error and positive values.
+  std::vector<std::size_t> usable;
+  for (std::size_t k = 0; k < errors.size(); ++k) {
+    bool ok = std::isfinite(errors[k]) && errors[k] > 0;
+    for (double v : parameterValues[k])
+      ok = ok && v > 0;
+    if (ok) usable.push_back(k);
+  }
+  std::vector<std::size_t> varying;
+  for (std::size_t i = 0; i < parameterNames.size(); ++i) {
+    bool differs = false;
+    for (std::size_t k : usable)
+      differs = differs || parameterValues[k][i] != parameterValues[usable[0]][i];
+    if (differs) varying.push_back(i);
+  }
+  fit.points = static_cast<int>(usable.size());
+  if (varying.empty() || usable.size() < varying.size() + 2) {
+    fit.note =
+        "not enough points with a positive error to fit (" + std::to_string(usable.size()) + ")";
+    return fit;
+  }
+  Eigen::MatrixXd design(usable.size(), varying.size() + 1);
+  Eigen::VectorXd logError(usable.size());
+  for (std::size_t r = 0; r < usable.size(); ++r) {
+    design(Eigen::Index(r), 0) = 1;
+    for (std::size_t c = 0; c < varying.size(); ++c)
+      design(Eigen::Index(r), Eigen::Index(c + 1)) =
+          std::log(parameterValues[usable[r]][varying[c]]);
+    logError(Eigen::Index(r)) = std::log(errors[usable[r]]);
+  }
+  const Eigen::VectorXd coefficients = design.colPivHouseholderQr().solve(logError);
+  const Eigen::VectorXd residual = logError - design * coefficients;
+  const double mean = logError.mean();
+  const double total = (logError.array() - mean).square().sum();
+  fit.rSquared = total > 0 ? 1 - residual.squaredNorm() / total : 1;
+  for (std::size_t c = 0; c < varying.size(); ++c) {
+    const std::string& name = parameterNames[varying[c]];
+    const double slope = coefficients(Eigen::Index(c + 1));
+    fit.parameters.push_back(name);
+    fit.slopes.push_back(slope);
+    fit.orders.push_back(isStepLike(name) ? slope : -slope);
+  }
+  return fit;
+}
+
+void markParetoFront(std::vector<SweepPoint>& points) {
+  for (SweepPoint& p : points) {
+    p.pareto = std::isfinite(p.metric);
+    if (!p.pareto) continue;
+    for (const SweepPoint& q : points) {
+      if (&q == &p || !std::isfinite(q.metric)) continue;
+      const bool dominates = q.metric <= p.metric && q.wallTime <= p.wallTime &&
+                             (q.metric < p.metric || q.wallTime < p.wallTime);
+      if (dominates) {
+        p.pareto = false;
+        break;
+      }
+    }
+  }
+}
+
+SweepResult runSweep(
+    const SweepOptions& options,
+    const std::function<void(const RunRecord&, std::size_t, std::size_t)>& onFinished) {
+  const pbd::Scene scene = pbd::loadScene(options.caseFile).scene;
+  const CaseSpec spec = parseCaseSpec(scene);
+  SweepResult result;
+  result.caseName = caseNameOf(options.caseFile);
+
+  auto parameters = options.parameters;
+  std::vector<std::string> methods = options.methods;
+  std::string metric = options.metric;
+  if (parameters.empty()) {
+    if (spec.sweeps.empty())
+      throw std::invalid_argument(options.caseFile +
+                                  ": no --param given and the case declares no Validation.sweeps");
+    const SweepSpec& declared = spec.sweeps.front();
+    for (const auto& [name, values] : declared.parameters)
+      parameters.emplace_back(name, values);
+    if (methods.empty()) methods = declared.methods;
+    if (metric.empty()) metric = declared.metric;
+  }
+  if (methods.empty()) methods = defaultMethods(spec);
+  const bool hasReference =
+      options.referenceMode == "fine" || spec.reference.kind != ReferenceSpec::Kind::None;
+  if (metric.empty()) metric = hasReference ? "trajectory_error_max" : "energy_drift_max";
+  result.metric = metric;
+
+  // Swept step sizes share one sample interval (the largest step) and one fine reference step.
+  double caseStep = double(scene.simulation.timeStepSize), largestStep = caseStep,
+         smallestStep = caseStep;
+  for (const auto& [name, values] : parameters) {
+    if (name != "timeStepSize") continue;
+    largestStep = 0;
+    smallestStep = 1e300;
+    for (const std::string& v : values) {
+      double h = 0;
+      if (!parseNumber(v, h) || h <= 0)
+        throw std::invalid_argument("timeStepSize: expected positive numbers, got '" + v + "'");
+      largestStep = std::max(largestStep, h);
+      smallestStep = std::min(smallestStep, h);
+    }
+  }
+  const double sampleInterval = std::max(largestStep, spec.sampleInterval.value_or(0));
+
+  std::vector<RunRequest> requests;
+  std::vector<SweepPoint> points;
+  for (const std::string& method : methods) {
+    const MethodInfo& info = findMethod(method);
+    std::string notApplicable;
+    for (const auto& [name, values] : parameters)
+      if (!applies(name, info)) notApplicable += (notApplicable.empty() ? "" : ", ") + name;
+    if (!notApplicable.empty()) {
+      result.notes.push_back(method + ": skipped, " + notApplicable + " has no effect on it");
+      continue;
+    }
+    for (const auto& values : grid(parameters)) {
+      RunRequest r;
+      r.caseName = result.caseName;
+      r.caseFile = options.caseFile;
+      r.engine = info.engine;
+      r.method = method;
+      for (const auto& [name, value] : values)
+        r.assignments.push_back(name + "=" + value);
+      r.referenceMode = options.referenceMode;
+      r.fineDivisor = options.fineDivisor;
+      if (options.referenceMode == "fine") r.referenceStepSize = smallestStep / options.fineDivisor;
+      r.sampleInterval = sampleInterval;
+      requests.push_back(r);
+      SweepPoint p;
+      p.method = method;
+      p.values = values;
+      points.push_back(p);
+    }
+  }
+  RunScheduler scheduler(options.jobs, options.timeout, options.scratchFolder);
+  const std::vector<RunRecord> records = scheduler.runAll(requests, onFinished);
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    SweepPoint& p = points[k];
+    p.record = records[k];
+    const auto value = p.record.metrics.values.find(metric);
+    p.metric = p.record.status == RunStatus::Ok && value != p.record.metrics.values.end()
+                   ? value->second
+                   : std::nan("");
+    const auto wall = p.record.metrics.values.find("wall_time_s");
+    p.wallTime = wall == p.record.metrics.values.end() ? 0 : wall->second;
+    if (p.record.status == RunStatus::Ok && value == p.record.metrics.values.end())
+      result.notes.push_back(
+          runLabel(p.record.request) + ": no " + metric + " (" +
+          (p.record.metrics.notes.empty() ? "not computed" : p.record.metrics.notes.front()) + ")");
+  }
+  markParetoFront(points);
+
+  std::vector<std::string> names;
+  for (const auto& [name, values] : parameters)
+    names.push_back(name);
+  for (const std::string& method : methods) {
+    std::vector<std::vector<double>> values;
+    std::vector<double> errors;
+    bool numeric = true;
+    for (const SweepPoint& p : points) {
+      if (p.method != method) continue;
+      std::vector<double> row;
+      for (const auto& [name, text] : p.values) {
+        double v = 0;
+        numeric = numeric && parseNumber(text, v);
+        row.push_back(v);
+      }
+      values.push_back(row);
+      errors.push_back(p.metric);
+    }
+    if (values.empty()) continue;
+    if (!numeric) {
+      SweepFit fit;
+      fit.method = method;
+      fit.note = "parameter values are not all numeric: no fit";
+      result.fits.push_back(fit);
+      continue;
+    }
+    result.fits.push_back(fitConvergence(method, names, values, errors));
+  }
+  result.points = points;
+  return result;
+}
+
+void printSweepTable(std::ostream& out, const SweepResult& result) {
+  char line[256];
+  out << "sweep of " << result.caseName << ": " << result.metric << " and wall time per method\n";
+  for (const SweepFit& fit : result.fits) {
+    out << "\n" << fit.method << "\n";
+    for (const SweepPoint& p : result.points) {
+      if (p.method != fit.method) continue;
+      std::string values;
+      for (const auto& [name, value] : p.values)
+        values += (values.empty() ? "" : " ") + name + "=" + value;
+      if (p.record.status == RunStatus::Ok)
+        std::snprintf(line, sizeof line, "  %-36s %-12.4e %9.4f s%s\n", values.c_str(), p.metric,
+                      p.wallTime, p.pareto ? "  pareto" : "");
+      else
+        std::snprintf(line, sizeof line, "  %-36s %s: %.80s\n", values.c_str(),
+                      runStatusName(p.record.status), p.record.reason.c_str());
+      out << line;
+    }
+    if (!fit.note.empty()) {
+      out << "  fit: " << fit.note << "\n";
+      continue;
+    }
+    for (std::size_t i = 0; i < fit.parameters.size(); ++i) {
+      std::snprintf(
+          line, sizeof line, "  fitted order in %s: %.3f (slope %.3f, R^2 %.4f, %d points)\n",
+          fit.parameters[i].c_str(), fit.orders[i], fit.slopes[i], fit.rSquared, fit.points);
+      out << line;
+    }
+  }
+  for (const std::string& note : result.notes)
+    out << "note: " << note << "\n";
+}
+
+void writeSweepJson(const std::string& path, const SweepResult& result,
+                    const RunMetadata& metadata) {
+  using Json = nlohmann::json;
+  Json points = Json::array();
+  for (const SweepPoint& p : result.points) {
+    Json values = Json::object();
+    for (const auto& [name, value] : p.values)
+      values[name] = value;
+    points.push_back({{"method", p.method},
+                      {"parameters", values},
+                      {"status", runStatusName(p.record.status)},
+                      {"reason", p.record.reason},
+                      {"metric", std::isfinite(p.metric) ? Json(p.metric) : Json(nullptr)},
+                      {"wall_time_s", p.wallTime},
+                      {"pareto", p.pareto},
+                      {"run", Json::parse(toJsonText(p.record))}});
+  }
+  Json fits = Json::array();
+  for (const SweepFit& f : result.fits) {
+    Json orders = Json::object();
+    for (std::size_t i = 0; i < f.parameters.size(); ++i)
+      orders[f.parameters[i]] = {{"order", f.orders[i]}, {"slope", f.slopes[i]}};
+    fits.push_back({{"method", f.method},
+                    {"orders", orders},
+                    {"r_squared", f.rSquared},
+                    {"points", f.points},
+                    {"note", f.note}});
+  }
+  const Json document = {{"schema", "pbdval-sweep"},
+                         {"schemaVersion", 1},
+                         {"metadata",
+                          {{"created", metadata.created},
+                           {"command", metadata.command},
+                           {"commit", metadata.commit},
+                           {"compiler", metadata.compiler},
+                           {"flags", metadata.flags},
+                           {"cpu", metadata.cpu}}},
+                         {"case", result.caseName},
+                         {"metric", result.metric},
+                         {"points", points},
+                         {"fits", fits},
+                         {"notes", result.notes}};
+  writeFileAtomically(path, document.dump(2) + "\n");
+}
+
+}  // namespace pbdval

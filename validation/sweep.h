@@ -1,0 +1,77 @@
+// Convergence studies (`pbdval sweep`, docs/cli.md#sweep): one case run for every value of one
+// or more parameters (a grid), for every method; per method the error metric and the cost
+// against the parameters, the fitted convergence order, and the Pareto front of error against
+// wall time.
+//
+// Fit: over the ok points of a method with a positive metric, least squares on
+//   log e = c + Σ_i s_i log x_i          (x_i the parameters that vary; R² reported)
+// The order is s_i for step-like parameters (timeStepSize: e ∝ h^p) and −s_i for count-like
+// ones (subSteps, iterations: e ∝ n^−p).
+#pragma once
+
+#include <iosfwd>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "validation/results.h"
+
+namespace pbdval {
+
+struct SweepOptions {
+  std::string caseFile;
+  std::vector<std::pair<std::string, std::vector<std::string>>> parameters;  ///< name → values
+  std::vector<std::string> methods;  ///< empty: the case's, else every engine's default
+  std::string metric;  ///< empty: trajectory_error_max with a reference, else energy_drift_max
+  std::string referenceMode;  ///< "" the case's reference; "fine": same method at a tiny step
+  int fineDivisor = 16;
+  int jobs = 1;
+  double timeout = 600;
+  std::string scratchFolder = "out/.scratch";
+};
+
+struct SweepPoint {
+  std::string method;
+  std::vector<std::pair<std::string, std::string>> values;
+  RunRecord record;
+  double metric = 0;    ///< NaN when the run failed or lacks the metric
+  double wallTime = 0;  ///< s
+  bool pareto = false;  ///< on the error/wall-time Pareto front (over all methods)
+};
+
+struct SweepFit {
+  std::string method;
+  std::vector<std::string> parameters;  ///< the parameters that vary
+  std::vector<double> slopes;           ///< d log e / d log x_i
+  std::vector<double> orders;           ///< see the header comment
+  double rSquared = 0;
+  int points = 0;
+  std::string note;  ///< why no fit, when there is none
+};
+
+struct SweepResult {
+  std::string caseName, metric;
+  std::vector<SweepPoint> points;
+  std::vector<SweepFit> fits;
+  std::vector<std::string> notes;  ///< skipped combinations (parameter not applicable, ...)
+};
+
+/// Runs the sweep (isolated runs, `jobs` at a time). Throws std::invalid_argument for bad
+/// options (unknown method, non-numeric values of a fitted parameter, ...).
+SweepResult runSweep(
+    const SweepOptions& options,
+    const std::function<void(const RunRecord&, std::size_t, std::size_t)>& onFinished = {});
+
+/// Least-squares fit of log e on log x (exposed for tests).
+SweepFit fitConvergence(const std::string& method, const std::vector<std::string>& parameterNames,
+                        const std::vector<std::vector<double>>& parameterValues,
+                        const std::vector<double>& errors);
+
+/// Marks the points on the Pareto front of (wall time, metric), both minimised.
+void markParetoFront(std::vector<SweepPoint>& points);
+
+void printSweepTable(std::ostream& out, const SweepResult& result);
+void writeSweepJson(const std::string& path, const SweepResult& result,
+                    const RunMetadata& metadata);
+
+}  // namespace pbdval
