@@ -163,11 +163,14 @@ ResultsFile readResults(const std::string& path) {
                                 std::to_string(kResultsSchemaVersion) + ")");
   results.metadata = metadataFrom(document.value("metadata", Json::object()));
   try {
-    for (const auto& item : document.value("cases", Json::object()).items()) {
+    // Named copies: items() and range-for refer to them, a temporary would dangle.
+    const Json cases = document.value("cases", Json::object());
+    for (const auto& item : cases.items()) {
       CaseGateData data;
       data.file = item.value().value("file", "");
       data.description = item.value().value("description", "");
-      for (const Json& c : item.value().value("checks", Json::array()))
+      const Json checks = item.value().value("checks", Json::array());
+      for (const Json& c : checks)
         data.checks.push_back(checkFrom(c));
       data.tolerances = item.value().value("tolerances", std::map<std::string, double>{});
       results.cases[item.key()] = data;

@@ -1,0 +1,166 @@
+// The gate on synthetic results: pass, metric regression, status regression, missing run, the
+// cases' bounds and orderings, bad input; and the sweep's convergence fit.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "validation/gate.h"
+#include "validation/sweep.h"
+
+namespace pbdval {
+namespace {
+
+RunRecord run(const std::string& method, double drift, RunStatus status = RunStatus::Ok) {
+  RunRecord r;
+  r.request.caseName = "case_a";
+  r.request.engine = findMethod(method).engine;
+  r.request.method = method;
+  r.status = status;
+  r.metrics.values = {
+      {"energy_drift_max", drift}, {"joint_error_linear_max", 1e-6}, {"wall_time_s", 1.0}};
+  return r;
+}
+
+ResultsFile results(std::vector<RunRecord> runs) {
+  ResultsFile f;
+  f.runs = std::move(runs);
+  f.cases["case_a"].file = "case_a.json";
+  return f;
+}
+
+TEST(Gate, IdenticalResultsPass) {
+  const ResultsFile now = results({run("pbd", 0.01), run("selftest.ok", 0.02)});
+  const GateReport report = evaluateGate(baselineFromResults(now), now);
+  EXPECT_TRUE(report.passed());
+  EXPECT_GT(report.outcomes.size(), 2u);
+}
+
+TEST(Gate, MetricWorseThanItsToleranceFails) {
+  const Baseline base = baselineFromResults(results({run("pbd", 0.010)}));
+  // energy_drift: relative 10 % + 1e-6. 0.0109 passes, 0.0111 fails.
+  EXPECT_TRUE(evaluateGate(base, results({run("pbd", 0.0109)})).passed());
+  const GateReport report = evaluateGate(base, results({run("pbd", 0.0111)}));
+  EXPECT_FALSE(report.passed());
+  EXPECT_EQ(report.failures(), 1u);
+  // Wall time is not gated by default: 100x slower still passes.
+  RunRecord slow = run("pbd", 0.01);
+  slow.metrics.values["wall_time_s"] = 100;
+  EXPECT_TRUE(evaluateGate(base, results({slow})).passed());
+  // A case's tolerance override applies (relative): 50 % allows 0.0149.
+  ResultsFile overridden = results({run("pbd", 0.0149)});
+  overridden.cases["case_a"].tolerances["energy_drift_max"] = 0.5;
+  EXPECT_TRUE(evaluateGate(base, overridden).passed());
+}
+
+TEST(Gate, StatusRegressionAndMissingRunFail) {
+  const Baseline base = baselineFromResults(results({run("pbd", 0.01), run("selftest.ok", 0.01)}));
+  GateReport report = evaluateGate(
+      base, results({run("pbd", 0.01, RunStatus::Diverged), run("selftest.ok", 0.01)}));
+  EXPECT_EQ(report.failures(), 1u);
+  report = evaluateGate(base, results({run("pbd", 0.01)}));
+  EXPECT_EQ(report.failures(), 1u);
+  bool named = false;
+  for (const GateOutcome& o : report.outcomes)
+    named = named || (!o.passed && o.message.find("missing") != std::string::npos);
+  EXPECT_TRUE(named);
+}
+
+TEST(Gate, CaseBoundsAndOrderingsAreChecked) {
+  ResultsFile now = results({run("pbd", 0.01), run("selftest.ok", 0.02)});
+  const Baseline base = baselineFromResults(now);
+  CheckSpec bound;
+  bound.metric = "energy_drift_max";
+  bound.max = 0.015;  // pbd 0.01 passes, selftest 0.02 fails
+  now.cases["case_a"].checks = {bound};
+  EXPECT_EQ(evaluateGate(base, now).failures(), 1u);
+  bound.methods = {"pbd"};  // restricted to pbd: passes
+  now.cases["case_a"].checks = {bound};
+  EXPECT_TRUE(evaluateGate(base, now).passed());
+  CheckSpec ordering;
+  ordering.metric = "energy_drift_max";
+  ordering.better = "pbd";
+  ordering.worse = "selftest.ok";
+  now.cases["case_a"].checks = {ordering};
+  EXPECT_TRUE(evaluateGate(base, now).passed());
+  std::swap(ordering.better, ordering.worse);
+  now.cases["case_a"].checks = {ordering};
+  EXPECT_FALSE(evaluateGate(base, now).passed());
+}
+
+TEST(Gate, ReportsAreWellFormed) {
+  const Baseline base = baselineFromResults(results({run("pbd", 0.01)}));
+  const GateReport report = evaluateGate(base, results({run("pbd", 1.0)}));
+  std::ostringstream xml, md;
+  writeJUnit(xml, report);
+  EXPECT_NE(xml.str().find("<failure message="), std::string::npos);
+  EXPECT_NE(xml.str().find("failures=\"1\""), std::string::npos);
+  writeMarkdown(md, report, results({}));
+  EXPECT_NE(md.str().find("FAILED"), std::string::npos);
+}
+
+TEST(Gate, UnreadableBaselineIsAnError) {
+  const auto path = std::filesystem::temp_directory_path() / "pbdval-bad-baseline.json";
+  std::ofstream(path) << "{ not json";
+  EXPECT_THROW(readBaseline(path.string()), std::invalid_argument);
+  std::ofstream(path) << "{\"schema\": \"pbdval-results\"}";
+  EXPECT_THROW(readBaseline(path.string()), std::invalid_argument);
+  std::filesystem::remove(path);
+}
+
+// The fit recovers known orders: e = 3 h² exactly (order 2, R² = 1); e ∝ n⁻¹ for a count-like
+// parameter (order 1); two parameters at once.
+TEST(SweepFit, RecoversKnownOrders) {
+  std::vector<std::vector<double>> h;
+  std::vector<double> e;
+  for (double step : {0.01, 0.005, 0.0025, 0.00125}) {
+    h.push_back({step});
+    e.push_back(3 * step * step);
+  }
+  SweepFit fit = fitConvergence("m", {"timeStepSize"}, h, e);
+  ASSERT_EQ(fit.orders.size(), 1u);
+  EXPECT_NEAR(fit.orders[0], 2, 1e-9);  // exact power law: round-off only
+  EXPECT_NEAR(fit.rSquared, 1, 1e-12);
+
+  std::vector<std::vector<double>> n;
+  e.clear();
+  for (double count : {1.0, 2.0, 4.0, 8.0}) {
+    n.push_back({count});
+    e.push_back(0.5 / count);
+  }
+  fit = fitConvergence("m", {"subSteps"}, n, e);
+  EXPECT_NEAR(fit.orders[0], 1, 1e-9);
+
+  std::vector<std::vector<double>> grid;
+  e.clear();
+  for (double step : {0.01, 0.005, 0.0025})
+    for (double count : {1.0, 2.0, 4.0}) {
+      grid.push_back({step, count});
+      e.push_back(step * step / count);
+    }
+  fit = fitConvergence("m", {"timeStepSize", "subSteps"}, grid, e);
+  ASSERT_EQ(fit.orders.size(), 2u);
+  EXPECT_NEAR(fit.orders[0], 2, 1e-9);
+  EXPECT_NEAR(fit.orders[1], 1, 1e-9);
+
+  // Too few usable points: no fit, with a reason.
+  fit = fitConvergence("m", {"timeStepSize"}, {{0.01}, {0.02}}, {1.0, std::nan("")});
+  EXPECT_FALSE(fit.note.empty());
+}
+
+TEST(SweepFit, ParetoFrontKeepsNonDominatedPoints) {
+  std::vector<SweepPoint> points(4);
+  points[0].metric = 1e-2, points[0].wallTime = 1;
+  points[1].metric = 1e-3, points[1].wallTime = 2;
+  points[2].metric = 2e-2, points[2].wallTime = 3;  // dominated by 0
+  points[3].metric = std::nan(""), points[3].wallTime = 0.1;
+  markParetoFront(points);
+  EXPECT_TRUE(points[0].pareto);
+  EXPECT_TRUE(points[1].pareto);
+  EXPECT_FALSE(points[2].pareto);
+  EXPECT_FALSE(points[3].pareto);
+}
+
+}  // namespace
+}  // namespace pbdval
