@@ -1,5 +1,6 @@
 #include "adapters/registry.h"
 
+#include "adapters/ode/ode_engine.h"
 #include "adapters/pbd/pbd_engine.h"
 #include "adapters/selftest/selftest_engine.h"
 
@@ -8,6 +9,7 @@ namespace pbdval {
 const std::vector<EngineEntry>& engineEntries() {
   static const std::vector<EngineEntry> entries = {
       pbdEngineEntry(),
+      odeEngineEntry(),
       selftestEngineEntry(),
   };
   return entries;

@@ -1,0 +1,149 @@
+#include "adapters/ode/ode_engine.h"
+
+#include <cstdio>
+
+namespace pbdval {
+namespace {
+
+std::string number(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.17g", v);
+  return buffer;
+}
+
+std::string vector(const Vector3& v) {
+  return number(v.x()) + " " + number(v.y()) + " " + number(v.z());
+}
+
+}  // namespace
+
+OdeEngine::~OdeEngine() {
+  destroyModel();
+}
+
+void OdeEngine::destroyModel() noexcept {
+  if (!world_) return;
+  try {
+    ode::OdeCall call(context_);
+    joints_.reset();
+    world_.reset();
+  } catch (...) {
+    // An ODE error while tearing down: nothing is left to recover, and a destructor must not
+    // throw. The OS reclaims the memory at exit.
+    (void)joints_.release();
+    (void)world_.release();
+  }
+}
+
+std::vector<std::string> OdeEngine::unsupported(const pbd::Scene& scene,
+                                                const Method& method) const {
+  std::vector<std::string> missing;
+  for (const pbd::TriangleModelDesc& model : scene.triangleModels)
+    missing.push_back(model.jsonPath + ": ODE has no particles (cloth)");
+  for (const pbd::TetModelDesc& model : scene.tetModels)
+    missing.push_back(model.jsonPath + ": ODE has no particles (deformable solids)");
+  for (const pbd::RigidBodyDesc& body : scene.rigidBodies)
+    for (std::string& reason : ode::unsupportedShapeFeatures(body))
+      missing.push_back(std::move(reason));
+  for (std::string& reason : ode::unsupportedJointFeatures(scene, odeSettingsFor(method)))
+    missing.push_back(std::move(reason));
+  return missing;
+}
+
+void OdeEngine::load(const pbd::Scene& scene, const Method& method) {
+  destroyModel();
+  settings_ = odeSettingsFor(method);
+  const std::vector<std::string> missing = unsupported(scene, method);
+  if (!missing.empty()) throw EngineError("ode cannot load this scene: " + missing.front());
+  methodName_ = method.name;
+  scene_ = scene;
+  steps_ = 0;
+  failure_.clear();
+  context_.randomSeed = 0;  // ODE's initial seed: every load starts the same run
+  ode::OdeCall call(context_);
+  try {
+    world_ = std::make_unique<ode::OdeWorld>(scene_, settings_);
+    joints_ = std::make_unique<ode::OdeJoints>(*world_, scene_, settings_);
+  } catch (const EngineError& e) {
+    failure_ = e.what();
+    throw;
+  }
+}
+
+void OdeEngine::step() {
+  if (!world_) throw EngineError("ode: step() before a successful load()");
+  if (!failure_.empty())
+    throw EngineError("ode: the world is unusable after an earlier ODE error (" + failure_ + ")");
+  const double h = scene_.simulation.timeStepSize;
+  ode::OdeCall call(context_);
+  try {
+    joints_->prepareStep(double(steps_ + 1) * h, h);
+    world_->collide();
+    const int stepped = settings_.solver == OdeSettings::Solver::Step
+                            ? dWorldStep(world_->id(), h)
+                            : dWorldQuickStep(world_->id(), h);
+    world_->clearContacts();
+    if (stepped == 0) throw EngineError("ODE could not allocate the memory for a step");
+    ++steps_;
+  } catch (const EngineError& e) {
+    failure_ = e.what();
+    throw EngineError(failure_ + " (in the step from t = " + number(double(steps_) * h) + " s)");
+  }
+}
+
+// Reads only this engine's bodies, so it needs no OdeCall.
+void OdeEngine::read(State& state) const {
+  if (!world_) throw EngineError("ode: read() before a successful load()");
+  state.time = double(steps_) * double(scene_.simulation.timeStepSize);
+  state.bodies.resize(scene_.rigidBodies.size());
+  for (std::size_t i = 0; i < state.bodies.size(); ++i)
+    state.bodies[i] = world_->state(int(i));
+  state.particles.clear();
+}
+
+std::map<std::string, std::string> OdeEngine::effectiveSettings() const {
+  const bool quick = settings_.solver == OdeSettings::Solver::QuickStep;
+  std::map<std::string, std::string> s = {
+      {"method", methodName_},
+      {"solver",
+       quick ? "dWorldQuickStep (SOR projected Gauss-Seidel)" : "dWorldStep (direct Dantzig LCP)"},
+      {"timeStepSize", number(scene_.simulation.timeStepSize)},
+      {"subSteps", "1 (one ODE step per scene step)"},
+      {"gravity", vector(scene_.simulation.gravitation)},
+      {"erp", number(settings_.erp)},
+      {"cfm", number(settings_.cfm)},
+      {"contactSoftErp", number(settings_.contactErp)},
+      {"contactSoftCfm", number(settings_.contactCfm)},
+      {"maxContactsPerPair", std::to_string(settings_.maxContacts)},
+      {"friction",
+       "Coulomb pyramid (dContactApprox1), fdir1 = world x projected on the contact "
+       "plane (world z within 30 degrees of x), mu = Scene::pairMaterial"},
+      {"restitution", "bounce = Scene::pairMaterial, bounce_vel 0"},
+      {"contactMaxCorrectingVel", number(dInfinity)},
+      {"contactSurfaceLayer", "0"},
+      {"jointedBodiesCollide", "yes (as in the seed)"},
+      {"gyroscopic", settings_.gyroscopic ? "1" : "0"},
+      {"finiteRotation", "0 (infinitesimal rotation update)"},
+      {"autoDisable", "0"},
+      {"linearDamping", "0"},
+      {"angularDamping", "0"},
+      {"maxAngularSpeed", number(dInfinity)},
+      {"auxiliaryBodies", std::to_string(world_ ? world_->auxiliaryBodyCount() : 0)},
+      {"precision", "double"},
+      {"odeConfiguration", dGetConfiguration()},
+  };
+  if (quick) {
+    s["iterations"] = std::to_string(settings_.iterations);
+    s["sor"] = number(settings_.overRelaxation);
+  } else {
+    s["ballOnLineCarriageMassRatio"] = number(settings_.carriageMassRatio);
+  }
+  return s;
+}
+
+EngineEntry odeEngineEntry() {
+  return {"ode", "ode.quickstep", &odeMethods,
+          [] { return std::unique_ptr<Engine>(new OdeEngine()); }};
+}
+
+}  // namespace pbdval
