@@ -21,6 +21,8 @@ const char* distanceMethodName(DistanceMethod method) {
       return "closed_form";
     case DistanceMethod::GjkEpa:
       return "gjk_epa";
+    case DistanceMethod::ShallowMpr:
+      return "shallow_mpr";
     case DistanceMethod::MeshDistance:
       return "mesh_distance";
     case DistanceMethod::MeshContact:
@@ -37,6 +39,7 @@ bool isExact(DistanceMethod method, double signedDistance) {
   switch (method) {
     case DistanceMethod::ClosedForm:
     case DistanceMethod::GjkEpa:
+    case DistanceMethod::ShallowMpr:
       return true;
     case DistanceMethod::MeshDistance:
       return signedDistance > 0;
@@ -179,7 +182,7 @@ struct DistanceOracle::Impl {
   PairDistance query(int bodyA, const BodyState& stateA, int bodyB, const BodyState& stateB) const {
     const PlacedBody a{geometryOf(bodyA, "distance"), geometryPose(bodyA, stateA)};
     const PlacedBody b{geometryOf(bodyB, "distance"), geometryPose(bodyB, stateB)};
-    return fcl_oracle::pairDistance(a, b, options.gjkTolerance);
+    return fcl_oracle::pairDistance(a, b, options);
   }
 
   CandidatePairs broadPhase(const State& state, double inflation) const;
@@ -220,8 +223,8 @@ bool DistanceOracle::Impl::skipPair(int bodyA, int bodyB, const PenetrationOptio
 
 DistanceOracle::DistanceOracle(const pbd::Scene& scene, DistanceOracleOptions options)
     : impl_(std::make_unique<Impl>()) {
-  if (!(options.gjkTolerance > 0)) {
-    throw std::invalid_argument("DistanceOracle: gjkTolerance must be > 0");
+  if (!(options.distanceTolerance > 0) || !(options.epaTolerance > 0)) {
+    throw std::invalid_argument("DistanceOracle: distanceTolerance and epaTolerance must be > 0");
   }
   impl_->options = options;
   for (const pbd::RigidBodyDesc& body : scene.rigidBodies) {

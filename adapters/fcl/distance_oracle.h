@@ -20,11 +20,12 @@
 
 namespace pbdval {
 
-/// How a pair's signed distance was obtained. The first two are exact up to the stated
-/// tolerance; the others are approximations (docs/fcl-oracle.md, "Accuracy").
+/// How a pair's signed distance was obtained. The first three are exact up to the GJK tolerance;
+/// the others are approximations (docs/fcl-oracle.md, "Accuracy").
 enum class DistanceMethod {
   ClosedForm,       ///< FCL's analytic sphere–sphere, sphere–box, sphere–cylinder routines
   GjkEpa,           ///< convex pair: libccd GJK when separated, EPA when penetrating
+  ShallowMpr,       ///< convex pair overlapping by less than the GJK tolerance: MPR's depth
   MeshDistance,     ///< separated pair with a triangle mesh: FCL's BVH traversal
   MeshContact,      ///< penetrating mesh–convex pair: FCL's deepest triangle contact
   MeshVertexDepth,  ///< penetrating mesh–mesh pair: deepest vertex inside the other mesh
@@ -32,7 +33,7 @@ enum class DistanceMethod {
 };
 
 const char* distanceMethodName(DistanceMethod method);
-/// ClosedForm and GjkEpa; the separated MeshDistance is exact too (triangle distances).
+/// ClosedForm, GjkEpa, ShallowMpr (within the GJK tolerance), and MeshDistance when separated.
 bool isExact(DistanceMethod method, double signedDistance);
 
 /// The signed distance of two bodies and its witness points.
@@ -62,9 +63,13 @@ struct UnsupportedBody {
 };
 
 struct DistanceOracleOptions {
-  /// GJK/EPA termination tolerance (m), FCL's DistanceRequest::distance_tolerance. Smaller
-  /// values make FCL 0.7's EPA abort on curved shapes (docs/fcl-oracle.md), so keep 1e-6.
-  double gjkTolerance = 1e-6;
+  /// GJK termination tolerance for separated pairs (m): FCL's DistanceRequest::
+  /// distance_tolerance. At FCL's default 1e-6, GJK stops up to 6e-4 m short on a sphere near a
+  /// polytope; at 1e-9 the error stays below 1e-6 m (docs/fcl-oracle.md).
+  double distanceTolerance = 1e-9;
+  /// EPA termination tolerance for penetrating convex pairs (m). FCL 0.7's EPA aborts the
+  /// process on curved shapes below 1e-6, so keep it; depths below it come from MPR.
+  double epaTolerance = 1e-6;
 };
 
 /// Contact margins to subtract from penetration depths (engines' declared margins, recorded

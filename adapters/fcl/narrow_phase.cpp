@@ -109,26 +109,15 @@ PairDistance sphereContact(const PlacedBody& a, const PlacedBody& b, const fcl::
   return {-depth, toVector(onA), toVector(onB), DistanceMethod::ClosedForm};
 }
 
-PairDistance closedFormPair(const PlacedBody& a, const PlacedBody& b, double tolerance) {
-  const fcl::DistanceResultd separation =
-      runDistance(*a.body.geometry, a.pose, *b.body.geometry, b.pose, tolerance, false);
+PairDistance closedFormPair(const PlacedBody& a, const PlacedBody& b,
+                            const DistanceOracleOptions& tolerances) {
+  const fcl::DistanceResultd separation = runDistance(*a.body.geometry, a.pose, *b.body.geometry,
+                                                      b.pose, tolerances.distanceTolerance, false);
   if (separation.min_distance > 0) return fromDistance(separation, DistanceMethod::ClosedForm);
   const fcl::CollisionResultd overlap =
       runCollide(*a.body.geometry, a.pose, *b.body.geometry, b.pose, true, kMaxPrimitiveContacts);
   if (!overlap.isCollision()) return touching(separation, DistanceMethod::ClosedForm);
   return sphereContact(a, b, deepestContact(overlap));
-}
-
-/// libccd's MPR: a penetration depth along the line between the shapes' centres, exact only
-/// when that line is the direction of least penetration.
-PairDistance mprFallback(const PlacedBody& a, const PlacedBody& b) {
-  const fcl::CollisionResultd overlap =
-      runCollide(*a.body.geometry, a.pose, *b.body.geometry, b.pose, true, kMaxPrimitiveContacts);
-  if (!overlap.isCollision()) {
-    return {0, toVector(a.pose.translation()), toVector(b.pose.translation()),
-            DistanceMethod::MprFallback};
-  }
-  return fromContact(deepestContact(overlap), DistanceMethod::MprFallback);
 }
 
 /// EPA's witness points are |distance| apart unless it failed (it then returns −1 and no
@@ -138,15 +127,45 @@ bool witnessesAgree(const fcl::DistanceResultd& result, double tolerance) {
   return std::abs(gap - std::abs(result.min_distance)) <= 10 * tolerance;
 }
 
-PairDistance gjkEpaPair(const PlacedBody& a, const PlacedBody& b, double tolerance) {
-  fcl::DistanceResultd result;
-  try {
-    result = runDistance(*a.body.geometry, a.pose, *b.body.geometry, b.pose, tolerance, true);
-  } catch (const std::exception&) {
-    return mprFallback(a, b);  // FCL's EPA throws on some near-touching configurations
+/// Touching within the tolerances with no witness points from FCL: the midpoint of the shapes'
+/// origins stands for the contact.
+PairDistance touchingWithoutPoints(const PlacedBody& a, const PlacedBody& b,
+                                   DistanceMethod method) {
+  const Vector3 middle = toVector((a.pose.translation() + b.pose.translation()) / 2);
+  return {0, middle, middle, method};
+}
+
+/// Convex pairs without a closed form. libccd's GJK misjudges overlap near contact on curved
+/// shapes (it reports overlaps of up to 7e-5 m as gaps), so MPR's intersection test, wrong
+/// only within 1e-6 m of contact, decides first (docs/fcl-oracle.md, "Algorithms").
+/// Separated: GJK's distance. Overlapping: MPR's depth, an upper bound of the penetration depth
+/// (distance to a face of the Minkowski difference), is the answer below the EPA tolerance,
+/// where FCL 0.7's EPA aborts the process (a failed assert in libfcl) on nearly touching
+/// polytopes. Deeper, EPA gives the exact depth; if it throws, fails or finds no overlap,
+/// MPR's depth stands.
+PairDistance gjkEpaPair(const PlacedBody& a, const PlacedBody& b,
+                        const DistanceOracleOptions& tolerances) {
+  const fcl::CollisionResultd overlap =
+      runCollide(*a.body.geometry, a.pose, *b.body.geometry, b.pose, true, kMaxPrimitiveContacts);
+  if (!overlap.isCollision()) {
+    const fcl::DistanceResultd separation = runDistance(
+        *a.body.geometry, a.pose, *b.body.geometry, b.pose, tolerances.distanceTolerance, false);
+    if (separation.min_distance > 0) return fromDistance(separation, DistanceMethod::GjkEpa);
+    return touchingWithoutPoints(a, b, DistanceMethod::GjkEpa);
   }
-  if (!witnessesAgree(result, tolerance)) return mprFallback(a, b);
-  return fromDistance(result, DistanceMethod::GjkEpa);
+  const PairDistance mpr = fromContact(deepestContact(overlap), DistanceMethod::ShallowMpr);
+  if (mpr.depth() <= tolerances.epaTolerance) return mpr;
+  const PairDistance fallback{mpr.distance, mpr.pointOnA, mpr.pointOnB,
+                              DistanceMethod::MprFallback};
+  fcl::DistanceResultd epa;
+  try {
+    epa = runDistance(*a.body.geometry, a.pose, *b.body.geometry, b.pose, tolerances.epaTolerance,
+                      true);
+  } catch (const std::exception&) {
+    return fallback;
+  }
+  if (epa.min_distance >= 0 || !witnessesAgree(epa, tolerances.epaTolerance)) return fallback;
+  return fromDistance(epa, DistanceMethod::GjkEpa);
 }
 
 /// Closest point of a sphere (centre, radius) to an outside point.
@@ -162,8 +181,9 @@ fcl::Vector3d sphereSurfaceToward(const fcl::Vector3d& centre, double radius,
 /// The mesh goes first, at the identity: FCL then reports the mesh's point in the mesh frame, and
 /// the shape's point in the same frame except for spheres (reported in the sphere's own frame),
 /// whose point is recomputed.
-PairDistance meshConvexPair(const PlacedBody& mesh, const PlacedBody& convex, double tolerance,
-                            bool meshIsA) {
+PairDistance meshConvexPair(const PlacedBody& mesh, const PlacedBody& convex,
+                            const DistanceOracleOptions& tolerances, bool meshIsA) {
+  const double tolerance = tolerances.distanceTolerance;
   const fcl::Transform3d convexInMesh = mesh.pose.inverse(Eigen::Isometry) * convex.pose;
   const fcl::CollisionResultd overlap = runCollide(
       *mesh.body.geometry, identity(), *convex.body.geometry, convexInMesh, true, kMaxMeshContacts);
@@ -294,7 +314,9 @@ bool oneContainsTheOther(const PlacedBody& a, const PlacedBody& b, const fcl::Tr
          isInside(meshA, bInA * meshB.mesh.vertices[0].cast<double>());
 }
 
-PairDistance meshMeshPair(const PlacedBody& a, const PlacedBody& b, double tolerance) {
+PairDistance meshMeshPair(const PlacedBody& a, const PlacedBody& b,
+                          const DistanceOracleOptions& tolerances) {
+  const double tolerance = tolerances.distanceTolerance;
   const fcl::Transform3d bInA = a.pose.inverse(Eigen::Isometry) * b.pose;
   auto [seedsA, seedsB] = crossingVertices(a, b, bInA);
   if (seedsA.empty()) {
@@ -312,15 +334,16 @@ PairDistance meshMeshPair(const PlacedBody& a, const PlacedBody& b, double toler
 
 }  // namespace
 
-PairDistance pairDistance(const PlacedBody& a, const PlacedBody& b, double gjkTolerance) {
+PairDistance pairDistance(const PlacedBody& a, const PlacedBody& b,
+                          const DistanceOracleOptions& tolerances) {
   const OracleShape shapeA = a.body.shape, shapeB = b.body.shape;
-  if (hasClosedForm(shapeA, shapeB)) return closedFormPair(a, b, gjkTolerance);
-  if (isConvexShape(shapeA) && isConvexShape(shapeB)) return gjkEpaPair(a, b, gjkTolerance);
+  if (hasClosedForm(shapeA, shapeB)) return closedFormPair(a, b, tolerances);
+  if (isConvexShape(shapeA) && isConvexShape(shapeB)) return gjkEpaPair(a, b, tolerances);
   if (shapeA == OracleShape::TriangleMesh && shapeB == OracleShape::TriangleMesh) {
-    return meshMeshPair(a, b, gjkTolerance);
+    return meshMeshPair(a, b, tolerances);
   }
-  if (shapeA == OracleShape::TriangleMesh) return meshConvexPair(a, b, gjkTolerance, true);
-  return meshConvexPair(b, a, gjkTolerance, false);
+  if (shapeA == OracleShape::TriangleMesh) return meshConvexPair(a, b, tolerances, true);
+  return meshConvexPair(b, a, tolerances, false);
 }
 
 }  // namespace pbdval::fcl_oracle

@@ -12,8 +12,8 @@ struct PlacedBody {
   fcl::Transform3d pose;
 };
 
-/// Both bodies must have a geometry. Throws std::runtime_error when FCL fails on the pair
-/// (after the MPR fallback for convex pairs).
-PairDistance pairDistance(const PlacedBody& a, const PlacedBody& b, double gjkTolerance);
+/// Both bodies must have a geometry.
+PairDistance pairDistance(const PlacedBody& a, const PlacedBody& b,
+                          const DistanceOracleOptions& tolerances);
 
 }  // namespace pbdval::fcl_oracle

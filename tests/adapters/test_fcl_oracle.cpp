@@ -4,8 +4,11 @@
 // penetration_max / penetration_mean.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -30,8 +33,8 @@ using pbd::test::sphereBody;
 /// FCL's closed-form sphere–sphere / sphere–box / sphere–cylinder routines and triangle
 /// distances: exact up to the rounding of O(1) lengths (a few hundred ε).
 constexpr double kClosedForm = 1e-12;
-/// GJK and EPA stop when an iteration gains less than FCL's DistanceRequest::distance_tolerance,
-/// 1e-6 (FCL's default, kept by the oracle); on curved shapes the distance error stays below it.
+/// GJK (the oracle's distanceTolerance 1e-9) and EPA (epaTolerance 1e-6, the smallest FCL 0.7
+/// survives): distance errors below 1e-6 m (measured ≤ 1.3e-6 at contact, docs/fcl-oracle.md).
 constexpr double kGjk = 1e-6;
 /// EPA on two polytopes ends on an exact facet of their Minkowski difference: rounding only
 /// (measured ≤ 1.5e-15 over 13 605 random box–box overlaps, docs/fcl-oracle.md).
@@ -346,16 +349,17 @@ TEST(FclOracle, CylinderAxisIsYSphereBesideVersusAbove) {
 
 TEST(FclOracle, CylinderStandingAndLyingOnABox) {
   const RigidBodyDesc ground = boxBody(0, Vector3(4, 1, 4), Vector3::Zero());  // top y = ½
-  const RigidBodyDesc cylinder = cylinderBody(1, 0.5, 1);
+  const RigidBodyDesc cylinder = cylinderBody(1, 0.4, 1);
   const Pair pair(ground, cylinder);
   const Quaternion lying = rotationAbout(Vector3::UnitZ(), M_PI / 2);  // axis along x
   for (const double gap : {0.01, 1e-3, -1e-3, -0.01}) {
     SCOPED_TRACE("gap " + std::to_string(gap));
-    // Standing: the bottom cap at y = ½ + gap. Lying: the lowest line at y = ½ + gap.
+    // Standing: the bottom cap (h/2 = 0.5 below the centre) at y = ½ + gap. Lying: the lowest
+    // line (r = 0.4 below the centre) at y = ½ + gap.
     const PairDistance standing =
         pair(place(ground, Vector3::Zero()), place(cylinder, Vector3(0.3, 1 + gap, 0.1)));
     const PairDistance onItsSide =
-        pair(place(ground, Vector3::Zero()), place(cylinder, Vector3(0.3, 1 + gap, 0.1), lying));
+        pair(place(ground, Vector3::Zero()), place(cylinder, Vector3(0.3, 0.9 + gap, 0.1), lying));
     EXPECT_EQ(standing.method, DistanceMethod::GjkEpa);
     EXPECT_NEAR(standing.distance, gap, kGjk);
     EXPECT_NEAR(onItsSide.distance, gap, kGjk);
@@ -648,6 +652,161 @@ TEST(FclOracle, StateOfTheWrongSizeIsRejected) {
   State state = pile.state;
   state.bodies.pop_back();
   EXPECT_THROW(oracle.penetrations(state), std::invalid_argument);
+}
+
+// --- Accuracy over random configurations, against closed forms ------------------------------
+
+/// Random rotations (normalised Gaussian quaternions) and offsets.
+struct RandomPoses {
+  std::mt19937 engine{20261121};
+  Quaternion rotation() {
+    std::normal_distribution<double> gauss;
+    return Quaternion(gauss(engine), gauss(engine), gauss(engine), gauss(engine)).normalized();
+  }
+  double uniform(double low, double high) {
+    return std::uniform_real_distribution<double>(low, high)(engine);
+  }
+  double logUniform(double low, double high) {
+    return std::exp(uniform(std::log(low), std::log(high)));
+  }
+  Vector3 offset(double size) {
+    return Vector3(uniform(-size, size), uniform(-size, size), uniform(-size, size));
+  }
+};
+
+/// The penetration depth of two boxes: the smallest overlap over the 15 separating axes (face
+/// normals, edge–edge cross products). Exact for polytopes: the Minkowski difference's facet
+/// normals are among these axes.
+double separatingAxisDepth(const Vector3& halfA, const Quaternion& rotationA, const Vector3& halfB,
+                           const Quaternion& rotationB, const Vector3& centreOffset) {
+  const pbd::Matrix3 a = rotationA.toRotationMatrix(), b = rotationB.toRotationMatrix();
+  std::vector<Vector3> axes;
+  for (int i = 0; i < 3; ++i) {
+    axes.push_back(a.col(i));
+    axes.push_back(b.col(i));
+    for (int j = 0; j < 3; ++j) {
+      const Vector3 cross = a.col(i).cross(b.col(j));
+      if (cross.norm() > 1e-9) axes.push_back(cross.normalized());
+    }
+  }
+  double depth = std::numeric_limits<double>::infinity();
+  for (const Vector3& axis : axes) {
+    double reach = 0;
+    for (int i = 0; i < 3; ++i) {
+      reach += halfA[i] * std::abs(a.col(i).dot(axis)) + halfB[i] * std::abs(b.col(i).dot(axis));
+    }
+    depth = std::min(depth, reach - std::abs(centreOffset.dot(axis)));
+  }
+  return depth;
+}
+
+void reportAccuracy(const char* what, int samples, double maxError) {
+  std::printf("[ measured ] %s: %d samples, max |error| %.3g m\n", what, samples, maxError);
+  ::testing::Test::RecordProperty(what, std::to_string(maxError));
+}
+
+TEST(FclOracle, RandomBoxOverlapsMatchTheSeparatingAxisDepth) {
+  const Vector3 extentsA(1, 0.6, 0.8), extentsB(0.7, 0.5, 0.9);
+  const RigidBodyDesc a = boxBody(0, extentsA, Vector3::Zero());
+  const RigidBodyDesc b = boxBody(1, extentsB, Vector3::Zero());
+  const Pair pair(a, b);
+  RandomPoses random;
+  int samples = 0;
+  double maxError = 0;
+  while (samples < 1000) {
+    const Quaternion rotationA = random.rotation(), rotationB = random.rotation();
+    const Vector3 offset = random.offset(0.8);
+    const double depth =
+        separatingAxisDepth(extentsA / 2, rotationA, extentsB / 2, rotationB, offset);
+    if (depth <= 1e-6 || depth > 0.05) continue;  // shallow overlaps, as in resting contact
+    ++samples;
+    const Vector3 origin = random.offset(5);
+    const PairDistance d = pair(place(a, origin, rotationA), place(b, origin + offset, rotationB));
+    maxError = std::max(maxError, std::abs(d.distance + depth));
+  }
+  reportAccuracy("box-box penetration vs separating axes", samples, maxError);
+  EXPECT_LE(maxError, kPolytope);
+}
+
+TEST(FclOracle, RandomCrossedCylindersAndCylindersOnABox) {
+  // Two lying cylinders crossing at an angle, one on top of the other: near the crossing they
+  // are infinite cylinders (a line ⊕ a disc), whose penetration depth is r₁ + r₂ − the distance
+  // between the axes. A lying cylinder on a box face sinks by the gap below its lowest line.
+  const RigidBodyDesc lower = cylinderBody(0, 0.3, 2);
+  const RigidBodyDesc upper = cylinderBody(1, 0.2, 1.5);
+  const RigidBodyDesc ground = boxBody(2, Vector3(4, 1, 4), Vector3::Zero());
+  const DistanceOracle oracle(sceneOf({lower, upper, ground}));
+  RandomPoses random;
+  const Quaternion axisAlongX = rotationAbout(Vector3::UnitZ(), M_PI / 2);
+  double crossedError = 0, lyingError = 0;
+  const int samples = 300;
+  for (int i = 0; i < samples; ++i) {
+    const double depth = random.logUniform(1e-6, 1e-2);
+    const Quaternion motion = random.rotation();
+    const Vector3 shift = random.offset(5);
+    const auto moved = [&](const RigidBodyDesc& body, const Vector3& origin,
+                           const Quaternion& rotation) {
+      return place(body, motion * origin + shift, motion * rotation);
+    };
+    const double heading = random.uniform(0, 2 * M_PI);
+    const double crossing = random.uniform(0.3, M_PI / 2);
+    const Quaternion lowerTurn = rotationAbout(Vector3::UnitY(), heading) * axisAlongX;
+    const Quaternion upperTurn = rotationAbout(Vector3::UnitY(), heading + crossing) * axisAlongX;
+    const PairDistance crossed =
+        oracle.distance(0, moved(lower, Vector3::Zero(), lowerTurn), 1,
+                        moved(upper, Vector3(0, 0.5 - depth, 0), upperTurn));
+    crossedError = std::max(crossedError, std::abs(crossed.distance + depth));
+    const PairDistance lying =
+        oracle.distance(2, moved(ground, Vector3::Zero(), Quaternion::Identity()), 0,
+                        moved(lower, Vector3(0.2, 0.5 + 0.3 - depth, -0.1), lowerTurn));
+    lyingError = std::max(lyingError, std::abs(lying.distance + depth));
+  }
+  reportAccuracy("crossed cylinders (EPA)", samples, crossedError);
+  reportAccuracy("cylinder lying on a box (EPA)", samples, lyingError);
+  EXPECT_LE(crossedError, kGjk);
+  EXPECT_LE(lyingError, kGjk);
+}
+
+TEST(FclOracle, SphereNearAConvexMeshMatchesTheClosedForm) {
+  // libccd's GJK reports overlaps of up to 7e-5 m between a sphere and a polytope as gaps; the
+  // oracle decides overlap with MPR. Reference: FCL's closed-form sphere–box routine for the
+  // box primitive the cube mesh stands for, near contact (within ±1 mm).
+  const Vector3 extents(0.7, 0.4, 0.5);
+  const RigidBodyDesc sphere = sphereBody(0, 0.4, Vector3::Zero());
+  const RigidBodyDesc box = boxBody(1, extents, Vector3::Zero());
+  const RigidBodyDesc cube =
+      meshBody(2, CollisionObjectType::SignedDistanceField, cubeModel(extents));
+  const DistanceOracle oracle(sceneOf({sphere, box, cube}));
+  RandomPoses random;
+  double maxError = 0;
+  int beyondTolerance = 0;
+  const int samples = 2000;
+  for (int i = 0; i < samples; ++i) {
+    const Quaternion rotation = random.rotation();
+    const Vector3 direction = random.offset(1).normalized();
+    const auto sphereAt = [&](double s) { return place(sphere, s * direction); };
+    const BodyState boxState = place(box, Vector3::Zero(), rotation);
+    double inside = 0, outside = 2;  // bisection on the closed form for the contact distance
+    for (int step = 0; step < 50; ++step) {
+      const double middle = (inside + outside) / 2;
+      (oracle.distance(0, sphereAt(middle), 1, boxState).distance > 0 ? outside : inside) = middle;
+    }
+    const double offset = random.logUniform(1e-9, 1e-3) * (random.uniform(-1, 1) < 0 ? -1 : 1);
+    const BodyState sphereState = sphereAt(outside + offset);
+    const double reference = oracle.distance(0, sphereState, 1, boxState).distance;
+    const double fromMesh =
+        oracle.distance(0, sphereState, 2, place(cube, Vector3::Zero(), rotation)).distance;
+    maxError = std::max(maxError, std::abs(fromMesh - reference));
+    if (std::abs(fromMesh - reference) > kGjk) ++beyondTolerance;
+  }
+  reportAccuracy("sphere near a convex mesh", samples, maxError);
+  std::printf("[ measured ] sphere near a convex mesh: %d samples beyond 1e-6 m\n",
+              beyondTolerance);
+  // Measured over 20 000 such samples: 99.965 % within 1e-6, the rest ≤ 8.7e-6 (EPA overestimates
+  // a few near-touching depths where MPR's depth just exceeds the EPA tolerance). Deciding overlap
+  // by GJK instead puts 0.64 % beyond 1e-6, up to 7.9e-5.
+  EXPECT_LE(maxError, 1e-5);
+  EXPECT_LE(beyondTolerance, samples / 500);
 }
 
 // --- What cannot be represented -------------------------------------------------------------
