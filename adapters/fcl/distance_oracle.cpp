@@ -58,23 +58,26 @@ double ContactMargins::forPair(int bodyA, int bodyB) const {
 
 double PenetrationReport::maxDepth() const {
   double deepest = 0;
-  for (const PairPenetration& c : contacts)
+  for (const PairPenetration& c : contacts) {
     deepest = std::max(deepest, c.depth);
+  }
   return deepest;
 }
 
 double PenetrationReport::meanDepth() const {
   if (contacts.empty()) return 0;
   double sum = 0;
-  for (const PairPenetration& c : contacts)
+  for (const PairPenetration& c : contacts) {
     sum += c.depth;
+  }
   return sum / static_cast<double>(contacts.size());
 }
 
 double PenetrationReport::sumSquaredDepth() const {
   double sum = 0;
-  for (const PairPenetration& c : contacts)
+  for (const PairPenetration& c : contacts) {
     sum += c.depth * c.depth;
+  }
   return sum;
 }
 
@@ -115,8 +118,9 @@ std::set<std::pair<int, int>> jointedPairs(const pbd::Scene& scene) {
 /// every pair with distance ≤ activeDistance − margin.
 double smallestMargin(const ContactMargins& margins) {
   double smallest = margins.global;
-  for (const auto& entry : margins.perPair)
+  for (const auto& entry : margins.perPair) {
     smallest = std::min(smallest, entry.second);
+  }
   return smallest;
 }
 

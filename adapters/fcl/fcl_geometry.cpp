@@ -79,8 +79,9 @@ BodyGeometry cylinderGeometry(double radius, double height) {
 std::shared_ptr<fcl::Convexd> makeConvex(const pbd::TriangleMesh& mesh) {
   auto vertices = std::make_shared<std::vector<fcl::Vector3d>>();
   vertices->reserve(mesh.vertices.size());
-  for (const Vector3& v : mesh.vertices)
+  for (const Vector3& v : mesh.vertices) {
     vertices->push_back(v.cast<double>());
+  }
   auto faces = std::make_shared<std::vector<int>>();
   faces->reserve(4 * mesh.triangles.size());
   for (const auto& triangle : mesh.triangles) {
@@ -93,12 +94,14 @@ std::shared_ptr<fcl::Convexd> makeConvex(const pbd::TriangleMesh& mesh) {
 std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> makeBvh(const pbd::TriangleMesh& mesh) {
   std::vector<fcl::Vector3d> vertices;
   vertices.reserve(mesh.vertices.size());
-  for (const Vector3& v : mesh.vertices)
+  for (const Vector3& v : mesh.vertices) {
     vertices.push_back(v.cast<double>());
+  }
   std::vector<fcl::Triangle> triangles;
   triangles.reserve(mesh.triangles.size());
-  for (const auto& t : mesh.triangles)
+  for (const auto& t : mesh.triangles) {
     triangles.emplace_back(t[0], t[1], t[2]);
+  }
   auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
   model->beginModel(static_cast<int>(triangles.size()), static_cast<int>(vertices.size()));
   model->addSubModel(vertices, triangles);
@@ -192,8 +195,9 @@ BodyGeometry sdfBody(int index, const RigidBodyDesc& body, SceneGeometry& out) {
   }
   pbd::TriangleMesh mesh = *body.mesh;
   const Vector3 rescale = body.collision.scale.cwiseQuotient(body.scale);
-  for (Vector3& v : mesh.vertices)
+  for (Vector3& v : mesh.vertices) {
     v = v.cwiseProduct(rescale);
+  }
   BodyGeometry g = meshGeometry(body, mesh, out.notes);
   out.notes.push_back(body.jsonPath +
                       ": SDF represented by the mesh it is built from (the seed samples it on a " +

@@ -78,8 +78,9 @@ double torusDeviation(const pbd::TriangleMesh& mesh, double majorRadius, double 
   const auto record = [&](const Vector3& p) {
     deviation = std::max(deviation, std::abs(torusSignedDistance(p, majorRadius, minorRadius)));
   };
-  for (const Vector3& v : mesh.vertices)
+  for (const Vector3& v : mesh.vertices) {
     record(v);
+  }
   for (const auto& triangle : mesh.triangles) {
     const Vector3& a = mesh.vertices[triangle[0]];
     const Vector3& b = mesh.vertices[triangle[1]];

@@ -74,7 +74,8 @@ const fcl::Contactd& deepestContact(const fcl::CollisionResultd& result) {
   return result.getContact(best);
 }
 
-/// FCL's contact point is midway between the two deepest points; its normal points from A to B.
+/// MPR's contact point lies midway between the two deepest points; FCL's normal points from A
+/// to B.
 PairDistance fromContact(const fcl::Contactd& contact, DistanceMethod method) {
   const double depth = std::abs(contact.penetration_depth);
   const fcl::Vector3d halfDepth = contact.normal.normalized() * (depth / 2);
@@ -86,11 +87,12 @@ PairDistance fromDistance(const fcl::DistanceResultd& result, DistanceMethod met
           toVector(result.nearest_points[1]), method};
 }
 
-/// Touching within FCL's tolerances: the distance query saw contact, the intersection test none.
-PairDistance touching(const fcl::DistanceResultd& result, DistanceMethod method) {
-  PairDistance out = fromDistance(result, method);
-  out.distance = 0;
-  return out;
+/// Touching within the tolerances with no witness points from FCL: the midpoint of the shapes'
+/// origins stands for the contact.
+PairDistance touchingWithoutPoints(const PlacedBody& a, const PlacedBody& b,
+                                   DistanceMethod method) {
+  const Vector3 middle = toVector((a.pose.translation() + b.pose.translation()) / 2);
+  return {0, middle, middle, method};
 }
 
 /// Witness points from the sphere of the pair (FCL's contact point is not the same point for
@@ -116,7 +118,7 @@ PairDistance closedFormPair(const PlacedBody& a, const PlacedBody& b,
   if (separation.min_distance > 0) return fromDistance(separation, DistanceMethod::ClosedForm);
   const fcl::CollisionResultd overlap =
       runCollide(*a.body.geometry, a.pose, *b.body.geometry, b.pose, true, kMaxPrimitiveContacts);
-  if (!overlap.isCollision()) return touching(separation, DistanceMethod::ClosedForm);
+  if (!overlap.isCollision()) return touchingWithoutPoints(a, b, DistanceMethod::ClosedForm);
   return sphereContact(a, b, deepestContact(overlap));
 }
 
@@ -125,14 +127,6 @@ PairDistance closedFormPair(const PlacedBody& a, const PlacedBody& b,
 bool witnessesAgree(const fcl::DistanceResultd& result, double tolerance) {
   const double gap = (result.nearest_points[0] - result.nearest_points[1]).norm();
   return std::abs(gap - std::abs(result.min_distance)) <= 10 * tolerance;
-}
-
-/// Touching within the tolerances with no witness points from FCL: the midpoint of the shapes'
-/// origins stands for the contact.
-PairDistance touchingWithoutPoints(const PlacedBody& a, const PlacedBody& b,
-                                   DistanceMethod method) {
-  const Vector3 middle = toVector((a.pose.translation() + b.pose.translation()) / 2);
-  return {0, middle, middle, method};
 }
 
 /// Convex pairs without a closed form. libccd's GJK misjudges overlap near contact on curved
@@ -183,7 +177,6 @@ fcl::Vector3d sphereSurfaceToward(const fcl::Vector3d& centre, double radius,
 /// whose point is recomputed.
 PairDistance meshConvexPair(const PlacedBody& mesh, const PlacedBody& convex,
                             const DistanceOracleOptions& tolerances, bool meshIsA) {
-  const double tolerance = tolerances.distanceTolerance;
   const fcl::Transform3d convexInMesh = mesh.pose.inverse(Eigen::Isometry) * convex.pose;
   const fcl::CollisionResultd overlap = runCollide(
       *mesh.body.geometry, identity(), *convex.body.geometry, convexInMesh, true, kMaxMeshContacts);
@@ -195,8 +188,9 @@ PairDistance meshConvexPair(const PlacedBody& mesh, const PlacedBody& convex,
     distance = -std::abs(contact.penetration_depth);
     onMesh = onConvex = contact.pos;
   } else {
-    const fcl::DistanceResultd separation = runDistance(
-        *mesh.body.geometry, identity(), *convex.body.geometry, convexInMesh, tolerance, false);
+    const fcl::DistanceResultd separation =
+        runDistance(*mesh.body.geometry, identity(), *convex.body.geometry, convexInMesh,
+                    tolerances.distanceTolerance, false);
     distance = std::max(0.0, separation.min_distance);
     method = DistanceMethod::MeshDistance;
     onMesh = separation.nearest_points[0];
@@ -223,7 +217,8 @@ struct InsideVertex {
   bool found = false;
 };
 
-/// The distance from `point` (target frame) to the target mesh's surface, and the nearest point.
+/// The distance from `point` (target frame) to the target mesh's surface, and the nearest point:
+/// a zero-radius sphere against the BVH uses FCL's closed-form sphere–triangle distance.
 std::pair<double, fcl::Vector3d> distanceToSurface(const BodyGeometry& target,
                                                    const fcl::Vector3d& point) {
   const fcl::Sphered probe(0);
@@ -262,8 +257,9 @@ InsideVertex deepestVertexInside(const MeshData& moving, const fcl::Transform3d&
 
 std::vector<int> allVertices(const MeshData& mesh) {
   std::vector<int> indices(mesh.mesh.vertices.size());
-  for (std::size_t i = 0; i < indices.size(); ++i)
+  for (std::size_t i = 0; i < indices.size(); ++i) {
     indices[i] = static_cast<int>(i);
+  }
   return indices;
 }
 
@@ -276,10 +272,10 @@ std::pair<std::vector<int>, std::vector<int>> crossingVertices(const PlacedBody&
   std::vector<int> seedsA, seedsB;
   for (std::size_t i = 0; i < overlap.numContacts(); ++i) {
     const fcl::Contactd& contact = overlap.getContact(i);
-    for (const int v : a.body.mesh->mesh.triangles[contact.b1])
-      seedsA.push_back(v);
-    for (const int v : b.body.mesh->mesh.triangles[contact.b2])
-      seedsB.push_back(v);
+    const auto& triangleA = a.body.mesh->mesh.triangles[contact.b1];
+    const auto& triangleB = b.body.mesh->mesh.triangles[contact.b2];
+    seedsA.insert(seedsA.end(), triangleA.begin(), triangleA.end());
+    seedsB.insert(seedsB.end(), triangleB.begin(), triangleB.end());
   }
   return {seedsA, seedsB};
 }
@@ -316,13 +312,13 @@ bool oneContainsTheOther(const PlacedBody& a, const PlacedBody& b, const fcl::Tr
 
 PairDistance meshMeshPair(const PlacedBody& a, const PlacedBody& b,
                           const DistanceOracleOptions& tolerances) {
-  const double tolerance = tolerances.distanceTolerance;
   const fcl::Transform3d bInA = a.pose.inverse(Eigen::Isometry) * b.pose;
   auto [seedsA, seedsB] = crossingVertices(a, b, bInA);
   if (seedsA.empty()) {
     if (!oneContainsTheOther(a, b, bInA)) {
       const fcl::DistanceResultd separation =
-          runDistance(*a.body.geometry, identity(), *b.body.geometry, bInA, tolerance, false);
+          runDistance(*a.body.geometry, identity(), *b.body.geometry, bInA,
+                      tolerances.distanceTolerance, false);
       return {separation.min_distance, toVector(a.pose * separation.nearest_points[0]),
               toVector(a.pose * separation.nearest_points[1]), DistanceMethod::MeshDistance};
     }
