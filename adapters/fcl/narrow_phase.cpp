@@ -1,0 +1,345 @@
+#include "adapters/fcl/narrow_phase.h"
+
+#include <fcl/geometry/shape/sphere.h>
+#include <fcl/narrowphase/collision.h>
+#include <fcl/narrowphase/distance.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "adapters/fcl/mesh_geometry.h"
+
+namespace pbdval::fcl_oracle {
+namespace {
+
+/// Contacts FCL may report for a pair: one per intersecting triangle pair for meshes, a few
+/// (a box–box manifold) for primitives.
+constexpr std::size_t kMaxMeshContacts = std::size_t(1) << 20;
+constexpr std::size_t kMaxPrimitiveContacts = 16;
+
+fcl::Transform3d identity() {
+  return fcl::Transform3d::Identity();
+}
+
+bool isConvexShape(OracleShape shape) {
+  return shape == OracleShape::Sphere || shape == OracleShape::Box ||
+         shape == OracleShape::Cylinder || shape == OracleShape::ConvexMesh;
+}
+
+/// FCL 0.7 has closed-form distance and intersection routines for these pairs.
+bool hasClosedForm(OracleShape a, OracleShape b) {
+  const auto partner = [](OracleShape s) {
+    return s == OracleShape::Sphere || s == OracleShape::Box || s == OracleShape::Cylinder;
+  };
+  return (a == OracleShape::Sphere && partner(b)) || (b == OracleShape::Sphere && partner(a));
+}
+
+Vector3 toVector(const fcl::Vector3d& v) {
+  return v.cast<Real>();
+}
+
+fcl::DistanceResultd runDistance(const fcl::CollisionGeometryd& a, const fcl::Transform3d& poseA,
+                                 const fcl::CollisionGeometryd& b, const fcl::Transform3d& poseB,
+                                 double tolerance, bool signedDistance) {
+  const fcl::DistanceRequestd request(/*enable_nearest_points=*/true, signedDistance,
+                                      /*rel_err=*/0, /*abs_err=*/0, tolerance);
+  fcl::DistanceResultd result;
+  fcl::distance(&a, poseA, &b, poseB, request, result);
+  return result;
+}
+
+fcl::CollisionResultd runCollide(const fcl::CollisionGeometryd& a, const fcl::Transform3d& poseA,
+                                 const fcl::CollisionGeometryd& b, const fcl::Transform3d& poseB,
+                                 bool enableContact, std::size_t maxContacts) {
+  fcl::CollisionRequestd request(maxContacts, enableContact);
+  request.gjk_solver_type = fcl::GST_LIBCCD;
+  fcl::CollisionResultd result;
+  fcl::collide(&a, poseA, &b, poseB, request, result);
+  return result;
+}
+
+/// The contact with the largest |depth| (FCL's sphere–triangle contacts carry negative ones).
+const fcl::Contactd& deepestContact(const fcl::CollisionResultd& result) {
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < result.numContacts(); ++i) {
+    if (std::abs(result.getContact(i).penetration_depth) >
+        std::abs(result.getContact(best).penetration_depth)) {
+      best = i;
+    }
+  }
+  return result.getContact(best);
+}
+
+/// MPR's contact point lies midway between the two deepest points; FCL's normal points from A
+/// to B.
+PairDistance fromContact(const fcl::Contactd& contact, DistanceMethod method) {
+  const double depth = std::abs(contact.penetration_depth);
+  const fcl::Vector3d halfDepth = contact.normal.normalized() * (depth / 2);
+  return {-depth, toVector(contact.pos + halfDepth), toVector(contact.pos - halfDepth), method};
+}
+
+PairDistance fromDistance(const fcl::DistanceResultd& result, DistanceMethod method) {
+  return {result.min_distance, toVector(result.nearest_points[0]),
+          toVector(result.nearest_points[1]), method};
+}
+
+/// Touching within the tolerances with no witness points from FCL: the midpoint of the shapes'
+/// origins stands for the contact.
+PairDistance touchingWithoutPoints(const PlacedBody& a, const PlacedBody& b,
+                                   DistanceMethod method) {
+  const Vector3 middle = toVector((a.pose.translation() + b.pose.translation()) / 2);
+  return {0, middle, middle, method};
+}
+
+/// Witness points from the sphere of the pair (FCL's contact point is not the same point for
+/// every closed form): its deepest point into the other shape is centre ± r·n.
+PairDistance sphereContact(const PlacedBody& a, const PlacedBody& b, const fcl::Contactd& contact) {
+  const double depth = std::abs(contact.penetration_depth);
+  const fcl::Vector3d normal = contact.normal.normalized();  // from A to B
+  fcl::Vector3d onA, onB;
+  if (a.body.shape == OracleShape::Sphere) {
+    onA = a.pose.translation() + a.body.sphereRadius * normal;
+    onB = onA - depth * normal;
+  } else {
+    onB = b.pose.translation() - b.body.sphereRadius * normal;
+    onA = onB + depth * normal;
+  }
+  return {-depth, toVector(onA), toVector(onB), DistanceMethod::ClosedForm};
+}
+
+PairDistance closedFormPair(const PlacedBody& a, const PlacedBody& b,
+                            const DistanceOracleOptions& tolerances) {
+  const fcl::DistanceResultd separation = runDistance(*a.body.geometry, a.pose, *b.body.geometry,
+                                                      b.pose, tolerances.distanceTolerance, false);
+  if (separation.min_distance > 0) return fromDistance(separation, DistanceMethod::ClosedForm);
+  const fcl::CollisionResultd overlap =
+      runCollide(*a.body.geometry, a.pose, *b.body.geometry, b.pose, true, kMaxPrimitiveContacts);
+  if (!overlap.isCollision()) return touchingWithoutPoints(a, b, DistanceMethod::ClosedForm);
+  return sphereContact(a, b, deepestContact(overlap));
+}
+
+/// EPA's witness points are |distance| apart unless it failed (it then returns −1 and no
+/// points instead of throwing).
+bool witnessesAgree(const fcl::DistanceResultd& result, double tolerance) {
+  const double gap = (result.nearest_points[0] - result.nearest_points[1]).norm();
+  return std::abs(gap - std::abs(result.min_distance)) <= 10 * tolerance;
+}
+
+/// Convex pairs without a closed form. libccd's GJK misjudges overlap near contact on curved
+/// shapes (it reports overlaps of up to 7e-5 m as gaps), so MPR's intersection test, wrong
+/// only within 1e-6 m of contact, decides first (docs/fcl-oracle.md, "Algorithms").
+/// Separated: GJK's distance. Overlapping: MPR's depth, an upper bound of the penetration depth
+/// (distance to a face of the Minkowski difference), is the answer below the EPA tolerance,
+/// where FCL 0.7's EPA aborts the process (a failed assert in libfcl) on nearly touching
+/// polytopes. Deeper, EPA gives the exact depth; if it throws, fails or finds no overlap,
+/// MPR's depth stands.
+PairDistance gjkEpaPair(const PlacedBody& a, const PlacedBody& b,
+                        const DistanceOracleOptions& tolerances) {
+  const fcl::CollisionResultd overlap =
+      runCollide(*a.body.geometry, a.pose, *b.body.geometry, b.pose, true, kMaxPrimitiveContacts);
+  if (!overlap.isCollision()) {
+    const fcl::DistanceResultd separation = runDistance(
+        *a.body.geometry, a.pose, *b.body.geometry, b.pose, tolerances.distanceTolerance, false);
+    if (separation.min_distance > 0) return fromDistance(separation, DistanceMethod::GjkEpa);
+    return touchingWithoutPoints(a, b, DistanceMethod::GjkEpa);
+  }
+  const PairDistance mpr = fromContact(deepestContact(overlap), DistanceMethod::ShallowMpr);
+  if (mpr.depth() <= tolerances.epaTolerance) return mpr;
+  const PairDistance fallback{mpr.distance, mpr.pointOnA, mpr.pointOnB,
+                              DistanceMethod::MprFallback};
+  fcl::DistanceResultd epa;
+  try {
+    epa = runDistance(*a.body.geometry, a.pose, *b.body.geometry, b.pose, tolerances.epaTolerance,
+                      true);
+  } catch (const std::exception&) {
+    return fallback;
+  }
+  if (epa.min_distance >= 0 || !witnessesAgree(epa, tolerances.epaTolerance)) return fallback;
+  return fromDistance(epa, DistanceMethod::GjkEpa);
+}
+
+/// Closest point of a sphere (centre, radius) to an outside point.
+fcl::Vector3d sphereSurfaceToward(const fcl::Vector3d& centre, double radius,
+                                  const fcl::Vector3d& target) {
+  const fcl::Vector3d direction = target - centre;
+  const double length = direction.norm();
+  return length > 0 ? centre + direction * (radius / length) : centre;
+}
+
+/// FCL 0.7's mesh–shape distance is not defined when a triangle intersects the shape (the
+/// sphere–triangle routine then leaves it unset), so the intersection test comes first.
+/// The mesh goes first, at the identity: FCL then reports the mesh's point in the mesh frame, and
+/// the shape's point in the same frame except for spheres (reported in the sphere's own frame),
+/// whose point is recomputed.
+PairDistance meshConvexPair(const PlacedBody& mesh, const PlacedBody& convex,
+                            const DistanceOracleOptions& tolerances, bool meshIsA) {
+  const fcl::Transform3d convexInMesh = mesh.pose.inverse(Eigen::Isometry) * convex.pose;
+  const fcl::CollisionResultd overlap = runCollide(
+      *mesh.body.geometry, identity(), *convex.body.geometry, convexInMesh, true, kMaxMeshContacts);
+  double distance = 0;
+  fcl::Vector3d onMesh, onConvex;
+  DistanceMethod method = DistanceMethod::MeshContact;
+  if (overlap.isCollision()) {
+    const fcl::Contactd& contact = deepestContact(overlap);
+    distance = -std::abs(contact.penetration_depth);
+    onMesh = onConvex = contact.pos;
+  } else {
+    const fcl::DistanceResultd separation =
+        runDistance(*mesh.body.geometry, identity(), *convex.body.geometry, convexInMesh,
+                    tolerances.distanceTolerance, false);
+    distance = std::max(0.0, separation.min_distance);
+    method = DistanceMethod::MeshDistance;
+    onMesh = separation.nearest_points[0];
+    onConvex =
+        convex.body.shape == OracleShape::Sphere
+            ? sphereSurfaceToward(convexInMesh.translation(), convex.body.sphereRadius, onMesh)
+            : separation.nearest_points[1];
+  }
+  const Vector3 worldOnMesh = toVector(mesh.pose * onMesh);
+  const Vector3 worldOnConvex = toVector(mesh.pose * onConvex);
+  return meshIsA ? PairDistance{distance, worldOnMesh, worldOnConvex, method}
+                 : PairDistance{distance, worldOnConvex, worldOnMesh, method};
+}
+
+bool isInside(const MeshData& mesh, const fcl::Vector3d& point) {
+  return windingNumber(mesh.mesh, point.cast<Real>()) > 0.5;
+}
+
+/// A vertex of one mesh inside the other, with its nearest surface point there.
+struct InsideVertex {
+  double depth = 0;
+  fcl::Vector3d vertex = fcl::Vector3d::Zero();        ///< in the target's frame
+  fcl::Vector3d surfacePoint = fcl::Vector3d::Zero();  ///< in the target's frame
+  bool found = false;
+};
+
+/// The distance from `point` (target frame) to the target mesh's surface, and the nearest point:
+/// a zero-radius sphere against the BVH uses FCL's closed-form sphere–triangle distance.
+std::pair<double, fcl::Vector3d> distanceToSurface(const BodyGeometry& target,
+                                                   const fcl::Vector3d& point) {
+  const fcl::Sphered probe(0);
+  fcl::Transform3d probePose = identity();
+  probePose.translation() = point;
+  const fcl::DistanceResultd result =
+      runDistance(*target.geometry, identity(), probe, probePose, 1e-12, false);
+  return {result.min_distance, result.nearest_points[0]};
+}
+
+/// The deepest vertex of `moving` inside `target`, searched from `seeds` and flooding through
+/// vertices that are inside (a penetrating region is connected to a crossing triangle).
+InsideVertex deepestVertexInside(const MeshData& moving, const fcl::Transform3d& movingToTarget,
+                                 const BodyGeometry& target, const std::vector<int>& seeds) {
+  InsideVertex deepest;
+  std::vector<bool> queued(moving.mesh.vertices.size(), false);
+  std::deque<int> queue;
+  for (const int seed : seeds) {
+    if (!queued[seed]) queue.push_back(seed);
+    queued[seed] = true;
+  }
+  while (!queue.empty()) {
+    const int index = queue.front();
+    queue.pop_front();
+    const fcl::Vector3d point = movingToTarget * moving.mesh.vertices[index].cast<double>();
+    if (!isInside(*target.mesh, point)) continue;
+    const auto [depth, surfacePoint] = distanceToSurface(target, point);
+    if (!deepest.found || depth > deepest.depth) deepest = {depth, point, surfacePoint, true};
+    for (const int neighbour : moving.neighbours[index]) {
+      if (!queued[neighbour]) queue.push_back(neighbour);
+      queued[neighbour] = true;
+    }
+  }
+  return deepest;
+}
+
+std::vector<int> allVertices(const MeshData& mesh) {
+  std::vector<int> indices(mesh.mesh.vertices.size());
+  for (std::size_t i = 0; i < indices.size(); ++i) {
+    indices[i] = static_cast<int>(i);
+  }
+  return indices;
+}
+
+/// Vertices of the triangles FCL finds intersecting, per mesh.
+std::pair<std::vector<int>, std::vector<int>> crossingVertices(const PlacedBody& a,
+                                                               const PlacedBody& b,
+                                                               const fcl::Transform3d& bInA) {
+  const fcl::CollisionResultd overlap =
+      runCollide(*a.body.geometry, identity(), *b.body.geometry, bInA, false, kMaxMeshContacts);
+  std::vector<int> seedsA, seedsB;
+  for (std::size_t i = 0; i < overlap.numContacts(); ++i) {
+    const fcl::Contactd& contact = overlap.getContact(i);
+    const auto& triangleA = a.body.mesh->mesh.triangles[contact.b1];
+    const auto& triangleB = b.body.mesh->mesh.triangles[contact.b2];
+    seedsA.insert(seedsA.end(), triangleA.begin(), triangleA.end());
+    seedsB.insert(seedsB.end(), triangleB.begin(), triangleB.end());
+  }
+  return {seedsA, seedsB};
+}
+
+/// FCL 0.7's triangle–triangle contact depths are far off for meshes (docs/fcl-oracle.md), so the
+/// depth is the deepest vertex of either mesh inside the other: exact for vertex–face contact,
+/// a lower bound when edges cross with no vertex inside (then 0).
+PairDistance vertexDepthPair(const PlacedBody& a, const PlacedBody& b, const fcl::Transform3d& bInA,
+                             const std::vector<int>& seedsA, const std::vector<int>& seedsB) {
+  const fcl::Transform3d aInB = bInA.inverse(Eigen::Isometry);
+  const InsideVertex aVertex = deepestVertexInside(*a.body.mesh, aInB, b.body, seedsA);
+  const InsideVertex bVertex = deepestVertexInside(*b.body.mesh, bInA, a.body, seedsB);
+  if (aVertex.found && (!bVertex.found || aVertex.depth >= bVertex.depth)) {
+    return {-aVertex.depth, toVector(b.pose * aVertex.vertex),
+            toVector(b.pose * aVertex.surfacePoint), DistanceMethod::MeshVertexDepth};
+  }
+  if (bVertex.found) {
+    return {-bVertex.depth, toVector(a.pose * bVertex.surfacePoint),
+            toVector(a.pose * bVertex.vertex), DistanceMethod::MeshVertexDepth};
+  }
+  // Surfaces cross with no vertex inside: a vertex of a crossing triangle stands for the contact.
+  const Vector3 crossing =
+      toVector(a.pose * a.body.mesh->mesh.vertices[seedsA.front()].cast<double>());
+  return {0, crossing, crossing, DistanceMethod::MeshVertexDepth};
+}
+
+/// Surfaces that do not meet can still overlap: one mesh inside the other.
+bool oneContainsTheOther(const PlacedBody& a, const PlacedBody& b, const fcl::Transform3d& bInA) {
+  const MeshData& meshA = *a.body.mesh;
+  const MeshData& meshB = *b.body.mesh;
+  return isInside(meshB, bInA.inverse(Eigen::Isometry) * meshA.mesh.vertices[0].cast<double>()) ||
+         isInside(meshA, bInA * meshB.mesh.vertices[0].cast<double>());
+}
+
+PairDistance meshMeshPair(const PlacedBody& a, const PlacedBody& b,
+                          const DistanceOracleOptions& tolerances) {
+  const fcl::Transform3d bInA = a.pose.inverse(Eigen::Isometry) * b.pose;
+  auto [seedsA, seedsB] = crossingVertices(a, b, bInA);
+  if (seedsA.empty()) {
+    if (!oneContainsTheOther(a, b, bInA)) {
+      const fcl::DistanceResultd separation =
+          runDistance(*a.body.geometry, identity(), *b.body.geometry, bInA,
+                      tolerances.distanceTolerance, false);
+      return {separation.min_distance, toVector(a.pose * separation.nearest_points[0]),
+              toVector(a.pose * separation.nearest_points[1]), DistanceMethod::MeshDistance};
+    }
+    seedsA = allVertices(*a.body.mesh);
+    seedsB = allVertices(*b.body.mesh);
+  }
+  return vertexDepthPair(a, b, bInA, seedsA, seedsB);
+}
+
+}  // namespace
+
+PairDistance pairDistance(const PlacedBody& a, const PlacedBody& b,
+                          const DistanceOracleOptions& tolerances) {
+  const OracleShape shapeA = a.body.shape, shapeB = b.body.shape;
+  if (hasClosedForm(shapeA, shapeB)) return closedFormPair(a, b, tolerances);
+  if (isConvexShape(shapeA) && isConvexShape(shapeB)) return gjkEpaPair(a, b, tolerances);
+  if (shapeA == OracleShape::TriangleMesh && shapeB == OracleShape::TriangleMesh) {
+    return meshMeshPair(a, b, tolerances);
+  }
+  if (shapeA == OracleShape::TriangleMesh) return meshConvexPair(a, b, tolerances, true);
+  return meshConvexPair(b, a, tolerances, false);
+}
+
+}  // namespace pbdval::fcl_oracle
