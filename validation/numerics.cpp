@@ -96,7 +96,7 @@ std::vector<State> resampleStates(const std::vector<State>& source,
   std::vector<State> out;
   out.reserve(times.size());
   for (const double t : times) {
-    if (t < first - timeSlack(t) || t > last + timeSlack(t)) {
+    if (!std::isfinite(t) || t < first - timeSlack(t) || t > last + timeSlack(t)) {
       std::ostringstream message;
       message << "resampleStates: time " << t << " s is outside the source's range [" << first
               << ", " << last << "] s";
