@@ -174,7 +174,11 @@ std::string escapeXml(const std::string& text) {
 MetricTolerance defaultTolerance(const std::string& metric) {
   MetricTolerance t;
   auto startsWith = [&](const char* prefix) { return metric.rfind(prefix, 0) == 0; };
-  if (metric == "wall_time_s" || metric == "steps" || metric == "real_time_factor") {
+  const bool informational =
+      metric.size() > 6 && metric.compare(metric.size() - 6, 6, "_scale") == 0;
+  if (informational) {
+    t.gated = false;  // energy_scale, momentum_*_scale: the normalisation used, not a result
+  } else if (metric == "wall_time_s" || metric == "steps" || metric == "real_time_factor") {
     t.gated = false;  // timing is measured in benchmarks, not gated (noise)
     t.higherIsBetter = metric == "real_time_factor";
   } else if (startsWith("energy_drift")) {

@@ -1,10 +1,331 @@
-// Placeholder until the metrics land: no metrics yet.
+// computeMetrics: one code path for every engine (docs/metrics.md).
 #include "validation/metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "validation/joint_error.h"
+#include "validation/mechanics.h"
+#include "validation/numerics.h"
 
 namespace pbdval {
 
-MetricSet computeMetrics(const MetricInputs& /*inputs*/) {
-  return {};
+namespace metric {
+std::string motorTrackingMax(const std::string& quantity) {
+  return "motor_tracking_" + quantity + "_max";
+}
+}  // namespace metric
+
+namespace {
+
+double timeSlack(double time) {
+  return 1e-9 * std::max(1.0, std::abs(time));
+}
+
+std::vector<double> sampleTimes(const std::vector<State>& samples) {
+  std::vector<double> times;
+  times.reserve(samples.size());
+  for (const State& s : samples)
+    times.push_back(s.time);
+  return times;
+}
+
+/// Max, sum of squares and count of a series of non-negative errors.
+struct ErrorAccumulator {
+  double max = 0;
+  double sumOfSquares = 0;
+  std::size_t count = 0;
+  void add(double value) {
+    max = std::max(max, std::abs(value));
+    sumOfSquares += value * value;
+    ++count;
+  }
+  double rms() const { return count > 0 ? std::sqrt(sumOfSquares / double(count)) : 0; }
+};
+
+void addEnergyMetrics(const MetricInputs& in, MetricSet& out) {
+  std::string scaleNote;
+  const double scale = energyScale(*in.scene, *in.spec, &scaleNote);
+  const DriftSummary drift =
+      summarizeDrift(sampleTimes(*in.samples), relativeEnergyDrift(*in.scene, *in.samples, scale));
+  out.values["energy_scale"] = scale;
+  out.values[metric::kEnergyDriftMax] = drift.max;
+  out.values[metric::kEnergyDriftFinal] = drift.final;
+  if (in.samples->size() >= 2) {
+    out.values[metric::kEnergyDriftRate] = drift.rate;
+  } else {
+    out.notes.push_back("energy_drift_rate: needs at least two samples");
+  }
+  out.notes.push_back("energy: " + scaleNote);
+  if (!in.spec->energyConserved)
+    out.notes.push_back(
+        "energy: not declared conserved (Validation.energyConserved); the drift includes the "
+        "scene's physical dissipation and work");
+  if (!in.scene->triangleModels.empty() || !in.scene->tetModels.empty())
+    out.notes.push_back(
+        "energy: the elastic energy of particle models (cloth, solids) is not included");
+}
+
+/// max_k ‖Q(t_k) − Q(t_0)‖ / scale for a vector quantity Q of each sample.
+template <typename Quantity>
+double maxVectorDrift(const std::vector<State>& samples, double scale, Quantity quantity) {
+  const Vector3 start = quantity(samples.front());
+  double drift = 0;
+  for (const State& s : samples)
+    drift = std::max(drift, double((quantity(s) - start).norm()));
+  return drift / scale;
+}
+
+void addMomentumMetrics(const MetricInputs& in, MetricSet& out) {
+  const pbd::Scene& scene = *in.scene;
+  const CaseSpec& spec = *in.spec;
+  if (!spec.linearMomentumConserved)
+    out.notes.push_back("momentum_linear_drift_max: linear momentum not declared conserved");
+  if (!spec.angularMomentumConserved)
+    out.notes.push_back("momentum_angular_drift_max: angular momentum not declared conserved");
+  if (!spec.linearMomentumConserved && !spec.angularMomentumConserved) return;
+  const MomentumScales scales = momentumScales(scene, energyScale(scene, spec));
+  if (spec.linearMomentumConserved) {
+    if (scales.linear > 0) {
+      out.values["momentum_linear_scale"] = scales.linear;
+      out.values[metric::kMomentumLinearDriftMax] = maxVectorDrift(
+          *in.samples, scales.linear, [&](const State& s) { return momentaOf(scene, s).linear; });
+    } else {
+      out.notes.push_back("momentum_linear_drift_max: no moving mass (scale 0)");
+    }
+  }
+  if (spec.angularMomentumConserved) {
+    if (scales.angular > 0) {
+      out.values["momentum_angular_scale"] = scales.angular;
+      out.values[metric::kMomentumAngularDriftMax] = maxVectorDrift(
+          *in.samples, scales.angular, [&](const State& s) { return momentaOf(scene, s).angular; });
+    } else {
+      out.notes.push_back("momentum_angular_drift_max: no moving mass (scale 0)");
+    }
+  }
+}
+
+/// Errors of the joints of one type over all samples.
+struct TypeAccumulator {
+  ErrorAccumulator linear, angular, tracking;
+  int joints = 0;
+  bool hasAngular = false;
+  MotorQuantity motor = MotorQuantity::None;
+};
+
+void measureJointOverRun(const JointGeometry& joint, const std::vector<State>& samples,
+                         TypeAccumulator& acc) {
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    const JointMeasurement m = measureJoint(joint, samples[k]);
+    acc.linear.add(m.linear);
+    if (m.angular) acc.angular.add(*m.angular);
+    // The motor acts from the first step on: its set point at t_0 is not yet tracked.
+    if (m.tracking && k > 0) acc.tracking.add(*m.tracking);
+  }
+}
+
+JointErrorSummary summarize(const TypeAccumulator& acc) {
+  JointErrorSummary s;
+  s.joints = acc.joints;
+  s.linearMax = acc.linear.max;
+  s.linearRms = acc.linear.rms();
+  s.hasAngular = acc.hasAngular;
+  s.angularMax = acc.angular.max;
+  s.angularRms = acc.angular.rms();
+  s.trackingQuantity = motorQuantityName(acc.motor);
+  s.trackingMax = acc.tracking.max;
+  s.trackingRms = acc.tracking.rms();
+  return s;
+}
+
+void addJointMetrics(const MetricInputs& in, MetricSet& out) {
+  const pbd::Scene& scene = *in.scene;
+  const bool statesHaveParticles = !in.samples->front().particles.empty();
+  std::map<std::string, TypeAccumulator> byType;
+  for (const pbd::JointDesc& joint : scene.joints) {
+    if (!isConstraint(joint.type)) continue;
+    if (joint.type == pbd::JointType::RigidBodyParticleBall && !statesHaveParticles) {
+      out.notes.push_back("joint error: " + joint.jsonPath +
+                          " skipped: the engine's states hold no particles");
+      continue;
+    }
+    TypeAccumulator& acc = byType[pbd::jointTypeName(joint.type)];
+    ++acc.joints;
+    acc.hasAngular = hasAngularError(joint.type);
+    acc.motor = motorQuantity(joint.type);
+    measureJointOverRun(captureJointGeometry(scene, joint), *in.samples, acc);
+  }
+  if (byType.empty()) {
+    out.notes.push_back("joint error: the scene has no constrained joints (springs are excluded)");
+    return;
+  }
+  ErrorAccumulator linear, angular;
+  std::map<std::string, double> trackingMax;
+  bool anyAngular = false;
+  for (const auto& [name, acc] : byType) {
+    out.jointErrorByType[name] = summarize(acc);
+    linear.max = std::max(linear.max, acc.linear.max);
+    linear.sumOfSquares += acc.linear.sumOfSquares;
+    linear.count += acc.linear.count;
+    if (acc.hasAngular) {
+      anyAngular = true;
+      angular.max = std::max(angular.max, acc.angular.max);
+      angular.sumOfSquares += acc.angular.sumOfSquares;
+      angular.count += acc.angular.count;
+    }
+    if (acc.motor != MotorQuantity::None && acc.tracking.count > 0) {
+      double& value = trackingMax[motorQuantityName(acc.motor)];
+      value = std::max(value, acc.tracking.max);
+    }
+  }
+  out.values[metric::kJointErrorLinearMax] = linear.max;
+  out.values[metric::kJointErrorLinearRms] = linear.rms();
+  if (anyAngular) {
+    out.values[metric::kJointErrorAngularMax] = angular.max;
+    out.values[metric::kJointErrorAngularRms] = angular.rms();
+  } else {
+    out.notes.push_back("joint_error_angular_max: no joint with an angular error");
+  }
+  for (const auto& [quantity, value] : trackingMax)
+    out.values[metric::motorTrackingMax(quantity)] = value;
+}
+
+void addPenetrationMetrics(const MetricInputs& in, MetricSet& out) {
+  if (!in.penetration) {
+    out.notes.push_back("penetration: no distance oracle was given");
+    return;
+  }
+  double max = 0, sum = 0;
+  std::size_t contacts = 0;
+  for (const State& s : *in.samples)
+    for (const double depth : in.penetration(s)) {
+      if (!(depth > 0)) continue;  // touching or separated pairs are not active contacts
+      max = std::max(max, depth);
+      sum += depth;
+      ++contacts;
+    }
+  out.values[metric::kPenetrationMax] = max;
+  out.values[metric::kPenetrationMean] = contacts > 0 ? sum / double(contacts) : 0;
+  if (contacts == 0) out.notes.push_back("penetration: no overlapping pair in any sample");
+}
+
+void addTrajectoryMetrics(const MetricInputs& in, MetricSet& out) {
+  if (!in.reference) {
+    out.notes.push_back("trajectory: no reference");
+    return;
+  }
+  const ReferenceTrajectory& reference = *in.reference;
+  if (reference.samples.empty()) {
+    out.notes.push_back("trajectory: the reference (" + reference.description + ") has no samples");
+    return;
+  }
+  const TrajectoryErrors e = trajectoryErrors(*in.samples, reference);
+  out.values[metric::kTrajectoryErrorMax] = e.positionMax;
+  out.values[metric::kTrajectoryErrorRms] = e.positionRms;
+  if (reference.hasRotation) {
+    out.values[metric::kRotationErrorMax] = e.rotationMax;
+  } else {
+    out.notes.push_back("rotation_error_max: the reference (" + reference.description +
+                        ") gives no orientations");
+  }
+  if (e.samplesCompared < in.samples->size()) {
+    std::ostringstream note;
+    note << "trajectory: the reference (" << reference.description << ") covers only the first "
+         << e.samplesCompared << " of " << in.samples->size() << " samples";
+    out.notes.push_back(note.str());
+  }
+}
+
+}  // namespace
+
+DriftSummary summarizeDrift(const std::vector<double>& times, const std::vector<double>& values) {
+  DriftSummary d;
+  if (values.empty()) return d;
+  for (const double v : values)
+    d.max = std::max(d.max, std::abs(v));
+  d.final = values.back();
+  d.rate = leastSquaresSlope(times, values);
+  return d;
+}
+
+std::vector<double> relativeEnergyDrift(const pbd::Scene& scene, const std::vector<State>& samples,
+                                        double energyScale) {
+  std::vector<double> drift;
+  if (samples.empty()) return drift;
+  const double start = energyOf(scene, samples.front()).total();
+  drift.reserve(samples.size());
+  for (const State& s : samples)
+    drift.push_back((energyOf(scene, s).total() - start) / energyScale);
+  return drift;
+}
+
+TrajectoryErrors trajectoryErrors(const std::vector<State>& samples,
+                                  const ReferenceTrajectory& reference) {
+  TrajectoryErrors e;
+  const std::size_t count = std::min(samples.size(), reference.samples.size());
+  ErrorAccumulator position;
+  for (std::size_t k = 0; k < count; ++k) {
+    const State& run = samples[k];
+    const State& ref = reference.samples[k];
+    if (std::abs(run.time - ref.time) > timeSlack(run.time)) {
+      std::ostringstream message;
+      message << "trajectory metrics: sample " << k << " is at t = " << run.time
+              << " s, the reference's at " << ref.time << " s (resample the reference)";
+      throw std::invalid_argument(message.str());
+    }
+    const std::size_t bodies = std::min(run.bodies.size(), ref.bodies.size());
+    if (reference.bodies.size() > bodies &&
+        std::find(reference.bodies.begin() + std::ptrdiff_t(bodies), reference.bodies.end(),
+                  true) != reference.bodies.end())
+      throw std::invalid_argument(
+          "trajectory metrics: the reference's body mask names bodies "
+          "the states do not hold");
+    std::size_t compared = 0;
+    for (std::size_t i = 0; i < bodies; ++i) {
+      if (!reference.bodies.empty() && (i >= reference.bodies.size() || !reference.bodies[i]))
+        continue;
+      ++compared;
+      position.add((run.bodies[i].position - ref.bodies[i].position).norm());
+      if (reference.hasRotation)
+        e.rotationMax =
+            std::max(e.rotationMax, geodesicAngle(run.bodies[i].rotation, ref.bodies[i].rotation));
+    }
+    e.bodiesCompared = compared;
+  }
+  e.samplesCompared = count;
+  e.positionMax = position.max;
+  e.positionRms = position.rms();
+  return e;
+}
+
+ReferenceTrajectory resampleReference(const ReferenceTrajectory& reference,
+                                      const std::vector<double>& times) {
+  ReferenceTrajectory out;
+  out.description = reference.description + ", resampled";
+  out.samples = resampleStates(reference.samples, times);
+  out.bodies = reference.bodies;
+  out.hasRotation = reference.hasRotation;
+  return out;
+}
+
+MetricSet computeMetrics(const MetricInputs& inputs) {
+  if (!inputs.scene || !inputs.spec || !inputs.samples)
+    throw std::invalid_argument("computeMetrics: scene, spec and samples are required");
+  MetricSet out;
+  if (inputs.samples->empty()) {
+    out.notes.push_back("no samples: no metrics");
+    return out;
+  }
+  for (const State& s : *inputs.samples)
+    checkStateMatchesScene(*inputs.scene, s);
+  addEnergyMetrics(inputs, out);
+  addMomentumMetrics(inputs, out);
+  addJointMetrics(inputs, out);
+  addPenetrationMetrics(inputs, out);
+  addTrajectoryMetrics(inputs, out);
+  return out;
 }
 
 }  // namespace pbdval

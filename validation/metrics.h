@@ -4,12 +4,18 @@
 // Stable names (results.json, baselines and gates depend on them):
 //   energy_drift_max, energy_drift_final, energy_drift_rate          (relative to E_ref; rate /s)
 //   momentum_linear_drift_max, momentum_angular_drift_max             (only when declared
-//   conserved) joint_error_linear_max, joint_error_linear_rms (m), joint_error_angular_max (rad)
-//     and per joint type under joint_error_by_type
+//   conserved) joint_error_linear_max, joint_error_linear_rms (m), joint_error_angular_max,
+//     joint_error_angular_rms (rad) and per joint type under joint_error_by_type
+//   motor_tracking_angle_max (rad), motor_tracking_angular_velocity_max (rad/s),
+//     motor_tracking_position_max (m), motor_tracking_velocity_max (m/s)   (when motors exist)
 //   penetration_max, penetration_mean (m)                             (FCL oracle, margins
 //   subtracted) trajectory_error_max, trajectory_error_rms (m), rotation_error_max (rad)   (against
 //   a reference)
 // The runner adds wall_time_s, steps, real_time_factor and, for PBD, state_hash.
+//
+// The building blocks (energy and momenta of a state: validation/mechanics.h; per-joint error:
+// validation/joint_error.h; slope, geodesic angle, resampling: validation/numerics.h) are
+// public for the runner and the reports.
 #pragma once
 
 #include <functional>
@@ -27,7 +33,35 @@ struct JointErrorSummary {
   double linearRms = 0;   ///< m, over samples and joints of the type
   double angularMax = 0;  ///< rad
   int joints = 0;
+  // Extensions (schema-compatible additions):
+  double angularRms = 0;    ///< rad, over samples and joints of the type
+  bool hasAngular = false;  ///< the type has an angular error (hinge, universal, slider kinds)
+  /// Motors: max and RMS of |tracking error| over samples after the first, in the unit of
+  /// `trackingQuantity` ("angle" rad, "angular_velocity" rad/s, "position" m, "velocity" m/s).
+  std::string trackingQuantity;  ///< empty: not a motor
+  double trackingMax = 0;
+  double trackingRms = 0;
 };
+
+/// The stable metric names.
+namespace metric {
+inline constexpr const char* kEnergyDriftMax = "energy_drift_max";
+inline constexpr const char* kEnergyDriftFinal = "energy_drift_final";
+inline constexpr const char* kEnergyDriftRate = "energy_drift_rate";
+inline constexpr const char* kMomentumLinearDriftMax = "momentum_linear_drift_max";
+inline constexpr const char* kMomentumAngularDriftMax = "momentum_angular_drift_max";
+inline constexpr const char* kJointErrorLinearMax = "joint_error_linear_max";
+inline constexpr const char* kJointErrorLinearRms = "joint_error_linear_rms";
+inline constexpr const char* kJointErrorAngularMax = "joint_error_angular_max";
+inline constexpr const char* kJointErrorAngularRms = "joint_error_angular_rms";
+inline constexpr const char* kPenetrationMax = "penetration_max";
+inline constexpr const char* kPenetrationMean = "penetration_mean";
+inline constexpr const char* kTrajectoryErrorMax = "trajectory_error_max";
+inline constexpr const char* kTrajectoryErrorRms = "trajectory_error_rms";
+inline constexpr const char* kRotationErrorMax = "rotation_error_max";
+/// "motor_tracking_<quantity>_max", quantity "angle", "angular_velocity", "position", "velocity".
+std::string motorTrackingMax(const std::string& quantity);
+}  // namespace metric
 
 struct MetricSet {
   std::map<std::string, double> values;  ///< name → value; absent when not applicable
@@ -55,6 +89,42 @@ struct MetricInputs {
   PenetrationQuery penetration;                    ///< empty: no penetration metrics
 };
 
+/// All metrics of a run. Throws std::invalid_argument when scene, spec or samples is null, or
+/// a sample does not hold the Scene's bodies (mechanics.h checkStateMatchesScene).
 MetricSet computeMetrics(const MetricInputs& inputs);
+
+// ---- Building blocks of computeMetrics, for the runner and the reports ----
+
+/// max |y|, the final y (signed) and the least-squares slope of y against t.
+struct DriftSummary {
+  double max = 0;
+  double final = 0;
+  double rate = 0;
+};
+DriftSummary summarizeDrift(const std::vector<double>& times, const std::vector<double>& values);
+
+/// ΔE(t_k)/E_ref = (E(t_k) − E(t_0))/E_ref for every sample.
+std::vector<double> relativeEnergyDrift(const pbd::Scene& scene, const std::vector<State>& samples,
+                                        double energyScale);
+
+struct TrajectoryErrors {
+  double positionMax = 0;  ///< max ‖x − x_ref‖ over masked bodies and compared samples, m
+  double positionRms = 0;  ///< RMS of ‖x − x_ref‖ over the same, m
+  double rotationMax = 0;  ///< max geodesic angle, rad (0 when the reference has no rotations)
+  std::size_t samplesCompared = 0;
+  std::size_t bodiesCompared = 0;
+};
+/// Compares `samples` with `reference` sample by sample (the first min(n, n_ref) samples).
+/// Throws std::invalid_argument when a compared pair's times differ by more than
+/// 1e-9·max(1, |t|) s (resample the reference first: resampleReference) or when the mask
+/// names more bodies than the states hold.
+TrajectoryErrors trajectoryErrors(const std::vector<State>& samples,
+                                  const ReferenceTrajectory& reference);
+
+/// `reference` resampled at `times` (numerics.h resampleStates: linear positions and
+/// velocities, slerp rotations), for fine-step and cross-engine references whose samples fall
+/// at other times. The mask and hasRotation are kept; the description says it was resampled.
+ReferenceTrajectory resampleReference(const ReferenceTrajectory& reference,
+                                      const std::vector<double>& times);
 
 }  // namespace pbdval

@@ -15,6 +15,7 @@
 #include <sstream>
 #include <thread>
 
+#include "adapters/fcl/distance_oracle.h"
 #include "pbd/io/scene_loader.h"
 #include "validation/atomic_file.h"
 #include "validation/case_spec.h"
@@ -117,6 +118,39 @@ std::optional<ReferenceTrajectory> buildReference(const LoadedCase& c, const Run
   return std::nullopt;
 }
 
+/// The contact margin an engine reports it lets bodies overlap by (settings "contactMargin", m);
+/// 0 when it reports none.
+double contactMarginOf(const std::map<std::string, std::string>& settings) {
+  const auto it = settings.find("contactMargin");
+  return it == settings.end() ? 0.0 : std::stod(it->second);
+}
+
+/// Penetration depths from the FCL oracle, margins subtracted; empty when the scene has fewer
+/// than two bodies with collision objects.
+PenetrationQuery penetrationQuery(const pbd::Scene& scene, std::optional<DistanceOracle>& oracle,
+                                  const std::map<std::string, std::string>& settings,
+                                  std::vector<std::string>& notes) {
+  int colliding = 0;
+  for (const pbd::RigidBodyDesc& b : scene.rigidBodies)
+    colliding += b.collision.type != pbd::CollisionObjectType::None ? 1 : 0;
+  if (colliding < 2) return {};
+  oracle.emplace(scene);
+  for (const UnsupportedBody& u : oracle->unsupported())
+    notes.push_back("penetration: " + u.message() + " (its pairs are not measured)");
+  PenetrationOptions options;
+  options.margins.global = contactMarginOf(settings);
+  return [&oracle, options, &notes](const State& state) {
+    const PenetrationReport report = oracle->penetrations(state, options);
+    std::vector<double> depths;
+    for (const PairPenetration& c : report.contacts)
+      depths.push_back(c.depth);
+    if (!report.failures.empty() && notes.size() < 50)
+      notes.push_back("penetration query failed at t = " + formatNumber(state.time) + ": " +
+                      report.failures.front().message);
+    return depths;
+  };
+}
+
 void mergeMetrics(MetricSet& into, MetricSet&& from) {
   for (auto& [name, value] : from.values)
     into.values[name] = value;
@@ -168,12 +202,20 @@ RunRecord executeRun(const RunRequest& request) {
     } catch (const std::exception& e) {
       notes.push_back(std::string("reference not available: ") + e.what());
     }
+    if (reference && c.spec.reference.kind != ReferenceSpec::Kind::Analytic) {
+      std::vector<double> times;
+      for (const State& s : samples)
+        times.push_back(s.time);
+      reference = resampleReference(*reference, times);
+    }
     if (reference) record.reference = reference->description;
+    std::optional<DistanceOracle> oracle;
     MetricInputs inputs;
     inputs.scene = &c.scene;
     inputs.spec = &c.spec;
     inputs.samples = &samples;
     inputs.reference = reference ? &*reference : nullptr;
+    inputs.penetration = penetrationQuery(c.scene, oracle, record.settings, notes);
     mergeMetrics(record.metrics, computeMetrics(inputs));
     for (std::string& note : notes)
       record.metrics.notes.push_back(std::move(note));
@@ -221,11 +263,20 @@ std::string toJsonText(const RunRecord& record) {
   for (const auto& [name, value] : record.metrics.values)
     metrics[name] = number(value);
   Json byType = Json::object();
-  for (const auto& [type, s] : record.metrics.jointErrorByType)
+  for (const auto& [type, s] : record.metrics.jointErrorByType) {
     byType[type] = {{"joint_error_linear_max", number(s.linearMax)},
                     {"joint_error_linear_rms", number(s.linearRms)},
-                    {"joint_error_angular_max", number(s.angularMax)},
                     {"joints", s.joints}};
+    if (s.hasAngular) {
+      byType[type]["joint_error_angular_max"] = number(s.angularMax);
+      byType[type]["joint_error_angular_rms"] = number(s.angularRms);
+    }
+    if (!s.trackingQuantity.empty()) {
+      byType[type]["motor_tracking_quantity"] = s.trackingQuantity;
+      byType[type]["motor_tracking_max"] = number(s.trackingMax);
+      byType[type]["motor_tracking_rms"] = number(s.trackingRms);
+    }
+  }
   Json j = requestJson(record.request);
   j["status"] = runStatusName(record.status);
   j["reason"] = record.reason;
@@ -264,7 +315,16 @@ RunRecord recordFromJsonText(const std::string& text, const std::string& where) 
         JointErrorSummary s;
         s.linearMax = numberFrom(item.value().at("joint_error_linear_max"));
         s.linearRms = numberFrom(item.value().at("joint_error_linear_rms"));
-        s.angularMax = numberFrom(item.value().at("joint_error_angular_max"));
+        s.hasAngular = item.value().contains("joint_error_angular_max");
+        if (s.hasAngular) {
+          s.angularMax = numberFrom(item.value().at("joint_error_angular_max"));
+          s.angularRms = numberFrom(item.value().at("joint_error_angular_rms"));
+        }
+        s.trackingQuantity = item.value().value("motor_tracking_quantity", std::string());
+        if (!s.trackingQuantity.empty()) {
+          s.trackingMax = numberFrom(item.value().at("motor_tracking_max"));
+          s.trackingRms = numberFrom(item.value().at("motor_tracking_rms"));
+        }
         s.joints = item.value().value("joints", 0);
         r.metrics.jointErrorByType[item.key()] = s;
       }

@@ -120,7 +120,12 @@ TEST(Results, RoundTripKeepsEveryField) {
   r.settings = {{"timeStepSize", "0.005"}};
   r.metrics.values = {
       {"energy_drift_max", 0.125}, {"wall_time_s", 1.5}, {"nan_metric", std::nan("")}};
-  r.metrics.jointErrorByType["hinge"] = {1e-3, 5e-4, 2e-2, 3};
+  JointErrorSummary hinge;
+  hinge.linearMax = 1e-3;
+  hinge.linearRms = 5e-4;
+  hinge.angularMax = 2e-2;
+  hinge.joints = 3;
+  r.metrics.jointErrorByType["hinge"] = hinge;
   r.metrics.notes = {"a note"};
   r.stateHash = "0123456789abcdef";
   r.reference = "analytic pendulum";
