@@ -71,7 +71,7 @@ bool hasGeom(const RigidBodyDesc& body) {
   return body.collision.type != CollisionObjectType::None;
 }
 
-constexpr const char* kPassiveFree =
+constexpr const char* kNoPassiveForces =
     "damping=\"0\" stiffness=\"0\" armature=\"0\" frictionloss=\"0\"";
 
 bool isMotor(JointType type) {
@@ -174,62 +174,62 @@ class MjcfWriter {
 
   // --- joints ---------------------------------------------------------------------------------
 
+  /// One MuJoCo joint of a tree joint: name suffix, type, axis in the child's frame.
+  struct JointElement {
+    const char* suffix;
+    const char* type;
+    Vector3 axis;
+  };
+
+  /// The MuJoCo joints expressing scene joint `j` in `child` (in order: the first one turns
+  /// about an axis fixed in the parent, a later one about an axis turned by the earlier ones).
+  std::vector<JointElement> jointElements(const JointDesc& j, int child) const {
+    const bool reversed = tree_.reversed[std::size_t(child)];
+    const Pose frame = bodyFrame(body(child));
+    // Seen from body 2, body 1 moves the opposite way: negate the axis so that joint values
+    // and motor set points keep the Scene's sign (body 2 relative to body 1).
+    const Vector3 axis = frame.directionToLocal((reversed ? -1 : 1) * j.axis);
+    const Vector3 unused = Vector3::UnitZ();
+    switch (j.type) {
+      case JointType::Ball:
+        return {{"", "ball", unused}};
+      case JointType::Hinge:
+      case JointType::TargetAngleMotorHinge:
+      case JointType::TargetVelocityMotorHinge:
+        return {{"", "hinge", axis}};
+      case JointType::Slider:
+      case JointType::Damper:
+      case JointType::TargetPositionMotorSlider:
+      case JointType::TargetVelocityMotorSlider:
+        return {{"", "slide", axis}};
+      case JointType::Universal: {
+        // axis1 is fixed in body 1, axis2 in body 2: the parent's axis goes first.
+        const Vector3 a1 = frame.directionToLocal(j.axis1), a2 = frame.directionToLocal(j.axis2);
+        return {{"a", "hinge", reversed ? a2 : a1}, {"b", "hinge", reversed ? a1 : a2}};
+      }
+      case JointType::BallOnLine:
+        // The line is fixed in body 1. As the parent: slide first (its axis stays fixed in the
+        // parent). As the child: ball first, so the slide axis turns with the child.
+        if (reversed) return {{"b", "ball", unused}, {"s", "slide", axis}};
+        return {{"s", "slide", axis}, {"b", "ball", unused}};
+      default:
+        return {};  // never tree joints (kinematic_tree.cpp)
+    }
+  }
+
   void joints(int child, const std::string& indent) {
     const std::size_t k = std::size_t(tree_.parentJoint[std::size_t(child)]);
     const JointDesc& j = scene_.joints[k];
-    const bool reversed = tree_.reversed[std::size_t(child)];
-    const Pose frame = bodyFrame(body(child));
-    const double sign = reversed ? -1 : 1;  // joint values measured as body 2 relative to body 1
-    const Vector3 anchor = frame.pointToLocal(j.position);
-    const Vector3 axis = frame.directionToLocal(sign * j.axis);
-    auto emit = [&](const std::string& name, const char* type, const Vector3& localAxis,
-                    const std::string& extra = kPassiveFree) {
-      out_ << indent << "<joint name=\"" << name << "\" type=\"" << type << "\" pos=\""
-           << vec(anchor) << "\" axis=\"" << vec(localAxis) << "\" limited=\"false\" ref=\"0\" "
-           << extra << "/>\n";
-    };
-    switch (j.type) {
-      case JointType::Ball:
-        emit(jointName(k), "ball", Vector3::UnitZ());
-        break;
-      case JointType::Hinge:
-        emit(jointName(k), "hinge", axis);
-        break;
-      case JointType::Universal: {
-        // The first joint of a body turns about an axis fixed in the parent, the second about
-        // one fixed in the child: axis1 is fixed in body 1, axis2 in body 2.
-        const Vector3 a1 = frame.directionToLocal(j.axis1), a2 = frame.directionToLocal(j.axis2);
-        emit(jointName(k, "a"), "hinge", reversed ? a2 : a1);
-        emit(jointName(k, "b"), "hinge", reversed ? a1 : a2);
-        break;
-      }
-      case JointType::BallOnLine:
-        // The line is fixed in body 1: slide first when body 1 is the parent (the slide axis
-        // is then fixed in the parent), ball first when it is the child (the slide axis then
-        // turns with the child).
-        if (!reversed) emit(jointName(k, "s"), "slide", axis);
-        emit(jointName(k, "b"), "ball", Vector3::UnitZ());
-        if (reversed) emit(jointName(k, "s"), "slide", axis);
-        break;
-      case JointType::Slider:
-        emit(jointName(k), "slide", axis);
-        break;
-      case JointType::Damper:
-        emit(jointName(k), "slide", axis,
-             "damping=\"0\" stiffness=\"" + num(j.stiffness) +
-                 "\" springref=\"0\" armature=\"0\" frictionloss=\"0\"");
-        break;
-      case JointType::TargetAngleMotorHinge:
-      case JointType::TargetVelocityMotorHinge:
-        emit(jointName(k), "hinge", axis);
-        break;
-      case JointType::TargetPositionMotorSlider:
-      case JointType::TargetVelocityMotorSlider:
-        emit(jointName(k), "slide", axis);
-        break;
-      default:
-        break;  // never tree joints (kinematic_tree.cpp)
-    }
+    const Vector3 anchor = bodyFrame(body(child)).pointToLocal(j.position);
+    // The damper joint's spring: joint stiffness about the initial offset (springref 0).
+    const std::string passive = j.type == JointType::Damper
+                                    ? "damping=\"0\" stiffness=\"" + num(j.stiffness) +
+                                          "\" springref=\"0\" armature=\"0\" frictionloss=\"0\""
+                                    : kNoPassiveForces;
+    for (const JointElement& e : jointElements(j, child))
+      out_ << indent << "<joint name=\"" << jointName(k, e.suffix) << "\" type=\"" << e.type
+           << "\" pos=\"" << vec(anchor) << "\" axis=\"" << vec(e.axis)
+           << "\" limited=\"false\" ref=\"0\" " << passive << "/>\n";
   }
 
   // --- geoms and sites ------------------------------------------------------------------------
@@ -297,12 +297,16 @@ class MjcfWriter {
 
   // --- constraints, actuators, contacts -------------------------------------------------------
 
-  std::string softness() const {
-    std::string imp;
+  std::string solimp() const {
+    std::string text;
     for (double v : settings_.solimp)
-      imp += (imp.empty() ? "" : " ") + num(v);
+      text += (text.empty() ? "" : " ") + num(v);
+    return text;
+  }
+
+  std::string softness() const {
     return "solref=\"" + num(settings_.equalitySolref[0]) + " " + num(settings_.equalitySolref[1]) +
-           "\" solimp=\"" + imp + "\"";
+           "\" solimp=\"" + solimp() + "\"";
   }
 
   std::string connect(const JointDesc& j, const Vector3& world) {
@@ -357,9 +361,6 @@ class MjcfWriter {
 
   std::string contactPairs() {
     std::ostringstream c;
-    std::string imp;
-    for (double v : settings_.solimp)
-      imp += (imp.empty() ? "" : " ") + num(v);
     const std::size_t n = scene_.rigidBodies.size();
     for (std::size_t a = 0; a < n; ++a)
       for (std::size_t b = a + 1; b < n; ++b) {
@@ -372,7 +373,7 @@ class MjcfWriter {
         c << "  <pair geom1=\"" << geomName(a) << "\" geom2=\"" << geomName(b) << "\" condim=\""
           << (mu > 0 ? 3 : 1) << "\" friction=\"" << num(mu) << " " << num(mu)
           << " 0 0 0\" solref=\"" << num(-law.stiffness) << " " << num(-law.damping)
-          << "\" solimp=\"" << imp << "\" margin=\"0\" gap=\"0\"/>\n";
+          << "\" solimp=\"" << solimp() << "\" margin=\"0\" gap=\"0\"/>\n";
         ++model_.contactPairs;
         model_.pairSettings.emplace_back(
             ba.jsonPath + "-" + bb.jsonPath,

@@ -88,19 +88,28 @@ std::vector<std::string> MujocoEngine::unsupported(const pbd::Scene& scene,
 }
 
 void MujocoEngine::load(const pbd::Scene& scene, const Method& method) {
+  failed_ = true;  // until the model is complete
   settings_ = mujoco::mujocoSettingsFor(scene, method);
   const std::vector<std::string> missing = unsupported(scene, method);
   if (!missing.empty()) throw EngineError("MuJoCo cannot represent " + missing.front());
-  failed_ = false;
   warnings_.clear();
   data_.reset();
   model_.reset();
-  const mujoco::KinematicTree tree = mujoco::planKinematicTree(scene);
-  mjcf_ = mujoco::writeMjcf(scene, settings_, tree);
+  mjcf_ = mujoco::writeMjcf(scene, settings_, mujoco::planKinematicTree(scene));
   for (const std::string& note : mjcf_.approximations)
     warnings_.push_back(note);
   compile();
+  indexBodies(scene);
+  forward("mj_forward (initial state)");
+  projectInitialVelocities(scene);
+  forward("mj_forward (initial velocities)");
+  tuneServos(scene);
+  warningCounts_.assign(mjNWARNING, 0);
+  failed_ = false;
+  checkWarnings();
+}
 
+void MujocoEngine::indexBodies(const pbd::Scene& scene) {
   bodyIds_.clear();
   sceneIds_.clear();
   principalRotations_.clear();
@@ -109,12 +118,6 @@ void MujocoEngine::load(const pbd::Scene& scene, const Method& method) {
     sceneIds_.push_back(scene.rigidBodies[i].id);
     principalRotations_.push_back(scene.rigidBodies[i].massProperties.principalRotation);
   }
-  forward("mj_forward (initial state)");
-  projectInitialVelocities(scene);
-  forward("mj_forward (initial velocities)");
-  tuneServos(scene);
-  warningCounts_.assign(mjNWARNING, 0);
-  checkWarnings();
 }
 
 void MujocoEngine::compile() {
@@ -252,11 +255,14 @@ void MujocoEngine::step() {
   checkWarnings();
 }
 
+// MuJoCo counts each kind of warning in mjData; a fatal kind ends the run, the others are
+// recorded once (with their count in effectiveSettings).
 void MujocoEngine::checkWarnings() {
   const mjData* d = data_.get();
   for (int w = 0; w < mjNWARNING; ++w) {
     const int count = d->warning[w].number;
-    if (count == warningCounts_[std::size_t(w)]) continue;
+    const int seen = warningCounts_[std::size_t(w)];
+    if (count == seen) continue;
     warningCounts_[std::size_t(w)] = count;
     std::ostringstream message;
     message << "MuJoCo at t = " << d->time << " s: " << warningName(w) << " (info "
@@ -265,7 +271,7 @@ void MujocoEngine::checkWarnings() {
       failed_ = true;
       throw EngineError(message.str());
     }
-    warnings_.push_back(message.str());
+    if (seen == 0) warnings_.push_back(message.str());
   }
 }
 
@@ -321,6 +327,9 @@ std::map<std::string, std::string> MujocoEngine::effectiveSettings() const {
         std::string(servo.velocityServo ? "velocity" : "position (PD)") +
         " kp=" + mujoco::exactNumber(servo.kp) + " kv=" + mujoco::exactNumber(servo.kv) +
         " joint inertia=" + mujoco::exactNumber(servo.inertia);
+  for (std::size_t w = 0; w < warningCounts_.size(); ++w)
+    if (warningCounts_[w] > 0)
+      s[std::string("warning.count.") + warningName(int(w))] = std::to_string(warningCounts_[w]);
   for (std::size_t i = 0; i < warnings_.size(); ++i)
     s["warning." + std::to_string(i)] = warnings_[i];
   return s;

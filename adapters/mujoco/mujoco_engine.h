@@ -59,6 +59,7 @@ class MujocoEngine final : public Engine {
   };
 
   void compile();
+  void indexBodies(const pbd::Scene& scene);
   void projectInitialVelocities(const pbd::Scene& scene);
   void tuneServos(const pbd::Scene& scene);
   void checkWarnings();

@@ -16,6 +16,10 @@
 //
 // Messages outside a guard (another library calling MuJoCo on this thread) go to stderr; an
 // error there returns, as MuJoCo's documented contract for a returning handler allows.
+//
+// Threads: stepping engines on several threads is safe (each thread has its own route).
+// Compiling models on several threads at once is not: MuJoCo 2.2.2's compiler itself swaps the
+// process-wide handlers while it runs.
 #pragma once
 
 #include <string>

@@ -56,14 +56,19 @@ std::vector<std::string> words(const std::string& text) {
   return result;
 }
 
+/// A plain number; NaN when `word` is not one.
+double plainNumber(const std::string& word) {
+  char* end = nullptr;
+  const double value = std::strtod(word.c_str(), &end);
+  if (word.empty() || end != word.c_str() + word.size() || !std::isfinite(value))
+    return std::nan("");
+  return value;
+}
+
 /// "0.01" (seconds) or "4h" (4 × step); NaN when not understood.
 double duration(const std::string& word, double stepSize) {
   const bool inSteps = !word.empty() && word.back() == 'h';
-  const std::string number = inSteps ? word.substr(0, word.size() - 1) : word;
-  char* end = nullptr;
-  const double value = std::strtod(number.c_str(), &end);
-  if (number.empty() || end != number.c_str() + number.size() || !std::isfinite(value))
-    return std::nan("");
+  const double value = plainNumber(inSteps ? word.substr(0, word.size() - 1) : word);
   return inSteps ? value * stepSize : value;
 }
 
@@ -94,10 +99,10 @@ std::array<double, 5> solimp(const Method& method) {
   std::array<double, 5> v{};
   if (w.size() != 5) reject(method, "solimp", "five numbers");
   for (std::size_t i = 0; i < 5; ++i)
-    v[i] = duration(w[i], 0);                                                  // plain numbers only
+    v[i] = plainNumber(w[i]);
   const auto impedance = [](double d) { return d >= 0.0001 && d <= 0.9999; };  // mjMIN/MAXIMP
   if (!impedance(v[0]) || !impedance(v[1]) || !(v[2] > 0) || !(v[3] > 0 && v[3] < 1) ||
-      !(v[4] >= 1) || w[0].back() == 'h')
+      !(v[4] >= 1))
     reject(method, "solimp",
            "d0, dwidth in [0.0001, 0.9999], width > 0, midpoint in (0, 1), power >= 1");
   return v;
@@ -142,8 +147,8 @@ MujocoSettings mujocoSettingsFor(const pbd::Scene& scene, const Method& method) 
   const std::vector<std::string> equality = words(method.text("equalitySolref"));
   if (equality.size() != 2) reject(method, "equalitySolref", "'timeconst dampratio'");
   s.equalitySolref[0] = timeConstant(method, "equalitySolref", equality[0], s.stepSize);
-  s.equalitySolref[1] = duration(equality[1], 0);
-  if (!(s.equalitySolref[1] > 0) || equality[1].back() == 'h')
+  s.equalitySolref[1] = plainNumber(equality[1]);
+  if (!(s.equalitySolref[1] > 0))
     reject(method, "equalitySolref", "'timeconst dampratio' with dampratio > 0");
   const std::vector<std::string> servo = words(method.text("servoTimeconst"));
   if (servo.size() != 1) reject(method, "servoTimeconst", "one time constant");

@@ -186,6 +186,93 @@ TEST(MujocoModel, CylinderAxisIsTheScenesY) {
   EXPECT_LE((mujocoAxis - c.rotation * Vector3::UnitY()).norm(), kRoundOff);
 }
 
+/// A closed box mesh over [lo, hi] (counter-clockwise seen from outside).
+pbd::TriangleMesh boxMesh(const Vector3& lo, const Vector3& hi) {
+  pbd::TriangleMesh mesh;
+  for (int i = 0; i < 8; ++i)
+    mesh.vertices.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(),
+                               i & 4 ? hi.z() : lo.z());
+  mesh.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                    {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return mesh;
+}
+
+// MuJoCo re-centres a mesh on its own centroid and principal axes and moves the geom frame to
+// compensate; the hull must still sit where the Scene puts the body's mesh.
+TEST(MujocoModel, AMeshHullSitsWhereTheSceneMeshIs) {
+  Scene s = emptyScene();
+  pbd::RigidBodyDesc b =
+      pbd::test::boxBody(0, Vector3(1, 1, 1), Vector3(0.5, 1, -0.3), 1000, true,
+                         Quaternion(AngleAxis(0.9, Vector3(1, -2, 0.5).normalized())));
+  auto mesh =
+      std::make_shared<pbd::TriangleMesh>(boxMesh(Vector3(0, 0.1, -0.1), Vector3(0.2, 0.4, 0.1)));
+  b.mesh = mesh;
+  b.collision.type = pbd::CollisionObjectType::SignedDistanceField;
+  b.collision.scale = Vector3::Ones();
+  b.massProperties = pbd::toPrincipal(pbd::integrateSolid(*mesh, 1000));
+  s.rigidBodies.push_back(b);
+  MujocoEngine engine;
+  engine.load(s, method());
+  const mjModel* m = engine.model();
+  const mjData* d = engine.data();
+  ASSERT_EQ(m->nmesh, 1);
+  ASSERT_EQ(m->mesh_vertnum[0], 8);
+  for (int v = 0; v < 8; ++v) {
+    const float* local = m->mesh_vert + 3 * (m->mesh_vertadr[0] + v);
+    Vector3 world(d->geom_xpos[0], d->geom_xpos[1], d->geom_xpos[2]);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c)
+        world[r] += d->geom_xmat[3 * r + c] * double(local[c]);
+    double nearest = 1e9;
+    for (const Vector3& sceneVertex : mesh->vertices)
+      nearest =
+          std::min(nearest, double((b.translation + b.rotation * sceneVertex - world).norm()));
+    EXPECT_LE(nearest, 1e-6) << "vertex " << v;  // MuJoCo stores mesh vertices as float
+  }
+  bool recorded = false;
+  for (const std::string& w : engine.warnings())
+    recorded = recorded || w.find("convex hull") != std::string::npos;
+  EXPECT_TRUE(recorded) << "the hull approximation is recorded";
+}
+
+// --- Springs -------------------------------------------------------------------------------------
+
+// A 1 kg box on a spring of k = 100 N/m (a tendon with stiffness, or the damper joint's slide
+// stiffness), no gravity, started through its rest position at 0.1 m/s: semi-implicit Euler
+// oscillates with ω_h = (2/h) asin(ωh/2), ω = √(k/m), i.e. the period 2π/ω_h.
+TEST(MujocoSprings, SpringAndDamperJointOscillateAtTheirDiscreteFrequency) {
+  for (JointType type : {JointType::RigidBodySpring, JointType::Damper}) {
+    Scene s = emptyScene(0.005, Vector3::Zero());
+    s.rigidBodies.push_back(
+        pbd::test::boxBody(0, Vector3(0.1, 0.1, 0.1), Vector3(0, 2, 0), 1, false));
+    s.rigidBodies.push_back(pbd::test::boxBody(1, Vector3(0.1, 0.1, 0.1), Vector3(0, 1, 0), 1000));
+    s.rigidBodies[1].velocity = Vector3(0, 0.1, 0);
+    withoutCollisions(s);
+    pbd::JointDesc j = pbd::test::makeJointDesc(type, 0, 1);
+    j.position1 = Vector3(0, 2, 0);
+    j.position2 = Vector3(0, 1, 0);
+    j.axis = Vector3::UnitY();
+    j.stiffness = 100;
+    s.joints.push_back(j);
+    MujocoEngine engine;
+    const std::vector<State> states = simulate(engine, s, 800);
+    std::vector<double> crossings;
+    for (std::size_t k = 1; k < states.size(); ++k) {
+      const double y0 = states[k - 1].bodies[1].position.y() - 1,
+                   y1 = states[k].bodies[1].position.y() - 1;
+      if (y0 < 0 && y1 >= 0)
+        crossings.push_back(states[k - 1].time +
+                            (states[k].time - states[k - 1].time) * -y0 / (y1 - y0));
+    }
+    ASSERT_GE(crossings.size(), 4u) << pbd::jointTypeName(type);
+    const double h = 0.005, omega = 10;
+    const double expected = 2 * M_PI / (2 / h * std::asin(omega * h / 2));
+    const double measured = (crossings.back() - crossings.front()) / double(crossings.size() - 1);
+    // Crossing times interpolated linearly on a sine: error ≲ (ωh)²/8 · h per crossing.
+    EXPECT_NEAR(measured, expected, omega * omega * h * h / 8 * h) << pbd::jointTypeName(type);
+  }
+}
+
 // --- Contacts ----------------------------------------------------------------------------------
 
 TEST(MujocoContacts, EveryPairCarriesTheScenesMaterial) {
