@@ -74,6 +74,13 @@ class EngineError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// The engine detected that its own integration became unstable (MuJoCo's bad qacc, ...). The
+/// runner reports the run `diverged`, like a NaN or a blow-up it detects itself.
+class EngineDivergence : public EngineError {
+ public:
+  using EngineError::EngineError;
+};
+
 class Engine {
  public:
   virtual ~Engine() = default;

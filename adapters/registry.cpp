@@ -1,6 +1,7 @@
 #include "adapters/registry.h"
 
 #include "adapters/ode/ode_engine.h"
+#include "adapters/mujoco/mujoco_engine.h"
 #include "adapters/pbd/pbd_engine.h"
 #include "adapters/selftest/selftest_engine.h"
 
@@ -10,6 +11,7 @@ const std::vector<EngineEntry>& engineEntries() {
   static const std::vector<EngineEntry> entries = {
       pbdEngineEntry(),
       odeEngineEntry(),
+      mujocoEngineEntry(),
       selftestEngineEntry(),
   };
   return entries;

@@ -136,6 +136,9 @@ RunOutcome runSimulation(Engine& engine, const pbd::Scene& scene, const Method& 
     }
     outcome.wallTime = busy;
     if (auto hash = engine.stateHash()) outcome.stateHash = *hash;
+  } catch (const EngineDivergence& e) {
+    outcome.status = RunStatus::Diverged;
+    outcome.reason = e.what();
   } catch (const EngineError& e) {
     outcome.status = RunStatus::Error;
     outcome.reason = e.what();

@@ -51,6 +51,62 @@ ParityProfile odeProfile(const std::string& method) {
   return p;
 }
 
+// MuJoCo: reduced coordinates, so joints hold to round-off (measured ≤ 5e-16 m) and the
+// distance joint (an equality constraint on a tendon) to its soft-constraint error (≤ 1.3e-4 m,
+// well inside the default 10 h² a_max = 3e-3 m). The adapter's contact defaults: time constant
+// τ = 4h, impedance d = 0.99, elliptic cone (docs/parity-mujoco.md).
+ParityProfile mujocoProfile(const std::string& method, int integrationStepsPerStep) {
+  ParityProfile p;
+  p.engine = "mujoco";
+  p.method = method;
+  p.integrationStepsPerStep = integrationStepsPerStep;
+  p.pendulumJoints = {JointType::Ball, JointType::Hinge, JointType::Universal, JointType::Distance};
+  p.frictionCone = FrictionCone::Isotropic;  // the adapter's default cone is elliptic
+  // Rebound: the default 0.05 holds. e → ζ uses the continuous-time Kelvin–Voigt law; at
+  // τ = 4h a contact lasts ≈ 12 steps and the discrete rebound is e ≈ 0.81 instead of 0.80
+  // (phase-dependent, 0.785…0.808: e² within ±0.03 of 0.64; measured 0.660…0.668).
+  // Stick: MuJoCo's friction is regularised, a sticking contact creeps at
+  // v = (1 − d)/d · g sin θ / b with b = 2ζ/τ = 1/h for restitution 0 (ζ capped at τ/2h):
+  // 0.0101 · 3.6 m/s² · 2 ms = 7e-5 m/s, inside the default 1e-3 m per second (measured 2e-5).
+  // Slide: MuJoCo's convex contact model lets the solver trade normal against tangential
+  // residual, so a sliding box separates at up to μ|v_t| per contact event (the Anitescu
+  // relaxation; measured 0.36 |v_t|) and hops. Its mean motion is Coulomb's (it slides
+  // 0.948–0.957 m in the window against 0.956 m), but the suite fits a from two velocity
+  // samples, each off by up to the hop's friction sawtooth 2μ·μ|v_t| ≤ 2 · 0.5 · 0.5 · 1.44 m/s
+  // = 0.72 m/s: 0.72/0.956 = 0.75 relative (measured −22 %…+28 %).
+  p.slideAccelerationTolerance = 0.75;
+  p.notes =
+      "MuJoCo's convex contact model makes a sliding box hop (separation up to mu*|v_t|); the "
+      "two-sample sliding acceleration is noisy (tolerance 0.75) while the distance slid matches "
+      "Coulomb's law to 1%.";
+  return p;
+}
+
+// Semi-implicit Euler, one integration step per scene step (the discrete parabola). Its
+// gyroscopic (Coriolis) forces are explicit: a torque-free spin about the major axis is
+// unstable, the wobble (Ω = 13.9 rad/s for ω = 20 rad/s) grows by √(1 + (hΩ)²) per step, e⁷
+// over the 3000 steps to 15 s; KE reaches 121 × KE₀ at 15 s and MuJoCo then resets on a bad
+// qacc. A property of MuJoCo 2.2.2's Euler, not of the set-up (rk4 and implicit pass).
+ParityProfile mujocoEulerProfile() {
+  ParityProfile p = mujocoProfile("mujoco.euler", 1);
+  p.spinningBodies = false;
+  p.notes +=
+      " Euler: explicit gyroscopic forces make the torque-free spin unstable (KE x121 at "
+      "15 s, then MuJoCo's bad-qacc reset); the spinning-body test is skipped.";
+  return p;
+}
+
+ParityProfile mujocoRk4Profile() {
+  return mujocoProfile("mujoco.rk4", 0);  // RK4 integrates constant gravity exactly
+}
+
+// Implicit in velocity (Coriolis derivatives included): dissipates spin energy (KE to 0.91 ×
+// KE₀ over 20 s on the intermediate-axis tumble) instead of creating it. Free fall: the
+// velocity update is implicit, positions then advance with the new velocity (Euler's parabola).
+ParityProfile mujocoImplicitProfile() {
+  return mujocoProfile("mujoco.implicit", 1);
+}
+
 }  // namespace
 
 std::vector<ParityProfile> parityProfiles() {
@@ -60,6 +116,11 @@ std::vector<ParityProfile> parityProfiles() {
     if (engine == "ode") {
       all.push_back(odeProfile("ode.quickstep"));
       all.push_back(odeProfile("ode.step"));
+    }
+    if (engine == "mujoco") {
+      all.push_back(mujocoEulerProfile());
+      all.push_back(mujocoRk4Profile());
+      all.push_back(mujocoImplicitProfile());
     }
   }
   return all;

@@ -1,0 +1,346 @@
+#include "adapters/mujoco/mujoco_engine.h"
+
+#include <mujoco/mujoco.h>
+
+#include <cstring>
+#include <sstream>
+
+#include "adapters/mujoco/mujoco_errors.h"
+
+namespace pbdval {
+namespace {
+
+using mujoco::guarded;
+
+constexpr const char* kModelFile = "pbdval.xml";
+
+/// MuJoCo's in-memory file system (about 2 MB in 2.2.2: kept off the stack).
+struct VirtualFiles {
+  std::unique_ptr<mjVFS> vfs = std::make_unique<mjVFS>();
+  VirtualFiles() { mj_defaultVFS(vfs.get()); }
+  ~VirtualFiles() { mj_deleteVFS(vfs.get()); }  // never mj_deleteFileVFS: it hangs in 2.2.2
+  VirtualFiles(const VirtualFiles&) = delete;
+  VirtualFiles& operator=(const VirtualFiles&) = delete;
+};
+
+/// Warnings that mean the run cannot continue: MuJoCo resets mjData after a bad number
+/// (the state would jump back to t = 0) and drops contacts or constraints when its buffers
+/// are full.
+bool isFatal(int warning) {
+  return warning == mjWARN_BADQPOS || warning == mjWARN_BADQVEL || warning == mjWARN_BADQACC ||
+         warning == mjWARN_BADCTRL || warning == mjWARN_CONTACTFULL || warning == mjWARN_CNSTRFULL;
+}
+
+const char* warningName(int warning) {
+  switch (warning) {
+    case mjWARN_INERTIA:
+      return "singular inertia matrix";
+    case mjWARN_CONTACTFULL:
+      return "contact buffer full (nconmax): contacts were dropped";
+    case mjWARN_CNSTRFULL:
+      return "constraint buffer full (njmax): constraints were dropped";
+    case mjWARN_BADQPOS:
+      return "bad qpos: MuJoCo reset the state";
+    case mjWARN_BADQVEL:
+      return "bad qvel: MuJoCo reset the state";
+    case mjWARN_BADQACC:
+      return "bad qacc (unstable): MuJoCo reset the state";
+    case mjWARN_BADCTRL:
+      return "bad ctrl: MuJoCo reset the state";
+    default:
+      return "warning";
+  }
+}
+
+Quaternion quaternionAt(const mjtNum* wxyz) {
+  return Quaternion(wxyz[0], wxyz[1], wxyz[2], wxyz[3]);
+}
+
+pbd::Matrix3 worldInertia(const pbd::RigidBodyDesc& body) {
+  const pbd::Matrix3 r = body.initialPrincipalRotation().toRotationMatrix();
+  return r * body.massProperties.principalInertia.asDiagonal() * r.transpose();
+}
+
+}  // namespace
+
+void MujocoEngine::ModelDeleter::operator()(mjModel_* m) const {
+  mj_deleteModel(m);
+}
+void MujocoEngine::DataDeleter::operator()(mjData_* d) const {
+  mj_deleteData(d);
+}
+
+MujocoEngine::MujocoEngine() = default;
+MujocoEngine::~MujocoEngine() = default;
+
+std::vector<std::string> MujocoEngine::unsupported(const pbd::Scene& scene,
+                                                   const Method& /*method*/) const {
+  std::vector<std::string> missing;
+  for (const pbd::TriangleModelDesc& m : scene.triangleModels)
+    missing.push_back(m.jsonPath + ": MuJoCo has no particles in this adapter (cloth)");
+  for (const pbd::TetModelDesc& m : scene.tetModels)
+    missing.push_back(m.jsonPath + ": MuJoCo has no particles in this adapter (deformable solid)");
+  for (const pbd::RigidBodyDesc& body : scene.rigidBodies)
+    if (auto problem = mujoco::unsupportedShape(body)) missing.push_back(*problem);
+  for (std::string& problem : mujoco::planKinematicTree(scene).unsupported)
+    missing.push_back(std::move(problem));
+  return missing;
+}
+
+void MujocoEngine::load(const pbd::Scene& scene, const Method& method) {
+  failed_ = true;  // until the model is complete
+  settings_ = mujoco::mujocoSettingsFor(scene, method);
+  const std::vector<std::string> missing = unsupported(scene, method);
+  if (!missing.empty()) throw EngineError("MuJoCo cannot represent " + missing.front());
+  warnings_.clear();
+  data_.reset();
+  model_.reset();
+  mjcf_ = mujoco::writeMjcf(scene, settings_, mujoco::planKinematicTree(scene));
+  for (const std::string& note : mjcf_.approximations)
+    warnings_.push_back(note);
+  compile();
+  indexBodies(scene);
+  forward("mj_forward (initial state)");
+  projectInitialVelocities(scene);
+  forward("mj_forward (initial velocities)");
+  tuneServos(scene);
+  warningCounts_.assign(mjNWARNING, 0);
+  failed_ = false;
+  checkWarnings();
+}
+
+void MujocoEngine::indexBodies(const pbd::Scene& scene) {
+  bodyIds_.clear();
+  sceneIds_.clear();
+  principalRotations_.clear();
+  for (std::size_t i = 0; i < scene.rigidBodies.size(); ++i) {
+    bodyIds_.push_back(mj_name2id(model_.get(), mjOBJ_BODY, mujoco::bodyName(i).c_str()));
+    sceneIds_.push_back(scene.rigidBodies[i].id);
+    principalRotations_.push_back(scene.rigidBodies[i].massProperties.principalRotation);
+  }
+}
+
+void MujocoEngine::compile() {
+  VirtualFiles files;
+  const std::string& xml = mjcf_.xml;
+  char error[1024] = "";
+  mjModel* model = nullptr;
+  guarded("mj_loadXML", warnings_, [&] {
+    if (mj_makeEmptyFileVFS(files.vfs.get(), kModelFile, int(xml.size())) != 0) return;
+    std::memcpy(files.vfs->filedata[mj_findFileVFS(files.vfs.get(), kModelFile)], xml.data(),
+                xml.size());
+    model = mj_loadXML(kModelFile, files.vfs.get(), error, sizeof error);
+    mj_freeLastXML();  // MuJoCo keeps the parsed XML in a global; nothing here needs it
+  });
+  if (model == nullptr)
+    throw EngineError(std::string("MuJoCo rejected the model: ") +
+                      (error[0] != 0 ? error : "the VFS could not hold it"));
+  model_.reset(model);
+  if (error[0] != 0) warnings_.push_back(std::string("MuJoCo compiler: ") + error);
+  mjData* data = nullptr;
+  guarded("mj_makeData", warnings_, [&] { data = mj_makeData(model_.get()); });
+  if (data == nullptr) throw EngineError("MuJoCo could not allocate mjData");
+  data_.reset(data);
+}
+
+void MujocoEngine::forward(const char* what) {
+  mjModel* m = model_.get();
+  mjData* d = data_.get();
+  try {
+    guarded(what, warnings_, [m, d] { mj_forward(m, d); });
+  } catch (const EngineError&) {
+    failed_ = true;
+    throw;
+  }
+}
+
+// The Scene gives every body's velocity; MuJoCo's state is the joint velocities. The qvel
+// closest to the Scene's velocities in the kinetic-energy norm solves M q̇ = Σ_b J_bᵀ (m v, I ω)
+// (the generalized momentum of the Scene's velocities); it reproduces them exactly when they
+// agree with the joints, and is recorded as a warning otherwise.
+void MujocoEngine::projectInitialVelocities(const pbd::Scene& scene) {
+  const mjModel* m = model_.get();
+  mjData* d = data_.get();
+  const std::size_t nv = std::size_t(m->nv);
+  if (nv == 0) return;
+  std::vector<mjtNum> momentum(nv, 0), jacp(3 * nv), jacr(3 * nv);
+  using RowJacobian = Eigen::Map<Eigen::Matrix<mjtNum, 3, Eigen::Dynamic, Eigen::RowMajor>>;
+  using Vector = Eigen::Map<Eigen::Matrix<mjtNum, Eigen::Dynamic, 1>>;
+  for (std::size_t i = 0; i < scene.rigidBodies.size(); ++i) {
+    const pbd::RigidBodyDesc& b = scene.rigidBodies[i];
+    if (!b.isDynamic) continue;
+    mj_jacBodyCom(m, d, jacp.data(), jacr.data(), bodyIds_[i]);
+    const RowJacobian linear(jacp.data(), 3, Eigen::Index(nv)),
+        angular(jacr.data(), 3, Eigen::Index(nv));
+    Vector(momentum.data(), Eigen::Index(nv)) +=
+        linear.transpose() * (b.massProperties.mass * b.velocity) +
+        angular.transpose() * (worldInertia(b) * b.angularVelocity);
+  }
+  mj_solveM(m, d, d->qvel, momentum.data(), 1);
+  for (std::size_t i = 0; i < scene.rigidBodies.size(); ++i) {
+    const pbd::RigidBodyDesc& b = scene.rigidBodies[i];
+    if (!b.isDynamic) continue;
+    mj_jacBodyCom(m, d, jacp.data(), jacr.data(), bodyIds_[i]);
+    const RowJacobian linear(jacp.data(), 3, Eigen::Index(nv)),
+        angular(jacr.data(), 3, Eigen::Index(nv));
+    const Vector qvel(d->qvel, Eigen::Index(nv));
+    const double mismatch =
+        (linear * qvel - b.velocity).norm() + (angular * qvel - b.angularVelocity).norm();
+    const double scale = b.velocity.norm() + b.angularVelocity.norm();
+    if (mismatch > 1e-9 * (1 + scale)) {
+      std::ostringstream note;
+      note << b.jsonPath << ": initial velocity disagrees with its joints by " << mismatch
+           << "; projected onto them (kinetic-energy norm)";
+      warnings_.push_back(note.str());
+    }
+  }
+}
+
+// Motors are critically damped servos on the driven joint: with m = 1/(M⁻¹)ᵢᵢ at t = 0 (the
+// inertia the actuator sees) and τ = servoTimeconst, a position servo applies
+// kp (q* − q) − kv q̇ with kp = m/τ², kv = 2m/τ; a velocity servo kv (q̇* − q̇) with kv = m/τ.
+void MujocoEngine::tuneServos(const pbd::Scene& scene) {
+  mjModel* m = model_.get();
+  mjData* d = data_.get();
+  servos_.clear();
+  std::vector<mjtNum> unit(std::size_t(m->nv), 0), column(std::size_t(m->nv), 0);
+  for (const mujoco::MotorBinding& motor : mjcf_.motors) {
+    Servo servo;
+    servo.actuator = mj_name2id(m, mjOBJ_ACTUATOR, motor.actuatorName.c_str());
+    const int joint = mj_name2id(m, mjOBJ_JOINT, motor.jointName.c_str());
+    const std::size_t dof = std::size_t(m->jnt_dofadr[joint]);
+    unit.assign(unit.size(), 0);
+    unit[dof] = 1;
+    mj_solveM(m, d, column.data(), unit.data(), 1);
+    servo.inertia = 1 / column[dof];
+    const double tau = settings_.servoTimeConstant;
+    servo.velocityServo = motor.velocityServo;
+    servo.kv = servo.velocityServo ? servo.inertia / tau : 2 * servo.inertia / tau;
+    servo.kp = servo.velocityServo ? 0 : servo.inertia / (tau * tau);
+    mjtNum* gain = m->actuator_gainprm + mjNGAIN * servo.actuator;
+    mjtNum* bias = m->actuator_biasprm + mjNBIAS * servo.actuator;
+    gain[0] = servo.velocityServo ? servo.kv : servo.kp;
+    bias[0] = 0;
+    bias[1] = -servo.kp;
+    bias[2] = -servo.kv;
+    const pbd::JointDesc& j = scene.joints[std::size_t(motor.joint)];
+    servo.jointPath = j.jsonPath;
+    servo.target = j.target;
+    d->ctrl[servo.actuator] = servo.target.valueAt(Real(d->time));
+    servos_.push_back(servo);
+  }
+}
+
+void MujocoEngine::step() {
+  if (failed_) throw EngineError("MuJoCo: this run already failed; load the scene again");
+  mjModel* m = model_.get();
+  mjData* d = data_.get();
+  // Set points for the end of the step being taken, as the PBD motors use them.
+  const Real next = Real(d->time + m->opt.timestep);
+  for (const Servo& servo : servos_)
+    d->ctrl[servo.actuator] = servo.target.valueAt(next);
+  stepEndTime_ = double(next);  // a bad-state reset sets d->time back to 0
+  try {
+    guarded("mj_step", warnings_, [m, d] {
+      mj_step(m, d);
+      // mj_step leaves positions-derived quantities at the start of the step: refresh the
+      // poses and velocities read() uses (the next mj_step recomputes them anyway).
+      mj_kinematics(m, d);
+      mj_comPos(m, d);
+      mj_comVel(m, d);
+    });
+  } catch (const EngineError&) {
+    failed_ = true;
+    throw;
+  }
+  checkWarnings();
+}
+
+// MuJoCo counts each kind of warning in mjData; a fatal kind ends the run, the others are
+// recorded once (with their count in effectiveSettings).
+void MujocoEngine::checkWarnings() {
+  const mjData* d = data_.get();
+  for (int w = 0; w < mjNWARNING; ++w) {
+    const int count = d->warning[w].number;
+    const int seen = warningCounts_[std::size_t(w)];
+    if (count == seen) continue;
+    warningCounts_[std::size_t(w)] = count;
+    std::ostringstream message;
+    message << "MuJoCo at t = " << stepEndTime_ << " s: " << warningName(w) << " (info "
+            << d->warning[w].lastinfo << ")";
+    if (isFatal(w)) {
+      failed_ = true;
+      const bool unstable = w == mjWARN_BADQPOS || w == mjWARN_BADQVEL || w == mjWARN_BADQACC;
+      if (unstable) throw EngineDivergence(message.str());
+      throw EngineError(message.str());
+    }
+    if (seen == 0) warnings_.push_back(message.str());
+  }
+}
+
+void MujocoEngine::read(State& state) const {
+  const mjModel* m = model_.get();
+  const mjData* d = data_.get();
+  state.time = d->time;
+  state.bodies.resize(bodyIds_.size());
+  state.particles.clear();
+  for (std::size_t i = 0; i < bodyIds_.size(); ++i) {
+    const int id = bodyIds_[i];
+    BodyState& s = state.bodies[i];
+    s.id = sceneIds_[i];
+    // The body frame is the principal frame: its origin is the centre of mass.
+    s.position = Vector3(d->xpos[3 * id], d->xpos[3 * id + 1], d->xpos[3 * id + 2]);
+    s.rotation = quaternionAt(d->xquat + 4 * id) * principalRotations_[i].conjugate();
+    mjtNum velocity[6];  // [ω; v] at the body frame's origin, world axes
+    mj_objectVelocity(m, d, mjOBJ_XBODY, id, velocity, 0);
+    s.angularVelocity = Vector3(velocity[0], velocity[1], velocity[2]);
+    s.velocity = Vector3(velocity[3], velocity[4], velocity[5]);
+  }
+}
+
+std::map<std::string, std::string> MujocoEngine::effectiveSettings() const {
+  std::map<std::string, std::string> s = mujoco::describeSettings(settings_);
+  const mjModel* m = model_.get();
+  s["engine"] = std::string("MuJoCo ") + mj_versionString();
+  s["precision"] = "double";
+  s["coordinates"] = "reduced (kinematic tree; loops closed by equality constraints)";
+  s["contact.pairs"] = std::to_string(mjcf_.contactPairs);
+  s["contact.condim"] = "3 (sliding friction only; 1 when the pair friction is 0)";
+  s["contact.margin"] = "0";
+  s["contact.gap"] = "0";
+  s["impratio"] = "1";
+  s["noslip_iterations"] = "0";
+  s["damping"] = "0 (joints, tendons, medium)";
+  s["armature"] = "0";
+  s["frictionloss"] = "0";
+  s["sleeping"] = "none (MuJoCo 2.2.2 has no sleeping)";
+  s["substeps"] = "none (one mj_step per step; RK4 evaluates 4 stages)";
+  s["equality.constraints"] = std::to_string(mjcf_.equalityConstraints);
+  if (m != nullptr) {
+    s["nconmax"] = std::to_string(m->nconmax);
+    s["njmax"] = std::to_string(m->njmax);
+    s["gravity"] = mujoco::exactNumber(m->opt.gravity[0]) + " " +
+                   mujoco::exactNumber(m->opt.gravity[1]) + " " +
+                   mujoco::exactNumber(m->opt.gravity[2]);
+  }
+  for (const auto& [pair, law] : mjcf_.pairSettings)
+    s["contact." + pair] = law;
+  for (const Servo& servo : servos_)
+    s["servo." + servo.jointPath] =
+        std::string(servo.velocityServo ? "velocity" : "position (PD)") +
+        " kp=" + mujoco::exactNumber(servo.kp) + " kv=" + mujoco::exactNumber(servo.kv) +
+        " joint inertia=" + mujoco::exactNumber(servo.inertia);
+  for (std::size_t w = 0; w < warningCounts_.size(); ++w)
+    if (warningCounts_[w] > 0)
+      s[std::string("warning.count.") + warningName(int(w))] = std::to_string(warningCounts_[w]);
+  for (std::size_t i = 0; i < warnings_.size(); ++i)
+    s["warning." + std::to_string(i)] = warnings_[i];
+  return s;
+}
+
+EngineEntry mujocoEngineEntry() {
+  return {"mujoco", "mujoco.euler", &mujoco::mujocoMethods,
+          [] { return std::unique_ptr<Engine>(new MujocoEngine()); }};
+}
+
+}  // namespace pbdval
