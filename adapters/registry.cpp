@@ -1,5 +1,6 @@
 #include "adapters/registry.h"
 
+#include "adapters/bullet/bullet_engine.h"
 #include "adapters/pbd/pbd_engine.h"
 
 namespace pbdval {
@@ -7,6 +8,7 @@ namespace pbdval {
 const std::vector<EngineEntry>& engineEntries() {
   static const std::vector<EngineEntry> entries = {
       pbdEngineEntry(),
+      bulletEngineEntry(),
   };
   return entries;
 }
