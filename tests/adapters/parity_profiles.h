@@ -4,6 +4,7 @@
 // integrator, its friction cone) and tolerances, each with the reason for its size.
 #pragma once
 
+#include <ostream>
 #include <set>
 #include <string>
 #include <vector>
@@ -54,6 +55,11 @@ struct ParityProfile {
   /// Why a tolerance differs from the default, for the report.
   std::string notes;
 };
+
+/// For test names and failure messages: "ode/ode.quickstep".
+inline void PrintTo(const ParityProfile& p, std::ostream* out) {
+  *out << p.engine << "/" << p.method;
+}
 
 /// The profiles of the engines compiled in (registry order).
 std::vector<ParityProfile> parityProfiles();

@@ -264,7 +264,8 @@ TEST_P(Parity, DroppedSphereReboundsToESquared) {
   const double contactHeight = r.samples[k].bodies[1].position.y();
   double apex = contactHeight;
   // Sample k is the last one still moving down; the rebound starts at k + 1.
-  for (std::size_t i = k + 1; i < r.samples.size() && r.samples[i].bodies[1].velocity.y() >= -1e-9; ++i)
+  for (std::size_t i = k + 1; i < r.samples.size() && r.samples[i].bodies[1].velocity.y() >= -1e-9;
+       ++i)
     apex = std::max(apex, double(r.samples[i].bodies[1].position.y()));
   const double ratio = (apex - contactHeight) / (1.1 - contactHeight);
   EXPECT_NEAR(ratio, 0.64, p.reboundTolerance) << p.engine;
