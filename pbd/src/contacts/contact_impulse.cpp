@@ -90,6 +90,16 @@ void initContactImpulse(ContactImpulse& c, const Vector3& normal, const Matrix3&
     initCorrectedFriction(c, k);
 }
 
+Vector3 warmStartContactImpulse(ContactImpulse& c, Real previousNormalImpulse,
+                                const Vector3& previousTangentImpulse) {
+  c.normalImpulse = std::max(previousNormalImpulse, Real(0));
+  Vector2 tangent(c.tangent1.dot(previousTangentImpulse), c.tangent2.dot(previousTangentImpulse));
+  const Real limit = c.friction * c.normalImpulse, length = tangent.norm();
+  if (length > limit) tangent *= limit / length;
+  c.tangentImpulse = tangent;
+  return c.normalImpulse * c.normal + tangentImpulseWorld(c);
+}
+
 Vector3 contactIterationImpulse(ContactImpulse& c, const Vector3& u, ContactModel model) {
   Real increment = c.normalMass * (c.targetNormalVelocity - u.dot(c.normal));
   increment = std::max(increment, -c.normalImpulse);

@@ -26,9 +26,7 @@ void ParticleRigidBodyContact::init(const ContactPointGeometry& geometry, const 
                      depth < 0 ? -stiffness * depth : Real(0), settings);
 }
 
-void ParticleRigidBodyContact::solveVelocity(BodyStates& bodies, ContactModel model) {
-  if (!(particleInverseMass > 0) && !(bodyInverseMass > 0)) return;
-  const Vector3 p = contactIterationImpulse(impulse, relativeVelocity(bodies), model);
+void ParticleRigidBodyContact::applyImpulse(BodyStates& bodies, const Vector3& p) const {
   if (particleInverseMass > 0)
     bodies.particles.velocity[std::size_t(particle)] += particleInverseMass * p;
   if (bodyInverseMass > 0) {
@@ -36,6 +34,11 @@ void ParticleRigidBodyContact::solveVelocity(BodyStates& bodies, ContactModel mo
     bodies.rigid.velocity[b] -= bodyInverseMass * p;
     bodies.rigid.angularVelocity[b] -= bodyInverseInertia * lever.cross(p);
   }
+}
+
+void ParticleRigidBodyContact::solveVelocity(BodyStates& bodies, ContactModel model) {
+  if (!(particleInverseMass > 0) && !(bodyInverseMass > 0)) return;
+  applyImpulse(bodies, contactIterationImpulse(impulse, relativeVelocity(bodies), model));
 }
 
 }  // namespace pbd

@@ -3,8 +3,8 @@
 namespace pbd {
 namespace {
 
-void applyImpulse(RigidBodyStates& bodies, int body, Real inverseMass,
-                  const Matrix3& inverseInertia, const Vector3& lever, const Vector3& impulse) {
+void applyEndImpulse(RigidBodyStates& bodies, int body, Real inverseMass,
+                     const Matrix3& inverseInertia, const Vector3& lever, const Vector3& impulse) {
   if (!(inverseMass > 0)) return;
   const auto i = static_cast<std::size_t>(body);
   bodies.velocity[i] += inverseMass * impulse;
@@ -39,11 +39,14 @@ void RigidBodyContact::init(const ContactPointGeometry& geometry, const RigidBod
                      depth < 0 ? -stiffness * depth : Real(0), settings);
 }
 
+void RigidBodyContact::applyImpulse(RigidBodyStates& bodies, const Vector3& p) const {
+  applyEndImpulse(bodies, body0, inverseMass0, inverseInertia0, lever0, p);
+  applyEndImpulse(bodies, body1, inverseMass1, inverseInertia1, lever1, -p);
+}
+
 void RigidBodyContact::solveVelocity(RigidBodyStates& bodies, ContactModel model) {
   if (!(inverseMass0 > 0) && !(inverseMass1 > 0)) return;
-  const Vector3 p = contactIterationImpulse(impulse, relativeVelocity(bodies), model);
-  applyImpulse(bodies, body0, inverseMass0, inverseInertia0, lever0, p);
-  applyImpulse(bodies, body1, inverseMass1, inverseInertia1, lever1, -p);
+  applyImpulse(bodies, contactIterationImpulse(impulse, relativeVelocity(bodies), model));
 }
 
 }  // namespace pbd

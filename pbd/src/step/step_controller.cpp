@@ -102,6 +102,7 @@ void stepWorld(World& world) {
   }
   detectContacts(world);
   projectVelocities(world);
+  world.contacts.rememberImpulses();
 
   ++world.stepCount;
   world.time = endTime;

@@ -29,6 +29,8 @@ struct ParticleRigidBodyContact {
   void init(const ContactPointGeometry& geometry, const BodyStates& bodies,
             const ContactMaterial& material, Real stiffness, const ContactSolveSettings& settings);
   void solveVelocity(BodyStates& bodies, ContactModel model);
+  /// Applies +p to the particle and −p at c₁ on the body.
+  void applyImpulse(BodyStates& bodies, const Vector3& p) const;
   Vector3 relativeVelocity(const BodyStates& bodies) const;
 };
 

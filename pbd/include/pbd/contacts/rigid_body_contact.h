@@ -31,6 +31,8 @@ struct RigidBodyContact {
             const ContactMaterial& material, Real stiffness, const ContactSolveSettings& settings);
   /// One velocity iteration.
   void solveVelocity(RigidBodyStates& bodies, ContactModel model);
+  /// Applies +p at c₀ and −p at c₁.
+  void applyImpulse(RigidBodyStates& bodies, const Vector3& p) const;
   /// u at the current velocities.
   Vector3 relativeVelocity(const RigidBodyStates& bodies) const;
 };
