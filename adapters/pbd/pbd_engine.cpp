@@ -33,6 +33,10 @@ std::vector<MethodInfo> pbdMethods() {
       "joint projection (Deul et al. 2014), velocity-level contacts once per step";
   for (const SettingOverride& o : kIntegerOverrides)
     seed.parameters.push_back({o.name, "scene", std::string(o.description) + " (default: the scene's value)"});
+  seed.parameters.push_back({"contactModel", "scene",
+                             "seed (PositionBasedDynamics 2.2.2, flaws included) or corrected "
+                             "(restitution threshold, Coulomb cone on the accumulated friction "
+                             "impulse; docs/contacts.md) (default: the scene's value)"});
   return {seed};
 }
 
@@ -49,6 +53,17 @@ pbd::SimulationSettings pbdSettingsFor(const pbd::Scene& scene, const Method& me
                                   std::to_string(o.minimum) + ", " + std::to_string(o.maximum) +
                                   "], got '" + it->second + "'");
     settings.*(o.field) = static_cast<int>(value);
+  }
+  const auto model = method.parameters.find("contactModel");
+  if (model != method.parameters.end() && model->second != "scene") {
+    if (model->second == pbd::contactModelName(pbd::ContactModel::Seed))
+      settings.contactModel = pbd::ContactModel::Seed;
+    else if (model->second == pbd::contactModelName(pbd::ContactModel::Corrected))
+      settings.contactModel = pbd::ContactModel::Corrected;
+    else
+      throw std::invalid_argument("method " + method.name +
+                                  ": contactModel must be 'seed', 'corrected' or 'scene', got '" +
+                                  model->second + "'");
   }
   return settings;
 }
@@ -107,6 +122,8 @@ std::map<std::string, std::string> PbdEngine::effectiveSettings() const {
           {"contactTolerance", number(s.contactTolerance)},
           {"contactStiffnessRigidBody", number(s.contactStiffnessRigidBody)},
           {"contactStiffnessParticleRigidBody", number(s.contactStiffnessParticleRigidBody)},
+          {"contactModel", pbd::contactModelName(s.contactModel)},
+          {"contactCombineRule", pbd::contactCombineRuleName(s.contactCombineRule)},
           {"precision", sizeof(pbd::Real) == 8 ? "double" : "float"}};
 }
 

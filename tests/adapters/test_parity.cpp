@@ -257,13 +257,17 @@ TEST_P(Parity, DroppedSphereReboundsToESquared) {
   s.contactPairs.push_back(pair);
   const EngineRun r = run(p, s, 1.5);
   ASSERT_EQ(r.outcome.status, RunStatus::Ok) << r.outcome.reason;
-  // First impact: the lowest point before the velocity turns upward; then the apex.
+  // First impact: sample k is the last one still moving down, k + 1 the first moving up. The
+  // contact height is the lower of the two (an engine that resolves the impact within a step
+  // reports the lowest position together with the rebound velocity); the apex is the highest
+  // point from k + 1 on, before the velocity turns downward again.
   std::size_t k = 0;
   while (k + 1 < r.samples.size() && r.samples[k + 1].bodies[1].velocity.y() <= 0)
     ++k;
-  const double contactHeight = r.samples[k].bodies[1].position.y();
+  ASSERT_LT(k + 1, r.samples.size()) << p.engine << ": the sphere never bounced";
+  const double contactHeight = std::min(double(r.samples[k].bodies[1].position.y()),
+                                        double(r.samples[k + 1].bodies[1].position.y()));
   double apex = contactHeight;
-  // Sample k is the last one still moving down; the rebound starts at k + 1.
   for (std::size_t i = k + 1; i < r.samples.size() && r.samples[i].bodies[1].velocity.y() >= -1e-9;
        ++i)
     apex = std::max(apex, double(r.samples[i].bodies[1].position.y()));

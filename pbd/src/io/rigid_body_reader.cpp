@@ -1,7 +1,9 @@
 // RigidBodies[]: the seed's keys, the extension keys `mass` / `inertia`, and the mass
 // properties every engine uses (volume integration of the scaled mesh, or the closed forms of
 // the primitives).
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <map>
 
 #include "scene_reading.h"
@@ -153,6 +155,60 @@ MassProperties massProperties(RigidBodyInput& in, JsonObject& object, LoadContex
   return props;
 }
 
+/// Grids beyond this many cells per axis (or in total) would take minutes and gigabytes.
+constexpr int kMaxGridCellsPerAxis = 512;
+constexpr long long kMaxGridCells = 256LL * 256 * 256;
+
+std::string lowerCaseExtension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension)
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension;
+}
+
+/// Type 5 builds a grid from a closed mesh: collisionObjectFileName's OBJ, else the geometry.
+void readSignedDistanceFieldMesh(RigidBodyDesc& body, JsonObject& object, LoadContext& context) {
+  CollisionObjectDesc& c = body.collision;
+  const Vector3i& r = c.resolutionSDF;
+  if (r.maxCoeff() > kMaxGridCellsPerAxis ||
+      static_cast<long long>(r.x()) * r.y() * r.z() > kMaxGridCells) {
+    object.find("resolutionSDF")
+        ->fail("at most " + std::to_string(kMaxGridCellsPerAxis) +
+               " cells per axis and 256^3 cells in total");
+  }
+  std::shared_ptr<const TriangleMesh> mesh = body.mesh;
+  std::optional<JsonValue> meshKey = object.find("geometryFile");
+  if (!c.fileName.empty()) {
+    meshKey = object.find("collisionObjectFileName");
+    if (lowerCaseExtension(c.fileName) != ".obj") {
+      meshKey->fail(
+          "an OBJ mesh to build the signed distance field from (pbdval builds its grids "
+          "itself and does not read the seed's .csdf files)");
+    }
+    c.mesh = context.scaledObj(c.fileName, Vector3::Ones(), *meshKey);
+    mesh = c.mesh;
+  }
+  if (!mesh) {
+    object.find("collisionObjectType")
+        ->error(
+            "collisionObjectType 5 (signed distance field) needs a mesh: give "
+            "\"geometryFile\" or \"collisionObjectFileName\"");
+  }
+  if (!isClosedSurface(*mesh)) {
+    meshKey->error(
+        "the mesh must be closed for its signed distance field (type 5) to have an "
+        "inside: " +
+        (c.fileName.empty() ? body.geometryFile : c.fileName) + " has an open surface");
+  }
+}
+
+/// Checks the collision keys beyond their ranges (those need the whole body). Only type 5
+/// reads collisionObjectFileName; other types ignore it, as in the seed.
+void checkCollisionObject(RigidBodyDesc& body, JsonObject& object, LoadContext& context) {
+  if (body.collision.type == CollisionObjectType::SignedDistanceField)
+    readSignedDistanceFieldMesh(body, object, context);
+}
+
 RigidBodyDesc readRigidBody(const JsonValue& element, LoadContext& context) {
   JsonObject object = element.object();
   RigidBodyInput in;
@@ -171,6 +227,7 @@ RigidBodyDesc readRigidBody(const JsonValue& element, LoadContext& context) {
   body.scale = in.pose.scale;
   body.rotation = resolveRotation(in.pose, object);
   body.massProperties = massProperties(in, object, context);
+  checkCollisionObject(body, object, context);
   object.warnUnknownKeys();
   return body;
 }

@@ -22,6 +22,14 @@ ContactCombineRule combineRule(const JsonValue& value) {
   value.fail("one of \"seed\", \"product\", \"average\", \"min\", \"max\"");
 }
 
+/// Extension: "seed" | "corrected".
+ContactModel contactModel(const JsonValue& value) {
+  const std::string name = value.string();
+  for (ContactModel model : {ContactModel::Seed, ContactModel::Corrected})
+    if (name == contactModelName(model)) return model;
+  value.fail("one of \"seed\", \"corrected\"");
+}
+
 KeyTable<SimulationSettings> simulationKeys() {
   using S = SimulationSettings;
   return {
@@ -36,6 +44,7 @@ KeyTable<SimulationSettings> simulationKeys() {
       numberKey("contactStiffnessParticleRigidBody", &S::contactStiffnessParticleRigidBody,
                 nonNegative()),
       {"contactCombineRule", [](const JsonValue& v, S& s) { s.contactCombineRule = combineRule(v); }},
+      {"contactModel", [](const JsonValue& v, S& s) { s.contactModel = contactModel(v); }},
 
       integerKey("clothSimulationMethod", &S::clothSimulationMethod, between(0, 4)),
       integerKey("clothBendingMethod", &S::clothBendingMethod, between(0, 3)),

@@ -100,6 +100,16 @@ const char* contactCombineRuleName(ContactCombineRule rule) {
   return "?";
 }
 
+const char* contactModelName(ContactModel model) {
+  switch (model) {
+    case ContactModel::Seed:
+      return "seed";
+    case ContactModel::Corrected:
+      return "corrected";
+  }
+  return "?";
+}
+
 ContactMaterial combineMaterials(ContactCombineRule rule, const ContactMaterial& a,
                                  const ContactMaterial& b) {
   switch (rule) {
@@ -130,6 +140,27 @@ ContactMaterial Scene::pairMaterial(int bodyA, int bodyB) const {
     if (pair.hasRestitution) m.restitution = pair.restitution;
   }
   return m;
+}
+
+ContactMaterial Scene::particleMaterial(int particle, int body) const {
+  // A particle outside every model (a scene built in code) takes the models' defaults.
+  ContactMaterial model{Real(0.2), Real(0.1)};
+  bool found = false;
+  auto owns = [particle](int first, std::size_t count) {
+    return particle >= first && particle < first + static_cast<int>(count);
+  };
+  for (const TriangleModelDesc& m : triangleModels) {
+    if (found || !owns(m.firstParticle, m.mesh.vertices.size())) continue;
+    model = {m.friction, m.restitution};
+    found = true;
+  }
+  for (const TetModelDesc& m : tetModels) {
+    if (found || !owns(m.firstParticle, m.mesh.vertices.size())) continue;
+    model = {m.friction, m.restitution};
+    found = true;
+  }
+  const RigidBodyDesc& b = rigidBodies[static_cast<std::size_t>(body)];
+  return combineMaterials(simulation.contactCombineRule, model, {b.friction, b.restitution});
 }
 
 int Scene::bodyIndexById(int id) const {

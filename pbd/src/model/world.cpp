@@ -102,6 +102,12 @@ std::vector<int> colouredJointOrder(const std::vector<JointEnds>& ends, std::siz
 }
 
 World buildWorld(const Scene& scene) {
+  CollisionShapeOptions options;
+  options.minimumGridPadding = 2 * scene.simulation.contactTolerance;
+  return buildWorld(scene, options);
+}
+
+World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
   World world;
   world.settings = scene.simulation;
   addRigidBodies(scene, world.bodies.rigid);
@@ -118,6 +124,9 @@ World buildWorld(const Scene& scene) {
     world.joints.push_back(std::move(created[static_cast<std::size_t>(index)]));
     world.jointSceneIndex.push_back(index);
   }
+  world.collision = CollisionDetector(scene, options);
+  world.materials = ContactMaterials(scene);
+  world.contacts.reserve(world.collision);
   return world;
 }
 

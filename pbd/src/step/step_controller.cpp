@@ -69,10 +69,19 @@ void updateVelocities(World& world, Real h) {
   }
 }
 
+/// Collision detection on the positions after the substeps; contacts are set up from the
+/// current velocities (the seed's order: research/pbd.md §3.1, steps 6–7).
+void detectContacts(World& world) {
+  world.collision.detect(world.bodies, world.settings.contactTolerance, world.contacts.geometry);
+  world.contacts.initialise(world.bodies, world.materials, world.settings);
+}
+
 void projectVelocities(World& world) {
-  for (int iteration = 0; iteration < world.settings.maxIterationsV; ++iteration)
+  for (int iteration = 0; iteration < world.settings.maxIterationsV; ++iteration) {
     for (Joint& joint : world.joints)
       std::visit([&](auto& j) { j.solveVelocity(world.bodies); }, joint);
+    world.contacts.solveVelocities(world.bodies);
+  }
 }
 
 }  // namespace
@@ -91,7 +100,9 @@ void stepWorld(World& world) {
     projectPositions(world, hs);
     updateVelocities(world, hs);
   }
+  detectContacts(world);
   projectVelocities(world);
+  world.contacts.rememberImpulses();
 
   ++world.stepCount;
   world.time = endTime;

@@ -49,6 +49,16 @@ struct ContactMaterial {
 ContactMaterial combineMaterials(ContactCombineRule rule, const ContactMaterial& a,
                                  const ContactMaterial& b);
 
+/// Which contact model the PBD library solves (`Simulation.contactModel`, an extension; see
+/// docs/contacts.md). `Seed` reproduces PositionBasedDynamics 2.2.2, flaws included:
+/// restitution on resting contacts, friction capped per iteration with a tangent frozen at
+/// detection. `Corrected` applies restitution only above an approach speed of 2|g|h and
+/// bounds the accumulated friction impulse by the Coulomb cone, re-evaluating the sliding
+/// direction every iteration.
+enum class ContactModel : int { Seed, Corrected };
+
+const char* contactModelName(ContactModel model);
+
 /// Explicit values for one pair of bodies (`ContactPairs` block); a missing value falls back to
 /// the combination rule.
 struct ContactPairDesc {
@@ -63,6 +73,9 @@ struct ContactPairDesc {
 struct CollisionObjectDesc {
   CollisionObjectType type = CollisionObjectType::None;
   std::string fileName;  ///< resolved path of `collisionObjectFileName`; empty: use the geometry
+  /// The OBJ mesh of `fileName` as in the file (unscaled; collisionObjectScale applies). Null
+  /// without `fileName`.
+  std::shared_ptr<const TriangleMesh> mesh;
   bool testMesh = true;
   /// Meaning by type: sphere radius = [0]; box full extents; cylinder (radius, height);
   /// torus (R, r); hollow sphere radius [0]; hollow box extents; SDF scale.
@@ -205,6 +218,7 @@ struct SimulationSettings {
   Real contactStiffnessRigidBody = 1;
   Real contactStiffnessParticleRigidBody = 100;
   ContactCombineRule contactCombineRule = ContactCombineRule::Seed;  ///< extension
+  ContactModel contactModel = ContactModel::Seed;                    ///< extension
 
   int clothSimulationMethod = 2;
   int clothBendingMethod = 2;
@@ -269,6 +283,10 @@ struct Scene {
   /// (indices): an explicit ContactPairs entry where given, else the combination rule. Every
   /// engine uses these values, so the engines' own rules never enter.
   ContactMaterial pairMaterial(int bodyA, int bodyB) const;
+  /// The friction and restitution of a contact between particle `particle` (global index)
+  /// and rigid body `body`: the particle's triangle or tet model combined with the body by
+  /// the combination rule (ContactPairs name rigid bodies only and do not apply).
+  ContactMaterial particleMaterial(int particle, int body) const;
 };
 
 }  // namespace pbd

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "pbd/collision/collision_detection.h"
+#include "pbd/contacts/contact_set.h"
 #include "pbd/joints/joint.h"
 #include "pbd/model/body_states.h"
 #include "pbd/model/scene.h"
@@ -25,6 +27,9 @@ struct World {
   BodyStates bodies;
   std::vector<Joint> joints;         ///< in solve order (greedy colouring of the scene order)
   std::vector<int> jointSceneIndex;  ///< joints[k] is Scene::joints[jointSceneIndex[k]]
+  CollisionDetector collision;       ///< shapes, surface samples, hierarchies, broad phase
+  ContactMaterials materials;        ///< friction and restitution per pair
+  ContactSet contacts;               ///< the contacts of the last step
   Real time = 0;
   std::int64_t stepCount = 0;
 
@@ -38,8 +43,13 @@ struct World {
 };
 
 /// Builds the world from a scene: bodies in their principal frames, particles, joints
-/// initialised at the scene's initial poses and ordered for the solver.
+/// initialised at the scene's initial poses and ordered for the solver, collision shapes
+/// (type-5 grids from the cache in defaultGridCacheFolder(), padded by at least
+/// 2 × contactTolerance) and contact buffers. Throws std::invalid_argument, naming the body,
+/// for collision parameters that describe no shape.
 World buildWorld(const Scene& scene);
+/// The same with explicit collision-shape options (cache folder, grid padding).
+World buildWorld(const Scene& scene, const CollisionShapeOptions& options);
 
 /// The seed's solve order: greedy colouring in creation order (a joint joins the first group
 /// in which none of its bodies or particles is used yet), groups in order. Returns indices

@@ -1,0 +1,115 @@
+// Collision detection: points of one object against the signed distance function of another,
+// both ways, as the seed's DistanceFieldCollisionDetection does (research/pbd.md §3.7).
+//
+// Collision objects: every rigid body with a collisionObjectType (its shape, its surface
+// samples and their bounding-sphere hierarchy), and every triangle and tet model (their
+// particles, vertex side only). Per detection:
+//   1. world boxes of all objects (inflated by contactTolerance) and sweep and prune;
+//   2. for every overlapping pair, both directions (a's points vs b's SDF, then b's vs a's),
+//      in the seed's order (ordered pairs sorted by vertex object, then SDF object; particle
+//      models after the rigid bodies). A direction needs a vertex side with points and
+//      `testMesh`, and a rigid body with a shape on the SDF side; pairs of static bodies,
+//      pairs of particle models and static particles against static bodies are skipped;
+//   3. the vertex side's hierarchy is walked, entering a node whose sphere (centre c, radius
+//      ρ) reaches the SDF side's box and satisfies φ(c) − tolerance < ρ;
+//   4. a point x with d = φ(x) − tolerance < 0 makes a contact: normal n = ∇φ/|∇φ| (world,
+//      out of the SDF body), the point x on the vertex side and x − d n on the SDF side's
+//      tolerance shell, and the distance d;
+//   5. the contacts of one direction are ordered deepest first (ties: by point index). The
+//      seed leaves them in its hierarchy's traversal order, which depends on the mesh's vertex
+//      numbering (and on threads). The order matters to the Gauss–Seidel velocity pass: with
+//      several points of a sphere inside the shell, solving the deepest (the support point)
+//      first gives the rebound e·u_n without spin, where an off-centre point first spins the
+//      sphere and lets the restitution targets of the others add energy.
+// Everything is sized when the detector is built; a detection allocates nothing. Contacts or
+// pairs beyond the capacity are dropped and counted (see ContactGeometryBuffer).
+#pragma once
+
+#include <vector>
+
+#include "pbd/collision/broad_phase.h"
+#include "pbd/collision/collision_shape.h"
+#include "pbd/collision/point_bvh.h"
+#include "pbd/model/body_states.h"
+#include "pbd/model/scene.h"
+
+namespace pbd {
+
+/// One point of an object inside the contact shell of a rigid body's SDF.
+struct ContactPointGeometry {
+  int vertexSide = -1;  ///< rigid body index, or global particle index (particle contacts)
+  int sdfBody = -1;     ///< rigid body index of the SDF side
+  int sample = -1;      ///< the point's index in the vertex side's samples (rigid bodies)
+  Vector3 vertexPoint = Vector3::Zero();   ///< world: the tested point (the seed's cp₀)
+  Vector3 surfacePoint = Vector3::Zero();  ///< world: on the SDF body's tolerance shell (cp₁)
+  Vector3 normal = Vector3::UnitY();       ///< world, unit, out of the SDF body
+  Real distance = 0;                       ///< φ(vertexPoint) − contactTolerance (< 0)
+};
+
+struct ContactGeometryBuffer {
+  std::vector<ContactPointGeometry> rigid;     ///< rigid body points vs rigid body SDFs
+  std::vector<ContactPointGeometry> particle;  ///< particles vs rigid body SDFs
+  std::size_t droppedPairs = 0;     ///< broad-phase pairs beyond capacity, last detection
+  std::size_t droppedContacts = 0;  ///< contacts beyond capacity, last detection
+};
+
+class CollisionDetector {
+ public:
+  CollisionDetector() = default;
+  /// Builds shapes (grids: from the cache when possible), samples and hierarchies, and sizes
+  /// every buffer.
+  CollisionDetector(const Scene& scene, const CollisionShapeOptions& options);
+
+  /// Finds all contacts of the current state. Allocates nothing after `reserve`.
+  void detect(const BodyStates& bodies, Real tolerance, ContactGeometryBuffer& out);
+  /// Sizes `out` for the worst case this detector allows.
+  void reserve(ContactGeometryBuffer& out) const;
+
+  std::size_t rigidBodyCount() const { return rigid_.size(); }
+  const CollisionShape& shape(std::size_t body) const { return rigid_[body].shape; }
+  /// Surface samples of a rigid body, in its scene frame.
+  const std::vector<Vector3>& samples(std::size_t body) const { return rigid_[body].samples; }
+
+ private:
+  struct RigidObject {
+    CollisionShape shape;
+    std::vector<Vector3> samples;  ///< scene frame
+    PointBvh hierarchy;
+    Eigen::AlignedBox<Real, 3> localBounds;  ///< samples ∪ shape bounds, scene frame
+    bool testMesh = true;
+    bool dynamic = false;
+  };
+  struct ParticleModel {
+    int firstParticle = 0, particleCount = 0;
+    bool testMesh = true;
+    PointBvh hierarchy;  ///< over the model's particles, refitted every detection
+  };
+  struct Frame {
+    Matrix3 rotation = Matrix3::Identity();  ///< scene frame → world
+    Vector3 origin = Vector3::Zero();
+  };
+
+  void updateFrames(const RigidBodyStates& bodies);
+  void updateBoxes(const BodyStates& bodies, Real tolerance);
+  void collectDirections();
+  bool canBeVertexSide(int object) const;
+  void rigidAgainstRigid(int vertexBody, int sdfBody, Real tolerance,
+                         std::vector<ContactPointGeometry>& out, std::size_t& dropped) const;
+  void particlesAgainstRigid(const ParticleModel& model, const ParticleStates& particles,
+                             int sdfBody, Real tolerance, std::vector<ContactPointGeometry>& out,
+                             std::size_t& dropped) const;
+  template <typename Emit>
+  void testPoint(const Vector3& world, int sdfBody, Real tolerance, Emit&& emit) const;
+  bool sphereMayTouch(const Vector3& centerWorld, Real radius, int sdfBody, Real tolerance) const;
+
+  std::vector<RigidObject> rigid_;
+  std::vector<ParticleModel> particleModels_;
+  std::size_t rigidContactCapacity_ = 0, particleContactCapacity_ = 0;
+  // Per-detection scratch, sized at construction.
+  std::vector<Frame> frames_;
+  std::vector<Aabb> boxes_;  ///< rigid bodies, then particle models
+  SweepAndPrune broadPhase_;
+  std::vector<ObjectPair> directions_;  ///< (vertex object, SDF body), sorted
+};
+
+}  // namespace pbd

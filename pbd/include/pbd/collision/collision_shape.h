@@ -1,0 +1,101 @@
+// The collision shape of a rigid body: its signed distance function in the body's scene frame
+// (the frame of its geometry file), as the seed defines it per `collisionObjectType`.
+//
+// Usage, outside any simulation:
+//
+//   const pbd::CollisionShape shape = pbd::makeCollisionShape(scene.rigidBodies[i]);
+//   const pbd::Vector3 p = ...;                 // a point in the body's scene frame
+//   pbd::Real d = shape.distance(p);            // < 0 inside, > 0 outside (m)
+//   pbd::Vector3 n = shape.gradient(p);         // unit outward normal where defined
+//
+// For a world point x and a body whose scene frame has pose (R, o) — World::sceneFrameState,
+// or translation/rotation of the RigidBodyDesc at t = 0 — the scene-frame point is
+// Rᵀ(x − o).
+//
+// The distance includes `invertSDF` (the sign flips: the inside becomes the outside) and
+// `thicknessSDF` (hollow shapes only), and excludes `contactTolerance`: the seed's
+// collision test subtracts the tolerance from this value.
+//
+//   type 1 sphere       radius r = collisionObjectScale[0]
+//   type 2 box          full extents collisionObjectScale
+//   type 3 cylinder     radius [0], height [1], axis y
+//   type 4 torus        radii R = [0], r = [1], in the xz-plane
+//   type 5 SDF          a grid (distance_grid.h) sampled from the collision mesh: the
+//                       geometry file (or collisionObjectFileName's OBJ) with its vertices
+//                       scaled by collisionObjectScale; see makeCollisionShape
+//   type 6 hollow sphere  radius [0], wall half-thickness thicknessSDF
+//   type 7 hollow box   full extents, wall half-thickness thicknessSDF
+// Formulas and gradients: analytic_shapes.h. Type 0 (none) has no shape: distance() is +∞.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "pbd/collision/analytic_shapes.h"
+#include "pbd/collision/distance_grid.h"
+#include "pbd/collision/grid_cache.h"
+#include "pbd/model/scene.h"
+
+namespace pbd {
+
+struct CollisionShapeOptions {
+  /// Cache folder for type-5 grids; empty: no cache. Default: defaultGridCacheFolder().
+  std::string gridCacheFolder = defaultGridCacheFolder();
+  /// Padding of a type-5 grid around the collision mesh, on every side: the larger of 10 % of
+  /// the mesh's largest extent and this value (m). The world passes 2 × contactTolerance, so
+  /// every point inside the contact shell lies inside the grid.
+  Real minimumGridPadding = 0;
+};
+
+class CollisionShape {
+ public:
+  CollisionShape() = default;
+
+  CollisionObjectType type() const { return type_; }
+  bool exists() const { return type_ != CollisionObjectType::None; }
+
+  /// Signed distance (m) of a point given in the body's scene frame.
+  Real distance(const Vector3& pointInSceneFrame) const {
+    return evaluate(pointInSceneFrame).distance;
+  }
+  /// ∇ distance: the unit outward normal (inverted with invertSDF) where it is defined.
+  Vector3 gradient(const Vector3& pointInSceneFrame) const {
+    return evaluate(pointInSceneFrame).gradient;
+  }
+  DistanceSample evaluate(const Vector3& pointInSceneFrame) const;
+
+  /// The grid of a type-5 shape (null otherwise), and how it was obtained.
+  const DistanceGrid* grid() const { return grid_.get(); }
+  GridCacheOutcome gridOutcome() const { return gridOutcome_; }
+
+  /// An axis-aligned box in the scene frame that contains the shape's surface (the solid's
+  /// bounds; for hollow shapes the outer wall).
+  Eigen::AlignedBox<Real, 3> bounds() const;
+
+ private:
+  friend CollisionShape makeCollisionShape(const RigidBodyDesc&, const CollisionShapeOptions&);
+
+  DistanceSample evaluateUninverted(const Vector3& point) const;
+
+  CollisionObjectType type_ = CollisionObjectType::None;
+  Vector3 size_ = Vector3::Ones();  ///< collisionObjectScale, halved where the formula uses halves
+  Real thickness_ = 0;
+  Real sign_ = 1;  ///< −1 with invertSDF
+  std::shared_ptr<const DistanceGrid> grid_;
+  Eigen::AlignedBox<Real, 3> meshBounds_;  ///< type 5: bounds of the collision mesh
+  GridCacheOutcome gridOutcome_ = GridCacheOutcome::Disabled;
+};
+
+/// Builds the shape of `body` (its `collision` keys). Type 5 samples the exact signed distance
+/// of the collision mesh on resolutionSDF cells over the mesh's bounds plus the padding, or
+/// loads it from the cache. Throws std::invalid_argument, naming the body, when the
+/// parameters cannot describe a shape (a non-positive size, type 5 without a mesh).
+CollisionShape makeCollisionShape(const RigidBodyDesc& body,
+                                  const CollisionShapeOptions& options = {});
+
+/// The mesh a type-5 shape of `body` is built from, in the scene frame: the vertices of
+/// collisionObjectFileName's mesh, or of the geometry file (undoing `scale`), multiplied
+/// component-wise by collisionObjectScale. Throws std::invalid_argument without a mesh.
+TriangleMesh collisionMesh(const RigidBodyDesc& body);
+
+}  // namespace pbd

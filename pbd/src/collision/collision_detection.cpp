@@ -1,0 +1,257 @@
+#include "pbd/collision/collision_detection.h"
+
+#include <algorithm>
+
+#include "pbd/collision/surface_samples.h"
+
+namespace pbd {
+namespace {
+
+/// A point can touch at most this many other objects at once in a sensible scene (a corner in
+/// a pile); contact buffers are sized for it.
+constexpr std::size_t kContactsPerPoint = 4;
+/// Broad-phase pairs per object (a dense pile has ~10 neighbours per body).
+constexpr std::size_t kPairsPerObject = 64;
+
+/// Below this squared gradient length the SDF has no usable direction (the seed's 1e-6).
+constexpr Real kMinimumSquaredGradient = Real(1e-6);
+
+Eigen::AlignedBox<Real, 3> boundsOf(const std::vector<Vector3>& points) {
+  Eigen::AlignedBox<Real, 3> box;
+  box.setEmpty();
+  for (const Vector3& p : points)
+    box.extend(p);
+  return box;
+}
+
+/// Orders contacts by depth, deepest first, ties by point index (a total order: the points
+/// of one direction are distinct). std::sort sorts in place, without allocating.
+void deepestFirst(std::vector<ContactPointGeometry>::iterator begin,
+                  std::vector<ContactPointGeometry>::iterator end) {
+  std::sort(begin, end, [](const ContactPointGeometry& a, const ContactPointGeometry& b) {
+    return a.distance < b.distance || (a.distance == b.distance && a.sample < b.sample);
+  });
+}
+
+}  // namespace
+
+CollisionDetector::CollisionDetector(const Scene& scene, const CollisionShapeOptions& options) {
+  rigid_.resize(scene.rigidBodies.size());
+  std::size_t shapedBodies = 0, rigidPoints = 0, particlePoints = 0;
+  for (std::size_t i = 0; i < scene.rigidBodies.size(); ++i) {
+    const RigidBodyDesc& desc = scene.rigidBodies[i];
+    RigidObject& object = rigid_[i];
+    object.shape = makeCollisionShape(desc, options);
+    object.dynamic = desc.isDynamic && desc.massProperties.mass > 0;
+    object.testMesh = desc.collision.testMesh;
+    if (!object.shape.exists()) continue;
+    ++shapedBodies;
+    object.samples = surfaceSamples(desc);
+    object.hierarchy = PointBvh(object.samples);
+    object.localBounds = boundsOf(object.samples).extend(object.shape.bounds());
+    if (object.testMesh) rigidPoints += object.samples.size();
+  }
+  auto addModel = [&](int first, std::size_t count, bool testMesh) {
+    ParticleModel model;
+    model.firstParticle = first;
+    model.particleCount = static_cast<int>(count);
+    model.testMesh = testMesh;
+    const auto begin = scene.particles.begin() + first;
+    std::vector<Vector3> positions;
+    for (auto it = begin; it != begin + static_cast<std::ptrdiff_t>(count); ++it)
+      positions.push_back(it->position);
+    model.hierarchy = PointBvh(positions);
+    particleModels_.push_back(std::move(model));
+    if (testMesh) particlePoints += count;
+  };
+  for (const TriangleModelDesc& m : scene.triangleModels)
+    addModel(m.firstParticle, m.mesh.vertices.size(), true);
+  // The seed always tests a tet model without a collision shape, else as its testMesh says.
+  for (const TetModelDesc& m : scene.tetModels)
+    addModel(m.firstParticle, m.mesh.vertices.size(),
+             m.collision.type == CollisionObjectType::None || m.collision.testMesh);
+
+  const std::size_t others = shapedBodies > 0 ? shapedBodies - 1 : 0;
+  rigidContactCapacity_ = rigidPoints * std::min(others, kContactsPerPoint);
+  particleContactCapacity_ = particlePoints * std::min(shapedBodies, kContactsPerPoint);
+  const std::size_t objects = rigid_.size() + particleModels_.size();
+  const std::size_t allPairs = objects * (objects > 0 ? objects - 1 : 0) / 2;
+  const std::size_t pairCapacity = std::min(allPairs, kPairsPerObject * objects);
+  frames_.resize(rigid_.size());
+  boxes_.resize(objects);
+  broadPhase_ = SweepAndPrune(objects, pairCapacity);
+  directions_.reserve(2 * pairCapacity);
+}
+
+void CollisionDetector::reserve(ContactGeometryBuffer& out) const {
+  out.rigid.clear();
+  out.particle.clear();
+  out.rigid.reserve(rigidContactCapacity_);
+  out.particle.reserve(particleContactCapacity_);
+}
+
+void CollisionDetector::updateFrames(const RigidBodyStates& bodies) {
+  for (std::size_t i = 0; i < rigid_.size(); ++i) {
+    // The scene frame: rotation q ⊗ p⁻¹ (p: principal → scene), origin x − R c.
+    const Quaternion sceneRotation = bodies.rotation[i] * bodies.principalInScene[i].conjugate();
+    frames_[i].rotation = sceneRotation.toRotationMatrix();
+    frames_[i].origin = bodies.position[i] - frames_[i].rotation * bodies.centerOfMassInScene[i];
+  }
+}
+
+void CollisionDetector::updateBoxes(const BodyStates& bodies, Real tolerance) {
+  const Vector3 margin = Vector3::Constant(tolerance);
+  for (std::size_t i = 0; i < rigid_.size(); ++i) {
+    Aabb& box = boxes_[i];
+    box.active = rigid_[i].shape.exists();
+    if (!box.active) continue;
+    const Eigen::AlignedBox<Real, 3>& local = rigid_[i].localBounds;
+    const Vector3 center = frames_[i].rotation * local.center() + frames_[i].origin;
+    const Vector3 half = frames_[i].rotation.cwiseAbs() * (local.sizes() / 2);
+    box.min = center - half - margin;
+    box.max = center + half + margin;
+  }
+  for (std::size_t m = 0; m < particleModels_.size(); ++m) {
+    ParticleModel& model = particleModels_[m];
+    Aabb& box = boxes_[rigid_.size() + m];
+    box.active = model.particleCount > 0;
+    if (!box.active) continue;
+    const Vector3* positions = bodies.particles.position.data() + model.firstParticle;
+    model.hierarchy.refit(positions);
+    box.min = box.max = positions[0];
+    for (int p = 1; p < model.particleCount; ++p) {
+      box.min = box.min.cwiseMin(positions[p]);
+      box.max = box.max.cwiseMax(positions[p]);
+    }
+    box.min -= margin;
+    box.max += margin;
+  }
+}
+
+bool CollisionDetector::canBeVertexSide(int object) const {
+  if (object >= static_cast<int>(rigid_.size()))
+    return particleModels_[std::size_t(object) - rigid_.size()].testMesh;
+  const RigidObject& body = rigid_[std::size_t(object)];
+  return body.testMesh && !body.samples.empty();
+}
+
+void CollisionDetector::collectDirections() {
+  const int rigidCount = static_cast<int>(rigid_.size());
+  directions_.clear();
+  auto add = [&](int vertexObject, int sdfObject) {
+    if (sdfObject >= rigidCount || !canBeVertexSide(vertexObject)) return;
+    if (vertexObject < rigidCount && !rigid_[std::size_t(vertexObject)].dynamic &&
+        !rigid_[std::size_t(sdfObject)].dynamic)
+      return;  // static–static
+    directions_.emplace_back(vertexObject, sdfObject);
+  };
+  for (const ObjectPair& pair : broadPhase_.pairs()) {
+    add(pair.first, pair.second);
+    add(pair.second, pair.first);
+  }
+  std::sort(directions_.begin(), directions_.end());  // in place: no allocation
+}
+
+bool CollisionDetector::sphereMayTouch(const Vector3& centerWorld, Real radius, int sdfBody,
+                                       Real tolerance) const {
+  if (!(boxes_[std::size_t(sdfBody)].exteriorDistance(centerWorld) < radius)) return false;
+  const Frame& frame = frames_[std::size_t(sdfBody)];
+  const Vector3 local = frame.rotation.transpose() * (centerWorld - frame.origin);
+  return rigid_[std::size_t(sdfBody)].shape.distance(local) - tolerance < radius;
+}
+
+template <typename Emit>
+void CollisionDetector::testPoint(const Vector3& world, int sdfBody, Real tolerance,
+                                  Emit&& emit) const {
+  const Frame& frame = frames_[std::size_t(sdfBody)];
+  const Vector3 local = frame.rotation.transpose() * (world - frame.origin);
+  const DistanceSample sample = rigid_[std::size_t(sdfBody)].shape.evaluate(local);
+  const Real distance = sample.distance - tolerance;
+  if (!(distance < 0)) return;
+  const Real squared = sample.gradient.squaredNorm();
+  if (squared < kMinimumSquaredGradient) return;  // no direction to push along
+  const Vector3 normal = sample.gradient / std::sqrt(squared);
+  ContactPointGeometry contact;
+  contact.sdfBody = sdfBody;
+  contact.vertexPoint = world;
+  contact.surfacePoint = frame.rotation * (local - distance * normal) + frame.origin;
+  contact.normal = frame.rotation * normal;
+  contact.distance = distance;
+  emit(contact);
+}
+
+void CollisionDetector::rigidAgainstRigid(int vertexBody, int sdfBody, Real tolerance,
+                                          std::vector<ContactPointGeometry>& out,
+                                          std::size_t& dropped) const {
+  const RigidObject& body = rigid_[std::size_t(vertexBody)];
+  const Frame& frame = frames_[std::size_t(vertexBody)];
+  body.hierarchy.traverse(
+      [&](const PointBvh::Node& node) {
+        return sphereMayTouch(frame.rotation * node.center + frame.origin, node.radius, sdfBody,
+                              tolerance);
+      },
+      [&](int point) {
+        const Vector3 world = frame.rotation * body.samples[std::size_t(point)] + frame.origin;
+        testPoint(world, sdfBody, tolerance, [&](ContactPointGeometry& contact) {
+          contact.vertexSide = vertexBody;
+          contact.sample = point;
+          if (out.size() == out.capacity()) {
+            ++dropped;
+            return;
+          }
+          out.push_back(contact);
+        });
+      });
+}
+
+void CollisionDetector::particlesAgainstRigid(const ParticleModel& model,
+                                              const ParticleStates& particles, int sdfBody,
+                                              Real tolerance,
+                                              std::vector<ContactPointGeometry>& out,
+                                              std::size_t& dropped) const {
+  const bool sdfStatic = !rigid_[std::size_t(sdfBody)].dynamic;
+  model.hierarchy.traverse(
+      [&](const PointBvh::Node& node) {
+        return sphereMayTouch(node.center, node.radius, sdfBody, tolerance);
+      },
+      [&](int point) {
+        const int particle = model.firstParticle + point;
+        if (sdfStatic && !(particles.inverseMass[std::size_t(particle)] > 0)) return;
+        testPoint(particles.position[std::size_t(particle)], sdfBody, tolerance,
+                  [&](ContactPointGeometry& contact) {
+                    contact.vertexSide = particle;
+                    contact.sample = particle;
+                    if (out.size() == out.capacity()) {
+                      ++dropped;
+                      return;
+                    }
+                    out.push_back(contact);
+                  });
+      });
+}
+
+void CollisionDetector::detect(const BodyStates& bodies, Real tolerance,
+                               ContactGeometryBuffer& out) {
+  out.rigid.clear();
+  out.particle.clear();
+  out.droppedContacts = 0;
+  updateFrames(bodies.rigid);
+  updateBoxes(bodies, tolerance);
+  out.droppedPairs = broadPhase_.findPairs(boxes_);
+  collectDirections();
+  const int rigidCount = static_cast<int>(rigid_.size());
+  for (const ObjectPair& direction : directions_) {
+    std::vector<ContactPointGeometry>& list =
+        direction.first < rigidCount ? out.rigid : out.particle;
+    const std::size_t first = list.size();
+    if (direction.first < rigidCount)
+      rigidAgainstRigid(direction.first, direction.second, tolerance, list, out.droppedContacts);
+    else
+      particlesAgainstRigid(particleModels_[std::size_t(direction.first - rigidCount)],
+                            bodies.particles, direction.second, tolerance, list,
+                            out.droppedContacts);
+    deepestFirst(list.begin() + static_cast<std::ptrdiff_t>(first), list.end());
+  }
+}
+
+}  // namespace pbd
