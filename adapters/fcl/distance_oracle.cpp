@@ -19,6 +19,8 @@ const char* distanceMethodName(DistanceMethod method) {
   switch (method) {
     case DistanceMethod::ClosedForm:
       return "closed_form";
+    case DistanceMethod::BoxBoxSat:
+      return "box_box_sat";
     case DistanceMethod::GjkEpa:
       return "gjk_epa";
     case DistanceMethod::ShallowMpr:
@@ -38,6 +40,7 @@ const char* distanceMethodName(DistanceMethod method) {
 bool isExact(DistanceMethod method, double signedDistance) {
   switch (method) {
     case DistanceMethod::ClosedForm:
+    case DistanceMethod::BoxBoxSat:
     case DistanceMethod::GjkEpa:
     case DistanceMethod::ShallowMpr:
       return true;

@@ -24,12 +24,14 @@ namespace pbdval {
 /// the others are approximations (docs/fcl-oracle.md, "Accuracy").
 enum class DistanceMethod {
   ClosedForm,       ///< FCL's analytic sphere–sphere, sphere–box, sphere–cylinder routines
-  GjkEpa,           ///< convex pair: libccd GJK when separated, EPA when penetrating
+  BoxBoxSat,        ///< overlapping boxes: separating-axis depth over the 15 axes (exact)
+  GjkEpa,           ///< convex pair: libccd GJK when separated (EPA is never called)
   ShallowMpr,       ///< convex pair overlapping by less than the GJK tolerance: MPR's depth
   MeshDistance,     ///< separated pair with a triangle mesh: FCL's BVH traversal
   MeshContact,      ///< penetrating mesh–convex pair: FCL's deepest triangle contact
   MeshVertexDepth,  ///< penetrating mesh–mesh pair: deepest vertex inside the other mesh
-  MprFallback,      ///< EPA failed on this configuration: libccd MPR contact depth
+  MprFallback,      ///< overlapping convex pair (not two boxes): libccd MPR contact depth, an
+                    ///< upper bound; FCL 0.7's EPA aborts the process on nearly flat contacts
 };
 
 const char* distanceMethodName(DistanceMethod method);

@@ -1,14 +1,24 @@
 #include "adapters/fcl/narrow_phase.h"
 
+#include <fcl/geometry/shape/box.h>
 #include <fcl/geometry/shape/sphere.h>
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
+#include <fcntl.h>
+#include <setjmp.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
+#include <cstdio>
 #include <deque>
+#include <limits>
+#include <mutex>
 #include <stdexcept>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "adapters/fcl/mesh_geometry.h"
@@ -122,6 +132,181 @@ PairDistance closedFormPair(const PlacedBody& a, const PlacedBody& b,
   return sphereContact(a, b, deepestContact(overlap));
 }
 
+/// The support feature of a box along direction n: its vertex, edge (2 points) or face (4 points,
+/// in cyclic order) farthest along n. An axis counts as perpendicular to n within 1e-9.
+std::vector<fcl::Vector3d> boxSupportFeature(const fcl::Transform3d& pose,
+                                             const fcl::Vector3d& half, const fcl::Vector3d& n) {
+  fcl::Vector3d base = pose.translation();
+  std::vector<int> free;
+  for (int i = 0; i < 3; ++i) {
+    const double along = n.dot(pose.linear().col(i));
+    if (std::abs(along) < 1e-9)
+      free.push_back(i);
+    else
+      base += (along > 0 ? half(i) : -half(i)) * pose.linear().col(i);
+  }
+  if (free.empty()) return {base};
+  const fcl::Vector3d u = half(free[0]) * pose.linear().col(free[0]);
+  if (free.size() == 1) return {base - u, base + u};
+  const fcl::Vector3d v = half(free[1]) * pose.linear().col(free[1]);
+  return {base - u - v, base + u - v, base + u + v, base - u + v};  // cyclic
+}
+
+/// Closest points of segments [p0, p1] and [q0, q1] (Ericson §5.1.9).
+std::pair<fcl::Vector3d, fcl::Vector3d> closestPointsOfSegments(const fcl::Vector3d& p0,
+                                                                const fcl::Vector3d& p1,
+                                                                const fcl::Vector3d& q0,
+                                                                const fcl::Vector3d& q1) {
+  const fcl::Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r), c = d1.dot(r),
+               b = d1.dot(d2);
+  const double denominator = a * e - b * b;
+  double s = denominator > 1e-18 ? std::clamp((b * f - c * e) / denominator, 0.0, 1.0) : 0.0;
+  double t = (b * s + f) / e;
+  if (t < 0 || t > 1) {
+    t = std::clamp(t, 0.0, 1.0);
+    s = std::clamp((b * t - c) / a, 0.0, 1.0);
+  }
+  return {p0 + s * d1, q0 + t * d2};
+}
+
+/// Centroid of the points of `feature` (projected onto the plane of `face`, normal n) clipped to
+/// the convex polygon `face` (Sutherland–Hodgman); the projected centroid when nothing remains.
+fcl::Vector3d clippedCentroid(const std::vector<fcl::Vector3d>& face,
+                              std::vector<fcl::Vector3d> feature, const fcl::Vector3d& n) {
+  for (fcl::Vector3d& p : feature)
+    p -= n.dot(p - face[0]) * n;
+  const fcl::Vector3d centre = (face[0] + face[1] + face[2] + face[3]) / 4;
+  std::vector<fcl::Vector3d> points = feature;
+  for (std::size_t e = 0; e < face.size() && !points.empty(); ++e) {
+    const fcl::Vector3d edge = face[(e + 1) % face.size()] - face[e];
+    fcl::Vector3d inward = n.cross(edge);
+    if (inward.dot(centre - face[e]) < 0) inward = -inward;
+    auto inside = [&](const fcl::Vector3d& p) { return inward.dot(p - face[e]); };
+    std::vector<fcl::Vector3d> kept;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      const fcl::Vector3d& current = points[k];
+      const fcl::Vector3d& next = points[(k + 1) % points.size()];
+      const double dc = inside(current), dn = inside(next);
+      if (dc >= 0) kept.push_back(current);
+      if ((dc >= 0) != (dn >= 0)) kept.push_back(current + (dc / (dc - dn)) * (next - current));
+    }
+    points = kept;
+  }
+  const std::vector<fcl::Vector3d>& chosen = points.empty() ? feature : points;
+  fcl::Vector3d sum = fcl::Vector3d::Zero();
+  for (const fcl::Vector3d& p : chosen)
+    sum += p;
+  return sum / double(chosen.size());
+}
+
+/// Two overlapping boxes: the separating-axis test over the 15 candidate axes (3 face normals of
+/// each box, 9 edge cross products) gives the exact penetration depth — the smallest overlap of
+/// the boxes' projections, d = r_A + r_B − |L·(c_B − c_A)| — and its direction n (Gottschalk,
+/// Lin, Manocha 1996; Ericson, "Real-Time Collision Detection", §4.4). The witness points come
+/// from the contact features (A's support feature along n, B's along −n): a vertex, the closest
+/// points of two crossing edges, or the centroid of a face's overlap with the other feature.
+/// FCL 0.7's EPA, the general route, fails an assertion and aborts the process on nearly flat
+/// box contacts.
+PairDistance boxBoxPair(const PlacedBody& a, const PlacedBody& b) {
+  const fcl::Vector3d halfA = static_cast<const fcl::Boxd&>(*a.body.geometry).side / 2;
+  const fcl::Vector3d halfB = static_cast<const fcl::Boxd&>(*b.body.geometry).side / 2;
+  const fcl::Matrix3d ra = a.pose.linear(), rb = b.pose.linear();
+  const fcl::Vector3d centres = b.pose.translation() - a.pose.translation();
+  auto radius = [](const fcl::Matrix3d& r, const fcl::Vector3d& half, const fcl::Vector3d& axis) {
+    return half.x() * std::abs(axis.dot(r.col(0))) + half.y() * std::abs(axis.dot(r.col(1))) +
+           half.z() * std::abs(axis.dot(r.col(2)));
+  };
+  double depth = std::numeric_limits<double>::infinity();
+  fcl::Vector3d n = fcl::Vector3d::UnitX();
+  auto consider = [&](fcl::Vector3d axis) {
+    const double length = axis.norm();
+    if (length < 1e-9) return;  // parallel edges: the face axes cover this direction
+    axis /= length;
+    const double overlap =
+        radius(ra, halfA, axis) + radius(rb, halfB, axis) - std::abs(axis.dot(centres));
+    if (overlap < depth) {
+      depth = overlap;
+      n = axis.dot(centres) >= 0 ? axis : fcl::Vector3d(-axis);  // from A towards B
+    }
+  };
+  for (int i = 0; i < 3; ++i)
+    consider(ra.col(i));
+  for (int i = 0; i < 3; ++i)
+    consider(rb.col(i));
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      consider(ra.col(i).cross(rb.col(j)));
+
+  const std::vector<fcl::Vector3d> featureA = boxSupportFeature(a.pose, halfA, n);
+  const std::vector<fcl::Vector3d> featureB = boxSupportFeature(b.pose, halfB, -n);
+  fcl::Vector3d onA, onB;
+  if (featureB.size() == 1) {
+    onB = featureB[0];
+    onA = onB + depth * n;
+  } else if (featureA.size() == 1) {
+    onA = featureA[0];
+    onB = onA - depth * n;
+  } else if (featureA.size() == 2 && featureB.size() == 2) {
+    std::tie(onA, onB) =
+        closestPointsOfSegments(featureA[0], featureA[1], featureB[0], featureB[1]);
+  } else if (featureA.size() == 4) {
+    onA = clippedCentroid(featureA, featureB, n);
+    onB = onA - depth * n;
+  } else {
+    onB = clippedCentroid(featureB, featureA, n);
+    onA = onB + depth * n;
+  }
+  return {-depth, toVector(onA), toVector(onB), DistanceMethod::BoxBoxSat};
+}
+
+// --- Surviving FCL's EPA ------------------------------------------------------------------------
+// Debian's libfcl 0.7 is built with assertions, and its EPA fails one
+// (ComputeVisiblePatch: isOutsidePolytopeFace) on nearly flat contacts — a cylinder cap or a box
+// face resting on a box — and then calls abort(). No tolerance avoids it, and nothing can be
+// caught in C++. The call is therefore guarded: a SIGABRT handler installed for its duration
+// jumps back (siglongjmp) to the caller, which falls back to MPR's depth. What EPA had allocated
+// is leaked (a few kB per failure); libc's assertion message is silenced meanwhile. The
+// handler and the stderr redirection are process-wide, so guarded calls are serialised by a
+// mutex; an abort on another thread in that window finds no jump target and is re-raised.
+
+thread_local sigjmp_buf* tAbortJump = nullptr;
+
+extern "C" void returnFromAbort(int signal) {
+  if (tAbortJump) siglongjmp(*tAbortJump, 1);
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);
+}
+
+/// Runs `call`; false when it aborted.
+template <class Call>
+bool survivesAbort(Call&& call) {
+  static std::mutex guard;
+  const std::lock_guard<std::mutex> lock(guard);
+  struct sigaction handler {
+  }, previous{};
+  handler.sa_handler = returnFromAbort;
+  sigemptyset(&handler.sa_mask);
+  ::sigaction(SIGABRT, &handler, &previous);
+  std::fflush(stderr);
+  const int savedStderr = ::dup(STDERR_FILENO);
+  const int devNull = ::open("/dev/null", O_WRONLY);
+  if (devNull >= 0) ::dup2(devNull, STDERR_FILENO);
+  sigjmp_buf jump;
+  bool completed = false;
+  tAbortJump = &jump;
+  if (sigsetjmp(jump, 1) == 0) {
+    call();
+    completed = true;
+  }
+  tAbortJump = nullptr;
+  if (savedStderr >= 0) ::dup2(savedStderr, STDERR_FILENO);
+  if (savedStderr >= 0) ::close(savedStderr);
+  if (devNull >= 0) ::close(devNull);
+  ::sigaction(SIGABRT, &previous, nullptr);
+  return completed;
+}
+
 /// EPA's witness points are |distance| apart unless it failed (it then returns −1 and no
 /// points instead of throwing).
 bool witnessesAgree(const fcl::DistanceResultd& result, double tolerance) {
@@ -136,7 +321,8 @@ bool witnessesAgree(const fcl::DistanceResultd& result, double tolerance) {
 /// (distance to a face of the Minkowski difference), is the answer below the EPA tolerance,
 /// where FCL 0.7's EPA aborts the process (a failed assert in libfcl) on nearly touching
 /// polytopes. Deeper, EPA gives the exact depth; if it throws, fails or finds no overlap,
-/// MPR's depth stands.
+/// MPR's depth stands. Two boxes never reach EPA: boxBoxPair's separating-axis depth is exact
+/// (and EPA aborted on a box resting on a box at any depth).
 PairDistance gjkEpaPair(const PlacedBody& a, const PlacedBody& b,
                         const DistanceOracleOptions& tolerances) {
   const fcl::CollisionResultd overlap =
@@ -147,17 +333,22 @@ PairDistance gjkEpaPair(const PlacedBody& a, const PlacedBody& b,
     if (separation.min_distance > 0) return fromDistance(separation, DistanceMethod::GjkEpa);
     return touchingWithoutPoints(a, b, DistanceMethod::GjkEpa);
   }
+  if (a.body.shape == OracleShape::Box && b.body.shape == OracleShape::Box) return boxBoxPair(a, b);
   const PairDistance mpr = fromContact(deepestContact(overlap), DistanceMethod::ShallowMpr);
   if (mpr.depth() <= tolerances.epaTolerance) return mpr;
   const PairDistance fallback{mpr.distance, mpr.pointOnA, mpr.pointOnB,
                               DistanceMethod::MprFallback};
   fcl::DistanceResultd epa;
-  try {
-    epa = runDistance(*a.body.geometry, a.pose, *b.body.geometry, b.pose, tolerances.epaTolerance,
-                      true);
-  } catch (const std::exception&) {
-    return fallback;
-  }
+  bool threw = false;
+  const bool completed = survivesAbort([&] {
+    try {
+      epa = runDistance(*a.body.geometry, a.pose, *b.body.geometry, b.pose, tolerances.epaTolerance,
+                        true);
+    } catch (const std::exception&) {
+      threw = true;
+    }
+  });
+  if (!completed || threw) return fallback;
   if (epa.min_distance >= 0 || !witnessesAgree(epa, tolerances.epaTolerance)) return fallback;
   return fromDistance(epa, DistanceMethod::GjkEpa);
 }

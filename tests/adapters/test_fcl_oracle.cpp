@@ -238,7 +238,8 @@ TEST(FclOracle, SphereBoxFaceEdgeAndCornerRegions) {
   }
 }
 
-// --- Box pairs (GJK / EPA on polytopes) -----------------------------------------------------
+// --- Box pairs (GJK when separated; separating axes when overlapping)
+// -----------------------------------------------------
 
 TEST(FclOracle, BoxBoxFaceToFaceSeparatedAndPenetrating) {
   const RigidBodyDesc a = boxBody(0, Vector3(1, 1, 1), Vector3::Zero());
@@ -250,11 +251,32 @@ TEST(FclOracle, BoxBoxFaceToFaceSeparatedAndPenetrating) {
     SCOPED_TRACE("gap " + std::to_string(gap));
     const PairDistance d =
         pair(place(a, Vector3::Zero()), place(b, Vector3(0.5 + 0.25 + gap, 0.1, -0.2), turnB));
-    EXPECT_EQ(d.method, DistanceMethod::GjkEpa);
+    // Separated: GJK; overlapping: the separating-axis depth (EPA aborts on flat box contacts).
+    EXPECT_EQ(d.method, gap > 0 ? DistanceMethod::GjkEpa : DistanceMethod::BoxBoxSat);
     EXPECT_NEAR(d.distance, gap, gap > 0 ? kGjk : kPolytope);
     EXPECT_NEAR(d.pointOnA.x(), 0.5, kWitness);  // on A's face x = ½
     expectConsistentWitnesses(d, kGjk);
   }
+}
+
+// A box resting on a box with a tiny overlap is what engines produce every step; FCL 0.7's EPA
+// aborted the process on exactly this (a failed assertion in libfcl). The separating-axis depth
+// must answer it exactly: for a face-down box tilted by θ about x, the lowest edge sits
+// h/2·cos θ + w/2·sin θ below the centre, so the overlap is that minus the centre's height.
+TEST(FclOracle, BoxRestingOnBoxWithTinyOverlapsIsExactAndDoesNotAbort) {
+  const RigidBodyDesc ground = boxBody(0, Vector3(4, 1, 4), Vector3::Zero());
+  const RigidBodyDesc box = boxBody(1, Vector3(0.6, 0.4, 0.5), Vector3::Zero());
+  const Pair pair(ground, box);
+  for (const double tilt : {0.0, 1e-9, 1e-6, 1e-3})
+    for (const double overlap : {1e-9, 1e-7, 1e-5, 1e-3}) {
+      const double reach = 0.2 * std::cos(tilt) + 0.25 * std::sin(tilt);
+      const PairDistance d =
+          pair(place(ground, Vector3::Zero()), place(box, Vector3(0.1, 0.5 + reach - overlap, -0.2),
+                                                     rotationAbout(Vector3::UnitX(), tilt)));
+      EXPECT_EQ(d.method, DistanceMethod::BoxBoxSat) << tilt << " " << overlap;
+      EXPECT_NEAR(d.distance, -overlap, kPolytope) << tilt << " " << overlap;
+      EXPECT_NEAR(d.pointOnA.y(), 0.5, kWitness);  // on the ground's top face
+    }
 }
 
 TEST(FclOracle, BoxBoxCrossedEdgesSeparatedAndPenetrating) {
