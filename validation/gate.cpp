@@ -88,8 +88,8 @@ void compareWithBaseline(const RunRecord& base, const RunRecord* now, const Resu
   }
 }
 
-void evaluateChecks(const std::string& suite, const CaseGateData& data, const ResultsFile& results,
-                    GateReport& report) {
+void evaluateChecksOf(const std::string& suite, const CaseGateData& data,
+                      const ResultsFile& results, GateReport& report) {
   for (std::size_t i = 0; i < data.checks.size(); ++i) {
     const CheckSpec& check = data.checks[i];
     const std::string name =
@@ -144,6 +144,14 @@ void evaluateChecks(const std::string& suite, const CaseGateData& data, const Re
     }
     if (!any) report.notes.push_back(suite + ": " + name + ": no ok run it applies to");
   }
+}
+
+void evaluateChecks(const std::string& suite, const CaseGateData& data, const ResultsFile& results,
+                    GateReport& report) {
+  const std::size_t first = report.outcomes.size();
+  evaluateChecksOf(suite, data, results, report);
+  for (std::size_t i = first; i < report.outcomes.size(); ++i)
+    report.outcomes[i].caseCheck = true;
 }
 
 std::string escapeXml(const std::string& text) {
@@ -206,15 +214,32 @@ std::size_t GateReport::failures() const {
   return n;
 }
 
-GateReport evaluateGate(const Baseline& baseline, const ResultsFile& results) {
+std::vector<GateOutcome> evaluateCaseChecks(const ResultsFile& results) {
+  GateReport report;
+  for (const auto& [suite, data] : results.cases)
+    evaluateChecks(suite, data, results, report);
+  return report.outcomes;
+}
+
+GateReport evaluateGate(const Baseline& baseline, const ResultsFile& results,
+                        const GateOptions& options) {
   GateReport report;
   for (const RunRecord& base : baseline.runs)
     compareWithBaseline(base, findRun(results.runs, base.request), results, report);
   for (const RunRecord& now : results.runs)
     if (!findRun(baseline.runs, now.request))
       report.notes.push_back("new run (not in the baseline): " + key(now.request));
-  for (const auto& [suite, data] : results.cases)
-    evaluateChecks(suite, data, results, report);
+  for (GateOutcome& check : evaluateCaseChecks(results)) {
+    const bool known = std::find(baseline.knownFailures.begin(), baseline.knownFailures.end(),
+                                 check.id()) != baseline.knownFailures.end();
+    if (!check.passed && known && !options.knownFailuresFail) {
+      check.passed = true;
+      check.knownFailure = true;
+      report.notes.push_back("known failure (in the baseline): " + check.id() + ": " +
+                             check.message);
+    }
+    report.outcomes.push_back(std::move(check));
+  }
   return report;
 }
 
@@ -222,6 +247,8 @@ Baseline baselineFromResults(const ResultsFile& results) {
   Baseline b;
   b.source = results.metadata;
   b.runs = results.runs;
+  for (const GateOutcome& check : evaluateCaseChecks(results))
+    if (!check.passed) b.knownFailures.push_back(check.id());
   return b;
 }
 
@@ -245,6 +272,7 @@ void writeBaseline(const std::string& path, const Baseline& baseline) {
                            {"commit", baseline.source.commit},
                            {"compiler", baseline.source.compiler},
                            {"machine", baseline.source.cpu}}},
+                         {"knownFailures", baseline.knownFailures},
                          {"runs", runs}};
   writeFileAtomically(path, document.dump(2) + "\n");
 }
@@ -267,6 +295,7 @@ Baseline readBaseline(const std::string& path) {
     b.source.commit = source.value("commit", "");
     b.source.compiler = source.value("compiler", "");
     b.source.cpu = source.value("machine", "");
+    b.knownFailures = document.value("knownFailures", std::vector<std::string>{});
     const Json& runs = document.at("runs");
     for (std::size_t i = 0; i < runs.size(); ++i) {
       const Json& r = runs.at(i);
@@ -306,7 +335,10 @@ void writeJUnit(std::ostream& out, const GateReport& report) {
     for (const GateOutcome* o : outcomes) {
       out << "    <testcase classname=\"" << escapeXml(suite) << "\" name=\"" << escapeXml(o->name)
           << "\"";
-      if (o->passed) {
+      if (o->knownFailure) {
+        out << ">\n      <skipped message=\"known failure: " << escapeXml(o->message)
+            << "\"/>\n    </testcase>\n";
+      } else if (o->passed) {
         out << "/>\n";
       } else {
         out << ">\n      <failure message=\"" << escapeXml(o->message) << "\"/>\n    </testcase>\n";

@@ -89,6 +89,37 @@ TEST(Gate, CaseBoundsAndOrderingsAreChecked) {
   EXPECT_FALSE(evaluateGate(base, now).passed());
 }
 
+// A check that already failed when the baseline was made is a known failure: reported, not
+// failing the gate (a ratchet); a check that held in the baseline and fails now does fail.
+TEST(Gate, KnownFailuresAreReportedButOnlyNewFailuresFail) {
+  ResultsFile then = results({run("pbd", 0.01), run("selftest.ok", 0.02)});
+  CheckSpec bound;
+  bound.metric = "energy_drift_max";
+  bound.max = 0.015;  // selftest.ok (0.02) fails it already
+  then.cases["case_a"].checks = {bound};
+  const Baseline base = baselineFromResults(then);
+  ASSERT_EQ(base.knownFailures.size(), 1u);
+  EXPECT_NE(base.knownFailures[0].find("selftest/selftest.ok"), std::string::npos);
+
+  GateReport report = evaluateGate(base, then);
+  EXPECT_TRUE(report.passed());
+  bool marked = false;
+  for (const GateOutcome& o : report.outcomes)
+    marked = marked || o.knownFailure;
+  EXPECT_TRUE(marked);
+
+  ResultsFile now = results({run("pbd", 0.01), run("selftest.ok", 0.02)});
+  now.cases = then.cases;
+  now.runs[0].metrics.values["energy_drift_max"] = 0.0109;  // within its baseline tolerance
+  EXPECT_TRUE(evaluateGate(base, now).passed());
+  now.cases["case_a"].checks[0].max = 0.0105;  // now pbd (0.0109) fails a check that held
+  EXPECT_FALSE(evaluateGate(base, now).passed());
+
+  GateOptions strict;
+  strict.knownFailuresFail = true;
+  EXPECT_FALSE(evaluateGate(base, then, strict).passed());
+}
+
 TEST(Gate, ReportsAreWellFormed) {
   const Baseline base = baselineFromResults(results({run("pbd", 0.01)}));
   const GateReport report = evaluateGate(base, results({run("pbd", 1.0)}));
