@@ -15,6 +15,7 @@ int runCommand(const Arguments& args);
 int listCommand(const Arguments& args);
 int gateCommand(const Arguments& args);
 int sweepCommand(const Arguments& args);
+int distanceCommand(const Arguments& args);
 int baselineCommand(const Arguments& args);
 
 struct Command {

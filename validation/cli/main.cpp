@@ -18,6 +18,8 @@ const std::vector<Command>& commands() {
       {"gate", "compare results with a baseline and the cases' checks; exit 1 on regression",
        &gateCommand},
       {"baseline", "write a baseline from a results folder", &baselineCommand},
+      {"distance", "compare the PBD library's SDF collision distances with FCL's exact distances",
+       &distanceCommand},
       {"simulate", "run one scene headless in one engine and write its trajectory as CSV",
        &simulateCommand},
       {"methods", "list the solver methods of every engine, with parameters and defaults",
