@@ -246,15 +246,7 @@ TEST_P(Parity, DroppedSphereReboundsToESquared) {
   auto ground = pbd::test::boxBody(0, Vector3(4, 1, 4), Vector3(0, -0.5, 0), 1, false);
   auto ball = pbd::test::sphereBody(1, 0.1, Vector3(0, 1.1, 0), 1000);
   s.rigidBodies = {ground, ball};
-  pbd::ContactPairDesc pair;
-  pair.body1 = 0;
-  pair.body2 = 1;
-  pair.bodyId1 = 0;
-  pair.bodyId2 = 1;
-  pair.hasRestitution = pair.hasFriction = true;
-  pair.restitution = Real(0.8);
-  pair.friction = Real(0.2);
-  s.contactPairs.push_back(pair);
+  s.contactPairs.push_back(pbd::test::contactPair(0, 1, Real(0.2), Real(0.8)));
   const EngineRun r = run(p, s, 1.5);
   ASSERT_EQ(r.outcome.status, RunStatus::Ok) << r.outcome.reason;
   // First impact: sample k is the last one still moving down, k + 1 the first moving up. The
@@ -291,15 +283,7 @@ Scene inclineScene(double theta, double yaw, double mu) {
       pbd::test::boxBody(0, Vector3(4, 0.2, 4), Vector3::Zero(), 1, false, tilt));
   s.rigidBodies.push_back(
       pbd::test::boxBody(1, Vector3(0.2, 0.2, 0.2), normal * Real(0.2), 1000, true, tilt));
-  pbd::ContactPairDesc pair;
-  pair.body1 = 0;
-  pair.body2 = 1;
-  pair.bodyId1 = 0;
-  pair.bodyId2 = 1;
-  pair.hasRestitution = pair.hasFriction = true;
-  pair.restitution = 0;
-  pair.friction = Real(mu);
-  s.contactPairs.push_back(pair);
+  s.contactPairs.push_back(pbd::test::contactPair(0, 1, Real(mu), 0));
   return s;
 }
 

@@ -6,9 +6,11 @@
 
 namespace pbd::test {
 
-inline RigidBodyDesc boxBody(int id, const Vector3& extents, const Vector3& position,
-                             Real density = 1, bool dynamic = true,
-                             const Quaternion& rotation = Quaternion::Identity()) {
+/// A primitive body without a geometry file (the loader's extension), mass properties from the
+/// closed form of its shape.
+inline RigidBodyDesc primitiveBody(int id, CollisionObjectType type, const Vector3& scale,
+                                   const SolidMoments& moments, const Vector3& position,
+                                   Real density, bool dynamic, const Quaternion& rotation) {
   RigidBodyDesc b;
   b.id = id;
   b.jsonPath = "RigidBodies[" + std::to_string(id) + "]";
@@ -16,24 +18,35 @@ inline RigidBodyDesc boxBody(int id, const Vector3& extents, const Vector3& posi
   b.density = density;
   b.translation = position;
   b.rotation = rotation;
-  b.collision.type = CollisionObjectType::Box;
-  b.collision.scale = extents;
-  b.massProperties = toPrincipal(boxMoments(extents, density));
+  b.collision.type = type;
+  b.collision.scale = scale;
+  b.massProperties = toPrincipal(moments);
   return b;
+}
+
+inline RigidBodyDesc boxBody(int id, const Vector3& extents, const Vector3& position,
+                             Real density = 1, bool dynamic = true,
+                             const Quaternion& rotation = Quaternion::Identity()) {
+  return primitiveBody(id, CollisionObjectType::Box, extents, boxMoments(extents, density),
+                       position, density, dynamic, rotation);
 }
 
 inline RigidBodyDesc sphereBody(int id, Real radius, const Vector3& position, Real density = 1,
                                 bool dynamic = true) {
-  RigidBodyDesc b;
-  b.id = id;
-  b.jsonPath = "RigidBodies[" + std::to_string(id) + "]";
-  b.isDynamic = dynamic;
-  b.density = density;
-  b.translation = position;
-  b.collision.type = CollisionObjectType::Sphere;
-  b.collision.scale = Vector3::Constant(radius);
-  b.massProperties = toPrincipal(sphereMoments(radius, density));
-  return b;
+  return primitiveBody(id, CollisionObjectType::Sphere, Vector3::Constant(radius),
+                       sphereMoments(radius, density), position, density, dynamic,
+                       Quaternion::Identity());
+}
+
+/// Explicit friction and restitution for the pair of bodies `a` and `b` (indices = ids).
+inline ContactPairDesc contactPair(int a, int b, Real friction, Real restitution) {
+  ContactPairDesc pair;
+  pair.body1 = pair.bodyId1 = a;
+  pair.body2 = pair.bodyId2 = b;
+  pair.hasFriction = pair.hasRestitution = true;
+  pair.friction = friction;
+  pair.restitution = restitution;
+  return pair;
 }
 
 inline JointDesc makeJointDesc(JointType type, int body1, int body2) {

@@ -5,11 +5,12 @@
 #include <cstdlib>
 #include <new>
 
-#include "pbd/model/world.h"
 #include "common/scene_fixtures.h"
+#include "pbd/model/world.h"
 
-// Counting allocator for this test binary: every operator new bumps the counter. Only the
-// no-allocation test reads it.
+// Counting allocator for this test binary: every operator new (plain and nothrow, which
+// std::stable_sort's temporary buffer uses) bumps the counter; array forms forward to these.
+// Only the no-allocation tests read it.
 namespace {
 std::atomic<long> gAllocations{0};
 }
@@ -17,6 +18,10 @@ void* operator new(std::size_t size) {
   gAllocations.fetch_add(1, std::memory_order_relaxed);
   if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
   throw std::bad_alloc();
+}
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
+  gAllocations.fetch_add(1, std::memory_order_relaxed);
+  return std::malloc(size == 0 ? 1 : size);
 }
 // GCC inlines these into callers that got the memory from the operator new above and then
 // warns about free() on memory from "new" (-Wmismatched-new-delete); they are a matched pair.
@@ -26,6 +31,9 @@ void operator delete(void* p) noexcept {
   std::free(p);
 }
 void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept {
   std::free(p);
 }
 #pragma GCC diagnostic pop

@@ -21,29 +21,9 @@ using test::turn;
 
 constexpr double kG = 9.81;
 
-ReferenceSpec analytic(const std::string& model, const std::string& parameters = "{}") {
-  ReferenceSpec spec;
-  spec.kind = ReferenceSpec::Kind::Analytic;
-  spec.model = model;
-  spec.parametersJson = parameters;
-  return spec;
-}
-
-std::vector<double> timesUpTo(double end, double interval) {
-  std::vector<double> times;
-  for (int k = 0; k * interval <= end + 1e-12; ++k)
-    times.push_back(k * interval);
-  return times;
-}
-
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::analytic;
+using test::errorOf;
+using test::timesUpTo;
 
 /// A static 4 × 0.2 × 4 m incline turned by θ about z (normal (−sin θ, cos θ, 0)) and body 1.
 pbd::Scene inclineScene(double theta, pbd::RigidBodyDesc body) {

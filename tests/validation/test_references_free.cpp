@@ -18,30 +18,9 @@ using pbd::test::boxBody;
 using test::kPi;
 using test::turn;
 
-ReferenceSpec analytic(const std::string& model, const std::string& parameters = "{}") {
-  ReferenceSpec spec;
-  spec.kind = ReferenceSpec::Kind::Analytic;
-  spec.model = model;
-  spec.parametersJson = parameters;
-  return spec;
-}
-
-std::vector<double> timesUpTo(double end, double interval) {
-  std::vector<double> times;
-  for (int k = 0; k * interval <= end + 1e-12; ++k)
-    times.push_back(k * interval);
-  return times;
-}
-
-/// The message of the std::invalid_argument `f` throws ("" when it does not).
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::analytic;
+using test::errorOf;
+using test::timesUpTo;
 
 // ---- Projectile ----
 

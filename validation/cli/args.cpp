@@ -1,6 +1,7 @@
 #include "validation/cli/args.h"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 
@@ -119,6 +120,31 @@ ParsedArgs ArgParser::parse(const std::vector<std::string>& args) const {
     throw UsageError("unexpected argument '" +
                      parsed.positionals[static_cast<std::size_t>(maximumPositionals_)] + "'");
   return parsed;
+}
+
+std::optional<int> ArgParser::parseOrExit(const std::vector<std::string>& arguments,
+                                          ParsedArgs& args) const {
+  try {
+    args = parse(arguments);
+  } catch (const UsageError& e) {
+    return usageError(e.what());
+  }
+  if (args.helpRequested) {
+    std::fputs(help().c_str(), stdout);
+    return 0;
+  }
+  return std::nullopt;
+}
+
+int ArgParser::usageError(const std::string& message) const {
+  std::fprintf(stderr, "pbdval %s: %s (see 'pbdval %s --help')\n", command_.c_str(),
+               message.c_str(), command_.c_str());
+  return 2;
+}
+
+int ArgParser::inputError(const std::string& message) const {
+  std::fprintf(stderr, "pbdval %s: error: %s\n", command_.c_str(), message.c_str());
+  return 2;
 }
 
 std::string ArgParser::help() const {

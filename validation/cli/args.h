@@ -3,6 +3,7 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -43,6 +44,15 @@ class ArgParser {
 
   ParsedArgs parse(const std::vector<std::string>& args) const;
   std::string help() const;
+  const std::string& command() const { return command_; }
+
+  /// Parses `arguments` into `args`. Returns the exit code when the command should stop here:
+  /// 0 after printing --help, 2 after printing a usage error; std::nullopt to go on.
+  std::optional<int> parseOrExit(const std::vector<std::string>& arguments, ParsedArgs& args) const;
+  /// Prints "pbdval COMMAND: message (see 'pbdval COMMAND --help')" and returns 2.
+  int usageError(const std::string& message) const;
+  /// Prints "pbdval COMMAND: error: message" and returns 2 (unreadable input).
+  int inputError(const std::string& message) const;
 
  private:
   struct Option {

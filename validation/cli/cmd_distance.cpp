@@ -28,12 +28,8 @@ int distanceCommand(const Arguments& arguments) {
   ParsedArgs args;
   DistanceStudyOptions options;
   std::vector<pbd::RigidBodyDesc> shapes;
+  if (const auto exit = parser.parseOrExit(arguments, args)) return *exit;
   try {
-    args = parser.parse(arguments);
-    if (args.helpRequested) {
-      std::cout << parser.help();
-      return 0;
-    }
     options.samples = int(args.integer("samples", 200));
     if (options.samples < 1) throw UsageError("--samples: expected at least 1");
     options.seed = std::uint64_t(args.integer("seed", 1));
@@ -46,11 +42,9 @@ int distanceCommand(const Arguments& arguments) {
       shapes = shapesOfScenes(scenes);
     }
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "pbdval distance: %s (see 'pbdval distance --help')\n", e.what());
-    return 2;
+    return parser.usageError(e.what());
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "pbdval distance: error: %s\n", e.what());
-    return 2;
+    return parser.inputError(e.what());
   }
   const DistanceStudy study = runDistanceStudy(shapes, options);
   std::printf(
@@ -80,8 +74,7 @@ int distanceCommand(const Arguments& arguments) {
     try {
       writeFileAtomically(args.value("json"), distanceStudyJson(study, options));
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "pbdval distance: error: %s\n", e.what());
-      return 2;
+      return parser.inputError(e.what());
     }
   }
   return 0;

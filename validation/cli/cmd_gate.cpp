@@ -57,18 +57,9 @@ int gateCommand(const Arguments& arguments) {
       .epilog(
           "exit status: 0 every check holds, 1 a check fails, 2 bad usage or unreadable input.");
   ParsedArgs args;
-  try {
-    args = parser.parse(arguments);
-    if (args.helpRequested) {
-      std::cout << parser.help();
-      return 0;
-    }
-    if (!args.has("baseline") || !args.has("results"))
-      throw UsageError("--baseline and --results are required");
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "pbdval gate: %s (see 'pbdval gate --help')\n", e.what());
-    return 2;
-  }
+  if (const auto exit = parser.parseOrExit(arguments, args)) return *exit;
+  if (!args.has("baseline") || !args.has("results"))
+    return parser.usageError("--baseline and --results are required");
   GateReport report;
   ResultsFile results;
   try {
@@ -89,8 +80,7 @@ int gateCommand(const Arguments& arguments) {
       writeFileAtomically(args.value("markdown"), md.str());
     }
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "pbdval gate: error: %s\n", e.what());
-    return 2;
+    return parser.inputError(e.what());
   }
   if (!args.flags.count("quiet")) {
     for (const GateOutcome& o : report.outcomes)
@@ -115,26 +105,16 @@ int baselineCommand(const Arguments& arguments) {
   parser.option("results", "DIR", "a results folder (or its results.json)")
       .option("out", "FILE", "the baseline file to write (atomically)");
   ParsedArgs args;
-  try {
-    args = parser.parse(arguments);
-    if (args.helpRequested) {
-      std::cout << parser.help();
-      return 0;
-    }
-    if (!args.has("results") || !args.has("out"))
-      throw UsageError("--results and --out are required");
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "pbdval baseline: %s (see 'pbdval baseline --help')\n", e.what());
-    return 2;
-  }
+  if (const auto exit = parser.parseOrExit(arguments, args)) return *exit;
+  if (!args.has("results") || !args.has("out"))
+    return parser.usageError("--results and --out are required");
   try {
     const ResultsFile results = readResults(resultsPathOf(args.value("results")));
     writeBaseline(args.value("out"), baselineFromResults(results));
     std::printf("pbdval baseline: %zu runs from %s written to %s\n", results.runs.size(),
                 resultsPathOf(args.value("results")).c_str(), args.value("out").c_str());
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "pbdval baseline: error: %s\n", e.what());
-    return 2;
+    return parser.inputError(e.what());
   }
   return 0;
 }

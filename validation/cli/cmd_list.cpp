@@ -33,24 +33,14 @@ int listCommand(const Arguments& arguments) {
                    "one-line description (Validation.description).");
   parser.positionals("CASES", "scene files or folders of them (default: cases/)", 0, -1);
   ParsedArgs args;
-  try {
-    args = parser.parse(arguments);
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "pbdval list: %s (see 'pbdval list --help')\n", e.what());
-    return 2;
-  }
-  if (args.helpRequested) {
-    std::cout << parser.help();
-    return 0;
-  }
+  if (const auto exit = parser.parseOrExit(arguments, args)) return *exit;
   std::vector<std::string> files;
   try {
     files =
         collectCaseFiles(args.positionals.empty() ? std::vector<std::string>{defaultCaseFolder()}
                                                   : args.positionals);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "pbdval list: error: %s\n", e.what());
-    return 2;
+    return parser.inputError(e.what());
   }
   int unreadable = 0;
   for (const std::string& file : files) {

@@ -16,24 +16,14 @@ int methodsCommand(const Arguments& arguments) {
       "'pbdval simulate --engine E --method M --set PARAM=VALUE'. See docs/methods.md.");
   parser.positionals("ENGINE", "engines to list (default: all)", 0, -1);
   ParsedArgs args;
-  try {
-    args = parser.parse(arguments);
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "pbdval methods: %s (see 'pbdval methods --help')\n", e.what());
-    return 2;
-  }
-  if (args.helpRequested) {
-    std::cout << parser.help();
-    return 0;
-  }
+  if (const auto exit = parser.parseOrExit(arguments, args)) return *exit;
   const std::vector<std::string> engines = engineNames();
   for (const std::string& wanted : args.positionals) {
     bool known = false;
     for (const std::string& e : engines)
       known = known || e == wanted;
     if (!known) {
-      std::fprintf(stderr, "pbdval methods: unknown engine '%s'\n", wanted.c_str());
-      return 2;
+      return parser.usageError("unknown engine '" + wanted + "'");
     }
   }
   for (const std::string& engine : engines) {

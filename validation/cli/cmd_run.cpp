@@ -57,16 +57,7 @@ std::string clock(double seconds) {
 int runCommand(const Arguments& arguments) {
   const ArgParser parser = runParser();
   ParsedArgs args;
-  try {
-    args = parser.parse(arguments);
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "pbdval run: %s (see 'pbdval run --help')\n", e.what());
-    return 2;
-  }
-  if (args.helpRequested) {
-    std::cout << parser.help();
-    return 0;
-  }
+  if (const auto exit = parser.parseOrExit(arguments, args)) return *exit;
   const bool quiet = args.flags.count("quiet") > 0;
   PlanOptions options;
   RunPlan plan;
@@ -87,8 +78,7 @@ int runCommand(const Arguments& arguments) {
         args.positionals.empty() ? std::vector<std::string>{defaultCaseFolder()} : args.positionals;
     plan = planRuns(collectCaseFiles(paths), options);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "pbdval run: error: %s\n", e.what());
-    return 2;
+    return parser.inputError(e.what());
   }
 
   std::ostringstream command;
@@ -144,8 +134,7 @@ int runCommand(const Arguments& arguments) {
   try {
     writeResults(resultsPath, results);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "pbdval run: error: %s\n", e.what());
-    return 2;
+    return parser.inputError(e.what());
   }
   printSummaryTable(std::cout, results.runs);
   std::printf("%s in %s; results in %s\n", statusCounts(results.runs).c_str(),

@@ -55,16 +55,7 @@ ArgParser simulateParser() {
 int simulateCommand(const Arguments& arguments) {
   const ArgParser parser = simulateParser();
   ParsedArgs args;
-  try {
-    args = parser.parse(arguments);
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "pbdval simulate: %s (see 'pbdval simulate --help')\n", e.what());
-    return 2;
-  }
-  if (args.helpRequested) {
-    std::cout << parser.help();
-    return 0;
-  }
+  if (const auto exit = parser.parseOrExit(arguments, args)) return *exit;
   const bool quiet = args.flags.count("quiet") > 0;
   const std::string scenePath = args.positionals[0];
 
@@ -74,8 +65,7 @@ int simulateCommand(const Arguments& arguments) {
   try {
     loaded = pbd::loadScene(scenePath, loadOptions);
   } catch (const pbd::SceneError& e) {
-    std::fprintf(stderr, "pbdval simulate: error: %s\n", e.what());
-    return 2;
+    return parser.inputError(e.what());
   }
   if (!quiet)
     for (const auto& w : loaded.warnings)
@@ -102,8 +92,7 @@ int simulateCommand(const Arguments& arguments) {
     for (const std::string& note : planSteps(length, double(scene.simulation.timeStepSize)).notes)
       if (!quiet) std::fprintf(stderr, "note: %s\n", note.c_str());
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "pbdval simulate: error: %s\n", e.what());
-    return 2;
+    return parser.inputError(e.what());
   }
 
   std::optional<AtomicFileWriter> file;

@@ -43,12 +43,8 @@ int sweepCommand(const Arguments& arguments) {
           "timeStepSize=0.01,0.005,0.0025,0.00125 --methods pbd");
   ParsedArgs args;
   SweepOptions options;
+  if (const auto exit = parser.parseOrExit(arguments, args)) return *exit;
   try {
-    args = parser.parse(arguments);
-    if (args.helpRequested) {
-      std::cout << parser.help();
-      return 0;
-    }
     options.caseFile = args.positionals[0];
     for (const std::string& p : args.values("param")) {
       const auto [name, list] = splitAssignment(p);
@@ -71,11 +67,9 @@ int sweepCommand(const Arguments& arguments) {
     options.timeout = args.number("timeout", 600);
     options.scratchFolder = args.value("out", "out") + "/.scratch";
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "pbdval sweep: %s (see 'pbdval sweep --help')\n", e.what());
-    return 2;
+    return parser.usageError(e.what());
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "pbdval sweep: error: %s\n", e.what());
-    return 2;
+    return parser.inputError(e.what());
   }
   std::ostringstream command;
   command << "pbdval sweep";
@@ -96,8 +90,7 @@ int sweepCommand(const Arguments& arguments) {
     printSweepTable(std::cout, result);
     std::printf("wrote %s\n", path.c_str());
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "pbdval sweep: error: %s\n", e.what());
-    return 2;
+    return parser.inputError(e.what());
   }
   return 0;
 }

@@ -20,13 +20,10 @@ class DistanceJoint : public JointDefaults {
   void solvePosition(BodyStates& bodies, Real substepSize);
   ConstraintRows<kRows> positionRows(const BodyStates& bodies) const;
   JointError error(const BodyStates& bodies) const;
-  JointEnds ends() const { return {body0_, body1_, -1}; }
+  JointEnds ends() const { return connectors_.ends(); }
 
  private:
-  int body0_ = -1;
-  int body1_ = -1;
-  joint_parts::LocalAnchor anchor0_, anchor1_;
-  Real restLength_ = 0;
+  ConnectorPair connectors_;
 };
 
 }  // namespace pbd

@@ -91,6 +91,34 @@ struct PointAxisFrames {
   }
 };
 
+/// Two connectors (`position1` fixed in body 0, `position2` fixed in body 1, world at t = 0) and
+/// their initial distance: the geometry of the distance joint and the rigid-body spring.
+struct ConnectorPair {
+  int body0 = -1;
+  int body1 = -1;
+  joint_parts::LocalAnchor anchor0, anchor1;
+  Real restLength = 0;
+
+  static ConnectorPair init(const RigidBodyStates& bodies, const JointDesc& desc) {
+    ConnectorPair c;
+    c.body0 = desc.body1;
+    c.body1 = desc.body2;
+    c.anchor0 = joint_parts::LocalAnchor::fromWorld(bodies, desc.body1, desc.position1);
+    c.anchor1 = joint_parts::LocalAnchor::fromWorld(bodies, desc.body2, desc.position2);
+    c.restLength = (desc.position2 - desc.position1).norm();
+    return c;
+  }
+  /// C = ‖c₁ − c₀‖ − L and its Jacobians (joint_parts::setDistanceRow).
+  ConstraintRows<1> distanceRow(const RigidBodyStates& b) const {
+    ConstraintRows<1> rows;
+    joint_parts::setDistanceRow(
+        rows, 0, b.position[static_cast<std::size_t>(body0)], anchor0.world(b, body0),
+        b.position[static_cast<std::size_t>(body1)], anchor1.world(b, body1), restLength);
+    return rows;
+  }
+  JointEnds ends() const { return {body0, body1, -1}; }
+};
+
 /// Norm of rows [first, first + count) of C.
 template <int Rows>
 Real rowNorm(const ConstraintRows<Rows>& rows, int first, int count) {

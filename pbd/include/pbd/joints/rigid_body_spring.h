@@ -23,13 +23,10 @@ class RigidBodySpring : public JointDefaults {
   ConstraintRows<kRows> positionRows(const BodyStates& bodies) const;
   /// A spring has no hard constraint: its error is zero; its extension is positionRows().value.
   JointError error(const BodyStates& bodies) const;
-  JointEnds ends() const { return {body0_, body1_, -1}; }
+  JointEnds ends() const { return connectors_.ends(); }
 
  private:
-  int body0_ = -1;
-  int body1_ = -1;
-  joint_parts::LocalAnchor anchor0_, anchor1_;
-  Real restLength_ = 0;
+  ConnectorPair connectors_;
   Real stiffness_ = 0;
   Eigen::Matrix<Real, 1, 1> compliance_ = Eigen::Matrix<Real, 1, 1>::Zero();
   Eigen::Matrix<Real, 1, 1> multiplier_ = Eigen::Matrix<Real, 1, 1>::Zero();

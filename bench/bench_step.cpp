@@ -1,0 +1,66 @@
+// The cost of one step, per engine and case, through the Engine interface (the runner's path).
+// Each benchmark loads the case, takes 50 warm-up steps, then times single steps; the model
+// keeps evolving during the measurement (scenes are a few seconds long at most). Build
+// metadata (commit, compiler, flags, precision) goes into the benchmark context.
+//
+//   build/release/bench/pbdval_bench [--benchmark_filter=chain] [--benchmark_out=file.json]
+#include <benchmark/benchmark.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "adapters/engine.h"
+#include "pbd/io/scene_loader.h"
+#include "pbd/math/types.h"
+#include "pbdval/build_info.h"
+
+namespace {
+
+void stepCase(benchmark::State& state, const std::string& caseName, const std::string& method) {
+  const pbd::Scene scene =
+      pbd::loadScene(std::string(PBDVAL_SOURCE_DIR) + "/cases/" + caseName + ".json").scene;
+  const pbdval::Method resolved = pbdval::resolveMethod(method, {});
+  std::unique_ptr<pbdval::Engine> engine = pbdval::makeEngine(pbdval::findMethod(method).engine);
+  if (!engine->unsupported(scene, resolved).empty()) {
+    state.SkipWithError("unsupported in this engine");
+    return;
+  }
+  engine->load(scene, resolved);
+  for (int k = 0; k < 50; ++k)
+    engine->step();
+  for (auto _ : state)
+    engine->step();
+  state.counters["steps_per_s"] =
+      benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["bodies"] = double(scene.rigidBodies.size());
+  state.counters["real_time_factor"] =
+      benchmark::Counter(double(state.iterations()) * double(scene.simulation.timeStepSize),
+                         benchmark::Counter::kIsRate);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::vector<std::string> cases = {
+      "chain_10",     "chain_100", "double_pendulum", "contact_stack_5", "contact_sphere_pile",
+      "contact_pile", "car"};
+  const std::vector<std::string> methods = {"pbd",      "bullet.si",    "ode.quickstep",
+                                            "ode.step", "mujoco.euler", "mujoco.rk4"};
+  for (const std::string& c : cases)
+    for (const std::string& m : methods)
+      benchmark::RegisterBenchmark(("step/" + c + "/" + m).c_str(), [c, m](benchmark::State& s) {
+        stepCase(s, c, m);
+      })->Unit(benchmark::kMicrosecond);
+  benchmark::AddCustomContext("pbdval_version", PBDVAL_VERSION);
+  benchmark::AddCustomContext("pbdval_commit",
+                              std::string(PBDVAL_GIT_COMMIT) + " (" + PBDVAL_GIT_DIRTY + ")");
+  benchmark::AddCustomContext("build_type", PBDVAL_BUILD_TYPE);
+  benchmark::AddCustomContext("compiler", PBDVAL_CXX_COMPILER);
+  benchmark::AddCustomContext("flags", PBDVAL_CXX_FLAGS);
+  benchmark::AddCustomContext("precision", sizeof(pbd::Real) == 8 ? "double" : "float");
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
