@@ -21,34 +21,18 @@ function(pbdval_warnings target)
   endif()
 endfunction()
 
-# Build metadata recorded with every result file (commit, compiler, flags). The commit is read
-# at configure time; touching .git/HEAD or the current branch's ref re-runs the configure step.
+# Build metadata recorded with every result file (commit, compiler, flags). Compiler and
+# flags are fixed at configure time; the commit is read at every build by cmake/git_info.cmake,
+# so a result never names a commit older than the code that produced it.
 find_package(Git QUIET)
-set(PBDVAL_GIT_COMMIT "unknown")
-set(PBDVAL_GIT_DIRTY "unknown")
-if(GIT_FOUND)
-  execute_process(COMMAND ${GIT_EXECUTABLE} rev-parse HEAD WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
-                  OUTPUT_VARIABLE PBDVAL_GIT_COMMIT OUTPUT_STRIP_TRAILING_WHITESPACE
-                  RESULT_VARIABLE git_result ERROR_QUIET)
-  if(NOT git_result EQUAL 0)
-    set(PBDVAL_GIT_COMMIT "unknown")
-  else()
-    execute_process(COMMAND ${GIT_EXECUTABLE} status --porcelain --untracked-files=no
-                    WORKING_DIRECTORY ${PROJECT_SOURCE_DIR} OUTPUT_VARIABLE git_status ERROR_QUIET)
-    if(git_status STREQUAL "")
-      set(PBDVAL_GIT_DIRTY "clean")
-    else()
-      set(PBDVAL_GIT_DIRTY "local changes")
-    endif()
-    execute_process(COMMAND ${GIT_EXECUTABLE} rev-parse --git-path HEAD WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
-                    OUTPUT_VARIABLE git_head_file OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
-    if(EXISTS "${PROJECT_SOURCE_DIR}/${git_head_file}")
-      set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/${git_head_file}")
-    elseif(EXISTS "${git_head_file}")
-      set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${git_head_file}")
-    endif()
-  endif()
-endif()
+add_custom_target(pbdval_git_info
+  COMMAND ${CMAKE_COMMAND} -DSOURCE_DIR=${PROJECT_SOURCE_DIR}
+          -DOUTPUT=${PROJECT_BINARY_DIR}/generated/pbdval/git_info.h
+          -DTEMPLATE=${CMAKE_CURRENT_LIST_DIR}/git_info.h.in
+          -DGIT_EXECUTABLE=${GIT_EXECUTABLE} -P ${CMAKE_CURRENT_LIST_DIR}/git_info.cmake
+  BYPRODUCTS ${PROJECT_BINARY_DIR}/generated/pbdval/git_info.h
+  COMMENT "Recording the git commit"
+  VERBATIM)
 string(TOUPPER "${CMAKE_BUILD_TYPE}" build_type_upper)
 set(PBDVAL_CXX_FLAGS "${CMAKE_CXX_FLAGS} ${CMAKE_CXX_FLAGS_${build_type_upper}} -ffp-contract=off")
 string(STRIP "${PBDVAL_CXX_FLAGS}" PBDVAL_CXX_FLAGS)

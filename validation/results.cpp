@@ -119,6 +119,10 @@ RunMetadata currentMetadata(const std::string& command) {
   return m;
 }
 
+std::string metadataJsonText(const RunMetadata& metadata) {
+  return metadataJson(metadata).dump();
+}
+
 void writeResults(const std::string& path, const ResultsFile& results) {
   Json runs = Json::array();
   for (const RunRecord& r : results.runs)

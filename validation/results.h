@@ -21,6 +21,9 @@ struct RunMetadata {
 /// The metadata of this process (build info compiled in, machine read from the system).
 RunMetadata currentMetadata(const std::string& command);
 
+/// The metadata as the JSON object every result file (results.json, sweep.json) stores.
+std::string metadataJsonText(const RunMetadata& metadata);
+
 /// A case's gate data, copied into the results so that the gate needs nothing else.
 struct CaseGateData {
   std::string file;

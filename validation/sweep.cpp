@@ -12,6 +12,7 @@
 #include "validation/atomic_file.h"
 #include "validation/case_library.h"
 #include "validation/overrides.h"
+#include "validation/results.h"
 #include "validation/trajectory.h"
 
 namespace pbdval {
@@ -315,13 +316,7 @@ void writeSweepJson(const std::string& path, const SweepResult& result,
   }
   const Json document = {{"schema", "pbdval-sweep"},
                          {"schemaVersion", 1},
-                         {"metadata",
-                          {{"created", metadata.created},
-                           {"command", metadata.command},
-                           {"commit", metadata.commit},
-                           {"compiler", metadata.compiler},
-                           {"flags", metadata.flags},
-                           {"cpu", metadata.cpu}}},
+                         {"metadata", Json::parse(metadataJsonText(metadata))},
                          {"case", result.caseName},
                          {"metric", result.metric},
                          {"points", points},

@@ -38,8 +38,8 @@ struct ParityProfile {
 
   /// Spinning free body: kinetic energy ≤ (1 + bound) × its initial value.
   double energyGrowthBound = 0.01;
-  /// The spinning-body test runs only when true; false for a method known to be unstable on
-  /// it (explicit gyroscopic forces), with the reason in `notes`.
+  /// false for a method known to be unstable on the spinning body (explicit gyroscopic forces),
+  /// with the reason in `notes`: the test then asserts the predicted growth instead.
   bool spinningBodies = true;
 
   /// Contact tests (drop, incline) run only when true.

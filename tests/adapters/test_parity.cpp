@@ -94,9 +94,12 @@ TEST_P(Parity, FreeFallAndProjectileMatchTheDiscreteClosedForm) {
 // Kinetic energy ½ωᵀIω is conserved by the exact dynamics; a numerical method may dissipate it
 // but must not create it. Bound: KE ≤ (1 + energyGrowthBound) KE₀ over 20 s (MuJoCo's own test
 // uses 1 %). Two bodies: a tumble about the intermediate axis and a fast spin about the major.
+// A method flagged unstable on it (spinningBodies false: explicit gyroscopic forces) is held to
+// the opposite: the analysis in its profile predicts growth, so the energy must leave the bound
+// (or the engine stop the run as diverged). Should a later engine version fix it, this fails and
+// the profile is corrected.
 TEST_P(Parity, SpinningBoxEnergyDoesNotGrow) {
   const ParityProfile& p = GetParam();
-  if (!p.spinningBodies) GTEST_SKIP() << p.engine << "/" << p.method << ": " << p.notes;
   Scene s = baseScene(0.005, Vector3::Zero());
   const Real density = Real(1 / (0.1 * 0.2 * 0.3));  // 1 kg
   auto tumble = pbd::test::boxBody(1, Vector3(0.1, 0.2, 0.3), Vector3(0, 0, 0), density);
@@ -105,7 +108,13 @@ TEST_P(Parity, SpinningBoxEnergyDoesNotGrow) {
   spin.angularVelocity = Vector3(20, 0.05, 0.05);
   s.rigidBodies = {tumble, spin};
   const EngineRun r = run(p, s, 20.0);
+  if (!p.spinningBodies && r.outcome.status == RunStatus::Diverged) {
+    std::printf("  %s/%s spinning bodies: diverged as predicted (%s)\n", p.engine.c_str(),
+                p.method.c_str(), r.outcome.reason.c_str());
+    return;
+  }
   ASSERT_EQ(r.outcome.status, RunStatus::Ok) << r.outcome.reason;
+  double worstGrowth = 0;
   for (std::size_t b = 0; b < 2; ++b) {
     auto energy = [&](const BodyState& st) {
       return 0.5 * double(st.angularVelocity.dot(worldInertia(s.rigidBodies[b], st) *
@@ -114,12 +123,20 @@ TEST_P(Parity, SpinningBoxEnergyDoesNotGrow) {
     const double e0 = energy(r.samples.front().bodies[b]);
     double maxRatio = 0, minRatio = 1e9;
     for (const State& st : r.samples) {
+      if (!std::isfinite(energy(st.bodies[b]))) continue;
       maxRatio = std::max(maxRatio, energy(st.bodies[b]) / e0);
       minRatio = std::min(minRatio, energy(st.bodies[b]) / e0);
     }
-    EXPECT_LE(maxRatio, 1 + p.energyGrowthBound) << p.engine << " body " << b;
+    if (p.spinningBodies) {
+      EXPECT_LE(maxRatio, 1 + p.energyGrowthBound) << p.engine << " body " << b;
+    }
+    worstGrowth = std::max(worstGrowth, maxRatio);
     std::printf("  %s/%s spinning body %zu: KE/KE0 in [%.6f, %.6f] over 20 s\n", p.engine.c_str(),
                 p.method.c_str(), b, minRatio, maxRatio);
+  }
+  if (!p.spinningBodies) {
+    EXPECT_GT(worstGrowth, 1 + p.energyGrowthBound)
+        << p.engine << "/" << p.method << " was expected to be unstable here: " << p.notes;
   }
 }
 
