@@ -1,11 +1,17 @@
 // The cost of one step, per engine and case, through the Engine interface (the runner's path).
-// Each benchmark loads the case, takes 50 warm-up steps, then times single steps; the model
-// keeps evolving during the measurement (scenes are a few seconds long at most). Build
-// metadata (commit, compiler, flags, precision) goes into the benchmark context.
+// Each benchmark loads the case, takes 50 warm-up steps, then times single steps over the first
+// kHorizonSeconds of the scene, reloading it (untimed) whenever that horizon is reached, so the
+// measured motion is the scene's own and never a blown-up state. An engine error or divergence
+// ends that benchmark with the message, not the program. Build metadata (commit, compiler,
+// flags, precision) goes into the benchmark context.
 //
 //   build/release/bench/pbdval_bench [--benchmark_filter=chain] [--benchmark_out=file.json]
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+
+#include <cmath>
+#include <exception>
 #include <memory>
 #include <string>
 #include <vector>
@@ -17,6 +23,8 @@
 
 namespace {
 
+constexpr double kHorizonSeconds = 2.0;
+
 void stepCase(benchmark::State& state, const std::string& caseName, const std::string& method) {
   const pbd::Scene scene =
       pbd::loadScene(std::string(PBDVAL_SOURCE_DIR) + "/cases/" + caseName + ".json").scene;
@@ -26,11 +34,30 @@ void stepCase(benchmark::State& state, const std::string& caseName, const std::s
     state.SkipWithError("unsupported in this engine");
     return;
   }
-  engine->load(scene, resolved);
-  for (int k = 0; k < 50; ++k)
-    engine->step();
-  for (auto _ : state)
-    engine->step();
+  const int warmUpSteps = 50;
+  const long stepsPerLoad = std::max(
+      long(warmUpSteps) + 1, long(std::ceil(kHorizonSeconds / scene.simulation.timeStepSize)));
+  try {
+    engine->load(scene, resolved);
+    for (int k = 0; k < warmUpSteps; ++k)
+      engine->step();
+    long stepsTaken = warmUpSteps;
+    for (auto _ : state) {
+      if (stepsTaken == stepsPerLoad) {
+        state.PauseTiming();
+        engine->load(scene, resolved);
+        for (int k = 0; k < warmUpSteps; ++k)
+          engine->step();
+        stepsTaken = warmUpSteps;
+        state.ResumeTiming();
+      }
+      engine->step();
+      ++stepsTaken;
+    }
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return;
+  }
   state.counters["steps_per_s"] =
       benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["bodies"] = double(scene.rigidBodies.size());
