@@ -30,8 +30,12 @@ void stepCase(benchmark::State& state, const std::string& caseName, const std::s
       pbd::loadScene(std::string(PBDVAL_SOURCE_DIR) + "/cases/" + caseName + ".json").scene;
   const pbdval::Method resolved = pbdval::resolveMethod(method, {});
   std::unique_ptr<pbdval::Engine> engine = pbdval::makeEngine(pbdval::findMethod(method).engine);
-  if (!engine->unsupported(scene, resolved).empty()) {
-    state.SkipWithError("unsupported in this engine");
+  const std::vector<std::string> missing = engine->unsupported(scene, resolved);
+  if (!missing.empty()) {
+    std::string reason = "unsupported:";
+    for (const std::string& feature : missing)
+      reason += " " + feature + (&feature == &missing.back() ? "" : ";");
+    state.SkipWithError(reason.c_str());
     return;
   }
   const int warmUpSteps = 50;
