@@ -110,6 +110,21 @@ SweepFit fitConvergence(const std::string& method, const std::vector<std::string
     fit.slopes.push_back(slope);
     fit.orders.push_back(isStepLike(name) ? slope : -slope);
   }
+  // An order ≤ 0 means the error does not fall as the parameter is refined: the points sit on a
+  // floor (round-off, solver tolerance, a modelling error the parameter cannot remove), not in
+  // the asymptotic range where an order means anything. Reported, not hidden.
+  double largest = 0;
+  for (std::size_t k : usable)
+    largest = std::max(largest, errors[k]);
+  for (std::size_t c = 0; c < fit.orders.size(); ++c)
+    if (fit.orders[c] <= 0) {
+      char text[200];
+      std::snprintf(text, sizeof text,
+                    "the error does not fall as %s is refined (largest %.3g): a floor "
+                    "(round-off, solver tolerance), not an asymptotic order",
+                    fit.parameters[c].c_str(), largest);
+      fit.warning = text;
+    }
   return fit;
 }
 
@@ -281,6 +296,7 @@ void printSweepTable(std::ostream& out, const SweepResult& result) {
           fit.parameters[i].c_str(), fit.orders[i], fit.slopes[i], fit.rSquared, fit.points);
       out << line;
     }
+    if (!fit.warning.empty()) out << "  warning: " << fit.warning << "\n";
   }
   for (const std::string& note : result.notes)
     out << "note: " << note << "\n";
@@ -312,7 +328,8 @@ void writeSweepJson(const std::string& path, const SweepResult& result,
                     {"orders", orders},
                     {"r_squared", f.rSquared},
                     {"points", f.points},
-                    {"note", f.note}});
+                    {"note", f.note},
+                    {"warning", f.warning}});
   }
   const Json document = {{"schema", "pbdval-sweep"},
                          {"schemaVersion", 1},

@@ -46,7 +46,8 @@ struct SweepFit {
   std::vector<double> orders;           ///< see the header comment
   double rSquared = 0;
   int points = 0;
-  std::string note;  ///< why no fit, when there is none
+  std::string note;     ///< why no fit, when there is none
+  std::string warning;  ///< a fit outside the asymptotic range (the error does not fall)
 };
 
 struct SweepResult {

@@ -174,6 +174,16 @@ TEST(SweepFit, RecoversKnownOrders) {
   ASSERT_EQ(fit.orders.size(), 2u);
   EXPECT_NEAR(fit.orders[0], 2, 1e-9);
   EXPECT_NEAR(fit.orders[1], 1, 1e-9);
+  EXPECT_TRUE(fit.warning.empty()) << fit.warning;
+
+  // An error that grows as the step shrinks (round-off accumulating over more steps, e ∝ 1/h):
+  // the fit still reports its slope, and warns that this is a floor, not an order.
+  e.clear();
+  for (const auto& step : h)
+    e.push_back(1e-16 / step[0]);
+  fit = fitConvergence("m", {"timeStepSize"}, h, e);
+  EXPECT_NEAR(fit.orders[0], -1, 1e-9);
+  EXPECT_NE(fit.warning.find("does not fall"), std::string::npos) << fit.warning;
 
   // Too few usable points: no fit, with a reason.
   fit = fitConvergence("m", {"timeStepSize"}, {{0.01}, {0.02}}, {1.0, std::nan("")});
