@@ -166,12 +166,16 @@ void MujocoEngine::projectInitialVelocities(const pbd::Scene& scene) {
   std::vector<mjtNum> momentum(nv, 0), jacp(3 * nv), jacr(3 * nv);
   using RowJacobian = Eigen::Map<Eigen::Matrix<mjtNum, 3, Eigen::Dynamic, Eigen::RowMajor>>;
   using Vector = Eigen::Map<Eigen::Matrix<mjtNum, Eigen::Dynamic, 1>>;
+  // The Jacobians of body i's centre-of-mass velocity and angular velocity with respect to qvel.
+  const RowJacobian linear(jacp.data(), 3, Eigen::Index(nv)),
+      angular(jacr.data(), 3, Eigen::Index(nv));
+  auto computeJacobians = [&](std::size_t i) {
+    mj_jacBodyCom(m, d, jacp.data(), jacr.data(), bodyIds_[i]);
+  };
   for (std::size_t i = 0; i < scene.rigidBodies.size(); ++i) {
     const pbd::RigidBodyDesc& b = scene.rigidBodies[i];
     if (!b.isDynamic) continue;
-    mj_jacBodyCom(m, d, jacp.data(), jacr.data(), bodyIds_[i]);
-    const RowJacobian linear(jacp.data(), 3, Eigen::Index(nv)),
-        angular(jacr.data(), 3, Eigen::Index(nv));
+    computeJacobians(i);
     Vector(momentum.data(), Eigen::Index(nv)) +=
         linear.transpose() * (b.massProperties.mass * b.velocity) +
         angular.transpose() * (worldInertia(b) * b.angularVelocity);
@@ -180,9 +184,7 @@ void MujocoEngine::projectInitialVelocities(const pbd::Scene& scene) {
   for (std::size_t i = 0; i < scene.rigidBodies.size(); ++i) {
     const pbd::RigidBodyDesc& b = scene.rigidBodies[i];
     if (!b.isDynamic) continue;
-    mj_jacBodyCom(m, d, jacp.data(), jacr.data(), bodyIds_[i]);
-    const RowJacobian linear(jacp.data(), 3, Eigen::Index(nv)),
-        angular(jacr.data(), 3, Eigen::Index(nv));
+    computeJacobians(i);
     const Vector qvel(d->qvel, Eigen::Index(nv));
     const double mismatch =
         (linear * qvel - b.velocity).norm() + (angular * qvel - b.angularVelocity).norm();

@@ -384,14 +384,7 @@ Scene chainScene(int links, JointType type) {
   Scene s = emptyScene();
   s.rigidBodies.push_back(
       pbd::test::boxBody(0, Vector3(0.1, 0.1, 0.1), Vector3(0, 2, 0), 1, false));
-  for (int i = 1; i <= links; ++i) {
-    s.rigidBodies.push_back(
-        pbd::test::boxBody(i, Vector3(0.4, 0.1, 0.1), Vector3(0.4 * i - 0.2, 2, 0), 500));
-    pbd::JointDesc j = pbd::test::makeJointDesc(type, i - 1, i);
-    j.position = Vector3(0.4 * (i - 1), 2, 0);
-    j.axis = Vector3::UnitZ();
-    s.joints.push_back(j);
-  }
+  pbd::test::appendChain(s, links, type);
   return s;
 }
 

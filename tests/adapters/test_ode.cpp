@@ -501,13 +501,7 @@ Scene chainScene() {
   Scene s = sceneWith(0.005, Vector3(0, -9.81, 0));
   s.rigidBodies.push_back(
       pbd::test::boxBody(0, Vector3(0.2, 0.2, 0.2), Vector3(0, 2, 0), 1, false));
-  for (int i = 1; i <= 3; ++i) {
-    s.rigidBodies.push_back(
-        pbd::test::boxBody(i, Vector3(0.4, 0.1, 0.1), Vector3(0.4 * i - 0.2, 2, 0), 500));
-    pbd::JointDesc j = pbd::test::makeJointDesc(JointType::Ball, i - 1, i);
-    j.position = Vector3(0.4 * (i - 1), 2, 0);
-    s.joints.push_back(j);
-  }
+  pbd::test::appendChain(s, 3, JointType::Ball);
   return s;
 }
 

@@ -146,13 +146,7 @@ TEST_P(Parity, SameSceneTwiceGivesBitwiseIdenticalTrajectories) {
   Scene s = baseScene(0.005);
   s.rigidBodies.push_back(
       pbd::test::boxBody(0, Vector3(0.2, 0.2, 0.2), Vector3(0, 2, 0), 1, false));
-  for (int i = 1; i <= 5; ++i) {
-    s.rigidBodies.push_back(
-        pbd::test::boxBody(i, Vector3(0.4, 0.1, 0.1), Vector3(0.4 * i - 0.2, 2, 0), 500));
-    pbd::JointDesc j = pbd::test::makeJointDesc(JointType::Ball, i - 1, i);
-    j.position = Vector3(0.4 * (i - 1), 2, 0);
-    s.joints.push_back(j);
-  }
+  pbd::test::appendChain(s, 5, JointType::Ball);
   const EngineRun a = run(p, s, 2.0), b = run(p, s, 2.0);
   ASSERT_EQ(a.outcome.status, RunStatus::Ok) << a.outcome.reason;
   ASSERT_EQ(a.samples.size(), b.samples.size());

@@ -76,4 +76,18 @@ inline Scene pendulumScene(JointType type, Real substepSize = Real(1e-3)) {
   return s;
 }
 
+/// Appends a horizontal chain to `s`, whose body 0 (the anchor) is at (0, 2, 0): `links` boxes
+/// 0.4 × 0.1 × 0.1 m (density 500) along +x, each joined to the previous one at their common
+/// end by a joint of `type` with axis z.
+inline void appendChain(Scene& s, int links, JointType type) {
+  for (int i = 1; i <= links; ++i) {
+    s.rigidBodies.push_back(
+        boxBody(i, Vector3(0.4, 0.1, 0.1), Vector3(Real(0.4) * i - Real(0.2), 2, 0), 500));
+    JointDesc j = makeJointDesc(type, i - 1, i);
+    j.position = Vector3(Real(0.4) * (i - 1), 2, 0);
+    j.axis = Vector3::UnitZ();
+    s.joints.push_back(j);
+  }
+}
+
 }  // namespace pbd::test

@@ -35,13 +35,7 @@ RigidBodyDesc ground(Real friction = Real(0.2), Real restitution = Real(0.6)) {
 }
 
 void setPairMaterial(Scene& s, int a, int b, Real friction, Real restitution) {
-  ContactPairDesc pair;
-  pair.body1 = pair.bodyId1 = a;
-  pair.body2 = pair.bodyId2 = b;
-  pair.hasFriction = pair.hasRestitution = true;
-  pair.friction = friction;
-  pair.restitution = restitution;
-  s.contactPairs.push_back(pair);
+  s.contactPairs.push_back(pbd::test::contactPair(a, b, friction, restitution));
 }
 
 /// The depth into the contact shell at which a resting body's penalty holds it: during a step

@@ -5,6 +5,7 @@
 #include <initializer_list>
 #include <string>
 
+#include "common/text_assertions.h"
 #include "pbd/io/mesh_loader.h"
 #include "pbd/io/scene_loader.h"
 
@@ -21,15 +22,7 @@ std::string writeFile(const std::string& name, const std::string& content) {
   return path;
 }
 
-::testing::AssertionResult containsAll(const std::string& text,
-                                       std::initializer_list<std::string> parts) {
-  for (const auto& part : parts) {
-    if (text.find(part) == std::string::npos) {
-      return ::testing::AssertionFailure() << "'" << part << "' not in: " << text;
-    }
-  }
-  return ::testing::AssertionSuccess();
-}
+using pbd::test::containsAll;
 
 template <class Load>
 std::string errorOf(Load load) {

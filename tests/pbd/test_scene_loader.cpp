@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "common/text_assertions.h"
 #include "pbd/io/scene_loader.h"
 
 namespace pbd {
@@ -37,15 +38,7 @@ std::string errorOf(const std::string& json, LoadOptions options = {}) {
   return "(no SceneError)";
 }
 
-::testing::AssertionResult containsAll(const std::string& text,
-                                       std::initializer_list<std::string> parts) {
-  for (const auto& part : parts) {
-    if (text.find(part) == std::string::npos) {
-      return ::testing::AssertionFailure() << "'" << part << "' not in: " << text;
-    }
-  }
-  return ::testing::AssertionSuccess();
-}
+using pbd::test::containsAll;
 
 const SceneDiagnostic* warningAt(const LoadedScene& loaded, const std::string& jsonPath) {
   for (const auto& warning : loaded.warnings)
