@@ -1,86 +1,72 @@
 #include "adapters/engine.h"
 
-#include <cstdlib>
-#include <sstream>
-
-#include "adapters/registry.h"
+#include <stdexcept>
 
 namespace pbdval {
 
-double Method::number(const std::string& parameter) const {
-  const std::string& value = text(parameter);
-  char* end = nullptr;
-  const double result = std::strtod(value.c_str(), &end);
-  if (value.empty() || end != value.c_str() + value.size())
-    throw std::invalid_argument("method " + name + ": parameter " + parameter +
-                                " must be a number, got '" + value + "'");
-  return result;
+const ParameterSpec* MethodInfo::find(const std::string& parameter) const {
+  for (const ParameterSpec& p : parameters)
+    if (p.name == parameter) return &p;
+  return nullptr;
 }
 
-const std::string& Method::text(const std::string& parameter) const {
-  const auto it = parameters.find(parameter);
-  if (it == parameters.end())
+const ParameterValue& Method::value(const std::string& parameter, ParameterKind kind) const {
+  const auto it = values.find(parameter);
+  if (it == values.end())
     throw std::invalid_argument("method " + name + " has no parameter '" + parameter + "'");
+  if (it->second.kind != kind)
+    throw std::invalid_argument("method " + name + ": parameter " + parameter + " is a " +
+                                parameterKindName(it->second.kind) + ", not a " +
+                                parameterKindName(kind));
   return it->second;
 }
 
-const std::vector<MethodInfo>& methodCatalog() {
-  static const std::vector<MethodInfo> catalog = [] {
-    std::vector<MethodInfo> all;
-    for (const EngineEntry& entry : engineEntries())
-      for (MethodInfo& m : entry.methods())
-        all.push_back(std::move(m));
-    return all;
-  }();
-  return catalog;
+double Method::real(const std::string& parameter) const {
+  return value(parameter, ParameterKind::Real).number;
 }
 
-const MethodInfo& findMethod(const std::string& name) {
-  for (const MethodInfo& m : methodCatalog())
-    if (m.name == name) return m;
-  std::ostringstream known;
-  for (const MethodInfo& m : methodCatalog())
-    known << (known.tellp() > 0 ? ", " : "") << m.name;
-  throw std::invalid_argument("unknown method '" + name + "' (known: " + known.str() + ")");
+std::int64_t Method::integer(const std::string& parameter) const {
+  return static_cast<std::int64_t>(value(parameter, ParameterKind::Integer).number);
 }
 
-std::string defaultMethod(const std::string& engine) {
-  for (const EngineEntry& entry : engineEntries())
-    if (entry.name == engine) return entry.defaultMethod;
-  throw std::invalid_argument("unknown engine '" + engine + "'");
+bool Method::flag(const std::string& parameter) const {
+  return value(parameter, ParameterKind::Bool).number != 0;
 }
 
-std::vector<std::string> engineNames() {
-  std::vector<std::string> names;
-  for (const EngineEntry& entry : engineEntries())
-    if (!entry.hidden) names.push_back(entry.name);
-  return names;
+const std::string& Method::choice(const std::string& parameter) const {
+  return value(parameter, ParameterKind::Choice).choice;
 }
 
-Method resolveMethod(const std::string& name, const std::map<std::string, std::string>& overrides) {
-  const MethodInfo& info = findMethod(name);
-  Method method;
-  method.name = name;
-  for (const MethodParameter& p : info.parameters)
-    method.parameters[p.name] = p.defaultValue;
-  for (const auto& [key, value] : overrides) {
-    if (method.parameters.count(key) == 0) {
-      std::ostringstream valid;
-      for (const MethodParameter& p : info.parameters)
-        valid << (valid.tellp() > 0 ? ", " : "") << p.name;
-      throw std::invalid_argument(
-          "method " + name + " has no parameter '" + key +
-          "' (parameters: " + (info.parameters.empty() ? "none" : valid.str()) + ")");
+double Method::seconds(const std::string& parameter, double stepSize) const {
+  const ParameterValue& v = value(parameter, ParameterKind::Duration);
+  for (const ParameterSpec& spec : declarations)
+    if (spec.name == parameter) return durationSeconds(spec, v, stepSize, name);
+  throw std::invalid_argument("method " + name + ": parameter " + parameter + " is not declared");
+}
+
+std::map<std::string, std::string> Method::textValues() const {
+  std::map<std::string, std::string> text;
+  for (const auto& [key, v] : values) text[key] = v.text();
+  return text;
+}
+
+Method resolveMethod(const MethodInfo& info, const std::map<std::string, std::string>& overrides) {
+  Method resolved;
+  resolved.name = info.name;
+  resolved.declarations = info.parameters;
+  for (const ParameterSpec& p : info.parameters)
+    resolved.values[p.name] = parseParameter(p, p.defaultValue, info.name);
+  for (const auto& [key, text] : overrides) {
+    const ParameterSpec* spec = info.find(key);
+    if (!spec) {
+      std::string valid;
+      for (const ParameterSpec& p : info.parameters) valid += (valid.empty() ? "" : ", ") + p.name;
+      throw std::invalid_argument("method " + info.name + " has no parameter '" + key +
+                                  "' (parameters: " + (valid.empty() ? "none" : valid) + ")");
     }
-    method.parameters[key] = value;
+    resolved.values[key] = parseParameter(*spec, text, info.name);
   }
-  return method;
-}
-
-std::unique_ptr<Engine> makeEngine(const std::string& engine) {
-  for (const EngineEntry& entry : engineEntries())
-    if (entry.name == engine) return entry.make();
-  throw std::invalid_argument("unknown engine '" + engine + "'");
+  return resolved;
 }
 
 }  // namespace pbdval

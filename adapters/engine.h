@@ -4,6 +4,8 @@
 // states read back and the Scene.
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -12,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "adapters/parameters.h"
 #include "pbd/model/scene.h"
 
 namespace pbdval {
@@ -41,30 +44,51 @@ struct State {
   std::vector<ParticleState> particles;
 };
 
-/// A parameter of a method, with its default as text.
-struct MethodParameter {
-  std::string name;
-  std::string defaultValue;
-  std::string description;
-};
-
-/// A named solver configuration of one engine ("ode.quickstep").
+/// A named solver configuration of one engine ("ode.quickstep") and its typed parameters.
 struct MethodInfo {
   std::string name;
   std::string engine;
   std::string description;
-  std::vector<MethodParameter> parameters;
+  std::vector<ParameterSpec> parameters;
+
+  /// The declaration of `parameter`, or nullptr.
+  const ParameterSpec* find(const std::string& parameter) const;
 };
 
-/// A method with its parameter values resolved (defaults filled in, overrides applied).
+/// A method with every parameter value resolved (defaults filled in, overrides applied) and
+/// checked against its declaration. Engines read values through the typed accessors; each
+/// throws std::invalid_argument naming the parameter when it is missing or of another kind.
 struct Method {
   std::string name;
-  std::map<std::string, std::string> parameters;
+  std::map<std::string, ParameterValue> values;
+  std::vector<ParameterSpec> declarations;  ///< of the method's parameters (for durations)
 
-  /// The value of a numeric parameter; throws std::invalid_argument naming it when missing or
-  /// not a number.
-  double number(const std::string& parameter) const;
-  const std::string& text(const std::string& parameter) const;
+  double real(const std::string& parameter) const;
+  std::int64_t integer(const std::string& parameter) const;
+  bool flag(const std::string& parameter) const;
+  const std::string& choice(const std::string& parameter) const;
+  /// A Duration in seconds, "4h" resolved with the scene's `stepSize`.
+  double seconds(const std::string& parameter, double stepSize) const;
+  /// Every value as canonical text, for results and tables.
+  std::map<std::string, std::string> textValues() const;
+
+ private:
+  const ParameterValue& value(const std::string& parameter, ParameterKind kind) const;
+};
+
+/// `info` resolved: defaults, then `overrides` (parameter → text), each parsed and checked
+/// against its declaration. Throws std::invalid_argument for an unknown parameter (naming the
+/// valid ones) or a value out of range (naming the range).
+Method resolveMethod(const MethodInfo& info, const std::map<std::string, std::string>& overrides = {});
+
+/// What the runner needs to know about a loaded run, typed. effectiveSettings() is for the
+/// parity record only; nothing is parsed out of it.
+struct RunFacts {
+  std::string engineVersion;            ///< "Bullet 3.24", "MuJoCo 2.2.2", ...
+  int integratorStepsPerSceneStep = 1;  ///< PBD: subSteps; the reference engines: 1
+  /// Overlap (m) the engine lets resting contacts keep by design (Bullet's linear slop); the
+  /// penetration metric subtracts it. 0 when contacts are meant to close exactly.
+  double contactMargin = 0;
 };
 
 /// An engine failure with a message (an engine's error callback, a rejected model, ...). The
@@ -96,26 +120,33 @@ class Engine {
   virtual void step() = 0;
   /// Poses and velocities in the Scene's frames (time included).
   virtual void read(State& state) const = 0;
+  /// The facts the runner needs (integrator steps per step, contact margin, version); valid
+  /// after a successful load().
+  virtual RunFacts runFacts() const = 0;
   /// The settings actually used (solver, iterations, margins, contact softness, ...), recorded
-  /// with every run.
+  /// with every run for the parity record; never parsed.
   virtual std::map<std::string, std::string> effectiveSettings() const { return {}; }
   /// A hash of the complete final state, for engines that guarantee bitwise determinism
   /// (the PBD library); empty otherwise.
   virtual std::optional<std::string> stateHash() const { return std::nullopt; }
 };
 
-/// Every method of every engine compiled in, with parameters and defaults.
-const std::vector<MethodInfo>& methodCatalog();
-/// The catalogue entry named `name`; throws std::invalid_argument listing the known methods.
-const MethodInfo& findMethod(const std::string& name);
-/// The default method of an engine ("pbd" → "pbd", "ode" → "ode.quickstep").
-std::string defaultMethod(const std::string& engine);
-/// Names of the engines compiled in (without the hidden self-test engine).
-std::vector<std::string> engineNames();
-/// Resolves a method: defaults, then `overrides` (name → value). Throws std::invalid_argument
-/// on an unknown parameter (naming the valid ones).
-Method resolveMethod(const std::string& name, const std::map<std::string, std::string>& overrides);
-/// A new engine instance for the engine of `method`.
-std::unique_ptr<Engine> makeEngine(const std::string& engine);
+/// What an engine is given when it is created (chosen by the command, never read from the
+/// environment by an engine).
+struct EngineOptions {
+  std::string gridCacheFolder;  ///< the PBD library's grid SDF cache; empty: none
+};
+
+/// One engine of a registry: its methods with their parameters, the Simulation settings of the
+/// scene it honours, and how to create it.
+struct EngineEntry {
+  std::string name;           ///< "pbd", "bullet", "ode", "mujoco"
+  std::string defaultMethod;  ///< used when a run names the engine only
+  std::vector<MethodInfo> methods;
+  /// Keys of the scene's Simulation block this engine uses (timeStepSize, gravitation, and for
+  /// the PBD library its solver settings); `--set` of another key has no effect in it.
+  std::vector<std::string> honouredSettings;
+  std::function<std::unique_ptr<Engine>(const EngineOptions&)> make;
+};
 
 }  // namespace pbdval

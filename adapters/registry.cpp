@@ -1,22 +1,71 @@
 #include "adapters/registry.h"
 
-#include "adapters/bullet/bullet_engine.h"
-#include "adapters/ode/ode_engine.h"
-#include "adapters/mujoco/mujoco_engine.h"
-#include "adapters/pbd/pbd_engine.h"
-#include "adapters/selftest/selftest_engine.h"
+#include <stdexcept>
 
 namespace pbdval {
+namespace {
 
-const std::vector<EngineEntry>& engineEntries() {
-  static const std::vector<EngineEntry> entries = {
-      pbdEngineEntry(),
-      bulletEngineEntry(),
-      odeEngineEntry(),
-      mujocoEngineEntry(),
-      selftestEngineEntry(),
-  };
-  return entries;
+template <class Items, class Name>
+std::string nameList(const Items& items, Name name) {
+  std::string list;
+  for (const auto& item : items) list += (list.empty() ? "" : ", ") + name(item);
+  return list.empty() ? "none" : list;
+}
+
+}  // namespace
+
+EngineRegistry::EngineRegistry(EngineOptions options) : options_(std::move(options)) {}
+
+void EngineRegistry::add(EngineEntry entry) {
+  for (const EngineEntry& e : entries_)
+    if (e.name == entry.name) throw std::invalid_argument("engine '" + entry.name + "' is registered twice");
+  for (const MethodInfo& m : entry.methods) {
+    for (const EngineEntry& e : entries_)
+      for (const MethodInfo& other : e.methods)
+        if (other.name == m.name)
+          throw std::invalid_argument("method '" + m.name + "' of engine " + entry.name +
+                                      " is already a method of engine " + e.name);
+    for (const ParameterSpec& p : m.parameters) parseParameter(p, p.defaultValue, m.name);
+  }
+  bool hasDefault = false;
+  for (const MethodInfo& m : entry.methods) hasDefault = hasDefault || m.name == entry.defaultMethod;
+  if (!hasDefault)
+    throw std::invalid_argument("engine " + entry.name + ": default method '" +
+                                entry.defaultMethod + "' is not one of its methods");
+  entries_.push_back(std::move(entry));
+}
+
+std::vector<std::string> EngineRegistry::engineNames() const {
+  std::vector<std::string> names;
+  for (const EngineEntry& e : entries_) names.push_back(e.name);
+  return names;
+}
+
+const EngineEntry& EngineRegistry::engine(const std::string& name) const {
+  for (const EngineEntry& e : entries_)
+    if (e.name == name) return e;
+  throw std::invalid_argument("unknown engine '" + name + "' (known: " +
+                              nameList(entries_, [](const EngineEntry& e) { return e.name; }) + ")");
+}
+
+const MethodInfo& EngineRegistry::method(const std::string& name) const {
+  std::vector<std::string> known;
+  for (const EngineEntry& e : entries_)
+    for (const MethodInfo& m : e.methods) {
+      if (m.name == name) return m;
+      known.push_back(m.name);
+    }
+  throw std::invalid_argument("unknown method '" + name + "' (known: " +
+                              nameList(known, [](const std::string& n) { return n; }) + ")");
+}
+
+Method EngineRegistry::resolve(const std::string& name,
+                               const std::map<std::string, std::string>& overrides) const {
+  return resolveMethod(method(name), overrides);
+}
+
+std::unique_ptr<Engine> EngineRegistry::make(const std::string& name) const {
+  return engine(name).make(options_);
 }
 
 }  // namespace pbdval

@@ -1,7 +1,9 @@
-// The engines compiled into pbdval. Each adapter folder provides one EngineEntry; registry.cpp
-// lists them (one line per engine).
+// The engines one pbdval process knows: an explicit object, built by the command (built-in
+// engines, and the external engines of a catalogue) or by a test (which may add its own), and
+// passed to whatever plans or runs. No engine is registered globally.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -10,15 +12,36 @@
 
 namespace pbdval {
 
-struct EngineEntry {
-  std::string name;           ///< "pbd", "bullet", "ode", "mujoco"
-  std::string defaultMethod;  ///< used when a run names the engine only
-  std::vector<MethodInfo> (*methods)();
-  std::unique_ptr<Engine> (*make)();
-  /// Hidden engines (the self-test engine) are not listed or run by default, only by name.
-  bool hidden = false;
-};
+class EngineRegistry {
+ public:
+  explicit EngineRegistry(EngineOptions options = {});
 
-const std::vector<EngineEntry>& engineEntries();
+  /// Adds an engine; throws std::invalid_argument when its name or a method name is taken, or a
+  /// parameter's default does not satisfy its own declaration.
+  void add(EngineEntry entry);
+
+  const std::vector<EngineEntry>& entries() const { return entries_; }
+  /// Engine names in registration order.
+  std::vector<std::string> engineNames() const;
+  /// Throws std::invalid_argument naming the known engines.
+  const EngineEntry& engine(const std::string& name) const;
+  /// Throws std::invalid_argument naming the known methods.
+  const MethodInfo& method(const std::string& name) const;
+  std::string defaultMethod(const std::string& engine) const { return this->engine(engine).defaultMethod; }
+
+  /// Defaults, then `overrides` (parameter → text), each parsed and checked against its
+  /// declaration. Throws std::invalid_argument for an unknown parameter (naming the valid ones)
+  /// or a value out of range (naming the range).
+  Method resolve(const std::string& method, const std::map<std::string, std::string>& overrides = {}) const;
+
+  /// A new instance of `engine`, created with this registry's options.
+  std::unique_ptr<Engine> make(const std::string& engine) const;
+
+  const EngineOptions& options() const { return options_; }
+
+ private:
+  EngineOptions options_;
+  std::vector<EngineEntry> entries_;
+};
 
 }  // namespace pbdval

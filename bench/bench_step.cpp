@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "adapters/engine.h"
+#include "adapters/built_in_engines.h"
 #include "pbd/io/scene_loader.h"
 #include "pbd/math/types.h"
 #include "pbdval/build_info.h"
@@ -25,11 +25,12 @@ namespace {
 
 constexpr double kHorizonSeconds = 2.0;
 
-void stepCase(benchmark::State& state, const std::string& caseName, const std::string& method) {
+void stepCase(benchmark::State& state, const pbdval::EngineRegistry& engines,
+              const std::string& caseName, const std::string& method) {
   const pbd::Scene scene =
       pbd::loadScene(std::string(PBDVAL_SOURCE_DIR) + "/cases/" + caseName + ".json").scene;
-  const pbdval::Method resolved = pbdval::resolveMethod(method, {});
-  std::unique_ptr<pbdval::Engine> engine = pbdval::makeEngine(pbdval::findMethod(method).engine);
+  const pbdval::Method resolved = engines.resolve(method);
+  std::unique_ptr<pbdval::Engine> engine = engines.make(engines.method(method).engine);
   const std::vector<std::string> missing = engine->unsupported(scene, resolved);
   if (!missing.empty()) {
     std::string reason = "unsupported:";
@@ -78,11 +79,12 @@ int main(int argc, char** argv) {
       "contact_pile", "car"};
   const std::vector<std::string> methods = {"pbd",      "bullet.si",    "ode.quickstep",
                                             "ode.step", "mujoco.euler", "mujoco.rk4"};
+  const pbdval::EngineRegistry engines = pbdval::builtInEngines();  // no grid cache: built in memory
   for (const std::string& c : cases)
     for (const std::string& m : methods)
-      benchmark::RegisterBenchmark(("step/" + c + "/" + m).c_str(), [c, m](benchmark::State& s) {
-        stepCase(s, c, m);
-      })->Unit(benchmark::kMicrosecond);
+      benchmark::RegisterBenchmark(("step/" + c + "/" + m).c_str(),
+                                   [&engines, c, m](benchmark::State& s) { stepCase(s, engines, c, m); })
+          ->Unit(benchmark::kMicrosecond);
   benchmark::AddCustomContext("pbdval_version", PBDVAL_VERSION);
   benchmark::AddCustomContext("pbdval_commit",
                               std::string(PBDVAL_GIT_COMMIT) + " (" + PBDVAL_GIT_DIRTY + ")");

@@ -66,9 +66,9 @@ struct Node {
   }
 };
 
-void checkEngineName(const Node& node) {
+void checkEngineName(const Node& node, const EngineRegistry& registry) {
   const std::string name = node.text();
-  const std::vector<std::string> known = engineNames();
+  const std::vector<std::string> known = registry.engineNames();
   if (std::find(known.begin(), known.end(), name) != known.end()) return;
   std::string list;
   for (const auto& e : known)
@@ -76,23 +76,25 @@ void checkEngineName(const Node& node) {
   node.fail("an engine (" + list + ")");
 }
 
-void checkMethodName(const Node& node) {
+void checkMethodName(const Node& node, const EngineRegistry& registry) {
   try {
-    findMethod(node.text());
+    registry.method(node.text());
   } catch (const std::invalid_argument& e) {
     node.fail(std::string("a method: ") + e.what());
   }
 }
 
 /// Reads an array of engine or method names, each checked.
-std::vector<std::string> names(const Node& node, void (*check)(const Node&)) {
+std::vector<std::string> names(const Node& node, const EngineRegistry& registry,
+                               void (*check)(const Node&, const EngineRegistry&)) {
   const std::vector<std::string> values = node.texts();
   for (std::size_t i = 0; i < values.size(); ++i)
-    check(node.at(i));
+    check(node.at(i), registry);
   return values;
 }
 
-ReferenceSpec parseReference(const Node& node) {
+ReferenceSpec parseReference(const Node& node, const pbd::Scene& scene,
+                             const EngineRegistry& registry) {
   node.requireObject({"type", "model", "parameters", "bodies", "stepDivisor", "engine", "method"});
   ReferenceSpec r;
   const std::string type = node.at("type").text();
@@ -112,7 +114,11 @@ ReferenceSpec parseReference(const Node& node) {
       for (std::size_t i = 0; i < bodies.json.size(); ++i) {
         const Node id = bodies.at(i);
         if (!id.json.is_number_integer()) id.fail("a body id (integer)");
-        r.bodyIds.push_back(id.json.get<int>());
+        const int bodyId = id.json.get<int>();
+        const bool exists = std::any_of(scene.rigidBodies.begin(), scene.rigidBodies.end(),
+                                        [&](const pbd::RigidBodyDesc& b) { return b.id == bodyId; });
+        if (!exists) id.fail("the id of a rigid body of the scene");
+        r.bodyIds.push_back(bodyId);
       }
     }
   } else if (type == "fine") {
@@ -125,9 +131,9 @@ ReferenceSpec parseReference(const Node& node) {
     }
   } else if (type == "engine") {
     r.kind = ReferenceSpec::Kind::Engine;
-    checkMethodName(node.at("method"));
+    checkMethodName(node.at("method"), registry);
     r.method = node.at("method").text();
-    r.engine = findMethod(r.method).engine;
+    r.engine = registry.method(r.method).engine;
     if (node.json.contains("stepDivisor")) {
       const Node divisor = node.at("stepDivisor");
       if (!divisor.json.is_number_integer() || divisor.json.get<int>() < 1)
@@ -142,7 +148,7 @@ ReferenceSpec parseReference(const Node& node) {
   return r;
 }
 
-CheckSpec parseCheck(const Node& node) {
+CheckSpec parseCheck(const Node& node, const EngineRegistry& registry) {
   node.requireObject(
       {"metric", "max", "min", "engines", "methods", "better", "worse", "description"});
   CheckSpec c;
@@ -150,8 +156,8 @@ CheckSpec parseCheck(const Node& node) {
   c.metric = node.at("metric").text();
   if (node.json.contains("max")) c.max = node.at("max").finite();
   if (node.json.contains("min")) c.min = node.at("min").finite();
-  if (node.json.contains("engines")) c.engines = names(node.at("engines"), checkEngineName);
-  if (node.json.contains("methods")) c.methods = names(node.at("methods"), checkMethodName);
+  if (node.json.contains("engines")) c.engines = names(node.at("engines"), registry, checkEngineName);
+  if (node.json.contains("methods")) c.methods = names(node.at("methods"), registry, checkMethodName);
   if (node.json.contains("better")) c.better = node.at("better").text();
   if (node.json.contains("worse")) c.worse = node.at("worse").text();
   if (node.json.contains("description")) c.description = node.at("description").text();
@@ -159,14 +165,14 @@ CheckSpec parseCheck(const Node& node) {
   if (ordering && (c.better.empty() || c.worse.empty()))
     node.fail("both \"better\" and \"worse\" (an ordering check)");
   if (ordering) {
-    checkMethodName(node.at("better"));
-    checkMethodName(node.at("worse"));
+    checkMethodName(node.at("better"), registry);
+    checkMethodName(node.at("worse"), registry);
   }
   if (!ordering && !c.max && !c.min) node.fail("\"max\", \"min\", or \"better\"/\"worse\"");
   return c;
 }
 
-SweepSpec parseSweep(const Node& node) {
+SweepSpec parseSweep(const Node& node, const EngineRegistry& registry) {
   node.requireObject({"parameters", "methods", "metric"});
   SweepSpec s;
   const Node parameters = node.at("parameters");
@@ -178,14 +184,14 @@ SweepSpec parseSweep(const Node& node) {
     for (std::size_t i = 0; i < values.json.size(); ++i)
       s.parameters[item.key()].push_back(values.at(i).value());
   }
-  if (node.json.contains("methods")) s.methods = names(node.at("methods"), checkMethodName);
+  if (node.json.contains("methods")) s.methods = names(node.at("methods"), registry, checkMethodName);
   if (node.json.contains("metric")) s.metric = node.at("metric").text();
   return s;
 }
 
 }  // namespace
 
-CaseSpec parseCaseSpec(const pbd::Scene& scene) {
+CaseSpec parseCaseSpec(const pbd::Scene& scene, const EngineRegistry& registry) {
   CaseSpec spec;
   if (scene.validationJson.empty()) return spec;
   const Json block = Json::parse(scene.validationJson);
@@ -216,14 +222,14 @@ CaseSpec parseCaseSpec(const pbd::Scene& scene) {
         conserved.at(i).fail("\"energy\", \"linearMomentum\" or \"angularMomentum\"");
     }
   }
-  if (block.contains("engines")) spec.engines = names(root.at("engines"), checkEngineName);
-  if (block.contains("methods")) spec.methods = names(root.at("methods"), checkMethodName);
-  if (block.contains("reference")) spec.reference = parseReference(root.at("reference"));
+  if (block.contains("engines")) spec.engines = names(root.at("engines"), registry, checkEngineName);
+  if (block.contains("methods")) spec.methods = names(root.at("methods"), registry, checkMethodName);
+  if (block.contains("reference")) spec.reference = parseReference(root.at("reference"), scene, registry);
   if (block.contains("checks")) {
     const Node checks = root.at("checks");
     if (!checks.json.is_array()) checks.fail("an array of checks");
     for (std::size_t i = 0; i < checks.json.size(); ++i)
-      spec.checks.push_back(parseCheck(checks.at(i)));
+      spec.checks.push_back(parseCheck(checks.at(i), registry));
   }
   if (block.contains("tolerances")) {
     const Node tolerances = root.at("tolerances");
@@ -238,7 +244,7 @@ CaseSpec parseCaseSpec(const pbd::Scene& scene) {
     const Node sweeps = root.at("sweeps");
     if (!sweeps.json.is_array()) sweeps.fail("an array of sweeps");
     for (std::size_t i = 0; i < sweeps.json.size(); ++i)
-      spec.sweeps.push_back(parseSweep(sweeps.at(i)));
+      spec.sweeps.push_back(parseSweep(sweeps.at(i), registry));
   }
   return spec;
 }

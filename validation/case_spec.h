@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "adapters/registry.h"
 #include "pbd/model/scene.h"
 
 namespace pbdval {
@@ -70,7 +71,7 @@ struct CaseSpec {
 
 /// Parses scene.validationJson; throws std::invalid_argument "file: Validation.path: expected
 /// ..., got ..." on bad input (unknown keys are errors here: the block is ours).
-CaseSpec parseCaseSpec(const pbd::Scene& scene);
+CaseSpec parseCaseSpec(const pbd::Scene& scene, const EngineRegistry& registry);
 
 /// The run length a case asks for: Validation.duration, else the seed's pauseAt when > 0, else
 /// 5 s.

@@ -8,10 +8,11 @@
 #include <random>
 #include <sstream>
 
-#include "adapters/fcl/distance_oracle.h"
 #include "pbd/collision/collision_shape.h"
 #include "pbd/collision/surface_samples.h"
 #include "pbd/io/scene_loader.h"
+#include "validation/json_text.h"
+#include "validation/oracle/distance_oracle.h"
 #include "validation/sweep.h"
 
 namespace pbdval {
@@ -317,7 +318,7 @@ std::string distanceStudyJson(const DistanceStudy& study, const DistanceStudyOpt
                          {"pairs", pairs},
                          {"grids", grids},
                          {"notes", study.notes}};
-  return document.dump(2) + "\n";
+  return jsonText(document) + "\n";
 }
 
 }  // namespace pbdval

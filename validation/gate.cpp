@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "validation/atomic_file.h"
+#include "validation/json_text.h"
 
 namespace pbdval {
 namespace {
@@ -274,7 +275,7 @@ void writeBaseline(const std::string& path, const Baseline& baseline) {
                            {"machine", baseline.source.cpu}}},
                          {"knownFailures", baseline.knownFailures},
                          {"runs", runs}};
-  writeFileAtomically(path, document.dump(2) + "\n");
+  writeFileAtomically(path, jsonText(document) + "\n");
 }
 
 Baseline readBaseline(const std::string& path) {

@@ -11,6 +11,7 @@
 #include "pbd/math/types.h"
 #include "pbdval/build_info.h"
 #include "validation/atomic_file.h"
+#include "validation/json_text.h"
 
 namespace pbdval {
 namespace {
@@ -120,7 +121,7 @@ RunMetadata currentMetadata(const std::string& command) {
 }
 
 std::string metadataJsonText(const RunMetadata& metadata) {
-  return metadataJson(metadata).dump();
+  return jsonText(metadataJson(metadata), -1);
 }
 
 void writeResults(const std::string& path, const ResultsFile& results) {
@@ -142,7 +143,7 @@ void writeResults(const std::string& path, const ResultsFile& results) {
                          {"metadata", metadataJson(results.metadata)},
                          {"cases", cases},
                          {"runs", runs}};
-  writeFileAtomically(path, document.dump(2) + "\n");
+  writeFileAtomically(path, jsonText(document) + "\n");
 }
 
 ResultsFile readResults(const std::string& path) {

@@ -17,43 +17,43 @@ bool contains(const std::vector<std::string>& list, const std::string& item) {
 ///    runs its default; other engines none;
 ///  - else the case's Validation.methods of the engine, else the engine's default.
 std::vector<std::string> methodsFor(const std::string& engine, const PlanOptions& options,
-                                    const CaseSpec& spec) {
+                                    const CaseSpec& spec, const EngineRegistry& registry) {
   auto ofEngine = [&](const std::vector<std::string>& methods) {
     std::vector<std::string> selected;
     for (const std::string& m : methods)
-      if (findMethod(m).engine == engine) selected.push_back(m);
+      if (registry.method(m).engine == engine) selected.push_back(m);
     return selected;
   };
   if (!options.methods.empty()) {
     std::vector<std::string> selected = ofEngine(options.methods);
     if (selected.empty() && contains(options.engines, engine))
-      selected.push_back(defaultMethod(engine));
+      selected.push_back(registry.defaultMethod(engine));
     return selected;
   }
   std::vector<std::string> selected = ofEngine(spec.methods);
-  if (selected.empty()) selected.push_back(defaultMethod(engine));
+  if (selected.empty()) selected.push_back(registry.defaultMethod(engine));
   return selected;
 }
 
 }  // namespace
 
 std::string trajectoryPathFor(const std::string& outFolder, const std::string& caseName,
-                              const std::string& method) {
-  return outFolder + "/trajectories/" + caseName + "/" + findMethod(method).engine + "-" + method +
-         ".csv";
+                              const std::string& engine, const std::string& method) {
+  return outFolder + "/trajectories/" + caseName + "/" + engine + "-" + method + ".csv";
 }
 
-RunPlan planRuns(const std::vector<std::string>& caseFiles, const PlanOptions& options) {
+RunPlan planRuns(const std::vector<std::string>& caseFiles, const PlanOptions& options,
+                 const EngineRegistry& registry) {
   for (const std::string& engine : options.engines)
-    defaultMethod(engine);  // throws if unknown
+    registry.engine(engine);  // throws if unknown
   for (const std::string& method : options.methods) {
-    const MethodInfo& info = findMethod(method);
+    const MethodInfo& info = registry.method(method);
     if (!options.engines.empty() && !contains(options.engines, info.engine))
       throw std::invalid_argument("method " + method + " belongs to engine " + info.engine +
                                   ", which --engines does not select");
   }
   const std::vector<std::string> engines =
-      options.engines.empty() ? engineNames() : options.engines;
+      options.engines.empty() ? registry.engineNames() : options.engines;
 
   RunPlan plan;
   for (const std::string& file : caseFiles) {
@@ -62,7 +62,7 @@ RunPlan planRuns(const std::vector<std::string>& caseFiles, const PlanOptions& o
     try {
       pbd::LoadOptions load;
       load.strict = options.strictScene;
-      spec = parseCaseSpec(pbd::loadScene(file, load).scene);
+      spec = parseCaseSpec(pbd::loadScene(file, load).scene, registry);
     } catch (const std::exception& e) {
       RunRecord failed;
       failed.request.caseName = name;
@@ -77,7 +77,7 @@ RunPlan planRuns(const std::vector<std::string>& caseFiles, const PlanOptions& o
     plan.cases[name] = {file, spec};
     for (const std::string& engine : engines) {
       if (!spec.engines.empty() && !contains(spec.engines, engine)) continue;
-      const std::vector<std::string> methods = methodsFor(engine, options, spec);
+      const std::vector<std::string> methods = methodsFor(engine, options, spec, registry);
       for (const std::string& method : methods) {
         RunRequest r;
         r.caseName = name;
@@ -87,7 +87,7 @@ RunPlan planRuns(const std::vector<std::string>& caseFiles, const PlanOptions& o
         r.assignments = options.assignments;
         r.strictScene = options.strictScene;
         if (options.writeTrajectories)
-          r.trajectoryPath = trajectoryPathFor(options.outFolder, name, method);
+          r.trajectoryPath = trajectoryPathFor(options.outFolder, name, engine, method);
         plan.requests.push_back(r);
       }
     }

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "adapters/registry.h"
+#include "validation/case_spec.h"
 #include "validation/run_record.h"
 
 namespace pbdval {
@@ -31,10 +33,11 @@ struct RunPlan {
 };
 
 /// Throws std::invalid_argument for unknown engines or methods in `options`.
-RunPlan planRuns(const std::vector<std::string>& caseFiles, const PlanOptions& options);
+RunPlan planRuns(const std::vector<std::string>& caseFiles, const PlanOptions& options,
+                 const EngineRegistry& registry);
 
 /// "trajectories/CASE/ENGINE-METHOD.csv" under the out folder.
 std::string trajectoryPathFor(const std::string& outFolder, const std::string& caseName,
-                              const std::string& method);
+                              const std::string& engine, const std::string& method);
 
 }  // namespace pbdval

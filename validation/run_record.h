@@ -1,9 +1,9 @@
 // One run of the validation suite: what was asked (RunRequest) and what came of it
 // (RunRecord), and their JSON form, shared by results.json, the isolated child processes,
-// sweeps, baselines and the gate (docs/results.md).
+// sweeps, baselines and the gate (docs/results.md). Running a request: run_execution.h; many
+// at once, isolated: run_scheduler.h.
 #pragma once
 
-#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -40,33 +40,10 @@ struct RunRecord {
   std::string reason;
   std::map<std::string, std::string> methodParameters;  ///< resolved values
   std::map<std::string, std::string> settings;          ///< Engine::effectiveSettings()
+  RunFacts facts;                                       ///< Engine::runFacts()
   MetricSet metrics;      ///< includes wall_time_s, steps, real_time_factor
   std::string stateHash;  ///< deterministic engines only
   std::string reference;  ///< description of the reference used ("" none)
-};
-
-/// Runs one request in this process: loads the case, runs the engine, builds the reference,
-/// computes the metrics, writes the trajectory. Never throws: every failure becomes the
-/// record's status and reason.
-RunRecord executeRun(const RunRequest& request);
-
-/// Runs requests each in its own child process (fork), at most `jobs` at a time, each with
-/// `timeout` seconds of wall time (0 = none), so that a crash (signal) or a hang of an engine
-/// becomes a status (`error` naming the signal, `timeout`) instead of taking the suite down.
-/// Children report through files in `scratchFolder`. `onFinished` is called in the parent,
-/// in completion order; `onTick` about every 20 ms with the requests running.
-class RunScheduler {
- public:
-  RunScheduler(int jobs, double timeout, std::string scratchFolder);
-  std::vector<RunRecord> runAll(
-      const std::vector<RunRequest>& requests,
-      const std::function<void(const RunRecord&, std::size_t done, std::size_t total)>& onFinished,
-      const std::function<void(const std::vector<const RunRequest*>& running)>& onTick = {});
-
- private:
-  int jobs_;
-  double timeout_;
-  std::string scratchFolder_;
 };
 
 /// JSON text of a record (one entry of results.json's "runs") and back. fromJson throws

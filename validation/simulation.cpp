@@ -37,8 +37,18 @@ StepPlan planSteps(const RunLength& length, double stepSize) {
     throw std::invalid_argument("duration must be a positive number of seconds");
   if (!(length.sampleInterval >= 0) || !std::isfinite(length.sampleInterval))
     throw std::invalid_argument("sample interval must be a non-negative number of seconds");
+  if (!(stepSize > 0) || !std::isfinite(stepSize))
+    throw std::invalid_argument("timeStepSize must be a positive number of seconds");
+  const double steps = std::round(length.duration / stepSize);
+  if (!(steps <= kMaxStepsPerRun)) {
+    std::ostringstream message;
+    message << "a duration of " << length.duration << " s at a step of " << stepSize
+            << " s is " << steps << " steps, more than the " << kMaxStepsPerRun
+            << " one run may take: shorten the duration or enlarge the step";
+    throw std::invalid_argument(message.str());
+  }
   StepPlan plan;
-  plan.steps = std::max(1L, std::lround(length.duration / stepSize));
+  plan.steps = std::max(1L, static_cast<long>(steps));
   if (std::abs(plan.steps * stepSize - length.duration) > 1e-9 * length.duration) {
     std::ostringstream note;
     note << "duration " << length.duration << " s is not a multiple of the step " << stepSize
@@ -100,6 +110,7 @@ RunOutcome runSimulation(Engine& engine, const pbd::Scene& scene, const Method& 
     engine.load(scene, method);
     busy += secondsSince(t0);
     outcome.settings = engine.effectiveSettings();
+    outcome.facts = engine.runFacts();
 
     State state;
     engine.read(state);

@@ -17,9 +17,14 @@ struct RunLength {
   double sampleInterval = 0;  ///< 0: every step
 };
 
+/// The most steps one run may take: a run is refused before it starts rather than left to
+/// run for days (10^8 steps of the cheapest engine take minutes; of a 100-link chain, hours).
+inline constexpr double kMaxStepsPerRun = 1e8;
+
 /// The number of steps and the sampling stride for a scene with step size h: steps =
 /// round(duration/h), stride = max(1, round(sampleInterval/h)). Throws std::invalid_argument
-/// for a non-positive duration or a negative interval.
+/// for a non-positive or non-finite duration or step, a negative interval, or more than
+/// kMaxStepsPerRun steps (naming the count and how to reduce it).
 struct StepPlan {
   long steps = 0;
   long stride = 1;
@@ -37,6 +42,7 @@ struct RunOutcome {
   double simulatedTime = 0;                     ///< s
   double wallTime = 0;                          ///< s, load + stepping (reading samples excluded)
   std::map<std::string, std::string> settings;  ///< Engine::effectiveSettings()
+  RunFacts facts;                               ///< Engine::runFacts()
   std::string stateHash;                        ///< of the final state, for deterministic engines
 };
 

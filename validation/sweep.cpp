@@ -4,37 +4,26 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <ostream>
 
+#include "pbd/io/number_text.h"
 #include "pbd/io/scene_loader.h"
 #include "validation/atomic_file.h"
 #include "validation/case_library.h"
+#include "validation/json_text.h"
 #include "validation/overrides.h"
 #include "validation/results.h"
+#include "validation/run_scheduler.h"
 #include "validation/trajectory.h"
 
 namespace pbdval {
 namespace {
 
-bool parseNumber(const std::string& text, double& value) {
-  char* end = nullptr;
-  value = std::strtod(text.c_str(), &end);
-  return !text.empty() && end == text.c_str() + text.size() && std::isfinite(value);
-}
-
 /// Step-like parameters improve as they shrink; the others as they grow.
 bool isStepLike(const std::string& parameter) {
   return parameter == "timeStepSize" || parameter == "tolerance";
-}
-
-bool applies(const std::string& parameter, const MethodInfo& method) {
-  for (const MethodParameter& p : method.parameters)
-    if (p.name == parameter) return true;
-  const auto& scene = sceneOverrideKeys();
-  return std::find(scene.begin(), scene.end(), parameter) != scene.end() &&
-         sceneSettingApplies(parameter, method.engine);
 }
 
 std::vector<std::vector<std::pair<std::string, std::string>>> grid(
@@ -53,12 +42,23 @@ std::vector<std::vector<std::pair<std::string, std::string>>> grid(
   return points;
 }
 
-std::vector<std::string> defaultMethods(const CaseSpec& spec) {
+std::vector<std::string> defaultMethods(const CaseSpec& spec, const EngineRegistry& registry) {
   if (!spec.methods.empty()) return spec.methods;
   std::vector<std::string> methods;
-  for (const std::string& engine : engineNames())
-    methods.push_back(defaultMethod(engine));
+  for (const EngineEntry& engine : registry.entries()) methods.push_back(engine.defaultMethod);
   return methods;
+}
+
+/// The numeric values of each parameter of a grid point; nullopt when one is not a number.
+std::optional<std::vector<double>> numericValues(
+    const std::vector<std::pair<std::string, std::string>>& values) {
+  std::vector<double> row;
+  for (const auto& [name, text] : values) {
+    const std::optional<double> v = pbd::parseReal(text);
+    if (!v) return std::nullopt;
+    row.push_back(*v);
+  }
+  return row;
 }
 
 }  // namespace
@@ -144,114 +144,110 @@ void markParetoFront(std::vector<SweepPoint>& points) {
   }
 }
 
-SweepResult runSweep(
-    const SweepOptions& options,
-    const std::function<void(const RunRecord&, std::size_t, std::size_t)>& onFinished) {
+SweepPlan planSweep(const SweepOptions& options, const EngineRegistry& registry) {
   const pbd::Scene scene = pbd::loadScene(options.caseFile).scene;
-  const CaseSpec spec = parseCaseSpec(scene);
-  SweepResult result;
-  result.caseName = caseNameOf(options.caseFile);
+  const CaseSpec spec = parseCaseSpec(scene, registry);
+  SweepPlan plan;
+  plan.caseName = caseNameOf(options.caseFile);
 
-  auto parameters = options.parameters;
-  std::vector<std::string> methods = options.methods;
-  std::string metric = options.metric;
-  if (parameters.empty()) {
+  plan.parameters = options.parameters;
+  plan.methods = options.methods;
+  plan.metric = options.metric;
+  if (plan.parameters.empty()) {
     if (spec.sweeps.empty())
       throw std::invalid_argument(options.caseFile +
                                   ": no --param given and the case declares no Validation.sweeps");
     const SweepSpec& declared = spec.sweeps.front();
-    for (const auto& [name, values] : declared.parameters)
-      parameters.emplace_back(name, values);
-    if (methods.empty()) methods = declared.methods;
-    if (metric.empty()) metric = declared.metric;
+    for (const auto& [name, values] : declared.parameters) plan.parameters.emplace_back(name, values);
+    if (plan.methods.empty()) plan.methods = declared.methods;
+    if (plan.metric.empty()) plan.metric = declared.metric;
   }
-  if (methods.empty()) methods = defaultMethods(spec);
+  if (plan.methods.empty()) plan.methods = defaultMethods(spec, registry);
   const bool hasReference =
       options.referenceMode == "fine" || spec.reference.kind != ReferenceSpec::Kind::None;
-  if (metric.empty()) metric = hasReference ? "trajectory_error_max" : "energy_drift_max";
-  result.metric = metric;
+  if (plan.metric.empty()) plan.metric = hasReference ? "trajectory_error_max" : "energy_drift_max";
 
   // Swept step sizes share one sample interval (the largest step) and one fine reference step.
-  double caseStep = double(scene.simulation.timeStepSize), largestStep = caseStep,
-         smallestStep = caseStep;
-  for (const auto& [name, values] : parameters) {
+  const double caseStep = double(scene.simulation.timeStepSize);
+  double largestStep = caseStep, smallestStep = caseStep;
+  for (const auto& [name, values] : plan.parameters) {
     if (name != "timeStepSize") continue;
     largestStep = 0;
     smallestStep = 1e300;
     for (const std::string& v : values) {
-      double h = 0;
-      if (!parseNumber(v, h) || h <= 0)
+      const std::optional<double> h = pbd::parseReal(v);
+      if (!h || *h <= 0)
         throw std::invalid_argument("timeStepSize: expected positive numbers, got '" + v + "'");
-      largestStep = std::max(largestStep, h);
-      smallestStep = std::min(smallestStep, h);
+      largestStep = std::max(largestStep, *h);
+      smallestStep = std::min(smallestStep, *h);
     }
   }
   const double sampleInterval = std::max(largestStep, spec.sampleInterval.value_or(0));
 
-  std::vector<RunRequest> requests;
-  std::vector<SweepPoint> points;
-  for (const std::string& method : methods) {
-    const MethodInfo& info = findMethod(method);
+  for (const std::string& method : plan.methods) {
+    const MethodInfo& info = registry.method(method);
+    const EngineEntry& engine = registry.engine(info.engine);
     std::string notApplicable;
-    for (const auto& [name, values] : parameters)
-      if (!applies(name, info)) notApplicable += (notApplicable.empty() ? "" : ", ") + name;
+    for (const auto& [name, values] : plan.parameters)
+      if (!assignmentApplies(name, info, engine))
+        notApplicable += (notApplicable.empty() ? "" : ", ") + name;
     if (!notApplicable.empty()) {
-      result.notes.push_back(method + ": skipped, " + notApplicable + " has no effect on it");
+      plan.notes.push_back(method + ": skipped, " + notApplicable + " has no effect on it");
       continue;
     }
-    for (const auto& values : grid(parameters)) {
+    for (const auto& values : grid(plan.parameters)) {
       RunRequest r;
-      r.caseName = result.caseName;
+      r.caseName = plan.caseName;
       r.caseFile = options.caseFile;
       r.engine = info.engine;
       r.method = method;
-      for (const auto& [name, value] : values)
-        r.assignments.push_back(name + "=" + value);
+      for (const auto& [name, value] : values) r.assignments.push_back(name + "=" + value);
       r.referenceMode = options.referenceMode;
       r.fineDivisor = options.fineDivisor;
       if (options.referenceMode == "fine") r.referenceStepSize = smallestStep / options.fineDivisor;
       r.sampleInterval = sampleInterval;
-      requests.push_back(r);
+      plan.requests.push_back(r);
       SweepPoint p;
       p.method = method;
       p.values = values;
-      points.push_back(p);
+      plan.points.push_back(p);
     }
   }
-  RunScheduler scheduler(options.jobs, options.timeout, options.scratchFolder);
-  const std::vector<RunRecord> records = scheduler.runAll(requests, onFinished);
-  for (std::size_t k = 0; k < points.size(); ++k) {
-    SweepPoint& p = points[k];
-    p.record = records[k];
-    const auto value = p.record.metrics.values.find(metric);
-    p.metric = p.record.status == RunStatus::Ok && value != p.record.metrics.values.end()
-                   ? value->second
-                   : std::nan("");
+  return plan;
+}
+
+SweepResult collectSweep(const SweepPlan& plan, const std::vector<RunRecord>& records) {
+  SweepResult result;
+  result.caseName = plan.caseName;
+  result.metric = plan.metric;
+  result.notes = plan.notes;
+  result.points = plan.points;
+  for (std::size_t k = 0; k < result.points.size(); ++k) {
+    SweepPoint& p = result.points[k];
+    p.record = records.at(k);
+    const auto value = p.record.metrics.values.find(plan.metric);
+    const bool measured = p.record.status == RunStatus::Ok && value != p.record.metrics.values.end();
+    p.metric = measured ? value->second : std::nan("");
     const auto wall = p.record.metrics.values.find("wall_time_s");
     p.wallTime = wall == p.record.metrics.values.end() ? 0 : wall->second;
-    if (p.record.status == RunStatus::Ok && value == p.record.metrics.values.end())
+    if (p.record.status == RunStatus::Ok && !measured)
       result.notes.push_back(
-          runLabel(p.record.request) + ": no " + metric + " (" +
+          runLabel(p.record.request) + ": no " + plan.metric + " (" +
           (p.record.metrics.notes.empty() ? "not computed" : p.record.metrics.notes.front()) + ")");
   }
-  markParetoFront(points);
+  markParetoFront(result.points);
 
   std::vector<std::string> names;
-  for (const auto& [name, values] : parameters)
-    names.push_back(name);
-  for (const std::string& method : methods) {
+  for (const auto& [name, values] : plan.parameters) names.push_back(name);
+  for (const std::string& method : plan.methods) {
     std::vector<std::vector<double>> values;
     std::vector<double> errors;
     bool numeric = true;
-    for (const SweepPoint& p : points) {
+    for (const SweepPoint& p : result.points) {
       if (p.method != method) continue;
-      std::vector<double> row;
-      for (const auto& [name, text] : p.values) {
-        double v = 0;
-        numeric = numeric && parseNumber(text, v);
-        row.push_back(v);
-      }
-      values.push_back(row);
+      const auto row = numericValues(p.values);
+      numeric = numeric && row.has_value();
+      values.push_back(row.value_or(std::vector<double>(p.values.size(), 0.0)));
       errors.push_back(p.metric);
     }
     if (values.empty()) continue;
@@ -264,8 +260,15 @@ SweepResult runSweep(
     }
     result.fits.push_back(fitConvergence(method, names, values, errors));
   }
-  result.points = points;
   return result;
+}
+
+SweepResult runSweep(
+    const SweepOptions& options, const EngineRegistry& registry,
+    const std::function<void(const RunRecord&, std::size_t, std::size_t)>& onFinished) {
+  const SweepPlan plan = planSweep(options, registry);
+  RunScheduler scheduler(registry, options.jobs, options.timeout, options.scratchFolder);
+  return collectSweep(plan, scheduler.runAll(plan.requests, onFinished));
 }
 
 void printSweepTable(std::ostream& out, const SweepResult& result) {
@@ -339,7 +342,7 @@ void writeSweepJson(const std::string& path, const SweepResult& result,
                          {"points", points},
                          {"fits", fits},
                          {"notes", result.notes}};
-  writeFileAtomically(path, document.dump(2) + "\n");
+  writeFileAtomically(path, jsonText(document) + "\n");
 }
 
 }  // namespace pbdval

@@ -9,11 +9,13 @@
 // ones (subSteps, iterations: e ∝ n^−p).
 #pragma once
 
+#include <functional>
 #include <iosfwd>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "adapters/registry.h"
 #include "validation/results.h"
 
 namespace pbdval {
@@ -57,10 +59,28 @@ struct SweepResult {
   std::vector<std::string> notes;  ///< skipped combinations (parameter not applicable, ...)
 };
 
-/// Runs the sweep (isolated runs, `jobs` at a time). Throws std::invalid_argument for bad
-/// options (unknown method, non-numeric values of a fitted parameter, ...).
+/// The runs of a sweep, before they run: the case's declared sweep filling what the options
+/// leave open, the grid of parameter values per method, one request (and one point) per run.
+struct SweepPlan {
+  std::string caseName, metric;
+  std::vector<std::pair<std::string, std::vector<std::string>>> parameters;
+  std::vector<std::string> methods;
+  std::vector<RunRequest> requests;
+  std::vector<SweepPoint> points;  ///< one per request, in the same order, without records yet
+  std::vector<std::string> notes;  ///< methods skipped (a parameter has no effect on them)
+};
+
+/// Plans the sweep. Throws std::invalid_argument for bad options (unknown method, no
+/// parameters, non-positive step sizes, ...).
+SweepPlan planSweep(const SweepOptions& options, const EngineRegistry& registry);
+
+/// The plan's points with their records (`records[k]` of `plan.requests[k]`), the Pareto front
+/// and one fit per method.
+SweepResult collectSweep(const SweepPlan& plan, const std::vector<RunRecord>& records);
+
+/// planSweep, the runs (isolated, `options.jobs` at a time), collectSweep.
 SweepResult runSweep(
-    const SweepOptions& options,
+    const SweepOptions& options, const EngineRegistry& registry,
     const std::function<void(const RunRecord&, std::size_t, std::size_t)>& onFinished = {});
 
 /// Least-squares fit of log e on log x (exposed for tests).

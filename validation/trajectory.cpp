@@ -6,12 +6,12 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "pbd/io/number_text.h"
+
 namespace pbdval {
 
 std::string formatNumber(double value) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, result.ptr);
+  return pbd::formatReal(value);
 }
 
 void writeCsvHeader(std::ostream& out) {

@@ -7,14 +7,13 @@
 #include <LinearMath/btTransformUtil.h>
 
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <sstream>
 
 #include "adapters/bullet/bullet_convert.h"
 #include "adapters/bullet/bullet_joints.h"
 #include "adapters/bullet/bullet_materials.h"
 #include "adapters/bullet/bullet_shapes.h"
+#include "pbd/io/number_text.h"
 
 namespace pbdval {
 namespace {
@@ -24,50 +23,38 @@ using bullet::toEigen;
 
 // --- Methods and their parameters ----------------------------------------------------------
 
-struct ParameterSpec {
-  const char* name;
-  const char* defaultValue;
-  const char* description;
-  double minimum;
-  double maximum;
-  bool integer;
-};
-
 // Defaults are Bullet's, except the four contact settings marked "parity" (docs/methods.md):
 // they make restitution and resting contact independent of when Bullet first sees a contact.
-constexpr ParameterSpec kParameters[] = {
-    {"iterations", "10", "solver iterations per step (btContactSolverInfo::m_numIterations)", 1,
-     1e6, true},
-    {"erp", "0.2", "joint error reduction per step (m_erp, Baumgarte)", 0, 1, false},
-    {"erp2", "0.2", "contact error reduction per step (m_erp2)", 0, 1, false},
-    {"cfm", "0", "global constraint force mixing (m_globalCfm)", 0, 1e6, false},
-    {"splitImpulse", "1",
-     "1: correct contact penetration deeper than splitImpulsePenetrationThreshold with a "
-     "position-only impulse that adds no velocity",
-     0, 1, true},
-    {"splitImpulsePenetrationThreshold", "0",
-     "penetration (m, <= 0) beyond which the split impulse corrects it; shallower penetration is "
-     "corrected through the velocity (erp2). Parity: 0, all of it (Bullet: -0.04)",
-     -1e6, 0, false},
-    {"warmstartingFactor", "0.85", "fraction of the previous step's impulses applied first", 0, 1,
-     false},
-    {"restitutionVelocityThreshold", "0",
-     "approach speed (m/s) below which Bullet drops restitution. Parity: 0 (Bullet: 0.2)", 0, 1e6,
-     false},
-    {"linearSlop", "1e-5",
-     "penetration (m) contacts leave uncorrected (m_linearSlop): resting contacts settle this "
-     "deep and stay in contact. Parity: 1e-5 (Bullet: 0)",
-     0, 1, false},
-    {"contactProcessingThreshold", "0",
-     "contact points farther apart than this (m) are not solved. Parity: 0, touching or "
-     "penetrating points only (Bullet: 1e30, also speculative points, which apply restitution "
-     "only to the speed left after closing the gap)",
-     0, 1e30, false},
-    {"margin", "0.001",
-     "convex collision margin (m), kept inside the geometry: it rounds edges and corners "
-     "(Bullet: 0.04)",
-     0, 1, false},
-};
+std::vector<ParameterSpec> bulletParameters() {
+  return {
+      integerParameter("iterations", 10, 1, 1e6,
+                       "solver iterations per step (btContactSolverInfo::m_numIterations)"),
+      realParameter("erp", 0.2, 0, 1, "", "joint error reduction per step (m_erp, Baumgarte)"),
+      realParameter("erp2", 0.2, 0, 1, "", "contact error reduction per step (m_erp2)"),
+      realParameter("cfm", 0, 0, 1e6, "", "global constraint force mixing (m_globalCfm)"),
+      boolParameter("splitImpulse", true,
+                    "correct contact penetration deeper than splitImpulsePenetrationThreshold "
+                    "with a position-only impulse that adds no velocity"),
+      realParameter("splitImpulsePenetrationThreshold", 0, -1e6, 0, "m",
+                    "penetration (<= 0) beyond which the split impulse corrects it; shallower "
+                    "penetration is corrected through the velocity (erp2). Parity: 0, all of it "
+                    "(Bullet: -0.04)"),
+      realParameter("warmstartingFactor", 0.85, 0, 1, "",
+                    "fraction of the previous step's impulses applied first"),
+      realParameter("restitutionVelocityThreshold", 0, 0, 1e6, "m/s",
+                    "approach speed below which Bullet drops restitution. Parity: 0 (Bullet: 0.2)"),
+      realParameter("linearSlop", 1e-5, 0, 1, "m",
+                    "penetration contacts leave uncorrected (m_linearSlop): resting contacts "
+                    "settle this deep and stay in contact. Parity: 1e-5 (Bullet: 0)"),
+      realParameter("contactProcessingThreshold", 0, 0, 1e30, "m",
+                    "contact points farther apart than this are not solved. Parity: 0, touching "
+                    "or penetrating points only (Bullet: 1e30, also speculative points, which "
+                    "apply restitution only to the speed left after closing the gap)"),
+      realParameter("margin", 0.001, 0, 1, "m",
+                    "convex collision margin, kept inside the geometry: it rounds edges and "
+                    "corners (Bullet: 0.04)"),
+  };
+}
 
 struct SolverSpec {
   const char* solver;
@@ -95,34 +82,14 @@ std::vector<MethodInfo> bulletMethods() {
     m.name = std::string("bullet.") + s.solver;
     m.engine = "bullet";
     m.description = s.description;
-    for (const ParameterSpec& p : kParameters)
-      m.parameters.push_back({p.name, p.defaultValue, p.description});
+    m.parameters = bulletParameters();
     methods.push_back(std::move(m));
   }
   return methods;
 }
 
-double parameterValue(const Method& method, const ParameterSpec& spec) {
-  const auto it = method.parameters.find(spec.name);
-  const std::string& text = it == method.parameters.end() ? spec.defaultValue : it->second;
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  const bool parsed = !text.empty() && end == text.c_str() + text.size() && std::isfinite(value);
-  if (!parsed || value < spec.minimum || value > spec.maximum ||
-      (spec.integer && value != std::floor(value))) {
-    std::ostringstream message;
-    message << "method " << method.name << ": " << spec.name << " must be "
-            << (spec.integer ? "an integer" : "a number") << " in [" << spec.minimum << ", "
-            << spec.maximum << "], got '" << text << "'";
-    throw std::invalid_argument(message.str());
-  }
-  return value;
-}
-
 std::string number(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.17g", value);
-  return buffer;
+  return pbd::formatReal(value);
 }
 
 std::string vector3(const pbd::Vector3& v) {
@@ -146,20 +113,17 @@ BulletSettings bulletSettingsFor(const Method& method) {
   for (const SolverSpec& spec : kSolvers)
     known = known || s.solver == spec.solver;
   if (!known) throw std::invalid_argument("unknown Bullet method '" + method.name + "'");
-  std::map<std::string, double> v;
-  for (const ParameterSpec& spec : kParameters)
-    v[spec.name] = parameterValue(method, spec);
-  s.iterations = static_cast<int>(v["iterations"]);
-  s.erp = v["erp"];
-  s.erp2 = v["erp2"];
-  s.cfm = v["cfm"];
-  s.splitImpulse = v["splitImpulse"] != 0;
-  s.splitImpulsePenetrationThreshold = v["splitImpulsePenetrationThreshold"];
-  s.warmstartingFactor = v["warmstartingFactor"];
-  s.restitutionVelocityThreshold = v["restitutionVelocityThreshold"];
-  s.margin = v["margin"];
-  s.linearSlop = v["linearSlop"];
-  s.contactProcessingThreshold = v["contactProcessingThreshold"];
+  s.iterations = static_cast<int>(method.integer("iterations"));
+  s.erp = method.real("erp");
+  s.erp2 = method.real("erp2");
+  s.cfm = method.real("cfm");
+  s.splitImpulse = method.flag("splitImpulse");
+  s.splitImpulsePenetrationThreshold = method.real("splitImpulsePenetrationThreshold");
+  s.warmstartingFactor = method.real("warmstartingFactor");
+  s.restitutionVelocityThreshold = method.real("restitutionVelocityThreshold");
+  s.margin = method.real("margin");
+  s.linearSlop = method.real("linearSlop");
+  s.contactProcessingThreshold = method.real("contactProcessingThreshold");
   return s;
 }
 
@@ -368,6 +332,15 @@ void BulletEngine::read(State& state) const {
   state.particles.clear();
 }
 
+RunFacts BulletEngine::runFacts() const {
+  RunFacts facts;
+  facts.engineVersion = "Bullet " + std::to_string(btGetVersion() / 100) + "." +
+                        std::to_string(btGetVersion() % 100) + " (double precision)";
+  facts.integratorStepsPerSceneStep = 1;  // stepSimulation(h, 1, h)
+  facts.contactMargin = model().settings.linearSlop;
+  return facts;
+}
+
 std::map<std::string, std::string> BulletEngine::effectiveSettings() const {
   if (!model_) return {};
   const Model& m = *model_;
@@ -416,8 +389,13 @@ const btRigidBody& BulletEngine::body(std::size_t index) const {
 }
 
 EngineEntry bulletEngineEntry() {
-  return {"bullet", "bullet.si", &bulletMethods,
-          [] { return std::unique_ptr<Engine>(new BulletEngine()); }};
+  EngineEntry entry;
+  entry.name = "bullet";
+  entry.defaultMethod = "bullet.si";
+  entry.methods = bulletMethods();
+  entry.honouredSettings = {"timeStepSize", "gravitation"};
+  entry.make = [](const EngineOptions&) { return std::unique_ptr<Engine>(new BulletEngine()); };
+  return entry;
 }
 
 }  // namespace pbdval

@@ -14,7 +14,7 @@
 
 #include <memory>
 
-#include "adapters/registry.h"
+#include "adapters/engine.h"
 
 class btDiscreteDynamicsWorld;
 class btRigidBody;
@@ -51,6 +51,7 @@ class BulletEngine final : public Engine {
   void load(const pbd::Scene& scene, const Method& method) override;
   void step() override;
   void read(State& state) const override;
+  RunFacts runFacts() const override;
   std::map<std::string, std::string> effectiveSettings() const override;
 
   /// The Bullet world and bodies (Scene order), for tests; valid after load().

@@ -1,3 +1,4 @@
+#include "pbd/io/number_text.h"
 #include "adapters/mujoco/mjcf_writer.h"
 
 #include <algorithm>
@@ -42,7 +43,7 @@ Pose sceneFrameInBody(const RigidBodyDesc& body) {
 }
 
 std::string num(double value) {
-  return exactNumber(value);
+  return pbd::formatReal(value);
 }
 std::string vec(const Vector3& v) {
   return num(v.x()) + " " + num(v.y()) + " " + num(v.z());

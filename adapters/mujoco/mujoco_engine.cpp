@@ -1,3 +1,4 @@
+#include "pbd/io/number_text.h"
 #include "adapters/mujoco/mujoco_engine.h"
 
 #include <mujoco/mujoco.h>
@@ -321,17 +322,17 @@ std::map<std::string, std::string> MujocoEngine::effectiveSettings() const {
   if (m != nullptr) {
     s["nconmax"] = std::to_string(m->nconmax);
     s["njmax"] = std::to_string(m->njmax);
-    s["gravity"] = mujoco::exactNumber(m->opt.gravity[0]) + " " +
-                   mujoco::exactNumber(m->opt.gravity[1]) + " " +
-                   mujoco::exactNumber(m->opt.gravity[2]);
+    s["gravity"] = pbd::formatReal(m->opt.gravity[0]) + " " +
+                   pbd::formatReal(m->opt.gravity[1]) + " " +
+                   pbd::formatReal(m->opt.gravity[2]);
   }
   for (const auto& [pair, law] : mjcf_.pairSettings)
     s["contact." + pair] = law;
   for (const Servo& servo : servos_)
     s["servo." + servo.jointPath] =
         std::string(servo.velocityServo ? "velocity" : "position (PD)") +
-        " kp=" + mujoco::exactNumber(servo.kp) + " kv=" + mujoco::exactNumber(servo.kv) +
-        " joint inertia=" + mujoco::exactNumber(servo.inertia);
+        " kp=" + pbd::formatReal(servo.kp) + " kv=" + pbd::formatReal(servo.kv) +
+        " joint inertia=" + pbd::formatReal(servo.inertia);
   for (std::size_t w = 0; w < warningCounts_.size(); ++w)
     if (warningCounts_[w] > 0)
       s[std::string("warning.count.") + warningName(int(w))] = std::to_string(warningCounts_[w]);
@@ -340,9 +341,22 @@ std::map<std::string, std::string> MujocoEngine::effectiveSettings() const {
   return s;
 }
 
+RunFacts MujocoEngine::runFacts() const {
+  RunFacts facts;
+  facts.engineVersion = std::string("MuJoCo ") + mj_versionString();
+  facts.integratorStepsPerSceneStep = 1;  // one mj_step per step (RK4: 4 stages of one step)
+  facts.contactMargin = 0;                // contact.margin 0; soft contacts are no margin
+  return facts;
+}
+
 EngineEntry mujocoEngineEntry() {
-  return {"mujoco", "mujoco.euler", &mujoco::mujocoMethods,
-          [] { return std::unique_ptr<Engine>(new MujocoEngine()); }};
+  EngineEntry entry;
+  entry.name = "mujoco";
+  entry.defaultMethod = "mujoco.euler";
+  entry.methods = mujoco::mujocoMethods();
+  entry.honouredSettings = {"timeStepSize", "gravitation"};
+  entry.make = [](const EngineOptions&) { return std::unique_ptr<Engine>(new MujocoEngine()); };
+  return entry;
 }
 
 }  // namespace pbdval

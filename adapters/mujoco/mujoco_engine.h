@@ -12,7 +12,7 @@
 
 #include "adapters/mujoco/mjcf_writer.h"
 #include "adapters/mujoco/mujoco_settings.h"
-#include "adapters/registry.h"
+#include "adapters/engine.h"
 
 struct mjModel_;
 struct mjData_;
@@ -32,6 +32,7 @@ class MujocoEngine final : public Engine {
   void load(const pbd::Scene& scene, const Method& method) override;
   void step() override;
   void read(State& state) const override;
+  RunFacts runFacts() const override;
   std::map<std::string, std::string> effectiveSettings() const override;
 
   /// For tests: the compiled model, its data, the MJCF text and the messages recorded.

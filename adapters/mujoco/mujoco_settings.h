@@ -38,7 +38,4 @@ MujocoSettings mujocoSettingsFor(const pbd::Scene& scene, const Method& method);
 /// The settings as text, for effectiveSettings().
 std::map<std::string, std::string> describeSettings(const MujocoSettings& settings);
 
-/// A number printed so that it reads back to the same double.
-std::string exactNumber(double value);
-
 }  // namespace pbdval::mujoco

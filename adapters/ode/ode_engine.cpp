@@ -1,14 +1,12 @@
 #include "adapters/ode/ode_engine.h"
 
-#include <cstdio>
+#include "pbd/io/number_text.h"
 
 namespace pbdval {
 namespace {
 
 std::string number(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.17g", v);
-  return buffer;
+  return pbd::formatReal(v);
 }
 
 std::string vector(const Vector3& v) {
@@ -108,7 +106,7 @@ std::map<std::string, std::string> OdeEngine::effectiveSettings() const {
       {"solver",
        quick ? "dWorldQuickStep (SOR projected Gauss-Seidel)" : "dWorldStep (direct Dantzig LCP)"},
       {"timeStepSize", number(scene_.simulation.timeStepSize)},
-      {"subSteps", "1 (one ODE step per scene step)"},
+      {"stepping", "one ODE step per scene step"},
       {"gravity", vector(scene_.simulation.gravitation)},
       {"erp", number(settings_.erp)},
       {"cfm", number(settings_.cfm)},
@@ -141,9 +139,22 @@ std::map<std::string, std::string> OdeEngine::effectiveSettings() const {
   return s;
 }
 
+RunFacts OdeEngine::runFacts() const {
+  RunFacts facts;
+  facts.engineVersion = "ODE 0.16 (double precision)";
+  facts.integratorStepsPerSceneStep = 1;
+  facts.contactMargin = 0;  // contactSurfaceLayer 0: contacts are corrected to zero depth
+  return facts;
+}
+
 EngineEntry odeEngineEntry() {
-  return {"ode", "ode.quickstep", &odeMethods,
-          [] { return std::unique_ptr<Engine>(new OdeEngine()); }};
+  EngineEntry entry;
+  entry.name = "ode";
+  entry.defaultMethod = "ode.quickstep";
+  entry.methods = odeMethods();
+  entry.honouredSettings = {"timeStepSize", "gravitation"};
+  entry.make = [](const EngineOptions&) { return std::unique_ptr<Engine>(new OdeEngine()); };
+  return entry;
 }
 
 }  // namespace pbdval

@@ -17,7 +17,7 @@
 #include "adapters/ode/ode_runtime.h"
 #include "adapters/ode/ode_settings.h"
 #include "adapters/ode/ode_world.h"
-#include "adapters/registry.h"
+#include "adapters/engine.h"
 
 namespace pbdval {
 
@@ -34,6 +34,7 @@ class OdeEngine final : public Engine {
   void load(const pbd::Scene& scene, const Method& method) override;
   void step() override;
   void read(State& state) const override;
+  RunFacts runFacts() const override;
   std::map<std::string, std::string> effectiveSettings() const override;
 
   // Inspection, for tests and diagnostics (valid after load()).

@@ -1,28 +1,12 @@
 #include "adapters/pbd/pbd_engine.h"
 
-#include <cmath>
 #include <cstdio>
+
+#include "pbd/io/number_text.h"
+#include "pbd/io/scene_loader.h"
 
 namespace pbdval {
 namespace {
-
-// Method parameters that override a Simulation setting, with the valid range.
-struct SettingOverride {
-  const char* name;
-  const char* description;
-  int pbd::SimulationSettings::*field;
-  int minimum;
-  int maximum;
-};
-constexpr SettingOverride kIntegerOverrides[] = {
-    {"subSteps", "substeps per step", &pbd::SimulationSettings::subSteps, 1, 1 << 20},
-    {"maxIterations", "position iterations per substep", &pbd::SimulationSettings::maxIterations,
-     1, 1 << 20},
-    {"maxIterationsV", "velocity iterations per step", &pbd::SimulationSettings::maxIterationsV,
-     0, 1 << 20},
-    {"velocityUpdateMethod", "0 first order, 1 second order (the seed's BDF2 variant)",
-     &pbd::SimulationSettings::velocityUpdateMethod, 0, 1},
-};
 
 std::vector<MethodInfo> pbdMethods() {
   MethodInfo seed;
@@ -30,43 +14,13 @@ std::vector<MethodInfo> pbdMethods() {
   seed.engine = "pbd";
   seed.description =
       "PositionBasedDynamics 2.2.2's algorithm: substepped semi-implicit Euler, Gauss-Seidel "
-      "joint projection (Deul et al. 2014), velocity-level contacts once per step";
-  for (const SettingOverride& o : kIntegerOverrides)
-    seed.parameters.push_back({o.name, "scene", std::string(o.description) + " (default: the scene's value)"});
-  seed.parameters.push_back({"contactModel", "scene",
-                             "seed (PositionBasedDynamics 2.2.2, flaws included) or corrected "
-                             "(restitution threshold, Coulomb cone on the accumulated friction "
-                             "impulse; docs/contacts.md) (default: the scene's value)"});
+      "joint projection (Deul et al. 2014), velocity-level contacts once per step; solver "
+      "settings from the scene's Simulation block (--set subSteps=..., maxIterations=..., "
+      "contactModel=seed|corrected)";
   return {seed};
 }
 
 }  // namespace
-
-pbd::SimulationSettings pbdSettingsFor(const pbd::Scene& scene, const Method& method) {
-  pbd::SimulationSettings settings = scene.simulation;
-  for (const SettingOverride& o : kIntegerOverrides) {
-    const auto it = method.parameters.find(o.name);
-    if (it == method.parameters.end() || it->second == "scene") continue;
-    const double value = method.number(o.name);
-    if (value != std::floor(value) || value < o.minimum || value > o.maximum)
-      throw std::invalid_argument("method " + method.name + ": " + o.name + " must be an integer in [" +
-                                  std::to_string(o.minimum) + ", " + std::to_string(o.maximum) +
-                                  "], got '" + it->second + "'");
-    settings.*(o.field) = static_cast<int>(value);
-  }
-  const auto model = method.parameters.find("contactModel");
-  if (model != method.parameters.end() && model->second != "scene") {
-    if (model->second == pbd::contactModelName(pbd::ContactModel::Seed))
-      settings.contactModel = pbd::ContactModel::Seed;
-    else if (model->second == pbd::contactModelName(pbd::ContactModel::Corrected))
-      settings.contactModel = pbd::ContactModel::Corrected;
-    else
-      throw std::invalid_argument("method " + method.name +
-                                  ": contactModel must be 'seed', 'corrected' or 'scene', got '" +
-                                  model->second + "'");
-  }
-  return settings;
-}
 
 std::vector<std::string> PbdEngine::unsupported(const pbd::Scene& scene,
                                                 const Method& /*method*/) const {
@@ -84,10 +38,8 @@ std::vector<std::string> PbdEngine::unsupported(const pbd::Scene& scene,
   return missing;
 }
 
-void PbdEngine::load(const pbd::Scene& scene, const Method& method) {
-  pbd::Scene configured = scene;
-  configured.simulation = pbdSettingsFor(scene, method);
-  world_.emplace(pbd::buildWorld(configured));
+void PbdEngine::load(const pbd::Scene& scene, const Method& /*method*/) {
+  world_.emplace(pbd::buildWorld(scene, options_.gridCacheFolder));
   bodyIds_.clear();
   for (const pbd::RigidBodyDesc& body : scene.rigidBodies) bodyIds_.push_back(body.id);
 }
@@ -107,13 +59,17 @@ void PbdEngine::read(State& state) const {
   for (std::size_t i = 0; i < p.size(); ++i) state.particles[i] = {p.position[i], p.velocity[i]};
 }
 
+RunFacts PbdEngine::runFacts() const {
+  RunFacts facts;
+  facts.engineVersion = "pbdval PBD library (PositionBasedDynamics 2.2.2 algorithm)";
+  facts.integratorStepsPerSceneStep = world_->settings.subSteps;
+  facts.contactMargin = 0;  // contacts are generated within contactTolerance but pushed apart
+  return facts;
+}
+
 std::map<std::string, std::string> PbdEngine::effectiveSettings() const {
   const pbd::SimulationSettings& s = world_->settings;
-  auto number = [](double v) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.17g", v);
-    return std::string(buffer);
-  };
+  const auto number = [](pbd::Real v) { return pbd::formatReal(double(v)); };
   return {{"timeStepSize", number(s.timeStepSize)},
           {"subSteps", std::to_string(s.subSteps)},
           {"maxIterations", std::to_string(s.maxIterations)},
@@ -135,7 +91,15 @@ std::optional<std::string> PbdEngine::stateHash() const {
 }
 
 EngineEntry pbdEngineEntry() {
-  return {"pbd", "pbd", &pbdMethods, [] { return std::unique_ptr<Engine>(new PbdEngine()); }};
+  EngineEntry entry;
+  entry.name = "pbd";
+  entry.defaultMethod = "pbd";
+  entry.methods = pbdMethods();
+  entry.honouredSettings = pbd::simulationSettingKeys();
+  entry.make = [](const EngineOptions& options) {
+    return std::unique_ptr<Engine>(new PbdEngine(options));
+  };
+  return entry;
 }
 
 }  // namespace pbdval

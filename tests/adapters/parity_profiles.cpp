@@ -1,4 +1,5 @@
 // One profile per engine. Each adapter's author keeps its entry; see parity_profiles.h.
+#include "engines/selftest_engine.h"
 #include "parity_profiles.h"
 
 #include <cmath>
@@ -170,7 +171,7 @@ ParityProfile bulletConvergedProfile(const std::string& method) {
 
 std::vector<ParityProfile> parityProfiles() {
   std::vector<ParityProfile> all;
-  for (const std::string& engine : engineNames()) {
+  for (const std::string& engine : testRegistry().engineNames()) {
     if (engine == "pbd") all.push_back(pbdProfile());
     if (engine == "bullet") {
       all.push_back(bulletProfile());

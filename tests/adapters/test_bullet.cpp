@@ -10,6 +10,7 @@
 #include <set>
 #include <tuple>
 
+#include "engines/selftest_engine.h"
 #include "adapters/bullet/bullet_engine.h"
 #include "adapters/bullet/bullet_shapes.h"
 #include "common/scene_fixtures.h"
@@ -38,8 +39,8 @@ using Overrides = std::map<std::string, std::string>;
 std::unique_ptr<BulletEngine> loaded(const Scene& scene, const Overrides& overrides = {},
                                      const std::string& method = "bullet.si") {
   auto engine = std::make_unique<BulletEngine>();
-  EXPECT_TRUE(engine->unsupported(scene, resolveMethod(method, {})).empty());
-  engine->load(scene, resolveMethod(method, overrides));
+  EXPECT_TRUE(engine->unsupported(scene, testRegistry().resolve(method)).empty());
+  engine->load(scene, testRegistry().resolve(method, overrides));
   return engine;
 }
 
@@ -50,7 +51,7 @@ std::vector<State> trajectory(const Scene& scene, double duration, const std::st
   RunCallbacks callbacks;
   callbacks.onSample = [&](const State& s) { samples.push_back(s); };
   const RunOutcome outcome =
-      runSimulation(engine, scene, resolveMethod(method, overrides), {duration, 0}, callbacks);
+      runSimulation(engine, scene, testRegistry().resolve(method, overrides), {duration, 0}, callbacks);
   EXPECT_EQ(outcome.status, RunStatus::Ok) << outcome.reason;
   return samples;
 }
@@ -465,7 +466,7 @@ TEST(BulletEngineReport, UnsupportedFeaturesAreNamed) {
   pbd::TriangleModelDesc cloth;
   cloth.jsonPath = "TriangleModels[0]";
   s.triangleModels = {cloth};
-  const auto missing = BulletEngine().unsupported(s, resolveMethod("bullet.si", {}));
+  const auto missing = BulletEngine().unsupported(s, testRegistry().resolve("bullet.si"));
   auto names = [&](const std::string& path, const std::string& what) {
     for (const std::string& m : missing)
       if (m.rfind(path + ": ", 0) == 0 && m.find(what) != std::string::npos) return true;
@@ -498,7 +499,7 @@ TEST(BulletEngineReport, EveryCaseRunsOrNamesWhatIsUnsupported) {
     const Scene scene = pbd::loadScene(entry.path().string()).scene;
     BulletEngine engine;
     const RunOutcome outcome =
-        runSimulation(engine, scene, resolveMethod("bullet.si", {}), {1.0, 0}, {});
+        runSimulation(engine, scene, testRegistry().resolve("bullet.si"), {1.0, 0}, {});
     const auto expected = expectedUnsupported.find(file);
     if (expected == expectedUnsupported.end()) {
       EXPECT_EQ(outcome.status, RunStatus::Ok) << file << ": " << outcome.reason;
@@ -524,7 +525,7 @@ TEST(BulletEngineReport, EffectiveSettingsRecordTheParitySettings) {
   EXPECT_EQ(value("precision"), "double");
   EXPECT_EQ(value("solver"), "si");
   EXPECT_EQ(value("iterations"), "25");
-  EXPECT_EQ(value("erp"), "0.40000000000000002");
+  EXPECT_EQ(value("erp"), "0.4");  // the shortest text that reads back to the double 0.4
   EXPECT_EQ(value("restitutionVelocityThreshold"), "0");
   EXPECT_EQ(value("margin"), "0.001");
   EXPECT_EQ(value("contactProcessingThreshold"), "0");
@@ -545,10 +546,10 @@ TEST(BulletEngineReport, EffectiveSettingsRecordTheParitySettings) {
 TEST(BulletEngineReport, BadParametersAreRejectedByName) {
   BulletEngine engine;
   const Scene s = twoBodies(Vector3(1, 0, 0));
-  EXPECT_THROW(engine.load(s, resolveMethod("bullet.si", {{"iterations", "2.5"}})),
+  EXPECT_THROW(engine.load(s, testRegistry().resolve("bullet.si", {{"iterations", "2.5"}})),
                std::invalid_argument);
   try {
-    engine.load(s, resolveMethod("bullet.nncg", {{"erp", "abc"}}));
+    engine.load(s, testRegistry().resolve("bullet.nncg", {{"erp", "abc"}}));
     FAIL() << "erp = abc was accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("erp"), std::string::npos) << e.what();
@@ -571,7 +572,7 @@ TEST(BulletEngineReport, NoFilesAreWritten) {
     for (const Scene& scene : {sphereOnGround(0.3, 0.5, 0.4, 0.6), joints}) {
       BulletEngine engine;
       const RunOutcome outcome =
-          runSimulation(engine, scene, resolveMethod(method, {}), {0.2, 0}, {});
+          runSimulation(engine, scene, testRegistry().resolve(method), {0.2, 0}, {});
       EXPECT_EQ(outcome.status, RunStatus::Ok) << method << ": " << outcome.reason;
     }
   const bool empty = std::filesystem::is_empty(scratch);

@@ -1,4 +1,4 @@
-// The FCL distance oracle (adapters/fcl/distance_oracle.h) against closed forms: signed
+// The FCL distance oracle (validation/oracle/distance_oracle.h) against closed forms: signed
 // distances, penetration depths and witness points of primitive and mesh pairs, placement of
 // bodies from their states, and the whole-state penetration query behind the validation metrics
 // penetration_max / penetration_mean.
@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "adapters/fcl/distance_oracle.h"
-#include "adapters/fcl/mesh_geometry.h"
+#include "validation/oracle/distance_oracle.h"
+#include "validation/oracle/mesh_geometry.h"
 #include "common/scene_fixtures.h"
 #include "pbd/io/mesh_loader.h"
 #include "pbd/model/mass_properties.h"

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <functional>
 
+#include "engines/selftest_engine.h"
 #include "adapters/mujoco/contact_softness.h"
 #include "adapters/mujoco/kinematic_tree.h"
 #include "adapters/mujoco/mujoco_engine.h"
@@ -37,7 +38,7 @@ Scene emptyScene(double stepSize = 0.005, const Vector3& gravity = Vector3(0, -k
 
 Method method(const std::string& name = "mujoco.euler",
               const std::map<std::string, std::string>& overrides = {}) {
-  return resolveMethod(name, overrides);
+  return testRegistry().resolve(name, overrides);
 }
 
 /// Loads `scene` and steps it `steps` times; returns the state after each step (t = 0 first).
@@ -79,15 +80,15 @@ pbd::RigidBodyDesc asymmetricBody(int id, const Vector3& translation, const Quat
 // --- Methods -----------------------------------------------------------------------------------
 
 TEST(MujocoMethods, ThreeIntegratorsWithSolverAndContactParameters) {
-  EXPECT_EQ(defaultMethod("mujoco"), "mujoco.euler");
+  EXPECT_EQ(testRegistry().defaultMethod("mujoco"), "mujoco.euler");
   for (const char* name : {"mujoco.euler", "mujoco.rk4", "mujoco.implicit"}) {
     const Method m = method(name);
-    EXPECT_EQ(m.text("solver"), "Newton") << name;
-    EXPECT_EQ(m.text("iterations"), "100") << name;
-    EXPECT_EQ(m.text("cone"), "elliptic") << name;
-    EXPECT_EQ(m.text("contactTimeconst"), "4h") << name;
+    EXPECT_EQ(m.values.at("solver").text(), "Newton") << name;
+    EXPECT_EQ(m.values.at("iterations").text(), "100") << name;
+    EXPECT_EQ(m.values.at("cone").text(), "elliptic") << name;
+    EXPECT_EQ(m.values.at("contactTimeconst").text(), "4h") << name;
   }
-  EXPECT_THROW(resolveMethod("mujoco.euler", {{"substeps", "2"}}), std::invalid_argument);
+  EXPECT_THROW(testRegistry().resolve("mujoco.euler", {{"substeps", "2"}}), std::invalid_argument);
 }
 
 TEST(MujocoMethods, SettingsResolveStepMultiplesAndRejectBadValues) {
@@ -102,8 +103,16 @@ TEST(MujocoMethods, SettingsResolveStepMultiplesAndRejectBadValues) {
                std::invalid_argument);
   EXPECT_THROW(mujoco::mujocoSettingsFor(s, method("mujoco.euler", {{"cone", "round"}})),
                std::invalid_argument);
-  EXPECT_THROW(mujoco::mujocoSettingsFor(s, method("mujoco.euler", {{"solimp", "0.9 0.95"}})),
+  EXPECT_THROW(mujoco::mujocoSettingsFor(s, method("mujoco.euler", {{"solimpMidpoint", "1"}})),
                std::invalid_argument);
+  // The same rule for a time constant given in seconds, checked once the step is known:
+  // 0.003 s is 1.5 steps of 2 ms.
+  EXPECT_THROW(mujoco::mujocoSettingsFor(s, method("mujoco.euler", {{"contactTimeconst", "0.003"}})),
+               std::invalid_argument);
+  EXPECT_DOUBLE_EQ(
+      mujoco::mujocoSettingsFor(s, method("mujoco.euler", {{"contactTimeconst", "0.004"}}))
+          .contactTimeConstant,
+      0.004);
 }
 
 // --- Bodies and frames -----------------------------------------------------------------------

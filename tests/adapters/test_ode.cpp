@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <regex>
 
+#include "engines/selftest_engine.h"
 #include "adapters/ode/ode_engine.h"
 #include "common/scene_fixtures.h"
 #include "pbd/io/scene_loader.h"
@@ -24,7 +25,7 @@ using pbd::Scene;
 
 Method method(const std::string& name = "ode.quickstep",
               const std::map<std::string, std::string>& overrides = {}) {
-  return resolveMethod(name, overrides);
+  return testRegistry().resolve(name, overrides);
 }
 
 Scene sceneWith(double stepSize, const Vector3& gravity) {
@@ -57,14 +58,14 @@ std::vector<State> runSteps(OdeEngine& engine, int steps) {
 // --- Methods ----------------------------------------------------------------------------------
 
 TEST(OdeMethods, QuickStepIsTheDefaultAndBothCarryODEsDefaults) {
-  EXPECT_EQ(defaultMethod("ode"), "ode.quickstep");
+  EXPECT_EQ(testRegistry().defaultMethod("ode"), "ode.quickstep");
   const Method quick = method("ode.quickstep");
-  EXPECT_EQ(quick.text("iterations"), "20");  // dWORLDQUICKSTEP_ITERATION_COUNT_DEFAULT
-  EXPECT_EQ(quick.text("sor"), "1.3");        // ODE manual: w = 1.3
-  EXPECT_EQ(quick.text("erp"), "0.2");        // dWorldCreate
-  EXPECT_EQ(quick.text("cfm"), "1e-10");      // dWorldCreate, double precision
+  EXPECT_EQ(quick.values.at("iterations").text(), "20");  // dWORLDQUICKSTEP_ITERATION_COUNT_DEFAULT
+  EXPECT_EQ(quick.values.at("sor").text(), "1.3");        // ODE manual: w = 1.3
+  EXPECT_EQ(quick.values.at("erp").text(), "0.2");        // dWorldCreate
+  EXPECT_EQ(quick.values.at("cfm").text(), "1e-10");      // dWorldCreate, double precision
   const Method step = method("ode.step");
-  EXPECT_EQ(step.parameters.count("iterations"), 0u);
+  EXPECT_EQ(step.values.count("iterations"), 0u);
   EXPECT_EQ(odeSettingsFor(step).solver, OdeSettings::Solver::Step);
 }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "engines/selftest_engine.h"
 #include "adapters/engine.h"
 #include "common/scene_fixtures.h"
 #include "parity_profiles.h"
@@ -28,8 +29,8 @@ struct EngineRun {
 
 EngineRun run(const ParityProfile& profile, const Scene& scene, double duration) {
   EngineRun r;
-  const std::unique_ptr<Engine> engine = makeEngine(profile.engine);
-  const Method method = resolveMethod(profile.method, {});
+  const std::unique_ptr<Engine> engine = testRegistry().make(profile.engine);
+  const Method method = testRegistry().resolve(profile.method);
   RunCallbacks callbacks;
   callbacks.onSample = [&](const State& s) { r.samples.push_back(s); };
   r.outcome = runSimulation(*engine, scene, method, {duration, 0}, callbacks);

@@ -1,41 +1,61 @@
-// The pbd method's `contactModel` parameter: it overrides the scene's Simulation.contactModel,
-// is reported with the effective settings, and bad values are errors naming the parameter.
+// The pbd method's solver settings are the scene's Simulation settings, with one route and one
+// set of bounds: `--set contactModel=corrected` goes through the scene loader's own key table,
+// is reported with the effective settings, and a bad value is an error naming the setting and
+// what it accepts.
 #include <gtest/gtest.h>
 
 #include "adapters/pbd/pbd_engine.h"
 #include "common/scene_fixtures.h"
+#include "engines/selftest_engine.h"
+#include "pbd/io/scene_loader.h"
+#include "validation/overrides.h"
 
 namespace pbdval::test {
 namespace {
 
-TEST(PbdContactMethod, ContactModelParameterOverridesTheScene) {
+TEST(PbdContactMethod, ContactModelIsASceneSettingSetWithSet) {
   pbd::Scene scene;
   scene.simulation.contactModel = pbd::ContactModel::Corrected;
-  EXPECT_EQ(pbdSettingsFor(scene, resolveMethod("pbd", {})).contactModel,
-            pbd::ContactModel::Corrected);  // default "scene": the scene's value
-  EXPECT_EQ(pbdSettingsFor(scene, resolveMethod("pbd", {{"contactModel", "seed"}})).contactModel,
-            pbd::ContactModel::Seed);
-  scene.simulation.contactModel = pbd::ContactModel::Seed;
-  EXPECT_EQ(
-      pbdSettingsFor(scene, resolveMethod("pbd", {{"contactModel", "corrected"}})).contactModel,
-      pbd::ContactModel::Corrected);
+  const MethodInfo& pbdMethod = testRegistry().method("pbd");
+  EXPECT_TRUE(applyAssignments({}, pbdMethod, scene).empty());
+  EXPECT_EQ(scene.simulation.contactModel, pbd::ContactModel::Corrected);
+  EXPECT_TRUE(applyAssignments({"contactModel=seed"}, pbdMethod, scene).empty());
+  EXPECT_EQ(scene.simulation.contactModel, pbd::ContactModel::Seed);
   try {
-    pbdSettingsFor(scene, resolveMethod("pbd", {{"contactModel", "exact"}}));
+    applyAssignments({"contactModel=exact"}, pbdMethod, scene);
     FAIL() << "no error";
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()),
-              "method pbd: contactModel must be 'seed', 'corrected' or 'scene', got 'exact'");
+              "--set contactModel=exact: Simulation.contactModel: expected one of \"seed\", "
+              "\"corrected\", got \"exact\"");
   }
+}
+
+TEST(PbdContactMethod, SetAcceptsExactlyWhatTheSceneFileAccepts) {
+  // One declaration: the loader's bounds [1, kMaxSubSteps] hold for --set as for the file.
+  pbd::Scene scene;
+  const MethodInfo& pbdMethod = testRegistry().method("pbd");
+  EXPECT_THROW(applyAssignments({"subSteps=0"}, pbdMethod, scene), std::invalid_argument);
+  EXPECT_THROW(applyAssignments({"subSteps=1000000000"}, pbdMethod, scene), std::invalid_argument);
+  EXPECT_THROW(pbd::parseScene(R"({"Simulation": {"subSteps": 1000000000}})", "s.json"),
+               pbd::SceneError);
+  applyAssignments({"subSteps=" + std::to_string(pbd::kMaxSubSteps)}, pbdMethod, scene);
+  EXPECT_EQ(scene.simulation.subSteps, pbd::kMaxSubSteps);
+  applyAssignments({"gravitation=0,-1.5,0"}, pbdMethod, scene);
+  EXPECT_EQ(scene.simulation.gravitation, pbd::Vector3(0, -1.5, 0));
+  EXPECT_THROW(applyAssignments({"noSuchKey=1"}, pbdMethod, scene), std::invalid_argument);
 }
 
 TEST(PbdContactMethod, EffectiveSettingsNameTheContactModelAndRule) {
   pbd::Scene scene;
+  scene.simulation.contactModel = pbd::ContactModel::Corrected;
   scene.rigidBodies.push_back(pbd::test::boxBody(0, Vector3::Ones(), Vector3::Zero(), 1, false));
   PbdEngine engine;
-  engine.load(scene, resolveMethod("pbd", {{"contactModel", "corrected"}}));
+  engine.load(scene, testRegistry().resolve("pbd"));
   const auto settings = engine.effectiveSettings();
   EXPECT_EQ(settings.at("contactModel"), "corrected");
   EXPECT_EQ(settings.at("contactCombineRule"), "seed");
+  EXPECT_EQ(engine.runFacts().integratorStepsPerSceneStep, scene.simulation.subSteps);
 }
 
 }  // namespace

@@ -61,7 +61,7 @@ TEST(RestingBox, SinksNoDeeperThanThePenaltyEquilibriumAndDoesNotDrift) {
       s.rigidBodies = {ground(),
                        test::boxBody(1, Vector3::Constant(Real(0.2)),
                                      Vector3(Real(0.3), Real(0.1) + tolerance, Real(-0.2)), 1000)};
-      World w = buildWorld(s, {"", 0});
+      World w = buildWorld(s, CollisionShapeOptions{"", 0});
       const Real bound = restingShellDepth(s, stiffness);
       Real deepest = 0, finalDepth = 0;
       const Vector3 start = w.bodies.rigid.position[1];
@@ -104,7 +104,7 @@ TEST(RestingBox, RestitutionActsOnRestingContactsOnlyInTheSeedModel) {
     s.rigidBodies = {
         ground(), test::boxBody(1, Vector3::Constant(Real(0.2)), Vector3(0, Real(0.1), 0), 1000)};
     setPairMaterial(s, 0, 1, Real(0.5), restitution);
-    World w = buildWorld(s, {"", 0});
+    World w = buildWorld(s, CollisionShapeOptions{"", 0});
     Real sum = 0;
     for (int step = 0; step < 2000; ++step) {
       w.step();
@@ -129,7 +129,7 @@ struct Rebound {
   Real ratio = 0, impactSpeed = 0;
 };
 Rebound dropSphere(Scene s) {
-  World w = buildWorld(s, {"", 0});
+  World w = buildWorld(s, CollisionShapeOptions{"", 0});
   Real previousY = w.bodies.rigid.position[1].y(), previousV = 0, contactY = 0, apex = 0;
   Real impact = 0;
   bool bounced = false;
@@ -213,7 +213,7 @@ InclineRun incline(ContactModel model, Real theta) {
   slope.friction = block.friction = Real(0.25);
   slope.restitution = block.restitution = 0;
   s.rigidBodies = {slope, block};
-  World w = buildWorld(s, {"", 0});
+  World w = buildWorld(s, CollisionShapeOptions{"", 0});
   const Vector3 downhill = tilt * Vector3(-1, 0, 0);
   Vector3 x0 = Vector3::Zero(), v0 = Vector3::Zero();
   for (int step = 1; step <= 750; ++step) {
@@ -262,7 +262,7 @@ SlideRun slideToRest(ContactModel model, Real v0) {
   s.rigidBodies = {ground(),
                    test::boxBody(1, Vector3::Constant(Real(0.2)), Vector3(0, Real(0.1), 0), 1000)};
   setPairMaterial(s, 0, 1, Real(0.5), 0);
-  World w = buildWorld(s, {"", 0});
+  World w = buildWorld(s, CollisionShapeOptions{"", 0});
   for (int step = 0; step < 1500; ++step)  // settle into the shell (3 s, 3 time constants)
     w.step();
   const Real x0 = w.bodies.rigid.position[1].x();
@@ -334,7 +334,7 @@ TEST(ParticleContacts, ReboundVelocityIsTheRestitutionTargetPlusThePenalty) {
     const Scene s = particleDrop(rule);
     const Real e = s.particleMaterial(0, 0).restitution;
     EXPECT_EQ(e, rule == ContactCombineRule::Product ? Real(0.6) : Real(0.8));
-    World w = buildWorld(s, {"", 0});
+    World w = buildWorld(s, CollisionShapeOptions{"", 0});
     Real previous = 0;
     for (int step = 0; step < 1000 && w.contacts.particle.empty(); ++step) {
       previous = w.bodies.particles.velocity[0].y();
@@ -418,8 +418,8 @@ Scene pile(ContactModel model) {
 TEST(ContactDeterminism, SameContactSceneGivesBitwiseIdenticalStates) {
   for (ContactModel model : kModels) {
     const Scene scene = pile(model);
-    World a = buildWorld(scene, {"", 0});
-    World b = buildWorld(scene, {"", 0});
+    World a = buildWorld(scene, CollisionShapeOptions{"", 0});
+    World b = buildWorld(scene, CollisionShapeOptions{"", 0});
     std::size_t contacts = 0;
     for (int step = 0; step < 400; ++step) {
       a.step();

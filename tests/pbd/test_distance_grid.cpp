@@ -329,48 +329,6 @@ TEST(GridCache, WithoutAFolderOrWithAnUnwritableOneTheGridIsStillBuilt) {
   EXPECT_EQ(unwritable.grid->nodes(), disabled.grid->nodes());
 }
 
-/// Sets an environment variable for the scope of a test, restoring it afterwards.
-struct ScopedEnvironment {
-  std::string name;
-  std::optional<std::string> saved;
-  ScopedEnvironment(const char* variable, const char* value) : name(variable) {
-    if (const char* old = std::getenv(variable)) saved = old;
-    if (value)
-      ::setenv(variable, value, 1);
-    else
-      ::unsetenv(variable);
-  }
-  ~ScopedEnvironment() {
-    if (saved)
-      ::setenv(name.c_str(), saved->c_str(), 1);
-    else
-      ::unsetenv(name.c_str());
-  }
-};
-
-TEST(GridCache, FolderComesFromTheEnvironment) {
-  {
-    ScopedEnvironment explicitFolder("PBDVAL_SDF_CACHE", "/tmp/explicit");
-    ScopedEnvironment xdg("XDG_CACHE_HOME", "/tmp/xdg");
-    EXPECT_EQ(defaultGridCacheFolder(), "/tmp/explicit");
-  }
-  {
-    ScopedEnvironment disabled("PBDVAL_SDF_CACHE", "");
-    EXPECT_EQ(defaultGridCacheFolder(), "");
-  }
-  {
-    ScopedEnvironment unset("PBDVAL_SDF_CACHE", nullptr);
-    ScopedEnvironment xdg("XDG_CACHE_HOME", "/tmp/xdg");
-    EXPECT_EQ(defaultGridCacheFolder(), "/tmp/xdg/pbdval");
-  }
-  {
-    ScopedEnvironment unset("PBDVAL_SDF_CACHE", nullptr);
-    ScopedEnvironment xdg("XDG_CACHE_HOME", nullptr);
-    ScopedEnvironment home("HOME", "/home/someone");
-    EXPECT_EQ(defaultGridCacheFolder(), "/home/someone/.cache/pbdval");
-  }
-}
-
 // A type-5 body: the grid covers the collision mesh (geometry ⊘ scale ∘ collisionObjectScale)
 // plus max(10 % of its extent, the minimum padding), with resolutionSDF cells.
 TEST(CollisionShape, SignedDistanceFieldBodyUsesItsScaledMeshAndResolution) {

@@ -566,7 +566,7 @@ TEST(SceneLoaderErrors, SyntaxErrorGivesLineAndColumn) {
 
 TEST(SceneLoaderErrors, WrongTypesNameThePathTheExpectationAndTheValue) {
   EXPECT_TRUE(containsAll(errorOf(R"({"Simulation": {"timeStepSize": "fast"}})"),
-                          {"inline.json: Simulation.timeStepSize: expected a number > 0, got "
+                          {"inline.json: Simulation.timeStepSize: expected a number in [1e-07, 10], got "
                            "\"fast\""}));
   EXPECT_TRUE(containsAll(
       errorOf(R"({"RigidBodies": [{"collisionObjectType": 1, "collisionObjectScale": "abc"}]})"),
@@ -625,20 +625,25 @@ TEST(SceneLoaderErrors, NonFiniteNumbers) {
 
 TEST(SceneLoaderErrors, NonIntegralIntegers) {
   EXPECT_TRUE(containsAll(errorOf(R"({"Simulation": {"subSteps": 2.5}})"),
-                          {"Simulation.subSteps: expected an integer >= 1, got 2.5"}));
+                          {"Simulation.subSteps: expected an integer in [1, 10000], got 2.5"}));
   EXPECT_TRUE(containsAll(errorOf(R"({"RigidBodies": [{"collisionObjectType": 1, "id": 0.5}]})"),
                           {"RigidBodies[0].id: expected an integer, got 0.5"}));
   EXPECT_TRUE(containsAll(errorOf(R"({"Simulation": {"maxIterations": 1e10}})"),
-                          {"Simulation.maxIterations: expected an integer >= 1"}));
+                          {"Simulation.maxIterations: expected an integer in [1, 10000]"}));
 }
 
 TEST(SceneLoaderErrors, OutOfRangeValues) {
   const std::pair<std::string, std::string> cases[] = {
       {R"({"Simulation": {"timeStepSize": 0}})",
-       "Simulation.timeStepSize: expected a number > 0, got 0"},
-      {R"({"Simulation": {"subSteps": 0}})", "Simulation.subSteps: expected an integer >= 1"},
+       "Simulation.timeStepSize: expected a number in [1e-07, 10], got 0"},
+      {R"({"Simulation": {"subSteps": 0}})", "Simulation.subSteps: expected an integer in [1, 10000]"},
+      // The bounds keep every run finite: 10^9 substeps per step would hang a run.
+      {R"({"Simulation": {"subSteps": 1000000000}})",
+       "Simulation.subSteps: expected an integer in [1, 10000], got 1000000000"},
+      {R"({"Simulation": {"timeStepSize": 1e-20}})",
+       "Simulation.timeStepSize: expected a number in [1e-07, 10], got 1e-20"},
       {R"({"Simulation": {"maxIterationsV": -1}})",
-       "Simulation.maxIterationsV: expected an integer >= 0"},
+       "Simulation.maxIterationsV: expected an integer in [0, 10000]"},
       {R"({"Simulation": {"velocityUpdateMethod": 2}})",
        "Simulation.velocityUpdateMethod: expected an integer in [0, 1], got 2"},
       {R"({"Simulation": {"contactTolerance": -0.1}})",
@@ -792,7 +797,7 @@ TEST(SceneLoaderErrors, DiagnosticCarriesFilePathAndMessageSeparately) {
   } catch (const SceneError& e) {
     EXPECT_EQ(e.diagnostic().file, kInline);
     EXPECT_EQ(e.diagnostic().jsonPath, "Simulation.subSteps");
-    EXPECT_EQ(e.diagnostic().message, "expected an integer >= 1, got 0");
+    EXPECT_EQ(e.diagnostic().message, "expected an integer in [1, 10000], got 0");
     EXPECT_EQ(e.diagnostic().text(), std::string(e.what()));
   }
 }

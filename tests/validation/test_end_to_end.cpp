@@ -5,6 +5,7 @@
 // −½ m ‖g‖² h_s t (from x_k = x₀ + v₀ t + ½ g t (t + h_s), v_k = v₀ + g t).
 #include <gtest/gtest.h>
 
+#include "engines/selftest_engine.h"
 #include "pbd/io/scene_loader.h"
 #include "tests/validation/fixtures.h"
 #include "validation/case_spec.h"
@@ -25,13 +26,13 @@ struct ProjectileRun {
 ProjectileRun runProjectile() {
   ProjectileRun r;
   r.scene = pbd::loadScene(std::string(PBDVAL_SOURCE_DIR) + "/cases/projectile.json").scene;
-  r.spec = parseCaseSpec(r.scene);
+  r.spec = parseCaseSpec(r.scene, testRegistry());
   r.substep = double(r.scene.simulation.timeStepSize) / r.scene.simulation.subSteps;
-  const std::unique_ptr<Engine> engine = makeEngine("pbd");
+  const std::unique_ptr<Engine> engine = testRegistry().make("pbd");
   RunCallbacks callbacks;
   callbacks.onSample = [&](const State& s) { r.samples.push_back(s); };
   const RunOutcome outcome = runSimulation(
-      *engine, r.scene, resolveMethod("pbd", {}),
+      *engine, r.scene, testRegistry().resolve("pbd"),
       {defaultDuration(r.scene, r.spec), r.spec.sampleInterval.value_or(0)}, callbacks);
   EXPECT_EQ(outcome.status, RunStatus::Ok) << outcome.reason;
   return r;

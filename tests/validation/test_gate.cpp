@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "engines/selftest_engine.h"
 #include "validation/gate.h"
 #include "validation/sweep.h"
 
@@ -15,7 +16,7 @@ namespace {
 RunRecord run(const std::string& method, double drift, RunStatus status = RunStatus::Ok) {
   RunRecord r;
   r.request.caseName = "case_a";
-  r.request.engine = findMethod(method).engine;
+  r.request.engine = testRegistry().method(method).engine;
   r.request.method = method;
   r.status = status;
   r.metrics.values = {

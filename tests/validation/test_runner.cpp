@@ -2,13 +2,22 @@
 // others complete), run planning, and the results file round trip.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
+#include "engines/selftest_engine.h"
 #include "validation/results.h"
 #include "validation/run_plan.h"
+#include "validation/run_execution.h"
 #include "validation/run_record.h"
+#include "validation/run_scheduler.h"
 
 namespace pbdval {
 namespace {
@@ -43,7 +52,7 @@ TEST(Runner, EachFailureGetsItsStatusAndTheOtherRunsComplete) {
       request("selftest", "selftest.nan"),   request("selftest", "selftest.ok")};
   requests[1].trajectoryPath = (folder / "pbd.csv").string();
   requests[0].trajectoryPath = (folder / "crash.csv").string();
-  RunScheduler scheduler(3, /*timeout=*/2.0, (folder / "scratch").string());
+  RunScheduler scheduler(testRegistry(), 3, /*timeout=*/2.0, (folder / "scratch").string());
   std::size_t finished = 0;
   const std::vector<RunRecord> records =
       scheduler.runAll(requests, [&](const RunRecord&, std::size_t, std::size_t) { ++finished; });
@@ -72,26 +81,92 @@ TEST(Runner, EachFailureGetsItsStatusAndTheOtherRunsComplete) {
   fs::remove_all(folder);
 }
 
+// SIGTERM (or Ctrl-C's SIGINT) to a scheduler stops its workers at once and leaves neither the
+// scratch folder nor a temporary trajectory behind; the command then exits with 128 + signal.
+TEST(Runner, ASignalStopsTheWorkersAndRemovesTheirFiles) {
+  const fs::path folder = scratch("signal");
+  const pid_t scheduler = ::fork();
+  ASSERT_GE(scheduler, 0);
+  if (scheduler == 0) {
+    std::vector<RunRequest> requests = {request("selftest", "selftest.hang"),
+                                        request("selftest", "selftest.hang"),
+                                        request("pbd", "pbd")};
+    requests[0].trajectoryPath = (folder / "hang0.csv").string();
+    requests[1].trajectoryPath = (folder / "hang1.csv").string();
+    try {
+      RunScheduler(testRegistry(), 2, /*timeout=*/60, (folder / "scratch").string())
+          .runAll(requests, {});
+    } catch (const RunInterrupted& e) {
+      ::_exit(128 + e.signal());
+    }
+    ::_exit(0);
+  }
+  // Give both workers time to start and reach their hang (step 10 of a 5 ms scene).
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  const auto sent = std::chrono::steady_clock::now();
+  ASSERT_EQ(::kill(scheduler, SIGTERM), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(scheduler, &status, 0), scheduler);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM);
+  EXPECT_LT(seconds, 5.0);  // at once: the 60 s run timeout played no part
+  for (const auto& entry : fs::directory_iterator(folder))
+    ADD_FAILURE() << "left behind: " << entry.path();
+  fs::remove_all(folder);
+}
+
 TEST(Runner, UnreadableCaseBecomesAnErrorNamingTheFile) {
   const fs::path folder = scratch("bad-case");
   const fs::path bad = folder / "bad.json";
   std::ofstream(bad) << "{ \"RigidBodies\": [ {\"geometryFile\": 3} ] }";
-  const RunRecord record = executeRun(request("pbd", "pbd", bad.string()));
+  const RunRecord record = executeRun(request("pbd", "pbd", bad.string()), testRegistry());
   EXPECT_EQ(record.status, RunStatus::Error);
   EXPECT_NE(record.reason.find("bad.json"), std::string::npos) << record.reason;
   EXPECT_NE(record.reason.find("RigidBodies[0].geometryFile"), std::string::npos) << record.reason;
 
-  const RunPlan plan = planRuns({bad.string(), kHinge}, PlanOptions{});
+  const RunPlan plan = planRuns({bad.string(), kHinge}, PlanOptions{}, testRegistry());
   ASSERT_EQ(plan.unreadable.size(), 1u);
   EXPECT_EQ(plan.unreadable[0].request.caseName, "bad");
   EXPECT_FALSE(plan.requests.empty());  // the readable case is still planned
   fs::remove_all(folder);
 }
 
+// The penetration metric subtracts the contact margin the engine reports in its typed run
+// facts (an engine that lets resting contacts overlap by m is not penalised for m). A box
+// resting 3 mm deep in a static box, held there by selftest.ok: the FCL depth is 3 mm exactly.
+TEST(Runner, PenetrationSubtractsTheMarginTheEngineReports) {
+  const fs::path folder = scratch("margin");
+  const fs::path scene = folder / "overlap.json";
+  std::ofstream(scene) << R"({
+    "Simulation": {"timeStepSize": 0.01, "gravitation": [0, 0, 0]},
+    "RigidBodies": [
+      {"id": 0, "isDynamic": false, "collisionObjectType": 2, "collisionObjectScale": [4, 1, 4],
+       "translation": [0, -0.5, 0]},
+      {"id": 1, "collisionObjectType": 2, "collisionObjectScale": [1, 1, 1],
+       "translation": [0, 0.497, 0], "density": 1000}],
+    "Validation": {"duration": 0.05}
+  })";
+  RunRequest r = request("selftest", "selftest.ok", scene.string());
+  r.caseName = "overlap";
+  const RunRecord none = executeRun(r, testRegistry());
+  r.assignments = {"contactMargin=0.001"};
+  const RunRecord margin = executeRun(r, testRegistry());
+  ASSERT_EQ(none.status, RunStatus::Ok) << none.reason;
+  ASSERT_EQ(margin.status, RunStatus::Ok) << margin.reason;
+  EXPECT_EQ(margin.facts.contactMargin, 0.001);
+  // Tolerance: the depth 0.5 - 0.497 is exact to a few ulp of 0.5 (1e-16); FCL's box-box
+  // separating-axis depth adds round-off of the same order.
+  EXPECT_NEAR(none.metrics.values.at("penetration_max"), 0.003, 1e-12);
+  EXPECT_NEAR(margin.metrics.values.at("penetration_max"), 0.002, 1e-12);
+  fs::remove_all(folder);
+}
+
 TEST(Runner, PlanSelectsEnginesAndMethods) {
   PlanOptions options;
   options.engines = {"pbd"};
-  RunPlan plan = planRuns({kHinge}, options);
+  RunPlan plan = planRuns({kHinge}, options, testRegistry());
   ASSERT_EQ(plan.requests.size(), 1u);
   EXPECT_EQ(plan.requests[0].method, "pbd");
   EXPECT_EQ(plan.requests[0].trajectoryPath, "out/trajectories/joint_hinge/pbd-pbd.csv");
@@ -99,17 +174,17 @@ TEST(Runner, PlanSelectsEnginesAndMethods) {
   // Methods of engines not named in --engines run only when listed.
   options.engines = {"pbd", "selftest"};
   options.methods = {"selftest.nan"};
-  plan = planRuns({kHinge}, options);
+  plan = planRuns({kHinge}, options, testRegistry());
   ASSERT_EQ(plan.requests.size(), 2u);  // pbd's default (named engine) + the listed method
   EXPECT_EQ(plan.requests[0].method, "pbd");
   EXPECT_EQ(plan.requests[1].method, "selftest.nan");
 
   options.engines = {"pbd"};
   options.methods = {"selftest.ok"};
-  EXPECT_THROW(planRuns({kHinge}, options),
+  EXPECT_THROW(planRuns({kHinge}, options, testRegistry()),
                std::invalid_argument);  // method of an unselected engine
   options.methods = {"no.such.method"};
-  EXPECT_THROW(planRuns({kHinge}, options), std::invalid_argument);
+  EXPECT_THROW(planRuns({kHinge}, options, testRegistry()), std::invalid_argument);
 }
 
 TEST(Results, RoundTripKeepsEveryField) {
@@ -120,6 +195,9 @@ TEST(Results, RoundTripKeepsEveryField) {
   r.reason = "body 1 blew up";
   r.methodParameters = {{"subSteps", "10"}};
   r.settings = {{"timeStepSize", "0.005"}};
+  r.facts.engineVersion = "test engine 1.0";
+  r.facts.integratorStepsPerSceneStep = 10;
+  r.facts.contactMargin = 2.5e-5;
   r.metrics.values = {
       {"energy_drift_max", 0.125}, {"wall_time_s", 1.5}, {"nan_metric", std::nan("")}};
   JointErrorSummary hinge;
@@ -150,6 +228,9 @@ TEST(Results, RoundTripKeepsEveryField) {
   EXPECT_EQ(b.status, r.status);
   EXPECT_EQ(b.reason, r.reason);
   EXPECT_EQ(b.settings, r.settings);
+  EXPECT_EQ(b.facts.engineVersion, r.facts.engineVersion);
+  EXPECT_EQ(b.facts.integratorStepsPerSceneStep, 10);
+  EXPECT_EQ(b.facts.contactMargin, 2.5e-5);
   EXPECT_EQ(b.metrics.values.at("energy_drift_max"), 0.125);
   EXPECT_TRUE(std::isnan(b.metrics.values.at("nan_metric")));  // null in JSON
   EXPECT_EQ(b.metrics.jointErrorByType.at("hinge").joints, 3);

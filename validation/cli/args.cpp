@@ -1,9 +1,11 @@
 #include "validation/cli/args.h"
 
-#include <cmath>
+#include <cstdint>
 #include <cstdio>
-#include <cstdlib>
+#include <optional>
 #include <sstream>
+
+#include "pbd/io/number_text.h"
 
 namespace pbdval::cli {
 
@@ -21,21 +23,17 @@ const std::vector<std::string>& ParsedArgs::values(const std::string& name) cons
 double ParsedArgs::number(const std::string& name, double fallback) const {
   if (!options.count(name)) return fallback;
   const std::string text = value(name);
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v))
-    throw UsageError("--" + name + ": expected a number, got '" + text + "'");
-  return v;
+  const std::optional<double> v = pbd::parseReal(text);
+  if (!v) throw UsageError("--" + name + ": expected a number, got '" + text + "'");
+  return *v;
 }
 
 long ParsedArgs::integer(const std::string& name, long fallback) const {
   if (!options.count(name)) return fallback;
   const std::string text = value(name);
-  char* end = nullptr;
-  const long v = std::strtol(text.c_str(), &end, 10);
-  if (text.empty() || end != text.c_str() + text.size())
-    throw UsageError("--" + name + ": expected an integer, got '" + text + "'");
-  return v;
+  const std::optional<std::int64_t> v = pbd::parseInteger(text);
+  if (!v) throw UsageError("--" + name + ": expected an integer, got '" + text + "'");
+  return static_cast<long>(*v);
 }
 
 ArgParser::ArgParser(std::string command, std::string synopsis, std::string description)

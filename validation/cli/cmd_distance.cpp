@@ -12,7 +12,7 @@
 
 namespace pbdval::cli {
 
-int distanceCommand(const Arguments& arguments) {
+int distanceCommand(const Context& /*context*/, const Arguments& arguments) {
   ArgParser parser(
       "distance", "[SCENE...] [--samples N] [--seed S] [--json FILE]",
       "Compares the PBD library's signed-distance collision detection with FCL's exact distances\n"

@@ -39,7 +39,7 @@ std::string resultsPathOf(const std::string& folderOrFile) {
 
 }  // namespace
 
-int gateCommand(const Arguments& arguments) {
+int gateCommand(const Context& /*context*/, const Arguments& arguments) {
   ArgParser parser("gate", "--baseline FILE --results DIR [--junit FILE] [--markdown FILE]",
                    "Compares a results folder with a baseline and with each case's own checks\n"
                    "(docs/gate.md): every metric no worse than the baseline by more than its\n"
@@ -98,7 +98,7 @@ int gateCommand(const Arguments& arguments) {
   return report.passed() ? 0 : 1;
 }
 
-int baselineCommand(const Arguments& arguments) {
+int baselineCommand(const Context& /*context*/, const Arguments& arguments) {
   ArgParser parser("baseline", "--results DIR --out FILE",
                    "Writes a baseline (statuses and metrics of every run) from a results folder,\n"
                    "for 'pbdval gate'. The project's own baseline lives in reports/baselines/.");

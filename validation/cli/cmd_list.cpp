@@ -27,7 +27,7 @@ const char* referenceKind(ReferenceSpec::Kind kind) {
 
 }  // namespace
 
-int listCommand(const Arguments& arguments) {
+int listCommand(const Context& context, const Arguments& arguments) {
   ArgParser parser("list", "[CASES or folders ...]",
                    "Prints the cases (default: cases/) with their duration, reference and a\n"
                    "one-line description (Validation.description).");
@@ -46,7 +46,7 @@ int listCommand(const Arguments& arguments) {
   for (const std::string& file : files) {
     try {
       const pbd::Scene scene = pbd::loadScene(file).scene;
-      const CaseSpec spec = parseCaseSpec(scene);
+      const CaseSpec spec = parseCaseSpec(scene, context.engines);
       std::string reference = referenceKind(spec.reference.kind);
       if (spec.reference.kind == ReferenceSpec::Kind::Analytic)
         reference += " " + spec.reference.model;

@@ -2,13 +2,15 @@
 #include <cstdio>
 #include <iostream>
 
-#include "adapters/engine.h"
+#include <stdexcept>
+
+#include "adapters/registry.h"
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
 
 namespace pbdval::cli {
 
-int methodsCommand(const Arguments& arguments) {
+int methodsCommand(const Context& context, const Arguments& arguments) {
   ArgParser parser(
       "methods", "[ENGINE...]",
       "Lists the solver methods of every engine compiled in (or of the engines\n"
@@ -17,27 +19,31 @@ int methodsCommand(const Arguments& arguments) {
   parser.positionals("ENGINE", "engines to list (default: all)", 0, -1);
   ParsedArgs args;
   if (const auto exit = parser.parseOrExit(arguments, args)) return *exit;
-  const std::vector<std::string> engines = engineNames();
+  const EngineRegistry& registry = context.engines;
   for (const std::string& wanted : args.positionals) {
-    bool known = false;
-    for (const std::string& e : engines)
-      known = known || e == wanted;
-    if (!known) {
-      return parser.usageError("unknown engine '" + wanted + "'");
+    try {
+      registry.engine(wanted);
+    } catch (const std::invalid_argument& e) {
+      return parser.usageError(e.what());
     }
   }
-  for (const std::string& engine : engines) {
+  for (const EngineEntry& engine : registry.entries()) {
     bool listed = args.positionals.empty();
-    for (const std::string& wanted : args.positionals)
-      listed = listed || wanted == engine;
+    for (const std::string& wanted : args.positionals) listed = listed || wanted == engine.name;
     if (!listed) continue;
-    std::printf("%s (default method: %s)\n", engine.c_str(), defaultMethod(engine).c_str());
-    for (const MethodInfo& m : methodCatalog()) {
-      if (m.engine != engine) continue;  // (hidden engines are not in engineNames())
+    std::printf("%s (default method: %s)\n", engine.name.c_str(), engine.defaultMethod.c_str());
+    std::string settings;
+    for (const std::string& key : engine.honouredSettings)
+      settings += (settings.empty() ? "" : ", ") + key;
+    std::printf("  scene settings it honours (--set KEY=VALUE, ranges in docs/scene-format.md):\n"
+                "      %s\n",
+                settings.c_str());
+    for (const MethodInfo& m : engine.methods) {
       std::printf("  %s\n      %s\n", m.name.c_str(), m.description.c_str());
-      for (const MethodParameter& p : m.parameters)
-        std::printf("      --set %s=%s  %s\n", p.name.c_str(), p.defaultValue.c_str(),
-                    p.description.c_str());
+      for (const ParameterSpec& p : m.parameters)
+        std::printf("      --set %s=%s  (%s%s%s) %s\n", p.name.c_str(), p.defaultValue.c_str(),
+                    p.expectation().c_str(), p.unit.empty() ? "" : ", unit ",
+                    p.unit.c_str(), p.description.c_str());
     }
   }
   return 0;

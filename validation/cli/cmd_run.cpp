@@ -14,6 +14,7 @@
 #include "validation/cli/commands.h"
 #include "validation/results.h"
 #include "validation/run_plan.h"
+#include "validation/run_scheduler.h"
 #include "validation/summary.h"
 
 namespace pbdval::cli {
@@ -54,7 +55,7 @@ std::string clock(double seconds) {
 
 }  // namespace
 
-int runCommand(const Arguments& arguments) {
+int runCommand(const Context& context, const Arguments& arguments) {
   const ArgParser parser = runParser();
   ParsedArgs args;
   if (const auto exit = parser.parseOrExit(arguments, args)) return *exit;
@@ -76,7 +77,7 @@ int runCommand(const Arguments& arguments) {
     if (timeout < 0) throw UsageError("--timeout: expected seconds ≥ 0");
     const std::vector<std::string> paths =
         args.positionals.empty() ? std::vector<std::string>{defaultCaseFolder()} : args.positionals;
-    plan = planRuns(collectCaseFiles(paths), options);
+    plan = planRuns(collectCaseFiles(paths), options, context.engines);
   } catch (const std::exception& e) {
     return parser.inputError(e.what());
   }
@@ -100,7 +101,8 @@ int runCommand(const Arguments& arguments) {
     if (!quiet)
       std::fprintf(stderr, "  %s: error: %s\n", r.request.caseName.c_str(), r.reason.c_str());
 
-  RunScheduler scheduler(jobs, timeout, options.outFolder + "/.scratch");
+  RunScheduler scheduler(context.engines, jobs, timeout, options.outFolder + "/.scratch");
+  int tick = 0;
   std::vector<RunRecord> records = scheduler.runAll(
       plan.requests,
       [&](const RunRecord& r, std::size_t done, std::size_t total) {
@@ -114,7 +116,6 @@ int runCommand(const Arguments& arguments) {
       },
       [&](const std::vector<const RunRequest*>& running) {
         if (!terminal || running.empty()) return;
-        static int tick = 0;
         if (++tick % 10) return;  // redraw every ~0.2 s
         std::string names;
         for (const RunRequest* r : running)

@@ -45,14 +45,14 @@ ArgParser simulateParser() {
       .flag("quiet", "no warnings, progress or summary on stderr")
       .epilog(
           "exit status: 0 ok; 1 the run failed (diverged, engine error, unsupported); 2 bad\n"
-          "usage or scene.\nexample: pbdval simulate cases/hinge_pendulum.json --duration 2 --out "
+          "usage or scene.\nexample: pbdval simulate cases/joint_hinge.json --duration 2 --out "
           "hinge.csv");
   return parser;
 }
 
 }  // namespace
 
-int simulateCommand(const Arguments& arguments) {
+int simulateCommand(const Context& context, const Arguments& arguments) {
   const ArgParser parser = simulateParser();
   ParsedArgs args;
   if (const auto exit = parser.parseOrExit(arguments, args)) return *exit;
@@ -77,16 +77,13 @@ int simulateCommand(const Arguments& arguments) {
   RunLength length;
   try {
     engineName = args.value("engine", "pbd");
-    methodName = args.value("method", defaultMethod(engineName));
-    const MethodInfo& info = findMethod(methodName);
+    methodName = args.value("method", context.engines.defaultMethod(engineName));
+    const MethodInfo& info = context.engines.method(methodName);
     if (info.engine != engineName)
       throw UsageError("method " + methodName + " belongs to engine " + info.engine + ", not " +
                        engineName);
-    std::vector<std::string> parameterNames;
-    for (const auto& p : info.parameters)
-      parameterNames.push_back(p.name);
-    method = resolveMethod(methodName, applyAssignments(args.values("set"), parameterNames, scene));
-    const CaseSpec spec = parseCaseSpec(scene);
+    method = resolveMethod(info, applyAssignments(args.values("set"), info, scene));
+    const CaseSpec spec = parseCaseSpec(scene, context.engines);
     length.duration = args.number("duration", defaultDuration(scene, spec));
     length.sampleInterval = args.number("sample-interval", 0);
     for (const std::string& note : planSteps(length, double(scene.simulation.timeStepSize)).notes)
@@ -114,7 +111,7 @@ int simulateCommand(const Arguments& arguments) {
                    elapsed);
     };
 
-  const std::unique_ptr<Engine> engine = makeEngine(engineName);
+  const std::unique_ptr<Engine> engine = context.engines.make(engineName);
   const RunOutcome outcome = runSimulation(*engine, scene, method, length, callbacks);
   if (showProgress) std::fprintf(stderr, "\r%70s\r", "");
 

@@ -14,7 +14,7 @@
 
 namespace pbdval::cli {
 
-int sweepCommand(const Arguments& arguments) {
+int sweepCommand(const Context& context, const Arguments& arguments) {
   ArgParser parser(
       "sweep", "CASE --param NAME=v1,v2,... [options]",
       "A convergence study: runs CASE for every value of each --param (a grid when several),\n"
@@ -54,7 +54,7 @@ int sweepCommand(const Arguments& arguments) {
     }
     options.methods = splitList(args.value("methods"));
     for (const std::string& m : options.methods)
-      findMethod(m);
+      context.engines.method(m);
     options.metric = args.value("metric");
     const std::string reference = args.value("reference", "case");
     if (reference != "fine" && reference != "case")
@@ -77,7 +77,7 @@ int sweepCommand(const Arguments& arguments) {
     command << ' ' << a;
   SweepResult result;
   try {
-    result = runSweep(options, [](const RunRecord& r, std::size_t done, std::size_t total) {
+    result = runSweep(options, context.engines, [](const RunRecord& r, std::size_t done, std::size_t total) {
       std::string values;
       for (const std::string& a : r.request.assignments)
         values += " " + a;

@@ -5,23 +5,31 @@
 #include <string>
 #include <vector>
 
+#include "adapters/registry.h"
+
 namespace pbdval::cli {
 
 using Arguments = std::vector<std::string>;
 
-int simulateCommand(const Arguments& args);
-int methodsCommand(const Arguments& args);
-int runCommand(const Arguments& args);
-int listCommand(const Arguments& args);
-int gateCommand(const Arguments& args);
-int sweepCommand(const Arguments& args);
-int distanceCommand(const Arguments& args);
-int baselineCommand(const Arguments& args);
+/// What every command is given besides its arguments: the engines of this process (built-in,
+/// created with the grid cache folder the command chose).
+struct Context {
+  const EngineRegistry& engines;
+};
+
+int simulateCommand(const Context& context, const Arguments& args);
+int methodsCommand(const Context& context, const Arguments& args);
+int runCommand(const Context& context, const Arguments& args);
+int listCommand(const Context& context, const Arguments& args);
+int gateCommand(const Context& context, const Arguments& args);
+int sweepCommand(const Context& context, const Arguments& args);
+int distanceCommand(const Context& context, const Arguments& args);
+int baselineCommand(const Context& context, const Arguments& args);
 
 struct Command {
   const char* name;
   const char* summary;
-  int (*run)(const Arguments& args);
+  int (*run)(const Context& context, const Arguments& args);
 };
 
 /// All commands, in the order `pbdval --help` lists them.

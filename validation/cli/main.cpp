@@ -1,10 +1,14 @@
 // pbdval: the command-line front end (docs/cli.md).
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <iostream>
 
+#include "adapters/built_in_engines.h"
+#include "validation/cache_folder.h"
 #include "validation/cli/commands.h"
+#include "validation/run_scheduler.h"
 
 namespace pbdval::cli {
 
@@ -54,7 +58,14 @@ int main(int argc, char** argv) {
   for (const auto& command : pbdval::cli::commands()) {
     if (name != command.name) continue;
     try {
-      return command.run(pbdval::cli::Arguments(argv + 2, argv + argc));
+      // The command, not the library, reads the environment: the grid SDF cache folder.
+      pbdval::EngineOptions options;
+      options.gridCacheFolder = pbdval::sdfCacheFolder([](const char* v) { return std::getenv(v); });
+      const pbdval::EngineRegistry engines = pbdval::builtInEngines(options);
+      return command.run(pbdval::cli::Context{engines}, pbdval::cli::Arguments(argv + 2, argv + argc));
+    } catch (const pbdval::RunInterrupted& e) {
+      std::fprintf(stderr, "\npbdval %s: %s; no results were written\n", command.name, e.what());
+      return 128 + e.signal();
     } catch (const std::exception& e) {
       std::fprintf(stderr, "pbdval %s: error: %s\n", command.name, e.what());
       return 2;

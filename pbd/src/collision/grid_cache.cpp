@@ -143,24 +143,7 @@ std::string hexadecimal(std::uint64_t value) {
   return text;
 }
 
-std::string environment(const char* name, bool& isSet) {
-  const char* value = std::getenv(name);
-  isSet = value != nullptr;
-  return value ? value : "";
-}
-
 }  // namespace
-
-std::string defaultGridCacheFolder() {
-  bool set = false;
-  const std::string explicitFolder = environment("PBDVAL_SDF_CACHE", set);
-  if (set) return explicitFolder;
-  const std::string xdg = environment("XDG_CACHE_HOME", set);
-  if (!xdg.empty()) return (std::filesystem::path(xdg) / "pbdval").string();
-  const std::string home = environment("HOME", set);
-  if (!home.empty()) return (std::filesystem::path(home) / ".cache" / "pbdval").string();
-  return "";
-}
 
 const char* gridCacheOutcomeName(GridCacheOutcome outcome) {
   switch (outcome) {

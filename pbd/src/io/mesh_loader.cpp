@@ -1,15 +1,16 @@
 #include "pbd/io/mesh_loader.h"
 
 #include <array>
-#include <cerrno>
 #include <climits>
+#include <cstdint>
+#include <optional>
 #include <cmath>
-#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "pbd/io/number_text.h"
 #include "pbd/io/scene_loader.h"
 
 namespace pbd {
@@ -49,25 +50,17 @@ class TokenizedFile {
   }
 
   Real real(const std::string& token) const {
-    errno = 0;
-    char* end = nullptr;
-    const double value = std::strtod(token.c_str(), &end);
-    if (end == token.c_str() || *end != '\0' || errno == ERANGE ||
-        !std::isfinite(static_cast<Real>(value))) {
+    const std::optional<double> value = parseReal(token);
+    if (!value || !std::isfinite(static_cast<Real>(*value)))
       fail("expected a finite number, got '" + token + "'");
-    }
-    return static_cast<Real>(value);
+    return static_cast<Real>(*value);
   }
 
   int integer(const std::string& token) const {
-    errno = 0;
-    char* end = nullptr;
-    const long value = std::strtol(token.c_str(), &end, 10);
-    if (end == token.c_str() || *end != '\0' || errno == ERANGE || value > INT_MAX ||
-        value < INT_MIN) {
+    const std::optional<std::int64_t> value = parseInteger(token);
+    if (!value || *value > INT_MAX || *value < INT_MIN)
       fail("expected an integer, got '" + token + "'");
-    }
-    return static_cast<int>(value);
+    return static_cast<int>(*value);
   }
 
  private:

@@ -33,11 +33,15 @@ ContactModel contactModel(const JsonValue& value) {
 KeyTable<SimulationSettings> simulationKeys() {
   using S = SimulationSettings;
   return {
-      numberKey("timeStepSize", &S::timeStepSize, positive()),
+      // The bounds below are the only ones: `--set` goes through this table too
+      // (applySimulationSetting). They keep every run finite: a step below 1e-7 s or above 10 s
+      // is no physical time step, and 10^4 substeps or iterations per step already cost
+      // 10^4 times the default; the runner also refuses runs of more than 10^8 steps.
+      numberKey("timeStepSize", &S::timeStepSize, between(1e-7, 10)),
       vectorKey("gravitation", &S::gravitation),
-      integerKey("subSteps", &S::subSteps, atLeast(1)),
-      integerKey("maxIterations", &S::maxIterations, atLeast(1)),
-      integerKey("maxIterationsV", &S::maxIterationsV, atLeast(0)),
+      integerKey("subSteps", &S::subSteps, between(1, kMaxSubSteps)),
+      integerKey("maxIterations", &S::maxIterations, between(1, kMaxIterations)),
+      integerKey("maxIterationsV", &S::maxIterationsV, between(0, kMaxIterations)),
       integerKey("velocityUpdateMethod", &S::velocityUpdateMethod, between(0, 1)),
       numberKey("contactTolerance", &S::contactTolerance, nonNegative()),
       numberKey("contactStiffnessRigidBody", &S::contactStiffnessRigidBody, nonNegative()),
@@ -157,6 +161,33 @@ void readSimulation(const JsonValue& block, Scene& scene) {
 }
 
 }  // namespace scene_io
+
+std::vector<std::string> simulationSettingKeys() {
+  std::vector<std::string> keys;
+  for (const auto& entry : scene_io::simulationKeys()) keys.push_back(entry.key);
+  return keys;
+}
+
+void applySimulationSetting(SimulationSettings& settings, const std::string& key,
+                            const std::string& valueText, const std::string& origin) {
+  using namespace scene_io;
+  for (const auto& entry : simulationKeys()) {
+    if (entry.key != key) continue;
+    // The value as JSON ("10", "[0, -9.81, 0]", "\"corrected\""); else a list "0,-9.81,0";
+    // else the text as a string (contactModel=corrected).
+    Json value = Json::parse(valueText, nullptr, false);
+    if (value.is_discarded() && valueText.find(',') != std::string::npos)
+      value = Json::parse("[" + valueText + "]", nullptr, false);
+    if (value.is_discarded()) value = Json(valueText);
+    DiagnosticSink sink(origin, /*strict=*/true);
+    entry.read(JsonValue(value, "Simulation." + key, sink), settings);
+    return;
+  }
+  std::string known;
+  for (const std::string& k : simulationSettingKeys()) known += (known.empty() ? "" : ", ") + k;
+  throw SceneError(
+      SceneDiagnostic{origin, "", "unknown Simulation setting '" + key + "' (settings: " + known + ")"});
+}
 
 LoadedScene parseScene(const std::string& jsonText, const std::string& sourcePath,
                        const LoadOptions& options) {

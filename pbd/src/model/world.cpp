@@ -101,8 +101,9 @@ std::vector<int> colouredJointOrder(const std::vector<JointEnds>& ends, std::siz
   return order;
 }
 
-World buildWorld(const Scene& scene) {
+World buildWorld(const Scene& scene, const std::string& gridCacheFolder) {
   CollisionShapeOptions options;
+  options.gridCacheFolder = gridCacheFolder;
   options.minimumGridPadding = 2 * scene.simulation.contactTolerance;
   return buildWorld(scene, options);
 }

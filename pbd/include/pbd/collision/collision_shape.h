@@ -39,8 +39,8 @@
 namespace pbd {
 
 struct CollisionShapeOptions {
-  /// Cache folder for type-5 grids; empty: no cache. Default: defaultGridCacheFolder().
-  std::string gridCacheFolder = defaultGridCacheFolder();
+  /// Cache folder for type-5 grids, chosen by the caller; empty (the default): no cache.
+  std::string gridCacheFolder;
   /// Padding of a type-5 grid around the collision mesh, on every side: the larger of 10 % of
   /// the mesh's largest extent and this value (m). The world passes 2 × contactTolerance, so
   /// every point inside the contact shell lies inside the grid.

@@ -1,8 +1,7 @@
 // On-disk cache of distance grids built from meshes (collisionObjectType 5).
 //
-// Folder: $PBDVAL_SDF_CACHE if set (an empty value disables the cache), else
-// $XDG_CACHE_HOME/pbdval, else $HOME/.cache/pbdval; no caching when none of these is set. It
-// never lies inside the repository.
+// Folder: given by the caller (the library reads no environment; the pbdval command takes it
+// from $PBDVAL_SDF_CACHE, $XDG_CACHE_HOME or $HOME); an empty folder disables the cache.
 //
 // One file per grid, named sdf-<key>.grid, where the key is a 64-bit FNV-1a hash of the format
 // version, the precision, the mesh (vertices and triangles, bit for bit), the domain and the
@@ -23,9 +22,6 @@
 #include "pbd/model/mesh.h"
 
 namespace pbd {
-
-/// The cache folder from the environment (see above); empty: caching is disabled.
-std::string defaultGridCacheFolder();
 
 enum class GridCacheOutcome {
   Disabled,  ///< no cache folder: built in memory

@@ -48,6 +48,20 @@ struct LoadedScene {
 /// scene file's folder. Throws SceneError.
 LoadedScene loadScene(const std::string& path, const LoadOptions& options = {});
 
+/// Upper bounds of the Simulation block's solver counts (docs/scene-format.md).
+inline constexpr int kMaxSubSteps = 10000;
+inline constexpr int kMaxIterations = 10000;
+
+/// The keys of the Simulation block.
+std::vector<std::string> simulationSettingKeys();
+
+/// Sets one key of the Simulation block from text with exactly the loader's checks (the same
+/// key table, the same bounds), so `--set subSteps=10` and `"subSteps": 10` accept the same
+/// values. The text is JSON ("10", "[0, -9.81, 0]"), a comma-separated list ("0,-9.81,0") or a
+/// plain string ("corrected"). Throws SceneError "ORIGIN: Simulation.KEY: expected ..., got ...".
+void applySimulationSetting(SimulationSettings& settings, const std::string& key,
+                            const std::string& valueText, const std::string& origin);
+
 /// Same, from JSON text; `sourcePath` is used for messages and to resolve relative paths.
 LoadedScene parseScene(const std::string& jsonText, const std::string& sourcePath,
                        const LoadOptions& options = {});

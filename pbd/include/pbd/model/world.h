@@ -44,10 +44,10 @@ struct World {
 
 /// Builds the world from a scene: bodies in their principal frames, particles, joints
 /// initialised at the scene's initial poses and ordered for the solver, collision shapes
-/// (type-5 grids from the cache in defaultGridCacheFolder(), padded by at least
-/// 2 × contactTolerance) and contact buffers. Throws std::invalid_argument, naming the body,
-/// for collision parameters that describe no shape.
-World buildWorld(const Scene& scene);
+/// (type-5 grids from the cache in `gridCacheFolder`, or built in memory when it is empty,
+/// padded by at least 2 × contactTolerance) and contact buffers. Throws std::invalid_argument,
+/// naming the body, for collision parameters that describe no shape.
+World buildWorld(const Scene& scene, const std::string& gridCacheFolder = {});
 /// The same with explicit collision-shape options (cache folder, grid padding).
 World buildWorld(const Scene& scene, const CollisionShapeOptions& options);
 

@@ -1,4 +1,4 @@
-#include "adapters/fcl/distance_oracle.h"
+#include "validation/oracle/distance_oracle.h"
 
 #include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
 
@@ -7,8 +7,8 @@
 #include <set>
 #include <stdexcept>
 
-#include "adapters/fcl/fcl_geometry.h"
-#include "adapters/fcl/narrow_phase.h"
+#include "validation/oracle/fcl_geometry.h"
+#include "validation/oracle/narrow_phase.h"
 
 namespace pbdval {
 

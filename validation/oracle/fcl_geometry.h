@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "adapters/fcl/distance_oracle.h"
+#include "validation/oracle/distance_oracle.h"
 #include "pbd/model/mesh.h"
 
 namespace pbdval::fcl_oracle {

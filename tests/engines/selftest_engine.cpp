@@ -1,9 +1,11 @@
-#include "adapters/selftest/selftest_engine.h"
+#include "engines/selftest_engine.h"
 
 #include <chrono>
 #include <csignal>
 #include <limits>
 #include <thread>
+
+#include "adapters/built_in_engines.h"
 
 namespace pbdval {
 namespace {
@@ -23,7 +25,8 @@ class SelftestEngine final : public Engine {
                : method.name == "selftest.throw" ? Failure::Throw
                : method.name == "selftest.nan"   ? Failure::NotANumber
                                                  : Failure::None;
-    failAtStep_ = static_cast<long>(method.number("failAtStep"));
+    failAtStep_ = static_cast<long>(method.integer("failAtStep"));
+    contactMargin_ = method.real("contactMargin");
     step_ = 0;
     stepSize_ = double(scene.simulation.timeStepSize);
     state_ = State{};
@@ -56,28 +59,55 @@ class SelftestEngine final : public Engine {
 
   void read(State& state) const override { state = state_; }
 
+  RunFacts runFacts() const override {
+    RunFacts facts;
+    facts.engineVersion = "selftest";
+    facts.contactMargin = contactMargin_;
+    return facts;
+  }
+
  private:
   Failure failure_ = Failure::None;
   long failAtStep_ = 10;
+  double contactMargin_ = 0;
   long step_ = 0;
   double stepSize_ = 0;
   State state_;
 };
 
 std::vector<MethodInfo> selftestMethods() {
-  const MethodParameter failAt{"failAtStep", "10", "the step at which the method misbehaves"};
-  return {{"selftest.ok", "selftest", "keeps every body at its initial pose", {failAt}},
-          {"selftest.crash", "selftest", "raises SIGSEGV", {failAt}},
-          {"selftest.hang", "selftest", "never returns from step()", {failAt}},
-          {"selftest.throw", "selftest", "throws an EngineError", {failAt}},
-          {"selftest.nan", "selftest", "reports a NaN position", {failAt}}};
+  const std::vector<ParameterSpec> parameters = {
+      integerParameter("failAtStep", 10, 1, 1e9, "the step at which the method misbehaves"),
+      realParameter("contactMargin", 0, 0, 1, "m",
+                    "the contact margin the engine reports in its run facts")};
+  return {{"selftest.ok", "selftest", "keeps every body at its initial pose", parameters},
+          {"selftest.crash", "selftest", "raises SIGSEGV", parameters},
+          {"selftest.hang", "selftest", "never returns from step()", parameters},
+          {"selftest.throw", "selftest", "throws an EngineError", parameters},
+          {"selftest.nan", "selftest", "reports a NaN position", parameters}};
 }
 
 }  // namespace
 
 EngineEntry selftestEngineEntry() {
-  return {"selftest", "selftest.ok", &selftestMethods,
-          [] { return std::unique_ptr<Engine>(new SelftestEngine()); }, true};
+  EngineEntry entry;
+  entry.name = "selftest";
+  entry.defaultMethod = "selftest.ok";
+  entry.methods = selftestMethods();
+  entry.honouredSettings = {"timeStepSize"};
+  entry.make = [](const EngineOptions&) { return std::unique_ptr<Engine>(new SelftestEngine()); };
+  return entry;
+}
+
+EngineRegistry testEngines(const EngineOptions& options) {
+  EngineRegistry registry = builtInEngines(options);
+  registry.add(selftestEngineEntry());
+  return registry;
+}
+
+const EngineRegistry& testRegistry() {
+  static const EngineRegistry registry = testEngines();
+  return registry;
 }
 
 }  // namespace pbdval

@@ -2,7 +2,7 @@
 // choosing FCL's most exact routine for the pair (docs/fcl-oracle.md, "Algorithms").
 #pragma once
 
-#include "adapters/fcl/fcl_geometry.h"
+#include "validation/oracle/fcl_geometry.h"
 
 namespace pbdval::fcl_oracle {
 

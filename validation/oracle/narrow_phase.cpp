@@ -1,4 +1,4 @@
-#include "adapters/fcl/narrow_phase.h"
+#include "validation/oracle/narrow_phase.h"
 
 #include <fcl/geometry/shape/box.h>
 #include <fcl/geometry/shape/sphere.h>
@@ -21,7 +21,7 @@
 #include <utility>
 #include <vector>
 
-#include "adapters/fcl/mesh_geometry.h"
+#include "validation/oracle/mesh_geometry.h"
 
 namespace pbdval::fcl_oracle {
 namespace {

@@ -1,4 +1,4 @@
-#include "adapters/fcl/fcl_geometry.h"
+#include "validation/oracle/fcl_geometry.h"
 
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/geometry/shape/box.h>
@@ -11,7 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "adapters/fcl/mesh_geometry.h"
+#include "validation/oracle/mesh_geometry.h"
 
 namespace pbdval::fcl_oracle {
 namespace {

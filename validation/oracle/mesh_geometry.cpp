@@ -1,4 +1,4 @@
-#include "adapters/fcl/mesh_geometry.h"
+#include "validation/oracle/mesh_geometry.h"
 
 #include <algorithm>
 #include <cmath>
