@@ -68,20 +68,19 @@ StepPlan planSteps(const RunLength& length, double stepSize) {
 }
 
 std::string divergenceReason(const State& state) {
-  for (std::size_t i = 0; i < state.bodies.size(); ++i) {
-    const BodyState& b = state.bodies[i];
+  // Checked after every step: nothing is built unless something is wrong.
+  for (const BodyState& b : state.bodies) {
     const bool finite = b.position.allFinite() && b.rotation.coeffs().allFinite() &&
                         b.velocity.allFinite() && b.angularVelocity.allFinite();
+    if (finite && b.position.norm() <= kDivergenceLimit && b.velocity.norm() <= kDivergenceLimit)
+      continue;
     std::ostringstream reason;
-    if (!finite) {
+    if (!finite)
       reason << "non-finite state of body " << b.id << " at t = " << state.time << " s";
-      return reason.str();
-    }
-    if (b.position.norm() > kDivergenceLimit || b.velocity.norm() > kDivergenceLimit) {
+    else
       reason << "body " << b.id << " blew up at t = " << state.time
              << " s (|x| = " << b.position.norm() << " m, |v| = " << b.velocity.norm() << " m/s)";
-      return reason.str();
-    }
+    return reason.str();
   }
   for (std::size_t i = 0; i < state.particles.size(); ++i)
     if (!state.particles[i].position.allFinite() || !state.particles[i].velocity.allFinite())

@@ -117,6 +117,17 @@ TEST(Runner, ASignalStopsTheWorkersAndRemovesTheirFiles) {
   fs::remove_all(folder);
 }
 
+// A limit far below what a run takes is a timeout even when the run ends between two checks.
+TEST(Runner, ATinyTimeoutIsATimeoutNotOk) {
+  const fs::path folder = scratch("tiny-timeout");
+  const std::vector<RunRecord> records =
+      RunScheduler(testRegistry(), 1, /*timeout=*/1e-3, (folder / "scratch").string())
+          .runAll({request("pbd", "pbd")}, {});
+  ASSERT_EQ(records.size(), 1u);
+  EXPECT_EQ(records[0].status, RunStatus::Timeout) << records[0].reason;
+  fs::remove_all(folder);
+}
+
 TEST(Runner, UnreadableCaseBecomesAnErrorNamingTheFile) {
   const fs::path folder = scratch("bad-case");
   const fs::path bad = folder / "bad.json";
