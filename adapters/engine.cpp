@@ -4,6 +4,28 @@
 
 namespace pbdval {
 
+const char* runStatusName(RunStatus status) {
+  switch (status) {
+    case RunStatus::Ok:
+      return "ok";
+    case RunStatus::Diverged:
+      return "diverged";
+    case RunStatus::Timeout:
+      return "timeout";
+    case RunStatus::Unsupported:
+      return "unsupported";
+    case RunStatus::Error:
+      return "error";
+  }
+  return "error";
+}
+
+WholeRun Engine::runWhole(const pbd::Scene& /*scene*/, const Method& method,
+                          const RunLength& /*length*/, double /*wallTimeLimit*/) {
+  throw EngineError("engine " + std::string(name()) + " (method " + method.name +
+                    ") steps in this process; it does not run whole runs");
+}
+
 const ParameterSpec* MethodInfo::find(const std::string& parameter) const {
   for (const ParameterSpec& p : parameters)
     if (p.name == parameter) return &p;

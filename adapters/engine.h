@@ -91,6 +91,27 @@ struct RunFacts {
   double contactMargin = 0;
 };
 
+/// How long to run and how often to sample (both in seconds of simulated time).
+struct RunLength {
+  double duration = 5;
+  double sampleInterval = 0;  ///< 0: every step
+};
+
+enum class RunStatus { Ok, Diverged, Timeout, Unsupported, Error };
+const char* runStatusName(RunStatus status);
+
+/// A whole run as an engine in another process returns it (external engines): the samples at
+/// t = 0, every sample interval and the end, the status the engine gave, its facts and settings.
+/// The runner checks the samples (divergence, bodies, times) like those of a stepped run.
+struct WholeRun {
+  RunStatus status = RunStatus::Error;
+  std::string reason;
+  std::vector<State> samples;
+  long steps = 0;  ///< steps the engine took
+  RunFacts facts;
+  std::map<std::string, std::string> settings;
+};
+
 /// An engine failure with a message (an engine's error callback, a rejected model, ...). The
 /// runner turns it into the run status `error`.
 class EngineError : public std::runtime_error {
@@ -129,6 +150,13 @@ class Engine {
   /// A hash of the complete final state, for engines that guarantee bitwise determinism
   /// (the PBD library); empty otherwise.
   virtual std::optional<std::string> stateHash() const { return std::nullopt; }
+
+  /// Engines that run in another process (external engines) run a whole run at once: they
+  /// return true here and implement runWhole(), which the runner then calls instead of
+  /// load/step/read. `wallTimeLimit` (s, 0 = none) bounds the engine's process.
+  virtual bool runsWhole() const { return false; }
+  virtual WholeRun runWhole(const pbd::Scene& scene, const Method& method, const RunLength& length,
+                            double wallTimeLimit);
 };
 
 /// What an engine is given when it is created (chosen by the command, never read from the
@@ -147,6 +175,9 @@ struct EngineEntry {
   /// the PBD library its solver settings); `--set` of another key has no effect in it.
   std::vector<std::string> honouredSettings;
   std::function<std::unique_ptr<Engine>(const EngineOptions&)> make;
+  /// Run when no engine is named (`pbdval run` without --engines); false for example engines,
+  /// which run only by name.
+  bool runByDefault = true;
 };
 
 }  // namespace pbdval

@@ -41,6 +41,13 @@ std::vector<std::string> EngineRegistry::engineNames() const {
   return names;
 }
 
+std::vector<std::string> EngineRegistry::defaultEngineNames() const {
+  std::vector<std::string> names;
+  for (const EngineEntry& e : entries_)
+    if (e.runByDefault) names.push_back(e.name);
+  return names;
+}
+
 const EngineEntry& EngineRegistry::engine(const std::string& name) const {
   for (const EngineEntry& e : entries_)
     if (e.name == name) return e;

@@ -23,6 +23,8 @@ class EngineRegistry {
   const std::vector<EngineEntry>& entries() const { return entries_; }
   /// Engine names in registration order.
   std::vector<std::string> engineNames() const;
+  /// The engines a run uses when none is named: all but the examples (runByDefault).
+  std::vector<std::string> defaultEngineNames() const;
   /// Throws std::invalid_argument naming the known engines.
   const EngineEntry& engine(const std::string& name) const;
   /// Throws std::invalid_argument naming the known methods.

@@ -53,7 +53,7 @@ RunPlan planRuns(const std::vector<std::string>& caseFiles, const PlanOptions& o
                                   ", which --engines does not select");
   }
   const std::vector<std::string> engines =
-      options.engines.empty() ? registry.engineNames() : options.engines;
+      options.engines.empty() ? registry.defaultEngineNames() : options.engines;
 
   RunPlan plan;
   for (const std::string& file : caseFiles) {

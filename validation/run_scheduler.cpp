@@ -141,7 +141,7 @@ std::vector<RunRecord> RunScheduler::runAll(
   std::vector<Child> running;
   std::size_t next = 0, done = 0;
   const auto stopAll = [&](int signal) {
-    for (const Child& child : running) ::kill(child.pid, SIGKILL);
+    for (const Child& child : running) ::kill(-child.pid, SIGKILL);
     for (const Child& child : running) {
       int status = 0;
       ::waitpid(child.pid, &status, 0);
@@ -158,6 +158,9 @@ std::vector<RunRecord> RunScheduler::runAll(
       const pid_t pid = ::fork();
       if (pid < 0) throw std::runtime_error(std::string("fork failed: ") + std::strerror(errno));
       if (pid == 0) {
+        // Its own process group, so that stopping it also stops what it started (an external
+        // engine's process).
+        ::setpgid(0, 0);
         interrupts.restoreInChild();
         const RunRecord record = executeRun(requests[next], registry_);
         try {
@@ -167,6 +170,7 @@ std::vector<RunRecord> RunScheduler::runAll(
         }
         ::_exit(0);
       }
+      ::setpgid(pid, pid);  // also here: whichever of the two runs first
       running.push_back({pid, next, Clock::now(), false});
       ++next;
     }
@@ -193,7 +197,7 @@ std::vector<RunRecord> RunScheduler::runAll(
     for (Child& child : running) {
       const double elapsed = std::chrono::duration<double>(Clock::now() - child.start).count();
       if (timeout_ > 0 && elapsed > timeout_ && !child.killedForTimeout) {
-        ::kill(child.pid, SIGKILL);
+        ::kill(-child.pid, SIGKILL);
         child.killedForTimeout = true;
       }
     }

@@ -16,22 +16,6 @@ double secondsSince(Clock::time_point start) {
 
 }  // namespace
 
-const char* runStatusName(RunStatus status) {
-  switch (status) {
-    case RunStatus::Ok:
-      return "ok";
-    case RunStatus::Diverged:
-      return "diverged";
-    case RunStatus::Timeout:
-      return "timeout";
-    case RunStatus::Unsupported:
-      return "unsupported";
-    case RunStatus::Error:
-      return "error";
-  }
-  return "error";
-}
-
 StepPlan planSteps(const RunLength& length, double stepSize) {
   if (!(length.duration > 0) || !std::isfinite(length.duration))
     throw std::invalid_argument("duration must be a positive number of seconds");
@@ -88,6 +72,35 @@ std::string divergenceReason(const State& state) {
   return {};
 }
 
+namespace {
+
+/// A whole run from an engine in another process, checked like a stepped run: its samples go
+/// through the same divergence test and callbacks.
+void runWhole(Engine& engine, const pbd::Scene& scene, const Method& method,
+              const RunLength& length, const StepPlan& plan, const RunCallbacks& callbacks,
+              double wallTimeLimit, RunOutcome& outcome) {
+  const Clock::time_point start = Clock::now();
+  WholeRun whole = engine.runWhole(scene, method, length, wallTimeLimit);
+  outcome.wallTime = secondsSince(start);
+  outcome.settings = std::move(whole.settings);
+  outcome.facts = std::move(whole.facts);
+  outcome.status = whole.status;
+  outcome.reason = std::move(whole.reason);
+  outcome.steps = whole.status == RunStatus::Ok ? plan.steps : whole.steps;
+  for (const State& state : whole.samples) {
+    outcome.simulatedTime = state.time;
+    const std::string diverged = divergenceReason(state);
+    if (callbacks.onSample) callbacks.onSample(state);
+    if (!diverged.empty()) {
+      outcome.status = RunStatus::Diverged;
+      outcome.reason = diverged;
+      break;
+    }
+  }
+}
+
+}  // namespace
+
 RunOutcome runSimulation(Engine& engine, const pbd::Scene& scene, const Method& method,
                          const RunLength& length, const RunCallbacks& callbacks,
                          double wallTimeLimit) {
@@ -101,6 +114,10 @@ RunOutcome runSimulation(Engine& engine, const pbd::Scene& scene, const Method& 
       return outcome;
     }
     const StepPlan plan = planSteps(length, double(scene.simulation.timeStepSize));
+    if (engine.runsWhole()) {
+      runWhole(engine, scene, method, length, plan, callbacks, wallTimeLimit, outcome);
+      return outcome;
+    }
     double busy = 0;  // wall time in load + step, without sampling
     const Clock::time_point start = Clock::now();
     Clock::time_point lastProgress = start;

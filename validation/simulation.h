@@ -11,12 +11,6 @@
 
 namespace pbdval {
 
-/// How long to run and how often to sample (both in seconds of simulated time).
-struct RunLength {
-  double duration = 5;
-  double sampleInterval = 0;  ///< 0: every step
-};
-
 /// The most steps one run may take: a run is refused before it starts rather than left to
 /// run for days (10^8 steps of the cheapest engine take minutes; of a 100-link chain, hours).
 inline constexpr double kMaxStepsPerRun = 1e8;
@@ -31,9 +25,6 @@ struct StepPlan {
   std::vector<std::string> notes;  ///< e.g. "sample interval 0.0123 s rounded to 0.0125 s"
 };
 StepPlan planSteps(const RunLength& length, double stepSize);
-
-enum class RunStatus { Ok, Diverged, Timeout, Unsupported, Error };
-const char* runStatusName(RunStatus status);
 
 struct RunOutcome {
   RunStatus status = RunStatus::Ok;

@@ -45,7 +45,8 @@ std::vector<std::vector<std::pair<std::string, std::string>>> grid(
 std::vector<std::string> defaultMethods(const CaseSpec& spec, const EngineRegistry& registry) {
   if (!spec.methods.empty()) return spec.methods;
   std::vector<std::string> methods;
-  for (const EngineEntry& engine : registry.entries()) methods.push_back(engine.defaultMethod);
+  for (const std::string& engine : registry.defaultEngineNames())
+    methods.push_back(registry.defaultMethod(engine));
   return methods;
 }
 

@@ -95,6 +95,7 @@ EngineEntry selftestEngineEntry() {
   entry.defaultMethod = "selftest.ok";
   entry.methods = selftestMethods();
   entry.honouredSettings = {"timeStepSize"};
+  entry.runByDefault = false;  // run by name only
   entry.make = [](const EngineOptions&) { return std::unique_ptr<Engine>(new SelftestEngine()); };
   return entry;
 }

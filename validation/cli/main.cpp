@@ -7,7 +7,9 @@
 
 #include "adapters/built_in_engines.h"
 #include "validation/cache_folder.h"
+#include "pbdval/build_info.h"
 #include "validation/cli/commands.h"
+#include "validation/external_engine.h"
 #include "validation/run_scheduler.h"
 
 namespace pbdval::cli {
@@ -61,7 +63,14 @@ int main(int argc, char** argv) {
       // The command, not the library, reads the environment: the grid SDF cache folder.
       pbdval::EngineOptions options;
       options.gridCacheFolder = pbdval::sdfCacheFolder([](const char* v) { return std::getenv(v); });
-      const pbdval::EngineRegistry engines = pbdval::builtInEngines(options);
+      pbdval::EngineRegistry engines = pbdval::builtInEngines(options);
+      // External engines (docs/external-engines.md): the catalogue of the source tree (or
+      // $PBDVAL_ENGINE_CATALOGUE), run with the project's virtual environment.
+      const std::string root = PBDVAL_SOURCE_DIR;
+      const char* catalogue = std::getenv("PBDVAL_ENGINE_CATALOGUE");
+      for (pbdval::EngineEntry& entry : pbdval::readEngineCatalogue(
+               catalogue ? catalogue : root + "/engines", root + "/.venv/bin/python", root))
+        engines.add(std::move(entry));
       return command.run(pbdval::cli::Context{engines}, pbdval::cli::Arguments(argv + 2, argv + argc));
     } catch (const pbdval::RunInterrupted& e) {
       std::fprintf(stderr, "\npbdval %s: %s; no results were written\n", command.name, e.what());

@@ -1,0 +1,197 @@
+// The external-engine protocol from the runner's side: every way an engine can misbehave is a
+// run status with a reason, never a failure of the runner. The "engines" here are shell
+// one-liners that misbehave on purpose; the well-behaved one copies a trajectory the test
+// computes itself (the bodies at rest at the planned sample times).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <cmath>
+#include <fstream>
+#include <functional>
+
+#include "common/text_assertions.h"
+#include "pbd/io/scene_loader.h"
+#include "validation/external_engine.h"
+#include "validation/simulation.h"
+#include "validation/trajectory.h"
+
+namespace pbdval {
+namespace {
+
+namespace fs = std::filesystem;
+using pbd::test::containsAll;
+
+const char* kScene = R"({
+  "Simulation": {"timeStepSize": 0.01, "gravitation": [0, 0, 0]},
+  "RigidBodies": [
+    {"id": 3, "collisionObjectType": 1, "collisionObjectScale": [0.5, 0.5, 0.5], "density": 1000},
+    {"id": 7, "collisionObjectType": 1, "collisionObjectScale": [0.5, 0.5, 0.5], "density": 1000,
+     "translation": [2, 0, 0]}]
+})";
+
+class ExternalEngineTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = fs::temp_directory_path() / ("pbdval-external-" + std::to_string(::getpid()));
+    fs::remove_all(folder_);
+    fs::create_directories(folder_);
+    scene_ = pbd::parseScene(kScene, (folder_ / "scene.json").string()).scene;
+    length_ = {0.1, 0.05};  // 10 steps, samples at steps 0, 5, 10
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+
+  /// The trajectory a correct engine writes for the bodies at rest, with `edit` applied to it.
+  std::string restingTrajectory(const std::function<void(std::vector<State>&)>& edit = {}) {
+    std::vector<State> samples;
+    for (int step : {0, 5, 10}) {
+      State s;
+      s.time = step * 0.01;
+      for (const pbd::RigidBodyDesc& b : scene_.rigidBodies)
+        s.bodies.push_back({b.id, b.initialCenterOfMass(), b.rotation, Vector3::Zero(), Vector3::Zero()});
+      samples.push_back(s);
+    }
+    if (edit) edit(samples);
+    const fs::path file = folder_ / ("trajectory-" + std::to_string(counter_++) + ".csv");
+    std::ofstream out(file);
+    writeCsvHeader(out);
+    for (const State& s : samples) writeCsvRows(out, s);
+    return file.string();
+  }
+
+  /// Runs the shell `script` as an engine ($4 is the output folder).
+  RunOutcome run(const std::string& script, double limit = 10) {
+    ExternalEngine engine("shell", ExternalCommand{{"sh", "-c", script, "engine"}, folder_.string()});
+    Method method;
+    method.name = "shell.test";
+    std::vector<State> seen;
+    RunCallbacks callbacks;
+    callbacks.onSample = [&](const State& s) { seen.push_back(s); };
+    RunOutcome outcome = runSimulation(engine, scene_, method, length_, callbacks, limit);
+    samples_ = seen;
+    return outcome;
+  }
+
+  static std::string okStatus() {
+    return R"(printf '{"protocol": 1, "status": "ok", "reason": "", "engineVersion": "shell 1", )"
+           R"("integratorStepsPerSceneStep": 2, "contactMargin": 0.001, )"
+           R"("effectiveSettings": {"solver": "none", "iterations": 3}}' > "$4/status.json")";
+  }
+
+  fs::path folder_;
+  pbd::Scene scene_;
+  RunLength length_;
+  std::vector<State> samples_;
+  int counter_ = 0;
+};
+
+TEST_F(ExternalEngineTest, AWellBehavedEngineRunsWithItsFactsAndSettings) {
+  const RunOutcome outcome = run("cp " + restingTrajectory() + " \"$4/trajectory.csv\"; " + okStatus());
+  ASSERT_EQ(outcome.status, RunStatus::Ok) << outcome.reason;
+  EXPECT_EQ(samples_.size(), 3u);
+  EXPECT_EQ(outcome.facts.engineVersion, "shell 1");
+  EXPECT_EQ(outcome.facts.integratorStepsPerSceneStep, 2);
+  EXPECT_EQ(outcome.facts.contactMargin, 0.001);
+  EXPECT_EQ(outcome.settings.at("iterations"), "3");
+  EXPECT_EQ(outcome.steps, 10);
+}
+
+TEST_F(ExternalEngineTest, AMissingCommandIsAnError) {
+  ExternalEngine engine("missing", ExternalCommand{{"/no/such/engine"}, folder_.string()});
+  Method method;
+  method.name = "missing.x";
+  const RunOutcome outcome = runSimulation(engine, scene_, method, length_, {});
+  EXPECT_EQ(outcome.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(outcome.reason, {"could not be started", "/no/such/engine"})) << outcome.reason;
+}
+
+TEST_F(ExternalEngineTest, ANonZeroExitIsAnErrorWithItsStandardError) {
+  const RunOutcome outcome = run("echo 'Traceback: boom' >&2; exit 3");
+  EXPECT_EQ(outcome.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(outcome.reason, {"exited with status 3", "status.json", "boom"})) << outcome.reason;
+}
+
+TEST_F(ExternalEngineTest, AHangIsATimeout) {
+  const RunOutcome outcome = run("sleep 30", /*limit=*/0.3);
+  EXPECT_EQ(outcome.status, RunStatus::Timeout) << outcome.reason;
+  EXPECT_LT(outcome.wallTime, 5.0);
+}
+
+TEST_F(ExternalEngineTest, AMalformedStatusIsAnError) {
+  EXPECT_EQ(run("printf '{' > \"$4/status.json\"").status, RunStatus::Error);
+  const RunOutcome wrongProtocol =
+      run(R"(printf '{"protocol": 2, "status": "ok"}' > "$4/status.json")");
+  EXPECT_EQ(wrongProtocol.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(wrongProtocol.reason, {"protocol"})) << wrongProtocol.reason;
+}
+
+TEST_F(ExternalEngineTest, ATruncatedTrajectoryIsAnError) {
+  const RunOutcome outcome = run(
+      "head -c 200 " + restingTrajectory() + " > \"$4/trajectory.csv\"; " + okStatus());
+  EXPECT_EQ(outcome.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(outcome.reason, {"trajectory.csv", "line"})) << outcome.reason;
+}
+
+TEST_F(ExternalEngineTest, WrongRowCountsTimesOrBodiesAreErrors) {
+  const RunOutcome few = run("cp " + restingTrajectory([](std::vector<State>& s) { s.pop_back(); }) +
+                             " \"$4/trajectory.csv\"; " + okStatus());
+  EXPECT_EQ(few.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(few.reason, {"2 samples, expected 3"})) << few.reason;
+
+  const RunOutcome time = run("cp " + restingTrajectory([](std::vector<State>& s) { s[1].time = 0.06; }) +
+                              " \"$4/trajectory.csv\"; " + okStatus());
+  EXPECT_EQ(time.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(time.reason, {"t = 0.06", "expected 0.05"})) << time.reason;
+
+  const RunOutcome bodies = run("cp " + restingTrajectory([](std::vector<State>& s) {
+                                  std::swap(s[2].bodies[0], s[2].bodies[1]);
+                                }) + " \"$4/trajectory.csv\"; " + okStatus());
+  EXPECT_EQ(bodies.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(bodies.reason, {"is body 7, expected body 3"})) << bodies.reason;
+}
+
+TEST_F(ExternalEngineTest, NaNsInTheTrajectoryAreADivergence) {
+  const RunOutcome outcome = run("cp " + restingTrajectory([](std::vector<State>& s) {
+                                   s[1].bodies[1].position.x() = std::nan("");
+                                 }) + " \"$4/trajectory.csv\"; " + okStatus());
+  EXPECT_EQ(outcome.status, RunStatus::Diverged);
+  EXPECT_TRUE(containsAll(outcome.reason, {"non-finite", "body 7"})) << outcome.reason;
+}
+
+TEST_F(ExternalEngineTest, UnsupportedFeaturesAreReportedByName) {
+  const RunOutcome outcome = run(
+      R"(printf '{"protocol": 1, "status": "unsupported", "reason": "x", )"
+      R"("unsupported": ["SliderJoints[0]: joint slider", "particles"]}' > "$4/status.json")");
+  EXPECT_EQ(outcome.status, RunStatus::Unsupported);
+  EXPECT_EQ(outcome.reason, "SliderJoints[0]: joint slider; particles");
+}
+
+TEST(EngineCatalogue, EntriesAreTypedAndBadFilesNameTheirPath) {
+  const fs::path folder =
+      fs::temp_directory_path() / ("pbdval-catalogue-" + std::to_string(::getpid()));
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  std::ofstream(folder / "good.json") << R"({"protocol": 1, "name": "good",
+    "command": ["{python}", "engine.py"], "defaultMethod": "good.a",
+    "methods": [{"name": "good.a", "description": "d", "parameters": [
+      {"name": "iterations", "kind": "integer", "default": 10, "min": 1, "max": 100,
+       "description": "sweeps"}]}]})";
+  const std::vector<EngineEntry> entries = readEngineCatalogue(folder.string(), "/venv/python", "/root");
+  ASSERT_EQ(entries.size(), 1u);
+  EXPECT_EQ(entries[0].methods[0].parameters[0].kind, ParameterKind::Integer);
+  EXPECT_THROW(parseParameter(entries[0].methods[0].parameters[0], "0", "good.a"), std::invalid_argument);
+
+  std::ofstream(folder / "zbad.json") << R"({"protocol": 1, "name": "bad", "command": ["x"],
+    "defaultMethod": "bad.a", "methods": [{"name": "bad.a", "parameters": [
+      {"name": "p", "kind": "float", "default": 1}]}]})";
+  try {
+    readEngineCatalogue(folder.string(), "/venv/python", "/root");
+    FAIL() << "a bad kind was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_TRUE(containsAll(e.what(), {"zbad.json", "methods[0].parameters[0].kind",
+                                       "real, integer, bool, choice"})) << e.what();
+  }
+  fs::remove_all(folder);
+}
+
+}  // namespace
+}  // namespace pbdval

@@ -1,0 +1,426 @@
+#include "validation/external_engine.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "pbd/io/number_text.h"
+#include "validation/atomic_file.h"
+#include "validation/json_text.h"
+#include "validation/resolved_scene.h"
+#include "validation/simulation.h"
+#include "validation/trajectory.h"
+
+namespace pbdval {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+constexpr const char* kStatusFile = "status.json";
+constexpr const char* kTrajectoryFile = "trajectory.csv";
+constexpr const char* kStderrFile = "stderr.txt";
+
+/// A scratch folder for one run, removed with everything in it when the run is over.
+class ScratchFolder {
+ public:
+  ScratchFolder() {
+    std::string pattern = (fs::temp_directory_path() / "pbdval-engine-XXXXXX").string();
+    if (!::mkdtemp(pattern.data()))
+      throw EngineError(std::string("cannot create a scratch folder: ") + std::strerror(errno));
+    path_ = pattern;
+  }
+  ~ScratchFolder() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+  }
+  ScratchFolder(const ScratchFolder&) = delete;
+  ScratchFolder& operator=(const ScratchFolder&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+Json parameterJson(const ParameterValue& value) {
+  switch (value.kind) {
+    case ParameterKind::Real:
+      return value.number;
+    case ParameterKind::Integer:
+      return static_cast<std::int64_t>(value.number);
+    case ParameterKind::Bool:
+      return value.number != 0;
+    case ParameterKind::Choice:
+      return value.choice;
+    case ParameterKind::Duration:
+      return value.text();
+  }
+  return nullptr;
+}
+
+/// The last lines of the engine's standard error, for reasons.
+std::string stderrTail(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string s = text.str();
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+  if (s.size() > 400) s = "..." + s.substr(s.size() - 400);
+  return s.empty() ? "" : "; its standard error ends: " + s;
+}
+
+struct Exit {
+  bool timedOut = false;
+  int status = 0;  ///< waitpid status
+};
+
+/// Runs argv in `folder` with stdout to /dev/null and stderr to `stderrPath`; kills it after
+/// `limit` seconds (0: none).
+Exit runProcess(const ExternalCommand& command, const std::vector<std::string>& extraArguments,
+                const fs::path& stderrPath, double limit) {
+  std::vector<std::string> arguments = command.argv;
+  arguments.insert(arguments.end(), extraArguments.begin(), extraArguments.end());
+  std::vector<char*> argv;
+  for (std::string& a : arguments) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  std::fflush(nullptr);
+  const pid_t pid = ::fork();
+  if (pid < 0) throw EngineError(std::string("fork failed: ") + std::strerror(errno));
+  if (pid == 0) {
+    const int err = ::open(stderrPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int null = ::open("/dev/null", O_RDWR);
+    if (err >= 0) ::dup2(err, STDERR_FILENO);
+    if (null >= 0) {
+      ::dup2(null, STDIN_FILENO);
+      ::dup2(null, STDOUT_FILENO);
+    }
+    ::setenv("PBDVAL_PROTOCOL", "1", 1);
+    if (!command.workingFolder.empty() && ::chdir(command.workingFolder.c_str()) != 0) {
+      std::fprintf(stderr, "pbdval: cannot enter %s: %s\n", command.workingFolder.c_str(),
+                   std::strerror(errno));
+      ::_exit(127);
+    }
+    ::execvp(argv[0], argv.data());
+    std::fprintf(stderr, "pbdval: cannot start %s: %s\n", argv[0], std::strerror(errno));
+    ::_exit(127);
+  }
+  const Clock::time_point start = Clock::now();
+  Exit exit;
+  for (;;) {
+    const pid_t done = ::waitpid(pid, &exit.status, WNOHANG);
+    if (done == pid) return exit;
+    if (limit > 0 && std::chrono::duration<double>(Clock::now() - start).count() > limit) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &exit.status, 0);
+      exit.timedOut = true;
+      return exit;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+}
+
+RunStatus statusNamed(const std::string& name) {
+  for (RunStatus s : {RunStatus::Ok, RunStatus::Unsupported, RunStatus::Diverged, RunStatus::Error})
+    if (name == runStatusName(s)) return s;
+  throw std::invalid_argument("status: expected one of ok, unsupported, diverged, error, got \"" +
+                              name + "\"");
+}
+
+/// Reads status.json into `run`; throws std::invalid_argument naming the field.
+void readStatus(const fs::path& file, WholeRun& run) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  const Json j = Json::parse(text.str(), nullptr, false);
+  if (j.is_discarded() || !j.is_object()) throw std::invalid_argument("not a JSON object");
+  const auto field = [&](const char* key) -> const Json& {
+    if (!j.contains(key)) throw std::invalid_argument(std::string(key) + ": missing");
+    return j.at(key);
+  };
+  if (field("protocol") != kExternalProtocolVersion)
+    throw std::invalid_argument("protocol: expected 1, got " + field("protocol").dump());
+  if (!field("status").is_string()) throw std::invalid_argument("status: expected a string");
+  run.status = statusNamed(field("status").get<std::string>());
+  if (j.contains("reason") && j.at("reason").is_string()) run.reason = j.at("reason").get<std::string>();
+  if (run.status == RunStatus::Unsupported && j.contains("unsupported") && j.at("unsupported").is_array()) {
+    std::string features;
+    for (const Json& f : j.at("unsupported"))
+      if (f.is_string()) features += (features.empty() ? "" : "; ") + f.get<std::string>();
+    if (!features.empty()) run.reason = features;
+  }
+  if (run.status != RunStatus::Ok && run.reason.empty())
+    throw std::invalid_argument("reason: a non-ok status needs a reason");
+  if (j.contains("engineVersion") && j.at("engineVersion").is_string())
+    run.facts.engineVersion = j.at("engineVersion").get<std::string>();
+  if (j.contains("integratorStepsPerSceneStep")) {
+    const Json& n = j.at("integratorStepsPerSceneStep");
+    if (!n.is_number_integer() || n.get<std::int64_t>() < 1)
+      throw std::invalid_argument("integratorStepsPerSceneStep: expected an integer >= 1");
+    run.facts.integratorStepsPerSceneStep = n.get<int>();
+  }
+  if (j.contains("contactMargin") && !j.at("contactMargin").is_null()) {
+    const Json& m = j.at("contactMargin");
+    if (!m.is_number() || !std::isfinite(m.get<double>()))
+      throw std::invalid_argument("contactMargin: expected a number of metres or null");
+    run.facts.contactMargin = m.get<double>();
+  }
+  if (j.contains("effectiveSettings") && j.at("effectiveSettings").is_object())
+    for (const auto& item : j.at("effectiveSettings").items())
+      run.settings[item.key()] = item.value().is_string() ? item.value().get<std::string>()
+                                                          : jsonText(item.value(), -1);
+}
+
+/// Checks the samples against what the run asked for: every sample holds every body of the
+/// scene in order, at the planned times (t = 0, every stride, the end); a diverged run may end
+/// early. Returns a reason, or empty.
+std::string checkSamples(const std::vector<State>& samples, const pbd::Scene& scene,
+                         const StepPlan& plan, RunStatus status) {
+  const double h = double(scene.simulation.timeStepSize);
+  std::vector<long> steps;
+  for (long n = 0; n <= plan.steps; ++n)
+    if (n == 0 || n % plan.stride == 0 || n == plan.steps) steps.push_back(n);
+  if (samples.empty()) return "the trajectory has no rows";
+  if (status == RunStatus::Ok && samples.size() != steps.size())
+    return "the trajectory has " + std::to_string(samples.size()) + " samples, expected " +
+           std::to_string(steps.size()) + " (t = 0, every " + std::to_string(plan.stride) +
+           " steps, and the end)";
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    const State& s = samples[k];
+    if (s.bodies.size() != scene.rigidBodies.size())
+      return "sample " + std::to_string(k) + " (t = " + pbd::formatReal(s.time) + ") has " +
+             std::to_string(s.bodies.size()) + " bodies, expected " +
+             std::to_string(scene.rigidBodies.size());
+    for (std::size_t i = 0; i < s.bodies.size(); ++i)
+      if (s.bodies[i].id != scene.rigidBodies[i].id)
+        return "sample " + std::to_string(k) + " row " + std::to_string(i) + " is body " +
+               std::to_string(s.bodies[i].id) + ", expected body " +
+               std::to_string(scene.rigidBodies[i].id) + " (bodies in scene order)";
+    const bool lastOfDiverged = status == RunStatus::Diverged && k + 1 == samples.size();
+    if (!lastOfDiverged) {
+      if (k >= steps.size()) return "the trajectory has more samples than the run has steps";
+      const double expected = double(steps[k]) * h;
+      if (std::abs(s.time - expected) > 1e-9 * std::max(1.0, expected))
+        return "sample " + std::to_string(k) + " is at t = " + pbd::formatReal(s.time) +
+               " s, expected " + pbd::formatReal(expected) + " s";
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
+ExternalEngine::ExternalEngine(std::string name, ExternalCommand command)
+    : name_(std::move(name)), command_(std::move(command)) {}
+
+void ExternalEngine::load(const pbd::Scene&, const Method& method) {
+  throw EngineError("external engine " + name_ + " (method " + method.name +
+                    ") runs whole runs in its own process; it cannot be stepped");
+}
+void ExternalEngine::step() { throw EngineError("external engine " + name_ + ": cannot be stepped"); }
+void ExternalEngine::read(State&) const {
+  throw EngineError("external engine " + name_ + ": cannot be stepped");
+}
+
+WholeRun ExternalEngine::runWhole(const pbd::Scene& scene, const Method& method,
+                                  const RunLength& length, double wallTimeLimit) {
+  WholeRun run;
+  const auto fail = [&](const std::string& reason) {
+    run.status = RunStatus::Error;
+    run.reason = "external engine " + name_ + ": " + reason;
+    run.samples.clear();
+    return run;
+  };
+  const StepPlan plan = planSteps(length, double(scene.simulation.timeStepSize));
+  const ScratchFolder scratch;
+  Json parameters = Json::object();
+  for (const auto& [key, value] : method.values) parameters[key] = parameterJson(value);
+  const fs::path scenePath = scratch.path() / "resolved-scene.json";
+  const fs::path outFolder = scratch.path() / "out";
+  fs::create_directory(outFolder);
+  writeFileAtomically(scenePath.string(),
+                      jsonText(resolvedSceneJson(scene, method.name, parameters, length)) + "\n");
+
+  const Exit exit = runProcess(command_, {"--scene", scenePath.string(), "--out", outFolder.string()},
+                               scratch.path() / kStderrFile, wallTimeLimit);
+  const std::string errors = stderrTail(scratch.path() / kStderrFile);
+  if (exit.timedOut) {
+    run.status = RunStatus::Timeout;
+    run.reason = "external engine " + name_ + " exceeded the wall-time limit of " +
+                 pbd::formatReal(wallTimeLimit) + " s and was stopped";
+    return run;
+  }
+  if (WIFSIGNALED(exit.status))
+    return fail("its process died with signal " + std::to_string(WTERMSIG(exit.status)) + " (" +
+                ::strsignal(WTERMSIG(exit.status)) + ")" + errors);
+  const int code = WEXITSTATUS(exit.status);
+  if (code == 127 && !fs::exists(outFolder / kStatusFile))
+    return fail("its command could not be started (" + command_.argv.front() + ")" + errors);
+  if (!fs::exists(outFolder / kStatusFile))
+    return fail("it exited with status " + std::to_string(code) + " without writing " +
+                kStatusFile + errors);
+  if (code != 0)
+    return fail("it exited with status " + std::to_string(code) + " (the protocol asks for 0 "
+                "whenever status.json is written)" + errors);
+  try {
+    readStatus(outFolder / kStatusFile, run);
+  } catch (const std::exception& e) {
+    return fail(std::string(kStatusFile) + ": " + e.what());
+  }
+  facts_ = run.facts;
+  if (run.status != RunStatus::Ok && run.status != RunStatus::Diverged) return run;
+  try {
+    run.samples = readTrajectoryCsv((outFolder / kTrajectoryFile).string()).samples;
+  } catch (const std::exception& e) {
+    return fail(std::string(kTrajectoryFile) + ": " + e.what());
+  }
+  if (const std::string wrong = checkSamples(run.samples, scene, plan, run.status); !wrong.empty())
+    return fail(std::string(kTrajectoryFile) + ": " + wrong);
+  run.steps = plan.steps;
+  return run;
+}
+
+// --- The catalogue ---------------------------------------------------------------------------
+
+namespace {
+
+struct CatalogueNode {
+  const Json& json;
+  std::string path;
+  const std::string& file;
+
+  [[noreturn]] void fail(const std::string& expected) const {
+    std::string got = json.is_discarded() ? "nothing" : jsonText(json, -1);
+    if (got.size() > 60) got = got.substr(0, 57) + "...";
+    throw std::invalid_argument(file + ": " + path + ": expected " + expected + ", got " + got);
+  }
+  CatalogueNode at(const std::string& key) const {
+    static const Json missing(nlohmann::json::value_t::discarded);
+    const std::string p = path.empty() ? key : path + "." + key;
+    return {json.is_object() && json.contains(key) ? json.at(key) : missing, p, file};
+  }
+  CatalogueNode at(std::size_t i) const { return {json.at(i), path + "[" + std::to_string(i) + "]", file}; }
+  bool has(const std::string& key) const { return json.is_object() && json.contains(key); }
+  std::string text() const {
+    if (!json.is_string() || json.get<std::string>().empty()) fail("a non-empty string");
+    return json.get<std::string>();
+  }
+  double number() const {
+    if (!json.is_number()) fail("a number");
+    return json.get<double>();
+  }
+  const Json& array() const {
+    if (!json.is_array()) fail("an array");
+    return json;
+  }
+};
+
+ParameterSpec catalogueParameter(const CatalogueNode& node, const std::string& method) {
+  ParameterSpec p;
+  p.name = node.at("name").text();
+  const std::string kind = node.at("kind").text();
+  const CatalogueNode value = node.at("default");
+  if (kind == "real") {
+    p.kind = ParameterKind::Real;
+    p.defaultValue = pbd::formatReal(value.number());
+  } else if (kind == "integer") {
+    p.kind = ParameterKind::Integer;
+    if (!value.json.is_number_integer()) value.fail("an integer");
+    p.defaultValue = std::to_string(value.json.get<std::int64_t>());
+  } else if (kind == "bool") {
+    p.kind = ParameterKind::Bool;
+    if (!value.json.is_boolean()) value.fail("true or false");
+    p.defaultValue = value.json.get<bool>() ? "true" : "false";
+  } else if (kind == "choice") {
+    p.kind = ParameterKind::Choice;
+    p.defaultValue = value.text();
+    const CatalogueNode choices = node.at("choices");
+    for (std::size_t i = 0; i < choices.array().size(); ++i) p.choices.push_back(choices.at(i).text());
+  } else {
+    node.at("kind").fail("one of real, integer, bool, choice");
+  }
+  if (node.has("min")) p.minimum = node.at("min").number();
+  if (node.has("max")) p.maximum = node.at("max").number();
+  if (node.has("unit") && node.at("unit").json.is_string()) p.unit = node.at("unit").json.get<std::string>();
+  p.description = node.has("description") ? node.at("description").text() : "";
+  try {
+    parseParameter(p, p.defaultValue, method);
+  } catch (const std::invalid_argument& e) {
+    value.fail(std::string("a default within its own declaration (") + e.what() + ")");
+  }
+  return p;
+}
+
+EngineEntry catalogueEntry(const std::string& file, const std::string& python,
+                           const std::string& workingFolder) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  const Json document = Json::parse(text.str(), nullptr, false);
+  const CatalogueNode root{document, "", file};
+  if (document.is_discarded()) throw std::invalid_argument(file + ": not valid JSON");
+  if (!document.is_object()) root.fail("a JSON object");
+  if (root.at("protocol").json != kExternalProtocolVersion) root.at("protocol").fail("1");
+  EngineEntry entry;
+  entry.name = root.at("name").text();
+  ExternalCommand command;
+  command.workingFolder = workingFolder;
+  const CatalogueNode argv = root.at("command");
+  if (argv.array().empty()) argv.fail("a non-empty array of strings");
+  for (std::size_t i = 0; i < argv.json.size(); ++i) {
+    std::string word = argv.at(i).text();
+    if (word == "{python}") word = python;
+    command.argv.push_back(word);
+  }
+  entry.defaultMethod = root.at("defaultMethod").text();
+  const CatalogueNode methods = root.at("methods");
+  for (std::size_t i = 0; i < methods.array().size(); ++i) {
+    const CatalogueNode m = methods.at(i);
+    MethodInfo info;
+    info.name = m.at("name").text();
+    if (info.name.rfind(entry.name + ".", 0) != 0)
+      m.at("name").fail("a name starting with \"" + entry.name + ".\"");
+    info.engine = entry.name;
+    info.description = m.has("description") ? m.at("description").text() : "";
+    if (m.has("parameters")) {
+      const CatalogueNode parameters = m.at("parameters");
+      for (std::size_t k = 0; k < parameters.array().size(); ++k)
+        info.parameters.push_back(catalogueParameter(parameters.at(k), info.name));
+    }
+    entry.methods.push_back(std::move(info));
+  }
+  entry.honouredSettings = {"timeStepSize", "gravitation"};
+  entry.runByDefault = !(root.has("example") && root.at("example").json == true);
+  const std::string name = entry.name;
+  entry.make = [name, command](const EngineOptions&) {
+    return std::unique_ptr<Engine>(new ExternalEngine(name, command));
+  };
+  return entry;
+}
+
+}  // namespace
+
+std::vector<EngineEntry> readEngineCatalogue(const std::string& folder, const std::string& python,
+                                             const std::string& workingFolder) {
+  std::vector<std::string> files;
+  std::error_code error;
+  for (const auto& item : fs::directory_iterator(folder, error))
+    if (item.path().extension() == ".json") files.push_back(item.path().string());
+  std::sort(files.begin(), files.end());
+  std::vector<EngineEntry> entries;
+  for (const std::string& file : files) entries.push_back(catalogueEntry(file, python, workingFolder));
+  return entries;
+}
+
+}  // namespace pbdval

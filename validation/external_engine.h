@@ -1,0 +1,53 @@
+// External engines: programs in any language joined through the process protocol v1
+// (docs/external-engines.md). The runner writes the resolved scene, runs the engine's command
+// with a wall-time limit, and reads back trajectory.csv and status.json; everything an engine
+// gets wrong (a missing command, a non-zero exit, a malformed or truncated file, wrong rows or
+// bodies, a hang) becomes the run's status with a reason, never a failure of the runner.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "adapters/engine.h"
+
+namespace pbdval {
+
+inline constexpr int kExternalProtocolVersion = 1;
+
+/// How to start one external engine: its command (argv, "{python}" already replaced) and the
+/// folder it runs in (the repository root).
+struct ExternalCommand {
+  std::vector<std::string> argv;
+  std::string workingFolder;
+};
+
+class ExternalEngine final : public Engine {
+ public:
+  ExternalEngine(std::string name, ExternalCommand command);
+
+  std::string_view name() const override { return name_; }
+  /// An external engine says what it lacks in its status; nothing is known before it runs.
+  std::vector<std::string> unsupported(const pbd::Scene&, const Method&) const override { return {}; }
+  void load(const pbd::Scene& scene, const Method& method) override;
+  void step() override;
+  void read(State& state) const override;
+  RunFacts runFacts() const override { return facts_; }
+
+  bool runsWhole() const override { return true; }
+  WholeRun runWhole(const pbd::Scene& scene, const Method& method, const RunLength& length,
+                    double wallTimeLimit) override;
+
+ private:
+  std::string name_;
+  ExternalCommand command_;
+  RunFacts facts_;
+};
+
+/// The engines of a catalogue folder: one `<name>.json` per engine (docs/external-engines.md#the-catalogue),
+/// each command's "{python}" replaced by `python`, run in `workingFolder`. Throws
+/// std::invalid_argument naming the file and JSON path of anything malformed. A missing folder
+/// has no engines.
+std::vector<EngineEntry> readEngineCatalogue(const std::string& folder, const std::string& python,
+                                             const std::string& workingFolder);
+
+}  // namespace pbdval
