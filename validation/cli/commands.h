@@ -17,6 +17,7 @@ int gateCommand(const Arguments& args);
 int sweepCommand(const Arguments& args);
 int distanceCommand(const Arguments& args);
 int baselineCommand(const Arguments& args);
+int exportSceneCommand(const Arguments& args);
 
 struct Command {
   const char* name;
