@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """MuJoCo (the Python package, 4.x) as an external engine (protocol 1,
-docs/external-engines.md; parity rules: docs/parity-mujoco-python.md).
+docs/external-engines.md; parity rules: docs/external-engines.md#mujoco-python).
 
     .venv/bin/python adapters/mujoco_py/engine.py --scene RESOLVED.json --out OUTDIR
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """pybullet as an external engine (protocol 1, docs/external-engines.md; parity rules:
-docs/parity-pybullet.md).
+docs/external-engines.md#pybullet).
 
     .venv/bin/python adapters/pybullet/engine.py --scene RESOLVED.json --out OUTDIR
 
