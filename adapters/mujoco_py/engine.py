@@ -117,12 +117,20 @@ def unsupported_features(scene: pp.ResolvedScene) -> list[str]:
             missing.append(f"{b.json_path}: inverted shape (invertSDF)")
         elif b.shape.type == "sdf" and not b.geometry_file:
             missing.append(f"{b.json_path}: sdf without a geometry file")
-        if b.dynamic and parents.get(b.index, (None, None))[1] is not None and (
+        parent, joint = parents.get(b.index, (None, None))
+        if b.dynamic and joint is not None and parent is not None and (
                 any(b.velocity) or any(b.angular_velocity)):
-            missing.append(f"{b.json_path}: initial velocity of a jointed body")
+            missing.append(f"{b.json_path}: initial velocity of a body jointed to a moving body")
     if scene.particles or scene.triangle_models or scene.tet_models:
         missing.append("particles (TriangleModels, TetModels)")
     return missing
+
+
+def _matrix(q: "pp.Quat") -> list[list[float]]:
+    w, x, y, z = q
+    return [[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]]
 
 
 def relative_pose(parent: pp.Body | None, child: pp.Body) -> tuple[list[float], list[float]]:
@@ -263,14 +271,43 @@ class MujocoRun:
 
     def _initial_velocities(self) -> None:
         for b in self.scene.bodies:
-            if not b.dynamic or self.parents[b.index][1] is not None:
+            if not b.dynamic:
                 continue
             body_id = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, self.body_names[b.index])
             dof = self.model.jnt_dofadr[self.model.body_jntadr[body_id]]
+            joint = self.parents[b.index][1]
+            if joint is not None:
+                if any(b.velocity) or any(b.angular_velocity):
+                    self._jointed_initial_velocity(b, joint, dof)
+                continue
             # A free joint's qvel: linear velocity in world, angular velocity in body axes.
             local_w = pp.quat_rotate(pp.quat_conjugate(b.world_principal_rotation), b.angular_velocity)
             self.data.qvel[dof:dof + 3] = b.velocity
             self.data.qvel[dof + 3:dof + 6] = local_w
+
+    def _jointed_initial_velocity(self, b: pp.Body, joint: pp.Joint, dof: int) -> None:
+        """A body jointed to the world whose scene velocity (v, w) need not fit the joint: the
+        nearest joint motion in the kinetic-energy norm, minimising m|v - W x r|^2 +
+        (w - W)^T I (w - W) over the joint's angular velocities W (r from the pivot to the centre
+        of mass), which gives I_p W = L_p: the angular momentum about the pivot is kept (the
+        built-in engine's projection, docs/parity-mujoco.md). Ball: W free; hinge: W = s a."""
+        rotation = np.array(_matrix(b.world_principal_rotation))
+        inertia = rotation @ np.diag(b.principal_inertia) @ rotation.T
+        r = np.array(b.position) - np.array(joint.points["anchor"].world)
+        inertia_pivot = inertia + b.mass * (float(r @ r) * np.eye(3) - np.outer(r, r))
+        momentum = inertia @ np.array(b.angular_velocity) + b.mass * np.cross(r, np.array(b.velocity))
+        if joint.type == "ball":
+            w = np.linalg.solve(inertia_pivot, momentum)
+            self.data.qvel[dof:dof + 3] = rotation.T @ w  # MuJoCo's ball qvel is in body axes
+        else:
+            side = "body1" if joint.body1 == b.id else "body2"
+            axis = np.array(joint.axes["axis"].world) * (-1.0 if side == "body1" else 1.0)
+            w = axis * float(axis @ momentum) / float(axis @ inertia_pivot @ axis)
+            self.data.qvel[dof] = float(axis @ w)
+        fitted = (np.cross(w, r), w)
+        self.settings[f"{b.json_path}.initialVelocity"] = (
+            "projected onto the joint (kinetic-energy norm): v = " + " ".join(f"{x:.6g}" for x in fitted[0])
+            + ", w = " + " ".join(f"{x:.6g}" for x in fitted[1]))
 
     def states(self) -> list[pp.BodyState]:
         out = []

@@ -260,3 +260,38 @@ def test_every_catalogue_method_runs_the_projectile(export_scene: Export, run_en
     status, out = run_engine(engine, export_scene("projectile", method=method, duration=0.1))
     assert_ok(status)
     assert len(trajectory(out)[1]) == 11  # t = 0 and every 10 ms to 0.1 s
+
+
+def test_mujoco_projects_a_jointed_initial_velocity_keeping_the_pivot_momentum(
+        export_scene: Export, run_engine: Run) -> None:
+    # joint_ball starts its bob with v = (0, 0, 0.8) m/s, not a rotation about the pivot; the
+    # nearest joint motion in the kinetic-energy norm keeps the angular momentum about the pivot.
+    scene_path = export_scene("joint_ball", method="mujoco-python.euler.newton", duration=0.01)
+    scene = pp.read_resolved_scene(scene_path)
+    status, out = run_engine(MUJOCO, scene_path)
+    assert_ok(status)
+    bob = scene.bodies[1]
+    first = trajectory(out)[bob.id][0]
+    v, w = first[8:11], first[11:14]
+    r = np.array(bob.position) - np.array(scene.joints[0].points["anchor"].world)
+    q = bob.world_principal_rotation
+    rotation = np.array([pp.quat_rotate(q, e) for e in np.eye(3)]).T
+    inertia = rotation @ np.diag(bob.principal_inertia) @ rotation.T
+    def pivot_momentum(v: np.ndarray, w: np.ndarray) -> np.ndarray:
+        return inertia @ w + bob.mass * np.cross(r, v)
+    expected = pivot_momentum(np.array(bob.velocity), np.array(bob.angular_velocity))
+    assert np.allclose(v, np.cross(w, r), atol=1e-12)  # a rotation about the pivot
+    assert np.allclose(pivot_momentum(v, w), expected, rtol=1e-9, atol=1e-12)  # round-off
+    assert "projected" in status["effectiveSettings"]["RigidBodies[1].initialVelocity"]
+
+
+CASES = sorted(p.stem for p in (REPO / "cases").glob("*.json"))
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_no_engine_fails_on_any_case(export_scene: Export, run_engine: Run, case: str) -> None:
+    """A short run of every case in every engine ends ok or unsupported, never in an error."""
+    for engine, method in ((EXAMPLE, ""), (PYBULLET, "pybullet.si"), (MUJOCO, "mujoco-python.euler.newton")):
+        status, out = run_engine(engine, export_scene(case, method=method, duration=0.02))
+        assert status["status"] in ("ok", "unsupported"), (engine, status["reason"])
+        assert (status["status"] == "ok") == (out / "trajectory.csv").exists()
