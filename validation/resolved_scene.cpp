@@ -54,8 +54,7 @@ const char* shapeTypeName(CollisionObjectType type) {
 /// The collision shape in the body's scene frame (pbd/collision/collision_shape.h).
 json shapeJson(const pbd::RigidBodyDesc& body) {
   const pbd::CollisionObjectDesc& c = body.collision;
-  json shape = {{"type", shapeTypeName(c.type)},
-                {"collisionObjectType", static_cast<int>(c.type)}};
+  json shape = {{"type", shapeTypeName(c.type)}, {"collisionObjectType", static_cast<int>(c.type)}};
   if (c.type == CollisionObjectType::None) return shape;
   shape["inverted"] = c.invertSDF;
   switch (c.type) {
@@ -78,8 +77,8 @@ json shapeJson(const pbd::RigidBodyDesc& body) {
     case CollisionObjectType::SignedDistanceField:
       shape["meshFile"] = absolutePath(c.fileName.empty() ? body.geometryFile : c.fileName);
       shape["meshScale"] = vec(c.scale);
-      shape["resolution"] = json::array({c.resolutionSDF.x(), c.resolutionSDF.y(),
-                                         c.resolutionSDF.z()});
+      shape["resolution"] =
+          json::array({c.resolutionSDF.x(), c.resolutionSDF.y(), c.resolutionSDF.z()});
       break;
     case CollisionObjectType::HollowSphere:
       shape["radius"] = double(c.scale.x());
@@ -114,7 +113,8 @@ json bodyJson(const pbd::RigidBodyDesc& body, int index) {
       {"velocity", vec(body.velocity)},
       {"angularVelocity", vec(body.angularVelocity)},
       {"shape", shapeJson(body)},
-      {"material", {{"friction", double(body.friction)}, {"restitution", double(body.restitution)}}},
+      {"material",
+       {{"friction", double(body.friction)}, {"restitution", double(body.restitution)}}},
   };
   if (!body.geometryFile.empty())
     b["geometry"] = {{"file", absolutePath(body.geometryFile)}, {"scale", vec(body.scale)}};
@@ -193,8 +193,7 @@ json jointJson(const pbd::Scene& scene, const pbd::JointDesc& joint) {
   }
   if (joint.type == JointType::RigidBodyParticleBall) {
     j["particle"] = joint.particle;
-    points["anchor"] =
-        point(scene.particles[static_cast<std::size_t>(joint.particle)].position);
+    points["anchor"] = point(scene.particles[static_cast<std::size_t>(joint.particle)].position);
   }
   if (hasSingleAxis(joint.type)) axes["axis"] = axis(joint.axis);
   if (joint.type == JointType::Universal) {
@@ -283,13 +282,15 @@ json resolvedSceneJson(const pbd::Scene& scene, const std::string& methodName,
       {"name", scene.name},
       {"units", {{"length", "m"}, {"mass", "kg"}, {"time", "s"}, {"angle", "rad"}}},
       {"conventions",
-       {{"quaternion", "w,x,y,z (w >= 0), unit, rotating body-frame coordinates into the "
-                       "parent frame"},
+       {{"quaternion",
+         "w,x,y,z (w >= 0), unit, rotating body-frame coordinates into the "
+         "parent frame"},
         {"world", "right-handed; gravity as given (the seed's scenes use -y)"},
         {"sceneFrame", "a body's frame of its geometry file; pose.rotation maps it to world"},
-        {"principalFrame", "at the centre of mass along the principal axes; "
-                           "principalFrame.rotation maps it into the scene frame, "
-                           "principalFrame.centerOfMass is its origin in the scene frame"}}},
+        {"principalFrame",
+         "at the centre of mass along the principal axes; "
+         "principalFrame.rotation maps it into the scene frame, "
+         "principalFrame.centerOfMass is its origin in the scene frame"}}},
       {"method", {{"name", methodName}, {"parameters", methodParameters}}},
       {"gravity", vec(sim.gravitation)},
       {"timeStepSize", h},

@@ -64,8 +64,8 @@ int exportSceneCommand(const Arguments& arguments) {
     RunLength length = caseRunLength(loaded.scene);
     length.duration = args.number("duration", length.duration);
     length.sampleInterval = args.number("sample-interval", length.sampleInterval);
-    const nlohmann::json document = resolvedSceneJson(
-        loaded.scene, args.value("method", ""), nlohmann::json::object(), length);
+    const nlohmann::json document =
+        resolvedSceneJson(loaded.scene, args.value("method", ""), nlohmann::json::object(), length);
     text = document.dump(1) + "\n";
   } catch (const UsageError& e) {
     return parser.usageError(e.what());
