@@ -54,22 +54,6 @@ class ScratchFolder {
   fs::path path_;
 };
 
-Json parameterJson(const ParameterValue& value) {
-  switch (value.kind) {
-    case ParameterKind::Real:
-      return value.number;
-    case ParameterKind::Integer:
-      return static_cast<std::int64_t>(value.number);
-    case ParameterKind::Bool:
-      return value.number != 0;
-    case ParameterKind::Choice:
-      return value.choice;
-    case ParameterKind::Duration:
-      return value.text();
-  }
-  return nullptr;
-}
-
 /// The last lines of the engine's standard error, for reasons.
 std::string stderrTail(const fs::path& file) {
   std::ifstream in(file);
@@ -244,8 +228,7 @@ WholeRun ExternalEngine::runWhole(const pbd::Scene& scene, const Method& method,
   };
   const StepPlan plan = planSteps(length, double(scene.simulation.timeStepSize));
   const ScratchFolder scratch;
-  Json parameters = Json::object();
-  for (const auto& [key, value] : method.values) parameters[key] = parameterJson(value);
+  const Json parameters = methodParametersJson(method);
   const fs::path scenePath = scratch.path() / "resolved-scene.json";
   const fs::path outFolder = scratch.path() / "out";
   fs::create_directory(outFolder);

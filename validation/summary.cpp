@@ -32,7 +32,7 @@ void printSummaryTable(std::ostream& out, const std::vector<RunRecord>& runs) {
   out << padded("case", caseWidth) << "  " << padded("engine/method", runWidth) << "  "
       << padded("status", 11);
   for (const char* c : columns)
-    out << padded(c, 12);
+    out << padded(c, 13);
   out << '\n';
   std::string previousCase;
   for (const RunRecord& r : runs) {

@@ -25,6 +25,7 @@ int gateCommand(const Context& context, const Arguments& args);
 int sweepCommand(const Context& context, const Arguments& args);
 int distanceCommand(const Context& context, const Arguments& args);
 int baselineCommand(const Context& context, const Arguments& args);
+int exportSceneCommand(const Context& context, const Arguments& args);
 
 struct Command {
   const char* name;

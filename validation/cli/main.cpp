@@ -30,6 +30,8 @@ const std::vector<Command>& commands() {
        &simulateCommand},
       {"methods", "list the solver methods of every engine, with parameters and defaults",
        &methodsCommand},
+      {"export-scene", "write a scene resolved for an external engine (docs/external-engines.md)",
+       &exportSceneCommand},
   };
   return all;
 }
@@ -44,7 +46,7 @@ void printOverview() {
       "pbdval runs rigid-body, joint and contact scenes in a position-based dynamics library and\n"
       "in reference engines, and measures them the same way.\n\ncommands:\n");
   for (const auto& c : pbdval::cli::commands())
-    std::printf("  %-10s %s\n", c.name, c.summary);
+    std::printf("  %-12s %s\n", c.name, c.summary);
   std::printf("\n'pbdval COMMAND --help' describes a command. Documentation: docs/cli.md\n");
 }
 

@@ -1,0 +1,284 @@
+#!/usr/bin/env python3
+"""pybullet as an external engine (protocol 1, docs/external-engines.md; parity rules:
+docs/external-engines.md#pybullet).
+
+    .venv/bin/python adapters/pybullet/engine.py --scene RESOLVED.json --out OUTDIR
+
+The scene is built through pybullet's API in DIRECT mode, with the same parity rules as the
+built-in `bullet` engine (adapters/bullet/): every body a maximal-coordinate btRigidBody whose
+frame is its principal frame (createMultiBody with baseMass, baseInertialFramePosition /
+Orientation = the principal frame, then localInertiaDiagonal = the principal inertia: pybullet
+never guesses a mass); per-pair friction and restitution (as per-body factors whose products
+are the pair values: materials.py); no sleeping; no damping; restitution threshold 0; no
+speculative contacts; split impulse for all penetration; one internal step per scene step
+(fixedTimeStep = h, numSubSteps 0). Joints through createConstraint: ball = a point-to-point
+constraint; hinge = two point-to-point constraints on the axis. Everything else is reported
+unsupported by name.
+"""
+
+from __future__ import annotations
+
+import importlib.metadata
+import math
+import os
+import sys
+from pathlib import Path
+from typing import Any
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from pbdval import protocol as pp  # noqa: E402
+import materials  # noqa: E402
+
+# pybullet's C code prints a "pybullet build time" banner to file descriptor 1: an engine keeps
+# standard output free of anything but data, so the banner goes to standard error.
+if __name__ == "__main__":
+    os.dup2(2, 1)
+import pybullet as pb  # noqa: E402
+
+#: method name → pybullet constraintSolverType
+SOLVERS = {
+    "pybullet.si": pb.CONSTRAINT_SOLVER_LCP_SI,
+    "pybullet.pgs": pb.CONSTRAINT_SOLVER_LCP_PGS,
+    "pybullet.dantzig": pb.CONSTRAINT_SOLVER_LCP_DANTZIG,
+}
+DEFAULT_METHOD = "pybullet.si"
+SUPPORTED_JOINTS = ("ball", "hinge")
+SUPPORTED_SHAPES = ("none", "sphere", "box", "cylinder", "sdf", "torus")
+#: Half the distance between the two point-to-point constraints that make a hinge, m. Any
+#: length gives the same kinematics; 1 m keeps the two rows well conditioned for metre-size
+#: bodies.
+HINGE_HALF_LENGTH = 1.0
+#: pybullet's constraints default to maxForce 500 N; the scene's joints are ideal (unbounded).
+UNLIMITED_FORCE = 1e30
+#: Linear slop of resting contacts, m (as the built-in bullet engine: docs/parity-bullet.md).
+CONTACT_SLOP = 1e-5
+
+
+def engine_version() -> str:
+    return f"pybullet {importlib.metadata.version('pybullet')} (API {pb.getAPIVersion()})"
+
+
+def xyzw(q: Any) -> list[float]:
+    return [q[1], q[2], q[3], q[0]]
+
+
+def wxyz(q: Any) -> tuple[float, float, float, float]:
+    return (q[3], q[0], q[1], q[2])
+
+
+def unsupported_features(scene: pp.ResolvedScene) -> list[str]:
+    missing: list[str] = []
+    if scene.method.name not in ("", *SOLVERS):
+        missing.append(f"method {scene.method.name}")
+    for j in scene.joints:
+        if j.type not in SUPPORTED_JOINTS:
+            missing.append(f"{j.json_path}: joint {j.type} (pybullet's createConstraint on "
+                           "maximal-coordinate bodies has point-to-point, fixed and gear only)")
+    for b in scene.bodies:
+        if b.shape.type not in SUPPORTED_SHAPES:
+            missing.append(f"{b.json_path}: shape {b.shape.type}")
+        elif b.shape.inverted:
+            missing.append(f"{b.json_path}: inverted shape (invertSDF)")
+        elif b.shape.type in ("sdf", "torus") and not b.geometry_file:
+            missing.append(f"{b.json_path}: shape {b.shape.type} without a geometry file")
+    if scene.particles or scene.triangle_models or scene.tet_models:
+        missing.append("particles (TriangleModels, TetModels)")
+    if material_factors(scene, "friction") is None:
+        missing.append("contact friction: the pairs' values are not products of per-body values "
+                       "(pybullet multiplies the bodies' lateralFriction)")
+    if material_factors(scene, "restitution") is None:
+        missing.append("contact restitution: the pairs' values are not products of per-body "
+                       "values (pybullet multiplies the bodies' restitution)")
+    return missing
+
+
+def material_factors(scene: pp.ResolvedScene, which: str) -> list[float] | None:
+    index = {b.id: b.index for b in scene.bodies}
+    pairs = [(index[p.bodies[0]], index[p.bodies[1]], getattr(p, which))
+             for p in scene.contact_pairs]
+    factors = materials.per_body_factors(len(scene.bodies), pairs)
+    if factors is not None and which == "friction":
+        if any(v > materials.BULLET_MAX_FRICTION for _, _, v in pairs):
+            return None
+    return factors
+
+
+def collision_shape(client: int, body: pp.Body) -> tuple[int, str]:
+    """The pybullet shape in the body's scene frame, and a note when it approximates."""
+    s = body.shape
+    if s.type == "none":
+        return -1, ""
+    if s.type == "sphere":
+        return pb.createCollisionShape(pb.GEOM_SPHERE, radius=s.radius, physicsClientId=client), ""
+    if s.type == "box":
+        return pb.createCollisionShape(pb.GEOM_BOX, halfExtents=list(s.half_extents),
+                                       physicsClientId=client), ""
+    if s.type == "cylinder":
+        # pybullet's cylinder runs along z, the scene's along y: rotate −90° about x.
+        half = math.sqrt(0.5)
+        return pb.createCollisionShape(pb.GEOM_CYLINDER, radius=s.radius, height=s.height,
+                                       collisionFrameOrientation=[-half, 0, 0, half],
+                                       physicsClientId=client), ""
+    # sdf and torus: the body's mesh, as the built-in bullet engine does.
+    flags = 0 if body.dynamic else pb.GEOM_FORCE_CONCAVE_TRIMESH
+    shape = pb.createCollisionShape(pb.GEOM_MESH, fileName=body.geometry_file,
+                                    meshScale=list(body.geometry_scale or (1, 1, 1)), flags=flags,
+                                    physicsClientId=client)
+    note = "convex hull of the mesh" if body.dynamic else "triangle mesh"
+    return shape, f"{body.json_path}: {s.type} as {note}"
+
+
+class PybulletRun:
+    def __init__(self, scene: pp.ResolvedScene) -> None:
+        self.scene = scene
+        self.client = pb.connect(pb.DIRECT)
+        self.ids: list[int] = []
+        self.notes: list[str] = []
+        method = scene.method.name or DEFAULT_METHOD
+        self.solver = SOLVERS[method]
+        self.iterations = int(scene.parameter("solverIterations", 10))
+        self.erp = float(scene.parameter("erp", 0.2))
+        self.contact_erp = float(scene.parameter("contactErp", 0.2))
+        self.settings: dict[str, pp.ParameterValue] = {
+            "method": method, "solverIterations": self.iterations, "erp": self.erp,
+            "contactErp": self.contact_erp, "fixedTimeStep": scene.time_step_size,
+            "numSubSteps": 0, "restitutionVelocityThreshold": 0.0, "contactSlop": CONTACT_SLOP,
+            "useSplitImpulse": True, "splitImpulsePenetrationThreshold": 0.0,
+            "linearDamping": 0.0, "angularDamping": 0.0, "sleeping": False,
+            "contactProcessingThreshold": 0.0, "bodies": "maximal coordinates (btRigidBody)",
+            "materials": "per-body factors whose products are the pair values",
+        }
+        self._world()
+        self._bodies()
+        self._joints()
+        if self.notes:
+            self.settings["approximations"] = "; ".join(self.notes)
+
+    def _world(self) -> None:
+        c = self.client
+        pb.setGravity(*self.scene.gravity, physicsClientId=c)
+        pb.setPhysicsEngineParameter(
+            fixedTimeStep=self.scene.time_step_size, numSubSteps=0,
+            numSolverIterations=self.iterations, constraintSolverType=self.solver,
+            erp=self.erp, contactERP=self.contact_erp, frictionERP=self.erp,
+            restitutionVelocityThreshold=0.0, useSplitImpulse=1,
+            splitImpulsePenetrationThreshold=0.0, contactSlop=CONTACT_SLOP,
+            enableConeFriction=0, deterministicOverlappingPairs=1, solverResidualThreshold=0.0,
+            globalCFM=0.0, physicsClientId=c)
+
+    def _bodies(self) -> None:
+        c = self.client
+        friction = material_factors(self.scene, "friction")
+        restitution = material_factors(self.scene, "restitution")
+        assert friction is not None and restitution is not None  # checked by unsupported_features
+        for b in self.scene.bodies:
+            shape, note = collision_shape(c, b)
+            if note:
+                self.notes.append(note)
+            body = pb.createMultiBody(
+                baseMass=b.mass if b.dynamic else 0.0, baseCollisionShapeIndex=shape,
+                basePosition=list(b.scene_origin), baseOrientation=xyzw(b.rotation),
+                baseInertialFramePosition=list(b.principal_com),
+                baseInertialFrameOrientation=xyzw(b.principal_rotation),
+                useMaximalCoordinates=True, physicsClientId=c)
+            dynamics: dict[str, Any] = dict(
+                lateralFriction=friction[b.index], restitution=restitution[b.index],
+                rollingFriction=0.0, spinningFriction=0.0, linearDamping=0.0,
+                angularDamping=0.0, contactProcessingThreshold=0.0,
+                activationState=pb.ACTIVATION_STATE_DISABLE_SLEEPING)
+            if b.dynamic:
+                # With `mass` given too: localInertiaDiagonal alone sets the mass of a
+                # maximal-coordinate body to -1 (pybullet 3.2.7), and the first step gives NaN.
+                dynamics["mass"] = b.mass
+                dynamics["localInertiaDiagonal"] = list(b.principal_inertia)
+            pb.changeDynamics(body, -1, physicsClientId=c, **dynamics)
+            # Re-set the pose so that Bullet recomputes the world inertia from the new one
+            # (setMassProps changes only the local inertia); pybullet reads and writes the base
+            # pose as the principal frame of a maximal-coordinate body.
+            position, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=c)
+            pb.resetBasePositionAndOrientation(body, position, orientation, physicsClientId=c)
+            if shape < 0:  # no collision at all, as in the seed
+                pb.setCollisionFilterGroupMask(body, -1, 0, 0, physicsClientId=c)
+            if b.dynamic:
+                pb.resetBaseVelocity(body, list(b.velocity), list(b.angular_velocity),
+                                     physicsClientId=c)
+            self.ids.append(body)
+
+    def _point_to_point(self, joint: pp.Joint, offset: tuple[float, float, float]) -> None:
+        """A point-to-point constraint at the anchor + offset (world, t = 0), given to pybullet in
+        both bodies' principal (centre-of-mass) frames."""
+        b1 = self.scene.body_by_id(joint.body1)  # type: ignore[arg-type]
+        b2 = self.scene.body_by_id(joint.body2)  # type: ignore[arg-type]
+        world = [a + o for a, o in zip(joint.points["anchor"].world, offset)]
+
+        def local(body: pp.Body) -> list[float]:
+            # principal-frame coordinates: q_wp⁻¹ (x − c)
+            d = [x - c for x, c in zip(world, body.position)]
+            return list(pp.quat_rotate(pp.quat_conjugate(body.world_principal_rotation), d))
+
+        cid = pb.createConstraint(self.ids[b1.index], -1, self.ids[b2.index], -1,
+                                  pb.JOINT_POINT2POINT, [0, 0, 0], local(b1), local(b2),
+                                  physicsClientId=self.client)
+        pb.changeConstraint(cid, maxForce=UNLIMITED_FORCE, physicsClientId=self.client)
+
+    def _joints(self) -> None:
+        for j in self.scene.joints:
+            if j.type == "ball":
+                self._point_to_point(j, (0.0, 0.0, 0.0))
+            elif j.type == "hinge":
+                a = j.axes["axis"].world
+                for sign in (-1.0, 1.0):
+                    self._point_to_point(j, tuple(sign * HINGE_HALF_LENGTH * x for x in a))  # type: ignore[arg-type]
+
+    def states(self, time: float) -> list[pp.BodyState]:
+        out = []
+        for b, body in zip(self.scene.bodies, self.ids):
+            position, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=self.client)
+            velocity, angular = pb.getBaseVelocity(body, physicsClientId=self.client)
+            # pybullet reports the inertial (principal) frame; the CSV wants the scene frame.
+            q_scene = pp.quat_multiply(wxyz(orientation), pp.quat_conjugate(b.principal_rotation))
+            out.append(pp.BodyState(b.id, position, q_scene, velocity, angular))
+        return out
+
+    def run(self, out_dir: Path) -> pp.Status:
+        scene = self.scene
+        sampled = set(scene.sample_steps())
+        status = pp.Status("ok")
+        with pp.TrajectoryWriter(out_dir) as writer:
+            writer.write(0.0, self.states(0.0))
+            for n in range(1, scene.steps + 1):
+                pb.stepSimulation(physicsClientId=self.client)
+                t = n * scene.time_step_size
+                states = self.states(t)
+                reason = pp.divergence_reason(t, states)
+                if reason:
+                    writer.write(t, states)
+                    status = pp.Status("diverged", reason=reason, diverged_at=t)
+                    break
+                if n in sampled:
+                    writer.write(t, states)
+        status.engine_version = engine_version()
+        status.effective_settings = self.settings
+        status.integrator_steps_per_scene_step = 1
+        return status
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = pp.parse_arguments(argv, "pybullet as a pbdval external engine")
+    try:
+        scene = pp.read_resolved_scene(args.scene)
+        missing = unsupported_features(scene)
+        if missing:
+            status = pp.Status("unsupported", reason="; ".join(missing), unsupported=missing,
+                               engine_version=engine_version())
+        else:
+            status = PybulletRun(scene).run(args.out)
+    except Exception as e:  # every failure becomes status "error" with its message
+        status = pp.Status("error", reason=f"{type(e).__name__}: {e}", engine_version=engine_version())
+    pp.write_status(args.out, status)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,1 @@
+"""pbdval's Python side: the external-engine protocol (docs/external-engines.md)."""

@@ -1,0 +1,685 @@
+"""The external-engine protocol, version 1, from the engine's side (docs/external-engines.md).
+
+An engine is run as
+
+    <command...> --scene RESOLVED.json --out OUTDIR
+
+with the repository root as working directory and PBDVAL_PROTOCOL=1 in its environment. It
+reads the resolved scene (`pbdval export-scene`, schema docs/schemas/resolved-scene.schema.json),
+writes OUTDIR/trajectory.csv (the CSV of `pbdval simulate`) and OUTDIR/status.json, and exits 0
+whenever status.json was written, whatever the status.
+
+This module holds everything an engine shares: typed dataclasses for the resolved scene and a
+reader that checks it (errors name the file and the JSON path), the step plan, a trajectory
+writer, the status writer (atomic), and the command-line parser.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Iterable, Mapping, Sequence, TextIO
+
+PROTOCOL_VERSION = 1
+RESOLVED_SCENE_FORMAT = "pbdval.resolved-scene"
+RESOLVED_SCENE_VERSION = 1
+TRAJECTORY_FILE = "trajectory.csv"
+STATUS_FILE = "status.json"
+TRAJECTORY_HEADER = "t,id,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz"
+STATUSES = ("ok", "unsupported", "diverged", "error")
+#: Positions beyond this many metres or speeds beyond this many m/s count as a blow-up
+#: (validation/simulation.h, kDivergenceLimit).
+DIVERGENCE_LIMIT = 1e6
+
+Vec3 = tuple[float, float, float]
+Quat = tuple[float, float, float, float]  # w, x, y, z
+ParameterValue = bool | int | float | str
+
+
+class SceneError(ValueError):
+    """A resolved scene that does not match the format: names the file and the JSON path."""
+
+
+# ---------------------------------------------------------------------------------------------
+# Reading JSON with paths in the messages
+
+
+class _Reader:
+    def __init__(self, source: str) -> None:
+        self.source = source
+
+    def fail(self, path: str, expected: str, got: Any) -> SceneError:
+        shown = json.dumps(got) if not isinstance(got, _Missing) else "nothing"
+        if len(shown) > 60:
+            shown = shown[:57] + "..."
+        return SceneError(f"{self.source}: {path}: expected {expected}, got {shown}")
+
+    def get(self, obj: Mapping[str, Any], key: str, path: str) -> Any:
+        if key not in obj:
+            raise self.fail(f"{path}.{key}" if path else key, "a value", _MISSING)
+        return obj[key]
+
+    def obj(self, value: Any, path: str) -> Mapping[str, Any]:
+        if not isinstance(value, dict):
+            raise self.fail(path, "an object", value)
+        return value
+
+    def arr(self, value: Any, path: str) -> list[Any]:
+        if not isinstance(value, list):
+            raise self.fail(path, "an array", value)
+        return value
+
+    def num(self, value: Any, path: str) -> float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            raise self.fail(path, "a finite number", value)
+        return float(value)
+
+    def integer(self, value: Any, path: str) -> int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise self.fail(path, "an integer", value)
+        return value
+
+    def boolean(self, value: Any, path: str) -> bool:
+        if not isinstance(value, bool):
+            raise self.fail(path, "true or false", value)
+        return value
+
+    def string(self, value: Any, path: str) -> str:
+        if not isinstance(value, str):
+            raise self.fail(path, "a string", value)
+        return value
+
+    def vec(self, value: Any, path: str, size: int = 3) -> tuple[float, ...]:
+        items = self.arr(value, path)
+        if len(items) != size:
+            raise self.fail(path, f"an array of {size} numbers", value)
+        return tuple(self.num(v, f"{path}[{i}]") for i, v in enumerate(items))
+
+
+class _Missing:
+    pass
+
+
+_MISSING = _Missing()
+
+
+# ---------------------------------------------------------------------------------------------
+# The resolved scene
+
+
+@dataclass(frozen=True)
+class Shape:
+    """A collision shape in the body's scene frame. `type`: none, sphere, box, cylinder, torus,
+    sdf, hollowSphere, hollowBox. Only the fields of the type are set."""
+
+    type: str
+    inverted: bool = False
+    radius: float | None = None  # sphere, cylinder, hollowSphere
+    half_extents: Vec3 | None = None  # box, hollowBox
+    height: float | None = None  # cylinder (along axis)
+    axis: Vec3 | None = None  # cylinder, torus (the y axis of the scene frame)
+    major_radius: float | None = None  # torus
+    minor_radius: float | None = None  # torus
+    wall_half_thickness: float | None = None  # hollowSphere, hollowBox
+    mesh_file: str | None = None  # sdf: absolute path of the OBJ
+    mesh_scale: Vec3 | None = None  # sdf
+
+
+@dataclass(frozen=True)
+class Material:
+    friction: float
+    restitution: float
+
+
+@dataclass(frozen=True)
+class Body:
+    id: int
+    index: int
+    json_path: str
+    dynamic: bool
+    mass: float  # kg, 0 for static bodies
+    principal_inertia: Vec3  # kg m², about the centre of mass along the principal axes
+    principal_com: Vec3  # centre of mass in the scene frame
+    principal_rotation: Quat  # principal frame → scene frame
+    position: Vec3  # centre of mass, world, t = 0
+    rotation: Quat  # scene frame → world, t = 0
+    scene_origin: Vec3  # the scene frame's origin in world, t = 0
+    world_principal_rotation: Quat  # principal frame → world, t = 0
+    velocity: Vec3  # of the centre of mass, world
+    angular_velocity: Vec3  # world
+    shape: Shape
+    material: Material
+    geometry_file: str | None = None  # absolute path of the body's OBJ (scene frame, unscaled)
+    geometry_scale: Vec3 | None = None  # applied to the OBJ's vertices
+
+
+@dataclass(frozen=True)
+class BodyCoordinates:
+    """A point or direction in one body's scene frame and principal frame."""
+
+    scene: Vec3
+    principal: Vec3
+
+
+@dataclass(frozen=True)
+class JointVector:
+    """A joint's point or axis: in world at t = 0 and in each body's frames (None: no body)."""
+
+    world: Vec3
+    body1: BodyCoordinates | None
+    body2: BodyCoordinates | None
+
+
+@dataclass(frozen=True)
+class MotorTarget:
+    constant: float
+    times: tuple[float, ...]
+    values: tuple[float, ...]
+    repeat: bool
+
+    def value_at(self, time: float) -> float:
+        """The set point at `time`: piecewise linear in the samples, held before the first and
+        after the last, repeated with period t_last - t_first when `repeat` (pbd/model/scene.h)."""
+        if not self.times:
+            return self.constant
+        first, last = self.times[0], self.times[-1]
+        t = time
+        if self.repeat and last > first and t > last:
+            t = first + math.fmod(t - first, last - first)
+        if t <= first:
+            return self.values[0]
+        if t >= last:
+            return self.values[-1]
+        for i in range(1, len(self.times)):
+            if t <= self.times[i]:
+                t0, t1 = self.times[i - 1], self.times[i]
+                s = (t - t0) / (t1 - t0)
+                return self.values[i - 1] + s * (self.values[i] - self.values[i - 1])
+        return self.values[-1]
+
+
+@dataclass(frozen=True)
+class Joint:
+    type: str  # ball, hinge, slider, universal, ... (pbd::jointTypeName)
+    block: str  # the scene block, e.g. "HingeJoints"
+    json_path: str
+    body1: int | None  # scene ids
+    body2: int | None
+    points: dict[str, JointVector]  # anchor | anchor1, anchor2
+    axes: dict[str, JointVector]  # axis | axis1, axis2
+    rest_length: float | None = None
+    stiffness: float | None = None
+    target: MotorTarget | None = None
+    particle: int | None = None
+
+
+@dataclass(frozen=True)
+class ContactPair:
+    bodies: tuple[int, int]  # scene ids
+    friction: float
+    restitution: float
+    explicit: bool
+
+
+@dataclass(frozen=True)
+class Particle:
+    position: Vec3
+    velocity: Vec3
+    mass: float
+
+
+@dataclass(frozen=True)
+class Method:
+    name: str
+    parameters: dict[str, ParameterValue]
+
+
+@dataclass(frozen=True)
+class ResolvedScene:
+    source: str
+    name: str
+    method: Method
+    gravity: Vec3
+    time_step_size: float
+    duration: float
+    sample_interval: float
+    steps: int
+    sample_stride: int
+    contact_tolerance: float
+    contact_combine_rule: str
+    bodies: tuple[Body, ...]
+    joints: tuple[Joint, ...]
+    contact_pairs: tuple[ContactPair, ...]
+    particles: tuple[Particle, ...]
+    triangle_models: int
+    tet_models: int
+    document: dict[str, Any] = field(repr=False, compare=False, default_factory=dict)
+
+    def body_by_id(self, body_id: int) -> Body:
+        for b in self.bodies:
+            if b.id == body_id:
+                return b
+        raise KeyError(f"no body with id {body_id}")
+
+    def pair(self, id_a: int, id_b: int) -> ContactPair | None:
+        for p in self.contact_pairs:
+            if p.bodies in ((id_a, id_b), (id_b, id_a)):
+                return p
+        return None
+
+    def sample_steps(self) -> list[int]:
+        """The step numbers after which a sample is written (0: the initial state): every
+        `sample_stride`-th step and the last (validation/simulation.cpp)."""
+        return [n for n in range(self.steps + 1)
+                if n == 0 or n % self.sample_stride == 0 or n == self.steps]
+
+    def parameter(self, name: str, default: ParameterValue) -> ParameterValue:
+        """A method parameter, or `default` when the runner did not give it."""
+        return self.method.parameters.get(name, default)
+
+
+def _shape(r: _Reader, s: Mapping[str, Any], path: str) -> Shape:
+    kind = r.string(r.get(s, "type", path), f"{path}.type")
+    known = ("none", "sphere", "box", "cylinder", "torus", "sdf", "hollowSphere", "hollowBox")
+    if kind not in known:
+        raise r.fail(f"{path}.type", "one of " + ", ".join(known), kind)
+    if kind == "none":
+        return Shape(type="none")
+
+    def num(key: str) -> float:
+        return r.num(r.get(s, key, path), f"{path}.{key}")
+
+    def vec(key: str) -> Vec3:
+        return r.vec(r.get(s, key, path), f"{path}.{key}")  # type: ignore[return-value]
+
+    inverted = r.boolean(s.get("inverted", False), f"{path}.inverted")
+    if kind == "sphere":
+        return Shape(kind, inverted, radius=num("radius"))
+    if kind == "box":
+        return Shape(kind, inverted, half_extents=vec("halfExtents"))
+    if kind == "cylinder":
+        return Shape(kind, inverted, radius=num("radius"), height=num("height"), axis=vec("axis"))
+    if kind == "torus":
+        return Shape(kind, inverted, major_radius=num("majorRadius"),
+                     minor_radius=num("minorRadius"), axis=vec("axis"))
+    if kind == "hollowSphere":
+        return Shape(kind, inverted, radius=num("radius"),
+                     wall_half_thickness=num("wallHalfThickness"))
+    if kind == "hollowBox":
+        return Shape(kind, inverted, half_extents=vec("halfExtents"),
+                     wall_half_thickness=num("wallHalfThickness"))
+    return Shape(kind, inverted, mesh_file=r.string(r.get(s, "meshFile", path), f"{path}.meshFile"),
+                 mesh_scale=vec("meshScale"))
+
+
+def _body(r: _Reader, b: Mapping[str, Any], path: str) -> Body:
+    pf = r.obj(r.get(b, "principalFrame", path), f"{path}.principalFrame")
+    geometry = r.obj(b.get("geometry", {}), f"{path}.geometry")
+    gp = f"{path}.geometry"
+    pose = r.obj(r.get(b, "pose", path), f"{path}.pose")
+    mat = r.obj(r.get(b, "material", path), f"{path}.material")
+    pp, mp, pr = f"{path}.pose", f"{path}.material", f"{path}.principalFrame"
+    return Body(
+        id=r.integer(r.get(b, "id", path), f"{path}.id"),
+        index=r.integer(r.get(b, "index", path), f"{path}.index"),
+        json_path=r.string(b.get("jsonPath", ""), f"{path}.jsonPath"),
+        dynamic=r.boolean(r.get(b, "dynamic", path), f"{path}.dynamic"),
+        mass=r.num(r.get(b, "mass", path), f"{path}.mass"),
+        principal_inertia=r.vec(r.get(b, "principalInertia", path), f"{path}.principalInertia"),  # type: ignore[arg-type]
+        principal_com=r.vec(r.get(pf, "centerOfMass", pr), f"{pr}.centerOfMass"),  # type: ignore[arg-type]
+        principal_rotation=r.vec(r.get(pf, "rotation", pr), f"{pr}.rotation", 4),  # type: ignore[arg-type]
+        position=r.vec(r.get(pose, "position", pp), f"{pp}.position"),  # type: ignore[arg-type]
+        rotation=r.vec(r.get(pose, "rotation", pp), f"{pp}.rotation", 4),  # type: ignore[arg-type]
+        scene_origin=r.vec(r.get(pose, "sceneOrigin", pp), f"{pp}.sceneOrigin"),  # type: ignore[arg-type]
+        world_principal_rotation=r.vec(r.get(pose, "principalRotation", pp),  # type: ignore[arg-type]
+                                       f"{pp}.principalRotation", 4),
+        velocity=r.vec(r.get(b, "velocity", path), f"{path}.velocity"),  # type: ignore[arg-type]
+        angular_velocity=r.vec(r.get(b, "angularVelocity", path), f"{path}.angularVelocity"),  # type: ignore[arg-type]
+        shape=_shape(r, r.obj(r.get(b, "shape", path), f"{path}.shape"), f"{path}.shape"),
+        material=Material(friction=r.num(r.get(mat, "friction", mp), f"{mp}.friction"),
+                          restitution=r.num(r.get(mat, "restitution", mp), f"{mp}.restitution")),
+        geometry_file=(r.string(r.get(geometry, "file", gp), f"{gp}.file") if geometry else None),
+        geometry_scale=(r.vec(r.get(geometry, "scale", gp), f"{gp}.scale")  # type: ignore[arg-type]
+                        if geometry else None),
+    )
+
+
+def _coords(r: _Reader, v: Any, path: str) -> BodyCoordinates | None:
+    if v is None:
+        return None
+    o = r.obj(v, path)
+    return BodyCoordinates(scene=r.vec(r.get(o, "scene", path), f"{path}.scene"),  # type: ignore[arg-type]
+                           principal=r.vec(r.get(o, "principal", path), f"{path}.principal"))  # type: ignore[arg-type]
+
+
+def _vectors(r: _Reader, v: Any, path: str) -> dict[str, JointVector]:
+    out: dict[str, JointVector] = {}
+    for name, item in r.obj(v, path).items():
+        p = f"{path}.{name}"
+        o = r.obj(item, p)
+        out[name] = JointVector(world=r.vec(r.get(o, "world", p), f"{p}.world"),  # type: ignore[arg-type]
+                                body1=_coords(r, o.get("body1"), f"{p}.body1"),
+                                body2=_coords(r, o.get("body2"), f"{p}.body2"))
+    return out
+
+
+def _optional_id(r: _Reader, v: Any, path: str) -> int | None:
+    return None if v is None else r.integer(v, path)
+
+
+def _joint(r: _Reader, j: Mapping[str, Any], path: str) -> Joint:
+    target = None
+    if "target" in j:
+        t = r.obj(j["target"], f"{path}.target")
+        tp = f"{path}.target"
+        times = tuple(r.num(x, f"{tp}.times[{i}]")
+                      for i, x in enumerate(r.arr(r.get(t, "times", tp), f"{tp}.times")))
+        values = tuple(r.num(x, f"{tp}.values[{i}]")
+                       for i, x in enumerate(r.arr(r.get(t, "values", tp), f"{tp}.values")))
+        if len(times) != len(values):
+            raise r.fail(f"{tp}.values", f"{len(times)} values (one per time)", list(values))
+        target = MotorTarget(constant=r.num(r.get(t, "constant", tp), f"{tp}.constant"),
+                             times=times, values=values,
+                             repeat=r.boolean(r.get(t, "repeat", tp), f"{tp}.repeat"))
+    return Joint(
+        type=r.string(r.get(j, "type", path), f"{path}.type"),
+        block=r.string(r.get(j, "block", path), f"{path}.block"),
+        json_path=r.string(j.get("jsonPath", ""), f"{path}.jsonPath"),
+        body1=_optional_id(r, r.get(j, "body1", path), f"{path}.body1"),
+        body2=_optional_id(r, r.get(j, "body2", path), f"{path}.body2"),
+        points=_vectors(r, r.get(j, "points", path), f"{path}.points"),
+        axes=_vectors(r, r.get(j, "axes", path), f"{path}.axes"),
+        rest_length=r.num(j["restLength"], f"{path}.restLength") if "restLength" in j else None,
+        stiffness=r.num(j["stiffness"], f"{path}.stiffness") if "stiffness" in j else None,
+        target=target,
+        particle=r.integer(j["particle"], f"{path}.particle") if "particle" in j else None,
+    )
+
+
+def parse_resolved_scene(document: Any, source: str = "<resolved scene>") -> ResolvedScene:
+    """Checks and converts a resolved-scene document. Raises SceneError naming `source` and the
+    JSON path of the first problem."""
+    r = _Reader(source)
+    d = r.obj(document, "(document)")
+    fmt = r.get(d, "format", "")
+    if fmt != RESOLVED_SCENE_FORMAT:
+        raise r.fail("format", f'"{RESOLVED_SCENE_FORMAT}"', fmt)
+    version = r.get(d, "version", "")
+    if version != RESOLVED_SCENE_VERSION:
+        raise r.fail("version", str(RESOLVED_SCENE_VERSION), version)
+    method = r.obj(r.get(d, "method", ""), "method")
+    name = method.get("name", "")
+    if name is None:
+        name = ""
+    params = r.obj(method.get("parameters", {}), "method.parameters")
+    for key, value in params.items():
+        if not isinstance(value, (bool, int, float, str)):
+            raise r.fail(f"method.parameters.{key}", "a number, true/false or a string", value)
+    deform = r.obj(d.get("deformables", {}), "deformables")
+    h = r.num(r.get(d, "timeStepSize", ""), "timeStepSize")
+    if h <= 0:
+        raise r.fail("timeStepSize", "a positive number", h)
+    stride = r.integer(r.get(d, "sampleStride", ""), "sampleStride")
+    if stride < 1:
+        raise r.fail("sampleStride", "an integer >= 1", stride)
+    steps = r.integer(r.get(d, "steps", ""), "steps")
+    if steps < 1:
+        raise r.fail("steps", "an integer >= 1", steps)
+    return ResolvedScene(
+        source=r.string(d.get("source", ""), "source"),
+        name=r.string(d.get("name", ""), "name"),
+        method=Method(name=r.string(name, "method.name"), parameters=dict(params)),
+        gravity=r.vec(r.get(d, "gravity", ""), "gravity"),  # type: ignore[arg-type]
+        time_step_size=h,
+        duration=r.num(r.get(d, "duration", ""), "duration"),
+        sample_interval=r.num(r.get(d, "sampleInterval", ""), "sampleInterval"),
+        steps=steps,
+        sample_stride=stride,
+        contact_tolerance=r.num(r.get(d, "contactTolerance", ""), "contactTolerance"),
+        contact_combine_rule=r.string(r.get(d, "contactCombineRule", ""), "contactCombineRule"),
+        bodies=tuple(_body(r, r.obj(b, f"bodies[{i}]"), f"bodies[{i}]")
+                     for i, b in enumerate(r.arr(r.get(d, "bodies", ""), "bodies"))),
+        joints=tuple(_joint(r, r.obj(j, f"joints[{i}]"), f"joints[{i}]")
+                     for i, j in enumerate(r.arr(r.get(d, "joints", ""), "joints"))),
+        contact_pairs=tuple(
+            ContactPair(
+                bodies=_pair_ids(r, p, i),
+                friction=r.num(r.get(p, "friction", f"contactPairs[{i}]"), f"contactPairs[{i}].friction"),
+                restitution=r.num(r.get(p, "restitution", f"contactPairs[{i}]"),
+                                  f"contactPairs[{i}].restitution"),
+                explicit=r.boolean(p.get("explicit", False), f"contactPairs[{i}].explicit"))
+            for i, p in enumerate(r.arr(r.get(d, "contactPairs", ""), "contactPairs"))),
+        particles=tuple(
+            Particle(position=r.vec(r.get(p, "position", f"particles[{i}]"), f"particles[{i}].position"),  # type: ignore[arg-type]
+                     velocity=r.vec(r.get(p, "velocity", f"particles[{i}]"), f"particles[{i}].velocity"),  # type: ignore[arg-type]
+                     mass=r.num(r.get(p, "mass", f"particles[{i}]"), f"particles[{i}].mass"))
+            for i, p in enumerate(r.arr(d.get("particles", []), "particles"))),
+        triangle_models=r.integer(deform.get("triangleModels", 0), "deformables.triangleModels"),
+        tet_models=r.integer(deform.get("tetModels", 0), "deformables.tetModels"),
+        document=dict(d),
+    )
+
+
+def _pair_ids(r: _Reader, p: Any, i: int) -> tuple[int, int]:
+    path = f"contactPairs[{i}].bodies"
+    ids = r.arr(r.get(r.obj(p, f"contactPairs[{i}]"), "bodies", f"contactPairs[{i}]"), path)
+    if len(ids) != 2:
+        raise r.fail(path, "two body ids", ids)
+    return (r.integer(ids[0], f"{path}[0]"), r.integer(ids[1], f"{path}[1]"))
+
+
+def read_resolved_scene(path: str | os.PathLike[str]) -> ResolvedScene:
+    """Reads and checks a resolved-scene file; SceneError names the file and the JSON path."""
+    source = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except OSError as e:
+        raise SceneError(f"{source}: cannot read: {e.strerror}") from e
+    try:
+        document = json.loads(text)
+    except json.JSONDecodeError as e:
+        raise SceneError(f"{source}: line {e.lineno}: not JSON: {e.msg}") from e
+    return parse_resolved_scene(document, source)
+
+
+# ---------------------------------------------------------------------------------------------
+# Output: the trajectory CSV and status.json
+
+
+def format_number(value: float) -> str:
+    """The shortest decimal text that reads back to `value` exactly, as validation/trajectory.cpp
+    writes it (integral values without ".0", so 2.0 is "2")."""
+    text = repr(float(value))
+    if text.endswith(".0"):
+        text = text[:-2]
+    return text
+
+
+def format_time(time: float) -> str:
+    """Sample times to 12 significant digits, so that 0.3 is 0.3 (validation/trajectory.cpp)."""
+    return "%.12g" % time
+
+
+@dataclass(frozen=True)
+class BodyState:
+    """One body at one sample. position: centre of mass (world); rotation: the body's scene
+    frame → world (w, x, y, z); velocity of the centre of mass and angular velocity (world)."""
+
+    id: int
+    position: Sequence[float]
+    rotation: Sequence[float]
+    velocity: Sequence[float]
+    angular_velocity: Sequence[float]
+
+
+def divergence_reason(time: float, bodies: Iterable[BodyState]) -> str | None:
+    """Why a state counts as diverged (non-finite, |x| or |v| above DIVERGENCE_LIMIT), or None;
+    the same test as validation/simulation.cpp."""
+    for b in bodies:
+        values = [*b.position, *b.rotation, *b.velocity, *b.angular_velocity]
+        if not all(math.isfinite(v) for v in values):
+            return f"non-finite state of body {b.id} at t = {time:g} s"
+        x = math.sqrt(sum(v * v for v in b.position))
+        v = math.sqrt(sum(c * c for c in b.velocity))
+        if x > DIVERGENCE_LIMIT or v > DIVERGENCE_LIMIT:
+            return f"body {b.id} blew up at t = {time:g} s (|x| = {x:g} m, |v| = {v:g} m/s)"
+    return None
+
+
+class TrajectoryWriter:
+    """Writes OUTDIR/trajectory.csv in the format of `pbdval simulate` (docs/cli.md#csv):
+    the header, then one row per body per sample, bodies in the resolved scene's order,
+    quaternions with w >= 0. Written to a temporary file and renamed on close(), so the file
+    is never half-written."""
+
+    def __init__(self, out_dir: str | os.PathLike[str]) -> None:
+        self.path = Path(out_dir) / TRAJECTORY_FILE
+        fd, temporary = tempfile.mkstemp(prefix=TRAJECTORY_FILE + ".", suffix=".tmp",
+                                         dir=str(self.path.parent))
+        self._temporary = Path(temporary)
+        self._file: TextIO = os.fdopen(fd, "w", encoding="ascii", newline="\n")
+        self._file.write(TRAJECTORY_HEADER + "\n")
+        self.samples = 0
+
+    def write(self, time: float, bodies: Sequence[BodyState]) -> None:
+        t = format_time(time)
+        lines = []
+        for b in bodies:
+            q = tuple(b.rotation)
+            if q[0] < 0:
+                q = tuple(-c for c in q)
+            values = (*b.position, *q, *b.velocity, *b.angular_velocity)
+            if len(values) != 13:
+                raise ValueError(f"body {b.id}: expected 3+4+3+3 state values, got {len(values)}")
+            lines.append(f"{t},{b.id}," + ",".join(format_number(v) for v in values) + "\n")
+        self._file.write("".join(lines))
+        self.samples += 1
+
+    def close(self) -> None:
+        """Flushes and renames the file into place."""
+        if self._file.closed:
+            return
+        self._file.flush()
+        os.fsync(self._file.fileno())
+        self._file.close()
+        os.replace(self._temporary, self.path)
+
+    def discard(self) -> None:
+        if not self._file.closed:
+            self._file.close()
+        self._temporary.unlink(missing_ok=True)
+
+    def __enter__(self) -> "TrajectoryWriter":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+@dataclass
+class Status:
+    """The content of status.json (docs/external-engines.md)."""
+
+    status: str  # ok | unsupported | diverged | error
+    reason: str = ""
+    unsupported: list[str] = field(default_factory=list)
+    diverged_at: float | None = None  # s
+    engine_version: str = ""
+    effective_settings: dict[str, ParameterValue] = field(default_factory=dict)
+    integrator_steps_per_scene_step: int = 1
+    contact_margin: float | None = None  # m
+
+    def to_json(self) -> dict[str, Any]:
+        if self.status not in STATUSES:
+            raise ValueError(f"status: expected one of {', '.join(STATUSES)}, got {self.status!r}")
+        return {
+            "protocol": PROTOCOL_VERSION,
+            "status": self.status,
+            "reason": self.reason,
+            "unsupported": list(self.unsupported),
+            "divergedAt": self.diverged_at,
+            "engineVersion": self.engine_version,
+            "effectiveSettings": dict(self.effective_settings),
+            "integratorStepsPerSceneStep": int(self.integrator_steps_per_scene_step),
+            "contactMargin": self.contact_margin,
+        }
+
+
+def write_json_atomically(path: str | os.PathLike[str], document: Any) -> None:
+    """Writes `document` as JSON to a temporary file beside `path`, then renames it over `path`.
+    Refuses to replace anything but a regular file."""
+    target = Path(path)
+    if target.exists() and not target.is_file():
+        raise OSError(f"{target}: exists and is not a regular file; not replaced")
+    text = json.dumps(document, indent=1, allow_nan=False) + "\n"
+    fd, temporary = tempfile.mkstemp(prefix=target.name + ".", suffix=".tmp", dir=str(target.parent))
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(text)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(temporary, target)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
+
+
+def write_status(out_dir: str | os.PathLike[str], status: Status) -> None:
+    write_json_atomically(Path(out_dir) / STATUS_FILE, status.to_json())
+
+
+# ---------------------------------------------------------------------------------------------
+# Command line
+
+
+@dataclass(frozen=True)
+class EngineArguments:
+    scene: Path
+    out: Path
+
+
+def parse_arguments(argv: Sequence[str] | None, description: str) -> EngineArguments:
+    """Parses `--scene RESOLVED.json --out OUTDIR`; OUTDIR must be an existing directory. Bad
+    usage exits with status 2 (argparse), which the runner reads as "no status.json"."""
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--scene", required=True, type=Path,
+                        help="the resolved scene (pbdval export-scene)")
+    parser.add_argument("--out", required=True, type=Path,
+                        help="an existing directory for trajectory.csv and status.json")
+    ns = parser.parse_args(argv)
+    if not ns.out.is_dir():
+        parser.error(f"--out {ns.out}: not an existing directory")
+    return EngineArguments(scene=ns.scene, out=ns.out)
+
+
+# ---------------------------------------------------------------------------------------------
+# Quaternion helpers (w, x, y, z)
+
+
+def quat_multiply(a: Sequence[float], b: Sequence[float]) -> Quat:
+    aw, ax, ay, az = a
+    bw, bx, by, bz = b
+    return (aw * bw - ax * bx - ay * by - az * bz,
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw)
+
+
+def quat_conjugate(q: Sequence[float]) -> Quat:
+    return (q[0], -q[1], -q[2], -q[3])
+
+
+def quat_rotate(q: Sequence[float], v: Sequence[float]) -> Vec3:
+    """q v q*: the vector v rotated by the unit quaternion q."""
+    r = quat_multiply(quat_multiply(q, (0.0, v[0], v[1], v[2])), quat_conjugate(q))
+    return (r[1], r[2], r[3])
+
+
+def quat_normalized(q: Sequence[float]) -> Quat:
+    n = math.sqrt(sum(c * c for c in q))
+    return (q[0] / n, q[1] / n, q[2] / n, q[3] / n)

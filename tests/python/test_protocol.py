@@ -1,0 +1,190 @@
+"""The protocol helpers (python/pbdval/protocol.py) and the engines' pure-Python parts."""
+
+from __future__ import annotations
+
+import json
+import math
+import random
+import sys
+from pathlib import Path
+
+import pytest
+
+from conftest import REPO
+from pbdval import protocol as pp
+
+sys.path.insert(0, str(REPO / "adapters" / "pybullet"))
+sys.path.insert(0, str(REPO / "adapters" / "mujoco_py"))
+import contact_law  # noqa: E402
+import materials  # noqa: E402
+
+
+def minimal_document() -> dict:
+    return {
+        "format": "pbdval.resolved-scene", "version": 1, "source": "/x/s.json", "name": "s",
+        "method": {"name": "m", "parameters": {"iterations": 7, "flag": True, "cone": "elliptic"}},
+        "gravity": [0, -9.81, 0], "timeStepSize": 0.01, "duration": 0.1, "sampleInterval": 0.03,
+        "steps": 10, "sampleStride": 3, "contactTolerance": 0.01, "contactCombineRule": "seed",
+        "bodies": [{
+            "id": 4, "index": 0, "jsonPath": "RigidBodies[0]", "dynamic": True, "mass": 2.0,
+            "principalInertia": [1, 2, 3],
+            "principalFrame": {"centerOfMass": [0, 0, 0], "rotation": [1, 0, 0, 0]},
+            "pose": {"position": [0, 1, 0], "rotation": [1, 0, 0, 0], "sceneOrigin": [0, 1, 0],
+                     "principalRotation": [1, 0, 0, 0]},
+            "velocity": [0, 0, 0], "angularVelocity": [0, 0, 0],
+            "shape": {"type": "sphere", "collisionObjectType": 1, "inverted": False, "radius": 0.5},
+            "material": {"friction": 0.2, "restitution": 0.6}}],
+        "joints": [], "contactPairs": [], "particles": [],
+        "deformables": {"triangleModels": 0, "tetModels": 0},
+    }
+
+
+def test_format_number_round_trips_every_double() -> None:
+    rng = random.Random(1)
+    values = [rng.uniform(-1e3, 1e3) for _ in range(2000)] + [
+        rng.lognormvariate(0, 30) for _ in range(2000)] + [0.1, 1e-300, 5e-324, 1e300, -0.0]
+    for v in values:
+        assert float(pp.format_number(v)) == v
+    assert pp.format_number(2.0) == "2"  # as std::to_chars writes an integral double
+    assert pp.format_time(0.1 + 0.2) == "0.3"  # 12 significant digits
+
+
+def test_sample_steps_follow_the_stride_and_include_the_last_step() -> None:
+    scene = pp.parse_resolved_scene(minimal_document())
+    assert scene.sample_steps() == [0, 3, 6, 9, 10]
+    assert scene.parameter("iterations", 1) == 7
+    assert scene.parameter("missing", 5) == 5
+
+
+def test_parse_errors_name_the_file_and_the_json_path() -> None:
+    doc = minimal_document()
+    doc["timeStepSize"] = "fast"
+    with pytest.raises(pp.SceneError, match=r"^scene\.json: timeStepSize: expected a finite number"):
+        pp.parse_resolved_scene(doc, "scene.json")
+    doc = minimal_document()
+    doc["bodies"][0]["pose"]["rotation"] = [1, 0, 0]
+    with pytest.raises(pp.SceneError, match=r"bodies\[0\]\.pose\.rotation: expected an array of 4"):
+        pp.parse_resolved_scene(doc, "scene.json")
+    doc = minimal_document()
+    doc["format"] = "something else"
+    with pytest.raises(pp.SceneError, match=r"format: expected \"pbdval.resolved-scene\""):
+        pp.parse_resolved_scene(doc, "scene.json")
+    doc = minimal_document()
+    doc["method"]["parameters"]["bad"] = [1, 2]
+    with pytest.raises(pp.SceneError, match=r"method\.parameters\.bad: expected a number"):
+        pp.parse_resolved_scene(doc, "scene.json")
+
+
+def test_read_resolved_scene_reports_unreadable_and_malformed_files(tmp_path: Path) -> None:
+    with pytest.raises(pp.SceneError, match="cannot read"):
+        pp.read_resolved_scene(tmp_path / "absent.json")
+    bad = tmp_path / "bad.json"
+    bad.write_text("{\n  nope")
+    with pytest.raises(pp.SceneError, match=r"bad\.json: line 2: not JSON"):
+        pp.read_resolved_scene(bad)
+
+
+def test_trajectory_writer_writes_the_simulate_csv(tmp_path: Path) -> None:
+    with pp.TrajectoryWriter(tmp_path) as writer:
+        writer.write(0.0, [pp.BodyState(3, (1.0, 2.5, -0.0), (-1.0, 0.0, 0.0, 0.0), (0, 0, 0), (0, 0, 0))])
+        writer.write(0.1 + 0.2, [pp.BodyState(3, (0.1, 2.0, 3.0), (0.5, -0.5, 0.5, -0.5), (1, 2, 3), (4, 5, 6))])
+    lines = (tmp_path / "trajectory.csv").read_text().splitlines()
+    assert lines[0] == "t,id,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz"
+    # w < 0 is flipped to the equivalent quaternion with w >= 0 (q and -q are one rotation).
+    assert lines[1] == "0,3,1,2.5,-0,1,-0,-0,-0,0,0,0,0,0,0"
+    assert lines[2] == "0.3,3,0.1,2,3,0.5,-0.5,0.5,-0.5,1,2,3,4,5,6"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["trajectory.csv"]  # no temporary left
+
+
+def test_status_json_has_exactly_the_protocol_fields(tmp_path: Path) -> None:
+    pp.write_status(tmp_path, pp.Status("diverged", reason="r", diverged_at=0.25, engine_version="e 1",
+                                        effective_settings={"a": 1}, integrator_steps_per_scene_step=4,
+                                        contact_margin=0.001))
+    status = json.loads((tmp_path / "status.json").read_text())
+    assert status == {"protocol": 1, "status": "diverged", "reason": "r", "unsupported": [],
+                      "divergedAt": 0.25, "engineVersion": "e 1", "effectiveSettings": {"a": 1},
+                      "integratorStepsPerSceneStep": 4, "contactMargin": 0.001}
+    with pytest.raises(ValueError, match="status"):
+        pp.Status("fine").to_json()
+
+
+def test_status_is_never_written_over_a_directory(tmp_path: Path) -> None:
+    (tmp_path / "status.json").mkdir()
+    with pytest.raises(OSError, match="not a regular file"):
+        pp.write_status(tmp_path, pp.Status("ok"))
+
+
+def test_argument_parser_requires_an_existing_out_directory(tmp_path: Path) -> None:
+    args = pp.parse_arguments(["--scene", "s.json", "--out", str(tmp_path)], "d")
+    assert args.out == tmp_path and args.scene == Path("s.json")
+    with pytest.raises(SystemExit) as e:
+        pp.parse_arguments(["--scene", "s.json", "--out", str(tmp_path / "none")], "d")
+    assert e.value.code == 2
+
+
+def test_motor_target_interpolates_holds_and_repeats() -> None:
+    t = pp.MotorTarget(constant=0, times=(1.0, 2.0, 3.0), values=(0.0, 10.0, 0.0), repeat=True)
+    assert t.value_at(0.5) == 0.0  # held before the first sample
+    assert t.value_at(1.5) == pytest.approx(5.0, abs=1e-12)
+    assert t.value_at(2.0) == pytest.approx(10.0, abs=1e-12)
+    assert t.value_at(4.5) == pytest.approx(5.0, abs=1e-12)  # period t_last - t_first = 2
+    assert pp.MotorTarget(constant=3, times=(), values=(), repeat=False).value_at(7) == 3
+
+
+def test_quaternion_helpers_rotate_like_a_matrix() -> None:
+    half = math.pi / 4  # 90 degrees about z
+    q = (math.cos(half), 0.0, 0.0, math.sin(half))
+    assert pp.quat_rotate(q, (1.0, 0.0, 0.0)) == pytest.approx((0.0, 1.0, 0.0), abs=1e-15)
+    qq = pp.quat_multiply(q, q)  # 180 degrees
+    assert pp.quat_rotate(qq, (1.0, 0.0, 0.0)) == pytest.approx((-1.0, 0.0, 0.0), abs=1e-15)
+
+
+def test_divergence_uses_the_runner_limits() -> None:
+    ok = pp.BodyState(0, (1e5, 0, 0), (1, 0, 0, 0), (0, 0, 0), (0, 0, 0))
+    far = pp.BodyState(1, (2e6, 0, 0), (1, 0, 0, 0), (0, 0, 0), (0, 0, 0))
+    nan = pp.BodyState(2, (0, 0, 0), (1, 0, 0, 0), (math.nan, 0, 0), (0, 0, 0))
+    assert pp.divergence_reason(1.0, [ok]) is None
+    assert "body 1 blew up" in (pp.divergence_reason(1.0, [ok, far]) or "")
+    assert "non-finite state of body 2" in (pp.divergence_reason(1.0, [nan]) or "")
+
+
+# --- pybullet's per-body material factors (adapters/pybullet/materials.py)
+
+def test_material_factors_reproduce_a_star_of_pairs() -> None:
+    # ground 0 touching bodies 1..3 with different values: always a product (ground 1 · value)
+    pairs = [(0, 1, 0.3), (0, 2, 0.5), (0, 3, 0.7)]
+    f = materials.per_body_factors(4, pairs)
+    assert f is not None
+    for i, j, v in pairs:
+        assert f[i] * f[j] == pytest.approx(v, rel=1e-12)
+
+
+def test_material_factors_reject_pairs_that_are_no_product() -> None:
+    # An even cycle: m0 m1 · m2 m3 = m1 m2 · m3 m0 must hold, here 1 · 1 != 1 · 0.25. (An odd
+    # cycle, a triangle, always has a solution.)
+    assert materials.per_body_factors(4, [(0, 1, 1.0), (1, 2, 1.0), (2, 3, 1.0), (3, 0, 0.25)]) is None
+    triangle = materials.per_body_factors(3, [(0, 1, 1.0), (1, 2, 1.0), (0, 2, 0.25)])
+    assert triangle is not None and triangle[0] * triangle[2] == pytest.approx(0.25, rel=1e-12)
+    # a zero pair between bodies that also have positive pairs
+    assert materials.per_body_factors(3, [(0, 1, 0.0), (1, 2, 0.5), (0, 2, 0.5)]) is None
+
+
+def test_material_factors_handle_all_zero_bodies() -> None:
+    f = materials.per_body_factors(3, [(0, 1, 0.0), (0, 2, 0.0), (1, 2, 0.49)])
+    assert f is not None and f[0] == 0.0 and f[1] * f[2] == pytest.approx(0.49, rel=1e-12)
+
+
+# --- the MuJoCo contact law (adapters/mujoco_py/contact_law.py)
+
+def test_contact_law_inverts_the_kelvin_voigt_restitution() -> None:
+    assert contact_law.restitution_of_damping_ratio(0.0) == 1.0
+    assert contact_law.restitution_of_damping_ratio(1.0) == pytest.approx(math.exp(-2), rel=1e-15)
+    # e(zeta) is continuous at zeta = 1 from both sides
+    assert contact_law.restitution_of_damping_ratio(1 - 1e-7) == pytest.approx(math.exp(-2), rel=1e-5)
+    assert contact_law.restitution_of_damping_ratio(1 + 1e-7) == pytest.approx(math.exp(-2), rel=1e-5)
+    for e in (0.9, 0.8, 0.5, 0.2, 0.1):
+        zeta = contact_law.damping_ratio_for_restitution(e, 2.0)
+        assert contact_law.restitution_of_damping_ratio(zeta) == pytest.approx(e, rel=1e-12)
+    # below e(zeta_max) the ratio is clamped to zeta_max = tau / (2h)
+    law = contact_law.contact_solref(0.004, 0.001, 0.0)
+    assert law.damping_ratio == 2.0 and law.stiffness == pytest.approx(1 / 0.004**2)
