@@ -1,3 +1,10 @@
+// Auto-vectorisation changes the round-off of this file's arithmetic (GCC -O3), and the
+// principal frame of a body with equal moments depends on every bit (see the header): compile
+// it without, like the seed (built -O0 for the recordings; -O2 gives the same bits).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize("no-tree-vectorize")
+#endif
+
 #include "pbd/collision/seed_point_order.h"
 
 #include <algorithm>
