@@ -23,8 +23,8 @@
 //      The order matters to the Gauss–Seidel velocity pass: with several points of a sphere
 //      inside the shell, solving the deepest (the support point) first gives the rebound e·u_n
 //      without spin, where an off-centre point first spins the sphere and lets the
-//      restitution targets and penalties of the others add energy (the seed's sphere drop
-//      rebounds to 0.707 of its height instead of e² = 0.64 with e = 0.8).
+//      restitution targets and penalties of the others add energy (the seed's sphere dropped
+//      1 m with e = 0.8 rebounds to 0.740 of the drop instead of e² = 0.64; test_seed_reference).
 // Everything is sized when the detector is built; a detection allocates nothing. Contacts or
 // pairs beyond the capacity are dropped and counted (see ContactGeometryBuffer).
 #pragma once
