@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "pbd/collision/seed_point_order.h"
 #include "pbd/collision/surface_samples.h"
 
 namespace pbd {
@@ -33,6 +34,14 @@ void deepestFirst(std::vector<ContactPointGeometry>::iterator begin,
   });
 }
 
+/// Orders contacts as the seed reports them: by the seed's rank of their points.
+void seedOrder(std::vector<ContactPointGeometry>::iterator begin,
+               std::vector<ContactPointGeometry>::iterator end, const std::vector<int>& rank) {
+  std::sort(begin, end, [&](const ContactPointGeometry& a, const ContactPointGeometry& b) {
+    return rank[std::size_t(a.sample)] < rank[std::size_t(b.sample)];
+  });
+}
+
 }  // namespace
 
 CollisionDetector::CollisionDetector(const Scene& scene, const CollisionShapeOptions& options) {
@@ -47,6 +56,9 @@ CollisionDetector::CollisionDetector(const Scene& scene, const CollisionShapeOpt
     if (!object.shape.exists()) continue;
     ++shapedBodies;
     object.samples = surfaceSamples(desc);
+    if (desc.mesh)
+      object.seedRank = seedVertexReportRank(*desc.mesh, desc.scale, desc.translation,
+                                             desc.rotation, desc.density);
     object.hierarchy = PointBvh(object.samples);
     object.localBounds = boundsOf(object.samples).extend(object.shape.bounds());
     if (object.testMesh) rigidPoints += object.samples.size();
@@ -231,7 +243,7 @@ void CollisionDetector::particlesAgainstRigid(const ParticleModel& model,
 }
 
 void CollisionDetector::detect(const BodyStates& bodies, Real tolerance,
-                               ContactGeometryBuffer& out) {
+                               ContactGeometryBuffer& out, ContactOrder order) {
   out.rigid.clear();
   out.particle.clear();
   out.droppedContacts = 0;
@@ -250,7 +262,12 @@ void CollisionDetector::detect(const BodyStates& bodies, Real tolerance,
       particlesAgainstRigid(particleModels_[std::size_t(direction.first - rigidCount)],
                             bodies.particles, direction.second, tolerance, list,
                             out.droppedContacts);
-    deepestFirst(list.begin() + static_cast<std::ptrdiff_t>(first), list.end());
+    const auto begin = list.begin() + static_cast<std::ptrdiff_t>(first);
+    if (order == ContactOrder::Seed && direction.first < rigidCount &&
+        !rigid_[std::size_t(direction.first)].seedRank.empty())
+      seedOrder(begin, list.end(), rigid_[std::size_t(direction.first)].seedRank);
+    else
+      deepestFirst(begin, list.end());
   }
 }
 

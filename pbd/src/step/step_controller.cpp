@@ -72,7 +72,10 @@ void updateVelocities(World& world, Real h) {
 /// Collision detection on the positions after the substeps; contacts are set up from the
 /// current velocities (the seed's order: research/pbd.md §3.1, steps 6–7).
 void detectContacts(World& world) {
-  world.collision.detect(world.bodies, world.settings.contactTolerance, world.contacts.geometry);
+  world.collision.detect(world.bodies, world.settings.contactTolerance, world.contacts.geometry,
+                         world.settings.contactModel == ContactModel::Seed
+                             ? ContactOrder::Seed
+                             : ContactOrder::DeepestFirst);
   world.contacts.initialise(world.bodies, world.materials, world.settings);
 }
 

@@ -1,0 +1,399 @@
+// Differential test against PositionBasedDynamics 2.2.2 itself: every scene of
+// tests/data/seed_reference/scenes was run by the original library (built beside the project,
+// driven headless the way its SceneLoaderDemo builds a scene, single-threaded; the provenance of
+// each recording is in tests/data/seed_reference/README.md) and its trajectory recorded in the
+// CSV format of `pbdval simulate`. Here the `pbd` method with the `seed` contact model runs the
+// same scene, and every recorded centre of mass must agree.
+//
+// Where the tolerance comes from. The two programs compute the same algorithm with different
+// round-off (operation order; the seed reads OBJ coordinates in single precision, a relative
+// change of 6·10⁻⁸). How much such a difference grows is a property of the scene, measured
+// here: the scene is run a second time with every dynamic body's start moved by
+// δ = 10⁻⁸ m, each in its own direction (the single-precision rounding of a 0.1 m coordinate is 3.7·10⁻⁹ m, so δ bounds
+// the input differences) and the distance between the two runs, D(t), is the growth of an
+// input difference of δ up to time t: round-off growth in a regular scene, Lyapunov growth in a
+// chaotic one. The tolerance at a sample is 10 D(t) (a margin for round-off injected at
+// every step rather than once) plus 10⁻⁹ m (the round-off floor: ~10⁻¹⁶ relative per
+// operation over ~10⁷ operations on a body in a run). Once D exceeds 1 mm the scene is past its
+// predictability horizon — two starts 10 nm apart no longer share a trajectory — and later
+// samples are not compared (printed with the horizon).
+//
+// A difference in the algorithm (a restitution, friction or ordering rule) does not shrink with
+// δ: it shows as a deviation of millimetres within the horizon. The closing table
+// (docs/contacts.md, "Fidelity to the seed") gives the scenes' numbers.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "pbd/collision/seed_point_order.h"
+#include "pbd/io/mesh_loader.h"
+#include "pbd/io/scene_loader.h"
+#include "pbd/model/world.h"
+
+namespace pbd {
+namespace {
+
+const std::string kReferenceDir = std::string(PBDVAL_TEST_DATA_DIR) + "/seed_reference";
+
+/// The start perturbation of the twin run (m); see the file comment.
+constexpr double kPerturbation = 1e-8;
+/// Margin on the measured growth: round-off enters at every step, not once.
+constexpr double kGrowthMargin = 10;
+/// Round-off floor (m).
+constexpr double kRoundOffFloor = 1e-9;
+/// Past this twin distance (m) the scene is past its predictability horizon.
+constexpr double kHorizon = 1e-3;
+
+struct RecordedRow {
+  double t = 0;
+  int id = 0;
+  Vector3 position = Vector3::Zero();
+};
+
+std::vector<RecordedRow> readRecording(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open");
+  std::string line;
+  std::getline(in, line);
+  if (line != "t,id,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz")
+    throw std::runtime_error(path + ": line 1: unexpected header");
+  std::vector<RecordedRow> rows;
+  int lineNumber = 1;
+  while (std::getline(in, line)) {
+    ++lineNumber;
+    if (line.empty()) continue;
+    std::vector<double> values;
+    std::stringstream fields(line);
+    std::string field;
+    while (std::getline(fields, field, ',')) {
+      char* end = nullptr;
+      values.push_back(std::strtod(field.c_str(), &end));
+      if (end == field.c_str() || *end != '\0')
+        throw std::runtime_error(path + ": line " + std::to_string(lineNumber) + ": bad number");
+    }
+    if (values.size() != 15)
+      throw std::runtime_error(path + ": line " + std::to_string(lineNumber) + ": 15 columns");
+    RecordedRow row;
+    row.t = values[0];
+    row.id = static_cast<int>(values[1]);
+    row.position = Vector3(Real(values[2]), Real(values[3]), Real(values[4]));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+Scene loadSeedScene(const std::string& name) {
+  Scene scene = loadScene(kReferenceDir + "/scenes/" + name + ".json").scene;
+  scene.simulation.contactModel = ContactModel::Seed;
+  return scene;
+}
+
+/// Positions of every body (by scene id) at each of the given step counts.
+using Positions = std::map<std::int64_t, std::map<int, Vector3>>;
+
+Positions run(const Scene& scene, const std::vector<std::int64_t>& steps) {
+  World world = buildWorld(scene);
+  Positions out;
+  std::int64_t done = 0;
+  for (std::int64_t target : steps) {
+    while (done < target) {
+      world.step();
+      ++done;
+    }
+    for (std::size_t b = 0; b < scene.rigidBodies.size(); ++b)
+      out[target][scene.rigidBodies[b].id] = world.sceneFrameState(b).centerOfMass;
+  }
+  return out;
+}
+
+struct Comparison {
+  double worstRatio = 0;      ///< max deviation / tolerance over compared samples
+  double worstDeviation = 0;  ///< at that sample (m)
+  double worstTolerance = 0;
+  double worstTime = 0;
+  double horizon = 0;         ///< last compared time (s)
+  int comparedSamples = 0;
+  double lastTime = 0;
+};
+
+Comparison compare(const std::string& name) {
+  const Scene scene = loadSeedScene(name);
+  const std::vector<RecordedRow> rows = readRecording(kReferenceDir + "/" + name + ".csv");
+  const double h = double(scene.simulation.timeStepSize);
+  std::vector<std::int64_t> steps;
+  for (const RecordedRow& r : rows) {
+    const std::int64_t s = std::llround(r.t / h);
+    if (steps.empty() || steps.back() != s) steps.push_back(s);
+  }
+  // Each body moves in its own direction, so that the twin also breaks the scene's symmetries
+  // (a stack of centred boxes, a vertical drop): round-off breaks them in both programs.
+  Scene twin = scene;
+  for (std::size_t b = 0; b < twin.rigidBodies.size(); ++b) {
+    if (!twin.rigidBodies[b].isDynamic) continue;
+    const double k = double(b) + 1;
+    const Vector3 direction =
+        Vector3(Real(std::sin(2.4 * k)), Real(std::cos(1.7 * k)), Real(std::sin(0.9 * k + 1)))
+            .normalized();
+    twin.rigidBodies[b].translation += Real(kPerturbation) * direction;
+  }
+  const Positions ours = run(scene, steps);
+  const Positions perturbed = run(twin, steps);
+
+  Comparison c;
+  double growth = 0;  // max twin distance so far
+  std::int64_t lastStep = -1;
+  bool pastHorizon = false;
+  for (const RecordedRow& r : rows) {
+    const std::int64_t s = std::llround(r.t / h);
+    c.lastTime = r.t;
+    if (s != lastStep) {
+      lastStep = s;
+      for (const auto& [id, p] : ours.at(s))
+        growth = std::max(growth, double((perturbed.at(s).at(id) - p).norm()));
+      if (growth > kHorizon) pastHorizon = true;
+      if (!pastHorizon) {
+        c.horizon = r.t;
+        ++c.comparedSamples;
+      }
+    }
+    if (pastHorizon) continue;
+    const double tolerance = kGrowthMargin * growth + kRoundOffFloor;
+    const double deviation = double((ours.at(s).at(r.id) - r.position).norm());
+    if (deviation / tolerance > c.worstRatio) {
+      c.worstRatio = deviation / tolerance;
+      c.worstDeviation = deviation;
+      c.worstTolerance = tolerance;
+      c.worstTime = r.t;
+    }
+  }
+  return c;
+}
+
+class SeedReference : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(SeedReference, PbdMethodFollowsTheOriginalsTrajectory) {
+  if (sizeof(Real) != sizeof(double)) GTEST_SKIP() << "the recordings are double precision";
+  const std::string name = GetParam();
+  const Comparison c = compare(name);
+  std::printf("  %-42s worst %.3e m (tolerance %.3e m) at t = %.3f s; compared to t = %.3f of %.3f s\n",
+              name.c_str(), c.worstDeviation, c.worstTolerance, c.worstTime, c.horizon, c.lastTime);
+  EXPECT_GT(c.comparedSamples, 1) << "the scene is past its horizon from the start";
+  EXPECT_LE(c.worstRatio, 1.0) << name << ": deviation " << c.worstDeviation << " m at t = "
+                               << c.worstTime << " s exceeds " << c.worstTolerance << " m";
+}
+
+// The scenes the `pbd` method reproduces (tests/data/seed_reference/README.md).
+INSTANTIATE_TEST_SUITE_P(
+    Recorded, SeedReference,
+    ::testing::Values("chain_10", "chain_100", "chain_mass_ratio", "chain_10_second_order",
+                      "chain_10_1substep_4iterations", "double_pendulum", "joint_hinge",
+                      "joint_hinge_h10ms_2substeps_3iterations", "joint_ball", "joint_ball_on_line",
+                      "joint_universal", "joint_slider", "joint_distance", "joint_damper",
+                      "joint_rigid_body_spring", "free_tumbling_box", "contact_resting_box",
+                      "resting_box_stiff", "bounce", "bounce_second_order_10substeps",
+                      "incline_stick_30deg", "incline_slide_30deg", "grid_torus_on_ground",
+                      "spheres_in_hollow_box"),
+    [](const ::testing::TestParamInfo<const char*>& param) { return std::string(param.param); });
+
+// Recorded scenes that cannot be compared or are not reproduced (docs/contacts.md, "Fidelity to
+// the seed"): they run, print their deviation, and are skipped, so that the gap stays visible.
+//   contact_stack_5: unpredictable from the start — the boxes start exactly on the contact
+//     shell's boundary, and twin starts 10 nm apart are more than 1 mm apart at the first
+//     sample (0.05 s), so no sample lies inside the horizon;
+//   sphere_on_grid_torus: the seed samples a Discregrid cubic-Lagrange grid over the mesh box
+//     padded by 0.1, pbdval its own Catmull-Rom grid (docs/contacts.md, "Grid SDFs"): a
+//     different SDF, not a different contact model.
+class SeedReferenceNotReproduced : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(SeedReferenceNotReproduced, DeviationIsReported) {
+  if (sizeof(Real) != sizeof(double)) GTEST_SKIP() << "the recordings are double precision";
+  const std::string name = GetParam();
+  const Comparison c = compare(name);
+  std::printf("  %-42s worst %.3e m (tolerance %.3e m) at t = %.3f s; compared to t = %.3f of %.3f s\n",
+              name.c_str(), c.worstDeviation, c.worstTolerance, c.worstTime, c.horizon, c.lastTime);
+  GTEST_SKIP() << name << " cannot be compared or is not reproduced (docs/contacts.md)";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Recorded, SeedReferenceNotReproduced,
+    ::testing::Values("contact_stack_5", "sphere_on_grid_torus"),
+    [](const ::testing::TestParamInfo<const char*>& param) { return std::string(param.param); });
+
+// The motor scenes differ by design (docs/methods.md, "Deliberate differences from the seed"):
+// the seed's motors act on the set point f(t − 2h) during the step that ends at t (it sets the
+// target after the step, from the time before the step), pbdval's on f(t). The velocity motor
+// hinge shows it in closed form: the motor is a hard velocity constraint, so the relative
+// angular velocity at the end of a step equals the set point the step used. Its sequence is
+// [t, ω] = (0, 0), (1, 2), (3, 2), (4, −1), linear in between.
+double velocityMotorSetPoint(double t) {
+  if (t <= 1) return 2 * t;
+  if (t <= 3) return 2;
+  if (t <= 4) return 2 - 3 * (t - 3);
+  return -1;
+}
+
+TEST(SeedReferenceMotors, TheOriginalLagsTwoStepsBehindTheSetPointAndPbdValDoesNot) {
+  if (sizeof(Real) != sizeof(double)) GTEST_SKIP() << "the recordings are double precision";
+  const std::string name = "joint_target_velocity_motor_hinge";
+  const Scene scene = loadSeedScene(name);
+  const double h = double(scene.simulation.timeStepSize);
+  std::string path = kReferenceDir + "/" + name + ".csv";
+  std::ifstream in(path);
+  ASSERT_TRUE(in) << path;
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::pair<double, double>> recorded;  // t, ω_z of the swinging body
+  while (std::getline(in, line)) {
+    std::vector<double> v;
+    std::stringstream fields(line);
+    std::string field;
+    while (std::getline(fields, field, ',')) v.push_back(std::strtod(field.c_str(), nullptr));
+    ASSERT_EQ(v.size(), 15u);
+    recorded.emplace_back(v[0], v[14]);
+  }
+  std::vector<std::int64_t> steps;
+  for (const auto& r : recorded) steps.push_back(std::llround(r.first / h));
+  World world = buildWorld(scene);
+  std::int64_t done = 0;
+  for (std::size_t k = 1; k < recorded.size(); ++k) {
+    while (done < steps[k]) {
+      world.step();
+      ++done;
+    }
+    const double t = recorded[k].first;
+    // 10⁻⁹ rad/s: the hard velocity row closes to round-off (ω ~ 1 rad/s, five iterations).
+    // After the sequence's end (t = 4) the original starts it again: the scene gives no
+    // `repeatSequence`, and the seed's loader leaves that flag uninitialised (research/pbd.md
+    // §4.2.5), here true. pbdval holds the last value.
+    if (t - 2 * h <= 4)
+      EXPECT_NEAR(recorded[k].second, velocityMotorSetPoint(t - 2 * h), 1e-9) << "original, t = " << t;
+    else
+      EXPECT_NEAR(recorded[k].second, velocityMotorSetPoint(t - 4 - 2 * h), 1e-9) << "original, t = " << t;
+    EXPECT_NEAR(double(world.sceneFrameState(1).angularVelocity.z()), velocityMotorSetPoint(t), 1e-9)
+        << "pbdval, t = " << t;
+  }
+}
+
+// --- The seed's contact report order -----------------------------------------------------------
+
+/// The seed's kd-tree index list dumped from the original (kd_order_*.txt: a comment line, then
+/// the vertex indices in report order).
+std::vector<int> recordedKdOrder(const std::string& file) {
+  std::ifstream in(kReferenceDir + "/" + file);
+  if (!in) throw std::runtime_error(file + ": cannot open");
+  std::string line;
+  std::getline(in, line);
+  std::vector<int> order;
+  int v = 0;
+  while (in >> v) order.push_back(v);
+  return order;
+}
+
+void expectSeedOrder(const std::string& model, Real scale, const Vector3& translation,
+                     const Quaternion& rotation, const std::string& recorded) {
+  TriangleMesh mesh = loadObj(std::string(PBDVAL_SOURCE_DIR) + "/cases/models/" + model);
+  for (Vector3& v : mesh.vertices)
+    v *= scale;
+  const std::vector<int> rank =
+      seedVertexReportRank(mesh, Vector3::Constant(scale), translation, rotation, Real(1000));
+  const std::vector<int> seed = recordedKdOrder(recorded);
+  ASSERT_EQ(seed.size(), rank.size());
+  int mismatches = 0;
+  for (std::size_t k = 0; k < seed.size(); ++k)
+    if (rank[std::size_t(seed[k])] != int(k)) ++mismatches;
+  EXPECT_EQ(mismatches, 0) << model << ": ranks differing from the original's list";
+}
+
+// Exact: the order is a permutation decided by comparisons of coordinates and by the
+// round-off-determined principal frame; one differing bit reorders (sphere.obj's frame is
+// arbitrary: its inertia is isotropic).
+TEST(SeedReportOrder, ReproducesTheOriginalsKdTreeListForASphere) {
+  if (sizeof(Real) != sizeof(double)) GTEST_SKIP() << "the seed's order is computed in double";
+  expectSeedOrder("sphere.obj", Real(0.1), Vector3(0, Real(1.1), 0), Quaternion::Identity(),
+                  "kd_order_sphere.txt");
+}
+
+TEST(SeedReportOrder, ReproducesTheOriginalsKdTreeListForARotatedTorus) {
+  if (sizeof(Real) != sizeof(double)) GTEST_SKIP() << "the seed's order is computed in double";
+  expectSeedOrder("torus.obj", Real(0.2), Vector3(0, Real(0.4), 0),
+                  Quaternion(AngleAxis(Real(0.3), Vector3::UnitX())), "kd_order_torus.txt");
+}
+
+// --- The seed's characteristic failures, in the original and in the `pbd` method -------------
+
+/// Centre of mass of body `id` at time t, from a recording.
+Vector3 recordedPosition(const std::string& name, int id, double t) {
+  for (const RecordedRow& r : readRecording(kReferenceDir + "/" + name + ".csv"))
+    if (r.id == id && std::abs(r.t - t) < 1e-9) return r.position;
+  throw std::runtime_error(name + ": no sample of body " + std::to_string(id) + " at " + std::to_string(t));
+}
+
+Vector3 ourPosition(const std::string& name, int id, double t) {
+  const Scene scene = loadSeedScene(name);
+  const Positions p = run(scene, {std::llround(t / double(scene.simulation.timeStepSize))});
+  return p.begin()->second.at(id);
+}
+
+TEST(SeedFailures, TheRestingBoxSinksBelowTheSurface) {
+  if (sizeof(Real) != sizeof(double)) GTEST_SKIP() << "the recordings are double precision";
+  // A 0.2 m box (centre 0.1 above its bottom) on a ground whose top is y = 0, k_c = 1/s,
+  // h = 5 ms: velocity-level contacts once per step hold it only where the penalty k_c |d|
+  // balances gravity's g h (n+1)/(2n) per step, up to D = 29.4 mm inside the 10 mm shell —
+  // below the surface. Exact contact would keep the bottom at or above 0; the seed's sink is
+  // asserted as more than 5 mm below it, in the original and here.
+  for (const Vector3& x : {recordedPosition("contact_resting_box", 1, 5.0),
+                           ourPosition("contact_resting_box", 1, 5.0)})
+    EXPECT_LT(double(x.y()) - 0.1, -5e-3);
+}
+
+TEST(SeedFailures, TheSphereReboundsHigherThanNewtonsLaw) {
+  if (sizeof(Real) != sizeof(double)) GTEST_SKIP() << "the recordings are double precision";
+  // Newton's restitution with e = 0.8 rebounds to e² = 0.64 of the drop (1 m above the contact
+  // height 0.1 m); the penalty kick and the Euler terms add < 0.001 (docs/contacts.md). The
+  // seed's contact order adds energy: asserted as more than 0.05 above e², in both programs.
+  const Scene scene = loadSeedScene("bounce");
+  const double h = double(scene.simulation.timeStepSize);
+  std::vector<std::int64_t> steps;
+  for (std::int64_t k = 0; k <= std::llround(1.5 / h); ++k) steps.push_back(k);
+  const Positions ours = run(scene, steps);
+  double ourApex = -1, recordedApex = -1;
+  bool ourBounced = false, recordedBounced = false;
+  double previous = 2;
+  for (std::int64_t k : steps) {
+    const double y = double(ours.at(k).at(1).y());
+    if (y > previous && y < 0.2) ourBounced = true;
+    if (ourBounced) ourApex = std::max(ourApex, y);
+    previous = y;
+  }
+  previous = 2;
+  for (const RecordedRow& r : readRecording(kReferenceDir + "/bounce.csv")) {
+    const double y = double(r.position.y());
+    if (y > previous && y < 0.2) recordedBounced = true;
+    if (recordedBounced) recordedApex = std::max(recordedApex, y);
+    previous = y;
+  }
+  ASSERT_TRUE(ourBounced && recordedBounced);
+  EXPECT_GT(ourApex - 0.1, 0.64 + 0.05);
+  EXPECT_GT(recordedApex - 0.1, 0.64 + 0.05);
+}
+
+TEST(SeedFailures, TheBoxBelowItsFrictionAngleCreeps) {
+  if (sizeof(Real) != sizeof(double)) GTEST_SKIP() << "the recordings are double precision";
+  // 30° incline, μ = 0.35 + 0.35 (friction angle 35°): Coulomb friction holds the box. The
+  // seed's friction acts on velocities after the substeps moved the box, so it creeps; asserted
+  // as more than 10 mm in 5 s, in both programs.
+  const Vector3 start = recordedPosition("incline_stick_30deg", 1, 0.0);
+  for (const Vector3& x : {recordedPosition("incline_stick_30deg", 1, 5.0),
+                           ourPosition("incline_stick_30deg", 1, 5.0)})
+    EXPECT_GT(double((x - start).norm()), 10e-3);
+}
+
+}  // namespace
+}  // namespace pbd
