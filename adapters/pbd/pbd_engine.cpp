@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 namespace pbdval {
 namespace {
@@ -37,7 +38,48 @@ std::vector<MethodInfo> pbdMethods() {
                              "seed (PositionBasedDynamics 2.2.2, flaws included) or corrected "
                              "(restitution threshold, Coulomb cone on the accumulated friction "
                              "impulse; docs/contacts.md) (default: the scene's value)"});
-  return {seed};
+  MethodInfo xpbd;
+  xpbd.name = "pbd.xpbd";
+  xpbd.engine = "pbd";
+  xpbd.description =
+      "XPBD rigid bodies (Mueller et al. 2020): substeps with one position iteration each, "
+      "compliant joints, position-level contacts with static friction, dynamic friction and "
+      "restitution in a velocity pass (docs/methods.md)";
+  xpbd.parameters.push_back({"substeps", "20", "substeps per step, integer in [1, 1048576]"});
+  xpbd.parameters.push_back(
+      {"jointLinearCompliance", "0", "m/N, >= 0: point, axis and distance rows of joints"});
+  xpbd.parameters.push_back(
+      {"jointAngularCompliance", "0", "rad/(N m), >= 0: rotation rows of joints"});
+  xpbd.parameters.push_back({"contactCompliance", "0", "m/N, >= 0: contact normal rows"});
+  xpbd.parameters.push_back({"speculativeMargin", "2",
+                             ">= 0: contacts are collected within contactTolerance + margin h "
+                             "(fastest point speed)"});
+  return {seed, xpbd};
+}
+
+/// The pbd.xpbd parameters into settings.xpbd (each must be present: the registry fills in
+/// the defaults).
+void applyXpbdParameters(const Method& method, pbd::SimulationSettings& settings) {
+  settings.stepMethod = pbd::StepMethod::Xpbd;
+  const double substeps = method.number("substeps");
+  if (substeps != std::floor(substeps) || substeps < 1 || substeps > (1 << 20))
+    throw std::invalid_argument("method " + method.name +
+                                ": substeps must be an integer in [1, 1048576], got '" +
+                                method.text("substeps") + "'");
+  settings.xpbd.substeps = static_cast<int>(substeps);
+  const std::pair<const char*, pbd::Real pbd::XpbdSettings::*> nonNegative[] = {
+      {"jointLinearCompliance", &pbd::XpbdSettings::jointLinearCompliance},
+      {"jointAngularCompliance", &pbd::XpbdSettings::jointAngularCompliance},
+      {"contactCompliance", &pbd::XpbdSettings::contactCompliance},
+      {"speculativeMargin", &pbd::XpbdSettings::speculativeMargin}};
+  for (const auto& [name, field] : nonNegative) {
+    const double value = method.number(name);
+    if (!(value >= 0) || !std::isfinite(value))
+      throw std::invalid_argument("method " + method.name + ": " + name +
+                                  " must be a finite number >= 0, got '" + method.text(name) +
+                                  "'");
+    settings.xpbd.*field = static_cast<pbd::Real>(value);
+  }
 }
 
 }  // namespace
@@ -65,6 +107,7 @@ pbd::SimulationSettings pbdSettingsFor(const pbd::Scene& scene, const Method& me
                                   ": contactModel must be 'seed', 'corrected' or 'scene', got '" +
                                   model->second + "'");
   }
+  if (method.name == "pbd.xpbd") applyXpbdParameters(method, settings);
   return settings;
 }
 
@@ -115,7 +158,9 @@ std::map<std::string, std::string> PbdEngine::effectiveSettings() const {
     return std::string(buffer);
   };
   return {{"timeStepSize", number(s.timeStepSize)},
-          {"subSteps", std::to_string(s.subSteps)},
+          // The substeps actually taken (the runner derives the integration step from it).
+          {"subSteps", std::to_string(s.stepMethod == pbd::StepMethod::Xpbd ? s.xpbd.substeps
+                                                                             : s.subSteps)},
           {"maxIterations", std::to_string(s.maxIterations)},
           {"maxIterationsV", std::to_string(s.maxIterationsV)},
           {"velocityUpdateMethod", std::to_string(s.velocityUpdateMethod)},
@@ -124,6 +169,11 @@ std::map<std::string, std::string> PbdEngine::effectiveSettings() const {
           {"contactStiffnessParticleRigidBody", number(s.contactStiffnessParticleRigidBody)},
           {"contactModel", pbd::contactModelName(s.contactModel)},
           {"contactCombineRule", pbd::contactCombineRuleName(s.contactCombineRule)},
+          {"stepMethod", pbd::stepMethodName(s.stepMethod)},
+          {"xpbd.jointLinearCompliance", number(s.xpbd.jointLinearCompliance)},
+          {"xpbd.jointAngularCompliance", number(s.xpbd.jointAngularCompliance)},
+          {"xpbd.contactCompliance", number(s.xpbd.contactCompliance)},
+          {"xpbd.speculativeMargin", number(s.xpbd.speculativeMargin)},
           {"precision", sizeof(pbd::Real) == 8 ? "double" : "float"}};
 }
 
