@@ -167,6 +167,8 @@ TEST(XpbdPendulum, HingePeriodAndEnergyOverTenSeconds) {
 //   the energy decays by (1 + ω²h²)⁻¹ per substep (E_N = E₀ (1 + ω²h²)^−N);
 //   after every substep C + α̃ λ = 0 exactly (linear constraint): the force λ/h² is −C/α.
 TEST(XpbdCompliance, CompliantDistanceJointIsASpringOfStiffnessOneOverAlpha) {
+  if (sizeof(Real) < 8)
+    GTEST_SKIP() << "a substep moves the cube by 25 um at x = 1 m: a few hundred float ulps";
   constexpr int kSubsteps = 20;
   Scene s;
   s.simulation.timeStepSize = Real(0.005);
@@ -222,8 +224,9 @@ TEST(XpbdCompliance, CompliantDistanceJointIsASpringOfStiffnessOneOverAlpha) {
   // The decay itself is visible (1 − ratio = 2 %): the test can tell implicit Euler from
   // an energy-conserving scheme.
   EXPECT_LT(expectedRatio, 0.99);
-  // λ/h² = −C/α to round-off (relative to the force at the amplitude, k A, A = v₀/ω).
-  EXPECT_LE(worstForceError, 1e-6);
+  // λ/h² = −C/α to round-off (relative to the force at the amplitude, k A, A = v₀/ω): a
+  // few operations on C ~ A, whose absolute round-off ε |x| is 60 ε of A (x = 1 m).
+  EXPECT_LE(worstForceError, 1000 * kEpsilon);
 }
 
 // A chain of 10 links (0.1 m cubes, 10 g) from a static anchor holding a 1 kg cube (1:100),
