@@ -43,10 +43,9 @@ Vector3 rigidPointVelocity(const RigidBodyStates& b, int body, const Vector3& le
   return b.velocity[at(body)] + b.angularVelocity[at(body)].cross(lever);
 }
 
-/// World positions of p₀ and p₁, their levers, and n, at the current (or the substep's
-/// starting) poses.
+/// World positions of p₀ and of its anchor p₁, their levers, and n, at the current poses.
 struct ContactFrame {
-  Vector3 point, surface;        ///< p₀, p₁
+  Vector3 point, surface;            ///< p₀, p₁
   Vector3 pointLever, surfaceLever;  ///< r₀ (zero for a particle), r₁
   Vector3 normal;
 };
@@ -138,11 +137,6 @@ void XpbdContact::init(const ContactPointGeometry& geometry, bool particle,
   normalMultiplier = 0;
   tangentMultiplier = 0;
   approachVelocity = 0;
-}
-
-Real XpbdContact::separation(const BodyStates& bodies) const {
-  const ContactFrame f = currentFrame(*this, bodies);
-  return f.normal.dot(f.point - f.surface);
 }
 
 void XpbdContact::beginSubstep(const BodyStates& bodies) {

@@ -51,7 +51,7 @@ struct XpbdContact {
   bool pointIsParticle = false;
   int body = -1;              ///< body 1 (the SDF side), rigid body index
   Vector3 pointLocal = Vector3::Zero();    ///< r₀ in body 0's principal frame (particle: unused)
-  Vector3 surfaceLocal = Vector3::Zero();  ///< r₁ in body 1's principal frame
+  Vector3 surfaceLocal = Vector3::Zero();  ///< the anchor r₁ in body 1's principal frame
   Vector3 normalLocal = Vector3::UnitY();  ///< n in body 1's principal frame
   Real friction = 0, restitution = 0;
   Real normalMultiplier = 0;    ///< λ_n of the current substep
@@ -63,13 +63,10 @@ struct XpbdContact {
             const ContactMaterial& material, Real contactTolerance);
   /// Resets λ and records ṽ_n (call after the prediction).
   void beginSubstep(const BodyStates& bodies);
-  /// Normal projection and static friction.
+  /// Normal projection and static friction (moves the anchor when the point slides).
   void solvePosition(BodyStates& bodies, Real substepSize, Real compliance);
   /// Restitution and dynamic friction.
   void solveVelocity(BodyStates& bodies, Real substepSize, Real restitutionThreshold) const;
-
-  /// C = n·(p₀ − p₁) at the current poses.
-  Real separation(const BodyStates& bodies) const;
 };
 
 /// The XPBD contacts of one step, in detection order (rigid points, then particles). Sized
