@@ -17,10 +17,43 @@ std::vector<MethodInfo> pbdMethods() {
       "joint projection (Deul et al. 2014), velocity-level contacts once per step; solver "
       "settings from the scene's Simulation block (--set subSteps=..., maxIterations=..., "
       "contactModel=seed|corrected)";
-  return {seed};
+  MethodInfo xpbd;
+  xpbd.name = "pbd.xpbd";
+  xpbd.engine = "pbd";
+  xpbd.description =
+      "XPBD rigid bodies (Mueller et al. 2020): substeps with one position iteration each, "
+      "compliant joints, position-level contacts with static friction, dynamic friction and "
+      "restitution in a velocity pass (docs/methods.md)";
+  const pbd::XpbdSettings defaults;
+  xpbd.parameters = {
+      integerParameter("substeps", defaults.substeps, 1, pbd::kMaxSubSteps,
+                       "substeps per step, one position iteration each"),
+      realParameter("jointLinearCompliance", double(defaults.jointLinearCompliance), 0, 1e6,
+                    "m/N", "compliance of the point, axis and distance rows of joints"),
+      realParameter("jointAngularCompliance", double(defaults.jointAngularCompliance), 0, 1e6,
+                    "rad/(N m)", "compliance of the rotation rows of joints"),
+      realParameter("contactCompliance", double(defaults.contactCompliance), 0, 1e6, "m/N",
+                    "compliance of the contact normal rows"),
+      realParameter("speculativeMargin", double(defaults.speculativeMargin), 0, 1e3, "",
+                    "contacts are collected within contactTolerance + margin x h x (fastest "
+                    "point speed)"),
+  };
+  return {seed, xpbd};
 }
 
 }  // namespace
+
+pbd::SimulationSettings pbdSettingsFor(const pbd::Scene& scene, const Method& method) {
+  pbd::SimulationSettings settings = scene.simulation;
+  if (method.name != "pbd.xpbd") return settings;
+  settings.stepMethod = pbd::StepMethod::Xpbd;
+  settings.xpbd.substeps = static_cast<int>(method.integer("substeps"));
+  settings.xpbd.jointLinearCompliance = pbd::Real(method.real("jointLinearCompliance"));
+  settings.xpbd.jointAngularCompliance = pbd::Real(method.real("jointAngularCompliance"));
+  settings.xpbd.contactCompliance = pbd::Real(method.real("contactCompliance"));
+  settings.xpbd.speculativeMargin = pbd::Real(method.real("speculativeMargin"));
+  return settings;
+}
 
 std::vector<std::string> PbdEngine::unsupported(const pbd::Scene& scene,
                                                 const Method& /*method*/) const {
@@ -38,8 +71,10 @@ std::vector<std::string> PbdEngine::unsupported(const pbd::Scene& scene,
   return missing;
 }
 
-void PbdEngine::load(const pbd::Scene& scene, const Method& /*method*/) {
-  world_.emplace(pbd::buildWorld(scene, options_.gridCacheFolder));
+void PbdEngine::load(const pbd::Scene& scene, const Method& method) {
+  pbd::Scene configured = scene;
+  configured.simulation = pbdSettingsFor(scene, method);
+  world_.emplace(pbd::buildWorld(configured, options_.gridCacheFolder));
   bodyIds_.clear();
   for (const pbd::RigidBodyDesc& body : scene.rigidBodies) bodyIds_.push_back(body.id);
 }
@@ -61,8 +96,10 @@ void PbdEngine::read(State& state) const {
 
 RunFacts PbdEngine::runFacts() const {
   RunFacts facts;
-  facts.engineVersion = "pbdval PBD library (PositionBasedDynamics 2.2.2 algorithm)";
-  facts.integratorStepsPerSceneStep = world_->settings.subSteps;
+  facts.engineVersion = "pbdval PBD library";
+  const pbd::SimulationSettings& s = world_->settings;
+  facts.integratorStepsPerSceneStep =
+      s.stepMethod == pbd::StepMethod::Xpbd ? s.xpbd.substeps : s.subSteps;
   facts.contactMargin = 0;  // contacts are generated within contactTolerance but pushed apart
   return facts;
 }
@@ -80,6 +117,12 @@ std::map<std::string, std::string> PbdEngine::effectiveSettings() const {
           {"contactStiffnessParticleRigidBody", number(s.contactStiffnessParticleRigidBody)},
           {"contactModel", pbd::contactModelName(s.contactModel)},
           {"contactCombineRule", pbd::contactCombineRuleName(s.contactCombineRule)},
+          {"stepMethod", pbd::stepMethodName(s.stepMethod)},
+          {"xpbd.substeps", std::to_string(s.xpbd.substeps)},
+          {"xpbd.jointLinearCompliance", number(s.xpbd.jointLinearCompliance)},
+          {"xpbd.jointAngularCompliance", number(s.xpbd.jointAngularCompliance)},
+          {"xpbd.contactCompliance", number(s.xpbd.contactCompliance)},
+          {"xpbd.speculativeMargin", number(s.xpbd.speculativeMargin)},
           {"precision", sizeof(pbd::Real) == 8 ? "double" : "float"}};
 }
 

@@ -5,6 +5,8 @@
 //         parameters: its solver settings (subSteps, maxIterations, maxIterationsV,
 //         velocityUpdateMethod, contactModel, ...) are the scene's Simulation settings, declared
 //         and range-checked once by the scene loader and set per run with `--set KEY=VALUE`.
+//   pbd.xpbd  XPBD rigid bodies (Mueller et al. 2020), docs/methods.md: typed parameters
+//         substeps and the compliances per constraint family.
 #pragma once
 
 #include <optional>
@@ -35,6 +37,10 @@ class PbdEngine final : public Engine {
   std::optional<pbd::World> world_;
   std::vector<int> bodyIds_;
 };
+
+/// The simulation settings of a run: the scene's, with the step method and XPBD parameters of
+/// `method` (pbd: the seed's step; pbd.xpbd: XPBD with the method's substeps and compliances).
+pbd::SimulationSettings pbdSettingsFor(const pbd::Scene& scene, const Method& method);
 
 EngineEntry pbdEngineEntry();
 

@@ -4,6 +4,10 @@
 // what it accepts.
 #include <gtest/gtest.h>
 
+#include <string>
+#include <utility>
+#include <vector>
+
 #include "adapters/pbd/pbd_engine.h"
 #include "common/scene_fixtures.h"
 #include "engines/selftest_engine.h"
@@ -56,6 +60,53 @@ TEST(PbdContactMethod, EffectiveSettingsNameTheContactModelAndRule) {
   EXPECT_EQ(settings.at("contactModel"), "corrected");
   EXPECT_EQ(settings.at("contactCombineRule"), "seed");
   EXPECT_EQ(engine.runFacts().integratorStepsPerSceneStep, scene.simulation.subSteps);
+}
+
+}  // namespace
+}  // namespace pbdval::test
+
+namespace pbdval::test {
+namespace {
+
+// pbd.xpbd: its typed parameters land in settings.xpbd with the step method, the defaults are
+// the library's, and bad values are errors naming the parameter and its range.
+TEST(PbdXpbdMethod, ParametersSelectTheXpbdStep) {
+  pbd::Scene scene;
+  const pbd::SimulationSettings seed = pbdSettingsFor(scene, testRegistry().resolve("pbd"));
+  EXPECT_EQ(seed.stepMethod, pbd::StepMethod::Seed);
+  const pbd::SimulationSettings defaults =
+      pbdSettingsFor(scene, testRegistry().resolve("pbd.xpbd"));
+  EXPECT_EQ(defaults.stepMethod, pbd::StepMethod::Xpbd);
+  EXPECT_EQ(defaults.xpbd.substeps, pbd::XpbdSettings{}.substeps);
+  EXPECT_EQ(defaults.xpbd.speculativeMargin, pbd::XpbdSettings{}.speculativeMargin);
+  const pbd::SimulationSettings set = pbdSettingsFor(
+      scene, testRegistry().resolve("pbd.xpbd", {{"substeps", "7"}, {"contactCompliance", "1e-6"}}));
+  EXPECT_EQ(set.xpbd.substeps, 7);
+  EXPECT_DOUBLE_EQ(double(set.xpbd.contactCompliance), 1e-6);
+  for (const auto& [name, value] :
+       std::vector<std::pair<std::string, std::string>>{{"substeps", "0"},
+                                                        {"substeps", "2.5"},
+                                                        {"jointLinearCompliance", "-1"}}) {
+    try {
+      testRegistry().resolve("pbd.xpbd", {{name, value}});
+      ADD_FAILURE() << name << " = " << value << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("method pbd.xpbd: " + name), std::string::npos)
+          << e.what();
+    }
+  }
+}
+
+TEST(PbdXpbdMethod, RunFactsAndSettingsNameTheStepAndItsSubsteps) {
+  pbd::Scene scene;
+  scene.rigidBodies.push_back(pbd::test::boxBody(0, Vector3::Ones(), Vector3::Zero(), 1, false));
+  PbdEngine engine;
+  engine.load(scene, testRegistry().resolve("pbd.xpbd", {{"substeps", "12"}}));
+  const auto settings = engine.effectiveSettings();
+  EXPECT_EQ(settings.at("stepMethod"), "xpbd");
+  EXPECT_EQ(settings.at("xpbd.substeps"), "12");
+  // The substeps taken: the analytic references' integration step is h / 12.
+  EXPECT_EQ(engine.runFacts().integratorStepsPerSceneStep, 12);
 }
 
 }  // namespace

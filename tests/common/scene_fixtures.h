@@ -2,6 +2,9 @@
 // properties, and joints in world coordinates, as the loader would produce them.
 #pragma once
 
+#include <initializer_list>
+#include <string>
+
 #include "pbd/model/scene.h"
 
 namespace pbd::test {
@@ -88,6 +91,94 @@ inline void appendChain(Scene& s, int links, JointType type) {
     j.axis = Vector3::UnitZ();
     s.joints.push_back(j);
   }
+}
+
+/// A motor set-point sequence from flat (time, value) pairs.
+inline MotorTarget sequence(std::initializer_list<Real> flat) {
+  MotorTarget t;
+  for (auto it = flat.begin(); it != flat.end(); it += 2) {
+    t.times.push_back(*it);
+    t.values.push_back(*(it + 1));
+  }
+  return t;
+}
+
+// A static anchor (index 0) at the pivot (0, 2, 0) and a dynamic box (index 1, 0.4 kg) placed
+// so that it moves under gravity, for one joint of `type`.
+inline Scene singleJointScene(JointType type) {
+  Scene s;
+  s.simulation.timeStepSize = Real(0.005);
+  s.simulation.subSteps = 5;
+  const Vector3 pivot(0, 2, 0);
+  s.rigidBodies.push_back(boxBody(0, Vector3(0.2, 0.2, 0.2), pivot, 1, false));
+  Vector3 bodyPosition(0.6, 1.6, 0);
+  JointDesc j = makeJointDesc(type, 0, 1);
+  j.position = pivot;
+  j.axis = Vector3::UnitZ();
+  switch (type) {
+    case JointType::Ball:
+      bodyPosition = Vector3(0.6, 1.6, 0.3);
+      break;
+    case JointType::BallOnLine:
+      j.axis = Vector3::UnitX();
+      bodyPosition = Vector3(0.5, 1.5, 0);
+      break;
+    case JointType::Universal:
+      j.axis1 = Vector3::UnitZ();
+      j.axis2 = Vector3::UnitX();
+      bodyPosition = Vector3(0.5, 1.5, 0.3);
+      break;
+    case JointType::Slider:
+      j.axis = Vector3(1, -1, 0).normalized();
+      break;
+    case JointType::RigidBodyParticleBall: {
+      ParticleDesc anchor;
+      anchor.position = pivot;
+      anchor.mass = 0;
+      s.particles.push_back(anchor);
+      j.body2 = -1;
+      j.particle = 0;
+      j.body1 = 1;
+      break;
+    }
+    case JointType::Distance:
+      j.position1 = pivot;
+      j.position2 = bodyPosition + Vector3(0, 0.2, 0);
+      break;
+    case JointType::Damper:
+      j.axis = Vector3::UnitY();
+      j.stiffness = 500;
+      bodyPosition = Vector3(0, 1.5, 0);
+      break;
+    case JointType::TargetAngleMotorHinge:
+      j.target = sequence({0, 0, 1, 1, 2, -1, 3, 0});
+      break;
+    case JointType::TargetVelocityMotorHinge:
+      j.target = sequence({0, 0, 1, 3, 3, 3});
+      break;
+    case JointType::TargetPositionMotorSlider:
+      j.axis = Vector3::UnitX();
+      j.target = sequence({0, 0, 1, 0.5, 2, -0.5, 3, 0});
+      break;
+    case JointType::TargetVelocityMotorSlider:
+      j.axis = Vector3::UnitX();
+      j.target = sequence({0, 0, 1, 1, 3, 1});
+      break;
+    default:
+      break;
+  }
+  RigidBodyDesc body = boxBody(1, Vector3(0.1, 0.4, 0.1), bodyPosition, 100);
+  // Velocities that the constraint must project away (off-axis spin, sideways drift).
+  body.angularVelocity = Vector3(0.5, 0.2, 0.1);
+  body.velocity = Vector3(0, 0, 0.5);
+  s.rigidBodies.push_back(body);
+  if (type == JointType::RigidBodyParticleBall)
+    s.joints.push_back(j);
+  else {
+    j.body2 = 1;
+    s.joints.push_back(j);
+  }
+  return s;
 }
 
 }  // namespace pbd::test

@@ -100,6 +100,16 @@ const char* contactCombineRuleName(ContactCombineRule rule) {
   return "?";
 }
 
+const char* stepMethodName(StepMethod method) {
+  switch (method) {
+    case StepMethod::Seed:
+      return "seed";
+    case StepMethod::Xpbd:
+      return "xpbd";
+  }
+  return "?";
+}
+
 const char* contactModelName(ContactModel model) {
   switch (model) {
     case ContactModel::Seed:

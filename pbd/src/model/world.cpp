@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "pbd/step/step_controller.h"
+#include "pbd/step/xpbd_step.h"
 
 namespace pbd {
 namespace {
@@ -128,11 +129,15 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
   world.collision = CollisionDetector(scene, options);
   world.materials = ContactMaterials(scene);
   world.contacts.reserve(world.collision);
+  prepareXpbd(world);
   return world;
 }
 
 void World::step() {
-  stepWorld(*this);
+  if (settings.stepMethod == StepMethod::Xpbd)
+    stepWorldXpbd(*this);
+  else
+    stepWorld(*this);
 }
 
 SceneFrameState World::sceneFrameState(std::size_t body) const {

@@ -26,6 +26,7 @@ class DamperJoint : public JointDefaults {
   /// Error of the five hard rows (the axial row is the spring's extension, not an error).
   JointError error(const BodyStates& bodies) const;
   JointEnds ends() const { return frames_.ends(); }
+  Real stiffness() const { return stiffness_; }  ///< N/m
 
  private:
   PointAxisFrames frames_;

@@ -24,6 +24,7 @@ class RigidBodySpring : public JointDefaults {
   /// A spring has no hard constraint: its error is zero; its extension is positionRows().value.
   JointError error(const BodyStates& bodies) const;
   JointEnds ends() const { return connectors_.ends(); }
+  Real stiffness() const { return stiffness_; }  ///< N/m
 
  private:
   ConnectorPair connectors_;

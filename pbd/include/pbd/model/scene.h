@@ -206,6 +206,26 @@ struct TetModelDesc {
   int firstParticle = 0;
 };
 
+/// Which step World::step takes. `Seed` is the seed's algorithm (step/step_controller.h);
+/// `Xpbd` is Müller et al. 2020's substepping with position-level contacts
+/// (step/xpbd_step.h). Selected by the method (`pbd` / `pbd.xpbd`), not by the scene file.
+enum class StepMethod : int { Seed, Xpbd };
+
+const char* stepMethodName(StepMethod method);
+
+/// Parameters of the XPBD step (docs/methods.md, "pbd.xpbd"). Compliances are inverse
+/// stiffnesses per constraint family; 0 is rigid. Springs and the damper joint keep their own
+/// stiffness from the scene.
+struct XpbdSettings {
+  int substeps = 20;                ///< substeps per step, one position iteration each
+  Real jointLinearCompliance = 0;   ///< m/N: point, axis and distance rows of the joints
+  Real jointAngularCompliance = 0;  ///< rad/(N m): rotation rows of the joints
+  Real contactCompliance = 0;       ///< m/N: contact normal rows
+  /// Contacts are collected once per step for points within contactTolerance +
+  /// speculativeMargin · h · (|v| + |ω| ρ) of another body (ρ the body's sample radius).
+  Real speculativeMargin = 2;
+};
+
 /// The `Simulation` block: every key the seed documents, with the seed's code defaults.
 struct SimulationSettings {
   Real timeStepSize = Real(0.005);
@@ -219,6 +239,8 @@ struct SimulationSettings {
   Real contactStiffnessParticleRigidBody = 100;
   ContactCombineRule contactCombineRule = ContactCombineRule::Seed;  ///< extension
   ContactModel contactModel = ContactModel::Seed;                    ///< extension
+  StepMethod stepMethod = StepMethod::Seed;  ///< extension (set by the method, not the file)
+  XpbdSettings xpbd;                         ///< used when stepMethod == StepMethod::Xpbd
 
   int clothSimulationMethod = 2;
   int clothBendingMethod = 2;

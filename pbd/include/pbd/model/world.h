@@ -11,6 +11,7 @@
 #include "pbd/joints/joint.h"
 #include "pbd/model/body_states.h"
 #include "pbd/model/scene.h"
+#include "pbd/step/xpbd_step.h"
 
 namespace pbd {
 
@@ -30,10 +31,12 @@ struct World {
   CollisionDetector collision;       ///< shapes, surface samples, hierarchies, broad phase
   ContactMaterials materials;        ///< friction and restitution per pair
   ContactSet contacts;               ///< the contacts of the last step
+  XpbdState xpbd;                    ///< the XPBD step's contacts and multipliers
   Real time = 0;
   std::int64_t stepCount = 0;
 
-  /// Advances by one settings.timeStepSize (step/step_controller.h).
+  /// Advances by one settings.timeStepSize: the seed's step (step/step_controller.h) or, with
+  /// settings.stepMethod == StepMethod::Xpbd, the XPBD step (step/xpbd_step.h).
   void step();
 
   SceneFrameState sceneFrameState(std::size_t body) const;

@@ -1,0 +1,42 @@
+// Every joint of the library as an XPBD constraint (the `pbd.xpbd` method).
+//
+// The joints' geometry is the one the `pbd` method uses: each joint type states its rows
+// C ∈ ℝᵐ and Jacobians (A_k = ∂C/∂x_k, B_k = ∂C/∂θ_k) in its own header, and positionRows()
+// evaluates them (point rows c₁ − c₀, axis rows n·(c₁ − c₀), distance rows ‖c₁ − c₀‖ − L,
+// rotation rows vec(e) of the joint frames' relative rotation, motor targets included).
+// What XPBD adds is compliance and the multiplier: once per substep (h the substep size),
+//   K = Σ_k (w_k A_k A_kᵀ + B_k J_k B_kᵀ) + diag(α̃),  α̃_r = α_r / h²,
+//   Δλ = K⁻¹ (−C − α̃ ∘ λ),  λ += Δλ,  Δx_k = w_k A_kᵀ Δλ,  Δθ_k = J_k B_kᵀ Δλ
+// (Macklin, Müller, Chentanez 2016, eq. 18, with all rows of a joint solved together as in
+// constraint_rows.h; Müller et al. 2020 solve the positional and the angular part of a joint
+// as two scalar constraints along the correction's direction — the block solve is the same
+// projection when both parts are hard and couples them exactly when they are not).
+// λ is reset at the start of every substep (one position iteration per substep).
+//
+// Compliance α_r of row r, by family:
+//   rotation rows (no linear Jacobian): C = sin(θ/2) ≈ θ/2, so ½ k_θ θ² = ½ (4 k_θ) C² and
+//     α_r = jointAngularCompliance / 4 (jointAngularCompliance in rad/(N m));
+//   every other row: jointLinearCompliance (m/N);
+//   rigid-body spring: its row 1/k (k from the scene); damper joint: its axial row 1/k;
+//   a spring with k = 0 exerts nothing and is skipped.
+// Drives: the target-angle and target-position motors are position rows (their targets in C);
+// the velocity motors drive their relative velocity in the velocity pass of every substep
+// (their solveVelocity, a hard velocity constraint). The seed's joints have no limits.
+// Nothing here allocates.
+#pragma once
+
+#include "pbd/joints/joint.h"
+
+namespace pbd {
+
+/// λ of one joint (rows beyond the joint's kRows unused).
+using XpbdJointMultipliers = Eigen::Matrix<Real, 6, 1>;
+
+/// One XPBD projection of `joint` (see above); λ accumulates in `multipliers`.
+void solveJointPositionXpbd(Joint& joint, BodyStates& bodies, Real substepSize,
+                            const XpbdSettings& settings, XpbdJointMultipliers& multipliers);
+
+/// The joint's velocity pass (velocity motors; nothing for the others).
+void solveJointVelocityXpbd(Joint& joint, BodyStates& bodies);
+
+}  // namespace pbd

@@ -1,0 +1,45 @@
+// The XPBD step (the `pbd.xpbd` method): Müller, Macklin, Chentanez, Jeschke, Kim 2020,
+// "Detailed Rigid Body Simulation with Extended Position Based Dynamics", Algorithm 2.
+//
+// One step of size h with n = XpbdSettings::substeps substeps of h_s = h/n:
+//   1. accelerations of dynamic bodies and particles := gravitation (torques are kept);
+//   2. collision detection once, at the step's start poses, for points within
+//      contactTolerance + speculativeMargin · h · max_i(|v_i| + |ω_i| ρ_i) (ρ_i the largest
+//      distance of body i's surface samples from its centre of mass; particles: |v|) — the
+//      distance any point can travel in the step, so that no contact is missed;
+//   3. n times:
+//      - motors take their set point for the end of the substep;
+//      - predict: v ← v + h_s a, x ← x + h_s v; ω ← ω + h_s I_w⁻¹(τ − ω × I_w ω),
+//        q ← normalize(q + ½ h_s [0, ω] ⊗ q); contacts record their approach velocity ṽ_n;
+//      - one position iteration: every joint (colouring order, joints/xpbd_joint.h) with
+//        λ reset, then every contact (detection order, contacts/xpbd_contact.h): the normal
+//        projection and static friction, contacts re-evaluated at the current poses;
+//      - velocities from positions: v = (x − x_old)/h_s, ω = 2 vec(q ⊗ q_old⁻¹)/h_s (w ≥ 0);
+//      - velocity pass: velocity motors, then every contact active in the substep
+//        (restitution, dynamic friction);
+//   4. t ← t + h.
+// Nothing here allocates; the order of every loop is fixed (bitwise deterministic).
+#pragma once
+
+#include <vector>
+
+#include "pbd/contacts/xpbd_contact.h"
+#include "pbd/joints/xpbd_joint.h"
+
+namespace pbd {
+
+struct World;
+
+/// What the XPBD step keeps between steps, sized when the world is built.
+struct XpbdState {
+  XpbdContactSet contacts;
+  std::vector<XpbdJointMultipliers> jointMultipliers;  ///< λ of the last substep, per joint
+  std::vector<Real> sampleRadius;                      ///< ρ_i per rigid body (m)
+};
+
+/// Sizes `state` for `world` (joints, contact capacity, sample radii).
+void prepareXpbd(World& world);
+
+void stepWorldXpbd(World& world);
+
+}  // namespace pbd

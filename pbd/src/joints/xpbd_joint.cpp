@@ -1,0 +1,82 @@
+#include "pbd/joints/xpbd_joint.h"
+
+namespace pbd {
+namespace {
+
+/// α of every row by family (see the header), before the 1/h² scaling.
+template <typename T>
+Eigen::Matrix<Real, T::kRows, 1> rowCompliance(const T& /*joint*/,
+                                               const ConstraintRows<T::kRows>& rows,
+                                               const XpbdSettings& settings) {
+  Eigen::Matrix<Real, T::kRows, 1> compliance;
+  for (int r = 0; r < T::kRows; ++r) {
+    const bool rotational = rows.linear[0].row(r).isZero(0) && rows.linear[1].row(r).isZero(0);
+    compliance(r) = rotational ? settings.jointAngularCompliance / 4 : settings.jointLinearCompliance;
+  }
+  return compliance;
+}
+
+Eigen::Matrix<Real, 1, 1> rowCompliance(const RigidBodySpring& spring,
+                                        const ConstraintRows<1>& /*rows*/,
+                                        const XpbdSettings& /*settings*/) {
+  return Eigen::Matrix<Real, 1, 1>::Constant(Real(1) / spring.stiffness());
+}
+
+Eigen::Matrix<Real, 6, 1> rowCompliance(const DamperJoint& damper, const ConstraintRows<6>& rows,
+                                        const XpbdSettings& settings) {
+  Eigen::Matrix<Real, 6, 1> compliance = rowCompliance<DamperJoint>(damper, rows, settings);
+  compliance(0) = Real(1) / damper.stiffness();
+  return compliance;
+}
+
+template <typename T>
+bool exertsNothing(const T& /*joint*/) {
+  return false;
+}
+bool exertsNothing(const RigidBodySpring& spring) {
+  return !(spring.stiffness() > 0);
+}
+bool exertsNothing(const DamperJoint& damper) {
+  return !(damper.stiffness() > 0);
+}
+
+template <typename T>
+void solve(const T& joint, BodyStates& bodies, Real substepSize, const XpbdSettings& settings,
+           XpbdJointMultipliers& multipliers) {
+  constexpr int kRows = T::kRows;
+  using Vector = Eigen::Matrix<Real, kRows, 1>;
+  if (exertsNothing(joint)) return;
+  const ConstraintRows<kRows> rows = joint.positionRows(bodies);
+  const Vector compliance =
+      rowCompliance(joint, rows, settings) / (substepSize * substepSize);  // α̃ = α/h²
+  const Vector lambda = multipliers.template head<kRows>();
+  const JointEnds ends = joint.ends();
+  const bool particleEnd = ends.particle >= 0;
+  const std::array<EndInverseMass, 2> inverseMasses{
+      joint_parts::rigidEnd(bodies.rigid, ends.body0),
+      particleEnd ? EndInverseMass{bodies.particles.inverseMass[std::size_t(ends.particle)],
+                                   Matrix3::Zero()}
+                  : joint_parts::rigidEnd(bodies.rigid, ends.body1)};
+  RowCorrection<kRows> c;
+  const Vector rhs = -rows.value - compliance.cwiseProduct(lambda);
+  if (!solveRows(rows, inverseMasses, compliance, rhs, c)) return;
+  multipliers.template head<kRows>() += c.multiplier;
+  joint_parts::applyPositionCorrection(bodies.rigid, ends.body0, c.linear[0], c.angular[0]);
+  if (particleEnd)
+    bodies.particles.position[std::size_t(ends.particle)] += c.linear[1];
+  else
+    joint_parts::applyPositionCorrection(bodies.rigid, ends.body1, c.linear[1], c.angular[1]);
+}
+
+}  // namespace
+
+void solveJointPositionXpbd(Joint& joint, BodyStates& bodies, Real substepSize,
+                            const XpbdSettings& settings, XpbdJointMultipliers& multipliers) {
+  std::visit([&](const auto& j) { solve(j, bodies, substepSize, settings, multipliers); }, joint);
+}
+
+void solveJointVelocityXpbd(Joint& joint, BodyStates& bodies) {
+  std::visit([&](auto& j) { j.solveVelocity(bodies); }, joint);
+}
+
+}  // namespace pbd

@@ -1,0 +1,141 @@
+#include "pbd/step/xpbd_step.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "pbd/model/world.h"
+#include "pbd/step/time_integration.h"
+
+namespace pbd {
+namespace {
+
+void resetAccelerations(World& world) {
+  const Vector3& g = world.settings.gravitation;
+  auto& rigid = world.bodies.rigid;
+  for (std::size_t i = 0; i < rigid.size(); ++i)
+    rigid.acceleration[i] = rigid.isDynamic(i) ? g : Vector3::Zero();
+  auto& particles = world.bodies.particles;
+  for (std::size_t i = 0; i < particles.size(); ++i)
+    particles.acceleration[i] = particles.inverseMass[i] > 0 ? g : Vector3::Zero();
+}
+
+/// contactTolerance + speculativeMargin · h · (the largest speed of any point in the world).
+Real detectionTolerance(const World& world) {
+  const RigidBodyStates& b = world.bodies.rigid;
+  Real speed = 0;
+  for (std::size_t i = 0; i < b.size(); ++i)
+    if (b.isDynamic(i))
+      speed = std::max(speed, b.velocity[i].norm() +
+                                  b.angularVelocity[i].norm() * world.xpbd.sampleRadius[i]);
+  const ParticleStates& p = world.bodies.particles;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.inverseMass[i] > 0) speed = std::max(speed, p.velocity[i].norm());
+  return world.settings.contactTolerance +
+         world.settings.xpbd.speculativeMargin * world.settings.timeStepSize * speed;
+}
+
+void predict(World& world, Real h) {
+  auto& b = world.bodies.rigid;
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    b.lastPosition[i] = b.oldPosition[i];
+    b.oldPosition[i] = b.position[i];
+    integration::semiImplicitEuler(h, b.inverseMass[i], b.position[i], b.velocity[i],
+                                   b.acceleration[i]);
+    b.lastRotation[i] = b.oldRotation[i];
+    b.oldRotation[i] = b.rotation[i];
+    integration::semiImplicitEulerRotation(h, b.inverseMass[i], b.inertia[i], b.inverseInertia[i],
+                                           b.rotation[i], b.angularVelocity[i], b.torque[i]);
+  }
+  auto& p = world.bodies.particles;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    p.lastPosition[i] = p.oldPosition[i];
+    p.oldPosition[i] = p.position[i];
+    integration::semiImplicitEuler(h, p.inverseMass[i], p.position[i], p.velocity[i],
+                                   p.acceleration[i]);
+  }
+}
+
+void updateVelocities(World& world, Real h) {
+  auto& b = world.bodies.rigid;
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    integration::velocityUpdateFirstOrder(h, b.inverseMass[i], b.position[i], b.oldPosition[i],
+                                          b.velocity[i]);
+    integration::angularVelocityUpdateFirstOrder(h, b.inverseMass[i], b.rotation[i],
+                                                 b.oldRotation[i], b.angularVelocity[i]);
+  }
+  auto& p = world.bodies.particles;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    integration::velocityUpdateFirstOrder(h, p.inverseMass[i], p.position[i], p.oldPosition[i],
+                                          p.velocity[i]);
+}
+
+void solvePositions(World& world, Real h) {
+  const XpbdSettings& settings = world.settings.xpbd;
+  for (std::size_t j = 0; j < world.joints.size(); ++j) {
+    XpbdJointMultipliers& lambda = world.xpbd.jointMultipliers[j];
+    lambda.setZero();
+    solveJointPositionXpbd(world.joints[j], world.bodies, h, settings, lambda);
+  }
+  for (XpbdContact& contact : world.xpbd.contacts.contacts)
+    contact.solvePosition(world.bodies, h, settings.contactCompliance);
+}
+
+void solveVelocities(World& world, Real h) {
+  for (Joint& joint : world.joints)
+    solveJointVelocityXpbd(joint, world.bodies);
+  const Real restitutionThreshold = 2 * world.settings.gravitation.norm() * h;  // 2|g|h
+  for (const XpbdContact& contact : world.xpbd.contacts.contacts)
+    contact.solveVelocity(world.bodies, h, restitutionThreshold);
+}
+
+}  // namespace
+
+void prepareXpbd(World& world) {
+  const XpbdSettings& settings = world.settings.xpbd;
+  if (settings.substeps < 1)
+    throw std::invalid_argument("XPBD settings: substeps must be at least 1, got " +
+                                std::to_string(settings.substeps));
+  if (!(settings.jointLinearCompliance >= 0) || !(settings.jointAngularCompliance >= 0) ||
+      !(settings.contactCompliance >= 0) || !(settings.speculativeMargin >= 0))
+    throw std::invalid_argument(
+        "XPBD settings: compliances and speculativeMargin must be >= 0 (not NaN)");
+  XpbdState& state = world.xpbd;
+  state.jointMultipliers.assign(world.joints.size(), XpbdJointMultipliers::Zero());
+  state.contacts.reserve(world.contacts.geometry);
+  const RigidBodyStates& b = world.bodies.rigid;
+  state.sampleRadius.assign(b.size(), 0);
+  for (std::size_t i = 0; i < b.size() && i < world.collision.rigidBodyCount(); ++i)
+    for (const Vector3& sample : world.collision.samples(i))
+      state.sampleRadius[i] =
+          std::max(state.sampleRadius[i], (sample - b.centerOfMassInScene[i]).norm());
+}
+
+void stepWorldXpbd(World& world) {
+  const Real h = world.settings.timeStepSize;
+  const int substeps = world.settings.xpbd.substeps;
+  const Real hs = h / static_cast<Real>(substeps);
+  const Real startTime = static_cast<Real>(world.stepCount) * h;
+
+  resetAccelerations(world);
+  const Real tolerance = detectionTolerance(world);
+  world.collision.detect(world.bodies, tolerance, world.contacts.geometry);
+  world.xpbd.contacts.initialise(world.contacts.geometry, world.bodies, world.materials,
+                                 tolerance);
+  for (int s = 0; s < substeps; ++s) {
+    const Real substepEnd = startTime + static_cast<Real>(s + 1) * hs;
+    for (Joint& joint : world.joints)
+      std::visit([&](auto& j) { j.updateTarget(substepEnd); }, joint);
+    predict(world, hs);
+    for (XpbdContact& contact : world.xpbd.contacts.contacts)
+      contact.beginSubstep(world.bodies);
+    solvePositions(world, hs);
+    updateVelocities(world, hs);
+    solveVelocities(world, hs);
+  }
+
+  ++world.stepCount;
+  world.time = static_cast<Real>(world.stepCount) * h;
+}
+
+}  // namespace pbd

@@ -1,0 +1,278 @@
+// The XPBD step (pbd.xpbd) with joints: every joint type holds its constraint; a hinge
+// physical pendulum keeps the elliptic-integral period and its energy; a compliant distance
+// joint is a spring of stiffness 1/α (period, the implicit-Euler amplitude decay, and the
+// multiplier as the spring force); a chain with a 1:100 load holds its joints. Numbers are
+// printed for docs/methods.md.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "common/scene_fixtures.h"
+#include "pbd/model/world.h"
+
+namespace pbd {
+namespace {
+
+constexpr Real kGravity = Real(9.81);
+constexpr Real kPi = Real(3.14159265358979323846);
+
+void useXpbd(Scene& s, int substeps) {
+  s.simulation.stepMethod = StepMethod::Xpbd;
+  s.simulation.xpbd.substeps = substeps;
+}
+
+class XpbdJointHolds : public ::testing::TestWithParam<int> {};
+
+// As in JointMotion (test_joint_motion.cpp): per substep the prediction moves a joint off its
+// constraint by at most δ = h_s² (|a| + (|ω|² + |α|) ℓ) (+ a motor's set-point change · ℓ);
+// one projection with the exact Jacobian (a Newton step, compliance 0) leaves O(δ²/ℓ). We
+// assert max error ≤ max δ/100 (+ round-off) over 3 s, linear and angular (δ/ℓ).
+TEST_P(XpbdJointHolds, ConstraintErrorStaysBelowSubstepBound) {
+  const auto type = static_cast<JointType>(GetParam());
+  if (type == JointType::RigidBodySpring) GTEST_SKIP() << "compliant: see CompliantDistance";
+  Scene scene = test::singleJointScene(type);
+  useXpbd(scene, 20);
+  World world = buildWorld(scene);
+  const Real h = scene.simulation.timeStepSize;
+  const Real hs = h / 20;
+  const Vector3 start = scene.rigidBodies[1].initialCenterOfMass();
+  const Real lever = std::max(Real(0.1), (scene.joints[0].position - start).norm());
+  const bool positionMotor =
+      type == JointType::TargetAngleMotorHinge || type == JointType::TargetPositionMotorSlider;
+  const auto& b = world.bodies.rigid;
+  JointError worst;
+  Real maxDelta = 0, maxTravel = 0;
+  for (int n = 0; n < 600; ++n) {
+    const Vector3 v = b.velocity[1], omega = b.angularVelocity[1];
+    const Real targetBefore = scene.joints[0].target.valueAt(world.time);
+    world.step();
+    const Real accel = (b.velocity[1] - v).norm() / h;
+    const Real angularAccel = (b.angularVelocity[1] - omega).norm() / h;
+    // A motor's set point moves every substep: its change over one substep.
+    const Real motorJump =
+        positionMotor ? std::abs(scene.joints[0].target.valueAt(world.time) - targetBefore) / 20
+                      : 0;
+    maxDelta = std::max(maxDelta, hs * hs * (accel + (omega.squaredNorm() + angularAccel) * lever) +
+                                      motorJump * lever);
+    const JointError e = jointError(world.joints[0], world.bodies);
+    worst.linear = std::max(worst.linear, e.linear);
+    worst.angular = std::max(worst.angular, e.angular);
+    maxTravel = std::max(maxTravel, (b.position[1] - start).norm());
+  }
+  ASSERT_TRUE(b.position[1].allFinite());
+  const Real roundOff = 100 * kEpsilon * std::max(Real(1), maxTravel + start.norm());
+  EXPECT_LE(worst.linear, maxDelta / 100 + roundOff) << jointTypeName(type);
+  EXPECT_LE(worst.angular, maxDelta / lever / 100 + roundOff) << jointTypeName(type);
+  EXPECT_GT(maxTravel, 0.005) << jointTypeName(type);
+  std::printf("  %-30s max linear %.3e m, max angular %.3e rad (bound %.1e m)\n",
+              jointTypeName(type), double(worst.linear), double(worst.angular),
+              double(maxDelta / 100));
+}
+
+INSTANTIATE_TEST_SUITE_P(AllJointTypes, XpbdJointHolds, ::testing::Range(0, kJointTypeCount),
+                         [](const ::testing::TestParamInfo<int>& param) {
+                           return std::string(jointTypeName(static_cast<JointType>(param.param)));
+                         });
+
+/// K(k) = π / (2 AGM(1, √(1 − k²))), the complete elliptic integral of the first kind.
+Real ellipticK(Real k) {
+  Real a = 1, b = std::sqrt(1 - k * k);
+  for (int i = 0; i < 30; ++i) {
+    const Real mean = (a + b) / 2;
+    b = std::sqrt(a * b);
+    a = mean;
+  }
+  return kPi / (2 * a);
+}
+
+/// Kinetic plus potential energy of body `i` (y up, gravity −g y).
+Real energy(const World& world, std::size_t i) {
+  const auto& b = world.bodies.rigid;
+  return Real(0.5) * b.mass[i] * b.velocity[i].squaredNorm() +
+         Real(0.5) * b.angularVelocity[i].dot(b.inertiaWorld(i) * b.angularVelocity[i]) +
+         b.mass[i] * kGravity * b.position[i].y();
+}
+
+struct PendulumRun {
+  Real period = 0, expectedPeriod = 0;
+  Real worstDrift = 0;  ///< max |E − E₀| / (m g d (1 − cos θ₀))
+};
+
+/// The hinge physical pendulum of test::pendulumScene at h = 5 ms for 10 s under pbd.xpbd.
+PendulumRun runPendulum(int substeps) {
+  Scene scene = test::pendulumScene(JointType::Hinge, Real(1e-3));
+  useXpbd(scene, substeps);
+  World world = buildWorld(scene);
+  const auto& b = world.bodies.rigid;
+  const Vector3 pivot = scene.joints[0].position;
+  const Vector3 arm0 = b.position[1] - pivot;
+  const Real d = arm0.norm();
+  const Real theta0 = std::atan2(arm0.x(), -arm0.y());
+  const Real m = b.mass[1];
+  const Real inertiaPivot = b.inertiaWorld(1)(2, 2) + m * d * d;
+  PendulumRun run;
+  run.expectedPeriod =
+      4 * std::sqrt(inertiaPivot / (m * kGravity * d)) * ellipticK(std::sin(theta0 / 2));
+  const Real swingEnergy = m * kGravity * d * (1 - std::cos(theta0));
+  const Real e0 = energy(world, 1);
+  std::vector<Real> crossings;
+  Real previousAngle = theta0;
+  for (int n = 0; n < 2000; ++n) {  // 10 s
+    const Real t0 = world.time;
+    world.step();
+    const Vector3 arm = b.position[1] - pivot;
+    const Real angle = std::atan2(arm.x(), -arm.y());
+    if ((previousAngle > 0) != (angle > 0))
+      crossings.push_back(t0 + (world.time - t0) * previousAngle / (previousAngle - angle));
+    previousAngle = angle;
+    run.worstDrift = std::max(run.worstDrift, std::abs(energy(world, 1) - e0) / swingEnergy);
+  }
+  if (crossings.size() >= 2)
+    run.period =
+        2 * (crossings.back() - crossings.front()) / static_cast<Real>(crossings.size() - 1);
+  return run;
+}
+
+// The hinge physical pendulum of test::pendulumScene at h = 5 ms (a 0.1 × 0.4 × 0.1 box whose
+// centre of mass is d = 1 m from the pivot, released θ₀ = atan(0.6/0.8) off vertical):
+//   T = 4 √(I_p / (m g d)) K(sin(θ₀/2)),  I_p = I_zz + m d².
+// The targets: period within 0.1 %, energy drift ≤ 1 % over 10 s (relative to the
+// swing energy m g d (1 − cos θ₀)), at a substep count we state: 80 (h_s = 62.5 µs). Period:
+// from the first to the last zero crossing of the angle, each interpolated linearly between
+// steps (the angle is nearly linear at θ = 0: the interpolation error is third order in h).
+// XPBD's energy loss is first order in h_s (a projection after an explicit prediction): the
+// drift at 40 substeps must be twice that at 80, within 10 %.
+TEST(XpbdPendulum, HingePeriodAndEnergyOverTenSeconds) {
+  const PendulumRun fine = runPendulum(80);
+  const PendulumRun coarse = runPendulum(40);
+  std::printf("  hinge pendulum, 80 substeps: T = %.6f s, elliptic %.6f s (%.4f %%), "
+              "max energy drift %.4f %% of the swing energy (40 substeps: %.4f %%)\n",
+              double(fine.period), double(fine.expectedPeriod),
+              double(100 * (fine.period / fine.expectedPeriod - 1)), double(100 * fine.worstDrift),
+              double(100 * coarse.worstDrift));
+  EXPECT_NEAR(fine.period, fine.expectedPeriod, Real(1e-3) * fine.expectedPeriod);
+  EXPECT_LE(fine.worstDrift, 0.01);
+  EXPECT_NEAR(coarse.worstDrift / fine.worstDrift, 2, 0.2);
+}
+
+// A distance joint with compliance α between a static anchor and a 1 kg cube whose connector is
+// its centre of mass, no gravity, the cube given a speed v₀ along the joint: a spring of
+// stiffness k = 1/α, ω² = k/m (T = 1 s here). One XPBD iteration per substep on a linear
+// constraint is implicit Euler: (1 + ω²h²) x' = x + h v, so
+//   the period is 2π h / atan(ω h) = T (1 + (ω h)²/3 + …): 1e-6 relative at h = 0.25 ms;
+//   the energy decays by (1 + ω²h²)⁻¹ per substep (E_N = E₀ (1 + ω²h²)^−N);
+//   after every substep C + α̃ λ = 0 exactly (linear constraint): the force λ/h² is −C/α.
+TEST(XpbdCompliance, CompliantDistanceJointIsASpringOfStiffnessOneOverAlpha) {
+  if (sizeof(Real) < 8)
+    GTEST_SKIP() << "a substep moves the cube by 25 um at x = 1 m: a few hundred float ulps";
+  constexpr int kSubsteps = 20;
+  Scene s;
+  s.simulation.timeStepSize = Real(0.005);
+  s.simulation.gravitation = Vector3::Zero();
+  s.rigidBodies.push_back(test::boxBody(0, Vector3::Constant(Real(0.1)), Vector3::Zero(), 1, false));
+  RigidBodyDesc cube = test::boxBody(1, Vector3::Constant(Real(0.1)), Vector3(1, 0, 0), 1000);
+  const Real speed = Real(0.1);
+  cube.velocity = Vector3(speed, 0, 0);
+  s.rigidBodies.push_back(cube);
+  JointDesc j = test::makeJointDesc(JointType::Distance, 0, 1);
+  j.position1 = Vector3::Zero();
+  j.position2 = Vector3(1, 0, 0);
+  s.joints.push_back(j);
+  useXpbd(s, kSubsteps);
+  const Real m = 1, omega = 2 * kPi;  // T = 1 s
+  const Real k = m * omega * omega;
+  s.simulation.xpbd.jointLinearCompliance = 1 / k;
+  World world = buildWorld(s);
+  ASSERT_NEAR(double(world.bodies.rigid.mass[1]), 1.0, 1e-12);
+  const Real hs = s.simulation.timeStepSize / kSubsteps;
+  const auto& b = world.bodies.rigid;
+
+  std::vector<Real> crossings;
+  Real previous = 0, worstForceError = 0;
+  const int steps = 400;  // 2 s
+  for (int n = 0; n < steps; ++n) {
+    const Real t0 = world.time;
+    world.step();
+    const Real extension = b.position[1].x() - 1;
+    if (n > 0 && (previous > 0) != (extension > 0))
+      crossings.push_back(t0 + (world.time - t0) * previous / (previous - extension));
+    previous = extension;
+    const Real force = world.xpbd.jointMultipliers[0](0) / (hs * hs);
+    const Real c = jointError(world.joints[0], world.bodies).linear;  // |C|
+    worstForceError = std::max(worstForceError, std::abs(std::abs(force) - k * c) / (k * speed / omega));
+  }
+  ASSERT_GE(crossings.size(), 3u);
+  const Real period =
+      2 * (crossings.back() - crossings.front()) / static_cast<Real>(crossings.size() - 1);
+  const Real expectedPeriod = 2 * kPi / omega;
+  const Real energyNow = Real(0.5) * m * b.velocity[1].squaredNorm() +
+                         Real(0.5) * k * (b.position[1].x() - 1) * (b.position[1].x() - 1);
+  const Real energy0 = Real(0.5) * m * speed * speed;
+  const Real expectedRatio = std::pow(1 + omega * omega * hs * hs, -Real(steps * kSubsteps));
+  std::printf("  compliant distance: T = %.7f s (2 pi sqrt(m/k) = %.7f), E/E0 = %.6f "
+              "(implicit Euler %.6f), force error %.2e of k A\n",
+              double(period), double(expectedPeriod), double(energyNow / energy0),
+              double(expectedRatio), double(worstForceError));
+  // Period: the discrete period is 1e-6 relative off; the crossing interpolation O((ω h)²).
+  EXPECT_NEAR(period, expectedPeriod, Real(1e-4) * expectedPeriod);
+  // Energy: the discrete energy oscillates within a period by O(ω h) = 0.03 % around the decay.
+  EXPECT_NEAR(energyNow / energy0, expectedRatio, Real(1e-3));
+  // The decay itself is visible (1 − ratio = 2 %): the test can tell implicit Euler from
+  // an energy-conserving scheme.
+  EXPECT_LT(expectedRatio, 0.99);
+  // λ/h² = −C/α to round-off (relative to the force at the amplitude, k A, A = v₀/ω): a
+  // few operations on C ~ A, whose absolute round-off ε |x| is 60 ε of A (x = 1 m).
+  EXPECT_LE(worstForceError, 1000 * kEpsilon);
+}
+
+// A chain of 10 links (0.1 m cubes, 10 g) from a static anchor holding a 1 kg cube (1:100),
+// released 30° off vertical, without collision shapes (as cases/chain_mass_ratio.json). The
+// issue's target is a joint error ≤ 1 mm; we report the cost. With one Gauss–Seidel pass per
+// substep, each joint's residual is its neighbours' corrections of the same substep, O(h_s²):
+// doubling the substeps must divide the error by about 4 (we require at least 3).
+TEST(XpbdChain, MassRatioChainHoldsItsJoints) {
+  Scene s;
+  s.simulation.timeStepSize = Real(0.005);
+  const Real link = Real(0.1);
+  const Vector3 down(std::sin(kPi / 6), -std::cos(kPi / 6), 0);
+  const Vector3 anchor(0, 2, 0);
+  s.rigidBodies.push_back(test::boxBody(0, Vector3::Constant(link), anchor, 1, false));
+  for (int i = 1; i <= 10; ++i)
+    s.rigidBodies.push_back(test::boxBody(
+        i, Vector3::Constant(link), anchor + (Real(i) - Real(0.5)) * link * down, 10));
+  s.rigidBodies.push_back(
+      test::boxBody(11, Vector3::Constant(Real(0.2)), anchor + Real(1.1) * down, 125));
+  for (RigidBodyDesc& body : s.rigidBodies)
+    body.collision.type = CollisionObjectType::None;
+  for (int i = 0; i <= 10; ++i) {
+    JointDesc j = test::makeJointDesc(JointType::Ball, i, i + 1);
+    j.position = anchor + link * Real(i) * down;
+    s.joints.push_back(j);
+  }
+  Real errors[2] = {0, 0};
+  const int substeps[2] = {20, 40};
+  for (int k = 0; k < 2; ++k) {
+    useXpbd(s, substeps[k]);
+    World world = buildWorld(s);
+    EXPECT_NEAR(double(world.bodies.rigid.mass[11] / world.bodies.rigid.mass[1]), 100, 1e-9);
+    const auto begin = std::chrono::steady_clock::now();
+    for (int n = 0; n < 400; ++n) {  // 2 s
+      world.step();
+      for (const Joint& joint : world.joints)
+        errors[k] = std::max(errors[k], jointError(joint, world.bodies).linear);
+    }
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+    std::printf("  chain 1:100, %d substeps: max joint error %.3e m, %.0f us per step\n",
+                substeps[k], double(errors[k]), 1e6 * seconds / 400);
+  }
+  EXPECT_LE(errors[0], 1e-3);
+  EXPECT_GE(errors[0] / errors[1], 3);
+}
+
+}  // namespace
+}  // namespace pbd
