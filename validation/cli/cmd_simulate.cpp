@@ -45,7 +45,7 @@ ArgParser simulateParser() {
       .flag("quiet", "no warnings, progress or summary on stderr")
       .epilog(
           "exit status: 0 ok; 1 the run failed (diverged, engine error, unsupported); 2 bad\n"
-          "usage or scene.\nexample: pbdval simulate cases/hinge_pendulum.json --duration 2 --out "
+          "usage or scene.\nexample: pbdval simulate cases/joint_hinge.json --duration 2 --out "
           "hinge.csv");
   return parser;
 }
@@ -118,7 +118,16 @@ int simulateCommand(const Arguments& arguments) {
   const RunOutcome outcome = runSimulation(*engine, scene, method, length, callbacks);
   if (showProgress) std::fprintf(stderr, "\r%70s\r", "");
 
-  if (file) file->commit();
+  if (file) {
+    file->commit();
+  } else {
+    // `pbdval simulate ... > /dev/full` must not report success either.
+    std::cout.flush();
+    if (!std::cout) {
+      std::fprintf(stderr, "pbdval simulate: error: writing the CSV to standard output failed\n");
+      return 2;
+    }
+  }
   if (!quiet) {
     std::fprintf(
         stderr,

@@ -4,6 +4,8 @@
 #include <exception>
 #include <iostream>
 
+#include "pbd/math/types.h"
+#include "pbdval/build_info.h"
 #include "validation/cli/commands.h"
 
 namespace pbdval::cli {
@@ -39,22 +41,43 @@ void printOverview() {
       "in reference engines, and measures them the same way.\n\ncommands:\n");
   for (const auto& c : pbdval::cli::commands())
     std::printf("  %-10s %s\n", c.name, c.summary);
-  std::printf("\n'pbdval COMMAND --help' describes a command. Documentation: docs/cli.md\n");
+  std::printf(
+      "\n'pbdval help COMMAND' (or 'pbdval COMMAND --help') describes a command; 'pbdval "
+      "--version' prints\nthe build. Documentation: docs/cli.md\n");
+}
+
+void printVersion() {
+  std::printf("pbdval %s\n", PBDVAL_VERSION);
+  std::printf("commit: %s (%s)\n", PBDVAL_GIT_COMMIT, PBDVAL_GIT_DIRTY);
+  std::printf("build: %s, %s\n", PBDVAL_BUILD_TYPE, PBDVAL_CXX_COMPILER);
+  std::printf("precision: pbd::Real = %s\n", sizeof(pbd::Real) == 8 ? "double" : "float");
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc >= 2 && !std::strcmp(argv[1], "--version")) {
+    printVersion();
+    return 0;
+  }
+  const bool help = argc >= 2 && !std::strcmp(argv[1], "help");
   if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") ||
-      !std::strcmp(argv[1], "help")) {
+      (help && argc == 2)) {
     printOverview();
     return argc < 2 ? 2 : 0;
   }
-  const std::string name = argv[1];
+  if (help && argc > 3) {
+    std::fprintf(stderr, "pbdval help: expected one command name (see 'pbdval --help')\n");
+    return 2;
+  }
+  // "pbdval help CMD" is "pbdval CMD --help".
+  const std::string name = help ? argv[2] : argv[1];
+  const pbdval::cli::Arguments arguments =
+      help ? pbdval::cli::Arguments{"--help"} : pbdval::cli::Arguments(argv + 2, argv + argc);
   for (const auto& command : pbdval::cli::commands()) {
     if (name != command.name) continue;
     try {
-      return command.run(pbdval::cli::Arguments(argv + 2, argv + argc));
+      return command.run(arguments);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "pbdval %s: error: %s\n", command.name, e.what());
       return 2;
