@@ -61,6 +61,11 @@ if [[ -w /dev/full ]]; then
   expect 2 "standard output failed" -- bash -c "$(printf '%q ' "${sim[@]}") >/dev/full"
 fi
 
+# Commands that compute before writing check their output path first.
+expect 2 "proc file system" -- timeout 20 "$pbdval" run "$scene" --engines pbd --out /proc/self/pbdval-run
+expect 2 "is a folder, not a file" -- timeout 20 "$pbdval" distance --json "$work/folder"
+expect 2 "is a character device, not a folder" -- timeout 20 "$pbdval" sweep "$scene" --out /dev/null --param subSteps=1,2
+
 # --- scenes that are not regular files, or hostile
 expect 2 "the scene is a character device, not a regular file" -- "$pbdval" simulate /dev/null
 expect 2 "the scene is a folder, not a file" -- "$pbdval" simulate "$work/folder"

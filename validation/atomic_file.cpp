@@ -124,32 +124,83 @@ class OutputFile::Buffer : public std::streambuf {
   std::array<char, 1 << 16> data_{};
 };
 
-OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
-  if (path_.empty()) fail("(empty path)", "expected a file name");
-  target_ = followLinks(path_);
-  const std::string shown = target_ == path_ ? path_ : path_ + " (-> " + target_ + ")";
+namespace {
 
+/// The deepest part of `path` that exists ("/proc/self" for "/proc/self/a/b.csv").
+std::string nearestExisting(const fs::path& path) {
+  for (fs::path p = path; !p.empty(); p = p.parent_path()) {
+    struct stat info {};
+    if (::stat(p.c_str(), &info) == 0) return p.string();
+    if (p == p.parent_path()) break;
+  }
+  return ".";
+}
+
+/// What writing `path` means, decided before anything is opened or created.
+struct Plan {
+  std::string target;  ///< after following symbolic links
+  std::string shown;   ///< for messages: "link (-> target)"
+  std::string folder;  ///< where the temporary file goes
+  bool exists = false;
+  bool direct = false;  ///< a character device or FIFO: written in place
+  mode_t mode = 0;
+};
+
+Plan planOutput(const std::string& path) {
+  if (path.empty()) fail("(empty path)", "expected a file name");
+  Plan plan;
+  plan.target = followLinks(path);
+  plan.shown = plan.target == path ? path : path + " (-> " + plan.target + ")";
   struct stat info {};
-  const bool exists = ::stat(target_.c_str(), &info) == 0;
-  if (!exists && errno != ENOENT) fail(shown, "cannot be written (" + errnoText(errno) + ")");
-  if (exists && !S_ISREG(info.st_mode)) {
-    if (S_ISCHR(info.st_mode) || S_ISFIFO(info.st_mode)) {
-      // Written in place: renaming a file over /dev/null or a FIFO would replace it.
-      descriptor_ = ::open(target_.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC);
-      if (descriptor_ < 0)
-        fail(shown,
-             "cannot open " + kindOf(info.st_mode) + " for writing (" + errnoText(errno) + ")");
-    } else {
-      fail(shown, "is " + kindOf(info.st_mode) + ", not a file; give a file name");
-    }
+  plan.exists = ::stat(plan.target.c_str(), &info) == 0;
+  const int statError = plan.exists ? 0 : errno;
+  if (statError == ENOTDIR)  // a file where a folder should be: say which
+    createFolders(fs::path(plan.target).parent_path().string());
+  if (!plan.exists && statError != ENOENT)
+    fail(plan.shown, "cannot be written (" + errnoText(statError) + ")");
+  plan.mode = info.st_mode;
+  if (plan.exists && !S_ISREG(info.st_mode)) {
+    // Written in place: renaming a file over /dev/null or a FIFO would replace it.
+    plan.direct = S_ISCHR(info.st_mode) || S_ISFIFO(info.st_mode);
+    if (!plan.direct)
+      fail(plan.shown, "is " + kindOf(info.st_mode) + ", not a file; give a file name");
+    return plan;
+  }
+  const fs::path parent = fs::path(plan.target).parent_path();
+  plan.folder = parent.empty() ? "." : parent.string();
+  if (const char* kernel =
+          kernelFileSystemName(plan.exists ? plan.target : nearestExisting(plan.folder)))
+    fail(plan.shown, std::string("is on the ") + kernel +
+                         " file system, a kernel interface and not storage: pbdval does not "
+                         "write there");
+  return plan;
+}
+
+}  // namespace
+
+void checkOutputFile(const std::string& path) {
+  const Plan plan = planOutput(path);
+  if (plan.direct) {
+    if (::access(plan.target.c_str(), W_OK) != 0)
+      fail(plan.shown, "cannot be written (" + errnoText(errno) + ")");
+    return;
+  }
+  createFolders(plan.folder);
+  if (::access(plan.folder.c_str(), W_OK) != 0)
+    fail(plan.shown,
+         "cannot create files in the folder " + plan.folder + " (" + errnoText(errno) + ")");
+}
+
+OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
+  const Plan plan = planOutput(path_);
+  target_ = plan.target;
+  const std::string& shown = plan.shown;
+  if (plan.direct) {
+    descriptor_ = ::open(target_.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC);
+    if (descriptor_ < 0)
+      fail(shown, "cannot open " + kindOf(plan.mode) + " for writing (" + errnoText(errno) + ")");
   } else {
-    const fs::path parent = fs::path(target_).parent_path();
-    const std::string folder = parent.empty() ? "." : parent.string();
-    if (const char* kernel = kernelFileSystemName(exists ? target_ : folder))
-      fail(shown, std::string("is on the ") + kernel +
-                      " file system, a kernel interface and not storage: pbdval does not "
-                      "write there");
-    if (!parent.empty()) createFolders(folder);
+    createFolders(plan.folder);
     const std::string base = target_ + ".tmp-" + std::to_string(static_cast<long>(::getpid()));
     for (int attempt = 0; descriptor_ < 0; ++attempt) {
       temporary_ = attempt == 0 ? base : base + "-" + std::to_string(attempt);
@@ -157,11 +208,12 @@ OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
       if (descriptor_ < 0 && (errno != EEXIST || attempt >= 100)) {
         const std::string reason = errnoText(errno);
         temporary_.clear();
-        fail(shown, "cannot create a temporary file in the folder " + folder + " (" + reason + ")");
+        fail(shown,
+             "cannot create a temporary file in the folder " + plan.folder + " (" + reason + ")");
       }
     }
     // A replaced file keeps its permission bits (the temporary one has the umask's).
-    if (exists) ::fchmod(descriptor_, info.st_mode & 07777);
+    if (plan.exists) ::fchmod(descriptor_, plan.mode & 07777);
   }
   buffer_ = std::make_unique<Buffer>(descriptor_);
   stream_ = std::make_unique<std::ostream>(buffer_.get());
@@ -229,6 +281,9 @@ void createFolders(const std::string& folder) {
       fail(folder, "cannot create folder: " + partial.string() + " is " + kindOf(info.st_mode) +
                        ", not a folder");
   }
+  if (const char* kernel = kernelFileSystemName(nearestExisting(folder)))
+    fail(folder, std::string("cannot create folder: ") + nearestExisting(folder) + " is on the " +
+                     kernel + " file system, a kernel interface and not storage");
   fail(folder, "cannot create folder (" + error.message() + ")");
 }
 

@@ -48,6 +48,11 @@ class OutputFile {
 /// The name existing callers use.
 using AtomicFileWriter = OutputFile;
 
+/// Fails now, as OutputFile(path) would, when `path` cannot be written (a folder, /proc, no
+/// permission), without opening or creating it (but creating its folders): for commands that
+/// compute for minutes before writing. A FIFO is not opened (that would wait for a reader).
+void checkOutputFile(const std::string& path);
+
 /// Writes `content` to `path` through OutputFile (creating parent folders).
 void writeFileAtomically(const std::string& path, const std::string& content);
 

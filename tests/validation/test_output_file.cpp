@@ -158,11 +158,29 @@ TEST_F(OutputFileTest, FileInTheWayOfAFolderIsNamed) {
 // /proc refuses new files with ENOENT; the message must say why instead.
 TEST_F(OutputFileTest, KernelFileSystemGivesTheRealReason) {
   if (!fs::exists("/proc/self")) GTEST_SKIP() << "no /proc";
-  for (const std::string path : {"/proc/self/pbdval-test-output", "/proc/version"}) {
+  for (const std::string path :
+       {"/proc/self/pbdval-test-output", "/proc/version", "/proc/self/no/such/folder.csv"}) {
     const std::string message = errorOf([&] { writeFileAtomically(path, "x"); });
     EXPECT_NE(message.find("proc file system"), std::string::npos) << message;
     EXPECT_EQ(message.find(std::strerror(ENOENT)), std::string::npos) << message;
+    EXPECT_EQ(errorOf([&] { checkOutputFile(path); }), message);
   }
+  const std::string folder = errorOf([] { createFolders("/proc/self/pbdval-test-folder/x"); });
+  EXPECT_NE(folder.find("proc file system"), std::string::npos) << folder;
+}
+
+// checkOutputFile: the errors of OutputFile before a long computation, without opening anything
+// (a FIFO without a reader would block) and without leaving a file behind.
+TEST_F(OutputFileTest, CheckOpensNothing) {
+  const std::string fifo = file("pipe");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  checkOutputFile(fifo);  // returns at once: no reader exists
+  checkOutputFile(file("sub/new.json"));
+  EXPECT_TRUE(fs::is_directory(folder_ / "sub"));
+  EXPECT_TRUE(fs::is_empty(folder_ / "sub"));
+  fs::create_directory(file("results"));
+  EXPECT_NE(errorOf([&] { checkOutputFile(file("results")); }).find("is a folder"),
+            std::string::npos);
 }
 
 }  // namespace
