@@ -311,7 +311,7 @@ Baseline baselineFrom(const Json& document, const std::string& path);
 }  // namespace
 
 Baseline readBaseline(const std::string& path) {
-  return baselineFrom(readJsonFile(path), path);
+  return baselineFrom(readJsonFile(path, "baseline"), path);
 }
 
 Baseline parseBaselineText(const std::string& text, const std::string& sourceName) {

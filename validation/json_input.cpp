@@ -53,8 +53,8 @@ Json parseJsonText(const std::string& text, const std::string& sourceName) {
   }
 }
 
-Json readJsonFile(const std::string& path) {
-  const std::string problem = pbd::inputFileProblem(path);
+Json readJsonFile(const std::string& path, const std::string& what) {
+  const std::string problem = pbd::inputFileProblem(path, what);
   if (!problem.empty()) fail(path, problem);
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot be read");
@@ -123,6 +123,16 @@ double JsonField::number() const {
   const double value = value_->get<double>();
   if (!std::isfinite(value)) fail("a finite number");
   return value;
+}
+
+long JsonField::integer(long minimum, long maximum) const {
+  const std::string expectation =
+      "an integer in [" + std::to_string(minimum) + ", " + std::to_string(maximum) + "]";
+  if (!value_->is_number()) fail(expectation);
+  const double value = value_->get<double>();  // compared as a double: no overflowing cast
+  if (!(value >= double(minimum) && value <= double(maximum)) || value != std::floor(value))
+    fail(expectation);
+  return static_cast<long>(value);
 }
 
 std::vector<std::string> JsonField::strings() const {

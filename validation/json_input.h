@@ -10,8 +10,9 @@
 
 namespace pbdval {
 
-/// Parses the file at `path`; throws std::invalid_argument "PATH: what is wrong".
-nlohmann::json readJsonFile(const std::string& path);
+/// Parses the file at `path` (`what` names it: "results", "baseline"); throws
+/// std::invalid_argument "PATH: what is wrong".
+nlohmann::json readJsonFile(const std::string& path, const std::string& what);
 /// Parses `text` (named `sourceName` in messages) with the same limits.
 nlohmann::json parseJsonText(const std::string& text, const std::string& sourceName);
 
@@ -28,7 +29,8 @@ class JsonField {
   std::vector<std::string> keys() const;  ///< of an object, in the document's order
 
   std::string string() const;
-  double number() const;  ///< a finite number
+  double number() const;                           ///< a finite number
+  long integer(long minimum, long maximum) const;  ///< an integer in [minimum, maximum]
   std::vector<std::string> strings() const;
   std::string stringOr(const std::string& key, const std::string& fallback) const;
 

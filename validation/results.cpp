@@ -50,25 +50,25 @@ Json metadataJson(const RunMetadata& m) {
           {"machine", {{"hostname", m.hostname}, {"cpu", m.cpu}, {"cores", m.cores}}}};
 }
 
-RunMetadata metadataFrom(const Json& j) {
+RunMetadata metadataFrom(const JsonField& j) {
   RunMetadata m;
-  m.created = j.value("created", "");
-  m.command = j.value("command", "");
-  if (j.contains("pbdval")) {
-    const Json& p = j.at("pbdval");
-    m.version = p.value("version", "");
-    m.commit = p.value("commit", "");
-    m.commitState = p.value("commitState", "");
-    m.buildType = p.value("buildType", "");
-    m.compiler = p.value("compiler", "");
-    m.flags = p.value("flags", "");
-    m.precision = p.value("precision", "");
+  m.created = j.stringOr("created", "");
+  m.command = j.stringOr("command", "");
+  if (j.has("pbdval")) {
+    const JsonField p = j.at("pbdval").expectObject();
+    m.version = p.stringOr("version", "");
+    m.commit = p.stringOr("commit", "");
+    m.commitState = p.stringOr("commitState", "");
+    m.buildType = p.stringOr("buildType", "");
+    m.compiler = p.stringOr("compiler", "");
+    m.flags = p.stringOr("flags", "");
+    m.precision = p.stringOr("precision", "");
   }
-  if (j.contains("machine")) {
-    const Json& h = j.at("machine");
-    m.hostname = h.value("hostname", "");
-    m.cpu = h.value("cpu", "");
-    m.cores = h.value("cores", 0);
+  if (j.has("machine")) {
+    const JsonField h = j.at("machine").expectObject();
+    m.hostname = h.stringOr("hostname", "");
+    m.cpu = h.stringOr("cpu", "");
+    if (h.has("cores")) m.cores = static_cast<int>(h.at("cores").integer(0, 1 << 20));
   }
   return m;
 }
@@ -151,7 +151,7 @@ ResultsFile parseResults(const nlohmann::json& document, const std::string& path
 }  // namespace
 
 ResultsFile readResults(const std::string& path) {
-  return parseResults(readJsonFile(path), path);
+  return parseResults(readJsonFile(path, "results"), path);
 }
 
 ResultsFile parseResultsText(const std::string& text, const std::string& sourceName) {
@@ -171,7 +171,7 @@ ResultsFile parseResults(const nlohmann::json& document, const std::string& path
     throw std::invalid_argument(path + ": schemaVersion " + Json(version).dump() +
                                 " is not supported (expected " +
                                 std::to_string(kResultsSchemaVersion) + ")");
-  results.metadata = metadataFrom(document.value("metadata", Json::object()));
+  if (root.has("metadata")) results.metadata = metadataFrom(root.at("metadata").expectObject());
   // The cases block carries every case's checks: without it the gate would skip them silently.
   const JsonField cases = root.at("cases").expectObject();
   for (const std::string& name : cases.keys()) {

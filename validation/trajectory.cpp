@@ -38,7 +38,7 @@ void writeCsvRows(std::ostream& out, const State& state) {
 }
 
 Trajectory readTrajectoryCsv(const std::string& path) {
-  const std::string problem = pbd::inputFileProblem(path);
+  const std::string problem = pbd::inputFileProblem(path, "trajectory");
   if (!problem.empty()) throw std::runtime_error(pbd::printableText(path + ": " + problem));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(pbd::printableText(path + ": cannot be read"));

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
-#include "pbd/io/mesh_loader.h"
+#include "fuzz_support.h"
 #include "pbd/io/scene_loader.h"
 #include "validation/case_spec.h"
 #include "validation/gate.h"
@@ -13,40 +13,6 @@
 #include "validation/trajectory.h"
 
 namespace pbdval::fuzz {
-namespace {
-
-// Relative mesh paths in a fuzzed scene resolve here: a folder that does not exist, so that
-// the fuzzer cannot reach the corpus or the project's files by a short relative path.
-constexpr const char* kSceneName = "/nonexistent-pbdval-fuzz/scene.json";
-
-std::string text(const std::uint8_t* data, std::size_t size) {
-  return std::string(reinterpret_cast<const char*>(data), size);
-}
-
-/// Messages are printed and stored in results.json: they must be valid UTF-8. nlohmann's
-/// strict dump() is the check (it throws type_error 316 on a bad byte); abort so that
-/// libFuzzer records the input.
-void expectPrintable(const char* message) {
-  try {
-    (void)nlohmann::json(std::string(message)).dump();
-  } catch (const nlohmann::json::type_error&) {
-    std::fprintf(stderr, "error message is not valid UTF-8: %s\n", message);
-    std::abort();
-  }
-}
-
-}  // namespace
-
-void sceneTarget(const std::uint8_t* data, std::size_t size) {
-  try {
-    const pbd::LoadedScene loaded = pbd::parseScene(text(data, size), kSceneName);
-    for (const pbd::SceneDiagnostic& warning : loaded.warnings)
-      expectPrintable(warning.text().c_str());
-  } catch (const pbd::SceneError& e) {
-    expectPrintable(e.what());
-  }
-}
-
 void caseSpecTarget(const std::uint8_t* data, std::size_t size) {
   pbd::LoadedScene loaded;
   try {
@@ -58,27 +24,6 @@ void caseSpecTarget(const std::uint8_t* data, std::size_t size) {
   try {
     (void)parseCaseSpec(loaded.scene);
   } catch (const std::invalid_argument& e) {  // the documented error of parseCaseSpec
-    expectPrintable(e.what());
-  }
-}
-
-void objTarget(const std::uint8_t* data, std::size_t size) {
-  try {
-    (void)pbd::parseObj(text(data, size), "fuzz.obj");
-  } catch (const pbd::SceneError& e) {
-    expectPrintable(e.what());
-  }
-}
-
-void tetGenTarget(const std::uint8_t* data, std::size_t size) {
-  const std::string all = text(data, size);
-  const std::string separator = "\n===\n";
-  const std::size_t split = all.find(separator);
-  const std::string node = split == std::string::npos ? all : all.substr(0, split);
-  const std::string ele = split == std::string::npos ? "" : all.substr(split + separator.size());
-  try {
-    (void)pbd::parseTetGen(node, ele, "fuzz.node", "fuzz.ele");
-  } catch (const pbd::SceneError& e) {
     expectPrintable(e.what());
   }
 }
@@ -114,7 +59,7 @@ void trajectoryTarget(const std::uint8_t* data, std::size_t size) {
   }
 }
 
-const std::vector<NamedTarget>& allTargets() {
+const std::vector<NamedTarget>& allTargets() {  // the library targets first
   static const std::vector<NamedTarget> targets = {
       {"scene", &sceneTarget},
       {"case_spec", &caseSpecTarget},

@@ -33,8 +33,8 @@ TEST_P(CorpusReplay, EveryCorpusFileIsHandled) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Fuzz, CorpusReplay, ::testing::ValuesIn(allTargets()),
-                         [](const ::testing::TestParamInfo<NamedTarget>& info) {
-                           return std::string(info.param.name);
+                         [](const ::testing::TestParamInfo<NamedTarget>& param) {
+                           return std::string(param.param.name);
                          });
 
 }  // namespace

@@ -82,6 +82,18 @@ TEST(HostileScenes, NonUtf8KeyGivesAValidUtf8Message) {
   EXPECT_TRUE(isValidUtf8(message)) << message;
 }
 
+// Long values are shortened to 60 bytes in messages: the cut must not leave half a character.
+TEST(HostileScenes, ShortenedValuesStayValidUtf8) {
+  std::string accents;
+  for (int i = 0; i < 40; ++i)
+    accents += "\xC3\xA9";  // é: the 57-byte cut falls on the lead byte of one
+  const std::string message =
+      sceneErrorOf([&] { parseScene("{\"Name\": [\"" + accents + "\"]}", "cut.json"); });
+  EXPECT_TRUE(containsAll(message, {"cut.json: Name: expected a string, got [\"\xC3\xA9", "..."}))
+      << message;
+  EXPECT_TRUE(isValidUtf8(message)) << message;
+}
+
 TEST(HostileScenes, DeepNestingIsRefusedQuicklyNamingTheFile) {
   const auto start = std::chrono::steady_clock::now();
   const std::string deep = "{\"Name\": " + std::string(100000, '[');
@@ -110,9 +122,9 @@ TEST(HostileScenes, PathsThatAreNotRegularFilesSayWhatTheyAre) {
   EXPECT_TRUE(containsAll(sceneErrorOf([&] { loadScene(fifo); }),
                           {"scene.fifo: the scene is a FIFO, not a regular file"}));
   EXPECT_TRUE(containsAll(sceneErrorOf([&] { loadScene(folder.path() + "/missing.json"); }),
-                          {"missing.json: the scene cannot be read (No such file"}));
-  EXPECT_TRUE(
-      containsAll(sceneErrorOf([&] { loadObj(folder.path()); }), {"the mesh file is a folder"}));
+                          {"missing.json: cannot open the scene file (No such file"}));
+  EXPECT_TRUE(containsAll(sceneErrorOf([&] { loadObj(folder.path()); }),
+                          {"the mesh is a folder, not a file"}));
 }
 
 TEST(HostileMeshes, BinaryGarbageGivesAValidUtf8Message) {

@@ -278,7 +278,7 @@ TEST(GateFailsClosed, DeepJsonIsRefusedWithTheLimit) {
   std::filesystem::remove(path);
   EXPECT_NE(invalidArgumentOf([] {
               readResults("/dev/null");
-            }).find("/dev/null: is a character device, not a regular file"),
+            }).find("/dev/null: the results is a character device, not a regular file"),
             std::string::npos);
 }
 

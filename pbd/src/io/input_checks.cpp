@@ -68,14 +68,16 @@ std::string printableText(std::string_view bytes) {
   return out;
 }
 
-std::string inputFileProblem(const std::string& path) {
+std::string inputFileProblem(const std::string& path, const std::string& what) {
   struct stat info {};
-  if (::stat(path.c_str(), &info) != 0)
-    return "cannot be read (" + std::string(std::strerror(errno)) + ")";
-  if (S_ISDIR(info.st_mode)) return "is a folder, not a file";
-  if (!S_ISREG(info.st_mode)) return "is " + kindOf(info.st_mode) + ", not a regular file";
-  if (::access(path.c_str(), R_OK) != 0)
-    return "cannot be read (" + std::string(std::strerror(errno)) + ")";
+  const auto cannotOpen = [&] {
+    return "cannot open the " + what + " file (" + std::string(std::strerror(errno)) + ")";
+  };
+  if (::stat(path.c_str(), &info) != 0) return cannotOpen();
+  if (S_ISDIR(info.st_mode)) return "the " + what + " is a folder, not a file";
+  if (!S_ISREG(info.st_mode))
+    return "the " + what + " is " + kindOf(info.st_mode) + ", not a regular file";
+  if (::access(path.c_str(), R_OK) != 0) return cannotOpen();
   return "";
 }
 

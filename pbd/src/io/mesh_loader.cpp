@@ -157,8 +157,8 @@ void expectEnd(TokenizedFile& file, std::size_t count, const char* what) {
 
 /// The whole file; a folder, device or FIFO is refused with what it is.
 std::string readWholeFile(const std::string& path) {
-  const std::string problem = inputFileProblem(path);
-  if (!problem.empty()) throw SceneError(SceneDiagnostic{path, "", "the mesh file " + problem});
+  const std::string problem = inputFileProblem(path, "mesh");
+  if (!problem.empty()) throw SceneError(SceneDiagnostic{path, "", problem});
   std::ifstream stream(path, std::ios::binary);
   if (!stream) throw SceneError(SceneDiagnostic{path, "", "cannot open file"});
   std::ostringstream text;

@@ -185,8 +185,8 @@ LoadedScene parseScene(const std::string& jsonText, const std::string& sourcePat
 
 LoadedScene loadScene(const std::string& path, const LoadOptions& options) {
   // A folder, /dev/null or a FIFO would read as empty (or block): say what it is instead.
-  const std::string problem = inputFileProblem(path);
-  if (!problem.empty()) throw SceneError(SceneDiagnostic{path, "", "the scene " + problem});
+  const std::string problem = inputFileProblem(path, "scene");
+  if (!problem.empty()) throw SceneError(SceneDiagnostic{path, "", problem});
   std::ifstream stream(path, std::ios::binary);
   if (!stream) throw SceneError(SceneDiagnostic{path, "", "cannot open the scene file"});
   std::ostringstream text;

@@ -18,8 +18,9 @@ inline constexpr int kMaxJsonDepth = 64;
 std::string printableText(std::string_view bytes);
 
 /// Why `path` cannot be read as an input file, or "" when it is a readable regular file (after
-/// following symbolic links): "is a folder, not a file", "is a FIFO, not a regular file",
-/// "cannot be read (No such file or directory)".
-std::string inputFileProblem(const std::string& path);
+/// following symbolic links). `what` names the file: with "scene", "the scene is a folder, not
+/// a file", "the scene is a FIFO, not a regular file", "cannot open the scene file (No such file
+/// or directory)".
+std::string inputFileProblem(const std::string& path, const std::string& what);
 
 }  // namespace pbd
