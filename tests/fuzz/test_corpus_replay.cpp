@@ -14,6 +14,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
+}  // namespace
+
+// Test names and failure messages show the target's name.
+void PrintTo(const NamedTarget& target, std::ostream* out) {
+  *out << target.name;
+}
+
+namespace {
+
 class CorpusReplay : public ::testing::TestWithParam<NamedTarget> {};
 
 TEST_P(CorpusReplay, EveryCorpusFileIsHandled) {
