@@ -10,7 +10,6 @@
 #include "validation/case_spec.h"
 #include "validation/gate.h"
 #include "validation/results.h"
-#include "validation/trajectory.h"
 
 namespace pbdval::fuzz {
 void caseSpecTarget(const std::uint8_t* data, std::size_t size) {
@@ -47,14 +46,6 @@ void baselineTarget(const std::uint8_t* data, std::size_t size) {
     const Baseline baseline = parseBaselineText(text(data, size), "baseline.json");
     (void)evaluateGate(baseline, ResultsFile{});
   } catch (const std::invalid_argument& e) {
-    expectPrintable(e.what());
-  }
-}
-
-void trajectoryTarget(const std::uint8_t* data, std::size_t size) {
-  try {
-    (void)parseTrajectoryCsv(text(data, size), "trajectory.csv");
-  } catch (const std::runtime_error& e) {
     expectPrintable(e.what());
   }
 }
