@@ -42,6 +42,12 @@ expect 0 "" -- "${sim[@]}" --out "$work/link.csv"
 [[ -L "$work/link.csv" ]] || fail "the symlink was replaced"
 head -1 "$work/target.csv" | grep -q '^t,id,x' || fail "the symlink's target was not written"
 
+# /dev/stdout into a pipe (it resolves to /proc/self/fd/1 -> "pipe:[N]").
+header=$("${sim[@]}" --out /dev/stdout | head -1)
+[[ "$header" == t,id,x* ]] || fail "--out /dev/stdout into a pipe: got '$header'"
+"${sim[@]}" --out /dev/stdout >"$work/redirected.csv"
+head -1 "$work/redirected.csv" | grep -q '^t,id,x' || fail "--out /dev/stdout into a file"
+
 mkdir "$work/folder"
 expect 2 "is a folder, not a file" -- "${sim[@]}" --out "$work/folder"
 expect 2 "proc file system" -- "${sim[@]}" --out /proc/self/pbdval-out.csv

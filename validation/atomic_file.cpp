@@ -149,9 +149,20 @@ struct Plan {
 Plan planOutput(const std::string& path) {
   if (path.empty()) fail("(empty path)", "expected a file name");
   Plan plan;
+  struct stat info {};
+  // /dev/stdout, /dev/fd/N, /proc/self/fd/N name an open descriptor (a pipe, a terminal, a
+  // redirected file): written through as given, never resolved and replaced.
+  for (const char* prefix : {"/dev/stdout", "/dev/stderr", "/dev/fd/", "/proc/self/fd/"}) {
+    if (path.rfind(prefix, 0) == 0 && ::stat(path.c_str(), &info) == 0) {
+      plan.target = plan.shown = path;
+      plan.exists = plan.direct = true;
+      plan.mode = info.st_mode;
+      if (S_ISDIR(info.st_mode)) fail(path, "is a folder, not a file; give a file name");
+      return plan;
+    }
+  }
   plan.target = followLinks(path);
   plan.shown = plan.target == path ? path : path + " (-> " + plan.target + ")";
-  struct stat info {};
   plan.exists = ::stat(plan.target.c_str(), &info) == 0;
   const int statError = plan.exists ? 0 : errno;
   if (statError == ENOTDIR)  // a file where a folder should be: say which

@@ -5,8 +5,9 @@
 //     renamed over it, so a crash or an interrupted run never leaves a half-written file; an
 //     existing file keeps its permission bits;
 //   - a symbolic link is followed: its target is written (atomically if regular), the link stays;
-//   - a character device (/dev/null, /dev/stdout, a terminal) or a FIFO is written directly,
-//     never replaced, and a write error (/dev/full) is reported;
+//   - a character device (/dev/null, a terminal) or a FIFO is written directly, never
+//     replaced, and a write error (/dev/full) is reported; so is an open descriptor named by
+//     /dev/stdout, /dev/stderr, /dev/fd/N or /proc/self/fd/N, whatever it is (a pipe, a file);
 //   - a folder, a block device, a socket, or a file of a kernel interface file system (/proc,
 //     /sys) is refused with what it is;
 //   - every error names the file and the real reason (errno text, or what the path is).
