@@ -6,6 +6,17 @@ if(PBDVAL_SANITIZE)
   add_link_options(-fsanitize=address,undefined)
 endif()
 
+# Fuzzing (docs/fuzzing.md): coverage instrumentation and both sanitizers on all our code; the
+# fuzz_* programs add libFuzzer's main (tests/fuzz/CMakeLists.txt).
+if(PBDVAL_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    message(FATAL_ERROR "PBDVAL_FUZZ needs clang (libFuzzer): use the preset 'fuzz'")
+  endif()
+  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer
+                      -fno-sanitize-recover=undefined)
+  add_link_options(-fsanitize=address,undefined)
+endif()
+
 # Determinism: no fused multiply-add contraction, so the same source gives the same bits
 # whatever the optimiser decides (Jolt's rule); no -march=native, so results do not depend on
 # the machine that built them.

@@ -1,59 +1,301 @@
 #include "validation/atomic_file.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <sys/vfs.h>
 #include <unistd.h>
 
+#include <array>
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
+#include <streambuf>
 
 namespace pbdval {
+namespace {
 
-AtomicFileWriter::AtomicFileWriter(std::string path)
-    : path_(std::move(path)),
-      temporaryPath_(path_ + ".tmp-" + std::to_string(static_cast<long>(::getpid()))) {
-  const std::filesystem::path parent = std::filesystem::path(path_).parent_path();
-  if (!parent.empty()) createFolders(parent.string());
-  stream_.open(temporaryPath_, std::ios::out | std::ios::trunc | std::ios::binary);
-  if (!stream_) throw std::runtime_error(path_ + ": cannot write (" + std::strerror(errno) + ")");
+namespace fs = std::filesystem;
+
+[[noreturn]] void fail(const std::string& path, const std::string& what) {
+  throw std::runtime_error(path + ": " + what);
 }
 
-AtomicFileWriter::~AtomicFileWriter() {
-  if (!committed_) {
-    stream_.close();
-    std::remove(temporaryPath_.c_str());
+std::string errnoText(int error) {
+  return std::strerror(error);
+}
+
+// Kernel interface file systems: their files are not storage, and no file can be created in
+// them (creating one fails with ENOENT, which would read as "no such folder").
+const char* kernelFileSystemName(const std::string& path) {
+  struct statfs info {};
+  if (::statfs(path.c_str(), &info) != 0) return nullptr;
+  switch (static_cast<unsigned long>(info.f_type)) {
+    case 0x9fa0UL:  // PROC_SUPER_MAGIC
+      return "proc";
+    case 0x62656572UL:  // SYSFS_MAGIC
+      return "sysfs";
+    case 0x64626720UL:  // DEBUGFS_MAGIC
+      return "debugfs";
+    case 0x27e0ebUL:  // CGROUP_SUPER_MAGIC
+      return "cgroup";
+    case 0x63677270UL:  // CGROUP2_SUPER_MAGIC
+      return "cgroup2";
+    case 0x73636673UL:  // SECURITYFS_MAGIC
+      return "securityfs";
+    default:
+      return nullptr;
   }
 }
 
-void AtomicFileWriter::commit() {
-  stream_.flush();
-  const bool ok = static_cast<bool>(stream_);
-  stream_.close();
-  if (!ok || stream_.fail()) {
-    std::remove(temporaryPath_.c_str());
-    committed_ = true;
-    throw std::runtime_error(path_ + ": write failed (disk full?)");
+std::string kindOf(mode_t mode) {
+  if (S_ISDIR(mode)) return "a folder";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISREG(mode)) return "a regular file";
+  return "not a regular file";
+}
+
+/// Follows symbolic links (up to 40, as the kernel does) to the path finally written. A link
+/// to a missing file resolves to that file's path: it is created there.
+std::string followLinks(const std::string& path) {
+  fs::path current = path;
+  for (int hop = 0; hop < 40; ++hop) {
+    struct stat info {};
+    if (::lstat(current.c_str(), &info) != 0 || !S_ISLNK(info.st_mode)) return current.string();
+    std::error_code error;
+    const fs::path target = fs::read_symlink(current, error);
+    if (error)
+      fail(path,
+           "cannot read the symbolic link " + current.string() + " (" + error.message() + ")");
+    current = target.is_absolute() ? target : current.parent_path() / target;
   }
-  if (std::rename(temporaryPath_.c_str(), path_.c_str()) != 0) {
-    const std::string reason = std::strerror(errno);
-    std::remove(temporaryPath_.c_str());
-    committed_ = true;
-    throw std::runtime_error(path_ + ": cannot replace (" + reason + ")");
+  fail(path, "too many levels of symbolic links");
+}
+
+}  // namespace
+
+// A stream buffer over a file descriptor that remembers the first write error (errno), so that
+// commit() can say why a write failed ("No space left on device").
+class OutputFile::Buffer : public std::streambuf {
+ public:
+  explicit Buffer(int descriptor) : descriptor_(descriptor) {
+    setp(data_.data(), data_.data() + data_.size());
   }
-  committed_ = true;
+  int error() const { return error_; }
+  bool drain() { return flushPending(); }
+
+ protected:
+  int_type overflow(int_type c) override {
+    if (!flushPending()) return traits_type::eof();
+    if (!traits_type::eq_int_type(c, traits_type::eof())) {
+      *pptr() = traits_type::to_char_type(c);
+      pbump(1);
+    }
+    return traits_type::not_eof(c);
+  }
+  int sync() override { return flushPending() ? 0 : -1; }
+
+ private:
+  bool flushPending() {
+    if (error_ != 0) return false;
+    const char* next = pbase();
+    while (next < pptr()) {
+      const ssize_t written = ::write(descriptor_, next, static_cast<std::size_t>(pptr() - next));
+      if (written < 0) {
+        if (errno == EINTR) continue;
+        error_ = errno;
+        return false;
+      }
+      if (written == 0) {
+        error_ = EIO;
+        return false;
+      }
+      next += written;
+    }
+    setp(data_.data(), data_.data() + data_.size());
+    return true;
+  }
+
+  int descriptor_;
+  int error_ = 0;
+  std::array<char, 1 << 16> data_{};
+};
+
+namespace {
+
+/// The deepest part of `path` that exists ("/proc/self" for "/proc/self/a/b.csv").
+std::string nearestExisting(const fs::path& path) {
+  for (fs::path p = path; !p.empty(); p = p.parent_path()) {
+    struct stat info {};
+    if (::stat(p.c_str(), &info) == 0) return p.string();
+    if (p == p.parent_path()) break;
+  }
+  return ".";
+}
+
+/// What writing `path` means, decided before anything is opened or created.
+struct Plan {
+  std::string target;  ///< after following symbolic links
+  std::string shown;   ///< for messages: "link (-> target)"
+  std::string folder;  ///< where the temporary file goes
+  bool exists = false;
+  bool direct = false;  ///< a character device or FIFO: written in place
+  mode_t mode = 0;
+};
+
+Plan planOutput(const std::string& path) {
+  if (path.empty()) fail("(empty path)", "expected a file name");
+  Plan plan;
+  struct stat info {};
+  // /dev/stdout, /dev/fd/N, /proc/self/fd/N name an open descriptor (a pipe, a terminal, a
+  // redirected file): written through as given, never resolved and replaced.
+  for (const char* prefix : {"/dev/stdout", "/dev/stderr", "/dev/fd/", "/proc/self/fd/"}) {
+    if (path.rfind(prefix, 0) == 0 && ::stat(path.c_str(), &info) == 0) {
+      plan.target = plan.shown = path;
+      plan.exists = plan.direct = true;
+      plan.mode = info.st_mode;
+      if (S_ISDIR(info.st_mode)) fail(path, "is a folder, not a file; give a file name");
+      return plan;
+    }
+  }
+  plan.target = followLinks(path);
+  plan.shown = plan.target == path ? path : path + " (-> " + plan.target + ")";
+  plan.exists = ::stat(plan.target.c_str(), &info) == 0;
+  const int statError = plan.exists ? 0 : errno;
+  if (statError == ENOTDIR)  // a file where a folder should be: say which
+    createFolders(fs::path(plan.target).parent_path().string());
+  if (!plan.exists && statError != ENOENT)
+    fail(plan.shown, "cannot be written (" + errnoText(statError) + ")");
+  plan.mode = info.st_mode;
+  if (plan.exists && !S_ISREG(info.st_mode)) {
+    // Written in place: renaming a file over /dev/null or a FIFO would replace it.
+    plan.direct = S_ISCHR(info.st_mode) || S_ISFIFO(info.st_mode);
+    if (!plan.direct)
+      fail(plan.shown, "is " + kindOf(info.st_mode) + ", not a file; give a file name");
+    return plan;
+  }
+  const fs::path parent = fs::path(plan.target).parent_path();
+  plan.folder = parent.empty() ? "." : parent.string();
+  if (const char* kernel =
+          kernelFileSystemName(plan.exists ? plan.target : nearestExisting(plan.folder)))
+    fail(plan.shown, std::string("is on the ") + kernel +
+                         " file system, a kernel interface and not storage: pbdval does not "
+                         "write there");
+  return plan;
+}
+
+}  // namespace
+
+void checkOutputFile(const std::string& path) {
+  const Plan plan = planOutput(path);
+  if (plan.direct) {
+    if (::access(plan.target.c_str(), W_OK) != 0)
+      fail(plan.shown, "cannot be written (" + errnoText(errno) + ")");
+    return;
+  }
+  createFolders(plan.folder);
+  if (::access(plan.folder.c_str(), W_OK) != 0)
+    fail(plan.shown,
+         "cannot create files in the folder " + plan.folder + " (" + errnoText(errno) + ")");
+}
+
+OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
+  const Plan plan = planOutput(path_);
+  target_ = plan.target;
+  const std::string& shown = plan.shown;
+  if (plan.direct) {
+    descriptor_ = ::open(target_.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC);
+    if (descriptor_ < 0)
+      fail(shown, "cannot open " + kindOf(plan.mode) + " for writing (" + errnoText(errno) + ")");
+  } else {
+    createFolders(plan.folder);
+    const std::string base = target_ + ".tmp-" + std::to_string(static_cast<long>(::getpid()));
+    for (int attempt = 0; descriptor_ < 0; ++attempt) {
+      temporary_ = attempt == 0 ? base : base + "-" + std::to_string(attempt);
+      descriptor_ = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+      if (descriptor_ < 0 && (errno != EEXIST || attempt >= 100)) {
+        const std::string reason = errnoText(errno);
+        temporary_.clear();
+        fail(shown,
+             "cannot create a temporary file in the folder " + plan.folder + " (" + reason + ")");
+      }
+    }
+    // A replaced file keeps its permission bits (the temporary one has the umask's).
+    if (plan.exists) ::fchmod(descriptor_, plan.mode & 07777);
+  }
+  buffer_ = std::make_unique<Buffer>(descriptor_);
+  stream_ = std::make_unique<std::ostream>(buffer_.get());
+}
+
+OutputFile::~OutputFile() {
+  if (finished_) return;
+  if (descriptor_ >= 0) ::close(descriptor_);
+  if (!temporary_.empty()) ::unlink(temporary_.c_str());
+}
+
+std::ostream& OutputFile::stream() {
+  return *stream_;
+}
+
+void OutputFile::commit() {
+  if (finished_) fail(path_, "already committed");
+  finished_ = true;
+  const bool drained = buffer_->drain();
+  const int writeError = buffer_->error();
+  const bool streamOk = static_cast<bool>(*stream_);
+  // fsync only regular files: a device or FIFO may not support it (EINVAL).
+  const bool synced = temporary_.empty() || ::fsync(descriptor_) == 0;
+  const int syncError = synced ? 0 : errno;
+  const bool closed = ::close(descriptor_) == 0;
+  const int closeError = closed ? 0 : errno;
+  descriptor_ = -1;
+  std::string problem;
+  if (!drained || writeError != 0)
+    problem = "write failed (" + errnoText(writeError != 0 ? writeError : EIO) + ")";
+  else if (!streamOk)
+    problem = "write failed (the output stream reported an error)";
+  else if (!synced)
+    problem = "write failed (" + errnoText(syncError) + ")";
+  else if (!closed)
+    problem = "write failed (" + errnoText(closeError) + ")";
+  if (!problem.empty()) {
+    if (!temporary_.empty()) ::unlink(temporary_.c_str());
+    fail(path_, problem + (temporary_.empty() ? "" : "; the file was left as it was"));
+  }
+  if (temporary_.empty()) return;
+  if (::rename(temporary_.c_str(), target_.c_str()) != 0) {
+    const std::string reason = errnoText(errno);
+    ::unlink(temporary_.c_str());
+    fail(path_, "cannot replace (" + reason + ")");
+  }
 }
 
 void writeFileAtomically(const std::string& path, const std::string& content) {
-  AtomicFileWriter writer(path);
-  writer.stream() << content;
-  writer.commit();
+  OutputFile file(path);
+  file.stream() << content;
+  file.commit();
 }
 
 void createFolders(const std::string& folder) {
   std::error_code error;
   std::filesystem::create_directories(folder, error);
-  if (error) throw std::runtime_error(folder + ": cannot create folder (" + error.message() + ")");
+  if (!error) return;
+  // Say which part of the path is in the way ("results.json is a regular file").
+  fs::path partial;
+  for (const fs::path& part : fs::path(folder)) {
+    partial /= part;
+    struct stat info {};
+    if (::stat(partial.c_str(), &info) == 0 && !S_ISDIR(info.st_mode))
+      fail(folder, "cannot create folder: " + partial.string() + " is " + kindOf(info.st_mode) +
+                       ", not a folder");
+  }
+  if (const char* kernel = kernelFileSystemName(nearestExisting(folder)))
+    fail(folder, std::string("cannot create folder: ") + nearestExisting(folder) + " is on the " +
+                     kernel + " file system, a kernel interface and not storage");
+  fail(folder, "cannot create folder (" + error.message() + ")");
 }
 
 }  // namespace pbdval

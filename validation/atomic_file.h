@@ -1,36 +1,64 @@
-// Result files are written atomically: to a temporary file beside the target, then renamed
-// over it, so a crash or an interrupted run never leaves a half-written file behind.
+// Every file pbdval writes (results, baselines, CSV, JUnit, Markdown, sweep and distance JSON)
+// goes through OutputFile, so every output path is treated the same way (docs/cli.md#output-files):
+//
+//   - a new or regular file is replaced atomically: written to a temporary file beside it, then
+//     renamed over it, so a crash or an interrupted run never leaves a half-written file; an
+//     existing file keeps its permission bits;
+//   - a symbolic link is followed: its target is written (atomically if regular), the link stays;
+//   - a character device (/dev/null, a terminal) or a FIFO is written directly, never
+//     replaced, and a write error (/dev/full) is reported; so is an open descriptor named by
+//     /dev/stdout, /dev/stderr, /dev/fd/N or /proc/self/fd/N, whatever it is (a pipe, a file);
+//   - a folder, a block device, a socket, or a file of a kernel interface file system (/proc,
+//     /sys) is refused with what it is;
+//   - every error names the file and the real reason (errno text, or what the path is).
 #pragma once
 
-#include <fstream>
+#include <memory>
+#include <ostream>
 #include <string>
 
 namespace pbdval {
 
-/// Streams into `<path>.tmp-<pid>`; commit() flushes and renames it to `path`. Destroyed
-/// without commit(), it removes the temporary file. Throws std::runtime_error naming the file
-/// on any I/O failure.
-class AtomicFileWriter {
+/// An output file being written. stream() buffers; commit() flushes, checks every write and
+/// (for regular files) renames the temporary file into place. Destroyed without commit(), a
+/// temporary file is removed and the target is left as it was. Throws std::runtime_error naming
+/// the file on any failure, in the constructor (cannot be written) or in commit().
+class OutputFile {
  public:
-  explicit AtomicFileWriter(std::string path);
-  ~AtomicFileWriter();
-  AtomicFileWriter(const AtomicFileWriter&) = delete;
-  AtomicFileWriter& operator=(const AtomicFileWriter&) = delete;
+  explicit OutputFile(std::string path);
+  ~OutputFile();
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
 
-  std::ostream& stream() { return stream_; }
+  std::ostream& stream();
   void commit();
+  /// The path given; the file written is its symlink target when it is a link.
+  const std::string& path() const { return path_; }
 
  private:
-  std::string path_;
-  std::string temporaryPath_;
-  std::ofstream stream_;
-  bool committed_ = false;
+  class Buffer;
+  std::string path_;       ///< as given
+  std::string target_;     ///< after following symbolic links
+  std::string temporary_;  ///< empty when writing directly (device, FIFO)
+  int descriptor_ = -1;
+  std::unique_ptr<Buffer> buffer_;
+  std::unique_ptr<std::ostream> stream_;
+  bool finished_ = false;
 };
 
-/// Writes `content` to `path` atomically (creating parent folders).
+/// The name existing callers use.
+using AtomicFileWriter = OutputFile;
+
+/// Fails now, as OutputFile(path) would, when `path` cannot be written (a folder, /proc, no
+/// permission), without opening or creating it (but creating its folders): for commands that
+/// compute for minutes before writing. A FIFO is not opened (that would wait for a reader).
+void checkOutputFile(const std::string& path);
+
+/// Writes `content` to `path` through OutputFile (creating parent folders).
 void writeFileAtomically(const std::string& path, const std::string& content);
 
-/// Creates `folder` and its parents; throws std::runtime_error naming it on failure.
+/// Creates `folder` and its parents; throws std::runtime_error naming it on failure (and, when
+/// a part of the path is a file, which part).
 void createFolders(const std::string& folder);
 
 }  // namespace pbdval

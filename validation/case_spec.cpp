@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "adapters/engine.h"
+#include "pbd/io/input_checks.h"
 #include "validation/trajectory.h"
 
 namespace pbdval {
@@ -23,7 +24,9 @@ struct Node {
   [[noreturn]] void fail(const std::string& expected) const {
     std::string got = json.dump();
     if (got.size() > 60) got = got.substr(0, 57) + "...";
-    throw std::invalid_argument(file + ": " + path + ": expected " + expected + ", got " + got);
+    // The file name may hold any bytes; the message must stay valid UTF-8 (results.json).
+    throw std::invalid_argument(
+        pbd::printableText(file + ": " + path + ": expected " + expected + ", got " + got));
   }
   Node at(const std::string& key) const { return {json.at(key), path + "." + key, file}; }
   Node at(std::size_t i) const { return {json.at(i), path + "[" + std::to_string(i) + "]", file}; }
@@ -35,7 +38,7 @@ struct Node {
         std::string keys;
         for (const auto& k : allowed)
           keys += (keys.empty() ? "" : ", ") + k;
-        throw std::invalid_argument(file + ": " + path + "." + item.key() +
+        throw std::invalid_argument(pbd::printableText(file + ": " + path + "." + item.key()) +
                                     ": unknown key (known: " + keys + ")");
       }
   }

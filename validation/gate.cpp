@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "validation/atomic_file.h"
+#include "validation/json_input.h"
 #include "validation/json_text.h"
 
 namespace pbdval {
@@ -225,6 +226,21 @@ std::vector<GateOutcome> evaluateCaseChecks(const ResultsFile& results) {
 GateReport evaluateGate(const Baseline& baseline, const ResultsFile& results,
                         const GateOptions& options) {
   GateReport report;
+  // Fail closed: a run listed twice, or a run whose case has no gate data (its checks would be
+  // skipped), fails; so does a gate that checks nothing at all.
+  std::map<std::string, int> seen;
+  for (const RunRecord& now : results.runs) {
+    std::string id = key(now.request);
+    for (const std::string& assignment : now.request.assignments)
+      id += " " + assignment;
+    if (++seen[id] == 2)
+      report.outcomes.push_back({now.request.caseName, runLabel(now.request) + " unique", false,
+                                 "run " + id + " appears more than once in the results"});
+    if (!results.cases.count(now.request.caseName))
+      report.outcomes.push_back({now.request.caseName, runLabel(now.request) + " case data", false,
+                                 "the results have no \"cases\" entry for case " +
+                                     now.request.caseName + " (its checks cannot be evaluated)"});
+  }
   for (const RunRecord& base : baseline.runs)
     compareWithBaseline(base, findRun(results.runs, base.request), results, report);
   for (const RunRecord& now : results.runs)
@@ -241,6 +257,10 @@ GateReport evaluateGate(const Baseline& baseline, const ResultsFile& results,
     }
     report.outcomes.push_back(std::move(check));
   }
+  if (report.outcomes.empty())
+    report.outcomes.push_back({"gate", "anything checked", false,
+                               "nothing to check: the baseline has no runs and the results have "
+                               "no case checks"});
   return report;
 }
 
@@ -257,8 +277,17 @@ void writeBaseline(const std::string& path, const Baseline& baseline) {
   Json runs = Json::array();
   for (const RunRecord& r : baseline.runs) {
     Json metrics = Json::object();
-    for (const auto& [name, value] : r.metrics.values)
-      if (std::isfinite(value)) metrics[name] = value;
+    for (const auto& [name, value] : r.metrics.values) {
+      if (std::isfinite(value)) {
+        metrics[name] = value;
+      } else if (r.status == RunStatus::Ok) {
+        // Dropping it would leave the metric ungated; a run that was not ok is compared on its
+        // status, so its non-finite metrics are left out.
+        throw std::invalid_argument("run " + key(r.request) + ": metric " + name + " is " +
+                                    number(value) +
+                                    " (not finite) in an ok run; a baseline cannot gate it");
+      }
+    }
     runs.push_back({{"case", r.request.caseName},
                     {"engine", r.request.engine},
                     {"method", r.request.method},
@@ -278,47 +307,68 @@ void writeBaseline(const std::string& path, const Baseline& baseline) {
   writeFileAtomically(path, jsonText(document) + "\n");
 }
 
+namespace {
+Baseline baselineFrom(const Json& document, const std::string& path);
+}  // namespace
+
 Baseline readBaseline(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::invalid_argument(path + ": cannot read");
-  std::stringstream text;
-  text << in.rdbuf();
+  return baselineFrom(readJsonFile(path, "baseline"), path);
+}
+
+Baseline parseBaselineText(const std::string& text, const std::string& sourceName) {
+  return baselineFrom(parseJsonText(text, sourceName), sourceName);
+}
+
+namespace {
+Baseline baselineFrom(const Json& document, const std::string& path) {
+  JsonField root(document, path);
+  if (!document.is_object() || root.stringOr("schema", "") != "pbdval-baseline")
+    throw std::invalid_argument(path +
+                                ": expected a pbdval baseline (\"schema\": \"pbdval-baseline\")");
+  if (root.at("schemaVersion").number() != kBaselineSchemaVersion)
+    throw std::invalid_argument(path + ": schemaVersion: expected " +
+                                std::to_string(kBaselineSchemaVersion));
   Baseline b;
-  try {
-    const Json document = Json::parse(text.str());
-    if (document.value("schema", "") != "pbdval-baseline")
-      throw std::invalid_argument(path +
-                                  ": expected a pbdval baseline (\"schema\": \"pbdval-baseline\")");
-    if (document.value("schemaVersion", 0) != kBaselineSchemaVersion)
-      throw std::invalid_argument(path + ": unsupported schemaVersion");
-    const Json& source = document.value("source", Json::object());
-    b.source.created = source.value("created", "");
-    b.source.commit = source.value("commit", "");
-    b.source.compiler = source.value("compiler", "");
-    b.source.cpu = source.value("machine", "");
-    b.knownFailures = document.value("knownFailures", std::vector<std::string>{});
-    const Json& runs = document.at("runs");
-    for (std::size_t i = 0; i < runs.size(); ++i) {
-      const Json& r = runs.at(i);
-      RunRecord record;
-      record.request.caseName = r.at("case").get<std::string>();
-      record.request.engine = r.at("engine").get<std::string>();
-      record.request.method = r.at("method").get<std::string>();
-      record.request.assignments = r.value("assignments", std::vector<std::string>{});
-      const std::string status = r.at("status").get<std::string>();
-      record.status = RunStatus::Error;
-      for (RunStatus s : {RunStatus::Ok, RunStatus::Diverged, RunStatus::Timeout,
-                          RunStatus::Unsupported, RunStatus::Error})
-        if (status == runStatusName(s)) record.status = s;
-      for (const auto& item : r.at("metrics").items())
-        record.metrics.values[item.key()] = item.value().get<double>();
-      b.runs.push_back(record);
-    }
-  } catch (const Json::exception& e) {
-    throw std::invalid_argument(path + ": " + e.what());
+  if (root.has("source")) {
+    const JsonField source = root.at("source").expectObject();
+    b.source.created = source.stringOr("created", "");
+    b.source.commit = source.stringOr("commit", "");
+    b.source.compiler = source.stringOr("compiler", "");
+    b.source.cpu = source.stringOr("machine", "");
+  }
+  if (root.has("knownFailures")) b.knownFailures = root.at("knownFailures").strings();
+  const JsonField runs = root.at("runs").expectArray();
+  // An empty baseline would gate nothing and pass whatever the results hold.
+  if (runs.size() == 0) runs.fail("a non-empty array of runs (an empty baseline gates nothing)");
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const JsonField r = runs.at(i).expectObject();
+    RunRecord record;
+    record.request.caseName = r.at("case").string();
+    record.request.engine = r.at("engine").string();
+    record.request.method = r.at("method").string();
+    if (r.has("assignments")) record.request.assignments = r.at("assignments").strings();
+    const JsonField status = r.at("status");
+    const std::string statusName = status.string();
+    bool known = false;
+    for (RunStatus s : {RunStatus::Ok, RunStatus::Diverged, RunStatus::Timeout,
+                        RunStatus::Unsupported, RunStatus::Error})
+      if (statusName == runStatusName(s)) {
+        record.status = s;
+        known = true;
+      }
+    if (!known) status.fail("one of \"ok\", \"diverged\", \"timeout\", \"unsupported\", \"error\"");
+    const JsonField metrics = r.at("metrics").expectObject();
+    for (const std::string& name : metrics.keys())
+      record.metrics.values[name] = metrics.at(name).number();  // null is not a baseline value
+    if (findRun(b.runs, record.request))
+      throw std::invalid_argument(path + ": " + r.path() + ": duplicate run " +
+                                  key(record.request) + " (a baseline lists every run once)");
+    b.runs.push_back(record);
   }
   return b;
 }
+
+}  // namespace
 
 void writeJUnit(std::ostream& out, const GateReport& report) {
   std::map<std::string, std::vector<const GateOutcome*>> suites;

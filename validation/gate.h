@@ -27,6 +27,8 @@ Baseline baselineFromResults(const ResultsFile& results);
 void writeBaseline(const std::string& path, const Baseline& baseline);
 /// Throws std::invalid_argument naming the file and field on bad input.
 Baseline readBaseline(const std::string& path);
+/// The same on the file's text; `sourceName` names it in messages.
+Baseline parseBaselineText(const std::string& text, const std::string& sourceName);
 
 /// How much worse than the baseline a metric may get: new ≤ base·(1 + relative) + absolute
 /// (on magnitudes, for signed metrics). `gated` false: not compared by default (cost metrics).

@@ -11,6 +11,7 @@
 #include "pbd/math/types.h"
 #include "pbdval/build_info.h"
 #include "validation/atomic_file.h"
+#include "validation/json_input.h"
 #include "validation/json_text.h"
 
 namespace pbdval {
@@ -50,25 +51,25 @@ Json metadataJson(const RunMetadata& m) {
           {"machine", {{"hostname", m.hostname}, {"cpu", m.cpu}, {"cores", m.cores}}}};
 }
 
-RunMetadata metadataFrom(const Json& j) {
+RunMetadata metadataFrom(const JsonField& j) {
   RunMetadata m;
-  m.created = j.value("created", "");
-  m.command = j.value("command", "");
-  if (j.contains("pbdval")) {
-    const Json& p = j.at("pbdval");
-    m.version = p.value("version", "");
-    m.commit = p.value("commit", "");
-    m.commitState = p.value("commitState", "");
-    m.buildType = p.value("buildType", "");
-    m.compiler = p.value("compiler", "");
-    m.flags = p.value("flags", "");
-    m.precision = p.value("precision", "");
+  m.created = j.stringOr("created", "");
+  m.command = j.stringOr("command", "");
+  if (j.has("pbdval")) {
+    const JsonField p = j.at("pbdval").expectObject();
+    m.version = p.stringOr("version", "");
+    m.commit = p.stringOr("commit", "");
+    m.commitState = p.stringOr("commitState", "");
+    m.buildType = p.stringOr("buildType", "");
+    m.compiler = p.stringOr("compiler", "");
+    m.flags = p.stringOr("flags", "");
+    m.precision = p.stringOr("precision", "");
   }
-  if (j.contains("machine")) {
-    const Json& h = j.at("machine");
-    m.hostname = h.value("hostname", "");
-    m.cpu = h.value("cpu", "");
-    m.cores = h.value("cores", 0);
+  if (j.has("machine")) {
+    const JsonField h = j.at("machine").expectObject();
+    m.hostname = h.stringOr("hostname", "");
+    m.cpu = h.stringOr("cpu", "");
+    if (h.has("cores")) m.cores = static_cast<int>(h.at("cores").integer(0, 1 << 20));
   }
   return m;
 }
@@ -85,17 +86,17 @@ Json checkJson(const CheckSpec& c) {
   return j;
 }
 
-CheckSpec checkFrom(const Json& j) {
+CheckSpec checkFrom(const JsonField& j) {
   CheckSpec c;
-  c.jsonPath = j.value("jsonPath", "");
-  c.metric = j.at("metric").get<std::string>();
-  if (j.contains("max")) c.max = j.at("max").get<double>();
-  if (j.contains("min")) c.min = j.at("min").get<double>();
-  c.engines = j.value("engines", std::vector<std::string>{});
-  c.methods = j.value("methods", std::vector<std::string>{});
-  c.better = j.value("better", "");
-  c.worse = j.value("worse", "");
-  c.description = j.value("description", "");
+  c.jsonPath = j.stringOr("jsonPath", "");
+  c.metric = j.at("metric").string();
+  if (j.has("max")) c.max = j.at("max").number();
+  if (j.has("min")) c.min = j.at("min").number();
+  if (j.has("engines")) c.engines = j.at("engines").strings();
+  if (j.has("methods")) c.methods = j.at("methods").strings();
+  c.better = j.stringOr("better", "");
+  c.worse = j.stringOr("worse", "");
+  c.description = j.stringOr("description", "");
   return c;
 }
 
@@ -146,50 +147,63 @@ void writeResults(const std::string& path, const ResultsFile& results) {
   writeFileAtomically(path, jsonText(document) + "\n");
 }
 
+namespace {
+ResultsFile parseResults(const nlohmann::json& document, const std::string& path);
+}  // namespace
+
 ResultsFile readResults(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::invalid_argument(path + ": cannot read");
-  std::stringstream text;
-  text << in.rdbuf();
-  Json document;
-  try {
-    document = Json::parse(text.str());
-  } catch (const Json::exception& e) {
-    throw std::invalid_argument(path + ": not JSON: " + e.what());
-  }
-  if (!document.is_object() || document.value("schema", "") != "pbdval-results")
+  return parseResults(readJsonFile(path, "results"), path);
+}
+
+ResultsFile parseResultsText(const std::string& text, const std::string& sourceName) {
+  return parseResults(parseJsonText(text, sourceName), sourceName);
+}
+
+namespace {
+ResultsFile parseResults(const nlohmann::json& document, const std::string& path) {
+  JsonField root(document, path);
+  if (!document.is_object() || !document.contains("schema") || !document.at("schema").is_string() ||
+      document.at("schema").get<std::string>() != "pbdval-results")
     throw std::invalid_argument(
         path + ": expected a pbdval results file (\"schema\": \"pbdval-results\")");
   ResultsFile results;
-  results.schemaVersion = document.value("schemaVersion", 0);
-  if (results.schemaVersion != kResultsSchemaVersion)
-    throw std::invalid_argument(path + ": schemaVersion " + std::to_string(results.schemaVersion) +
+  const double version = root.at("schemaVersion").number();
+  if (version != kResultsSchemaVersion)
+    throw std::invalid_argument(path + ": schemaVersion " + Json(version).dump() +
                                 " is not supported (expected " +
                                 std::to_string(kResultsSchemaVersion) + ")");
-  results.metadata = metadataFrom(document.value("metadata", Json::object()));
-  try {
-    // Named copies: items() and range-for refer to them, a temporary would dangle.
-    const Json cases = document.value("cases", Json::object());
-    for (const auto& item : cases.items()) {
-      CaseGateData data;
-      data.file = item.value().value("file", "");
-      data.description = item.value().value("description", "");
-      const Json checks = item.value().value("checks", Json::array());
-      for (const Json& c : checks)
-        data.checks.push_back(checkFrom(c));
-      data.tolerances = item.value().value("tolerances", std::map<std::string, double>{});
-      results.cases[item.key()] = data;
+  if (root.has("metadata")) results.metadata = metadataFrom(root.at("metadata").expectObject());
+  // The cases block carries every case's checks: without it the gate would skip them silently.
+  const JsonField cases = root.at("cases").expectObject();
+  for (const std::string& name : cases.keys()) {
+    const JsonField entry = cases.at(name).expectObject();
+    CaseGateData data;
+    data.file = entry.stringOr("file", "");
+    data.description = entry.stringOr("description", "");
+    if (entry.has("checks")) {
+      const JsonField checks = entry.at("checks").expectArray();
+      for (std::size_t i = 0; i < checks.size(); ++i)
+        data.checks.push_back(checkFrom(checks.at(i).expectObject()));
     }
-  } catch (const Json::exception& e) {
-    throw std::invalid_argument(path + ": cases: " + e.what());
+    if (entry.has("tolerances")) {
+      const JsonField tolerances = entry.at("tolerances").expectObject();
+      for (const std::string& metric : tolerances.keys())
+        data.tolerances[metric] = tolerances.at(metric).number();
+    }
+    results.cases[name] = data;
   }
-  if (!document.contains("runs") || !document.at("runs").is_array())
-    throw std::invalid_argument(path + ": runs: expected an array");
-  const Json& runs = document.at("runs");
-  for (std::size_t i = 0; i < runs.size(); ++i)
-    results.runs.push_back(
-        recordFromJsonText(runs[i].dump(), path + ": runs[" + std::to_string(i) + "]"));
+  const JsonField runs = root.at("runs").expectArray();
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const std::string where = path + ": runs[" + std::to_string(i) + "]";
+    results.runs.push_back(recordFromJsonText(runs.at(i).json().dump(), where));
+    const std::string& caseName = results.runs.back().request.caseName;
+    if (!results.cases.count(caseName))
+      throw std::invalid_argument(where + ": case \"" + caseName +
+                                  "\" has no entry in \"cases\" (its checks would be skipped)");
+  }
   return results;
 }
+
+}  // namespace
 
 }  // namespace pbdval

@@ -42,5 +42,7 @@ struct ResultsFile {
 void writeResults(const std::string& path, const ResultsFile& results);
 /// Throws std::invalid_argument naming the file and the field on bad input.
 ResultsFile readResults(const std::string& path);
+/// The same on the file's text; `sourceName` names it in messages.
+ResultsFile parseResultsText(const std::string& text, const std::string& sourceName);
 
 }  // namespace pbdval

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "pbd/io/input_checks.h"
 #include "pbd/io/number_text.h"
 
 namespace pbdval {
@@ -36,8 +37,18 @@ void writeCsvRows(std::ostream& out, const State& state) {
 }
 
 Trajectory readTrajectoryCsv(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot read");
+  const std::string problem = pbd::inputFileProblem(path, "trajectory");
+  if (!problem.empty()) throw std::runtime_error(pbd::printableText(path + ": " + problem));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(pbd::printableText(path + ": cannot be read"));
+  std::stringstream text;
+  text << in.rdbuf();
+  return parseTrajectoryCsv(text.str(), path);
+}
+
+Trajectory parseTrajectoryCsv(const std::string& text, const std::string& sourceName) {
+  const std::string path = pbd::printableText(sourceName);
+  std::istringstream in(text);
   std::string line;
   if (!std::getline(in, line) || line != kTrajectoryCsvHeader)
     throw std::runtime_error(path + ": line 1: expected the header '" +
@@ -56,8 +67,15 @@ Trajectory readTrajectoryCsv(const std::string& path) {
           (f == 14 && r.ptr != end))
         throw std::runtime_error(path + ": line " + std::to_string(lineNumber) +
                                  ": expected 15 comma-separated numbers");
+      // from_chars accepts "nan" and "inf": no trajectory holds them.
+      if (!std::isfinite(fields[f]))
+        throw std::runtime_error(path + ": line " + std::to_string(lineNumber) + ": field " +
+                                 std::to_string(f + 1) + " is not a finite number");
       p = r.ptr + 1;
     }
+    if (fields[1] != std::floor(fields[1]) || std::abs(fields[1]) > 2147483647.0)
+      throw std::runtime_error(path + ": line " + std::to_string(lineNumber) +
+                               ": the body id (field 2) is not an integer");
     if (trajectory.samples.empty() || trajectory.samples.back().time != fields[0]) {
       trajectory.samples.emplace_back();
       trajectory.samples.back().time = fields[0];

@@ -26,6 +26,8 @@ void writeCsvHeader(std::ostream& out);
 void writeCsvRows(std::ostream& out, const State& state);
 /// Reads a trajectory CSV (bodies only). Throws std::runtime_error naming the file and line.
 Trajectory readTrajectoryCsv(const std::string& path);
+/// The same on the file's text; `sourceName` names it in messages.
+Trajectory parseTrajectoryCsv(const std::string& text, const std::string& sourceName);
 
 /// The shortest decimal text that reads back to `value` exactly.
 std::string formatNumber(double value);

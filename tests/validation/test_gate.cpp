@@ -5,6 +5,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
 
 #include "engines/selftest_engine.h"
 #include "validation/gate.h"
@@ -139,6 +141,146 @@ TEST(Gate, UnreadableBaselineIsAnError) {
   std::ofstream(path) << "{\"schema\": \"pbdval-results\"}";
   EXPECT_THROW(readBaseline(path.string()), std::invalid_argument);
   std::filesystem::remove(path);
+}
+
+// ---- fail closed (issue 9): each of these passed silently before ----------------------------
+
+std::string temporaryJson(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() / ("pbdval-gate-" + name + ".json");
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+std::string invalidArgumentOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "(no std::invalid_argument)";
+}
+
+bool anyFailureSays(const GateReport& report, const std::string& text) {
+  for (const GateOutcome& o : report.outcomes)
+    if (!o.passed && o.message.find(text) != std::string::npos) return true;
+  return false;
+}
+
+const char* kBaselineHead = R"({"schema": "pbdval-baseline", "schemaVersion": 1, "runs": )";
+
+TEST(GateFailsClosed, EmptyBaselineIsAnError) {
+  const std::string path = temporaryJson("empty", std::string(kBaselineHead) + "[]}");
+  const std::string message = invalidArgumentOf([&] { readBaseline(path); });
+  EXPECT_NE(message.find(path + ": runs: expected a non-empty array"), std::string::npos)
+      << message;
+  std::filesystem::remove(path);
+  // In memory too: a gate that checks nothing fails.
+  ResultsFile nothing;
+  const GateReport report = evaluateGate(Baseline{}, nothing);
+  EXPECT_FALSE(report.passed());
+  EXPECT_TRUE(anyFailureSays(report, "nothing to check"));
+}
+
+TEST(GateFailsClosed, ResultsWithoutTheirCasesBlockAreAnError) {
+  const auto folder = std::filesystem::temp_directory_path() / "pbdval-gate-no-cases";
+  const std::string path = (folder / "results.json").string();
+  writeResults(path, results({run("pbd", 0.01)}));
+  EXPECT_EQ(readResults(path).cases.size(), 1u);  // the file as written reads back
+  std::ifstream in(path);
+  nlohmann::json document = nlohmann::json::parse(in);
+  in.close();
+  document.erase("cases");
+  std::ofstream(path) << document.dump();
+  EXPECT_NE(invalidArgumentOf([&] { readResults(path); }).find("missing required key \"cases\""),
+            std::string::npos);
+  document["cases"] = nlohmann::json::object();  // present, but without the run's case
+  std::ofstream(path) << document.dump();
+  EXPECT_NE(invalidArgumentOf([&] {
+              readResults(path);
+            }).find("runs[0]: case \"case_a\" has no entry in \"cases\""),
+            std::string::npos);
+  std::filesystem::remove_all(folder);
+  // In memory: a run whose case has no gate data fails the gate.
+  ResultsFile now = results({run("pbd", 0.01)});
+  const Baseline base = baselineFromResults(now);
+  now.cases.clear();
+  const GateReport report = evaluateGate(base, now);
+  EXPECT_FALSE(report.passed());
+  EXPECT_TRUE(anyFailureSays(report, "no \"cases\" entry for case case_a"));
+}
+
+TEST(GateFailsClosed, DuplicatedRunFails) {
+  const Baseline base = baselineFromResults(results({run("pbd", 0.01)}));
+  const GateReport report = evaluateGate(base, results({run("pbd", 0.01), run("pbd", 0.01)}));
+  EXPECT_FALSE(report.passed());
+  EXPECT_TRUE(anyFailureSays(report, "appears more than once"));
+  // The same run with other assignments is another run.
+  RunRecord other = run("pbd", 0.01);
+  other.request.assignments = {"subSteps=10"};
+  EXPECT_FALSE(anyFailureSays(evaluateGate(base, results({run("pbd", 0.01), other})),
+                              "appears more than once"));
+  // A baseline that lists a run twice is an error naming it.
+  const std::string entry =
+      R"({"case": "c", "engine": "pbd", "method": "pbd", "status": "ok", "metrics": {}})";
+  const std::string path =
+      temporaryJson("duplicate", std::string(kBaselineHead) + "[" + entry + ", " + entry + "]}");
+  EXPECT_NE(invalidArgumentOf([&] { readBaseline(path); }).find("runs[1]: duplicate run c pbd/pbd"),
+            std::string::npos);
+  std::filesystem::remove(path);
+}
+
+TEST(GateFailsClosed, NonFiniteMetricOfAnOkRunCannotBeBaselined) {
+  RunRecord broken = run("pbd", std::nan(""));
+  const std::string path = temporaryJson("nan", "");
+  const std::string message =
+      invalidArgumentOf([&] { writeBaseline(path, baselineFromResults(results({broken}))); });
+  EXPECT_NE(message.find("metric energy_drift_max is nan"), std::string::npos) << message;
+  // A run that was not ok keeps only its finite metrics (it is compared on its status).
+  broken.status = RunStatus::Diverged;
+  writeBaseline(path, baselineFromResults(results({broken})));
+  EXPECT_EQ(readBaseline(path).runs.at(0).metrics.values.count("energy_drift_max"), 0u);
+  // A null metric written by hand is refused with its JSON path.
+  std::ofstream(path) << kBaselineHead
+                      << R"([{"case": "c", "engine": "pbd", "method": "pbd", "status": "ok",
+                              "metrics": {"energy_drift_max": null}}]})";
+  EXPECT_NE(invalidArgumentOf([&] {
+              readBaseline(path);
+            }).find("runs[0].metrics.energy_drift_max: expected a number, got null"),
+            std::string::npos);
+  std::filesystem::remove(path);
+}
+
+TEST(GateFailsClosed, BaselineErrorsNameTheJsonPath) {
+  const std::string path = temporaryJson(
+      "paths", std::string(kBaselineHead) +
+                   R"([{"case": "c", "engine": "pbd", "method": "pbd", "status": 3}]})");
+  std::string message = invalidArgumentOf([&] { readBaseline(path); });
+  EXPECT_NE(message.find(path + ": runs[0].status: expected a string, got 3"), std::string::npos)
+      << message;
+  EXPECT_EQ(message.find("json.exception"), std::string::npos) << message;
+  std::ofstream(path) << kBaselineHead << R"([{"case": "c", "engine": "pbd", "status": "ok"}]})";
+  message = invalidArgumentOf([&] { readBaseline(path); });
+  EXPECT_NE(message.find("runs[0]: missing required key \"method\""), std::string::npos) << message;
+  std::ofstream(path) << kBaselineHead
+                      << R"([{"case": "c", "engine": "pbd", "method": "pbd", "status": "fine",
+                              "metrics": {}}]})";
+  message = invalidArgumentOf([&] { readBaseline(path); });
+  EXPECT_NE(message.find("runs[0].status: expected one of \"ok\""), std::string::npos) << message;
+  std::filesystem::remove(path);
+}
+
+TEST(GateFailsClosed, DeepJsonIsRefusedWithTheLimit) {
+  const std::string path =
+      temporaryJson("deep", std::string(kBaselineHead) + std::string(100000, '['));
+  const std::string message = invalidArgumentOf([&] { readBaseline(path); });
+  EXPECT_NE(message.find(path + ": arrays and objects nested deeper than 64 levels"),
+            std::string::npos)
+      << message;
+  std::filesystem::remove(path);
+  EXPECT_NE(invalidArgumentOf([] {
+              readResults("/dev/null");
+            }).find("/dev/null: the results is a character device, not a regular file"),
+            std::string::npos);
 }
 
 // The fit recovers known orders: e = 3 h² exactly (order 2, R² = 1); e ∝ n⁻¹ for a count-like

@@ -41,6 +41,7 @@ int distanceCommand(const Context& /*context*/, const Arguments& arguments) {
         scenes.push_back(pbd::loadScene(path).scene);
       shapes = shapesOfScenes(scenes);
     }
+    if (args.has("json")) checkOutputFile(args.value("json"));  // before the study
   } catch (const UsageError& e) {
     return parser.usageError(e.what());
   } catch (const std::exception& e) {

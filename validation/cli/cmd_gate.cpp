@@ -20,6 +20,14 @@ void restrictToCases(const std::vector<std::string>& cases, Baseline& baseline,
   auto wanted = [&](const std::string& name) {
     return std::find(cases.begin(), cases.end(), name) != cases.end();
   };
+  // A misspelt case would otherwise select nothing, and nothing passes.
+  for (const std::string& name : cases) {
+    const bool inBaseline =
+        std::any_of(baseline.runs.begin(), baseline.runs.end(),
+                    [&](const RunRecord& r) { return r.request.caseName == name; });
+    if (!inBaseline && !results.cases.count(name))
+      throw UsageError("--cases: no case \"" + name + "\" in the baseline or the results");
+  }
   auto drop = [&](std::vector<RunRecord>& runs) {
     runs.erase(std::remove_if(runs.begin(), runs.end(),
                               [&](const RunRecord& r) { return !wanted(r.request.caseName); }),
@@ -63,6 +71,8 @@ int gateCommand(const Context& /*context*/, const Arguments& arguments) {
   GateReport report;
   ResultsFile results;
   try {
+    if (args.has("cases") && splitList(args.value("cases")).empty())
+      return parser.usageError("--cases: expected a comma-separated list of case names");
     Baseline baseline = readBaseline(args.value("baseline"));
     results = readResults(resultsPathOf(args.value("results")));
     if (args.has("cases")) restrictToCases(splitList(args.value("cases")), baseline, results);

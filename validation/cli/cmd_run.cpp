@@ -9,6 +9,7 @@
 #include <sstream>
 #include <thread>
 
+#include "validation/atomic_file.h"
 #include "validation/case_library.h"
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
@@ -78,6 +79,8 @@ int runCommand(const Context& context, const Arguments& arguments) {
     const std::vector<std::string> paths =
         args.positionals.empty() ? std::vector<std::string>{defaultCaseFolder()} : args.positionals;
     plan = planRuns(collectCaseFiles(paths), options, context.engines);
+    // Before the runs, not after minutes of them: an --out that cannot hold results.json.
+    checkOutputFile(options.outFolder + "/results.json");
   } catch (const std::exception& e) {
     return parser.inputError(e.what());
   }

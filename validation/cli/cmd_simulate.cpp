@@ -115,7 +115,16 @@ int simulateCommand(const Context& context, const Arguments& arguments) {
   const RunOutcome outcome = runSimulation(*engine, scene, method, length, callbacks);
   if (showProgress) std::fprintf(stderr, "\r%70s\r", "");
 
-  if (file) file->commit();
+  if (file) {
+    file->commit();
+  } else {
+    // `pbdval simulate ... > /dev/full` must not report success either.
+    std::cout.flush();
+    if (!std::cout) {
+      std::fprintf(stderr, "pbdval simulate: error: writing the CSV to standard output failed\n");
+      return 2;
+    }
+  }
   if (!quiet) {
     std::fprintf(
         stderr,

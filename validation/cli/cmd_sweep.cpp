@@ -6,6 +6,7 @@
 #include <sstream>
 #include <thread>
 
+#include "validation/atomic_file.h"
 #include "validation/case_library.h"
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
@@ -66,6 +67,7 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
         int(args.integer("jobs", long(std::max(1u, std::thread::hardware_concurrency()))));
     options.timeout = args.number("timeout", 600);
     options.scratchFolder = args.value("out", "out") + "/.scratch";
+    checkOutputFile(args.value("out", "out") + "/sweep.json");  // before the runs
   } catch (const UsageError& e) {
     return parser.usageError(e.what());
   } catch (const std::exception& e) {

@@ -7,6 +7,7 @@
 
 #include "adapters/built_in_engines.h"
 #include "validation/cache_folder.h"
+#include "pbd/math/types.h"
 #include "pbdval/build_info.h"
 #include "validation/cli/commands.h"
 #include "validation/external_engine.h"
@@ -47,18 +48,39 @@ void printOverview() {
       "in reference engines, and measures them the same way.\n\ncommands:\n");
   for (const auto& c : pbdval::cli::commands())
     std::printf("  %-12s %s\n", c.name, c.summary);
-  std::printf("\n'pbdval COMMAND --help' describes a command. Documentation: docs/cli.md\n");
+  std::printf(
+      "\n'pbdval help COMMAND' (or 'pbdval COMMAND --help') describes a command; 'pbdval "
+      "--version' prints\nthe build. Documentation: docs/cli.md\n");
+}
+
+void printVersion() {
+  std::printf("pbdval %s\n", PBDVAL_VERSION);
+  std::printf("commit: %s (%s)\n", PBDVAL_GIT_COMMIT, PBDVAL_GIT_DIRTY);
+  std::printf("build: %s, %s\n", PBDVAL_BUILD_TYPE, PBDVAL_CXX_COMPILER);
+  std::printf("precision: pbd::Real = %s\n", sizeof(pbd::Real) == 8 ? "double" : "float");
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc >= 2 && !std::strcmp(argv[1], "--version")) {
+    printVersion();
+    return 0;
+  }
+  const bool help = argc >= 2 && !std::strcmp(argv[1], "help");
   if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") ||
-      !std::strcmp(argv[1], "help")) {
+      (help && argc == 2)) {
     printOverview();
     return argc < 2 ? 2 : 0;
   }
-  const std::string name = argv[1];
+  if (help && argc > 3) {
+    std::fprintf(stderr, "pbdval help: expected one command name (see 'pbdval --help')\n");
+    return 2;
+  }
+  // "pbdval help CMD" is "pbdval CMD --help".
+  const std::string name = help ? argv[2] : argv[1];
+  const pbdval::cli::Arguments arguments =
+      help ? pbdval::cli::Arguments{"--help"} : pbdval::cli::Arguments(argv + 2, argv + argc);
   for (const auto& command : pbdval::cli::commands()) {
     if (name != command.name) continue;
     try {
@@ -73,7 +95,7 @@ int main(int argc, char** argv) {
       for (pbdval::EngineEntry& entry : pbdval::readEngineCatalogue(
                catalogue ? catalogue : root + "/engines", root + "/.venv/bin/python", root))
         engines.add(std::move(entry));
-      return command.run(pbdval::cli::Context{engines}, pbdval::cli::Arguments(argv + 2, argv + argc));
+      return command.run(pbdval::cli::Context{engines}, arguments);
     } catch (const pbdval::RunInterrupted& e) {
       std::fprintf(stderr, "\npbdval %s: %s; no results were written\n", command.name, e.what());
       return 128 + e.signal();

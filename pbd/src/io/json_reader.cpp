@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "pbd/io/input_checks.h"
+
 namespace pbd::scene_io {
 namespace {
 
@@ -145,6 +147,12 @@ class DocumentBuilder {
 
   bool open(Json container) {
     const std::string path = valuePath();
+    // Without a limit, 100 000 nested '[' cost seconds and gigabytes (every level keeps its
+    // path) before failing somewhere else.
+    if (stack_.size() >= static_cast<std::size_t>(kMaxJsonDepth)) {
+      sink_.error(path, "arrays and objects nested deeper than " + std::to_string(kMaxJsonDepth) +
+                            " levels (the limit for scene files)");
+    }
     Json* placed = place(std::move(container));
     stack_.push_back(Frame{placed, path, {}, 0});
     return true;
@@ -194,7 +202,8 @@ void DiagnosticSink::error(const std::string& jsonPath, const std::string& messa
 
 void DiagnosticSink::warn(const std::string& jsonPath, const std::string& message) {
   if (strict_) error(jsonPath, message + " [strict: warnings are errors]");
-  warnings_.push_back(SceneDiagnostic{file_, jsonPath, message});
+  warnings_.push_back(
+      SceneDiagnostic{printableText(file_), printableText(jsonPath), printableText(message)});
 }
 
 // ---------------------------------------------------------------------------------------------

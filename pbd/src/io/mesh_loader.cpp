@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "pbd/io/input_checks.h"
 #include "pbd/io/number_text.h"
 #include "pbd/io/scene_loader.h"
 
@@ -22,9 +23,8 @@ using Tokens = std::vector<std::string>;
 // error names the file and the current line.
 class TokenizedFile {
  public:
-  explicit TokenizedFile(const std::string& path) : path_(path), stream_(path) {
-    if (!stream_) failFile("cannot open file");
-  }
+  /// Reads `text`; `path` names it in messages.
+  TokenizedFile(const std::string& text, const std::string& path) : path_(path), stream_(text) {}
 
   /// The tokens of the next non-empty line; false at the end of the file.
   bool next(Tokens& tokens) {
@@ -65,7 +65,7 @@ class TokenizedFile {
 
  private:
   std::string path_;
-  std::ifstream stream_;
+  std::istringstream stream_;
   int lineNumber_ = 0;
 };
 
@@ -148,9 +148,21 @@ void expectEnd(TokenizedFile& file, std::size_t count, const char* what) {
   }
 }
 
+/// The whole file; a folder, device or FIFO is refused with what it is.
+std::string readWholeFile(const std::string& path) {
+  const std::string problem = inputFileProblem(path, "mesh");
+  if (!problem.empty()) throw SceneError(SceneDiagnostic{path, "", problem});
+  std::ifstream stream(path, std::ios::binary);
+  if (!stream) throw SceneError(SceneDiagnostic{path, "", "cannot open file"});
+  std::ostringstream text;
+  text << stream.rdbuf();
+  return text.str();
+}
+
 // Reads a .node file; returns the index base (0 or 1).
-int readTetGenNodes(const std::string& path, std::vector<Vector3>& vertices) {
-  TokenizedFile file(path);
+int readTetGenNodes(const std::string& text, const std::string& path,
+                    std::vector<Vector3>& vertices) {
+  TokenizedFile file(text, path);
   Tokens tokens;
   if (!file.next(tokens)) file.failFile("empty file (expected the header 'n 3 nattr nmarkers')");
   if (tokens.size() > 4) file.fail("expected the header 'n 3 nattr nmarkers'");
@@ -185,8 +197,9 @@ int readTetGenNodes(const std::string& path, std::vector<Vector3>& vertices) {
   return base;
 }
 
-void readTetGenElements(const std::string& path, int nodeBase, TetMesh& mesh) {
-  TokenizedFile file(path);
+void readTetGenElements(const std::string& text, const std::string& path, int nodeBase,
+                        TetMesh& mesh) {
+  TokenizedFile file(text, path);
   Tokens tokens;
   if (!file.next(tokens)) file.failFile("empty file (expected the header 'n 4 nattr')");
   if (tokens.size() > 3) file.fail("expected the header 'n 4 nattr'");
@@ -235,7 +248,11 @@ void readTetGenElements(const std::string& path, int nodeBase, TetMesh& mesh) {
 }  // namespace
 
 TriangleMesh loadObj(const std::string& path) {
-  TokenizedFile file(path);
+  return parseObj(readWholeFile(path), path);
+}
+
+TriangleMesh parseObj(const std::string& text, const std::string& sourceName) {
+  TokenizedFile file(text, sourceName);
   TriangleMesh mesh;
   Tokens tokens;
   while (file.next(tokens)) {
@@ -253,9 +270,15 @@ TriangleMesh loadObj(const std::string& path) {
 }
 
 TetMesh loadTetGen(const std::string& nodePath, const std::string& elePath) {
+  const std::string nodeText = readWholeFile(nodePath);
+  return parseTetGen(nodeText, readWholeFile(elePath), nodePath, elePath);
+}
+
+TetMesh parseTetGen(const std::string& nodeText, const std::string& eleText,
+                    const std::string& nodeName, const std::string& eleName) {
   TetMesh mesh;
-  const int nodeBase = readTetGenNodes(nodePath, mesh.vertices);
-  readTetGenElements(elePath, nodeBase, mesh);
+  const int nodeBase = readTetGenNodes(nodeText, nodeName, mesh.vertices);
+  readTetGenElements(eleText, eleName, nodeBase, mesh);
   return mesh;
 }
 

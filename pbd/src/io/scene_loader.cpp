@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "pbd/io/input_checks.h"
 #include "scene_reading.h"
 
 namespace pbd {
@@ -47,7 +48,8 @@ KeyTable<SimulationSettings> simulationKeys() {
       numberKey("contactStiffnessRigidBody", &S::contactStiffnessRigidBody, nonNegative()),
       numberKey("contactStiffnessParticleRigidBody", &S::contactStiffnessParticleRigidBody,
                 nonNegative()),
-      {"contactCombineRule", [](const JsonValue& v, S& s) { s.contactCombineRule = combineRule(v); }},
+      {"contactCombineRule",
+       [](const JsonValue& v, S& s) { s.contactCombineRule = combineRule(v); }},
       {"contactModel", [](const JsonValue& v, S& s) { s.contactModel = contactModel(v); }},
 
       integerKey("clothSimulationMethod", &S::clothSimulationMethod, between(0, 4)),
@@ -213,6 +215,9 @@ LoadedScene parseScene(const std::string& jsonText, const std::string& sourcePat
 }
 
 LoadedScene loadScene(const std::string& path, const LoadOptions& options) {
+  // A folder, /dev/null or a FIFO would read as empty (or block): say what it is instead.
+  const std::string problem = inputFileProblem(path, "scene");
+  if (!problem.empty()) throw SceneError(SceneDiagnostic{path, "", problem});
   std::ifstream stream(path, std::ios::binary);
   if (!stream) throw SceneError(SceneDiagnostic{path, "", "cannot open the scene file"});
   std::ostringstream text;

@@ -1,0 +1,122 @@
+#!/usr/bin/env bash
+# pbdval's command line on bad inputs and special output paths (issue 9, docs/cli.md): every
+# case must end with the documented exit status and a message saying what is wrong; no special
+# file may be replaced. Device nodes are made in the work folder (mknod), never /dev itself.
+# Usage: cli_fail_closed.sh PBDVAL SOURCE_DIR WORK_DIR
+set -uo pipefail
+pbdval=$1 source=$2 work=$3
+rm -rf "$work" && mkdir -p "$work"
+scene=$source/cases/contact_sphere_drop.json
+failures=0 tried=0
+
+fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
+# expect STATUS TEXT -- COMMAND...: exit status STATUS and TEXT in stdout+stderr.
+expect() {
+  local want=$1 text=$2; shift 3
+  tried=$((tried + 1))
+  local out status
+  out=$("$@" 2>&1); status=$?
+  [[ $status -eq $want ]] || fail "exit $status (expected $want): $* :: $out"
+  [[ "$out" == *"$text"* ]] || fail "'$text' not in the output of: $* :: $out"
+}
+sim=("$pbdval" simulate "$scene" --duration 0.05 --quiet)
+
+# --- CLI basics
+expect 0 "precision: pbd::Real = double" -- "$pbdval" --version
+expect 0 "usage: pbdval run" -- "$pbdval" help run
+expect 2 "unknown command 'nope'" -- "$pbdval" help nope
+example=$("$pbdval" simulate --help | grep -o 'example: pbdval simulate [^ ]*' | awk '{print $4}')
+[[ -f "$source/$example" ]] || fail "the example of 'simulate --help' ($example) does not exist"
+
+# --- --out special files
+mkfifo "$work/fifo"
+cat "$work/fifo" >"$work/from_fifo.csv" &
+reader=$!
+expect 0 "" -- "${sim[@]}" --out "$work/fifo"
+wait $reader
+[[ -p "$work/fifo" ]] || fail "the FIFO was replaced"
+head -1 "$work/from_fifo.csv" | grep -q '^t,id,x' || fail "nothing came through the FIFO"
+
+echo old >"$work/target.csv" && ln -s target.csv "$work/link.csv"
+expect 0 "" -- "${sim[@]}" --out "$work/link.csv"
+[[ -L "$work/link.csv" ]] || fail "the symlink was replaced"
+head -1 "$work/target.csv" | grep -q '^t,id,x' || fail "the symlink's target was not written"
+
+# /dev/stdout into a pipe (it resolves to /proc/self/fd/1 -> "pipe:[N]").
+header=$("${sim[@]}" --out /dev/stdout | head -1)
+[[ "$header" == t,id,x* ]] || fail "--out /dev/stdout into a pipe: got '$header'"
+"${sim[@]}" --out /dev/stdout >"$work/redirected.csv"
+head -1 "$work/redirected.csv" | grep -q '^t,id,x' || fail "--out /dev/stdout into a file"
+
+mkdir "$work/folder"
+expect 2 "is a folder, not a file" -- "${sim[@]}" --out "$work/folder"
+expect 2 "proc file system" -- "${sim[@]}" --out /proc/self/pbdval-out.csv
+expect 2 "plain is a regular file, not a folder" -- \
+  bash -c "touch '$work/plain' && $(printf '%q ' "${sim[@]}") --out '$work/plain/x.csv'"
+if mknod "$work/null" c 1 3 2>/dev/null && mknod "$work/full" c 1 7 2>/dev/null; then
+  expect 0 "" -- "${sim[@]}" --out "$work/null"
+  [[ -c "$work/null" ]] || fail "the null device node was replaced"
+  expect 2 "No space left on device" -- "${sim[@]}" --out "$work/full"
+  [[ -c "$work/full" ]] || fail "the full device node was replaced"
+  expect 2 "No space left on device" -- "$pbdval" distance --samples 2 --json "$work/full"
+else
+  echo "note: mknod not permitted here; device-node cases skipped" >&2
+fi
+# Standard output on a full device (a shell redirection: /dev/full itself is not touched).
+if [[ -w /dev/full ]]; then
+  expect 2 "standard output failed" -- bash -c "$(printf '%q ' "${sim[@]}") >/dev/full"
+fi
+
+# Commands that compute before writing check their output path first.
+expect 2 "proc file system" -- timeout 20 "$pbdval" run "$scene" --engines pbd --out /proc/self/pbdval-run
+expect 2 "is a folder, not a file" -- timeout 20 "$pbdval" distance --json "$work/folder"
+expect 2 "is a character device, not a folder" -- timeout 20 "$pbdval" sweep "$scene" --out /dev/null --param subSteps=1,2
+
+# --- scenes that are not regular files, or hostile
+expect 2 "the scene is a character device, not a regular file" -- "$pbdval" simulate /dev/null
+expect 2 "the scene is a folder, not a file" -- "$pbdval" simulate "$work/folder"
+expect 2 "the scene is a FIFO, not a regular file" -- "$pbdval" simulate "$work/fifo"
+python3 -c "import sys; sys.stdout.write('{\"Name\": ' + '[' * 100000)" >"$work/deep.json"
+expect 2 "deep.json: Name" -- timeout 20 "$pbdval" simulate "$work/deep.json"
+expect 2 "nested deeper than 64 levels" -- timeout 20 "$pbdval" simulate "$work/deep.json"
+printf '{"Na\xffme": 1}' >"$work/utf8.json"
+expect 2 'invalid JSON at line 1' -- "$pbdval" simulate "$work/utf8.json"
+expect 2 '\xFF' -- "$pbdval" simulate "$work/utf8.json"
+
+# --- the gate fails closed
+"$pbdval" run "$scene" --engines pbd --out "$work/run" --no-trajectories --quiet >/dev/null ||
+  fail "pbdval run failed"
+"$pbdval" baseline --results "$work/run" --out "$work/baseline.json" >/dev/null ||
+  fail "pbdval baseline failed"
+expect 0 "pbdval gate: passed" -- "$pbdval" gate --baseline "$work/baseline.json" --results "$work/run"
+expect 2 'no case "no_such_case" in the baseline or the results' -- \
+  "$pbdval" gate --baseline "$work/baseline.json" --results "$work/run" --cases no_such_case
+python3 - "$work" <<'PY'
+import json, sys
+work = sys.argv[1]
+base = json.load(open(f"{work}/baseline.json"))
+base["runs"] = []
+json.dump(base, open(f"{work}/empty_baseline.json", "w"))
+results = json.load(open(f"{work}/run/results.json"))
+no_cases = dict(results); del no_cases["cases"]
+json.dump(no_cases, open(f"{work}/no_cases.json", "w"))
+dup = dict(results); dup["runs"] = results["runs"] + results["runs"]
+json.dump(dup, open(f"{work}/duplicate.json", "w"))
+null = json.loads(json.dumps(results))
+null["runs"][0]["metrics"]["energy_drift_max"] = None
+json.dump(null, open(f"{work}/null_metric.json", "w"))
+PY
+expect 2 "runs: expected a non-empty array" -- \
+  "$pbdval" gate --baseline "$work/empty_baseline.json" --results "$work/run"
+expect 2 'missing required key "cases"' -- \
+  "$pbdval" gate --baseline "$work/baseline.json" --results "$work/no_cases.json"
+expect 1 "appears more than once" -- \
+  "$pbdval" gate --baseline "$work/baseline.json" --results "$work/duplicate.json"
+expect 2 "metric energy_drift_max is nan" -- \
+  "$pbdval" baseline --results "$work/null_metric.json" --out "$work/null_baseline.json"
+[[ ! -e "$work/null_baseline.json" ]] || fail "a baseline was written from a null metric"
+expect 2 "is a folder, not a file" -- \
+  "$pbdval" gate --baseline "$work/baseline.json" --results "$work/run" --junit "$work/folder"
+
+echo "cli_fail_closed: $tried bad or special inputs tried, $failures failures"
+[[ $failures -eq 0 ]]

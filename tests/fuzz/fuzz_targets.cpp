@@ -1,0 +1,69 @@
+#include "fuzz_targets.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+#include "adapters/built_in_engines.h"
+#include "fuzz_support.h"
+#include "pbd/io/scene_loader.h"
+#include "validation/case_spec.h"
+#include "validation/gate.h"
+#include "validation/results.h"
+
+namespace pbdval::fuzz {
+void caseSpecTarget(const std::uint8_t* data, std::size_t size) {
+  pbd::LoadedScene loaded;
+  try {
+    loaded = pbd::parseScene(text(data, size), kSceneName);
+  } catch (const pbd::SceneError& e) {
+    expectPrintable(e.what());
+    return;
+  }
+  try {
+    // The engines a case may name: the built-in ones, made once (immutable).
+    static const EngineRegistry engines = builtInEngines();
+    (void)parseCaseSpec(loaded.scene, engines);
+  } catch (const std::invalid_argument& e) {  // the documented error of parseCaseSpec
+    expectPrintable(e.what());
+  }
+}
+
+void resultsTarget(const std::uint8_t* data, std::size_t size) {
+  try {
+    const ResultsFile results = parseResultsText(text(data, size), "results.json");
+    // What the gate does with it next (against its own baseline): nothing may throw there.
+    try {
+      (void)evaluateGate(baselineFromResults(results), results);
+    } catch (const std::invalid_argument& e) {
+      expectPrintable(e.what());
+    }
+  } catch (const std::invalid_argument& e) {
+    expectPrintable(e.what());
+  }
+}
+
+void baselineTarget(const std::uint8_t* data, std::size_t size) {
+  try {
+    const Baseline baseline = parseBaselineText(text(data, size), "baseline.json");
+    (void)evaluateGate(baseline, ResultsFile{});
+  } catch (const std::invalid_argument& e) {
+    expectPrintable(e.what());
+  }
+}
+
+const std::vector<NamedTarget>& allTargets() {  // the library targets first
+  static const std::vector<NamedTarget> targets = {
+      {"scene", &sceneTarget},
+      {"case_spec", &caseSpecTarget},
+      {"obj", &objTarget},
+      {"tetgen", &tetGenTarget},
+      {"results", &resultsTarget},
+      {"baseline", &baselineTarget},
+      {"trajectory", &trajectoryTarget},
+  };
+  return targets;
+}
+
+}  // namespace pbdval::fuzz

@@ -1,0 +1,85 @@
+// validation's readers on hostile input: the trajectory CSV reader and results.json metadata.
+// Each case was accepted, or escaped as the wrong exception, before (issue 9).
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <stdexcept>
+
+#include "validation/results.h"
+#include "validation/trajectory.h"
+
+namespace pbdval {
+namespace {
+
+const std::string kHeader = std::string(kTrajectoryCsvHeader) + "\n";
+const std::string kRow = "0.5,1,0,1,2,1,0,0,0,0,0,0,0,0,0\n";
+
+template <class Exception, class F>
+std::string errorOf(F f) {
+  try {
+    f();
+  } catch (const Exception& e) {
+    return e.what();
+  }
+  return "(no error of the expected type)";
+}
+
+TEST(TrajectoryCsv, ReadsWhatWriteCsvRowsWrites) {
+  State state;
+  state.time = 0.25;
+  BodyState body;
+  body.id = 7;
+  body.position = Vector3(1, -2, 3);
+  state.bodies = {body};
+  std::ostringstream csv;
+  writeCsvHeader(csv);
+  writeCsvRows(csv, state);
+  const Trajectory t = parseTrajectoryCsv(csv.str(), "t.csv");
+  ASSERT_EQ(t.samples.size(), 1u);
+  EXPECT_EQ(t.samples[0].bodies.at(0).id, 7);
+  EXPECT_EQ(t.samples[0].bodies.at(0).position, Vector3(1, -2, 3));  // exact: shortest round trip
+}
+
+TEST(TrajectoryCsv, NonFiniteNumbersAndBadIdsAreLocatedErrors) {
+  EXPECT_EQ(parseTrajectoryCsv(kHeader + kRow, "t.csv").samples.size(), 1u);
+  EXPECT_NE(errorOf<std::runtime_error>([&] {
+              parseTrajectoryCsv(kHeader + kRow + "0.6,1,nan,1,2,1,0,0,0,0,0,0,0,0,0\n", "t.csv");
+            }).find("t.csv: line 3: field 3 is not a finite number"),
+            std::string::npos);
+  EXPECT_NE(errorOf<std::runtime_error>([&] {
+              parseTrajectoryCsv(kHeader + "inf,1,0,1,2,1,0,0,0,0,0,0,0,0,0\n", "t.csv");
+            }).find("line 2: field 1 is not a finite number"),
+            std::string::npos);
+  // 1e300 as an int is undefined behaviour; 1.5 is not an id.
+  for (const char* id : {"1e300", "1.5", "-3e9"})
+    EXPECT_NE(errorOf<std::runtime_error>([&] {
+                parseTrajectoryCsv(
+                    kHeader + "0," + std::string(id) + ",0,1,2,1,0,0,0,0,0,0,0,0,0\n", "t.csv");
+              }).find("line 2: the body id (field 2) is not an integer"),
+              std::string::npos)
+        << id;
+  EXPECT_NE(errorOf<std::runtime_error>([] {
+              readTrajectoryCsv("/dev/null");
+            }).find("/dev/null: the trajectory is a character device, not a regular file"),
+            std::string::npos);
+}
+
+TEST(ResultsReader, MetadataOfTheWrongTypeIsALocatedError) {
+  const std::string head = R"({"schema": "pbdval-results", "schemaVersion": )" +
+                           std::to_string(kResultsSchemaVersion) + R"(, "cases": {}, "runs": [], )";
+  EXPECT_NE(errorOf<std::invalid_argument>([&] {
+              parseResultsText(head + R"("metadata": 5})", "r.json");
+            }).find("r.json: metadata: expected an object, got 5"),
+            std::string::npos);
+  EXPECT_NE(errorOf<std::invalid_argument>([&] {
+              parseResultsText(head + R"("metadata": {"machine": {"cores": "x"}}})", "r.json");
+            }).find("metadata.machine.cores: expected an integer"),
+            std::string::npos);
+  EXPECT_NE(errorOf<std::invalid_argument>([&] {
+              parseResultsText(head + R"("metadata": {"pbdval": {"commit": 3}}})", "r.json");
+            }).find("metadata.pbdval.commit: expected a string, got 3"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace pbdval
