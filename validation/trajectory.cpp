@@ -67,8 +67,9 @@ Trajectory parseTrajectoryCsv(const std::string& text, const std::string& source
           (f == 14 && r.ptr != end))
         throw std::runtime_error(path + ": line " + std::to_string(lineNumber) +
                                  ": expected 15 comma-separated numbers");
-      // from_chars accepts "nan" and "inf": no trajectory holds them.
-      if (!std::isfinite(fields[f]))
+      // The time and the id must be finite; a state may not be: a diverged run's last sample
+      // holds its NaN or inf (the runner then reports the run diverged).
+      if (f < 2 && !std::isfinite(fields[f]))
         throw std::runtime_error(path + ": line " + std::to_string(lineNumber) + ": field " +
                                  std::to_string(f + 1) + " is not a finite number");
       p = r.ptr + 1;

@@ -16,7 +16,8 @@ namespace fs = std::filesystem;
 
 }  // namespace
 
-// Test names and failure messages show the target's name.
+// Test names and failure messages show the target's name (found by GoogleTest through ADL).
+void PrintTo(const NamedTarget& target, std::ostream* out);
 void PrintTo(const NamedTarget& target, std::ostream* out) {
   *out << target.name;
 }
