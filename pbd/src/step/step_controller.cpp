@@ -2,40 +2,10 @@
 
 #include "pbd/model/world.h"
 #include "pbd/step/time_integration.h"
+#include "pbd/step/world_integration.h"
 
 namespace pbd {
 namespace {
-
-void resetAccelerations(World& world) {
-  const Vector3& g = world.settings.gravitation;
-  auto& rigid = world.bodies.rigid;
-  for (std::size_t i = 0; i < rigid.size(); ++i)
-    rigid.acceleration[i] = rigid.isDynamic(i) ? g : Vector3::Zero();
-  auto& particles = world.bodies.particles;
-  for (std::size_t i = 0; i < particles.size(); ++i)
-    particles.acceleration[i] = particles.inverseMass[i] > 0 ? g : Vector3::Zero();
-}
-
-void predict(World& world, Real h) {
-  auto& b = world.bodies.rigid;
-  for (std::size_t i = 0; i < b.size(); ++i) {
-    b.lastPosition[i] = b.oldPosition[i];
-    b.oldPosition[i] = b.position[i];
-    integration::semiImplicitEuler(h, b.inverseMass[i], b.position[i], b.velocity[i],
-                                   b.acceleration[i]);
-    b.lastRotation[i] = b.oldRotation[i];
-    b.oldRotation[i] = b.rotation[i];
-    integration::semiImplicitEulerRotation(h, b.inverseMass[i], b.inertia[i], b.inverseInertia[i],
-                                           b.rotation[i], b.angularVelocity[i], b.torque[i]);
-  }
-  auto& p = world.bodies.particles;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    p.lastPosition[i] = p.oldPosition[i];
-    p.oldPosition[i] = p.position[i];
-    integration::semiImplicitEuler(h, p.inverseMass[i], p.position[i], p.velocity[i],
-                                   p.acceleration[i]);
-  }
-}
 
 void projectPositions(World& world, Real h) {
   for (Joint& joint : world.joints)
@@ -43,30 +13,6 @@ void projectPositions(World& world, Real h) {
   for (int iteration = 0; iteration < world.settings.maxIterations; ++iteration)
     for (Joint& joint : world.joints)
       std::visit([&](auto& j) { j.solvePosition(world.bodies, h); }, joint);
-}
-
-void updateVelocities(World& world, Real h) {
-  const bool secondOrder = world.settings.velocityUpdateMethod == 1;
-  auto& b = world.bodies.rigid;
-  for (std::size_t i = 0; i < b.size(); ++i) {
-    if (secondOrder)
-      integration::velocityUpdateSecondOrder(h, b.inverseMass[i], b.position[i], b.oldPosition[i],
-                                             b.lastPosition[i], b.velocity[i]);
-    else
-      integration::velocityUpdateFirstOrder(h, b.inverseMass[i], b.position[i], b.oldPosition[i],
-                                            b.velocity[i]);
-    integration::angularVelocityUpdateFirstOrder(h, b.inverseMass[i], b.rotation[i],
-                                                 b.oldRotation[i], b.angularVelocity[i]);
-  }
-  auto& p = world.bodies.particles;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (secondOrder)
-      integration::velocityUpdateSecondOrder(h, p.inverseMass[i], p.position[i], p.oldPosition[i],
-                                             p.lastPosition[i], p.velocity[i]);
-    else
-      integration::velocityUpdateFirstOrder(h, p.inverseMass[i], p.position[i], p.oldPosition[i],
-                                            p.velocity[i]);
-  }
 }
 
 /// Collision detection on the positions after the substeps; contacts are set up from the
@@ -99,9 +45,9 @@ void stepWorld(World& world) {
     std::visit([&](auto& j) { j.updateTarget(endTime); }, joint);
   resetAccelerations(world);
   for (int s = 0; s < substeps; ++s) {
-    predict(world, hs);
+    predictPositions(world, hs);
     projectPositions(world, hs);
-    updateVelocities(world, hs);
+    updateVelocities(world, hs, world.settings.velocityUpdateMethod == 1);
   }
   detectContacts(world);
   projectVelocities(world);

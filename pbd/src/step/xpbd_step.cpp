@@ -6,19 +6,10 @@
 
 #include "pbd/model/world.h"
 #include "pbd/step/time_integration.h"
+#include "pbd/step/world_integration.h"
 
 namespace pbd {
 namespace {
-
-void resetAccelerations(World& world) {
-  const Vector3& g = world.settings.gravitation;
-  auto& rigid = world.bodies.rigid;
-  for (std::size_t i = 0; i < rigid.size(); ++i)
-    rigid.acceleration[i] = rigid.isDynamic(i) ? g : Vector3::Zero();
-  auto& particles = world.bodies.particles;
-  for (std::size_t i = 0; i < particles.size(); ++i)
-    particles.acceleration[i] = particles.inverseMass[i] > 0 ? g : Vector3::Zero();
-}
 
 /// contactTolerance + speculativeMargin · h · (the largest speed of any point in the world).
 Real detectionTolerance(const World& world) {
@@ -33,41 +24,6 @@ Real detectionTolerance(const World& world) {
     if (p.inverseMass[i] > 0) speed = std::max(speed, p.velocity[i].norm());
   return world.settings.contactTolerance +
          world.settings.xpbd.speculativeMargin * world.settings.timeStepSize * speed;
-}
-
-void predict(World& world, Real h) {
-  auto& b = world.bodies.rigid;
-  for (std::size_t i = 0; i < b.size(); ++i) {
-    b.lastPosition[i] = b.oldPosition[i];
-    b.oldPosition[i] = b.position[i];
-    integration::semiImplicitEuler(h, b.inverseMass[i], b.position[i], b.velocity[i],
-                                   b.acceleration[i]);
-    b.lastRotation[i] = b.oldRotation[i];
-    b.oldRotation[i] = b.rotation[i];
-    integration::semiImplicitEulerRotation(h, b.inverseMass[i], b.inertia[i], b.inverseInertia[i],
-                                           b.rotation[i], b.angularVelocity[i], b.torque[i]);
-  }
-  auto& p = world.bodies.particles;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    p.lastPosition[i] = p.oldPosition[i];
-    p.oldPosition[i] = p.position[i];
-    integration::semiImplicitEuler(h, p.inverseMass[i], p.position[i], p.velocity[i],
-                                   p.acceleration[i]);
-  }
-}
-
-void updateVelocities(World& world, Real h) {
-  auto& b = world.bodies.rigid;
-  for (std::size_t i = 0; i < b.size(); ++i) {
-    integration::velocityUpdateFirstOrder(h, b.inverseMass[i], b.position[i], b.oldPosition[i],
-                                          b.velocity[i]);
-    integration::angularVelocityUpdateFirstOrder(h, b.inverseMass[i], b.rotation[i],
-                                                 b.oldRotation[i], b.angularVelocity[i]);
-  }
-  auto& p = world.bodies.particles;
-  for (std::size_t i = 0; i < p.size(); ++i)
-    integration::velocityUpdateFirstOrder(h, p.inverseMass[i], p.position[i], p.oldPosition[i],
-                                          p.velocity[i]);
 }
 
 void solvePositions(World& world, Real h) {
@@ -126,11 +82,11 @@ void stepWorldXpbd(World& world) {
     const Real substepEnd = startTime + static_cast<Real>(s + 1) * hs;
     for (Joint& joint : world.joints)
       std::visit([&](auto& j) { j.updateTarget(substepEnd); }, joint);
-    predict(world, hs);
+    predictPositions(world, hs);
     for (XpbdContact& contact : world.xpbd.contacts.contacts)
       contact.beginSubstep(world.bodies);
     solvePositions(world, hs);
-    updateVelocities(world, hs);
+    updateVelocities(world, hs, /*secondOrder=*/false);  // XPBD: first order (the paper)
     solveVelocities(world, hs);
   }
 

@@ -1,0 +1,62 @@
+#include "pbd/step/world_integration.h"
+
+#include "pbd/model/world.h"
+#include "pbd/step/time_integration.h"
+
+namespace pbd {
+
+void resetAccelerations(World& world) {
+  const Vector3& g = world.settings.gravitation;
+  auto& rigid = world.bodies.rigid;
+  for (std::size_t i = 0; i < rigid.size(); ++i)
+    rigid.acceleration[i] = rigid.isDynamic(i) ? g : Vector3::Zero();
+  auto& particles = world.bodies.particles;
+  for (std::size_t i = 0; i < particles.size(); ++i)
+    particles.acceleration[i] = particles.inverseMass[i] > 0 ? g : Vector3::Zero();
+}
+
+void predictPositions(World& world, Real h) {
+  auto& b = world.bodies.rigid;
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    b.lastPosition[i] = b.oldPosition[i];
+    b.oldPosition[i] = b.position[i];
+    integration::semiImplicitEuler(h, b.inverseMass[i], b.position[i], b.velocity[i],
+                                   b.acceleration[i]);
+    b.lastRotation[i] = b.oldRotation[i];
+    b.oldRotation[i] = b.rotation[i];
+    integration::semiImplicitEulerRotation(h, b.inverseMass[i], b.inertia[i], b.inverseInertia[i],
+                                           b.rotation[i], b.angularVelocity[i], b.torque[i]);
+  }
+  auto& p = world.bodies.particles;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    p.lastPosition[i] = p.oldPosition[i];
+    p.oldPosition[i] = p.position[i];
+    integration::semiImplicitEuler(h, p.inverseMass[i], p.position[i], p.velocity[i],
+                                   p.acceleration[i]);
+  }
+}
+
+void updateVelocities(World& world, Real h, bool secondOrder) {
+  auto& b = world.bodies.rigid;
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    if (secondOrder)
+      integration::velocityUpdateSecondOrder(h, b.inverseMass[i], b.position[i], b.oldPosition[i],
+                                             b.lastPosition[i], b.velocity[i]);
+    else
+      integration::velocityUpdateFirstOrder(h, b.inverseMass[i], b.position[i], b.oldPosition[i],
+                                            b.velocity[i]);
+    integration::angularVelocityUpdateFirstOrder(h, b.inverseMass[i], b.rotation[i],
+                                                 b.oldRotation[i], b.angularVelocity[i]);
+  }
+  auto& p = world.bodies.particles;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (secondOrder)
+      integration::velocityUpdateSecondOrder(h, p.inverseMass[i], p.position[i], p.oldPosition[i],
+                                             p.lastPosition[i], p.velocity[i]);
+    else
+      integration::velocityUpdateFirstOrder(h, p.inverseMass[i], p.position[i], p.oldPosition[i],
+                                            p.velocity[i]);
+  }
+}
+
+}  // namespace pbd
