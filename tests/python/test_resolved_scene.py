@@ -123,7 +123,12 @@ def test_export_to_a_file_equals_standard_output(pbdval_binary: Path, tmp_path: 
                             capture_output=True, text=True, cwd=REPO, check=False)
     assert result.returncode == 0, result.stderr
     document = json.loads(out.read_text())
-    assert document["method"] == {"name": "pybullet.si", "parameters": {}}
+    # --method fills in the method's parameters at their defaults, typed, as the runner passes
+    # them: the catalogue's declarations.
+    catalogue = json.loads((REPO / "engines" / "pybullet.json").read_text())
+    declared = next(m for m in catalogue["methods"] if m["name"] == "pybullet.si")["parameters"]
+    assert document["method"] == {"name": "pybullet.si",
+                                  "parameters": {p["name"]: p["default"] for p in declared}}
     assert document["duration"] == 0.5 and document["steps"] == 100  # 0.5 s / 5 ms
     assert document == {**export(pbdval_binary, "joint_hinge", "--method", "pybullet.si",
                                  "--duration", "0.5"), "method": document["method"]}
