@@ -94,19 +94,7 @@ def run(scene: pp.ResolvedScene, out_dir: Path) -> pp.Status:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = pp.parse_arguments(argv, __doc__.splitlines()[0])
-    try:
-        scene = pp.read_resolved_scene(args.scene)
-        missing = unsupported_features(scene)
-        if missing:
-            status = pp.Status("unsupported", reason="; ".join(missing), unsupported=missing,
-                               engine_version=ENGINE_VERSION)
-        else:
-            status = run(scene, args.out)
-    except Exception as e:  # every failure becomes status "error" with its message
-        status = pp.Status("error", reason=f"{type(e).__name__}: {e}", engine_version=ENGINE_VERSION)
-    pp.write_status(args.out, status)
-    return 0
+    return pp.serve(argv, __doc__.splitlines()[0], unsupported_features, run, ENGINE_VERSION)
 
 
 if __name__ == "__main__":

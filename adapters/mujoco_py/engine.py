@@ -351,19 +351,8 @@ class MujocoRun:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = pp.parse_arguments(argv, "MuJoCo (Python) as a pbdval external engine")
-    try:
-        scene = pp.read_resolved_scene(args.scene)
-        missing = unsupported_features(scene)
-        if missing:
-            status = pp.Status("unsupported", reason="; ".join(missing), unsupported=missing,
-                               engine_version=engine_version())
-        else:
-            status = MujocoRun(scene).run(args.out)
-    except Exception as e:  # every failure becomes status "error" with its message
-        status = pp.Status("error", reason=f"{type(e).__name__}: {e}", engine_version=engine_version())
-    pp.write_status(args.out, status)
-    return 0
+    return pp.serve(argv, "MuJoCo (Python) as a pbdval external engine", unsupported_features,
+                    lambda scene, out: MujocoRun(scene).run(out), engine_version())
 
 
 if __name__ == "__main__":

@@ -23,7 +23,7 @@ import os
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterable, Mapping, Sequence, TextIO
+from typing import Any, Callable, Iterable, Mapping, Sequence, TextIO
 
 PROTOCOL_VERSION = 1
 RESOLVED_SCENE_FORMAT = "pbdval.resolved-scene"
@@ -655,6 +655,28 @@ def parse_arguments(argv: Sequence[str] | None, description: str) -> EngineArgum
     if not ns.out.is_dir():
         parser.error(f"--out {ns.out}: not an existing directory")
     return EngineArguments(scene=ns.scene, out=ns.out)
+
+
+def serve(argv: Sequence[str] | None, description: str,
+          unsupported_features: Callable[[ResolvedScene], list[str]],
+          run: Callable[[ResolvedScene, Path], Status], engine_version: str) -> int:
+    """An engine's whole `main`: parses the arguments, reads the resolved scene, reports what
+    `unsupported_features` names as `unsupported`, else calls `run(scene, out_dir)`; any
+    exception becomes status "error" with its message. Writes status.json and returns 0, as the
+    protocol asks (bad usage exits 2 from `parse_arguments`)."""
+    args = parse_arguments(argv, description)
+    try:
+        scene = read_resolved_scene(args.scene)
+        missing = unsupported_features(scene)
+        if missing:
+            status = Status("unsupported", reason="; ".join(missing), unsupported=missing,
+                            engine_version=engine_version)
+        else:
+            status = run(scene, args.out)
+    except Exception as e:  # every failure becomes status "error" with its message
+        status = Status("error", reason=f"{type(e).__name__}: {e}", engine_version=engine_version)
+    write_status(args.out, status)
+    return 0
 
 
 # ---------------------------------------------------------------------------------------------
