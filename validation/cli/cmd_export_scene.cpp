@@ -45,24 +45,14 @@ int exportSceneCommand(const Context& context, const Arguments& arguments) {
   const ArgParser parser = exportSceneParser();
   ParsedArgs args;
   if (const auto exit = parser.parseOrExit(arguments, args)) return *exit;
-  const bool quiet = args.flags.count("quiet") > 0;
   const std::string scenePath = args.positionals[0];
 
-  pbd::LoadOptions loadOptions;
-  loadOptions.strict = args.flags.count("strict") > 0;
-  pbd::LoadedScene loaded;
-  try {
-    loaded = pbd::loadScene(scenePath, loadOptions);
-  } catch (const pbd::SceneError& e) {
-    return parser.inputError(e.what());
-  }
-  if (!quiet)
-    for (const auto& w : loaded.warnings)
-      std::fprintf(stderr, "warning: %s\n", w.text().c_str());
+  std::optional<pbd::LoadedScene> loaded = loadCommandScene(parser, args, scenePath);
+  if (!loaded) return 2;
 
   std::string text;
   try {
-    RunLength length = caseRunLength(loaded.scene, context.engines);
+    RunLength length = caseRunLength(loaded->scene, context.engines);
     length.duration = args.number("duration", length.duration);
     length.sampleInterval = args.number("sample-interval", length.sampleInterval);
     // With --method, its parameters at their defaults, typed, as the runner would pass them.
@@ -70,7 +60,7 @@ int exportSceneCommand(const Context& context, const Arguments& arguments) {
     const nlohmann::json parameters = method.empty()
                                           ? nlohmann::json::object()
                                           : methodParametersJson(context.engines.resolve(method));
-    const nlohmann::json document = resolvedSceneJson(loaded.scene, method, parameters, length);
+    const nlohmann::json document = resolvedSceneJson(loaded->scene, method, parameters, length);
     text = jsonText(document, 1) + "\n";
   } catch (const UsageError& e) {
     return parser.usageError(e.what());

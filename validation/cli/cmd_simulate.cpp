@@ -59,18 +59,9 @@ int simulateCommand(const Context& context, const Arguments& arguments) {
   const bool quiet = args.flags.count("quiet") > 0;
   const std::string scenePath = args.positionals[0];
 
-  pbd::LoadOptions loadOptions;
-  loadOptions.strict = args.flags.count("strict") > 0;
-  pbd::LoadedScene loaded;
-  try {
-    loaded = pbd::loadScene(scenePath, loadOptions);
-  } catch (const pbd::SceneError& e) {
-    return parser.inputError(e.what());
-  }
-  if (!quiet)
-    for (const auto& w : loaded.warnings)
-      std::fprintf(stderr, "warning: %s\n", w.text().c_str());
-  pbd::Scene& scene = loaded.scene;
+  std::optional<pbd::LoadedScene> loaded = loadCommandScene(parser, args, scenePath);
+  if (!loaded) return 2;
+  pbd::Scene& scene = loaded->scene;
 
   std::string engineName, methodName;
   Method method;

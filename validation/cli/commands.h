@@ -2,10 +2,13 @@
 // process exit code: 0 success, 1 a run or check failed, 2 bad usage or unreadable input.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "adapters/registry.h"
+#include "pbd/io/scene_loader.h"
+#include "validation/cli/args.h"
 
 namespace pbdval::cli {
 
@@ -26,6 +29,11 @@ int sweepCommand(const Context& context, const Arguments& args);
 int distanceCommand(const Context& context, const Arguments& args);
 int baselineCommand(const Context& context, const Arguments& args);
 int exportSceneCommand(const Context& context, const Arguments& args);
+
+/// The scene named on a command's command line, loaded with `--strict` honoured and its
+/// warnings printed unless `--quiet`; nullopt after printing the error (the command exits 2).
+std::optional<pbd::LoadedScene> loadCommandScene(const ArgParser& parser, const ParsedArgs& args,
+                                                 const std::string& path);
 
 struct Command {
   const char* name;
