@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "common/joint_hold.h"
 #include "common/scene_fixtures.h"
 #include "pbd/model/world.h"
 
@@ -27,50 +28,14 @@ void useXpbd(Scene& s, int substeps) {
 
 class XpbdJointHolds : public ::testing::TestWithParam<int> {};
 
-// As in JointMotion (test_joint_motion.cpp): per substep the prediction moves a joint off its
-// constraint by at most δ = h_s² (|a| + (|ω|² + |α|) ℓ) (+ a motor's set-point change · ℓ);
-// one projection with the exact Jacobian (a Newton step, compliance 0) leaves O(δ²/ℓ). We
-// assert max error ≤ max δ/100 (+ round-off) over 3 s, linear and angular (δ/ℓ).
+// As the seed's step (common/joint_hold.h), with XPBD's compliance 0: one projection per
+// substep is a Newton step; the motor's set point moves every substep.
 TEST_P(XpbdJointHolds, ConstraintErrorStaysBelowSubstepBound) {
   const auto type = static_cast<JointType>(GetParam());
   if (type == JointType::RigidBodySpring) GTEST_SKIP() << "compliant: see CompliantDistance";
   Scene scene = test::singleJointScene(type);
   useXpbd(scene, 20);
-  World world = buildWorld(scene);
-  const Real h = scene.simulation.timeStepSize;
-  const Real hs = h / 20;
-  const Vector3 start = scene.rigidBodies[1].initialCenterOfMass();
-  const Real lever = std::max(Real(0.1), (scene.joints[0].position - start).norm());
-  const bool positionMotor =
-      type == JointType::TargetAngleMotorHinge || type == JointType::TargetPositionMotorSlider;
-  const auto& b = world.bodies.rigid;
-  JointError worst;
-  Real maxDelta = 0, maxTravel = 0;
-  for (int n = 0; n < 600; ++n) {
-    const Vector3 v = b.velocity[1], omega = b.angularVelocity[1];
-    const Real targetBefore = scene.joints[0].target.valueAt(world.time);
-    world.step();
-    const Real accel = (b.velocity[1] - v).norm() / h;
-    const Real angularAccel = (b.angularVelocity[1] - omega).norm() / h;
-    // A motor's set point moves every substep: its change over one substep.
-    const Real motorJump =
-        positionMotor ? std::abs(scene.joints[0].target.valueAt(world.time) - targetBefore) / 20
-                      : 0;
-    maxDelta = std::max(maxDelta, hs * hs * (accel + (omega.squaredNorm() + angularAccel) * lever) +
-                                      motorJump * lever);
-    const JointError e = jointError(world.joints[0], world.bodies);
-    worst.linear = std::max(worst.linear, e.linear);
-    worst.angular = std::max(worst.angular, e.angular);
-    maxTravel = std::max(maxTravel, (b.position[1] - start).norm());
-  }
-  ASSERT_TRUE(b.position[1].allFinite());
-  const Real roundOff = 100 * kEpsilon * std::max(Real(1), maxTravel + start.norm());
-  EXPECT_LE(worst.linear, maxDelta / 100 + roundOff) << jointTypeName(type);
-  EXPECT_LE(worst.angular, maxDelta / lever / 100 + roundOff) << jointTypeName(type);
-  EXPECT_GT(maxTravel, 0.005) << jointTypeName(type);
-  std::printf("  %-30s max linear %.3e m, max angular %.3e rad (bound %.1e m)\n",
-              jointTypeName(type), double(worst.linear), double(worst.angular),
-              double(maxDelta / 100));
+  test::expectJointHoldsBelowSubstepBound(scene, type, 20, Real(1) / 20);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllJointTypes, XpbdJointHolds, ::testing::Range(0, kJointTypeCount),
