@@ -62,34 +62,21 @@ def run(scene: pp.ResolvedScene, out_dir: Path) -> pp.Status:
         return [pp.BodyState(b.id, x[i], pp.quat_multiply(q[i], pp.quat_conjugate(b.principal_rotation)),
                              v[i], w[i]) for i, b in enumerate(scene.bodies)]
 
-    sampled = set(scene.sample_steps())
-    status = pp.Status("ok", engine_version=ENGINE_VERSION,
-                       effective_settings={"integrator": "semi-implicit Euler"})
-    writer = pp.TrajectoryWriter(out_dir)
-    try:
-        writer.write(0.0, states())
-        for n in range(1, scene.steps + 1):
-            for i, b in enumerate(scene.bodies):
-                if not b.dynamic:
-                    continue
-                v[i] = v[i] + h * g
-                x[i] = x[i] + h * v[i]
-                r = rotation_matrix(q[i])
-                inertia = r @ np.diag(b.principal_inertia) @ r.T
-                w[i] = w[i] + h * np.linalg.solve(inertia, -np.cross(w[i], inertia @ w[i]))
-                q[i] = q[i] + 0.5 * h * np.array(pp.quat_multiply((0.0, *w[i]), q[i]))
-                q[i] = q[i] / np.linalg.norm(q[i])
-            t = n * h
-            diverged = pp.divergence_reason(t, states())
-            if diverged:
-                writer.write(t, states())
-                status = pp.Status("diverged", reason=diverged, diverged_at=t,
-                                   engine_version=ENGINE_VERSION)
-                break
-            if n in sampled:
-                writer.write(t, states())
-    finally:
-        writer.close()
+    def step() -> None:
+        for i, b in enumerate(scene.bodies):
+            if not b.dynamic:
+                continue
+            v[i] = v[i] + h * g
+            x[i] = x[i] + h * v[i]
+            r = rotation_matrix(q[i])
+            inertia = r @ np.diag(b.principal_inertia) @ r.T
+            w[i] = w[i] + h * np.linalg.solve(inertia, -np.cross(w[i], inertia @ w[i]))
+            q[i] = q[i] + 0.5 * h * np.array(pp.quat_multiply((0.0, *w[i]), q[i]))
+            q[i] = q[i] / np.linalg.norm(q[i])
+
+    status = pp.simulate(scene, out_dir, step, lambda t: states())
+    status.engine_version = ENGINE_VERSION
+    status.effective_settings = {"integrator": "semi-implicit Euler"}
     return status
 
 

@@ -321,28 +321,20 @@ class MujocoRun:
         return out
 
     def run(self, out_dir: Path) -> pp.Status:
-        scene = self.scene
-        sampled = set(scene.sample_steps())
-        status = pp.Status("ok")
         bad_qacc = int(mujoco.mjtWarning.mjWARN_BADQACC)
-        with pp.TrajectoryWriter(out_dir) as writer:
-            writer.write(0.0, self.states())
-            for n in range(1, scene.steps + 1):
-                mujoco.mj_step(self.model, self.data)
-                # mj_step leaves xpos, xquat and cvel at the start of the step (they are computed
-                # before the integration); recompute them for the new state.
-                mujoco.mj_forward(self.model, self.data)
-                t = n * scene.time_step_size
-                states = self.states()
-                reason = pp.divergence_reason(t, states)
-                if reason is None and self.data.warning[bad_qacc].number > 0:
-                    reason = f"MuJoCo reset the state after a bad acceleration at t = {t:g} s"
-                if reason:
-                    writer.write(t, states)
-                    status = pp.Status("diverged", reason=reason, diverged_at=t)
-                    break
-                if n in sampled:
-                    writer.write(t, states)
+
+        def step() -> None:
+            mujoco.mj_step(self.model, self.data)
+            # mj_step leaves xpos, xquat and cvel at the start of the step (they are computed
+            # before the integration); recompute them for the new state.
+            mujoco.mj_forward(self.model, self.data)
+
+        def failure(t: float) -> str | None:
+            if self.data.warning[bad_qacc].number > 0:
+                return f"MuJoCo reset the state after a bad acceleration at t = {t:g} s"
+            return None
+
+        status = pp.simulate(self.scene, out_dir, step, lambda t: self.states(), failure)
         status.engine_version = engine_version()
         status.effective_settings = self.settings
         status.integrator_steps_per_scene_step = 1

@@ -242,22 +242,8 @@ class PybulletRun:
         return out
 
     def run(self, out_dir: Path) -> pp.Status:
-        scene = self.scene
-        sampled = set(scene.sample_steps())
-        status = pp.Status("ok")
-        with pp.TrajectoryWriter(out_dir) as writer:
-            writer.write(0.0, self.states(0.0))
-            for n in range(1, scene.steps + 1):
-                pb.stepSimulation(physicsClientId=self.client)
-                t = n * scene.time_step_size
-                states = self.states(t)
-                reason = pp.divergence_reason(t, states)
-                if reason:
-                    writer.write(t, states)
-                    status = pp.Status("diverged", reason=reason, diverged_at=t)
-                    break
-                if n in sampled:
-                    writer.write(t, states)
+        status = pp.simulate(self.scene, out_dir,
+                             lambda: pb.stepSimulation(physicsClientId=self.client), self.states)
         status.engine_version = engine_version()
         status.effective_settings = self.settings
         status.integrator_steps_per_scene_step = 1

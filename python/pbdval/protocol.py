@@ -657,6 +657,31 @@ def parse_arguments(argv: Sequence[str] | None, description: str) -> EngineArgum
     return EngineArguments(scene=ns.scene, out=ns.out)
 
 
+def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callable[[], None],
+             states: Callable[[float], list[BodyState]],
+             failure: Callable[[float], str | None] = lambda t: None) -> Status:
+    """The run every engine makes: the state at t = 0, then `scene.steps` calls of `step`
+    (one scene step each), writing the samples the runner asks for (`scene.sample_steps()`).
+    Stops at the first divergence (the runner's limits, or what `failure(t)` reports) after
+    writing that state, and returns the status ("ok" or "diverged"); the engine adds its
+    version and settings."""
+    sampled = set(scene.sample_steps())
+    status = Status("ok")
+    with TrajectoryWriter(out_dir) as writer:
+        writer.write(0.0, states(0.0))
+        for n in range(1, scene.steps + 1):
+            step()
+            t = n * scene.time_step_size
+            current = states(t)
+            reason = divergence_reason(t, current) or failure(t)
+            if reason:
+                writer.write(t, current)
+                return Status("diverged", reason=reason, diverged_at=t)
+            if n in sampled:
+                writer.write(t, current)
+    return status
+
+
 def serve(argv: Sequence[str] | None, description: str,
           unsupported_features: Callable[[ResolvedScene], list[str]],
           run: Callable[[ResolvedScene, Path], Status], engine_version: str) -> int:
