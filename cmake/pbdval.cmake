@@ -21,6 +21,9 @@ endif()
 # whatever the optimiser decides (Jolt's rule); no -march=native, so results do not depend on
 # the machine that built them.
 add_compile_options(-ffp-contract=off)
+if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+  add_compile_options(-fno-semantic-interposition)
+endif()
 
 # Warnings for our own targets (third-party headers come in as system includes).
 function(pbdval_warnings target)
@@ -45,6 +48,6 @@ add_custom_target(pbdval_git_info
   COMMENT "Recording the git commit"
   VERBATIM)
 string(TOUPPER "${CMAKE_BUILD_TYPE}" build_type_upper)
-set(PBDVAL_CXX_FLAGS "${CMAKE_CXX_FLAGS} ${CMAKE_CXX_FLAGS_${build_type_upper}} -ffp-contract=off")
+set(PBDVAL_CXX_FLAGS "${CMAKE_CXX_FLAGS} ${CMAKE_CXX_FLAGS_${build_type_upper}} -ffp-contract=off -fPIC -fno-semantic-interposition")
 string(STRIP "${PBDVAL_CXX_FLAGS}" PBDVAL_CXX_FLAGS)
 configure_file(${CMAKE_CURRENT_LIST_DIR}/build_info.h.in ${PROJECT_BINARY_DIR}/generated/pbdval/build_info.h @ONLY)

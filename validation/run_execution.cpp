@@ -137,6 +137,23 @@ void mergeMetrics(MetricSet& into, MetricSet&& from) {
 
 }  // namespace
 
+MetricSet measureSamples(const pbd::Scene& scene, const CaseSpec& spec,
+                         const std::vector<State>& samples, const ReferenceTrajectory* reference,
+                         double contactMargin) {
+  std::vector<std::string> notes;
+  std::optional<DistanceOracle> oracle;
+  MetricInputs inputs;
+  inputs.scene = &scene;
+  inputs.spec = &spec;
+  inputs.samples = &samples;
+  inputs.reference = reference;
+  inputs.penetration = penetrationQuery(scene, oracle, contactMargin, notes);
+  MetricSet metrics = computeMetrics(inputs);
+  for (std::string& note : notes)
+    metrics.notes.push_back(std::move(note));
+  return metrics;
+}
+
 RunRecord executeRun(const RunRequest& request, const EngineRegistry& registry) {
   RunRecord record;
   record.request = request;
@@ -185,14 +202,9 @@ RunRecord executeRun(const RunRequest& request, const EngineRegistry& registry) 
       reference = resampleReference(*reference, times);
     }
     if (reference) record.reference = reference->description;
-    std::optional<DistanceOracle> oracle;
-    MetricInputs inputs;
-    inputs.scene = &c.scene;
-    inputs.spec = &c.spec;
-    inputs.samples = &samples;
-    inputs.reference = reference ? &*reference : nullptr;
-    inputs.penetration = penetrationQuery(c.scene, oracle, record.facts.contactMargin, notes);
-    mergeMetrics(record.metrics, computeMetrics(inputs));
+    mergeMetrics(record.metrics, measureSamples(c.scene, c.spec, samples,
+                                                reference ? &*reference : nullptr,
+                                                record.facts.contactMargin));
     for (std::string& note : notes)
       record.metrics.notes.push_back(std::move(note));
   } catch (const std::exception& e) {

@@ -2,6 +2,8 @@
 #pragma once
 
 #include "adapters/registry.h"
+#include "validation/case_spec.h"
+#include "validation/metrics.h"
 #include "validation/run_record.h"
 
 namespace pbdval {
@@ -10,5 +12,13 @@ namespace pbdval {
 /// reference, computes the metrics, writes the trajectory. Never throws: every failure becomes
 /// the record's status and reason.
 RunRecord executeRun(const RunRequest& request, const EngineRegistry& registry);
+
+/// The metrics of a run's `samples` (the one measurement path: executeRun and the Python
+/// binding both call it): computeMetrics with the FCL oracle's penetration depths (engine
+/// margin `contactMargin` subtracted) and `reference` (null: no trajectory metrics; it must be
+/// sampled at the samples' times: resampleReference). Notes say what could not be measured.
+MetricSet measureSamples(const pbd::Scene& scene, const CaseSpec& spec,
+                         const std::vector<State>& samples, const ReferenceTrajectory* reference,
+                         double contactMargin);
 
 }  // namespace pbdval

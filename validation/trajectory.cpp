@@ -20,9 +20,9 @@ void writeCsvHeader(std::ostream& out) {
 }
 
 void writeCsvRows(std::ostream& out, const State& state) {
-  // Time is a multiple of the step; print it to 12 significant digits so that 0.3 is 0.3.
-  char time[32];
-  std::snprintf(time, sizeof time, "%.12g", state.time);
+  // The time exactly as the engine's clock has it (an accumulated clock reads 0.30000000000000004,
+  // not 0.3): metrics computed from a CSV then equal the runner's to the bit (docs/python.md).
+  const std::string time = formatNumber(state.time);
   for (const BodyState& b : state.bodies) {
     const Quaternion q = b.rotation.w() < 0 ? Quaternion(-b.rotation.coeffs()) : b.rotation;
     out << time << ',' << b.id;

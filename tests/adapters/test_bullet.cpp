@@ -480,7 +480,7 @@ TEST(BulletEngineReport, UnsupportedFeaturesAreNamed) {
 }
 
 std::filesystem::path casesDirectory() {
-  return std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() / "cases";
+  return std::filesystem::path(PBDVAL_SOURCE_DIR) / "cases";
 }
 
 // Every shipped case runs in Bullet, or is reported unsupported with the names of exactly the

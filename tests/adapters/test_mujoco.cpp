@@ -692,7 +692,7 @@ TEST(MujocoErrors, BadNumbersStopTheRunAndNoLogFileIsWritten) {
 
 TEST(MujocoCases, EveryCaseRunsOrNamesWhatIsMissing) {
   const std::filesystem::path cases =
-      std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() / "cases";
+      std::filesystem::path(PBDVAL_SOURCE_DIR) / "cases";
   int count = 0;
   for (const auto& entry : std::filesystem::directory_iterator(cases)) {
     if (entry.path().extension() != ".json") continue;

@@ -309,7 +309,7 @@ TEST(OdeUnsupported, FeaturesWithoutAnODECounterpartAreNamed) {
 }
 
 TEST(OdeUnsupported, EveryCaseRunsOrNamesWhatItCannotRepresent) {
-  const fs::path cases = fs::path(__FILE__).parent_path().parent_path().parent_path() / "cases";
+  const fs::path cases = fs::path(PBDVAL_SOURCE_DIR) / "cases";
   const std::regex jsonPath(R"(^[A-Za-z]+\[\d+\][.:])");
   int count = 0;
   for (const fs::directory_entry& entry : fs::directory_iterator(cases)) {

@@ -5,12 +5,10 @@
 #include <exception>
 #include <iostream>
 
-#include "adapters/built_in_engines.h"
-#include "validation/cache_folder.h"
 #include "pbd/math/types.h"
 #include "pbdval/build_info.h"
 #include "validation/cli/commands.h"
-#include "validation/external_engine.h"
+#include "validation/engines/standard_engines.h"
 #include "validation/run_scheduler.h"
 
 namespace pbdval::cli {
@@ -84,17 +82,10 @@ int main(int argc, char** argv) {
   for (const auto& command : pbdval::cli::commands()) {
     if (name != command.name) continue;
     try {
-      // The command, not the library, reads the environment: the grid SDF cache folder.
-      pbdval::EngineOptions options;
-      options.gridCacheFolder = pbdval::sdfCacheFolder([](const char* v) { return std::getenv(v); });
-      pbdval::EngineRegistry engines = pbdval::builtInEngines(options);
-      // External engines (docs/external-engines.md): the catalogue of the source tree (or
-      // $PBDVAL_ENGINE_CATALOGUE), run with the project's virtual environment.
-      const std::string root = PBDVAL_SOURCE_DIR;
-      const char* catalogue = std::getenv("PBDVAL_ENGINE_CATALOGUE");
-      for (pbdval::EngineEntry& entry : pbdval::readEngineCatalogue(
-               catalogue ? catalogue : root + "/engines", root + "/.venv/bin/python", root))
-        engines.add(std::move(entry));
+      // The command, not the library, reads the environment (the grid SDF cache folder, the
+      // engine catalogue).
+      pbdval::EngineRegistry engines =
+          pbdval::standardEngines([](const char* v) { return std::getenv(v); });
       return command.run(pbdval::cli::Context{engines}, arguments);
     } catch (const pbdval::RunInterrupted& e) {
       std::fprintf(stderr, "\npbdval %s: %s; no results were written\n", command.name, e.what());

@@ -1,0 +1,556 @@
+// pbdval._core: the C++ side of `import pbdval` (docs/python.md#import-pbdval). It exposes the
+// same scene loader, engine registry, stepping loop (validation/simulation.h) and measurement
+// path (validation/run_execution.h measureSamples) that the pbdval command uses; nothing here
+// computes a metric or interprets a scene of its own. The pure-Python parts (python/pbdval/)
+// wrap these functions in typed classes; this module's names start with an underscore where
+// only they are meant to call them.
+//
+// Arrays: positions (N,3) m, quaternions (N,4) in (w, x, y, z) order (the body's scene frame →
+// world), velocities (N,3) m/s and angular velocities (N,3) rad/s, all in the world frame,
+// bodies in scene order; trajectories stack them over samples: (T,N,3), (T,N,4).
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "adapters/registry.h"
+#include "pbd/io/scene_loader.h"
+#include "pbdval/build_info.h"
+#include "validation/case_spec.h"
+#include "validation/engines/standard_engines.h"
+#include "validation/mechanics.h"
+#include "validation/metrics.h"
+#include "validation/overrides.h"
+#include "validation/references/reference.h"
+#include "validation/resolved_scene.h"
+#include "validation/run_execution.h"
+#include "validation/simulation.h"
+#include "validation/trajectory.h"
+
+namespace py = pybind11;
+
+namespace pbdval::python {
+namespace {
+
+using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+/// A new C-contiguous array of `shape` (a braced single extent would pick another constructor).
+Array newArray(std::vector<py::ssize_t> shape) { return Array(std::move(shape)); }
+
+/// A loaded scene and the file it came from (relative mesh paths are already resolved).
+struct SceneHandle {
+  std::shared_ptr<const pbd::Scene> scene;
+  std::string file;
+  std::vector<std::string> warnings;
+};
+
+/// The engines of the pbdval command: built in + the catalogue (read when created).
+struct Registry {
+  EngineRegistry engines = standardEngines([](const char* name) { return std::getenv(name); });
+};
+
+py::object jsonToPython(const nlohmann::json& value) {
+  return py::module_::import("json").attr("loads")(value.dump());
+}
+
+py::dict parameterDict(const ParameterSpec& spec) {
+  py::dict d;
+  d["name"] = spec.name;
+  d["kind"] = std::string(parameterKindName(spec.kind));
+  d["default"] = spec.defaultValue;
+  d["expected"] = spec.expectation();
+  d["unit"] = spec.unit;
+  d["description"] = spec.description;
+  if (spec.kind == ParameterKind::Choice) d["choices"] = spec.choices;
+  if (std::isfinite(spec.minimum)) d["minimum"] = spec.minimum;
+  if (std::isfinite(spec.maximum)) d["maximum"] = spec.maximum;
+  return d;
+}
+
+py::dict methodDict(const MethodInfo& info, const EngineEntry& engine) {
+  py::dict d;
+  d["name"] = info.name;
+  d["engine"] = info.engine;
+  d["description"] = info.description;
+  d["default"] = engine.defaultMethod == info.name;
+  py::list parameters;
+  for (const ParameterSpec& spec : info.parameters)
+    parameters.append(parameterDict(spec));
+  d["parameters"] = parameters;
+  return d;
+}
+
+/// Python parameter values as the text `--set` would give (bool → true/false, numbers in the
+/// shortest form that reads back exactly).
+std::string parameterText(const py::handle& value) {
+  if (py::isinstance<py::bool_>(value)) return value.cast<bool>() ? "true" : "false";
+  if (py::isinstance<py::int_>(value)) return py::str(value).cast<std::string>();
+  if (py::isinstance<py::float_>(value)) return formatNumber(value.cast<double>());
+  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
+    std::string text;
+    for (const py::handle& item : value) {
+      if (!text.empty()) text += ",";
+      text += parameterText(item);
+    }
+    return text;
+  }
+  throw py::type_error("parameter values must be bool, int, float, str or a list of numbers, got " +
+                       py::str(py::type::of(value)).cast<std::string>());
+}
+
+std::vector<std::string> assignmentsOf(const py::dict& values) {
+  std::vector<std::string> assignments;
+  for (const auto& [key, value] : values)
+    assignments.push_back(py::str(key).cast<std::string>() + "=" + parameterText(value));
+  return assignments;
+}
+
+/// The run configuration: the method, the scene with the Simulation settings applied.
+struct Configured {
+  pbd::Scene scene;
+  const EngineEntry* engine = nullptr;
+  Method method;
+};
+
+Configured configure(const Registry& registry, const SceneHandle& scene, const std::string& method,
+                     const py::dict& parameters) {
+  Configured c;
+  c.scene = *scene.scene;
+  const MethodInfo& info = registry.engines.method(method);
+  c.engine = &registry.engines.engine(info.engine);
+  c.method = resolveMethod(info, applyAssignments(assignmentsOf(parameters), info, c.scene));
+  return c;
+}
+
+py::dict statesDict(const std::vector<State>& samples, std::size_t bodies) {
+  const py::ssize_t t = py::ssize_t(samples.size());
+  const py::ssize_t n = py::ssize_t(bodies);
+  Array times = newArray({t});
+  Array positions = newArray({t, n, 3}), quaternions = newArray({t, n, 4});
+  Array velocities = newArray({t, n, 3}), angular = newArray({t, n, 3});
+  py::array_t<long> ids(std::vector<py::ssize_t>{n});
+  auto T = times.mutable_unchecked<1>();
+  auto P = positions.mutable_unchecked<3>();
+  auto Q = quaternions.mutable_unchecked<3>();
+  auto V = velocities.mutable_unchecked<3>();
+  auto W = angular.mutable_unchecked<3>();
+  auto I = ids.mutable_unchecked<1>();
+  for (py::ssize_t k = 0; k < t; ++k) {
+    const State& s = samples[std::size_t(k)];
+    if (s.bodies.size() != bodies)
+      throw std::invalid_argument("sample " + std::to_string(k) + " holds " +
+                                  std::to_string(s.bodies.size()) + " bodies, expected " +
+                                  std::to_string(bodies));
+    T(k) = s.time;
+    for (py::ssize_t b = 0; b < n; ++b) {
+      const BodyState& body = s.bodies[std::size_t(b)];
+      if (k == 0) I(b) = body.id;
+      for (int a = 0; a < 3; ++a) {
+        P(k, b, a) = double(body.position[a]);
+        V(k, b, a) = double(body.velocity[a]);
+        W(k, b, a) = double(body.angularVelocity[a]);
+      }
+      Q(k, b, 0) = double(body.rotation.w());
+      Q(k, b, 1) = double(body.rotation.x());
+      Q(k, b, 2) = double(body.rotation.y());
+      Q(k, b, 3) = double(body.rotation.z());
+    }
+  }
+  py::dict d;
+  d["times"] = times;
+  d["ids"] = ids;
+  d["positions"] = positions;
+  d["quaternions"] = quaternions;
+  d["velocities"] = velocities;
+  d["angular_velocities"] = angular;
+  return d;
+}
+
+void requireShape(const Array& a, const char* name, py::ssize_t t, py::ssize_t n, py::ssize_t w) {
+  if (a.ndim() != 3 || a.shape(0) != t || a.shape(1) != n || a.shape(2) != w)
+    throw std::invalid_argument(std::string(name) + ": expected an array of shape (" +
+                                std::to_string(t) + ", " + std::to_string(n) + ", " +
+                                std::to_string(w) + ")");
+}
+
+/// Samples from trajectory arrays (the inverse of statesDict); ids from the scene.
+std::vector<State> samplesOf(const pbd::Scene& scene, const Array& times, const Array& positions,
+                             const Array& quaternions, const Array& velocities,
+                             const Array& angularVelocities) {
+  if (times.ndim() != 1) throw std::invalid_argument("times: expected a 1-D array");
+  const py::ssize_t t = times.shape(0);
+  const py::ssize_t n = py::ssize_t(scene.rigidBodies.size());
+  requireShape(positions, "positions", t, n, 3);
+  requireShape(quaternions, "quaternions", t, n, 4);
+  requireShape(velocities, "velocities", t, n, 3);
+  requireShape(angularVelocities, "angular_velocities", t, n, 3);
+  auto T = times.unchecked<1>();
+  auto P = positions.unchecked<3>();
+  auto Q = quaternions.unchecked<3>();
+  auto V = velocities.unchecked<3>();
+  auto W = angularVelocities.unchecked<3>();
+  std::vector<State> samples(static_cast<std::size_t>(t));
+  for (py::ssize_t k = 0; k < t; ++k) {
+    State& s = samples[std::size_t(k)];
+    s.time = T(k);
+    s.bodies.resize(std::size_t(n));
+    for (py::ssize_t b = 0; b < n; ++b) {
+      BodyState& body = s.bodies[std::size_t(b)];
+      body.id = scene.rigidBodies[std::size_t(b)].id;
+      body.position = Vector3(Real(P(k, b, 0)), Real(P(k, b, 1)), Real(P(k, b, 2)));
+      body.velocity = Vector3(Real(V(k, b, 0)), Real(V(k, b, 1)), Real(V(k, b, 2)));
+      body.angularVelocity = Vector3(Real(W(k, b, 0)), Real(W(k, b, 1)), Real(W(k, b, 2)));
+      body.rotation = Quaternion(Real(Q(k, b, 0)), Real(Q(k, b, 1)), Real(Q(k, b, 2)),
+                                 Real(Q(k, b, 3)));
+    }
+  }
+  return samples;
+}
+
+py::dict metricsDict(const MetricSet& metrics) {
+  py::dict values;
+  for (const auto& [name, value] : metrics.values)
+    values[py::str(name)] = value;
+  py::dict byType;
+  for (const auto& [type, s] : metrics.jointErrorByType) {
+    py::dict d;
+    d["joints"] = s.joints;
+    d["joint_error_linear_max"] = s.linearMax;
+    d["joint_error_linear_rms"] = s.linearRms;
+    if (s.hasAngular) {
+      d["joint_error_angular_max"] = s.angularMax;
+      d["joint_error_angular_rms"] = s.angularRms;
+    }
+    if (!s.trackingQuantity.empty()) {
+      d["tracking_quantity"] = s.trackingQuantity;
+      d["tracking_max"] = s.trackingMax;
+      d["tracking_rms"] = s.trackingRms;
+    }
+    byType[py::str(type)] = d;
+  }
+  py::dict d;
+  d["values"] = values;
+  d["joint_error_by_type"] = byType;
+  d["notes"] = metrics.notes;
+  return d;
+}
+
+/// A scene loaded into one engine with one method, stepped from Python.
+class Stepper {
+ public:
+  Stepper(const Registry& registry, const SceneHandle& scene, const std::string& method,
+          const py::dict& parameters)
+      : configured_(configure(registry, scene, method, parameters)) {
+    engine_ = configured_.engine->make(registry.engines.options());
+    if (engine_->runsWhole())
+      throw std::invalid_argument("engine " + configured_.engine->name +
+                                  " runs in another process and cannot be stepped from Python: "
+                                  "run it with pbdval.simulate or pbdval.run");
+    const std::vector<std::string> missing = engine_->unsupported(configured_.scene, configured_.method);
+    if (!missing.empty()) {
+      std::string text;
+      for (const std::string& m : missing)
+        text += (text.empty() ? "" : "; ") + m;
+      throw UnsupportedScene(configured_.method.name + " cannot run this scene: " + text);
+    }
+    engine_->load(configured_.scene, configured_.method);
+    engine_->read(state_);
+  }
+
+  struct UnsupportedScene : std::invalid_argument {
+    using std::invalid_argument::invalid_argument;
+  };
+
+  void step(long count) {
+    if (count < 0) throw std::invalid_argument("step: count must be >= 0, got " + std::to_string(count));
+    {
+      py::gil_scoped_release release;
+      for (long i = 0; i < count; ++i)
+        engine_->step();
+    }
+    engine_->read(state_);
+    const std::string reason = divergenceReason(state_);
+    if (!reason.empty()) throw EngineDivergence("diverged at t = " + formatNumber(state_.time) + ": " + reason);
+  }
+
+  double time() const { return state_.time; }
+  std::size_t bodyCount() const { return configured_.scene.rigidBodies.size(); }
+
+  /// The bodies' states into `packed` (N, 14): id, x y z, qw qx qy qz, vx vy vz, wx wy wz.
+  double readInto(py::array_t<double, py::array::c_style>& packed) {
+    engine_->read(state_);
+    const py::ssize_t n = py::ssize_t(state_.bodies.size());
+    if (packed.ndim() != 2 || packed.shape(0) != n || packed.shape(1) != 14)
+      throw std::invalid_argument("expected a C-contiguous float64 array of shape (" +
+                                  std::to_string(n) + ", 14)");
+    double* out = packed.mutable_data();
+    for (const BodyState& b : state_.bodies) {
+      out[0] = double(b.id);
+      out[1] = double(b.position.x());
+      out[2] = double(b.position.y());
+      out[3] = double(b.position.z());
+      out[4] = double(b.rotation.w());
+      out[5] = double(b.rotation.x());
+      out[6] = double(b.rotation.y());
+      out[7] = double(b.rotation.z());
+      out[8] = double(b.velocity.x());
+      out[9] = double(b.velocity.y());
+      out[10] = double(b.velocity.z());
+      out[11] = double(b.angularVelocity.x());
+      out[12] = double(b.angularVelocity.y());
+      out[13] = double(b.angularVelocity.z());
+      out += 14;
+    }
+    return state_.time;
+  }
+
+  py::dict facts() const {
+    const RunFacts f = engine_->runFacts();
+    py::dict d;
+    d["engine"] = configured_.engine->name;
+    d["method"] = configured_.method.name;
+    d["engine_version"] = f.engineVersion;
+    d["integrator_steps_per_scene_step"] = f.integratorStepsPerSceneStep;
+    d["contact_margin"] = f.contactMargin;
+    d["parameters"] = configured_.method.textValues();
+    d["settings"] = engine_->effectiveSettings();
+    const std::optional<std::string> hash = engine_->stateHash();
+    if (hash) d["state_hash"] = *hash;
+    return d;
+  }
+
+ private:
+  Configured configured_;
+  std::unique_ptr<Engine> engine_;
+  State state_;
+};
+
+SceneHandle loadSceneFile(const std::string& path, bool strict) {
+  pbd::LoadOptions options;
+  options.strict = strict;
+  pbd::LoadedScene loaded = pbd::loadScene(path, options);
+  SceneHandle handle;
+  handle.file = path;
+  for (const pbd::SceneDiagnostic& w : loaded.warnings)
+    handle.warnings.push_back(w.text());
+  handle.scene = std::make_shared<const pbd::Scene>(std::move(loaded.scene));
+  return handle;
+}
+
+py::dict sceneSummary(const SceneHandle& h) {
+  const pbd::Scene& s = *h.scene;
+  py::dict d;
+  d["file"] = h.file;
+  std::vector<int> ids;
+  std::vector<std::string> names;
+  for (const pbd::RigidBodyDesc& b : s.rigidBodies)
+    ids.push_back(b.id);
+  d["body_ids"] = ids;
+  d["time_step"] = double(s.simulation.timeStepSize);
+  d["gravity"] = std::vector<double>{double(s.simulation.gravitation.x()),
+                                     double(s.simulation.gravitation.y()),
+                                     double(s.simulation.gravitation.z())};
+  d["warnings"] = h.warnings;
+  return d;
+}
+
+py::tuple simulate(const Registry& registry, const SceneHandle& scene, const std::string& method,
+                   const py::dict& parameters, double duration, double sampleInterval,
+                   double wallTimeLimit) {
+  Configured c = configure(registry, scene, method, parameters);
+  RunLength length = caseRunLength(c.scene, registry.engines);
+  if (duration > 0) length.duration = duration;
+  if (sampleInterval >= 0) length.sampleInterval = sampleInterval;
+  const std::unique_ptr<Engine> engine = c.engine->make(registry.engines.options());
+  std::vector<State> samples;
+  RunOutcome outcome;
+  {
+    py::gil_scoped_release release;
+    RunCallbacks callbacks;
+    callbacks.onSample = [&samples](const State& s) { samples.push_back(s); };
+    if (engine->runsWhole()) {
+      const WholeRun whole = engine->runWhole(c.scene, c.method, length, wallTimeLimit);
+      samples = whole.samples;
+      outcome.status = whole.status;
+      outcome.reason = whole.reason;
+      outcome.steps = whole.steps;
+      outcome.facts = whole.facts;
+      outcome.settings = whole.settings;
+    } else {
+      outcome = runSimulation(*engine, c.scene, c.method, length, callbacks, wallTimeLimit);
+    }
+  }
+  py::dict run;
+  run["engine"] = c.engine->name;
+  run["method"] = c.method.name;
+  run["status"] = std::string(runStatusName(outcome.status));
+  run["reason"] = outcome.reason;
+  run["steps"] = outcome.steps;
+  run["wall_time_s"] = outcome.wallTime;
+  run["engine_version"] = outcome.facts.engineVersion;
+  run["integrator_steps_per_scene_step"] = outcome.facts.integratorStepsPerSceneStep;
+  run["contact_margin"] = outcome.facts.contactMargin;
+  run["parameters"] = c.method.textValues();
+  run["settings"] = outcome.settings;
+  if (!outcome.stateHash.empty()) run["state_hash"] = outcome.stateHash;
+  return py::make_tuple(run, statesDict(samples, c.scene.rigidBodies.size()));
+}
+
+/// The metrics of a trajectory: the runner's measurement path. `reference`: None (the case's
+/// analytic reference when it has one, else none), False (none), or reference arrays.
+py::dict measure(const Registry& registry, const SceneHandle& handle, const Array& times,
+                 const Array& positions, const Array& quaternions, const Array& velocities,
+                 const Array& angularVelocities, const py::object& reference,
+                 double contactMargin, double integrationStep) {
+  const pbd::Scene& scene = *handle.scene;
+  const CaseSpec spec = parseCaseSpec(scene, registry.engines);
+  const std::vector<State> samples =
+      samplesOf(scene, times, positions, quaternions, velocities, angularVelocities);
+  std::optional<ReferenceTrajectory> ref;
+  std::vector<double> sampleTimes;
+  for (const State& s : samples)
+    sampleTimes.push_back(s.time);
+  if (reference.is_none()) {
+    if (spec.reference.kind == ReferenceSpec::Kind::Analytic)
+      ref = buildAnalyticReference(
+          scene, spec.reference, sampleTimes,
+          integrationStep > 0 ? integrationStep : double(scene.simulation.timeStepSize));
+  } else if (!(py::isinstance<py::bool_>(reference) && !reference.cast<bool>())) {
+    const py::dict r = reference.cast<py::dict>();
+    ReferenceTrajectory given;
+    given.description = r.contains("description") ? r["description"].cast<std::string>()
+                                                   : std::string("reference trajectory");
+    given.samples = samplesOf(scene, r["times"].cast<Array>(), r["positions"].cast<Array>(),
+                              r["quaternions"].cast<Array>(), r["velocities"].cast<Array>(),
+                              r["angular_velocities"].cast<Array>());
+    ref = resampleReference(given, sampleTimes);
+  }
+  MetricSet metrics;
+  {
+    py::gil_scoped_release release;
+    metrics = measureSamples(scene, spec, samples, ref ? &*ref : nullptr, contactMargin);
+  }
+  py::dict d = metricsDict(metrics);
+  d["reference"] = ref ? ref->description : std::string();
+  return d;
+}
+
+py::dict energy(const Registry& registry, const SceneHandle& handle, const Array& times, const Array& positions,
+                const Array& quaternions, const Array& velocities, const Array& angularVelocities) {
+  const pbd::Scene& scene = *handle.scene;
+  const std::vector<State> samples =
+      samplesOf(scene, times, positions, quaternions, velocities, angularVelocities);
+  const py::ssize_t t = py::ssize_t(samples.size());
+  Array translational = newArray({t}), rotational = newArray({t}),
+        gravitational = newArray({t}), spring = newArray({t}), total = newArray({t});
+  for (py::ssize_t k = 0; k < t; ++k) {
+    const EnergyTerms e = energyOf(scene, samples[std::size_t(k)]);
+    translational.mutable_at(k) = e.translational;
+    rotational.mutable_at(k) = e.rotational;
+    gravitational.mutable_at(k) = e.gravitational;
+    spring.mutable_at(k) = e.spring;
+    total.mutable_at(k) = e.total();
+  }
+  py::dict d;
+  d["translational"] = translational;
+  d["rotational"] = rotational;
+  d["gravitational"] = gravitational;
+  d["spring"] = spring;
+  d["total"] = total;
+  d["scale"] = energyScale(scene, parseCaseSpec(scene, registry.engines));
+  return d;
+}
+
+void translateSceneError(const pbd::SceneError& e) {
+  const py::object cls = py::module_::import("pbdval.errors").attr("SceneError");
+  const pbd::SceneDiagnostic& d = e.diagnostic();
+  const py::object error = cls(d.file, d.jsonPath, d.message);
+  PyErr_SetObject(cls.ptr(), error.ptr());
+}
+
+void raiseAs(const char* name, const std::exception& e) {
+  const py::object cls = py::module_::import("pbdval.errors").attr(name);
+  PyErr_SetObject(cls.ptr(), cls(std::string(e.what())).ptr());
+}
+
+}  // namespace
+}  // namespace pbdval::python
+
+PYBIND11_MODULE(_core, m) {
+  using namespace pbdval::python;
+  namespace pv = pbdval;
+  m.doc() = "pbdval's C++ core: scene loader, engines, stepping and metrics (docs/python.md)";
+  m.attr("version") = PBDVAL_VERSION;
+
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const pbd::SceneError& e) {
+      translateSceneError(e);
+    } catch (const Stepper::UnsupportedScene& e) {
+      raiseAs("UnsupportedError", e);
+    } catch (const pv::EngineDivergence& e) {
+      raiseAs("DivergenceError", e);
+    } catch (const pv::EngineError& e) {
+      raiseAs("EngineError", e);
+    }
+  });
+
+  py::class_<SceneHandle>(m, "_Scene");
+  py::class_<Registry>(m, "_Registry").def(py::init<>());
+  py::class_<Stepper>(m, "_Stepper")
+      .def(py::init<const Registry&, const SceneHandle&, const std::string&, const py::dict&>())
+      .def("step", &Stepper::step, py::arg("count"))
+      .def("time", &Stepper::time)
+      .def("body_count", &Stepper::bodyCount)
+      .def("read_into", &Stepper::readInto, py::arg("packed"))
+      .def("facts", &Stepper::facts);
+
+  m.def("_load_scene", &loadSceneFile, py::arg("path"), py::arg("strict"));
+  m.def("_scene_summary", &sceneSummary);
+  m.def("_run_length", [](const Registry& r, const SceneHandle& h) {
+    const pv::RunLength length = pv::caseRunLength(*h.scene, r.engines);
+    return py::make_tuple(length.duration, length.sampleInterval);
+  });
+  m.def("_resolved_scene", [](const Registry& r, const SceneHandle& h, const std::string& method,
+                              const py::dict& parameters, double duration, double interval) {
+    Configured c = configure(r, h, method, parameters);
+    pv::RunLength length = pv::caseRunLength(c.scene, r.engines);
+    if (duration > 0) length.duration = duration;
+    if (interval >= 0) length.sampleInterval = interval;
+    return jsonToPython(pv::resolvedSceneJson(c.scene, c.method.name,
+                                              pv::methodParametersJson(c.method), length));
+  });
+  m.def("_engines", [](const Registry& r) {
+    py::list engines;
+    for (const pv::EngineEntry& e : r.engines.entries()) {
+      py::dict d;
+      d["name"] = e.name;
+      d["default_method"] = e.defaultMethod;
+      d["run_by_default"] = e.runByDefault;
+      d["honoured_settings"] = e.honouredSettings;
+      py::list methods;
+      for (const pv::MethodInfo& info : e.methods)
+        methods.append(methodDict(info, e));
+      d["methods"] = methods;
+      engines.append(d);
+    }
+    return engines;
+  });
+  m.def("_simulate", &simulate);
+  m.def("_measure", &measure);
+  m.def("_energy", &energy);
+  m.def("_read_trajectory", [](const std::string& path) {
+    const pv::Trajectory t = pv::readTrajectoryCsv(path);
+    const std::size_t n = t.samples.empty() ? 0 : t.samples.front().bodies.size();
+    return statesDict(t.samples, n);
+  });
+}

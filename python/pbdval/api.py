@@ -1,0 +1,490 @@
+"""Scenes, engines, stepping and metrics from Python: typed wrappers of the C++ core.
+
+Everything here goes through the same C++ code as the pbdval command: the scene loader, the
+engine registry (built-in engines and the external-engine catalogue), the stepping loop with its
+divergence checks (validation/simulation.h) and the one measurement path
+(validation/run_execution.h ``measureSamples``). Nothing in Python computes a metric.
+
+Conventions (docs/python.md): SI units; world frame; quaternions in (w, x, y, z) order, the
+body's scene frame to world; bodies in scene order; a trajectory stacks samples on axis 0.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Iterator, Mapping, Sequence, Union
+
+import numpy as np
+from numpy.typing import NDArray
+
+from pbdval.errors import BuildMissingError
+
+if TYPE_CHECKING:  # pragma: no cover
+    from types import ModuleType
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+ParameterValue = Union[bool, int, float, str, Sequence[float]]
+
+
+def _core() -> "ModuleType":
+    try:
+        from pbdval import _core as core  # type: ignore[attr-defined]
+    except ImportError as error:  # the extension is built by CMake, not by pip
+        raise BuildMissingError(
+            "pbdval._core is not built: run 'cmake --build --preset release' (or scripts/test) "
+            "and 'scripts/install-deps' (it puts the build folder on the venv's path); "
+            f"import failed with: {error}"
+        ) from error
+    return core
+
+
+# ---- engines and methods -------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A method parameter's declaration (adapters/parameters.h)."""
+
+    name: str
+    kind: str  # real, integer, bool, choice, duration
+    default: str
+    expected: str  # "a number in (0, 2)", ...
+    unit: str
+    description: str
+    choices: tuple[str, ...] = ()
+    minimum: float | None = None
+    maximum: float | None = None
+
+
+@dataclass(frozen=True)
+class MethodInfo:
+    name: str
+    engine: str
+    description: str
+    default: bool  # the engine's default method
+    parameters: tuple[Parameter, ...]
+
+
+@dataclass(frozen=True)
+class EngineInfo:
+    name: str
+    default_method: str
+    run_by_default: bool
+    honoured_settings: tuple[str, ...]
+    methods: tuple[MethodInfo, ...]
+
+
+class Engines:
+    """The engines the pbdval command sees: built in, and the external engines of the catalogue
+    (``engines/*.json`` or ``$PBDVAL_ENGINE_CATALOGUE``), read when this object is created."""
+
+    def __init__(self) -> None:
+        core = _core()
+        self._registry = core._Registry()
+        infos: list[EngineInfo] = []
+        for e in core._engines(self._registry):
+            methods = tuple(
+                MethodInfo(
+                    name=m["name"],
+                    engine=m["engine"],
+                    description=m["description"],
+                    default=m["default"],
+                    parameters=tuple(
+                        Parameter(
+                            name=p["name"],
+                            kind=p["kind"],
+                            default=p["default"],
+                            expected=p["expected"],
+                            unit=p["unit"],
+                            description=p["description"],
+                            choices=tuple(p.get("choices", ())),
+                            minimum=p.get("minimum"),
+                            maximum=p.get("maximum"),
+                        )
+                        for p in m["parameters"]
+                    ),
+                )
+                for m in e["methods"]
+            )
+            infos.append(
+                EngineInfo(
+                    name=e["name"],
+                    default_method=e["default_method"],
+                    run_by_default=e["run_by_default"],
+                    honoured_settings=tuple(e["honoured_settings"]),
+                    methods=methods,
+                )
+            )
+        self._engines = {info.name: info for info in infos}
+
+    def names(self) -> list[str]:
+        """Engine names in registration order."""
+        return list(self._engines)
+
+    def __iter__(self) -> Iterator[EngineInfo]:
+        return iter(self._engines.values())
+
+    def engine(self, name: str) -> EngineInfo:
+        try:
+            return self._engines[name]
+        except KeyError:
+            raise ValueError(f"unknown engine {name!r}; known: {', '.join(self._engines)}") from None
+
+    def methods(self, engine: str | None = None) -> list[MethodInfo]:
+        """Every method, or those of one engine."""
+        engines = [self.engine(engine)] if engine else list(self._engines.values())
+        return [m for e in engines for m in e.methods]
+
+    def method(self, name: str) -> MethodInfo:
+        """A method by name; an engine name gives its default method."""
+        if name in self._engines:
+            name = self._engines[name].default_method
+        for m in self.methods():
+            if m.name == name:
+                return m
+        known = ", ".join(m.name for m in self.methods())
+        raise ValueError(f"unknown method {name!r}; known: {known}")
+
+
+def engines() -> Engines:
+    """The engines and their methods (a new registry, catalogue read now)."""
+    return Engines()
+
+
+def _method_name(method: str, registry: Engines) -> str:
+    return registry.method(method).name
+
+
+def _parameters(parameters: Mapping[str, ParameterValue] | None) -> dict[str, ParameterValue]:
+    return dict(parameters or {})
+
+
+# ---- scenes ----------------------------------------------------------------------------------
+
+
+class Scene:
+    """A scene file loaded by the pbdval loader (the seed's JSON format, docs/scene-format.md).
+
+    Raises :class:`pbdval.SceneError` (file, JSON path, message) for a file it cannot load.
+    """
+
+    def __init__(self, path: str | Path, *, strict: bool = False) -> None:
+        core = _core()
+        self._handle = core._load_scene(str(path), strict)
+        summary = core._scene_summary(self._handle)
+        self.file: str = summary["file"]
+        self.body_ids: IntArray = np.asarray(summary["body_ids"], dtype=np.int64)
+        self.time_step: float = float(summary["time_step"])
+        self.gravity: FloatArray = np.asarray(summary["gravity"], dtype=np.float64)
+        #: unknown keys and other warnings, "FILE: PATH: MESSAGE" (strict=True makes them errors)
+        self.warnings: list[str] = list(summary["warnings"])
+
+    @property
+    def body_count(self) -> int:
+        return int(self.body_ids.size)
+
+    def run_length(self, engines: Engines | None = None) -> tuple[float, float]:
+        """(duration, sample interval) in seconds, from the Validation block (0: every step)."""
+        registry = engines or Engines()
+        duration, interval = _core()._run_length(registry._registry, self._handle)
+        return float(duration), float(interval)
+
+    def resolved(
+        self,
+        method: str = "pbd",
+        parameters: Mapping[str, ParameterValue] | None = None,
+        *,
+        duration: float | None = None,
+        sample_interval: float | None = None,
+        engines: Engines | None = None,
+    ) -> dict[str, Any]:
+        """The resolved scene (docs/external-engines.md) as a dict: what `pbdval export-scene`
+        writes, with `method` and its parameters (defaults, then `parameters`)."""
+        registry = engines or Engines()
+        return _core()._resolved_scene(
+            registry._registry,
+            self._handle,
+            _method_name(method, registry),
+            _parameters(parameters),
+            duration or 0.0,
+            -1.0 if sample_interval is None else sample_interval,
+        )
+
+    def __repr__(self) -> str:
+        return f"Scene({self.file!r}, bodies={self.body_count})"
+
+
+def load_scene(path: str | Path, *, strict: bool = False) -> Scene:
+    """Loads a scene file; see :class:`Scene`."""
+    return Scene(path, strict=strict)
+
+
+# ---- states and trajectories -------------------------------------------------------------------
+
+
+class BodyStates:
+    """All bodies' states at one time, as views into one (N, 14) array ``packed``:
+    id, position (3), quaternion w x y z (4), velocity (3), angular velocity (3)."""
+
+    def __init__(self, body_count: int) -> None:
+        self.time: float = 0.0
+        self.packed: FloatArray = np.zeros((body_count, 14), dtype=np.float64)
+
+    @property
+    def ids(self) -> IntArray:
+        return self.packed[:, 0].astype(np.int64)
+
+    @property
+    def positions(self) -> FloatArray:
+        """(N, 3) centres of mass, m."""
+        return self.packed[:, 1:4]
+
+    @property
+    def quaternions(self) -> FloatArray:
+        """(N, 4) orientations (w, x, y, z): the body's scene frame to world."""
+        return self.packed[:, 4:8]
+
+    @property
+    def velocities(self) -> FloatArray:
+        """(N, 3) linear velocities of the centres of mass, m/s."""
+        return self.packed[:, 8:11]
+
+    @property
+    def angular_velocities(self) -> FloatArray:
+        """(N, 3) angular velocities, rad/s, world frame."""
+        return self.packed[:, 11:14]
+
+
+@dataclass
+class Trajectory:
+    """Samples of a run: times (T,), body ids (N,), positions (T, N, 3), quaternions (T, N, 4)
+    in (w, x, y, z), velocities (T, N, 3), angular velocities (T, N, 3)."""
+
+    times: FloatArray
+    ids: IntArray
+    positions: FloatArray
+    quaternions: FloatArray
+    velocities: FloatArray
+    angular_velocities: FloatArray
+
+    @classmethod
+    def _from_core(cls, d: Mapping[str, Any]) -> "Trajectory":
+        return cls(
+            times=np.asarray(d["times"]),
+            ids=np.asarray(d["ids"], dtype=np.int64),
+            positions=np.asarray(d["positions"]),
+            quaternions=np.asarray(d["quaternions"]),
+            velocities=np.asarray(d["velocities"]),
+            angular_velocities=np.asarray(d["angular_velocities"]),
+        )
+
+    @classmethod
+    def read_csv(cls, path: str | Path) -> "Trajectory":
+        """Reads a trajectory CSV of `pbdval simulate`/`run` with the suite's own reader (errors
+        name the file and line)."""
+        return cls._from_core(_core()._read_trajectory(str(path)))
+
+    def __len__(self) -> int:
+        return int(self.times.size)
+
+    def _arrays(self) -> tuple[FloatArray, ...]:
+        return tuple(
+            np.ascontiguousarray(a, dtype=np.float64)
+            for a in (self.times, self.positions, self.quaternions, self.velocities, self.angular_velocities)
+        )
+
+
+# ---- stepping ------------------------------------------------------------------------------------
+
+
+class Simulation:
+    """A scene loaded into one engine with one method, stepped from Python.
+
+    ``parameters`` are the method's parameters and the scene's Simulation settings, exactly as
+    ``pbdval run --set`` takes them (``{"substeps": 40, "timeStepSize": 0.002}``). Engines that
+    run in another process (the external engines) cannot be stepped: use :func:`simulate`.
+    Raises :class:`pbdval.UnsupportedError` when the method cannot represent the scene.
+    """
+
+    def __init__(
+        self,
+        scene: Scene,
+        method: str = "pbd",
+        parameters: Mapping[str, ParameterValue] | None = None,
+        *,
+        engines: Engines | None = None,
+    ) -> None:
+        registry = engines or Engines()
+        self.scene = scene
+        self._stepper = _core()._Stepper(
+            registry._registry, scene._handle, _method_name(method, registry), _parameters(parameters)
+        )
+        self.facts: dict[str, Any] = self._stepper.facts()
+
+    @property
+    def time(self) -> float:
+        """Simulated time, s."""
+        return float(self._stepper.time())
+
+    def step(self, count: int = 1) -> None:
+        """Advances `count` scene steps (the GIL is released while stepping). Raises
+        :class:`pbdval.DivergenceError` when the state becomes non-finite or blows up."""
+        self._stepper.step(count)
+
+    def state(self) -> BodyStates:
+        """The bodies' states now, in new arrays."""
+        return self.read(BodyStates(self._stepper.body_count()))
+
+    def read(self, out: BodyStates) -> BodyStates:
+        """The bodies' states now, written into `out` (no allocation): the fast path."""
+        out.time = self._stepper.read_into(out.packed)
+        return out
+
+    def state_hash(self) -> str | None:
+        """For the deterministic PBD engine: a hash of the complete state now."""
+        return self._stepper.facts().get("state_hash")
+
+
+@dataclass
+class RunInfo:
+    """How a run went: status ok/diverged/timeout/unsupported/error, and the parity record."""
+
+    engine: str
+    method: str
+    status: str
+    reason: str
+    steps: int
+    wall_time_s: float
+    engine_version: str
+    integrator_steps_per_scene_step: int
+    contact_margin: float
+    parameters: dict[str, str]
+    settings: dict[str, str]
+    state_hash: str | None = None
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "ok"
+
+
+def simulate(
+    scene: Scene,
+    method: str = "pbd",
+    parameters: Mapping[str, ParameterValue] | None = None,
+    *,
+    duration: float | None = None,
+    sample_interval: float | None = None,
+    wall_time_limit: float = 0.0,
+    engines: Engines | None = None,
+) -> tuple[RunInfo, Trajectory]:
+    """Runs a scene as ``pbdval simulate`` does (the runner's stepping loop, external engines
+    through their protocol) and returns the run's status and its samples. Duration and sample
+    interval default to the scene's Validation block. Engine failures are a status, not an
+    exception."""
+    registry = engines or Engines()
+    run, states = _core()._simulate(
+        registry._registry,
+        scene._handle,
+        _method_name(method, registry),
+        _parameters(parameters),
+        duration or 0.0,
+        -1.0 if sample_interval is None else sample_interval,
+        wall_time_limit,
+    )
+    return RunInfo(**run), Trajectory._from_core(states)
+
+
+# ---- metrics -------------------------------------------------------------------------------------
+
+
+@dataclass
+class Metrics:
+    """Metrics by their stable names (docs/metrics.md), as in results.json."""
+
+    values: dict[str, float]
+    joint_error_by_type: dict[str, dict[str, Any]] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+    reference: str = ""
+
+    def __getitem__(self, name: str) -> float:
+        return self.values[name]
+
+    def __contains__(self, name: object) -> bool:
+        return name in self.values
+
+    def get(self, name: str, default: float | None = None) -> float | None:
+        return self.values.get(name, default)
+
+
+def measure(
+    scene: Scene,
+    trajectory: Trajectory,
+    *,
+    reference: Trajectory | bool | None = None,
+    contact_margin: float = 0.0,
+    integration_step: float | None = None,
+    engines: Engines | None = None,
+) -> Metrics:
+    """The suite's metrics of `trajectory` (the runner's own measurement code).
+
+    reference: None uses the case's analytic reference when its Validation block has one
+    (integrated at `integration_step`, default the scene's step; the runner uses the engine's
+    integrator step, e.g. h/subSteps for PBD); False: no trajectory metrics; a Trajectory: that
+    run, resampled at `trajectory`'s times. contact_margin: the engine's designed overlap (m),
+    subtracted from penetration depths (RunInfo.contact_margin).
+    """
+    registry = engines or Engines()
+    ref: Any
+    if isinstance(reference, Trajectory):
+        times, positions, quaternions, velocities, angular = reference._arrays()
+        ref = {
+            "times": times,
+            "positions": positions,
+            "quaternions": quaternions,
+            "velocities": velocities,
+            "angular_velocities": angular,
+        }
+    else:
+        ref = reference
+    d = _core()._measure(
+        registry._registry, scene._handle, *trajectory._arrays(), ref, contact_margin, integration_step or 0.0
+    )
+    return Metrics(
+        values={k: float(v) for k, v in d["values"].items()},
+        joint_error_by_type={k: dict(v) for k, v in d["joint_error_by_type"].items()},
+        notes=list(d["notes"]),
+        reference=d["reference"],
+    )
+
+
+@dataclass
+class Energy:
+    """Energy terms per sample, J, and the scale E_ref the drift metrics divide by."""
+
+    translational: FloatArray
+    rotational: FloatArray
+    gravitational: FloatArray
+    spring: FloatArray
+    total: FloatArray
+    scale: float
+
+    @property
+    def relative_drift(self) -> FloatArray:
+        """(E(t) - E(0)) / E_ref per sample: the series behind energy_drift_*."""
+        return (self.total - self.total[0]) / self.scale
+
+
+def energy(scene: Scene, trajectory: Trajectory, *, engines: Engines | None = None) -> Energy:
+    """The energy of every sample (validation/mechanics.h)."""
+    registry = engines or Engines()
+    d = _core()._energy(registry._registry, scene._handle, *trajectory._arrays())
+    return Energy(
+        translational=d["translational"],
+        rotational=d["rotational"],
+        gravitational=d["gravitational"],
+        spring=d["spring"],
+        total=d["total"],
+        scale=float(d["scale"]),
+    )

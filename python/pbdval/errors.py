@@ -1,0 +1,44 @@
+"""The exceptions of `import pbdval` (raised by the C++ core and the Python parts alike)."""
+
+from __future__ import annotations
+
+
+class PbdvalError(Exception):
+    """Base class of every pbdval error."""
+
+
+class SceneError(PbdvalError, ValueError):
+    """A scene file that cannot be loaded: the file, the JSON path and what was expected.
+
+    ``str(error)`` is ``"FILE: JSON.PATH: MESSAGE"``, the same text the pbdval command prints.
+    """
+
+    def __init__(self, file: str, json_path: str, message: str) -> None:
+        self.file = file
+        self.json_path = json_path
+        self.message = message
+        parts = [p for p in (file, json_path, message) if p]
+        super().__init__(": ".join(parts))
+
+    def __reduce__(self):  # type: ignore[no-untyped-def]
+        return (SceneError, (self.file, self.json_path, self.message))
+
+
+class EngineError(PbdvalError, RuntimeError):
+    """An engine failed (rejected the model, reported an error while stepping)."""
+
+
+class DivergenceError(EngineError):
+    """The run became non-finite or blew up (positions beyond 1e6 m, speeds beyond 1e6 m/s)."""
+
+
+class UnsupportedError(PbdvalError, ValueError):
+    """The engine/method cannot represent a feature of the scene; the message names each one."""
+
+
+class ResultsError(PbdvalError, ValueError):
+    """A folder that is not a pbdval results folder, or a results.json that cannot be read."""
+
+
+class BuildMissingError(PbdvalError, ImportError):
+    """The C++ core (pbdval._core) or the pbdval binary has not been built yet."""
