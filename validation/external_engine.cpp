@@ -31,6 +31,7 @@ using Clock = std::chrono::steady_clock;
 
 constexpr const char* kStatusFile = "status.json";
 constexpr const char* kTrajectoryFile = "trajectory.csv";
+constexpr const char* kTrajectoryNpyFile = "trajectory.npy";  // the binary alternative
 constexpr const char* kStderrFile = "stderr.txt";
 
 /// A scratch folder for one run, removed with everything in it when the run is over.
@@ -263,13 +264,21 @@ WholeRun ExternalEngine::runWhole(const pbd::Scene& scene, const Method& method,
   }
   facts_ = run.facts;
   if (run.status != RunStatus::Ok && run.status != RunStatus::Diverged) return run;
+  // The trajectory: trajectory.csv, or its binary form trajectory.npy; never both.
+  const bool csv = fs::exists(outFolder / kTrajectoryFile);
+  const bool npy = fs::exists(outFolder / kTrajectoryNpyFile);
+  if (csv && npy)
+    return fail(std::string("it wrote both ") + kTrajectoryFile + " and " + kTrajectoryNpyFile +
+                " (the protocol asks for one)");
+  const std::string trajectoryFile = npy ? kTrajectoryNpyFile : kTrajectoryFile;
   try {
-    run.samples = readTrajectoryCsv((outFolder / kTrajectoryFile).string()).samples;
+    const std::string file = (outFolder / trajectoryFile).string();
+    run.samples = (npy ? readTrajectoryNpy(file) : readTrajectoryCsv(file)).samples;
   } catch (const std::exception& e) {
-    return fail(std::string(kTrajectoryFile) + ": " + e.what());
+    return fail(trajectoryFile + ": " + e.what());
   }
   if (const std::string wrong = checkSamples(run.samples, scene, plan, run.status); !wrong.empty())
-    return fail(std::string(kTrajectoryFile) + ": " + wrong);
+    return fail(trajectoryFile + ": " + wrong);
   run.steps = plan.steps;
   return run;
 }

@@ -418,4 +418,49 @@ void writeMarkdown(std::ostream& out, const GateReport& report, const ResultsFil
   }
 }
 
+void pairMethods(const std::vector<MethodPairing>& pairs, Baseline& baseline, ResultsFile& results) {
+  std::vector<RunRecord> paired;
+  for (const MethodPairing& pair : pairs) {
+    std::size_t found = 0;
+    for (const RunRecord& r : baseline.runs) {
+      if (r.request.method != pair.baselineMethod) continue;
+      RunRecord renamed = r;
+      renamed.request.method = pair.resultsMethod;
+      renamed.request.engine = pair.resultsEngine;
+      paired.push_back(std::move(renamed));
+      ++found;
+    }
+    if (found == 0)
+      throw std::invalid_argument("no run of method " + pair.baselineMethod + " in the baseline");
+    const bool inResults =
+        std::any_of(results.runs.begin(), results.runs.end(),
+                    [&](const RunRecord& r) { return r.request.method == pair.resultsMethod; });
+    if (!inResults)
+      throw std::invalid_argument("no run of method " + pair.resultsMethod + " in the results");
+  }
+  baseline.runs = std::move(paired);
+  // Orderings compare two methods of the results; with only the paired methods kept, one that
+  // names another method could never hold, and would fail for the pairing, not the engine.
+  auto kept = [&](const std::string& method) {
+    return std::any_of(pairs.begin(), pairs.end(),
+                       [&](const MethodPairing& p) { return p.resultsMethod == method; });
+  };
+  for (auto& [name, entry] : results.cases) {
+    std::vector<CheckSpec>& checks = entry.checks;
+    checks.erase(std::remove_if(checks.begin(), checks.end(),
+                                [&](const CheckSpec& c) {
+                                  return !c.better.empty() && !(kept(c.better) && kept(c.worse));
+                                }),
+                 checks.end());
+  }
+  results.runs.erase(std::remove_if(results.runs.begin(), results.runs.end(),
+                                    [&](const RunRecord& r) {
+                                      return std::none_of(pairs.begin(), pairs.end(),
+                                                          [&](const MethodPairing& p) {
+                                                            return p.resultsMethod == r.request.method;
+                                                          });
+                                    }),
+                     results.runs.end());
+}
+
 }  // namespace pbdval

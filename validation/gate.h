@@ -30,6 +30,22 @@ Baseline readBaseline(const std::string& path);
 /// The same on the file's text; `sourceName` names it in messages.
 Baseline parseBaselineText(const std::string& text, const std::string& sourceName);
 
+/// A comparison across methods: the results' runs of `resultsMethod` (of `resultsEngine`) are
+/// compared with the baseline's runs of `baselineMethod`, as when gating an engine upgrade
+/// (mujoco-python.euler.newton, MuJoCo 4.0.0, against mujoco.euler, MuJoCo 2.2.2).
+struct MethodPairing {
+  std::string resultsMethod;
+  std::string resultsEngine;
+  std::string baselineMethod;
+};
+
+/// Keeps only the paired runs: the baseline's runs of each baseline method, relabelled as the
+/// results method and engine, and the results' runs of the results methods; drops the cases'
+/// orderings between methods that are not both kept. Throws
+/// std::invalid_argument when a baseline method has no run in the baseline or a results method
+/// none in the results (a misspelt name would otherwise compare nothing and pass).
+void pairMethods(const std::vector<MethodPairing>& pairs, Baseline& baseline, ResultsFile& results);
+
 /// How much worse than the baseline a metric may get: new ≤ base·(1 + relative) + absolute
 /// (on magnitudes, for signed metrics). `gated` false: not compared by default (cost metrics).
 struct MetricTolerance {

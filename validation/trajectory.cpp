@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -36,14 +37,45 @@ void writeCsvRows(std::ostream& out, const State& state) {
   }
 }
 
-Trajectory readTrajectoryCsv(const std::string& path) {
-  const std::string problem = pbd::inputFileProblem(path, "trajectory");
+namespace {
+
+/// One row (t, id, x y z, qw qx qy qz, vx vy vz, wx wy wz) into `trajectory`: a new sample when
+/// the time changes. `where` names the row in messages.
+void appendRow(Trajectory& trajectory, const double (&fields)[15], const std::string& where) {
+  for (int f = 0; f < 2; ++f)
+    // The time and the id must be finite; a state may not be: a diverged run's last sample
+    // holds its NaN or inf (the runner then reports the run diverged).
+    if (!std::isfinite(fields[f]))
+      throw std::runtime_error(where + ": field " + std::to_string(f + 1) + " is not a finite number");
+  if (fields[1] != std::floor(fields[1]) || std::abs(fields[1]) > 2147483647.0)
+    throw std::runtime_error(where + ": the body id (field 2) is not an integer");
+  if (trajectory.samples.empty() || trajectory.samples.back().time != fields[0]) {
+    trajectory.samples.emplace_back();
+    trajectory.samples.back().time = fields[0];
+  }
+  BodyState b;
+  b.id = static_cast<int>(fields[1]);
+  b.position = Vector3(Real(fields[2]), Real(fields[3]), Real(fields[4]));
+  b.rotation = Quaternion(Real(fields[5]), Real(fields[6]), Real(fields[7]), Real(fields[8]));
+  b.velocity = Vector3(Real(fields[9]), Real(fields[10]), Real(fields[11]));
+  b.angularVelocity = Vector3(Real(fields[12]), Real(fields[13]), Real(fields[14]));
+  trajectory.samples.back().bodies.push_back(b);
+}
+
+std::string readWholeFile(const std::string& path, const char* what) {
+  const std::string problem = pbd::inputFileProblem(path, what);
   if (!problem.empty()) throw std::runtime_error(pbd::printableText(path + ": " + problem));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(pbd::printableText(path + ": cannot be read"));
   std::stringstream text;
   text << in.rdbuf();
-  return parseTrajectoryCsv(text.str(), path);
+  return text.str();
+}
+
+}  // namespace
+
+Trajectory readTrajectoryCsv(const std::string& path) {
+  return parseTrajectoryCsv(readWholeFile(path, "trajectory"), path);
 }
 
 Trajectory parseTrajectoryCsv(const std::string& text, const std::string& sourceName) {
@@ -67,27 +99,65 @@ Trajectory parseTrajectoryCsv(const std::string& text, const std::string& source
           (f == 14 && r.ptr != end))
         throw std::runtime_error(path + ": line " + std::to_string(lineNumber) +
                                  ": expected 15 comma-separated numbers");
-      // The time and the id must be finite; a state may not be: a diverged run's last sample
-      // holds its NaN or inf (the runner then reports the run diverged).
-      if (f < 2 && !std::isfinite(fields[f]))
-        throw std::runtime_error(path + ": line " + std::to_string(lineNumber) + ": field " +
-                                 std::to_string(f + 1) + " is not a finite number");
       p = r.ptr + 1;
     }
-    if (fields[1] != std::floor(fields[1]) || std::abs(fields[1]) > 2147483647.0)
-      throw std::runtime_error(path + ": line " + std::to_string(lineNumber) +
-                               ": the body id (field 2) is not an integer");
-    if (trajectory.samples.empty() || trajectory.samples.back().time != fields[0]) {
-      trajectory.samples.emplace_back();
-      trajectory.samples.back().time = fields[0];
-    }
-    BodyState b;
-    b.id = static_cast<int>(fields[1]);
-    b.position = Vector3(Real(fields[2]), Real(fields[3]), Real(fields[4]));
-    b.rotation = Quaternion(Real(fields[5]), Real(fields[6]), Real(fields[7]), Real(fields[8]));
-    b.velocity = Vector3(Real(fields[9]), Real(fields[10]), Real(fields[11]));
-    b.angularVelocity = Vector3(Real(fields[12]), Real(fields[13]), Real(fields[14]));
-    trajectory.samples.back().bodies.push_back(b);
+    appendRow(trajectory, fields, path + ": line " + std::to_string(lineNumber));
+  }
+  return trajectory;
+}
+
+Trajectory readTrajectoryNpy(const std::string& path) {
+  return parseTrajectoryNpy(readWholeFile(path, "trajectory"), path);
+}
+
+Trajectory parseTrajectoryNpy(const std::string& bytes, const std::string& sourceName) {
+  const std::string path = pbd::printableText(sourceName);
+  auto fail = [&](const std::string& expected) -> std::runtime_error {
+    return std::runtime_error(path + ": expected " + expected +
+                              " (an .npy file of float64, shape (rows, 15), C order: "
+                              "docs/external-engines.md#trajectory)");
+  };
+  static const std::string kMagic = "\x93NUMPY";
+  if (bytes.size() < 10 || bytes.compare(0, kMagic.size(), kMagic) != 0) throw fail("the NPY magic");
+  const int major = static_cast<unsigned char>(bytes[6]);
+  std::size_t headerLength = 0, offset = 0;
+  if (major == 1) {
+    headerLength = static_cast<unsigned char>(bytes[8]) | (static_cast<unsigned char>(bytes[9]) << 8);
+    offset = 10;
+  } else if (major == 2 || major == 3) {
+    if (bytes.size() < 12) throw fail("a complete NPY preamble");
+    for (int i = 3; i >= 0; --i)
+      headerLength = (headerLength << 8) | static_cast<unsigned char>(bytes[8 + std::size_t(i)]);
+    offset = 12;
+  } else {
+    throw fail("NPY format version 1, 2 or 3, got " + std::to_string(major));
+  }
+  if (bytes.size() < offset + headerLength) throw fail("a complete NPY header");
+  const std::string header = bytes.substr(offset, headerLength);
+  auto has = [&](const char* text) { return header.find(text) != std::string::npos; };
+  if (!has("'descr': '<f8'")) throw fail("'descr': '<f8' (little-endian float64)");
+  if (!has("'fortran_order': False")) throw fail("'fortran_order': False");
+  const std::size_t shapeAt = header.find("'shape': (");
+  if (shapeAt == std::string::npos) throw fail("a 'shape' entry");
+  const char* p = header.data() + shapeAt + 10;
+  const char* end = header.data() + header.size();
+  std::size_t rows = 0, columns = 0;
+  auto r = std::from_chars(p, end, rows);
+  if (r.ec != std::errc() || r.ptr + 2 > end || r.ptr[0] != ',' || r.ptr[1] != ' ')
+    throw fail("shape (rows, 15)");
+  r = std::from_chars(r.ptr + 2, end, columns);
+  if (r.ec != std::errc() || r.ptr >= end || *r.ptr != ')' || columns != 15)
+    throw fail("shape (rows, 15)");
+  const std::size_t dataAt = offset + headerLength;
+  if (rows > (bytes.size() - dataAt) / (15 * sizeof(double)) ||
+      bytes.size() - dataAt != rows * 15 * sizeof(double))
+    throw fail(std::to_string(rows) + " rows of data (" + std::to_string(rows * 15 * sizeof(double)) +
+               " bytes), found " + std::to_string(bytes.size() - dataAt) + " bytes");
+  Trajectory trajectory;
+  double fields[15];
+  for (std::size_t row = 0; row < rows; ++row) {
+    std::memcpy(fields, bytes.data() + dataAt + row * sizeof fields, sizeof fields);
+    appendRow(trajectory, fields, path + ": row " + std::to_string(row));
   }
   return trajectory;
 }

@@ -29,6 +29,14 @@ Trajectory readTrajectoryCsv(const std::string& path);
 /// The same on the file's text; `sourceName` names it in messages.
 Trajectory parseTrajectoryCsv(const std::string& text, const std::string& sourceName);
 
+/// Reads a trajectory as NPY (the binary form external engines may write instead of the CSV):
+/// a little-endian float64 array of shape (rows, 15), C order, rows as the CSV's lines (time,
+/// id, x y z, qw qx qy qz, vx vy vz, wx wy wz). Throws std::runtime_error naming the file, the
+/// row, and what was expected.
+Trajectory readTrajectoryNpy(const std::string& path);
+/// The same on the file's bytes; `sourceName` names it in messages.
+Trajectory parseTrajectoryNpy(const std::string& bytes, const std::string& sourceName);
+
 /// The shortest decimal text that reads back to `value` exactly.
 std::string formatNumber(double value);
 

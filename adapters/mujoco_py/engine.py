@@ -323,18 +323,33 @@ class MujocoRun:
     def run(self, out_dir: Path) -> pp.Status:
         bad_qacc = int(mujoco.mjtWarning.mjWARN_BADQACC)
 
-        def step() -> None:
-            mujoco.mj_step(self.model, self.data)
-            # mj_step leaves xpos, xquat and cvel at the start of the step (they are computed
-            # before the integration); recompute them for the new state.
-            mujoco.mj_forward(self.model, self.data)
-
         def failure(t: float) -> str | None:
             if self.data.warning[bad_qacc].number > 0:
                 return f"MuJoCo reset the state after a bad acceleration at t = {t:g} s"
             return None
 
-        status = pp.simulate(self.scene, out_dir, step, lambda t: self.states(), failure)
+        def check(t: float) -> str | None:
+            # Between samples: the runner's limits on the generalised state, vectorised (a free
+            # body's qpos holds its position, its qvel its linear and angular velocity).
+            qpos, qvel = self.data.qpos, self.data.qvel
+            if not (np.isfinite(qpos).all() and np.isfinite(qvel).all()):
+                return f"non-finite state at t = {t:g} s"
+            if qpos.size and np.abs(qpos).max() > pp.DIVERGENCE_LIMIT:
+                return f"a coordinate beyond {pp.DIVERGENCE_LIMIT:g} at t = {t:g} s"
+            if qvel.size and np.abs(qvel).max() > pp.DIVERGENCE_LIMIT:
+                return f"a speed beyond {pp.DIVERGENCE_LIMIT:g} at t = {t:g} s"
+            return None
+
+        def states(t: float) -> list[pp.BodyState]:
+            # mj_step leaves xpos, xquat and cvel at the start of the step (they are computed
+            # before the integration); recompute them for the new state. mj_forward changes no
+            # state and no warm start, so sampling does not change the trajectory.
+            if t > 0:
+                mujoco.mj_forward(self.model, self.data)
+            return self.states()
+
+        status = pp.simulate(self.scene, out_dir, lambda: mujoco.mj_step(self.model, self.data), states,
+                             failure, check)
         status.engine_version = engine_version()
         status.effective_settings = self.settings
         status.integrator_steps_per_scene_step = 1

@@ -6,7 +6,8 @@ An engine is run as
 
 with the repository root as working directory and PBDVAL_PROTOCOL=1 in its environment. It
 reads the resolved scene (`pbdval export-scene`, schema docs/schemas/resolved-scene.schema.json),
-writes OUTDIR/trajectory.csv (the CSV of `pbdval simulate`) and OUTDIR/status.json, and exits 0
+writes its trajectory, OUTDIR/trajectory.csv (the CSV of `pbdval simulate`) or the same rows as
+OUTDIR/trajectory.npy (binary; what TrajectoryWriter writes), and OUTDIR/status.json, and exits 0
 whenever status.json was written, whatever the status.
 
 This module holds everything an engine shares: typed dataclasses for the resolved scene and a
@@ -23,12 +24,18 @@ import os
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Iterable, Mapping, Sequence, TextIO
+from typing import Any, BinaryIO, Callable, Iterable, Mapping, Sequence
+
+import numpy as np
 
 PROTOCOL_VERSION = 1
 RESOLVED_SCENE_FORMAT = "pbdval.resolved-scene"
 RESOLVED_SCENE_VERSION = 1
 TRAJECTORY_FILE = "trajectory.csv"
+#: The binary form of the same rows (an NPY file of float64, shape (rows, 15)), which
+#: TrajectoryWriter writes by default: formatting every number as text costs more per sample
+#: than most engines' step (docs/benchmarks.md#python).
+TRAJECTORY_NPY_FILE = "trajectory.npy"
 STATUS_FILE = "status.json"
 TRAJECTORY_HEADER = "t,id,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz"
 STATUSES = ("ok", "unsupported", "diverged", "error")
@@ -520,50 +527,78 @@ class BodyState:
 def divergence_reason(time: float, bodies: Iterable[BodyState]) -> str | None:
     """Why a state counts as diverged (non-finite, |x| or |v| above DIVERGENCE_LIMIT), or None;
     the same test as validation/simulation.cpp."""
-    for b in bodies:
-        values = [*b.position, *b.rotation, *b.velocity, *b.angular_velocity]
-        if not all(math.isfinite(v) for v in values):
-            return f"non-finite state of body {b.id} at t = {time:g} s"
-        x = math.sqrt(sum(v * v for v in b.position))
-        v = math.sqrt(sum(c * c for c in b.velocity))
-        if x > DIVERGENCE_LIMIT or v > DIVERGENCE_LIMIT:
-            return f"body {b.id} blew up at t = {time:g} s (|x| = {x:g} m, |v| = {v:g} m/s)"
+    return rows_divergence_reason(time, state_rows(time, list(bodies)))
+
+
+def state_rows(time: float, bodies: Sequence[BodyState]) -> np.ndarray:
+    """The trajectory rows of one sample: (len(bodies), 15) float64, columns as the CSV's
+    (t, id, x y z, qw qx qy qz, vx vy vz, wx wy wz), quaternions flipped to w >= 0."""
+    rows = np.empty((len(bodies), 15))
+    for i, b in enumerate(bodies):
+        row = [time, b.id, *b.position, *b.rotation, *b.velocity, *b.angular_velocity]
+        if len(row) != 15:
+            raise ValueError(f"body {b.id}: expected 3+4+3+3 state values, got {len(row) - 2}")
+        rows[i] = row
+    flip = rows[:, 5] < 0  # q and -q are one rotation
+    rows[flip, 5:9] *= -1.0
+    return rows
+
+
+def rows_divergence_reason(time: float, rows: np.ndarray) -> str | None:
+    """divergence_reason on state_rows."""
+    finite = np.isfinite(rows[:, 2:]).all(axis=1)
+    if not finite.all():
+        return f"non-finite state of body {int(rows[np.argmin(finite), 1])} at t = {time:g} s"
+    x = np.linalg.norm(rows[:, 2:5], axis=1)
+    v = np.linalg.norm(rows[:, 9:12], axis=1)
+    bad = (x > DIVERGENCE_LIMIT) | (v > DIVERGENCE_LIMIT)
+    if bad.any():
+        i = int(np.argmax(bad))
+        return f"body {int(rows[i, 1])} blew up at t = {time:g} s (|x| = {x[i]:g} m, |v| = {v[i]:g} m/s)"
     return None
 
 
 class TrajectoryWriter:
-    """Writes OUTDIR/trajectory.csv in the format of `pbdval simulate` (docs/cli.md#csv):
-    the header, then one row per body per sample, bodies in the resolved scene's order,
-    quaternions with w >= 0. Written to a temporary file and renamed on close(), so the file
-    is never half-written."""
+    """Writes the run's samples into OUTDIR: by default OUTDIR/trajectory.npy (binary: float64
+    rows of shape (rows, 15), one per body per sample, columns as the CSV's), or with
+    `binary=False` OUTDIR/trajectory.csv in the format of `pbdval simulate` (docs/cli.md#csv).
+    Bodies in the resolved scene's order, quaternions with w >= 0. Written to a temporary file
+    and renamed on close(), so the file is never half-written."""
 
-    def __init__(self, out_dir: str | os.PathLike[str]) -> None:
-        self.path = Path(out_dir) / TRAJECTORY_FILE
-        fd, temporary = tempfile.mkstemp(prefix=TRAJECTORY_FILE + ".", suffix=".tmp",
+    def __init__(self, out_dir: str | os.PathLike[str], *, binary: bool = True) -> None:
+        self.binary = binary
+        self.path = Path(out_dir) / (TRAJECTORY_NPY_FILE if binary else TRAJECTORY_FILE)
+        fd, temporary = tempfile.mkstemp(prefix=self.path.name + ".", suffix=".tmp",
                                          dir=str(self.path.parent))
         self._temporary = Path(temporary)
-        self._file: TextIO = os.fdopen(fd, "w", encoding="ascii", newline="\n")
-        self._file.write(TRAJECTORY_HEADER + "\n")
+        self._file: BinaryIO = os.fdopen(fd, "wb")
+        self._rows: list[np.ndarray] = []
+        if not binary:
+            self._file.write((TRAJECTORY_HEADER + "\n").encode("ascii"))
         self.samples = 0
 
     def write(self, time: float, bodies: Sequence[BodyState]) -> None:
-        t = format_time(time)
-        lines = []
-        for b in bodies:
-            q = tuple(b.rotation)
-            if q[0] < 0:
-                q = tuple(-c for c in q)
-            values = (*b.position, *q, *b.velocity, *b.angular_velocity)
-            if len(values) != 13:
-                raise ValueError(f"body {b.id}: expected 3+4+3+3 state values, got {len(values)}")
-            lines.append(f"{t},{b.id}," + ",".join(format_number(v) for v in values) + "\n")
-        self._file.write("".join(lines))
+        self.write_rows(state_rows(time, bodies))
+
+    def write_rows(self, rows: np.ndarray) -> None:
+        """One sample's rows (state_rows), written as they are."""
+        if rows.ndim != 2 or rows.shape[1] != 15:
+            raise ValueError(f"expected rows of shape (bodies, 15), got {rows.shape}")
+        if self.binary:
+            self._rows.append(np.array(rows, dtype=np.float64))
+        else:
+            t = format_time(float(rows[0, 0])) if len(rows) else ""
+            lines = [f"{t},{int(r[1])}," + ",".join(format_number(v) for v in r[2:]) + "\n" for r in rows]
+            self._file.write("".join(lines).encode("ascii"))
         self.samples += 1
 
     def close(self) -> None:
-        """Flushes and renames the file into place."""
+        """Writes out and renames the file into place."""
         if self._file.closed:
             return
+        if self.binary:
+            data = np.concatenate(self._rows) if self._rows else np.empty((0, 15))
+            np.save(self._file, np.ascontiguousarray(data, dtype="<f8"), allow_pickle=False)
         self._file.flush()
         os.fsync(self._file.fileno())
         self._file.close()
@@ -659,12 +694,17 @@ def parse_arguments(argv: Sequence[str] | None, description: str) -> EngineArgum
 
 def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callable[[], None],
              states: Callable[[float], list[BodyState]],
-             failure: Callable[[float], str | None] = lambda t: None) -> Status:
+             failure: Callable[[float], str | None] = lambda t: None,
+             check: Callable[[float], str | None] | None = None) -> Status:
     """The run every engine makes: the state at t = 0, then `scene.steps` calls of `step`
     (one scene step each), writing the samples the runner asks for (`scene.sample_steps()`).
-    Stops at the first divergence (the runner's limits, or what `failure(t)` reports) after
-    writing that state, and returns the status ("ok" or "diverged"); the engine adds its
-    version and settings."""
+
+    Divergence: every sample's states are checked against the runner's limits
+    (`divergence_reason`) and `failure(t)`; between samples the states are not read (reading
+    them is most of the protocol's cost per step), so an engine that can tell cheaply gives
+    `check(t)`, called after every other step (e.g. a vectorised look at its state arrays).
+    The run stops at the first divergence found, after writing that state, and the status is
+    "diverged" with its time; otherwise "ok". The engine adds its version and settings."""
     sampled = set(scene.sample_steps())
     status = Status("ok")
     with TrajectoryWriter(out_dir) as writer:
@@ -672,13 +712,17 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
         for n in range(1, scene.steps + 1):
             step()
             t = n * scene.time_step_size
-            current = states(t)
-            reason = divergence_reason(t, current) or failure(t)
+            if n in sampled:
+                rows = state_rows(t, states(t))
+                reason = rows_divergence_reason(t, rows) or failure(t)
+            else:
+                reason = (check(t) if check is not None else None) or failure(t)
+                rows = state_rows(t, states(t)) if reason else None
             if reason:
-                writer.write(t, current)
+                writer.write_rows(rows)
                 return Status("diverged", reason=reason, diverged_at=t)
             if n in sampled:
-                writer.write(t, current)
+                writer.write_rows(rows)
     return status
 
 

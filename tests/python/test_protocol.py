@@ -8,6 +8,7 @@ import random
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from conftest import REPO
@@ -85,7 +86,7 @@ def test_read_resolved_scene_reports_unreadable_and_malformed_files(tmp_path: Pa
 
 
 def test_trajectory_writer_writes_the_simulate_csv(tmp_path: Path) -> None:
-    with pp.TrajectoryWriter(tmp_path) as writer:
+    with pp.TrajectoryWriter(tmp_path, binary=False) as writer:
         writer.write(0.0, [pp.BodyState(3, (1.0, 2.5, -0.0), (-1.0, 0.0, 0.0, 0.0), (0, 0, 0), (0, 0, 0))])
         writer.write(0.1 + 0.2, [pp.BodyState(3, (0.1, 2.0, 3.0), (0.5, -0.5, 0.5, -0.5), (1, 2, 3), (4, 5, 6))])
     lines = (tmp_path / "trajectory.csv").read_text().splitlines()
@@ -94,6 +95,31 @@ def test_trajectory_writer_writes_the_simulate_csv(tmp_path: Path) -> None:
     assert lines[1] == "0,3,1,2.5,-0,1,-0,-0,-0,0,0,0,0,0,0"
     assert lines[2] == "0.3,3,0.1,2,3,0.5,-0.5,0.5,-0.5,1,2,3,4,5,6"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["trajectory.csv"]  # no temporary left
+
+
+def test_trajectory_writer_writes_the_same_rows_as_npy(tmp_path: Path) -> None:
+    bodies0 = [pp.BodyState(3, (1.0, 2.5, -0.0), (-1.0, 0.0, 0.0, 0.0), (0, 0, 0), (0, 0, 0)),
+               pp.BodyState(7, (0.0, 0.0, 1.0), (1.0, 0.0, 0.0, 0.0), (0, 0, -1), (0, 0, 0))]
+    with pp.TrajectoryWriter(tmp_path) as writer:
+        writer.write(0.0, bodies0)
+        writer.write(0.1 + 0.2, [pp.BodyState(3, (0.1, 2.0, 3.0), (0.5, -0.5, 0.5, -0.5), (1, 2, 3), (4, 5, 6)),
+                                 bodies0[1]])
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["trajectory.npy"]  # no temporary left
+    rows = np.load(tmp_path / "trajectory.npy")
+    assert rows.dtype == np.dtype("<f8") and rows.shape == (4, 15)
+    np.testing.assert_array_equal(rows[0], [0, 3, 1, 2.5, -0.0, 1, -0.0, -0.0, -0.0, 0, 0, 0, 0, 0, 0])
+    assert rows[2, 0] == 0.1 + 0.2  # the time exactly, not rounded to 0.3
+    np.testing.assert_array_equal(rows[:, 1], [3, 7, 3, 7])
+
+
+def test_divergence_is_found_in_the_rows() -> None:
+    fine = pp.BodyState(1, (0, 0, 0), (1, 0, 0, 0), (0, 0, 0), (0, 0, 0))
+    assert pp.divergence_reason(0.5, [fine]) is None
+    nan = pp.BodyState(2, (0, float("nan"), 0), (1, 0, 0, 0), (0, 0, 0), (0, 0, 0))
+    assert pp.divergence_reason(0.5, [fine, nan]) == "non-finite state of body 2 at t = 0.5 s"
+    fast = pp.BodyState(4, (0, 0, 0), (1, 0, 0, 0), (0, 2e6, 0), (0, 0, 0))
+    reason = pp.divergence_reason(0.5, [fine, fast])
+    assert reason is not None and reason.startswith("body 4 blew up at t = 0.5 s")
 
 
 def test_status_json_has_exactly_the_protocol_fields(tmp_path: Path) -> None:

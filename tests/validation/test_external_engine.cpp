@@ -58,6 +58,39 @@ class ExternalEngineTest : public ::testing::Test {
     return file.string();
   }
 
+  /// The same trajectory as NPY (version 1.0, float64 rows of 15 columns), written here by hand
+  /// from the format's definition (numpy.lib.format), with `header` replacing the dictionary when
+  /// given and the data cut to `dataBytes` when non-negative.
+  std::string restingNpy(const std::string& header = "", long dataBytes = -1) {
+    std::vector<double> rows;
+    for (int step : {0, 5, 10})
+      for (const pbd::RigidBodyDesc& b : scene_.rigidBodies) {
+        const Vector3 x = b.initialCenterOfMass();
+        const pbd::Quaternion q = b.rotation;
+        for (double v : {step * 0.01, double(b.id), double(x.x()), double(x.y()), double(x.z()),
+                         double(q.w()), double(q.x()), double(q.y()), double(q.z()), 0.0, 0.0, 0.0,
+                         0.0, 0.0, 0.0})
+          rows.push_back(v);
+      }
+    std::string dict = header.empty() ? "{'descr': '<f8', 'fortran_order': False, 'shape': (" +
+                                            std::to_string(rows.size() / 15) + ", 15), }"
+                                      : header;
+    while ((10 + dict.size() + 1) % 64 != 0) dict += ' ';
+    dict += '\n';
+    std::string bytes = "\x93NUMPY";
+    bytes += char(1);
+    bytes += char(0);
+    bytes += char(dict.size() & 0xff);
+    bytes += char(dict.size() >> 8);
+    bytes += dict;
+    std::string data(reinterpret_cast<const char*>(rows.data()), rows.size() * sizeof(double));
+    if (dataBytes >= 0) data.resize(std::size_t(dataBytes));
+    bytes += data;
+    const fs::path file = folder_ / ("trajectory-" + std::to_string(counter_++) + ".npy");
+    std::ofstream(file, std::ios::binary) << bytes;
+    return file.string();
+  }
+
   /// Runs the shell `script` as an engine ($4 is the output folder).
   RunOutcome run(const std::string& script, double limit = 10) {
     ExternalEngine engine("shell", ExternalCommand{{"sh", "-c", script, "engine"}, folder_.string()});
@@ -93,6 +126,49 @@ TEST_F(ExternalEngineTest, AWellBehavedEngineRunsWithItsFactsAndSettings) {
   EXPECT_EQ(outcome.facts.contactMargin, 0.001);
   EXPECT_EQ(outcome.settings.at("iterations"), "3");
   EXPECT_EQ(outcome.steps, 10);
+}
+
+TEST_F(ExternalEngineTest, ABinaryTrajectoryReadsAsTheCsv) {
+  const RunOutcome csv = run("cp " + restingTrajectory() + " \"$4/trajectory.csv\"; " + okStatus());
+  const std::vector<State> fromCsv = samples_;
+  const RunOutcome npy = run("cp " + restingNpy() + " \"$4/trajectory.npy\"; " + okStatus());
+  ASSERT_EQ(npy.status, RunStatus::Ok) << npy.reason;
+  ASSERT_EQ(samples_.size(), fromCsv.size());
+  for (std::size_t k = 0; k < samples_.size(); ++k) {
+    EXPECT_EQ(samples_[k].time, fromCsv[k].time);
+    ASSERT_EQ(samples_[k].bodies.size(), fromCsv[k].bodies.size());
+    for (std::size_t b = 0; b < samples_[k].bodies.size(); ++b) {
+      EXPECT_EQ(samples_[k].bodies[b].id, fromCsv[k].bodies[b].id);
+      EXPECT_EQ(samples_[k].bodies[b].position, fromCsv[k].bodies[b].position);
+    }
+  }
+  EXPECT_EQ(csv.status, RunStatus::Ok);
+}
+
+TEST_F(ExternalEngineTest, BadBinaryTrajectoriesAreErrorsNamingWhatWasExpected) {
+  const RunOutcome truncated =
+      run("cp " + restingNpy("", 100) + " \"$4/trajectory.npy\"; " + okStatus());
+  EXPECT_EQ(truncated.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(truncated.reason, {"trajectory.npy", "6 rows", "found 100 bytes"}))
+      << truncated.reason;
+  const RunOutcome floats = run(
+      "cp " + restingNpy("{'descr': '<f4', 'fortran_order': False, 'shape': (6, 15), }") +
+      " \"$4/trajectory.npy\"; " + okStatus());
+  EXPECT_TRUE(containsAll(floats.reason, {"trajectory.npy", "'<f8'"})) << floats.reason;
+  const RunOutcome columns = run(
+      "cp " + restingNpy("{'descr': '<f8', 'fortran_order': False, 'shape': (6, 14), }") +
+      " \"$4/trajectory.npy\"; " + okStatus());
+  EXPECT_TRUE(containsAll(columns.reason, {"shape (rows, 15)"})) << columns.reason;
+  const RunOutcome fortran = run(
+      "cp " + restingNpy("{'descr': '<f8', 'fortran_order': True, 'shape': (6, 15), }") +
+      " \"$4/trajectory.npy\"; " + okStatus());
+  EXPECT_TRUE(containsAll(fortran.reason, {"'fortran_order': False"})) << fortran.reason;
+  const RunOutcome both = run("cp " + restingNpy() + " \"$4/trajectory.npy\"; cp " +
+                              restingTrajectory() + " \"$4/trajectory.csv\"; " + okStatus());
+  EXPECT_EQ(both.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(both.reason, {"both", "trajectory.csv", "trajectory.npy"})) << both.reason;
+  const RunOutcome text = run("echo hello > \"$4/trajectory.npy\"; " + okStatus());
+  EXPECT_TRUE(containsAll(text.reason, {"NPY magic"})) << text.reason;
 }
 
 TEST_F(ExternalEngineTest, AMissingCommandIsAnError) {

@@ -70,6 +70,37 @@ TEST(Gate, StatusRegressionAndMissingRunFail) {
   EXPECT_TRUE(named);
 }
 
+// An engine upgrade gated against the old version's baseline: the results' method is compared
+// with the baseline's other method, and nothing else is compared (no "missing" runs of the
+// methods left out).
+TEST(Gate, PairedMethodsCompareAcrossMethodNames) {
+  const Baseline old = baselineFromResults(results({run("pbd", 0.010), run("selftest.ok", 0.5)}));
+  const std::vector<MethodPairing> pairs = {{"selftest.ok", "selftest", "pbd"}};
+  {
+    Baseline base = old;
+    ResultsFile now = results({run("selftest.ok", 0.0105)});  // within pbd's 0.010 + 10 %
+    pairMethods(pairs, base, now);
+    ASSERT_EQ(base.runs.size(), 1u);
+    EXPECT_EQ(base.runs[0].request.method, "selftest.ok");
+    EXPECT_EQ(base.runs[0].request.engine, "selftest");
+    EXPECT_TRUE(evaluateGate(base, now).passed());
+  }
+  {
+    Baseline base = old;
+    ResultsFile now = results({run("selftest.ok", 0.02), run("pbd", 99)});  // 2x pbd's drift
+    pairMethods(pairs, base, now);
+    ASSERT_EQ(now.runs.size(), 1u);  // pbd's own run is not compared
+    const GateReport report = evaluateGate(base, now);
+    EXPECT_EQ(report.failures(), 1u);
+  }
+  Baseline base = old;
+  ResultsFile now = results({run("selftest.ok", 0.01)});
+  EXPECT_THROW(pairMethods({{"selftest.ok", "selftest", "no.such"}}, base, now),
+               std::invalid_argument);
+  EXPECT_THROW(pairMethods({{"selftest.crash", "selftest", "pbd"}}, base, now),
+               std::invalid_argument);
+}
+
 TEST(Gate, CaseBoundsAndOrderingsAreChecked) {
   ResultsFile now = results({run("pbd", 0.01), run("selftest.ok", 0.02)});
   const Baseline base = baselineFromResults(now);

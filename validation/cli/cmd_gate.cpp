@@ -47,8 +47,10 @@ std::string resultsPathOf(const std::string& folderOrFile) {
 
 }  // namespace
 
-int gateCommand(const Context& /*context*/, const Arguments& arguments) {
-  ArgParser parser("gate", "--baseline FILE --results DIR [--junit FILE] [--markdown FILE]",
+int gateCommand(const Context& context, const Arguments& arguments) {
+  ArgParser parser("gate",
+                   "--baseline FILE --results DIR [--junit FILE] [--markdown FILE] "
+                   "[--compare-as METHOD=BASELINE_METHOD]",
                    "Compares a results folder with a baseline and with each case's own checks\n"
                    "(docs/gate.md): every metric no worse than the baseline by more than its\n"
                    "tolerance, no run that was ok and is not any more, no run missing, and the\n"
@@ -60,6 +62,10 @@ int gateCommand(const Context& /*context*/, const Arguments& arguments) {
       .option("junit", "FILE", "also write JUnit XML for CI systems")
       .option("markdown", "FILE", "also write a Markdown summary")
       .option("cases", "LIST", "compare only these cases (comma-separated); default: all")
+      .option("compare-as", "METHOD=BASELINE_METHOD",
+              "compare only the results' runs of METHOD, with the baseline's runs of "
+              "BASELINE_METHOD (an engine upgrade or another binding; repeatable)",
+              true)
       .flag("known-failures-fail", "fail on case checks that already failed in the baseline too")
       .flag("quiet", "print only the verdict")
       .epilog(
@@ -76,6 +82,17 @@ int gateCommand(const Context& /*context*/, const Arguments& arguments) {
     Baseline baseline = readBaseline(args.value("baseline"));
     results = readResults(resultsPathOf(args.value("results")));
     if (args.has("cases")) restrictToCases(splitList(args.value("cases")), baseline, results);
+    if (args.has("compare-as")) {
+      std::vector<MethodPairing> pairs;
+      for (const std::string& text : args.values("compare-as")) {
+        const std::size_t eq = text.find('=');
+        if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
+          return parser.usageError("--compare-as: expected METHOD=BASELINE_METHOD, got '" + text + "'");
+        const std::string method = text.substr(0, eq);
+        pairs.push_back({method, context.engines.method(method).engine, text.substr(eq + 1)});
+      }
+      pairMethods(pairs, baseline, results);
+    }
     GateOptions options;
     options.knownFailuresFail = args.flags.count("known-failures-fail") > 0;
     report = evaluateGate(baseline, results, options);
