@@ -62,6 +62,7 @@ const std::vector<NamedTarget>& allTargets() {  // the library targets first
       {"results", &resultsTarget},
       {"baseline", &baselineTarget},
       {"trajectory", &trajectoryTarget},
+      {"trajectory_npy", &trajectoryNpyTarget},
   };
   return targets;
 }

@@ -23,6 +23,7 @@ void tetGenTarget(const std::uint8_t* data, std::size_t size);      ///< .node, 
 void resultsTarget(const std::uint8_t* data, std::size_t size);     ///< parseResultsText
 void baselineTarget(const std::uint8_t* data, std::size_t size);    ///< parseBaselineText
 void trajectoryTarget(const std::uint8_t* data, std::size_t size);  ///< parseTrajectoryCsv
+void trajectoryNpyTarget(const std::uint8_t* data, std::size_t size);  ///< parseTrajectoryNpy
 
 struct NamedTarget {
   const char* name;  ///< also the folder of its corpus: tests/fuzz/corpus/<name>/

@@ -1,4 +1,4 @@
-// The trajectory CSV reader's target: validation/trajectory.cpp needs only the pbd library, so its
+// The trajectory readers' targets (CSV and NPY): validation/trajectory.cpp needs only the pbd library, so its
 // fuzz program is built from it directly, without the engines (tests/fuzz/CMakeLists.txt).
 #include <stdexcept>
 
@@ -11,6 +11,14 @@ namespace pbdval::fuzz {
 void trajectoryTarget(const std::uint8_t* data, std::size_t size) {
   try {
     (void)parseTrajectoryCsv(text(data, size), "trajectory.csv");
+  } catch (const std::runtime_error& e) {
+    expectPrintable(e.what());
+  }
+}
+
+void trajectoryNpyTarget(const std::uint8_t* data, std::size_t size) {
+  try {
+    (void)parseTrajectoryNpy(std::string(reinterpret_cast<const char*>(data), size), "trajectory.npy");
   } catch (const std::runtime_error& e) {
     expectPrintable(e.what());
   }
