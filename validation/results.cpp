@@ -38,7 +38,7 @@ std::string utcNow() {
 }
 
 Json metadataJson(const RunMetadata& m) {
-  return {{"created", m.created},
+  Json j = {{"created", m.created},
           {"command", m.command},
           {"pbdval",
            {{"version", m.version},
@@ -49,6 +49,12 @@ Json metadataJson(const RunMetadata& m) {
             {"flags", m.flags},
             {"precision", m.precision}}},
           {"machine", {{"hostname", m.hostname}, {"cpu", m.cpu}, {"cores", m.cores}}}};
+  if (m.shard)
+    j["shard"] = {{"index", m.shard->index},
+                  {"count", m.shard->count},
+                  {"planSize", m.shard->planSize},
+                  {"planDigest", m.shard->planDigest}};
+  return j;
 }
 
 RunMetadata metadataFrom(const JsonField& j) {
@@ -70,6 +76,15 @@ RunMetadata metadataFrom(const JsonField& j) {
     m.hostname = h.stringOr("hostname", "");
     m.cpu = h.stringOr("cpu", "");
     if (h.has("cores")) m.cores = static_cast<int>(h.at("cores").integer(0, 1 << 20));
+  }
+  if (j.has("shard")) {
+    const JsonField s = j.at("shard").expectObject();
+    ShardInfo shard;
+    shard.count = static_cast<int>(s.at("count").integer(1, 1 << 30));
+    shard.index = static_cast<int>(s.at("index").integer(1, shard.count));
+    shard.planSize = static_cast<std::size_t>(s.at("planSize").integer(0, 1LL << 40));
+    shard.planDigest = s.at("planDigest").string();
+    m.shard = shard;
   }
   return m;
 }

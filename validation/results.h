@@ -2,12 +2,22 @@
 // reproduce and compare it (build, machine, command). Written atomically.
 #pragma once
 
+#include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "validation/run_record.h"
 
 namespace pbdval {
+
+/// Which slice of a plan a results folder holds (`pbdval run --shard K/N`, docs/cluster.md).
+struct ShardInfo {
+  int index = 1;              ///< K, 1-based
+  int count = 1;              ///< N
+  std::size_t planSize = 0;   ///< runs in the whole plan (cases that could not be read included)
+  std::string planDigest;     ///< of the whole plan: equal plans, equal digests
+};
 
 /// Where and how a set of results was produced.
 struct RunMetadata {
@@ -16,6 +26,7 @@ struct RunMetadata {
   std::string version, commit, commitState, buildType, compiler, flags, precision;
   std::string hostname, cpu;
   int cores = 0;
+  std::optional<ShardInfo> shard;  ///< set for one shard of a plan
 };
 
 /// The metadata of this process (build info compiled in, machine read from the system).

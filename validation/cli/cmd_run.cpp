@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -16,6 +17,7 @@
 #include "validation/results.h"
 #include "validation/run_plan.h"
 #include "validation/run_scheduler.h"
+#include "validation/sharding.h"
 #include "validation/summary.h"
 
 namespace pbdval::cli {
@@ -37,6 +39,9 @@ ArgParser runParser() {
       .option("jobs", "N", "runs in parallel (default: the number of cores)")
       .option("timeout", "S", "wall-time limit per run in seconds (default: 600; 0: none)")
       .option("set", "KEY=VALUE", "a method parameter or Simulation setting for every run", true)
+      .option("shard", "K/N",
+              "run only the K-th of N slices of the plan (batch schedulers; join the folders "
+              "with 'pbdval merge', docs/cluster.md)")
       .flag("no-trajectories", "do not write trajectory CSVs")
       .flag("strict", "treat scene warnings as errors")
       .flag("quiet", "no progress, only the summary")
@@ -63,6 +68,7 @@ int runCommand(const Context& context, const Arguments& arguments) {
   const bool quiet = args.flags.count("quiet") > 0;
   PlanOptions options;
   RunPlan plan;
+  std::optional<ShardInfo> shard;
   int jobs = 1;
   double timeout = 600;
   try {
@@ -79,6 +85,11 @@ int runCommand(const Context& context, const Arguments& arguments) {
     const std::vector<std::string> paths =
         args.positionals.empty() ? std::vector<std::string>{defaultCaseFolder()} : args.positionals;
     plan = planRuns(collectCaseFiles(paths), options, context.engines);
+    if (args.has("shard")) {
+      ShardInfo info = parseShard(args.value("shard"));
+      plan = shardOf(plan, info);
+      shard = info;
+    }
     // Before the runs, not after minutes of them: an --out that cannot hold results.json.
     checkOutputFile(options.outFolder + "/results.json");
   } catch (const std::exception& e) {
@@ -91,6 +102,7 @@ int runCommand(const Context& context, const Arguments& arguments) {
     command << ' ' << a;
   ResultsFile results;
   results.metadata = currentMetadata(command.str());
+  results.metadata.shard = shard;
 
   const bool terminal = !quiet && ::isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
@@ -98,8 +110,14 @@ int runCommand(const Context& context, const Arguments& arguments) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
   if (!quiet)
-    std::fprintf(stderr, "pbdval run: %zu runs, %d in parallel, timeout %g s, output in %s/\n",
-                 plan.requests.size(), jobs, timeout, options.outFolder.c_str());
+    std::fprintf(stderr, "pbdval run: %zu runs%s, %d in parallel, timeout %g s, output in %s/\n",
+                 plan.requests.size(),
+                 shard ? (" (shard " + std::to_string(shard->index) + "/" +
+                          std::to_string(shard->count) + " of " +
+                          std::to_string(shard->planSize) + ")")
+                             .c_str()
+                       : "",
+                 jobs, timeout, options.outFolder.c_str());
   for (const RunRecord& r : plan.unreadable)
     if (!quiet)
       std::fprintf(stderr, "  %s: error: %s\n", r.request.caseName.c_str(), r.reason.c_str());

@@ -23,6 +23,7 @@ const std::vector<Command>& commands() {
       {"gate", "compare results with a baseline and the cases' checks; exit 1 on regression",
        &gateCommand},
       {"baseline", "write a baseline from a results folder", &baselineCommand},
+      {"merge", "join the results folders of 'pbdval run --shard K/N' into one", &mergeCommand},
       {"distance", "compare the PBD library's SDF collision distances with FCL's exact distances",
        &distanceCommand},
       {"simulate", "run one scene headless in one engine and write its trajectory as CSV",

@@ -1,0 +1,40 @@
+// Sharded runs for batch schedulers (docs/cluster.md): `pbdval run --shard K/N` runs the K-th of
+// N deterministic slices of a plan, and `pbdval merge` joins the shard folders into the results
+// folder one run of the whole plan would have written.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "validation/results.h"
+#include "validation/run_plan.h"
+
+namespace pbdval {
+
+/// "K/N" with 1 ≤ K ≤ N. Throws std::invalid_argument saying what was expected.
+ShardInfo parseShard(const std::string& text);
+
+/// A digest of a plan: every request (case, file, engine, method, assignments, reference and
+/// sampling settings) and every unreadable case, in order. Equal plans have equal digests;
+/// shards of different plans cannot be merged.
+std::string planDigest(const RunPlan& plan);
+
+/// The runs of one shard: the plan's requests at positions p with p mod N = K − 1 (round robin,
+/// so every shard gets a share of every case), the unreadable cases in shard 1. `shard` gets the
+/// plan's size and digest.
+RunPlan shardOf(const RunPlan& plan, ShardInfo& shard);
+
+/// One shard's results and the folder they were read from.
+struct ShardResults {
+  std::string folder;
+  ResultsFile results;
+};
+
+/// The results of the whole plan from its shards: runs in plan order, the cases' gate data
+/// joined. Throws std::invalid_argument naming the folders for results that are not shards,
+/// shards of different plans or builds, a shard given twice (overlap), a missing shard (gap), or
+/// a shard with another number of runs than its slice of the plan.
+ResultsFile mergeShards(const std::vector<ShardResults>& shards, const std::string& command);
+
+}  // namespace pbdval
