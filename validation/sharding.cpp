@@ -14,13 +14,15 @@ namespace {
 class Digest {
  public:
   void add(const std::string& field) {
-    for (unsigned char c : field) mix(c);
+    for (unsigned char c : field)
+      mix(c);
     mix(0);
   }
   std::string hex() const {
     static const char* digits = "0123456789abcdef";
     std::string text(16, '0');
-    for (int i = 0; i < 16; ++i) text[std::size_t(i)] = digits[(hash_ >> (60 - 4 * i)) & 0xf];
+    for (int i = 0; i < 16; ++i)
+      text[std::size_t(i)] = digits[(hash_ >> (60 - 4 * i)) & 0xf];
     return text;
   }
 
@@ -46,8 +48,8 @@ bool sameBuild(const RunMetadata& a, const RunMetadata& b) {
 
 std::string buildText(const RunMetadata& m) {
   return "pbdval " + m.version + " commit " + m.commit.substr(0, 12) +
-         (m.commitState == "clean" || m.commitState.empty() ? "" : " (" + m.commitState + ")") + ", " +
-         m.buildType + ", " + m.compiler + ", " + m.precision;
+         (m.commitState == "clean" || m.commitState.empty() ? "" : " (" + m.commitState + ")") +
+         ", " + m.buildType + ", " + m.compiler + ", " + m.precision;
 }
 
 }  // namespace
@@ -64,8 +66,8 @@ ShardInfo parseShard(const std::string& text) {
   if (slash == std::string::npos || !number(0, slash, shard.index) ||
       !number(slash + 1, text.size(), shard.count) || shard.count < 1 || shard.index < 1 ||
       shard.index > shard.count)
-    throw std::invalid_argument("--shard: expected K/N with 1 <= K <= N (e.g. 3/8), got '" +
-                                text + "'");
+    throw std::invalid_argument("--shard: expected K/N with 1 <= K <= N (e.g. 3/8), got '" + text +
+                                "'");
   return shard;
 }
 
@@ -76,7 +78,8 @@ std::string planDigest(const RunPlan& plan) {
     d.add(r.caseFile);
     d.add(r.engine);
     d.add(r.method);
-    for (const std::string& a : r.assignments) d.add(a);
+    for (const std::string& a : r.assignments)
+      d.add(a);
     d.add("|");
     d.add(r.referenceMode);
     d.add(std::to_string(r.fineDivisor));
@@ -108,17 +111,19 @@ ResultsFile mergeShards(const std::vector<ShardResults>& shards, const std::stri
   if (shards.empty()) throw std::invalid_argument("no shard folders given");
   for (const ShardResults& s : shards)
     if (!s.results.metadata.shard)
-      throw std::invalid_argument(s.folder + ": not a shard (results of 'pbdval run' without --shard)");
+      throw std::invalid_argument(s.folder +
+                                  ": not a shard (results of 'pbdval run' without --shard)");
   const ShardResults& first = shards.front();
   const ShardInfo& plan = *first.results.metadata.shard;
   std::vector<const ShardResults*> byIndex(std::size_t(plan.count), nullptr);
   for (const ShardResults& s : shards) {
     const ShardInfo& info = *s.results.metadata.shard;
-    if (info.count != plan.count || info.planDigest != plan.planDigest || info.planSize != plan.planSize)
-      throw std::invalid_argument(s.folder + ": shard of another plan (" + std::to_string(info.count) +
-                                  " shards, plan " + info.planDigest + ") than " + first.folder +
-                                  " (" + std::to_string(plan.count) + " shards, plan " +
-                                  plan.planDigest + ")");
+    if (info.count != plan.count || info.planDigest != plan.planDigest ||
+        info.planSize != plan.planSize)
+      throw std::invalid_argument(s.folder + ": shard of another plan (" +
+                                  std::to_string(info.count) + " shards, plan " + info.planDigest +
+                                  ") than " + first.folder + " (" + std::to_string(plan.count) +
+                                  " shards, plan " + plan.planDigest + ")");
     if (!sameBuild(s.results.metadata, first.results.metadata))
       throw std::invalid_argument(s.folder + ": made by another build (" +
                                   buildText(s.results.metadata) + ") than " + first.folder + " (" +
@@ -126,15 +131,16 @@ ResultsFile mergeShards(const std::vector<ShardResults>& shards, const std::stri
     const std::size_t slot = std::size_t(info.index - 1);
     if (byIndex[slot])
       throw std::invalid_argument("shard " + std::to_string(info.index) + "/" +
-                                  std::to_string(info.count) + " given twice: " + byIndex[slot]->folder +
-                                  " and " + s.folder);
+                                  std::to_string(info.count) +
+                                  " given twice: " + byIndex[slot]->folder + " and " + s.folder);
     byIndex[slot] = &s;
   }
   std::string missing;
   for (std::size_t k = 0; k < byIndex.size(); ++k)
     if (!byIndex[k]) missing += (missing.empty() ? "" : ", ") + std::to_string(k + 1);
   if (!missing.empty())
-    throw std::invalid_argument("missing shard(s) " + missing + " of " + std::to_string(plan.count));
+    throw std::invalid_argument("missing shard(s) " + missing + " of " +
+                                std::to_string(plan.count));
 
   // The unreadable cases are shard 1's records of status error with engine "-".
   std::vector<std::vector<RunRecord>> runs(byIndex.size());
@@ -155,14 +161,17 @@ ResultsFile mergeShards(const std::vector<ShardResults>& shards, const std::stri
   merged.metadata.shard.reset();
   merged.metadata.command = command;
   std::set<std::string> hosts;
-  for (const ShardResults& s : shards) hosts.insert(s.results.metadata.hostname);
+  for (const ShardResults& s : shards)
+    hosts.insert(s.results.metadata.hostname);
   merged.metadata.hostname.clear();
-  for (const std::string& h : hosts) merged.metadata.hostname += (merged.metadata.hostname.empty() ? "" : ",") + h;
+  for (const std::string& h : hosts)
+    merged.metadata.hostname += (merged.metadata.hostname.empty() ? "" : ",") + h;
   merged.runs = unreadable;
   for (std::size_t p = 0; p < requests; ++p)
     merged.runs.push_back(runs[p % byIndex.size()][p / byIndex.size()]);
   for (const ShardResults& s : shards)
-    for (const auto& [name, data] : s.results.cases) merged.cases.emplace(name, data);
+    for (const auto& [name, data] : s.results.cases)
+      merged.cases.emplace(name, data);
   return merged;
 }
 

@@ -42,7 +42,9 @@ namespace {
 using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
 /// A new C-contiguous array of `shape` (a braced single extent would pick another constructor).
-Array newArray(std::vector<py::ssize_t> shape) { return Array(std::move(shape)); }
+Array newArray(std::vector<py::ssize_t> shape) {
+  return Array(std::move(shape));
+}
 
 /// A loaded scene and the file it came from (relative mesh paths are already resolved).
 struct SceneHandle {
@@ -208,8 +210,8 @@ std::vector<State> samplesOf(const pbd::Scene& scene, const Array& times, const 
       body.position = Vector3(Real(P(k, b, 0)), Real(P(k, b, 1)), Real(P(k, b, 2)));
       body.velocity = Vector3(Real(V(k, b, 0)), Real(V(k, b, 1)), Real(V(k, b, 2)));
       body.angularVelocity = Vector3(Real(W(k, b, 0)), Real(W(k, b, 1)), Real(W(k, b, 2)));
-      body.rotation = Quaternion(Real(Q(k, b, 0)), Real(Q(k, b, 1)), Real(Q(k, b, 2)),
-                                 Real(Q(k, b, 3)));
+      body.rotation =
+          Quaternion(Real(Q(k, b, 0)), Real(Q(k, b, 1)), Real(Q(k, b, 2)), Real(Q(k, b, 3)));
     }
   }
   return samples;
@@ -254,7 +256,8 @@ class Stepper {
       throw std::invalid_argument("engine " + configured_.engine->name +
                                   " runs in another process and cannot be stepped from Python: "
                                   "run it with pbdval.simulate or pbdval.run");
-    const std::vector<std::string> missing = engine_->unsupported(configured_.scene, configured_.method);
+    const std::vector<std::string> missing =
+        engine_->unsupported(configured_.scene, configured_.method);
     if (!missing.empty()) {
       std::string text;
       for (const std::string& m : missing)
@@ -270,7 +273,8 @@ class Stepper {
   };
 
   void step(long count) {
-    if (count < 0) throw std::invalid_argument("step: count must be >= 0, got " + std::to_string(count));
+    if (count < 0)
+      throw std::invalid_argument("step: count must be >= 0, got " + std::to_string(count));
     {
       py::gil_scoped_release release;
       for (long i = 0; i < count; ++i)
@@ -278,7 +282,8 @@ class Stepper {
     }
     engine_->read(state_);
     const std::string reason = divergenceReason(state_);
-    if (!reason.empty()) throw EngineDivergence("diverged at t = " + formatNumber(state_.time) + ": " + reason);
+    if (!reason.empty())
+      throw EngineDivergence("diverged at t = " + formatNumber(state_.time) + ": " + reason);
   }
 
   double time() const { return state_.time; }
@@ -408,8 +413,8 @@ py::tuple simulate(const Registry& registry, const SceneHandle& scene, const std
 /// analytic reference when it has one, else none), False (none), or reference arrays.
 py::dict measure(const Registry& registry, const SceneHandle& handle, const Array& times,
                  const Array& positions, const Array& quaternions, const Array& velocities,
-                 const Array& angularVelocities, const py::object& reference,
-                 double contactMargin, double integrationStep) {
+                 const Array& angularVelocities, const py::object& reference, double contactMargin,
+                 double integrationStep) {
   const pbd::Scene& scene = *handle.scene;
   const CaseSpec spec = parseCaseSpec(scene, registry.engines);
   const std::vector<State> samples =
@@ -427,7 +432,7 @@ py::dict measure(const Registry& registry, const SceneHandle& handle, const Arra
     const py::dict r = reference.cast<py::dict>();
     ReferenceTrajectory given;
     given.description = r.contains("description") ? r["description"].cast<std::string>()
-                                                   : std::string("reference trajectory");
+                                                  : std::string("reference trajectory");
     given.samples = samplesOf(scene, r["times"].cast<Array>(), r["positions"].cast<Array>(),
                               r["quaternions"].cast<Array>(), r["velocities"].cast<Array>(),
                               r["angular_velocities"].cast<Array>());
@@ -443,14 +448,15 @@ py::dict measure(const Registry& registry, const SceneHandle& handle, const Arra
   return d;
 }
 
-py::dict energy(const Registry& registry, const SceneHandle& handle, const Array& times, const Array& positions,
-                const Array& quaternions, const Array& velocities, const Array& angularVelocities) {
+py::dict energy(const Registry& registry, const SceneHandle& handle, const Array& times,
+                const Array& positions, const Array& quaternions, const Array& velocities,
+                const Array& angularVelocities) {
   const pbd::Scene& scene = *handle.scene;
   const std::vector<State> samples =
       samplesOf(scene, times, positions, quaternions, velocities, angularVelocities);
   const py::ssize_t t = py::ssize_t(samples.size());
-  Array translational = newArray({t}), rotational = newArray({t}),
-        gravitational = newArray({t}), spring = newArray({t}), total = newArray({t});
+  Array translational = newArray({t}), rotational = newArray({t}), gravitational = newArray({t}),
+        spring = newArray({t}), total = newArray({t});
   for (py::ssize_t k = 0; k < t; ++k) {
     const EnergyTerms e = energyOf(scene, samples[std::size_t(k)]);
     translational.mutable_at(k) = e.translational;
@@ -526,8 +532,8 @@ PYBIND11_MODULE(_core, m) {
     pv::RunLength length = pv::caseRunLength(c.scene, r.engines);
     if (duration > 0) length.duration = duration;
     if (interval >= 0) length.sampleInterval = interval;
-    return jsonToPython(pv::resolvedSceneJson(c.scene, c.method.name,
-                                              pv::methodParametersJson(c.method), length));
+    return jsonToPython(
+        pv::resolvedSceneJson(c.scene, c.method.name, pv::methodParametersJson(c.method), length));
   });
   m.def("_engines", [](const Registry& r) {
     py::list engines;

@@ -50,15 +50,17 @@ int mergeCommand(const Context& /*context*/, const Arguments& arguments) {
   parser.positionals("SHARD_DIR", "results folders of the shards", 1, -1)
       .option("out", "DIR", "the merged results folder")
       .flag("quiet", "print only the summary line")
-      .epilog("exit status: 0 merged, 2 bad usage or shards that do not make one plan.\n"
-              "example: pbdval merge out-1 out-2 out-3 --out out");
+      .epilog(
+          "exit status: 0 merged, 2 bad usage or shards that do not make one plan.\n"
+          "example: pbdval merge out-1 out-2 out-3 --out out");
   ParsedArgs args;
   if (const auto exit = parser.parseOrExit(arguments, args)) return *exit;
   if (!args.has("out")) return parser.usageError("--out is required");
   const std::string out = args.value("out");
   std::ostringstream command;
   command << "pbdval merge";
-  for (const std::string& a : arguments) command << ' ' << a;
+  for (const std::string& a : arguments)
+    command << ' ' << a;
   try {
     std::vector<ShardResults> shards;
     for (const std::string& folder : args.positionals) {
@@ -88,8 +90,7 @@ int mergeCommand(const Context& /*context*/, const Arguments& arguments) {
     writeResults(out + "/results.json", merged);
     if (!args.flags.count("quiet")) printSummaryTable(std::cout, merged.runs);
     std::printf("pbdval merge: %zu shards: %s, %zu trajectories; results in %s/results.json\n",
-                shards.size(), statusCounts(merged.runs).c_str(), copied,
-                out.c_str());
+                shards.size(), statusCounts(merged.runs).c_str(), copied, out.c_str());
   } catch (const UsageError& e) {
     return parser.usageError(e.what());
   } catch (const std::exception& e) {

@@ -6,14 +6,18 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 #include <thread>
 
+#include "pbdval/build_info.h"
 #include "validation/atomic_file.h"
 #include "validation/case_library.h"
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
+#include "validation/cli/python_module.h"
+#include "validation/json_text.h"
 #include "validation/results.h"
 #include "validation/run_plan.h"
 #include "validation/run_scheduler.h"
@@ -42,6 +46,18 @@ ArgParser runParser() {
       .option("shard", "K/N",
               "run only the K-th of N slices of the plan (batch schedulers; join the folders "
               "with 'pbdval merge', docs/cluster.md)")
+      .option("executor", "local|dask",
+              "where the runs execute: local (default: isolated processes on this machine) or "
+              "dask (a Dask cluster: --scheduler or --scheduler-file; docs/cluster.md)")
+      .option("scheduler", "ADDRESS", "the Dask scheduler, e.g. tcp://10.0.0.5:8786")
+      .option("scheduler-file", "FILE",
+              "the Dask scheduler's file (dask scheduler --scheduler-file)")
+      .option("connect-timeout", "S", "dask: seconds to reach the scheduler (default 10)")
+      .option("runs-per-task", "N", "dask: runs per task (default 1)")
+      .flag("list-plan", "print the plan (its size, digest and runs) as JSON and run nothing")
+      .option("fail-with", "REASON",
+              "with --shard: record every run of the shard as status error with REASON, without "
+              "running it (for executors that lost a run)")
       .flag("no-trajectories", "do not write trajectory CSVs")
       .flag("strict", "treat scene warnings as errors")
       .flag("quiet", "no progress, only the summary")
@@ -51,6 +67,43 @@ ArgParser runParser() {
           "example: pbdval run cases/joint_hinge.json cases/chain_10.json --engines pbd,ode --jobs "
           "2");
   return parser;
+}
+
+/// The plan as JSON on standard output (--list-plan): what a run would do, for executors and
+/// for a user checking a study before starting it.
+void printPlan(const RunPlan& plan) {
+  nlohmann::json runs = nlohmann::json::array();
+  for (const RunRequest& r : plan.requests)
+    runs.push_back({{"case", r.caseName},
+                    {"caseFile", r.caseFile},
+                    {"engine", r.engine},
+                    {"method", r.method},
+                    {"assignments", r.assignments}});
+  nlohmann::json unreadable = nlohmann::json::array();
+  for (const RunRecord& u : plan.unreadable)
+    unreadable.push_back(
+        {{"case", u.request.caseName}, {"caseFile", u.request.caseFile}, {"reason", u.reason}});
+  const nlohmann::json document = {{"planSize", plan.requests.size() + plan.unreadable.size()},
+                                   {"planDigest", planDigest(plan)},
+                                   {"runs", runs},
+                                   {"unreadable", unreadable}};
+  std::printf("%s\n", jsonText(document).c_str());
+}
+
+/// --executor dask: the Dask client is Python (pbdval.cluster, in the project's virtual
+/// environment); this process becomes it, with the same arguments.
+int runOnDask(const Arguments& arguments) {
+  const std::string python = std::string(PBDVAL_SOURCE_DIR) + "/.venv/bin/python";
+  std::vector<std::string> argv = {python, "-m", "pbdval.cluster", "run"};
+  for (std::size_t i = 0; i < arguments.size(); ++i) {
+    if (arguments[i] == "--executor") {
+      ++i;  // its value
+      continue;
+    }
+    if (arguments[i].rfind("--executor=", 0) == 0) continue;
+    argv.push_back(arguments[i]);
+  }
+  return execPython(argv);
 }
 
 std::string clock(double seconds) {
@@ -84,7 +137,19 @@ int runCommand(const Context& context, const Arguments& arguments) {
     if (timeout < 0) throw UsageError("--timeout: expected seconds ≥ 0");
     const std::vector<std::string> paths =
         args.positionals.empty() ? std::vector<std::string>{defaultCaseFolder()} : args.positionals;
+    const std::string executor = args.value("executor", "local");
+    if (executor == "dask") return runOnDask(arguments);
+    if (executor != "local")
+      throw UsageError("--executor: expected local or dask, got '" + executor + "'");
+    for (const char* option : {"scheduler", "scheduler-file", "connect-timeout", "runs-per-task"})
+      if (args.has(option))
+        throw UsageError(std::string("--") + option + " needs --executor dask");
+    if (args.has("fail-with") && !args.has("shard")) throw UsageError("--fail-with needs --shard");
     plan = planRuns(collectCaseFiles(paths), options, context.engines);
+    if (args.flags.count("list-plan")) {
+      printPlan(plan);
+      return 0;
+    }
     if (args.has("shard")) {
       ShardInfo info = parseShard(args.value("shard"));
       plan = shardOf(plan, info);
@@ -110,40 +175,51 @@ int runCommand(const Context& context, const Arguments& arguments) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
   if (!quiet)
-    std::fprintf(stderr, "pbdval run: %zu runs%s, %d in parallel, timeout %g s, output in %s/\n",
-                 plan.requests.size(),
-                 shard ? (" (shard " + std::to_string(shard->index) + "/" +
-                          std::to_string(shard->count) + " of " +
-                          std::to_string(shard->planSize) + ")")
-                             .c_str()
-                       : "",
-                 jobs, timeout, options.outFolder.c_str());
+    std::fprintf(
+        stderr, "pbdval run: %zu runs%s, %d in parallel, timeout %g s, output in %s/\n",
+        plan.requests.size(),
+        shard ? (" (shard " + std::to_string(shard->index) + "/" + std::to_string(shard->count) +
+                 " of " + std::to_string(shard->planSize) + ")")
+                    .c_str()
+              : "",
+        jobs, timeout, options.outFolder.c_str());
   for (const RunRecord& r : plan.unreadable)
     if (!quiet)
       std::fprintf(stderr, "  %s: error: %s\n", r.request.caseName.c_str(), r.reason.c_str());
 
   RunScheduler scheduler(context.engines, jobs, timeout, options.outFolder + "/.scratch");
   int tick = 0;
-  std::vector<RunRecord> records = scheduler.runAll(
-      plan.requests,
-      [&](const RunRecord& r, std::size_t done, std::size_t total) {
-        if (quiet) return;
-        if (terminal) std::fprintf(stderr, "\r\033[K");
-        if (!terminal || r.status != RunStatus::Ok)
-          std::fprintf(stderr, "[%3zu/%zu] %s %-34s %-26s %s%s%s\n", done, total,
-                       clock(elapsed()).c_str(), r.request.caseName.c_str(),
-                       runLabel(r.request).c_str(), runStatusName(r.status),
-                       r.reason.empty() ? "" : ": ", r.reason.substr(0, 100).c_str());
-      },
-      [&](const std::vector<const RunRequest*>& running) {
-        if (!terminal || running.empty()) return;
-        if (++tick % 10) return;  // redraw every ~0.2 s
-        std::string names;
-        for (const RunRequest* r : running)
-          names += (names.empty() ? "" : ", ") + r->caseName + " " + runLabel(*r);
-        if (names.size() > 90) names = names.substr(0, 87) + "...";
-        std::fprintf(stderr, "\r\033[K  %s running: %s", clock(elapsed()).c_str(), names.c_str());
-      });
+  std::vector<RunRecord> records;
+  if (args.has("fail-with")) {
+    for (const RunRequest& request : plan.requests) {
+      RunRecord failed;
+      failed.request = request;
+      failed.request.trajectoryPath.clear();
+      failed.status = RunStatus::Error;
+      failed.reason = args.value("fail-with");
+      records.push_back(failed);
+    }
+  } else
+    records = scheduler.runAll(
+        plan.requests,
+        [&](const RunRecord& r, std::size_t done, std::size_t total) {
+          if (quiet) return;
+          if (terminal) std::fprintf(stderr, "\r\033[K");
+          if (!terminal || r.status != RunStatus::Ok)
+            std::fprintf(stderr, "[%3zu/%zu] %s %-34s %-26s %s%s%s\n", done, total,
+                         clock(elapsed()).c_str(), r.request.caseName.c_str(),
+                         runLabel(r.request).c_str(), runStatusName(r.status),
+                         r.reason.empty() ? "" : ": ", r.reason.substr(0, 100).c_str());
+        },
+        [&](const std::vector<const RunRequest*>& running) {
+          if (!terminal || running.empty()) return;
+          if (++tick % 10) return;  // redraw every ~0.2 s
+          std::string names;
+          for (const RunRequest* r : running)
+            names += (names.empty() ? "" : ", ") + r->caseName + " " + runLabel(*r);
+          if (names.size() > 90) names = names.substr(0, 87) + "...";
+          std::fprintf(stderr, "\r\033[K  %s running: %s", clock(elapsed()).c_str(), names.c_str());
+        });
   if (terminal) std::fprintf(stderr, "\r\033[K");
   std::filesystem::remove_all(options.outFolder + "/.scratch");
 

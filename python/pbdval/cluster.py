@@ -1,0 +1,269 @@
+"""`pbdval run` on a Dask cluster (docs/cluster.md).
+
+    pbdval run [CASES...] [run options] --executor dask --scheduler tcp://HOST:8786
+    .venv/bin/python -m pbdval.cluster run [CASES...] [run options] --scheduler-file FILE
+
+One plan, several executors: the plan is the pbdval command's own (`pbdval run --list-plan`);
+every task runs one slice of it on a worker with the pbdval command itself (`pbdval run ...
+--shard K/N`: the same isolation per run, timeouts and statuses as a local run) and sends back
+the slice's folder (results.json and trajectories, zlib-compressed); the client writes the
+slices and joins them with `pbdval merge`, so results.json and trajectories/ are what a local
+run of the same plan writes. Workers must see the pbdval build and the case files at the same
+paths as the client (a shared file system, or the same machine).
+
+Faults: a worker that dies takes its running task with it; the scheduler runs the task again
+elsewhere. A task that was running when workers died more than the scheduler allows
+(`distributed.scheduler.allowed-failures`, default 3) is recorded as status `error` with the
+reason, and the rest completes. An unreachable scheduler is an error after --connect-timeout
+seconds; workers whose pbdval build differs from the client's are refused, naming both.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+import zlib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable, Sequence
+
+from pbdval.errors import PbdvalError
+from pbdval.results import Results, load_results, pbdval_binary
+
+#: Options of `pbdval run` that take a value (passed through to every slice).
+RUN_VALUE_OPTIONS = ("--engines", "--methods", "--set", "--timeout")
+RUN_FLAGS = ("--no-trajectories", "--strict")
+
+
+class ClusterError(PbdvalError, RuntimeError):
+    """The cluster cannot run the plan: unreachable scheduler, mismatched workers, bad usage."""
+
+
+@dataclass(frozen=True)
+class SliceOutput:
+    """What a task sends back: the slice folder's files (relative path → zlib-compressed bytes),
+    the worker's host, and how long the slice took."""
+
+    index: int
+    files: dict[str, bytes]
+    host: str
+    seconds: float
+    raw_bytes: int
+
+
+def build_identity(binary: str) -> str:
+    """`pbdval --version` of a build: version, commit (and local changes), build, precision."""
+    return subprocess.run([binary, "--version"], capture_output=True, text=True, check=True).stdout.strip()
+
+
+def worker_build_identity(binary: str) -> str:
+    """build_identity, as run on each worker (a function of its own, so that the two sides of
+    the comparison are computed independently)."""
+    return subprocess.run([binary, "--version"], capture_output=True, text=True, check=True).stdout.strip()
+
+
+def run_slice(binary: str, run_args: Sequence[str], index: int, count: int) -> SliceOutput:
+    """The task: `pbdval run RUN_ARGS --shard INDEX/COUNT` in a temporary folder on the worker,
+    its files sent back compressed. Runs in the worker's process; the runs themselves in the
+    pbdval command's child processes."""
+    start = time.perf_counter()
+    with tempfile.TemporaryDirectory(prefix="pbdval-slice-") as folder:
+        command = [binary, "run", *run_args, "--shard", f"{index}/{count}", "--out", folder,
+                   "--jobs", "1", "--quiet"]
+        done = subprocess.run(command, capture_output=True, text=True)
+        if done.returncode != 0:
+            raise RuntimeError(f"pbdval run --shard {index}/{count} exited {done.returncode}: "
+                               f"{done.stderr.strip()[-2000:]}")
+        files: dict[str, bytes] = {}
+        raw = 0
+        for path in sorted(Path(folder).rglob("*")):
+            if path.is_file():
+                data = path.read_bytes()
+                raw += len(data)
+                files[str(path.relative_to(folder))] = zlib.compress(data, 1)
+    return SliceOutput(index, files, socket.gethostname(), time.perf_counter() - start, raw)
+
+
+def write_slice(output: SliceOutput, folder: Path) -> None:
+    """A slice's files under `folder`; its results.json names trajectories by the worker's
+    temporary folder, so they are renamed to where they are now."""
+    for relative, packed in output.files.items():
+        target = folder / relative
+        target.parent.mkdir(parents=True, exist_ok=True)
+        target.write_bytes(zlib.decompress(packed))
+    results = folder / "results.json"
+    document = json.loads(results.read_text())
+    for run in document.get("runs", []):
+        trajectory = run.get("trajectory") or ""
+        marker = "/trajectories/"
+        if marker in trajectory:
+            run["trajectory"] = str(folder / ("trajectories/" + trajectory.split(marker, 1)[1]))
+    temporary = results.with_suffix(".json.tmp")
+    temporary.write_text(json.dumps(document, indent=1))
+    os.replace(temporary, results)
+
+
+def parse_arguments(argv: Sequence[str]) -> tuple[argparse.Namespace, list[str]]:
+    parser = argparse.ArgumentParser(prog="pbdval run --executor dask",
+                                     description="pbdval run on a Dask cluster (docs/cluster.md)")
+    parser.add_argument("cases", nargs="*", help="scene files or folders (default: cases/)")
+    where = parser.add_mutually_exclusive_group(required=True)
+    where.add_argument("--scheduler", help="the scheduler's address, e.g. tcp://10.0.0.5:8786")
+    where.add_argument("--scheduler-file", help="the scheduler's file (dask scheduler --scheduler-file)")
+    parser.add_argument("--out", default="out", help="output folder (default: out)")
+    parser.add_argument("--connect-timeout", type=float, default=10.0,
+                        help="seconds to reach the scheduler (default 10)")
+    parser.add_argument("--runs-per-task", type=int, default=1,
+                        help="runs per Dask task (default 1: finest balance and fault isolation)")
+    parser.add_argument("--quiet", action="store_true", help="no progress, only the summary")
+    parser.add_argument("--jobs", type=int, default=None, help=argparse.SUPPRESS)  # local only
+    for option in RUN_VALUE_OPTIONS:
+        parser.add_argument(option, action="append", default=[])
+    for flag in RUN_FLAGS:
+        parser.add_argument(flag, action="store_true")
+    args = parser.parse_args(argv)
+    if args.runs_per_task < 1:
+        parser.error("--runs-per-task: expected at least 1")
+    run_args: list[str] = list(args.cases)
+    for option in RUN_VALUE_OPTIONS:
+        for value in getattr(args, option[2:].replace("-", "_")):
+            run_args += [option, value]
+    for flag in RUN_FLAGS:
+        if getattr(args, flag[2:].replace("-", "_")):
+            run_args.append(flag)
+    return args, run_args
+
+
+def plan_of(binary: str, run_args: Sequence[str]) -> dict[str, Any]:
+    done = subprocess.run([binary, "run", *run_args, "--list-plan"], capture_output=True, text=True)
+    if done.returncode != 0:
+        raise ClusterError(done.stderr.strip() or f"pbdval run --list-plan exited {done.returncode}")
+    plan: dict[str, Any] = json.loads(done.stdout)
+    return plan
+
+
+def connect(args: argparse.Namespace) -> Any:
+    from distributed import Client  # noqa: PLC0415  (imported only by the Dask executor)
+
+    address = args.scheduler or args.scheduler_file
+    try:
+        if args.scheduler_file:
+            if not Path(args.scheduler_file).is_file():
+                raise ClusterError(f"--scheduler-file {args.scheduler_file}: no such file")
+            return Client(scheduler_file=args.scheduler_file, timeout=args.connect_timeout)
+        return Client(args.scheduler, timeout=args.connect_timeout)
+    except (OSError, TimeoutError) as error:
+        raise ClusterError(f"cannot reach the Dask scheduler {address} within {args.connect_timeout:g} s: "
+                           f"{error}") from error
+
+
+def check_workers(client: Any, binary: str) -> int:
+    """Every worker must run the client's pbdval build; returns the number of workers."""
+    mine = build_identity(binary)
+    theirs: dict[str, str] = client.run(worker_build_identity, binary)
+    if not theirs:
+        raise ClusterError("the Dask cluster has no workers")
+    for worker, identity in theirs.items():
+        if identity != mine:
+            raise ClusterError(f"worker {worker} runs another pbdval build:\n  worker: "
+                               + identity.replace("\n", "; ") + "\n  client: " + mine.replace("\n", "; "))
+    return len(theirs)
+
+
+def run_on_cluster(client: Any, run_args: Sequence[str], out: Path, *, runs_per_task: int = 1,
+                   quiet: bool = False, task: Callable[..., SliceOutput] = run_slice) -> Results:
+    """Runs the plan of `pbdval run RUN_ARGS` on `client`'s cluster and writes OUT like a local
+    run. `task` is the function each task runs (tests replace it to kill workers)."""
+    from distributed import as_completed  # noqa: PLC0415
+    from distributed.scheduler import KilledWorker  # noqa: PLC0415
+
+    binary = str(pbdval_binary())
+    plan = plan_of(binary, run_args)
+    size = int(plan["planSize"])
+    count = max(1, -(-size // runs_per_task))
+    workers = check_workers(client, binary)
+    slices = out / ".slices"
+    if slices.exists():
+        shutil.rmtree(slices)
+    slices.mkdir(parents=True)
+    if not quiet:
+        print(f"pbdval run: {size} runs in {count} tasks on {workers} Dask workers "
+              f"({client.scheduler.address}), output in {out}/", file=sys.stderr, flush=True)
+    futures = {client.submit(task, binary, list(run_args), k, count, key=f"pbdval-slice-{k}-of-{count}-"
+                             f"{plan['planDigest']}", pure=False, retries=0): k for k in range(1, count + 1)}
+    sent = raw = 0
+    start = time.perf_counter()
+    done = 0
+    for future in as_completed(futures):
+        k = futures[future]
+        done += 1
+        try:
+            output: SliceOutput = future.result()
+            write_slice(output, slices / str(k))
+            sent += sum(len(v) for v in output.files.values())
+            raw += output.raw_bytes
+            line = f"slice {k} on {output.host} in {output.seconds:.1f} s"
+        except KilledWorker as error:
+            reason = (f"the run's Dask task was on workers that died ({error}); not retried "
+                      "further (distributed.scheduler.allowed-failures)")
+            record_failure(binary, run_args, k, count, reason, slices / str(k))
+            line = f"slice {k}: error: workers died running it"
+        except Exception as error:  # noqa: BLE001  (any task failure becomes the runs' status)
+            record_failure(binary, run_args, k, count, f"the Dask task failed: {error}", slices / str(k))
+            line = f"slice {k}: error: {error}"
+        if not quiet:
+            print(f"[{done:3d}/{count}] {time.perf_counter() - start:6.1f} s  {line}", file=sys.stderr, flush=True)
+    merge = subprocess.run([binary, "merge", *[str(slices / str(k)) for k in range(1, count + 1)],
+                            "--out", str(out), "--quiet"], capture_output=True, text=True)
+    if merge.returncode != 0:
+        raise ClusterError(f"pbdval merge failed: {merge.stderr.strip()}")
+    shutil.rmtree(slices)
+    if not quiet:
+        print(merge.stdout.strip(), file=sys.stderr)
+        print(f"pbdval run: the workers sent {sent / 1e6:.2f} MB (compressed from {raw / 1e6:.2f} MB)",
+              file=sys.stderr)
+    return load_results(out)
+
+
+def record_failure(binary: str, run_args: Sequence[str], index: int, count: int, reason: str,
+                   folder: Path) -> None:
+    """The slice's runs as status error with `reason`, written by the pbdval command itself."""
+    if folder.exists():
+        shutil.rmtree(folder)
+    done = subprocess.run([binary, "run", *run_args, "--shard", f"{index}/{count}", "--fail-with", reason,
+                           "--out", str(folder), "--quiet"], capture_output=True, text=True)
+    if done.returncode != 0:
+        raise ClusterError(f"could not record the failure of slice {index}: {done.stderr.strip()}")
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if not argv or argv[0] != "run":
+        print("usage: python -m pbdval.cluster run [CASES...] --scheduler ADDRESS [pbdval run options]",
+              file=sys.stderr)
+        return 2
+    args, run_args = parse_arguments(argv[1:])
+    try:
+        with connect(args) as client:
+            results = run_on_cluster(client, run_args, Path(args.out), runs_per_task=args.runs_per_task,
+                                     quiet=args.quiet)
+    except ClusterError as error:
+        print(f"pbdval run --executor dask: error: {error}", file=sys.stderr)
+        return 2
+    statuses: dict[str, int] = {}
+    for r in results:
+        statuses[r.status] = statuses.get(r.status, 0) + 1
+    print(f"{len(results)} runs: " + ", ".join(f"{n} {s}" for s, n in sorted(statuses.items()))
+          + f"; results in {Path(args.out) / 'results.json'}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
