@@ -143,7 +143,7 @@ std::string metadataJsonText(const RunMetadata& metadata) {
 void writeResults(const std::string& path, const ResultsFile& results) {
   Json runs = Json::array();
   for (const RunRecord& r : results.runs)
-    runs.push_back(Json::parse(toJsonText(r)));
+    runs.push_back(recordJson(r));
   Json cases = Json::object();
   for (const auto& [name, data] : results.cases) {
     Json checks = Json::array();
@@ -210,7 +210,7 @@ ResultsFile parseResults(const nlohmann::json& document, const std::string& path
   const JsonField runs = root.at("runs").expectArray();
   for (std::size_t i = 0; i < runs.size(); ++i) {
     const std::string where = path + ": runs[" + std::to_string(i) + "]";
-    results.runs.push_back(recordFromJsonText(runs.at(i).json().dump(), where));
+    results.runs.push_back(recordFromJson(runs.at(i).json(), where));
     const std::string& caseName = results.runs.back().request.caseName;
     if (!results.cases.count(caseName))
       throw std::invalid_argument(where + ": case \"" + caseName +

@@ -44,6 +44,10 @@ double numberFrom(const Json& j) {
 }  // namespace
 
 std::string toJsonText(const RunRecord& record) {
+  return jsonText(recordJson(record));
+}
+
+Json recordJson(const RunRecord& record) {
   Json metrics = Json::object();
   for (const auto& [name, value] : record.metrics.values)
     metrics[name] = number(value);
@@ -75,12 +79,21 @@ std::string toJsonText(const RunRecord& record) {
   j["notes"] = record.metrics.notes;
   j["state_hash"] = record.stateHash;
   j["reference"] = record.reference;
-  return jsonText(j);
+  return j;
 }
 
 RunRecord recordFromJsonText(const std::string& text, const std::string& where) {
+  Json j;
   try {
-    const Json j = Json::parse(text);
+    j = Json::parse(text);
+  } catch (const Json::exception& e) {
+    throw std::invalid_argument(where + ": " + e.what());
+  }
+  return recordFromJson(j, where);
+}
+
+RunRecord recordFromJson(const Json& j, const std::string& where) {
+  try {
     RunRecord r;
     r.request.caseName = j.at("case").get<std::string>();
     r.request.caseFile = j.at("caseFile").get<std::string>();

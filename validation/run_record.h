@@ -4,6 +4,8 @@
 // at once, isolated: run_scheduler.h.
 #pragma once
 
+#include <nlohmann/json.hpp>
+
 #include <map>
 #include <string>
 #include <vector>
@@ -50,6 +52,9 @@ struct RunRecord {
 /// std::invalid_argument with the path of a missing or malformed field.
 std::string toJsonText(const RunRecord& record);
 RunRecord recordFromJsonText(const std::string& text, const std::string& where);
+/// The same as JSON values (results.json's reader and writer: no text in between).
+nlohmann::json recordJson(const RunRecord& record);
+RunRecord recordFromJson(const nlohmann::json& json, const std::string& where);
 
 /// "engine/method" for tables.
 inline std::string runLabel(const RunRequest& r) {

@@ -35,7 +35,8 @@ def shard_folders(tmp_path: Path, count: int) -> list[str]:
 def comparable(folder: Path) -> list[tuple[object, ...]]:
     results = load_results(folder)
     return [(r.case, r.engine, r.method, r.status, r.facts.get("engineVersion"),
-             {k: v for k, v in r.metrics.items() if k not in TIMING}, r.trajectory().positions.tobytes())
+             {k: v for k, v in r.metrics.items() if k not in TIMING},
+             r.trajectory().positions.tobytes() if r.ok else b"")
             for r in results]
 
 
@@ -83,3 +84,22 @@ def test_shards_that_do_not_make_one_plan_are_refused(tmp_path: Path) -> None:
 def test_bad_shard_specifications_are_usage_errors(tmp_path: Path, text: str) -> None:
     out = pbdval("run", CASES[0], "--shard", text, "--out", str(tmp_path / "o"), check=False)
     assert out.returncode == 2 and "--shard: expected K/N" in out.stderr
+
+
+def test_an_unreadable_case_keeps_results_readable_and_shards_mergeable(tmp_path: Path) -> None:
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"RigidBodies": 5}')
+    cases = [str(bad), CASES[0], CASES[2]]
+    whole = tmp_path / "whole"
+    pbdval("run", *cases, "--engines", "pbd", "--out", str(whole), "--quiet")
+    # The gate's readers accept the file: the unreadable case has its entry, without checks.
+    pbdval("baseline", "--results", str(whole), "--out", str(tmp_path / "baseline.json"))
+    results = load_results(whole)
+    assert [r.status for r in results if r.case == "bad"] == ["error"]
+    folders = []
+    for k in (1, 2):
+        folder = tmp_path / f"s{k}"
+        pbdval("run", *cases, "--engines", "pbd", "--shard", f"{k}/2", "--out", str(folder), "--quiet")
+        folders.append(str(folder))
+    pbdval("merge", *folders, "--out", str(tmp_path / "merged"), "--quiet")
+    assert comparable(tmp_path / "merged") == comparable(whole)

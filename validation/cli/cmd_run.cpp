@@ -226,6 +226,11 @@ int runCommand(const Context& context, const Arguments& arguments) {
   for (const auto& [name, entry] : plan.cases)
     results.cases[name] = {entry.first, entry.second.description, entry.second.checks,
                            entry.second.tolerances};
+  // A case that could not be read still has its entry (no checks): results.json then reads back,
+  // and the gate reports the run's error instead of refusing the file.
+  for (const RunRecord& u : plan.unreadable)
+    results.cases.emplace(u.request.caseName,
+                          CaseGateData{u.request.caseFile, "could not be read: " + u.reason, {}, {}});
   results.runs = plan.unreadable;
   results.runs.insert(results.runs.end(), records.begin(), records.end());
   const std::string resultsPath = options.outFolder + "/results.json";

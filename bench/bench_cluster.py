@@ -1,0 +1,139 @@
+#!/usr/bin/env python3
+"""Cluster benchmarks (docs/cluster.md#measured): the case library run locally with 2 processes
+against a Dask cluster of 2 workers (one thread each) on the same machine, in one sitting; and
+the planner's and the merger's cost for plans of growing size (about 1,000 to 10,000 runs).
+
+    .venv/bin/python bench/bench_cluster.py [--out FILE.json] [--skip-throughput]
+
+Records bench/results/<host>/cluster-<UTC stamp>.json with the machine and the build.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime as dt
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO / "python"))
+
+from pbdval.results import load_results, pbdval_binary  # noqa: E402
+
+VENV = REPO / ".venv" / "bin"
+
+
+def timed(command: list[str]) -> float:
+    start = time.perf_counter()
+    subprocess.run(command, check=True, capture_output=True)
+    return time.perf_counter() - start
+
+
+def throughput(folder: Path) -> dict[str, Any]:
+    binary = str(pbdval_binary())
+    local_s = timed([binary, "run", "--out", str(folder / "local"), "--jobs", "2", "--quiet"])
+    runs = len(load_results(folder / "local"))
+    scheduler_file = folder / "scheduler.json"
+    processes = [subprocess.Popen([str(VENV / "dask"), "scheduler", "--host", "127.0.0.1", "--port", "0",
+                                   "--no-dashboard", "--scheduler-file", str(scheduler_file)],
+                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)]
+    while not scheduler_file.exists():
+        time.sleep(0.1)
+    for name in ("w1", "w2"):
+        processes.append(subprocess.Popen([str(VENV / "dask"), "worker", "--scheduler-file", str(scheduler_file),
+                                           "--nthreads", "1", "--no-dashboard", "--name", name],
+                                          stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                          start_new_session=True))
+    try:
+        from distributed import Client
+
+        with Client(scheduler_file=str(scheduler_file)) as client:
+            client.wait_for_workers(2, timeout=60)
+        dask_s = timed([binary, "run", "--executor", "dask", "--scheduler-file", str(scheduler_file),
+                        "--out", str(folder / "dask"), "--quiet"])
+    finally:
+        for p in processes:
+            os.killpg(p.pid, signal.SIGTERM)
+    row = {"runs": runs, "local_s": local_s, "dask_s": dask_s, "local_runs_per_s": runs / local_s,
+           "dask_runs_per_s": runs / dask_s, "dask_over_local": dask_s / local_s}
+    print(f"case library: {runs} runs; local (2 processes) {local_s:.1f} s, Dask (2 workers) {dask_s:.1f} s: "
+          f"ratio {dask_s / local_s:.3f}", flush=True)
+    return row
+
+
+def typical_record(folder: Path) -> dict[str, Any]:
+    """The record of a real run (metrics, per-joint errors, effective settings, notes): the
+    merger is measured on records of realistic size, not on bare error records."""
+    out = folder / "typical"
+    subprocess.run([str(pbdval_binary()), "run", str(REPO / "cases" / "car.json"), "--engines", "bullet",
+                    "--out", str(out), "--quiet", "--no-trajectories"], check=True, capture_output=True)
+    record: dict[str, Any] = json.loads((out / "results.json").read_text())["runs"][0]
+    return record
+
+
+def plan_and_merge(folder: Path, copies: int, typical: dict[str, Any]) -> dict[str, Any]:
+    """A plan of `copies` × the case library (each case file linked `copies` times)."""
+    binary = str(pbdval_binary())
+    cases = folder / f"cases-{copies}"
+    cases.mkdir()
+    (cases / "models").symlink_to(REPO / "cases" / "models")
+    for case in sorted((REPO / "cases").glob("*.json")):
+        for k in range(copies):
+            (cases / f"{case.stem}__{k}.json").symlink_to(case)
+    plan = json.loads(subprocess.run([binary, "run", str(cases), "--list-plan"], capture_output=True,
+                                     text=True, check=True).stdout)
+    planner_s = min(timed([binary, "run", str(cases), "--list-plan"]) for _ in range(3))
+    shards = []
+    for k in (1, 2):
+        out = folder / f"shard-{copies}-{k}"
+        subprocess.run([binary, "run", str(cases), "--shard", f"{k}/2", "--fail-with", "not run (benchmark)",
+                        "--out", str(out), "--quiet", "--no-trajectories"], check=True, capture_output=True)
+        document = json.loads((out / "results.json").read_text())
+        for run in document["runs"]:
+            for key in ("status", "reason", "parameters", "settings", "facts", "metrics", "joint_error_by_type",
+                        "notes", "reference"):
+                if key in typical:
+                    run[key] = typical[key]
+        (out / "results.json").write_text(json.dumps(document, indent=1))
+        shards.append(str(out))
+    merger_s = min(timed([binary, "merge", *shards, "--out", str(folder / f"merged-{copies}"), "--quiet"])
+                   for _ in range(3))
+    size = int(plan["planSize"])
+    print(f"plan of {size} runs: planner {planner_s:.3f} s, merger {merger_s:.3f} s", flush=True)
+    return {"runs": size, "planner_s": planner_s, "merger_s": merger_s}
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=None)
+    parser.add_argument("--skip-throughput", action="store_true")
+    args = parser.parse_args()
+    version = subprocess.run([str(pbdval_binary()), "--version"], capture_output=True, text=True).stdout.strip()
+    document: dict[str, Any] = {"context": {
+        "created": dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"), "host": socket.gethostname(),
+        "cores": os.cpu_count(), "load_average": os.getloadavg(), "pbdval": version}}
+    with tempfile.TemporaryDirectory(prefix="pbdval-bench-cluster-") as tmp:
+        folder = Path(tmp)
+        if not args.skip_throughput:
+            document["throughput"] = throughput(folder)
+        typical = typical_record(folder)
+        document["record_bytes"] = len(json.dumps(typical, indent=1))
+        document["plan_and_merge"] = [plan_and_merge(folder, copies, typical) for copies in (4, 16, 42)]
+    out = args.out or REPO / "bench" / "results" / socket.gethostname() / (
+        "cluster-" + dt.datetime.now(dt.timezone.utc).strftime("%Y%m%dT%H%M%SZ") + ".json")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(document, indent=1) + "\n")
+    print(f"wrote {out}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
