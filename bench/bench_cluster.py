@@ -57,13 +57,19 @@ def throughput(folder: Path) -> dict[str, Any]:
 
         with Client(scheduler_file=str(scheduler_file)) as client:
             client.wait_for_workers(2, timeout=60)
-        dask_s = timed([binary, "run", "--executor", "dask", "--scheduler-file", str(scheduler_file),
-                        "--out", str(folder / "dask"), "--quiet"])
+        start = time.perf_counter()
+        done = subprocess.run([binary, "run", "--executor", "dask", "--scheduler-file", str(scheduler_file),
+                               "--out", str(folder / "dask")], check=True, capture_output=True, text=True)
+        dask_s = time.perf_counter() - start
+        sent = [line for line in done.stderr.splitlines() if "the workers sent" in line]
+        tasks = [line for line in done.stderr.splitlines() if " tasks on " in line]
     finally:
         for p in processes:
             os.killpg(p.pid, signal.SIGTERM)
     row = {"runs": runs, "local_s": local_s, "dask_s": dask_s, "local_runs_per_s": runs / local_s,
-           "dask_runs_per_s": runs / dask_s, "dask_over_local": dask_s / local_s}
+           "dask_runs_per_s": runs / dask_s, "dask_over_local": dask_s / local_s,
+           "tasks": tasks[0] if tasks else "", "data_sent": sent[0] if sent else ""}
+    print(row["tasks"], row["data_sent"], sep="\n")
     print(f"case library: {runs} runs; local (2 processes) {local_s:.1f} s, Dask (2 workers) {dask_s:.1f} s: "
           f"ratio {dask_s / local_s:.3f}", flush=True)
     return row

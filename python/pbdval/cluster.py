@@ -120,8 +120,9 @@ def parse_arguments(argv: Sequence[str]) -> tuple[argparse.Namespace, list[str]]
     parser.add_argument("--out", default="out", help="output folder (default: out)")
     parser.add_argument("--connect-timeout", type=float, default=10.0,
                         help="seconds to reach the scheduler (default 10)")
-    parser.add_argument("--runs-per-task", type=int, default=1,
-                        help="runs per Dask task (default 1: finest balance and fault isolation)")
+    parser.add_argument("--runs-per-task", type=int, default=None,
+                        help="runs per Dask task (default: the plan over 16 tasks per worker, at "
+                             "least 1: start-up amortised, balance and fault isolation kept)")
     parser.add_argument("--quiet", action="store_true", help="no progress, only the summary")
     parser.add_argument("--jobs", type=int, default=None, help=argparse.SUPPRESS)  # local only
     for option in RUN_VALUE_OPTIONS:
@@ -129,7 +130,7 @@ def parse_arguments(argv: Sequence[str]) -> tuple[argparse.Namespace, list[str]]
     for flag in RUN_FLAGS:
         parser.add_argument(flag, action="store_true")
     args = parser.parse_args(argv)
-    if args.runs_per_task < 1:
+    if args.runs_per_task is not None and args.runs_per_task < 1:
         parser.error("--runs-per-task: expected at least 1")
     run_args: list[str] = list(args.cases)
     for option in RUN_VALUE_OPTIONS:
@@ -177,7 +178,13 @@ def check_workers(client: Any, binary: str) -> int:
     return len(theirs)
 
 
-def run_on_cluster(client: Any, run_args: Sequence[str], out: Path, *, runs_per_task: int = 1,
+#: Tasks per worker when --runs-per-task is not given. Each task pays a start-up (a pbdval
+#: process that plans before it runs: 50-100 ms); one task per run cost the case library 51 %
+#: over a local run, 16 tasks per worker 5 % (docs/cluster.md#measured).
+TASKS_PER_WORKER = 16
+
+
+def run_on_cluster(client: Any, run_args: Sequence[str], out: Path, *, runs_per_task: int | None = None,
                    quiet: bool = False, task: Callable[..., SliceOutput] = run_slice) -> Results:
     """Runs the plan of `pbdval run RUN_ARGS` on `client`'s cluster and writes OUT like a local
     run. `task` is the function each task runs (tests replace it to kill workers)."""
@@ -187,8 +194,10 @@ def run_on_cluster(client: Any, run_args: Sequence[str], out: Path, *, runs_per_
     binary = str(pbdval_binary())
     plan = plan_of(binary, run_args)
     size = int(plan["planSize"])
-    count = max(1, -(-size // runs_per_task))
     workers = check_workers(client, binary)
+    if runs_per_task is None:
+        runs_per_task = max(1, -(-size // (TASKS_PER_WORKER * workers)))
+    count = max(1, -(-size // runs_per_task))
     slices = out / ".slices"
     if slices.exists():
         shutil.rmtree(slices)
@@ -221,7 +230,7 @@ def run_on_cluster(client: Any, run_args: Sequence[str], out: Path, *, runs_per_
         if not quiet:
             print(f"[{done:3d}/{count}] {time.perf_counter() - start:6.1f} s  {line}", file=sys.stderr, flush=True)
     merge = subprocess.run([binary, "merge", *[str(slices / str(k)) for k in range(1, count + 1)],
-                            "--out", str(out), "--quiet"], capture_output=True, text=True)
+                            "--out", str(out), "--move", "--quiet"], capture_output=True, text=True)
     if merge.returncode != 0:
         raise ClusterError(f"pbdval merge failed: {merge.stderr.strip()}")
     shutil.rmtree(slices)

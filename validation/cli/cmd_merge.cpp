@@ -49,6 +49,7 @@ int mergeCommand(const Context& /*context*/, const Arguments& arguments) {
                    "order, and the trajectories. Refuses overlaps, gaps and mixed builds.");
   parser.positionals("SHARD_DIR", "results folders of the shards", 1, -1)
       .option("out", "DIR", "the merged results folder")
+      .flag("move", "move the trajectories instead of copying them (the shard folders lose them)")
       .flag("quiet", "print only the summary line")
       .epilog(
           "exit status: 0 merged, 2 bad usage or shards that do not make one plan.\n"
@@ -68,6 +69,7 @@ int mergeCommand(const Context& /*context*/, const Arguments& arguments) {
         throw UsageError("--out " + out + " is one of the shard folders");
       shards.push_back({folder, readResults(folder + "/results.json")});
     }
+    const bool move = args.flags.count("move") > 0;
     ResultsFile merged = mergeShards(shards, command.str());
     merged.metadata.created = currentMetadata("").created;
     checkOutputFile(out + "/results.json");
@@ -80,7 +82,10 @@ int mergeCommand(const Context& /*context*/, const Arguments& arguments) {
         if (!moved.emplace(r.request.trajectoryPath, target).second)
           throw std::invalid_argument(r.request.trajectoryPath + ": the trajectory of two runs");
         fs::create_directories(fs::path(target).parent_path());
-        writeFileAtomically(target, fileBytes(r.request.trajectoryPath));
+        std::error_code renamed;
+        if (move) fs::rename(r.request.trajectoryPath, target, renamed);
+        if (!move || renamed)  // another file system: copy
+          writeFileAtomically(target, fileBytes(r.request.trajectoryPath));
       }
     const std::size_t copied = moved.size();
     for (RunRecord& m : merged.runs) {
