@@ -65,6 +65,7 @@ TriangleModelDesc readTriangleModel(const JsonValue& element, LoadContext& conte
   model.translation = in.pose.translation;
   model.scale = in.pose.scale;
   model.rotation = resolveRotation(in.pose, object);
+  model.givenRotation = givenRotation(in.pose);
   model.mesh =
       *context.scaledObj(model.geometryFile, Vector3::Ones(), *object.find("geometryFile"));
   for (auto& v : model.mesh.vertices)
@@ -110,6 +111,7 @@ TetModelDesc readTetModel(const JsonValue& element, LoadContext& context, Scene&
   model.translation = in.pose.translation;
   model.scale = in.pose.scale;
   model.rotation = resolveRotation(in.pose, object);
+  model.givenRotation = givenRotation(in.pose);
   const auto place = [&model](Vector3& v) {
     v = toWorld(v, model.scale, model.rotation, model.translation);
   };

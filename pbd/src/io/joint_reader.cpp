@@ -9,47 +9,6 @@
 namespace pbd::scene_io {
 namespace {
 
-// The key groups of the joint blocks.
-enum JointKeys : unsigned {
-  kTwoBodies = 1u << 0,        // bodyID1, bodyID2
-  kBodyAndParticle = 1u << 1,  // rbID, particleID
-  kPosition = 1u << 2,         // position
-  kAxis = 1u << 3,             // axis
-  kTwoAxes = 1u << 4,          // axis1, axis2
-  kTwoPositions = 1u << 5,     // position1, position2
-  kStiffness = 1u << 6,        // stiffness
-  kMotor = 1u << 7,            // target, targetSequence, repeatSequence
-};
-
-unsigned jointKeys(JointType type) {
-  switch (type) {
-    case JointType::Ball:
-      return kTwoBodies | kPosition;
-    case JointType::BallOnLine:
-    case JointType::Hinge:
-      return kTwoBodies | kPosition | kAxis;
-    case JointType::Universal:
-      return kTwoBodies | kPosition | kTwoAxes;
-    case JointType::Slider:
-      return kTwoBodies | kAxis;
-    case JointType::RigidBodyParticleBall:
-      return kBodyAndParticle;
-    case JointType::RigidBodySpring:
-      return kTwoBodies | kTwoPositions | kStiffness;
-    case JointType::Distance:
-      return kTwoBodies | kTwoPositions;
-    case JointType::Damper:
-      return kTwoBodies | kAxis | kStiffness;
-    case JointType::TargetAngleMotorHinge:
-    case JointType::TargetVelocityMotorHinge:
-      return kTwoBodies | kPosition | kAxis | kMotor;
-    case JointType::TargetPositionMotorSlider:
-    case JointType::TargetVelocityMotorSlider:
-      return kTwoBodies | kAxis | kMotor;
-  }
-  return 0;
-}
-
 struct JointInput {
   JointDesc desc;
   std::optional<Real> target;

@@ -448,4 +448,23 @@ std::string formatVector(const Vector3& v) {
          formatNumber(static_cast<double>(v.z())) + "]";
 }
 
+void writeNumber(Json& object, const std::string& key, Real value) {
+  object[key] = double(value);
+}
+void writeInteger(Json& object, const std::string& key, int value) {
+  object[key] = value;
+}
+void writeBoolean(Json& object, const std::string& key, bool value) {
+  object[key] = value;
+}
+void writeString(Json& object, const std::string& key, const std::string& value) {
+  object[key] = value;
+}
+void writeVector(Json& object, const std::string& key, const Vector3& value) {
+  object[key] = {double(value.x()), double(value.y()), double(value.z())};
+}
+void writeIntegerVector(Json& object, const std::string& key, const Vector3i& value) {
+  object[key] = {value.x(), value.y(), value.z()};
+}
+
 }  // namespace pbd::scene_io

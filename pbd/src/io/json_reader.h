@@ -122,13 +122,25 @@ class JsonObject {
   std::vector<std::string> knownKeys_;
 };
 
-/// One row of a key table: the key and how to read its value into the target.
+/// One row of a key table: the key, how to read its value into the target and, for the scene
+/// writer (scene_writer.cpp), how to write it back from the target into a JSON object (empty:
+/// the writer handles the key itself).
 template <class Target>
 struct KeyReader {
   std::string key;
   std::function<void(const JsonValue&, Target&)> read;
   bool required = false;
+  std::function<void(const Target&, Json&)> write{};
 };
+
+// Writers of single keys into a JSON object (defined with the parser, in json_reader.cpp).
+void writeNumber(Json& object, const std::string& key, Real value);
+void writeInteger(Json& object, const std::string& key, int value);
+void writeBoolean(Json& object, const std::string& key, bool value);
+void writeString(Json& object, const std::string& key, const std::string& value);
+void writeVector(Json& object, const std::string& key, const Vector3& value);
+void writeIntegerVector(Json& object, const std::string& key, const Vector3i& value);
+
 template <class Target>
 using KeyTable = std::vector<KeyReader<Target>>;
 
@@ -144,6 +156,13 @@ void readKeys(JsonObject& object, const KeyTable<Target>& table, Target& target)
   }
 }
 
+/// Writes every key of `table` that has a writer.
+template <class Target>
+void writeKeys(const KeyTable<Target>& table, const Target& target, Json& object) {
+  for (const auto& entry : table)
+    if (entry.write) entry.write(target, object);
+}
+
 template <class Target>
 KeyReader<Target> required(KeyReader<Target> reader) {
   reader.required = true;
@@ -151,28 +170,31 @@ KeyReader<Target> required(KeyReader<Target> reader) {
 }
 
 // Table rows for the common case "this key sets that member".
+// Table rows for the common case "this key sets that member" (read and written back).
 template <class Target>
 KeyReader<Target> numberKey(std::string key, Real Target::*member, Bounds bounds = {}) {
-  return {std::move(key),
-          [member, bounds](const JsonValue& v, Target& t) { t.*member = v.number(bounds); }};
+  return {key, [member, bounds](const JsonValue& v, Target& t) { t.*member = v.number(bounds); },
+          false, [key, member](const Target& t, Json& j) { writeNumber(j, key, t.*member); }};
 }
 template <class Target>
 KeyReader<Target> integerKey(std::string key, int Target::*member, Bounds bounds = {}) {
-  return {std::move(key),
-          [member, bounds](const JsonValue& v, Target& t) { t.*member = v.integer(bounds); }};
+  return {key, [member, bounds](const JsonValue& v, Target& t) { t.*member = v.integer(bounds); },
+          false, [key, member](const Target& t, Json& j) { writeInteger(j, key, t.*member); }};
 }
 template <class Target>
 KeyReader<Target> booleanKey(std::string key, bool Target::*member) {
-  return {std::move(key), [member](const JsonValue& v, Target& t) { t.*member = v.boolean(); }};
+  return {key, [member](const JsonValue& v, Target& t) { t.*member = v.boolean(); }, false,
+          [key, member](const Target& t, Json& j) { writeBoolean(j, key, t.*member); }};
 }
 template <class Target>
 KeyReader<Target> vectorKey(std::string key, Vector3 Target::*member, Bounds bounds = {}) {
-  return {std::move(key),
-          [member, bounds](const JsonValue& v, Target& t) { t.*member = v.vector3(bounds); }};
+  return {key, [member, bounds](const JsonValue& v, Target& t) { t.*member = v.vector3(bounds); },
+          false, [key, member](const Target& t, Json& j) { writeVector(j, key, t.*member); }};
 }
 template <class Target>
 KeyReader<Target> stringKey(std::string key, std::string Target::*member) {
-  return {std::move(key), [member](const JsonValue& v, Target& t) { t.*member = v.string(); }};
+  return {key, [member](const JsonValue& v, Target& t) { t.*member = v.string(); }, false,
+          [key, member](const Target& t, Json& j) { writeString(j, key, t.*member); }};
 }
 
 /// Case-insensitive optimal-string-alignment distance (insertions, deletions, substitutions

@@ -226,7 +226,10 @@ RigidBodyDesc readRigidBody(const JsonValue& element, LoadContext& context) {
   body.translation = in.pose.translation;
   body.scale = in.pose.scale;
   body.rotation = resolveRotation(in.pose, object);
+  body.givenRotation = givenRotation(in.pose);
   body.massProperties = massProperties(in, object, context);
+  body.givenMass = in.mass;
+  body.givenInertia = in.inertia;
   checkCollisionObject(body, object, context);
   object.warnUnknownKeys();
   return body;

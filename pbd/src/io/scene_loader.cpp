@@ -31,76 +31,6 @@ ContactModel contactModel(const JsonValue& value) {
   value.fail("one of \"seed\", \"corrected\"");
 }
 
-KeyTable<SimulationSettings> simulationKeys() {
-  using S = SimulationSettings;
-  return {
-      // The bounds below are the only ones: `--set` goes through this table too
-      // (applySimulationSetting). They keep every run finite: a step below 1e-7 s or above 10 s
-      // is no physical time step, and 10^4 substeps or iterations per step already cost
-      // 10^4 times the default; the runner also refuses runs of more than 10^8 steps.
-      numberKey("timeStepSize", &S::timeStepSize, between(1e-7, 10)),
-      vectorKey("gravitation", &S::gravitation),
-      integerKey("subSteps", &S::subSteps, between(1, kMaxSubSteps)),
-      integerKey("maxIterations", &S::maxIterations, between(1, kMaxIterations)),
-      integerKey("maxIterationsV", &S::maxIterationsV, between(0, kMaxIterations)),
-      integerKey("velocityUpdateMethod", &S::velocityUpdateMethod, between(0, 1)),
-      numberKey("contactTolerance", &S::contactTolerance, nonNegative()),
-      numberKey("contactStiffnessRigidBody", &S::contactStiffnessRigidBody, nonNegative()),
-      numberKey("contactStiffnessParticleRigidBody", &S::contactStiffnessParticleRigidBody,
-                nonNegative()),
-      {"contactCombineRule",
-       [](const JsonValue& v, S& s) { s.contactCombineRule = combineRule(v); }},
-      {"contactModel", [](const JsonValue& v, S& s) { s.contactModel = contactModel(v); }},
-
-      integerKey("clothSimulationMethod", &S::clothSimulationMethod, between(0, 4)),
-      integerKey("clothBendingMethod", &S::clothBendingMethod, between(0, 3)),
-      numberKey("cloth_stiffness", &S::cloth_stiffness, nonNegative()),
-      numberKey("cloth_bendingStiffness", &S::cloth_bendingStiffness, nonNegative()),
-      numberKey("cloth_xxStiffness", &S::cloth_xxStiffness, nonNegative()),
-      numberKey("cloth_yyStiffness", &S::cloth_yyStiffness, nonNegative()),
-      numberKey("cloth_xyStiffness", &S::cloth_xyStiffness, nonNegative()),
-      numberKey("cloth_xyPoissonRatio", &S::cloth_xyPoissonRatio),
-      numberKey("cloth_yxPoissonRatio", &S::cloth_yxPoissonRatio),
-      booleanKey("cloth_normalizeStretch", &S::cloth_normalizeStretch),
-      booleanKey("cloth_normalizeShear", &S::cloth_normalizeShear),
-
-      integerKey("solidSimulationMethod", &S::solidSimulationMethod, between(0, 6)),
-      numberKey("solid_stiffness", &S::solid_stiffness, nonNegative()),
-      // The seed's FEM solve rejects Poisson ratios outside [0, 0.49].
-      numberKey("solid_poissonRatio", &S::solid_poissonRatio, between(0, 0.49)),
-      numberKey("solid_volumeStiffness", &S::solid_volumeStiffness, nonNegative()),
-      booleanKey("solid_normalizeStretch", &S::solid_normalizeStretch),
-      booleanKey("solid_normalizeShear", &S::solid_normalizeShear),
-
-      numberKey("rod_stretchingStiffness", &S::rod_stretchingStiffness, nonNegative()),
-      numberKey("rod_shearingStiffnessX", &S::rod_shearingStiffnessX, nonNegative()),
-      numberKey("rod_shearingStiffnessY", &S::rod_shearingStiffnessY, nonNegative()),
-      numberKey("rod_bendingStiffnessX", &S::rod_bendingStiffnessX, nonNegative()),
-      numberKey("rod_bendingStiffnessY", &S::rod_bendingStiffnessY, nonNegative()),
-      numberKey("rod_twistingStiffness", &S::rod_twistingStiffness, nonNegative()),
-  };
-}
-
-KeyTable<ViewerSettings> viewerKeys() {
-  using V = ViewerSettings;
-  return {
-      booleanKey("pause", &V::pause),
-      numberKey("pauseAt", &V::pauseAt),
-      integerKey("numberOfStepsPerRenderUpdate", &V::numberOfStepsPerRenderUpdate, atLeast(1)),
-      booleanKey("renderTets", &V::renderTets),
-      booleanKey("renderTets0", &V::renderTets0),
-      booleanKey("renderContacts", &V::renderContacts),
-      booleanKey("renderAABB", &V::renderAABB),
-      booleanKey("renderSDF", &V::renderSDF),
-      integerKey("renderBVHDepth", &V::renderBVHDepth, atLeast(-1)),
-      integerKey("renderBVHDepthTets", &V::renderBVHDepthTets, atLeast(-1)),
-      booleanKey("exportOBJ", &V::exportOBJ),
-      booleanKey("exportPLY", &V::exportPLY),
-      numberKey("exportFPS", &V::exportFPS, positive()),
-  };
-}
-
-/// `gravitation` is the seed's key; `gravity` is parsed by the seed but never used.
 void readGravityAlias(JsonObject& object, SimulationSettings& settings) {
   const auto gravity = object.find("gravity");
   if (!gravity) return;
@@ -152,6 +82,82 @@ KeyTable<Scene> topLevelKeys() {
 
 }  // namespace
 
+KeyTable<SimulationSettings> simulationKeys() {
+  using S = SimulationSettings;
+  return {
+      // The bounds below are the only ones: `--set` goes through this table too
+      // (applySimulationSetting). They keep every run finite: a step below 1e-7 s or above 10 s
+      // is no physical time step, and 10^4 substeps or iterations per step already cost
+      // 10^4 times the default; the runner also refuses runs of more than 10^8 steps.
+      numberKey("timeStepSize", &S::timeStepSize, between(1e-7, 10)),
+      vectorKey("gravitation", &S::gravitation),
+      integerKey("subSteps", &S::subSteps, between(1, kMaxSubSteps)),
+      integerKey("maxIterations", &S::maxIterations, between(1, kMaxIterations)),
+      integerKey("maxIterationsV", &S::maxIterationsV, between(0, kMaxIterations)),
+      integerKey("velocityUpdateMethod", &S::velocityUpdateMethod, between(0, 1)),
+      numberKey("contactTolerance", &S::contactTolerance, nonNegative()),
+      numberKey("contactStiffnessRigidBody", &S::contactStiffnessRigidBody, nonNegative()),
+      numberKey("contactStiffnessParticleRigidBody", &S::contactStiffnessParticleRigidBody,
+                nonNegative()),
+      {"contactCombineRule",
+       [](const JsonValue& v, S& s) { s.contactCombineRule = combineRule(v); }, false,
+       [](const S& s, Json& j) {
+         writeString(j, "contactCombineRule", contactCombineRuleName(s.contactCombineRule));
+       }},
+      {"contactModel", [](const JsonValue& v, S& s) { s.contactModel = contactModel(v); }, false,
+       [](const S& s, Json& j) {
+         writeString(j, "contactModel", contactModelName(s.contactModel));
+       }},
+
+      integerKey("clothSimulationMethod", &S::clothSimulationMethod, between(0, 4)),
+      integerKey("clothBendingMethod", &S::clothBendingMethod, between(0, 3)),
+      numberKey("cloth_stiffness", &S::cloth_stiffness, nonNegative()),
+      numberKey("cloth_bendingStiffness", &S::cloth_bendingStiffness, nonNegative()),
+      numberKey("cloth_xxStiffness", &S::cloth_xxStiffness, nonNegative()),
+      numberKey("cloth_yyStiffness", &S::cloth_yyStiffness, nonNegative()),
+      numberKey("cloth_xyStiffness", &S::cloth_xyStiffness, nonNegative()),
+      numberKey("cloth_xyPoissonRatio", &S::cloth_xyPoissonRatio),
+      numberKey("cloth_yxPoissonRatio", &S::cloth_yxPoissonRatio),
+      booleanKey("cloth_normalizeStretch", &S::cloth_normalizeStretch),
+      booleanKey("cloth_normalizeShear", &S::cloth_normalizeShear),
+
+      integerKey("solidSimulationMethod", &S::solidSimulationMethod, between(0, 6)),
+      numberKey("solid_stiffness", &S::solid_stiffness, nonNegative()),
+      // The seed's FEM solve rejects Poisson ratios outside [0, 0.49].
+      numberKey("solid_poissonRatio", &S::solid_poissonRatio, between(0, 0.49)),
+      numberKey("solid_volumeStiffness", &S::solid_volumeStiffness, nonNegative()),
+      booleanKey("solid_normalizeStretch", &S::solid_normalizeStretch),
+      booleanKey("solid_normalizeShear", &S::solid_normalizeShear),
+
+      numberKey("rod_stretchingStiffness", &S::rod_stretchingStiffness, nonNegative()),
+      numberKey("rod_shearingStiffnessX", &S::rod_shearingStiffnessX, nonNegative()),
+      numberKey("rod_shearingStiffnessY", &S::rod_shearingStiffnessY, nonNegative()),
+      numberKey("rod_bendingStiffnessX", &S::rod_bendingStiffnessX, nonNegative()),
+      numberKey("rod_bendingStiffnessY", &S::rod_bendingStiffnessY, nonNegative()),
+      numberKey("rod_twistingStiffness", &S::rod_twistingStiffness, nonNegative()),
+  };
+}
+
+KeyTable<ViewerSettings> viewerKeys() {
+  using V = ViewerSettings;
+  return {
+      booleanKey("pause", &V::pause),
+      numberKey("pauseAt", &V::pauseAt),
+      integerKey("numberOfStepsPerRenderUpdate", &V::numberOfStepsPerRenderUpdate, atLeast(1)),
+      booleanKey("renderTets", &V::renderTets),
+      booleanKey("renderTets0", &V::renderTets0),
+      booleanKey("renderContacts", &V::renderContacts),
+      booleanKey("renderAABB", &V::renderAABB),
+      booleanKey("renderSDF", &V::renderSDF),
+      integerKey("renderBVHDepth", &V::renderBVHDepth, atLeast(-1)),
+      integerKey("renderBVHDepthTets", &V::renderBVHDepthTets, atLeast(-1)),
+      booleanKey("exportOBJ", &V::exportOBJ),
+      booleanKey("exportPLY", &V::exportPLY),
+      numberKey("exportFPS", &V::exportFPS, positive()),
+  };
+}
+
+/// `gravitation` is the seed's key; `gravity` is parsed by the seed but never used.
 void readSimulation(const JsonValue& block, Scene& scene) {
   JsonObject object = block.object();
   readKeys(object, simulationKeys(), scene.simulation);
@@ -166,7 +172,8 @@ void readSimulation(const JsonValue& block, Scene& scene) {
 
 std::vector<std::string> simulationSettingKeys() {
   std::vector<std::string> keys;
-  for (const auto& entry : scene_io::simulationKeys()) keys.push_back(entry.key);
+  for (const auto& entry : scene_io::simulationKeys())
+    keys.push_back(entry.key);
   return keys;
 }
 
@@ -186,9 +193,10 @@ void applySimulationSetting(SimulationSettings& settings, const std::string& key
     return;
   }
   std::string known;
-  for (const std::string& k : simulationSettingKeys()) known += (known.empty() ? "" : ", ") + k;
-  throw SceneError(
-      SceneDiagnostic{origin, "", "unknown Simulation setting '" + key + "' (settings: " + known + ")"});
+  for (const std::string& k : simulationSettingKeys())
+    known += (known.empty() ? "" : ", ") + k;
+  throw SceneError(SceneDiagnostic{
+      origin, "", "unknown Simulation setting '" + key + "' (settings: " + known + ")"});
 }
 
 LoadedScene parseScene(const std::string& jsonText, const std::string& sourcePath,

@@ -99,6 +99,11 @@ Quaternion resolveRotation(const PoseInput& pose, JsonObject& object) {
   return Quaternion(AngleAxis(*pose.rotationAngle, axis / norm));
 }
 
+std::optional<GivenRotation> givenRotation(const PoseInput& pose) {
+  if (!pose.rotationAxis || !pose.rotationAngle) return std::nullopt;
+  return GivenRotation{*pose.rotationAxis, *pose.rotationAngle};
+}
+
 Vector3 toWorld(const Vector3& vertex, const Vector3& scale, const Quaternion& rotation,
                 const Vector3& translation) {
   return rotation * vertex.cwiseProduct(scale) + translation;
@@ -112,18 +117,24 @@ KeyTable<CollisionObjectDesc> collisionKeys(const LoadContext& context) {
       {"collisionObjectType",
        [](const JsonValue& v, C& c) {
          c.type = static_cast<CollisionObjectType>(v.integer(between(0, 7)));
-       }},
+       },
+       false, [](const C& c, Json& j) { writeInteger(j, "collisionObjectType", int(c.type)); }},
       {"collisionObjectFileName",
        [&context](const JsonValue& v, C& c) {
          // Empty: the SDF is generated from the geometry (the seed's default).
          c.fileName = v.string().empty() ? std::string() : context.existingFile(v);
+       },
+       false,
+       [](const C& c, Json& j) {
+         if (!c.fileName.empty()) writeString(j, "collisionObjectFileName", c.fileName);
        }},
       booleanKey("testMesh", &C::testMesh),
       vectorKey("collisionObjectScale", &C::scale),
       booleanKey("invertSDF", &C::invertSDF),
       numberKey("thicknessSDF", &C::thicknessSDF, nonNegative()),
       {"resolutionSDF",
-       [](const JsonValue& v, C& c) { c.resolutionSDF = v.integerVector3(atLeast(1)); }},
+       [](const JsonValue& v, C& c) { c.resolutionSDF = v.integerVector3(atLeast(1)); }, false,
+       [](const C& c, Json& j) { writeIntegerVector(j, "resolutionSDF", c.resolutionSDF); }},
   };
 }
 

@@ -53,6 +53,13 @@ KeyTable<PoseInput> poseKeys();
 /// The seed's rotation rule: applied only when both rotationAxis and rotationAngle are given;
 /// angle 0 is the identity; otherwise the axis must be non-zero (it is normalised).
 Quaternion resolveRotation(const PoseInput& pose, JsonObject& object);
+/// The rotation keys as given, when both are (what resolveRotation was made from).
+std::optional<GivenRotation> givenRotation(const PoseInput& pose);
+
+/// The Simulation block's keys: the solver settings and the viewer's (each row reads its key
+/// and writes it back: scene_writer.cpp).
+KeyTable<SimulationSettings> simulationKeys();
+KeyTable<ViewerSettings> viewerKeys();
 
 /// The collision keys shared by rigid bodies and tet models.
 KeyTable<CollisionObjectDesc> collisionKeys(const LoadContext& context);
@@ -73,6 +80,47 @@ void readContactPairs(const JsonValue& block, Scene& scene);
 /// The index of the rigid body with id `idValue`'s value; fails (naming the key) when no body or
 /// several bodies have that id.
 int resolveBodyId(const JsonValue& idValue, const Scene& scene);
+// The key groups of the joint blocks.
+enum JointKeys : unsigned {
+  kTwoBodies = 1u << 0,        // bodyID1, bodyID2
+  kBodyAndParticle = 1u << 1,  // rbID, particleID
+  kPosition = 1u << 2,         // position
+  kAxis = 1u << 3,             // axis
+  kTwoAxes = 1u << 4,          // axis1, axis2
+  kTwoPositions = 1u << 5,     // position1, position2
+  kStiffness = 1u << 6,        // stiffness
+  kMotor = 1u << 7,            // target, targetSequence, repeatSequence
+};
+
+inline unsigned jointKeys(JointType type) {
+  switch (type) {
+    case JointType::Ball:
+      return kTwoBodies | kPosition;
+    case JointType::BallOnLine:
+    case JointType::Hinge:
+      return kTwoBodies | kPosition | kAxis;
+    case JointType::Universal:
+      return kTwoBodies | kPosition | kTwoAxes;
+    case JointType::Slider:
+      return kTwoBodies | kAxis;
+    case JointType::RigidBodyParticleBall:
+      return kBodyAndParticle;
+    case JointType::RigidBodySpring:
+      return kTwoBodies | kTwoPositions | kStiffness;
+    case JointType::Distance:
+      return kTwoBodies | kTwoPositions;
+    case JointType::Damper:
+      return kTwoBodies | kAxis | kStiffness;
+    case JointType::TargetAngleMotorHinge:
+    case JointType::TargetVelocityMotorHinge:
+      return kTwoBodies | kPosition | kAxis | kMotor;
+    case JointType::TargetPositionMotorSlider:
+    case JointType::TargetVelocityMotorSlider:
+      return kTwoBodies | kAxis | kMotor;
+  }
+  return 0;
+}
+
 /// Reads all 13 joint blocks of the top-level object, in JointType order.
 void readJoints(JsonObject& root, Scene& scene);
 

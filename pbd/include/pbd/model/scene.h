@@ -12,6 +12,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,14 @@
 #include "pbd/model/mesh.h"
 
 namespace pbd {
+
+/// A pose's rotation as the scene file gave it (`rotationAxis`, `rotationAngle`): the writer
+/// (pbd/io/scene_writer.h) writes it back as given, so that a written scene loads to the same
+/// quaternion bit for bit. Absent when the file gave no rotation (or not both keys).
+struct GivenRotation {
+  Vector3 axis = Vector3::UnitZ();
+  Real angle = 0;
+};
 
 /// `collisionObjectType` of the seed.
 enum class CollisionObjectType : int {
@@ -94,6 +103,7 @@ struct RigidBodyDesc {
   std::shared_ptr<const TriangleMesh> mesh;  ///< scaled, in the scene frame; null without file
   Vector3 translation = Vector3::Zero();
   Quaternion rotation = Quaternion::Identity();  ///< from rotationAxis / rotationAngle
+  std::optional<GivenRotation> givenRotation;    ///< as the file gave it (for the writer)
   Vector3 scale = Vector3::Ones();
   Vector3 velocity = Vector3::Zero();         ///< of the centre of mass, world
   Vector3 angularVelocity = Vector3::Zero();  ///< world
@@ -104,6 +114,10 @@ struct RigidBodyDesc {
   /// Computed by the loader (volume integration or closed form), or overridden by the scene's
   /// `mass` / `inertia` keys. Used for every engine.
   MassProperties massProperties;
+  /// The `mass` and `inertia` keys as given (extensions), for the writer; massProperties
+  /// already holds their effect.
+  std::optional<Real> givenMass;
+  std::optional<Vector3> givenInertia;
 
   /// World position of the centre of mass at t = 0.
   Vector3 initialCenterOfMass() const {
@@ -183,6 +197,7 @@ struct TriangleModelDesc {
   TriangleMesh mesh;  ///< transformed to world: R · (v ∘ scale) + translation
   Vector3 translation = Vector3::Zero();
   Quaternion rotation = Quaternion::Identity();
+  std::optional<GivenRotation> givenRotation;
   Vector3 scale = Vector3::Ones();
   std::vector<int> staticParticles;
   Real restitution = Real(0.1);
@@ -198,6 +213,7 @@ struct TetModelDesc {
   std::shared_ptr<const TriangleMesh> visMesh;  ///< transformed to world; null without visFile
   Vector3 translation = Vector3::Zero();
   Quaternion rotation = Quaternion::Identity();
+  std::optional<GivenRotation> givenRotation;
   Vector3 scale = Vector3::Ones();
   std::vector<int> staticParticles;
   Real restitution = Real(0.1);
