@@ -62,6 +62,109 @@ std::optional<std::vector<double>> numericValues(
   return row;
 }
 
+/// The smallest sample interval ≥ `atLeast` that is a whole number of every step (within 1e-9
+/// relative), among the first 10⁴ multiples of the largest step; 0 when there is none. Runs at
+/// all the steps are then sampled at the same times, and no reference is interpolated.
+double commonSampleInterval(const std::vector<double>& steps, double atLeast) {
+  const double largest = *std::max_element(steps.begin(), steps.end());
+  const double first = std::max(1.0, std::ceil(atLeast / largest * (1 - 1e-12)));
+  for (double k = first; k < first + 1e4; ++k) {
+    const double interval = k * largest;
+    bool whole = true;
+    for (double h : steps) {
+      const double ratio = interval / h;
+      whole = whole && std::abs(ratio - std::round(ratio)) <= 1e-9 * ratio;
+    }
+    if (whole) return interval;
+  }
+  return 0;
+}
+
+}  // namespace
+
+namespace {
+
+/// Least squares of log e on log x over the points `rows` (the columns `varying`): fills the
+/// slopes, orders and R² of `fit`.
+void leastSquaresFit(const std::vector<std::string>& parameterNames,
+                     const std::vector<std::vector<double>>& parameterValues,
+                     const std::vector<double>& errors, const std::vector<std::size_t>& rows,
+                     const std::vector<std::size_t>& varying, SweepFit& fit) {
+  Eigen::MatrixXd design(rows.size(), varying.size() + 1);
+  Eigen::VectorXd logError(rows.size());
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    design(Eigen::Index(r), 0) = 1;
+    for (std::size_t c = 0; c < varying.size(); ++c)
+      design(Eigen::Index(r), Eigen::Index(c + 1)) = std::log(parameterValues[rows[r]][varying[c]]);
+    logError(Eigen::Index(r)) = std::log(errors[rows[r]]);
+  }
+  const Eigen::VectorXd coefficients = design.colPivHouseholderQr().solve(logError);
+  const Eigen::VectorXd residual = logError - design * coefficients;
+  const double mean = logError.mean();
+  const double total = (logError.array() - mean).square().sum();
+  fit.rSquared = total > 0 ? 1 - residual.squaredNorm() / total : 1;
+  fit.points = static_cast<int>(rows.size());
+  fit.parameters.clear();
+  fit.slopes.clear();
+  fit.orders.clear();
+  for (std::size_t c = 0; c < varying.size(); ++c) {
+    const std::string& name = parameterNames[varying[c]];
+    const double slope = coefficients(Eigen::Index(c + 1));
+    fit.parameters.push_back(name);
+    fit.slopes.push_back(slope);
+    fit.orders.push_back(isStepLike(name) ? slope : -slope);
+  }
+}
+
+std::string shortNumber(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", value);
+  return text;
+}
+
+/// One parameter varying: local orders coarse → fine, and the points from the first floor on.
+/// Returns the rows to fit.
+std::vector<std::size_t> asymptoticRange(const std::string& parameter,
+                                         const std::vector<std::vector<double>>& parameterValues,
+                                         const std::vector<double>& errors,
+                                         std::vector<std::size_t> rows, std::size_t column,
+                                         SweepFit& fit) {
+  const bool stepLike = isStepLike(parameter);
+  // Coarse to fine: decreasing steps, increasing counts.
+  std::sort(rows.begin(), rows.end(), [&](std::size_t a, std::size_t b) {
+    return stepLike ? parameterValues[a][column] > parameterValues[b][column]
+                    : parameterValues[a][column] < parameterValues[b][column];
+  });
+  for (std::size_t k = 0; k + 1 < rows.size(); ++k) {
+    const double x0 = parameterValues[rows[k]][column], x1 = parameterValues[rows[k + 1]][column];
+    const double slope = std::log(errors[rows[k + 1]] / errors[rows[k]]) / std::log(x1 / x0);
+    fit.localOrders.push_back({x0, x1, stepLike ? slope : -slope});
+  }
+  // The floor: only once the error has started to fall (a first positive local order) can a
+  // later refinement be said to have stopped it.
+  if (fit.localOrders.empty() || !(fit.localOrders.front().order > 0)) return rows;
+  const double first = fit.localOrders.front().order;
+  for (std::size_t k = 1; k < fit.localOrders.size(); ++k) {
+    const LocalOrder& local = fit.localOrders[k];
+    if (local.order > 0.5 * first) continue;
+    for (std::size_t r = k + 1; r < rows.size(); ++r) {
+      const double value = parameterValues[rows[r]][column];
+      fit.excluded.push_back(
+          {value, r == k + 1
+                      ? "on a floor: from " + shortNumber(local.from) + " to " +
+                            shortNumber(local.to) + " the error fell by a factor " +
+                            shortNumber(errors[rows[k]] / errors[rows[k + 1]]) + " only (local order " +
+                            shortNumber(local.order) + ", under half the first, " +
+                            shortNumber(first) + ")"
+                      : "finer than the floor at " + shortNumber(local.to)});
+    }
+    fit.flags.push_back("floor");
+    rows.resize(k + 1);
+    break;
+  }
+  return rows;
+}
+
 }  // namespace
 
 SweepFit fitConvergence(const std::string& method, const std::vector<std::string>& parameterNames,
@@ -90,33 +193,21 @@ SweepFit fitConvergence(const std::string& method, const std::vector<std::string
         "not enough points with a positive error to fit (" + std::to_string(usable.size()) + ")";
     return fit;
   }
-  Eigen::MatrixXd design(usable.size(), varying.size() + 1);
-  Eigen::VectorXd logError(usable.size());
-  for (std::size_t r = 0; r < usable.size(); ++r) {
-    design(Eigen::Index(r), 0) = 1;
-    for (std::size_t c = 0; c < varying.size(); ++c)
-      design(Eigen::Index(r), Eigen::Index(c + 1)) =
-          std::log(parameterValues[usable[r]][varying[c]]);
-    logError(Eigen::Index(r)) = std::log(errors[usable[r]]);
-  }
-  const Eigen::VectorXd coefficients = design.colPivHouseholderQr().solve(logError);
-  const Eigen::VectorXd residual = logError - design * coefficients;
-  const double mean = logError.mean();
-  const double total = (logError.array() - mean).square().sum();
-  fit.rSquared = total > 0 ? 1 - residual.squaredNorm() / total : 1;
-  for (std::size_t c = 0; c < varying.size(); ++c) {
-    const std::string& name = parameterNames[varying[c]];
-    const double slope = coefficients(Eigen::Index(c + 1));
-    fit.parameters.push_back(name);
-    fit.slopes.push_back(slope);
-    fit.orders.push_back(isStepLike(name) ? slope : -slope);
-  }
+  std::vector<std::size_t> rows = usable;
+  if (varying.size() == 1)
+    rows = asymptoticRange(parameterNames[varying[0]], parameterValues, errors, usable,
+                           varying[0], fit);
+  leastSquaresFit(parameterNames, parameterValues, errors, rows, varying, fit);
+  if (rows.size() < varying.size() + 2) fit.flags.push_back("too_few_points");
+  if (fit.rSquared < kMinimumRSquared) fit.flags.push_back("r_squared_below_0.99");
+
   // An order ≤ 0 means the error does not fall as the parameter is refined: the points sit on a
   // floor (round-off, solver tolerance, a modelling error the parameter cannot remove), not in
   // the asymptotic range where an order means anything. Reported, not hidden.
   double largest = 0;
   for (std::size_t k : usable)
     largest = std::max(largest, errors[k]);
+  std::vector<std::string> warnings;
   for (std::size_t c = 0; c < fit.orders.size(); ++c)
     if (fit.orders[c] <= 0) {
       char text[200];
@@ -124,8 +215,18 @@ SweepFit fitConvergence(const std::string& method, const std::vector<std::string
                     "the error does not fall as %s is refined (largest %.3g): a floor "
                     "(round-off, solver tolerance), not an asymptotic order",
                     fit.parameters[c].c_str(), largest);
-      fit.warning = text;
+      warnings.push_back(text);
     }
+  if (!fit.excluded.empty())
+    warnings.push_back(std::to_string(fit.excluded.size()) +
+                       " finest point(s) on a floor left out of the fit");
+  if (std::find(fit.flags.begin(), fit.flags.end(), "r_squared_below_0.99") != fit.flags.end())
+    warnings.push_back("R^2 " + shortNumber(fit.rSquared) +
+                       " < 0.99: the points do not follow one power law, the order is not reliable");
+  if (std::find(fit.flags.begin(), fit.flags.end(), "too_few_points") != fit.flags.end())
+    warnings.push_back("only " + std::to_string(fit.points) +
+                       " points in the fit: add refinements to confirm the order");
+  for (const std::string& w : warnings) fit.warning += (fit.warning.empty() ? "" : "; ") + w;
   return fit;
 }
 
@@ -168,22 +269,31 @@ SweepPlan planSweep(const SweepOptions& options, const EngineRegistry& registry)
       options.referenceMode == "fine" || spec.reference.kind != ReferenceSpec::Kind::None;
   if (plan.metric.empty()) plan.metric = hasReference ? "trajectory_error_max" : "energy_drift_max";
 
-  // Swept step sizes share one sample interval (the largest step) and one fine reference step.
+  // Swept step sizes share one sample interval, a whole number of every step (so that every run
+  // is sampled at the same times), and one fine reference step.
   const double caseStep = double(scene.simulation.timeStepSize);
   double largestStep = caseStep, smallestStep = caseStep;
+  std::vector<double> steps{caseStep};
   for (const auto& [name, values] : plan.parameters) {
     if (name != "timeStepSize") continue;
     largestStep = 0;
     smallestStep = 1e300;
+    steps.clear();
     for (const std::string& v : values) {
       const std::optional<double> h = pbd::parseReal(v);
       if (!h || *h <= 0)
         throw std::invalid_argument("timeStepSize: expected positive numbers, got '" + v + "'");
       largestStep = std::max(largestStep, *h);
       smallestStep = std::min(smallestStep, *h);
+      steps.push_back(*h);
     }
   }
-  const double sampleInterval = std::max(largestStep, spec.sampleInterval.value_or(0));
+  const double wanted = std::max(largestStep, spec.sampleInterval.value_or(0));
+  const double common = commonSampleInterval(steps, wanted);
+  const double sampleInterval = common > 0 ? common : wanted;
+  if (common == 0)
+    plan.notes.push_back("no sample interval is a whole number of every swept step: runs are "
+                         "compared with the reference by cubic Hermite interpolation");
 
   for (const std::string& method : plan.methods) {
     const MethodInfo& info = registry.method(method);
@@ -300,6 +410,15 @@ void printSweepTable(std::ostream& out, const SweepResult& result) {
           fit.parameters[i].c_str(), fit.orders[i], fit.slopes[i], fit.rSquared, fit.points);
       out << line;
     }
+    for (const LocalOrder& local : fit.localOrders) {
+      std::snprintf(line, sizeof line, "  local order %g -> %g: %.3f\n", local.from, local.to,
+                    local.order);
+      out << line;
+    }
+    for (const ExcludedPoint& e : fit.excluded) {
+      std::snprintf(line, sizeof line, "  left out %g: %.160s\n", e.value, e.reason.c_str());
+      out << line;
+    }
     if (!fit.warning.empty()) out << "  warning: " << fit.warning << "\n";
   }
   for (const std::string& note : result.notes)
@@ -326,14 +445,26 @@ void writeSweepJson(const std::string& path, const SweepResult& result,
   Json fits = Json::array();
   for (const SweepFit& f : result.fits) {
     Json orders = Json::object();
-    for (std::size_t i = 0; i < f.parameters.size(); ++i)
+    for (std::size_t i = 0; i < f.parameters.size(); ++i) {
       orders[f.parameters[i]] = {{"order", f.orders[i]}, {"slope", f.slopes[i]}};
+      if (f.parameters.size() == 1) {
+        Json local = Json::array();
+        for (const LocalOrder& l : f.localOrders)
+          local.push_back({{"from", l.from}, {"to", l.to}, {"order", l.order}});
+        orders[f.parameters[i]]["local"] = local;
+      }
+    }
+    Json excluded = Json::array();
+    for (const ExcludedPoint& e : f.excluded)
+      excluded.push_back({{"value", e.value}, {"reason", e.reason}});
     fits.push_back({{"method", f.method},
                     {"orders", orders},
                     {"r_squared", f.rSquared},
                     {"points", f.points},
                     {"note", f.note},
-                    {"warning", f.warning}});
+                    {"warning", f.warning},
+                    {"excluded", excluded},
+                    {"flags", f.flags}});
   }
   const Json document = {{"schema", "pbdval-sweep"},
                          {"schemaVersion", 1},

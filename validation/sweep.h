@@ -6,7 +6,11 @@
 // Fit: over the ok points of a method with a positive metric, least squares on
 //   log e = c + Σ_i s_i log x_i          (x_i the parameters that vary; R² reported)
 // The order is s_i for step-like parameters (timeStepSize: e ∝ h^p) and −s_i for count-like
-// ones (subSteps, iterations: e ∝ n^−p).
+// ones (subSteps, iterations: e ∝ n^−p). With one parameter varying, the local order between
+// every two successive refinements is reported too, and only the asymptotic range is fitted:
+// once the error stops falling (a local order below half the first one, or ≤ 0: round-off, a
+// solver tolerance, a modelling error the parameter cannot remove), that point and the finer
+// ones are left out and named. A fit with R² < 0.99 or fewer than three points is flagged.
 #pragma once
 
 #include <functional>
@@ -41,16 +45,38 @@ struct SweepPoint {
   bool pareto = false;  ///< on the error/wall-time Pareto front (over all methods)
 };
 
+/// The order between two successive refinements of one parameter: log(e₁/e₂) / log(x₁/x₂)
+/// (sign as the fitted order's).
+struct LocalOrder {
+  double from = 0, to = 0;  ///< the parameter's values, coarse → fine
+  double order = 0;
+};
+
+/// A point left out of the fit, and why.
+struct ExcludedPoint {
+  double value = 0;  ///< the swept parameter's value
+  std::string reason;
+};
+
 struct SweepFit {
   std::string method;
   std::vector<std::string> parameters;  ///< the parameters that vary
   std::vector<double> slopes;           ///< d log e / d log x_i
   std::vector<double> orders;           ///< see the header comment
   double rSquared = 0;
-  int points = 0;
+  int points = 0;       ///< points in the fit
   std::string note;     ///< why no fit, when there is none
-  std::string warning;  ///< a fit outside the asymptotic range (the error does not fall)
+  std::string warning;  ///< what a reader must know before trusting the order
+  /// One parameter varying: the local order of every successive pair of refinements, the
+  /// points left out as on a floor, and the flags ("floor", "r_squared_below_0.99",
+  /// "too_few_points"; the names sweep.json and the report use).
+  std::vector<LocalOrder> localOrders;
+  std::vector<ExcludedPoint> excluded;
+  std::vector<std::string> flags;
 };
+
+/// A fit whose R² is below this is flagged: the points do not follow one power law.
+inline constexpr double kMinimumRSquared = 0.99;
 
 struct SweepResult {
   std::string caseName, metric;

@@ -98,26 +98,63 @@ State oneBodyState(double time, const Vector3& x, const Quaternion& q, const Vec
   return s;
 }
 
-TEST(ResampleStates, InterpolatesPositionsLinearlyAndRotationsBySlerp) {
+// A cubic motion x(t) = c0 + c1 t + c2 t² + c3 t³ sampled with its exact velocities is
+// reproduced exactly by the Hermite interpolation (round-off only: 1e-14 on O(1) values).
+TEST(ResampleStates, PositionsAreExactForCubicMotion) {
+  const Vector3 c0(1, -2, 0.5), c1(0.3, 2, -1), c2(-4, 1, 2), c3(7, -3, 1);
+  auto x = [&](double t) { return Vector3(c0 + c1 * t + c2 * t * t + c3 * t * t * t); };
+  auto v = [&](double t) { return Vector3(c1 + 2 * c2 * t + 3 * c3 * t * t); };
   const Vector3 axis(0, 0, 1);
-  const std::vector<State> source{
-      oneBodyState(0.0, Vector3(0, 0, 0), turn(axis, 0.0), Vector3(1, 0, 0)),
-      oneBodyState(0.1, Vector3(1, 2, 0), turn(axis, 1.0), Vector3(3, 0, 0)),
-      oneBodyState(0.2, Vector3(2, 2, 0), turn(axis, 1.5), Vector3(3, 0, 0))};
-  const std::vector<State> out = resampleStates(source, {0.025, 0.1, 0.15});
-  ASSERT_EQ(out.size(), 3u);
-  // t = 0.025 is a quarter of the first interval.
-  EXPECT_NEAR((out[0].bodies[0].position - Vector3(0.25, 0.5, 0)).norm(), 0, 1e-15);
-  EXPECT_NEAR((out[0].bodies[0].velocity - Vector3(1.5, 0, 0)).norm(), 0, 1e-15);
-  EXPECT_NEAR(twistAngle(out[0].bodies[0].rotation, axis), 0.25, 1e-14);
-  EXPECT_NEAR((out[0].particles[0].position - Vector3(0.25, 0.5, 0)).norm(), 0, 1e-15);
-  EXPECT_EQ(out[0].bodies[0].id, 7);
+  const std::vector<State> source{oneBodyState(0.0, x(0.0), turn(axis, 0.0), v(0.0)),
+                                  oneBodyState(0.1, x(0.1), turn(axis, 1.0), v(0.1)),
+                                  oneBodyState(0.3, x(0.3), turn(axis, 1.5), v(0.3))};
+  const std::vector<State> out = resampleStates(source, {0.025, 0.1, 0.17, 0.29});
+  ASSERT_EQ(out.size(), 4u);
+  for (const State& s : out) {
+    EXPECT_NEAR((s.bodies[0].position - x(s.time)).norm(), 0, 1e-14) << s.time;
+    EXPECT_NEAR((s.bodies[0].velocity - v(s.time)).norm(), 0, 1e-13) << s.time;
+    EXPECT_NEAR((s.particles[0].position - x(s.time)).norm(), 0, 1e-14) << s.time;
+    EXPECT_EQ(s.bodies[0].id, 7);
+  }
   EXPECT_EQ(out[0].time, 0.025);
   // An exact sample time returns the sample itself.
   EXPECT_EQ(out[1].bodies[0].position, source[1].bodies[0].position);
   EXPECT_EQ(out[1].bodies[0].rotation.coeffs(), source[1].bodies[0].rotation.coeffs());
-  // Midway between 1.0 and 1.5 rad.
-  EXPECT_NEAR(twistAngle(out[2].bodies[0].rotation, axis), 1.25, 1e-14);
+}
+
+/// A body spinning about z at 3 rad/s while its axis precesses: q(t) = R_x(0.7 sin t) R_z(3t).
+Quaternion wobble(double t) { return turn(Vector3(1, 0, 0), 0.7 * std::sin(t)) * turn(Vector3(0, 0, 1), 3 * t); }
+/// Its world angular velocity, from q̇ q⁻¹ = ½ ω by a central difference of step 1e-6 (error
+/// O(1e-12), far below what the test resolves).
+Vector3 wobbleRate(double t) {
+  const double e = 1e-6;
+  const Quaternion dq = wobble(t + e) * wobble(t - e).conjugate();
+  return 2 * std::atan2(dq.vec().norm(), dq.w()) / (2 * e) * dq.vec().normalized();
+}
+
+// Rotations: exact for a constant angular velocity; for a smooth rotation the error falls with
+// the fourth power of the sample interval (halving it divides the error by 16; slerp would
+// give 4).
+TEST(ResampleStates, RotationsFollowTheAngularVelocityToFourthOrder) {
+  const Vector3 w(0.3, -1.2, 2.0);
+  auto spin = [&](double t) { return Quaternion(pbd::AngleAxis(w.norm() * t, w.normalized())); };
+  State a = oneBodyState(0.0, Vector3::Zero(), spin(0.0), Vector3::Zero());
+  State b = oneBodyState(0.4, Vector3::Zero(), spin(0.4), Vector3::Zero());
+  a.bodies[0].angularVelocity = b.bodies[0].angularVelocity = w;
+  for (double s : {0.1, 0.5, 0.9})
+    EXPECT_LT(geodesicAngle(interpolateState(a, b, s, 0.4 * s).bodies[0].rotation, spin(0.4 * s)), 1e-14);
+
+  auto midpointError = [&](double dt) {
+    State p = oneBodyState(1.0, Vector3::Zero(), wobble(1.0), Vector3::Zero());
+    State q = oneBodyState(1.0 + dt, Vector3::Zero(), wobble(1.0 + dt), Vector3::Zero());
+    p.bodies[0].angularVelocity = wobbleRate(1.0);
+    q.bodies[0].angularVelocity = wobbleRate(1.0 + dt);
+    return geodesicAngle(interpolateState(p, q, 0.5, 1.0 + dt / 2).bodies[0].rotation, wobble(1.0 + dt / 2));
+  };
+  const double coarse = midpointError(0.1), fine = midpointError(0.05);
+  // Ratio 16 for O(dt⁴); [12, 20] leaves room for the next term of the expansion at these steps.
+  EXPECT_GT(coarse / fine, 12) << coarse << " " << fine;
+  EXPECT_LT(coarse / fine, 20) << coarse << " " << fine;
 }
 
 TEST(ResampleStates, SlerpTakesTheShorterArc) {
