@@ -1,7 +1,8 @@
-"""`pbdval run` on a Dask cluster (docs/cluster.md).
+"""`pbdval run` and `pbdval sweep` on a Dask cluster (docs/cluster.md).
 
     pbdval run [CASES...] [run options] --executor dask --scheduler tcp://HOST:8786
-    .venv/bin/python -m pbdval.cluster run [CASES...] [run options] --scheduler-file FILE
+    pbdval sweep CASE --param ... [sweep options] --executor dask --scheduler-file FILE
+    .venv/bin/python -m pbdval.cluster run|sweep [ARGS...] --scheduler ADDRESS
 
 One plan, several executors: the plan is the pbdval command's own (`pbdval run --list-plan`);
 every task runs one slice of it on a worker with the pbdval command itself (`pbdval run ...
@@ -37,9 +38,8 @@ from typing import Any, Callable, Sequence
 from pbdval.errors import PbdvalError
 from pbdval.results import Results, load_results, pbdval_binary
 
-#: Options of `pbdval run` that take a value (passed through to every slice).
-RUN_VALUE_OPTIONS = ("--engines", "--methods", "--set", "--timeout")
-RUN_FLAGS = ("--no-trajectories", "--strict")
+#: The commands that can run on the cluster.
+COMMANDS = ("run", "sweep")
 
 
 class ClusterError(PbdvalError, RuntimeError):
@@ -69,17 +69,18 @@ def worker_build_identity(binary: str) -> str:
     return subprocess.run([binary, "--version"], capture_output=True, text=True, check=True).stdout.strip()
 
 
-def run_slice(binary: str, run_args: Sequence[str], index: int, count: int) -> SliceOutput:
-    """The task: `pbdval run RUN_ARGS --shard INDEX/COUNT` in a temporary folder on the worker,
-    its files sent back compressed. Runs in the worker's process; the runs themselves in the
-    pbdval command's child processes."""
+def run_slice(binary: str, run_args: Sequence[str], index: int, count: int,
+              command: str = "run") -> SliceOutput:
+    """The task: `pbdval COMMAND RUN_ARGS --shard INDEX/COUNT` in a temporary folder on the
+    worker, its files sent back compressed. Runs in the worker's process; the runs themselves in
+    the pbdval command's child processes."""
     start = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="pbdval-slice-") as folder:
-        command = [binary, "run", *run_args, "--shard", f"{index}/{count}", "--out", folder,
-                   "--jobs", "1", "--quiet"]
-        done = subprocess.run(command, capture_output=True, text=True)
+        argv = [binary, command, *run_args, "--shard", f"{index}/{count}", "--out", folder,
+                "--jobs", "1", "--quiet"]
+        done = subprocess.run(argv, capture_output=True, text=True)
         if done.returncode != 0:
-            raise RuntimeError(f"pbdval run --shard {index}/{count} exited {done.returncode}: "
+            raise RuntimeError(f"pbdval {command} --shard {index}/{count} exited {done.returncode}: "
                                f"{done.stderr.strip()[-2000:]}")
         files: dict[str, bytes] = {}
         raw = 0
@@ -110,10 +111,11 @@ def write_slice(output: SliceOutput, folder: Path) -> None:
     os.replace(temporary, results)
 
 
-def parse_arguments(argv: Sequence[str]) -> tuple[argparse.Namespace, list[str]]:
-    parser = argparse.ArgumentParser(prog="pbdval run --executor dask",
-                                     description="pbdval run on a Dask cluster (docs/cluster.md)")
-    parser.add_argument("cases", nargs="*", help="scene files or folders (default: cases/)")
+def parse_arguments(command: str, argv: Sequence[str]) -> tuple[argparse.Namespace, list[str]]:
+    """The client's own options; everything else is passed to `pbdval COMMAND` unchanged (the
+    pbdval command checks it, once, when it lists the plan)."""
+    parser = argparse.ArgumentParser(prog=f"pbdval {command} --executor dask",
+                                     description=f"pbdval {command} on a Dask cluster (docs/cluster.md)")
     where = parser.add_mutually_exclusive_group(required=True)
     where.add_argument("--scheduler", help="the scheduler's address, e.g. tcp://10.0.0.5:8786")
     where.add_argument("--scheduler-file", help="the scheduler's file (dask scheduler --scheduler-file)")
@@ -125,27 +127,16 @@ def parse_arguments(argv: Sequence[str]) -> tuple[argparse.Namespace, list[str]]
                              "least 1: start-up amortised, balance and fault isolation kept)")
     parser.add_argument("--quiet", action="store_true", help="no progress, only the summary")
     parser.add_argument("--jobs", type=int, default=None, help=argparse.SUPPRESS)  # local only
-    for option in RUN_VALUE_OPTIONS:
-        parser.add_argument(option, action="append", default=[])
-    for flag in RUN_FLAGS:
-        parser.add_argument(flag, action="store_true")
-    args = parser.parse_args(argv)
+    args, passed = parser.parse_known_args(argv)
     if args.runs_per_task is not None and args.runs_per_task < 1:
         parser.error("--runs-per-task: expected at least 1")
-    run_args: list[str] = list(args.cases)
-    for option in RUN_VALUE_OPTIONS:
-        for value in getattr(args, option[2:].replace("-", "_")):
-            run_args += [option, value]
-    for flag in RUN_FLAGS:
-        if getattr(args, flag[2:].replace("-", "_")):
-            run_args.append(flag)
-    return args, run_args
+    return args, passed
 
 
-def plan_of(binary: str, run_args: Sequence[str]) -> dict[str, Any]:
-    done = subprocess.run([binary, "run", *run_args, "--list-plan"], capture_output=True, text=True)
+def plan_of(binary: str, run_args: Sequence[str], command: str = "run") -> dict[str, Any]:
+    done = subprocess.run([binary, command, *run_args, "--list-plan"], capture_output=True, text=True)
     if done.returncode != 0:
-        raise ClusterError(done.stderr.strip() or f"pbdval run --list-plan exited {done.returncode}")
+        raise ClusterError(done.stderr.strip() or f"pbdval {command} --list-plan exited {done.returncode}")
     plan: dict[str, Any] = json.loads(done.stdout)
     return plan
 
@@ -185,14 +176,17 @@ TASKS_PER_WORKER = 16
 
 
 def run_on_cluster(client: Any, run_args: Sequence[str], out: Path, *, runs_per_task: int | None = None,
-                   quiet: bool = False, task: Callable[..., SliceOutput] = run_slice) -> Results:
-    """Runs the plan of `pbdval run RUN_ARGS` on `client`'s cluster and writes OUT like a local
-    run. `task` is the function each task runs (tests replace it to kill workers)."""
+                   quiet: bool = False, task: Callable[..., SliceOutput] = run_slice,
+                   command: str = "run") -> Results | Path:
+    """Runs the plan of `pbdval COMMAND RUN_ARGS` on `client`'s cluster and writes OUT as the
+    local command does: a results folder for `run` (returned as Results), sweep.json for
+    `sweep` (its path returned). `task` is the function each task runs (tests replace it to
+    kill workers)."""
     from distributed import as_completed  # noqa: PLC0415
     from distributed.scheduler import KilledWorker  # noqa: PLC0415
 
     binary = str(pbdval_binary())
-    plan = plan_of(binary, run_args)
+    plan = plan_of(binary, run_args, command)
     size = int(plan["planSize"])
     workers = check_workers(client, binary)
     if runs_per_task is None:
@@ -203,10 +197,11 @@ def run_on_cluster(client: Any, run_args: Sequence[str], out: Path, *, runs_per_
         shutil.rmtree(slices)
     slices.mkdir(parents=True)
     if not quiet:
-        print(f"pbdval run: {size} runs in {count} tasks on {workers} Dask workers "
+        print(f"pbdval {command}: {size} runs in {count} tasks on {workers} Dask workers "
               f"({client.scheduler.address}), output in {out}/", file=sys.stderr, flush=True)
-    futures = {client.submit(task, binary, list(run_args), k, count, key=f"pbdval-slice-{k}-of-{count}-"
-                             f"{plan['planDigest']}", pure=False, retries=0): k for k in range(1, count + 1)}
+    futures = {client.submit(task, binary, list(run_args), k, count, command,
+                             key=f"pbdval-slice-{k}-of-{count}-{plan['planDigest']}", pure=False, retries=0): k
+               for k in range(1, count + 1)}
     sent = raw = 0
     start = time.perf_counter()
     done = 0
@@ -222,31 +217,38 @@ def run_on_cluster(client: Any, run_args: Sequence[str], out: Path, *, runs_per_
         except KilledWorker as error:
             reason = (f"the run's Dask task was on workers that died ({error}); not retried "
                       "further (distributed.scheduler.allowed-failures)")
-            record_failure(binary, run_args, k, count, reason, slices / str(k))
+            record_failure(binary, run_args, k, count, reason, slices / str(k), command)
             line = f"slice {k}: error: workers died running it"
         except Exception as error:  # noqa: BLE001  (any task failure becomes the runs' status)
-            record_failure(binary, run_args, k, count, f"the Dask task failed: {error}", slices / str(k))
+            record_failure(binary, run_args, k, count, f"the Dask task failed: {error}", slices / str(k), command)
             line = f"slice {k}: error: {error}"
         if not quiet:
             print(f"[{done:3d}/{count}] {time.perf_counter() - start:6.1f} s  {line}", file=sys.stderr, flush=True)
-    merge = subprocess.run([binary, "merge", *[str(slices / str(k)) for k in range(1, count + 1)],
-                            "--out", str(out), "--move", "--quiet"], capture_output=True, text=True)
-    if merge.returncode != 0:
-        raise ClusterError(f"pbdval merge failed: {merge.stderr.strip()}")
+    folders = [str(slices / str(k)) for k in range(1, count + 1)]
+    if command == "sweep":
+        joined = subprocess.run([binary, "sweep", *run_args, "--from-shards", ",".join(folders), "--out", str(out)],
+                                capture_output=True, text=True)
+    else:
+        joined = subprocess.run([binary, "merge", *folders, "--out", str(out), "--move", "--quiet"],
+                                capture_output=True, text=True)
+    if joined.returncode != 0:
+        raise ClusterError(f"joining the slices failed: {joined.stderr.strip()}")
     shutil.rmtree(slices)
     if not quiet:
-        print(merge.stdout.strip(), file=sys.stderr)
-        print(f"pbdval run: the workers sent {sent / 1e6:.2f} MB (compressed from {raw / 1e6:.2f} MB)",
+        print(joined.stdout.strip(), file=sys.stderr)
+        print(f"pbdval {command}: the workers sent {sent / 1e6:.2f} MB (compressed from {raw / 1e6:.2f} MB)",
               file=sys.stderr)
+    if command == "sweep":
+        return out / "sweep.json"
     return load_results(out)
 
 
 def record_failure(binary: str, run_args: Sequence[str], index: int, count: int, reason: str,
-                   folder: Path) -> None:
+                   folder: Path, command: str = "run") -> None:
     """The slice's runs as status error with `reason`, written by the pbdval command itself."""
     if folder.exists():
         shutil.rmtree(folder)
-    done = subprocess.run([binary, "run", *run_args, "--shard", f"{index}/{count}", "--fail-with", reason,
+    done = subprocess.run([binary, command, *run_args, "--shard", f"{index}/{count}", "--fail-with", reason,
                            "--out", str(folder), "--quiet"], capture_output=True, text=True)
     if done.returncode != 0:
         raise ClusterError(f"could not record the failure of slice {index}: {done.stderr.strip()}")
@@ -254,22 +256,25 @@ def record_failure(binary: str, run_args: Sequence[str], index: int, count: int,
 
 def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
-    if not argv or argv[0] != "run":
-        print("usage: python -m pbdval.cluster run [CASES...] --scheduler ADDRESS [pbdval run options]",
-              file=sys.stderr)
+    if not argv or argv[0] not in COMMANDS:
+        print("usage: python -m pbdval.cluster run|sweep [ARGS...] --scheduler ADDRESS [options]", file=sys.stderr)
         return 2
-    args, run_args = parse_arguments(argv[1:])
+    command = argv[0]
+    args, run_args = parse_arguments(command, argv[1:])
     try:
         with connect(args) as client:
-            results = run_on_cluster(client, run_args, Path(args.out), runs_per_task=args.runs_per_task,
-                                     quiet=args.quiet)
+            outcome = run_on_cluster(client, run_args, Path(args.out), runs_per_task=args.runs_per_task,
+                                     quiet=args.quiet, command=command)
     except ClusterError as error:
-        print(f"pbdval run --executor dask: error: {error}", file=sys.stderr)
+        print(f"pbdval {command} --executor dask: error: {error}", file=sys.stderr)
         return 2
+    if isinstance(outcome, Path):
+        print(f"wrote {outcome}")
+        return 0
     statuses: dict[str, int] = {}
-    for r in results:
+    for r in outcome:
         statuses[r.status] = statuses.get(r.status, 0) + 1
-    print(f"{len(results)} runs: " + ", ".join(f"{n} {s}" for s, n in sorted(statuses.items()))
+    print(f"{len(outcome)} runs: " + ", ".join(f"{n} {s}" for s, n in sorted(statuses.items()))
           + f"; results in {Path(args.out) / 'results.json'}")
     return 0
 

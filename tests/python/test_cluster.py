@@ -91,21 +91,46 @@ def test_the_cluster_gives_what_a_local_run_gives(scheduler_file: Path, tmp_path
     assert not (out / ".slices").exists()
 
 
+def test_a_sweep_on_the_cluster_fits_what_a_local_sweep_fits(scheduler_file: Path, tmp_path: Path) -> None:
+    sweep = [str(REPO / "cases" / "joint_hinge.json"), "--param", "timeStepSize=0.004,0.002,0.001",
+             "--methods", "pbd,mujoco.rk4", "--reference", "fine"]
+    done = subprocess.run([str(pbdval_binary()), "sweep", *sweep, "--executor", "dask", "--scheduler-file",
+                           str(scheduler_file), "--out", str(tmp_path / "dask")], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    subprocess.run([str(pbdval_binary()), "sweep", *sweep, "--out", str(tmp_path / "local"), "--quiet"],
+                   check=True, capture_output=True)
+    dask = json.loads((tmp_path / "dask" / "sweep.json").read_text())
+    local = json.loads((tmp_path / "local" / "sweep.json").read_text())
+    assert [(p["method"], p["parameters"], p["status"], p["metric"]) for p in dask["points"]] == \
+        [(p["method"], p["parameters"], p["status"], p["metric"]) for p in local["points"]]
+    assert [(f["method"], f["orders"], f["r_squared"], f["flags"]) for f in dask["fits"]] == \
+        [(f["method"], f["orders"], f["r_squared"], f["flags"]) for f in local["fits"]]
+
+
+def test_bad_arguments_are_reported_by_the_pbdval_command(scheduler_file: Path, tmp_path: Path) -> None:
+    done = subprocess.run([str(pbdval_binary()), "run", *RUN_ARGS, "--methods", "no.such", "--executor", "dask",
+                           "--scheduler-file", str(scheduler_file), "--out", str(tmp_path / "o")],
+                          capture_output=True, text=True)
+    assert done.returncode == 2 and "no.such" in done.stderr
+
+
 # --- faults -----------------------------------------------------------------------------------
 
-def kill_worker_once(binary: str, run_args: list[str], index: int, count: int) -> cluster.SliceOutput:
+def kill_worker_once(binary: str, run_args: list[str], index: int, count: int,
+                     command: str = "run") -> cluster.SliceOutput:
     """Slice 2's first attempt kills the worker it runs on (the nanny restarts it)."""
     marker = Path(os.environ["PBDVAL_CLUSTER_TEST_FOLDER"]) / "killed-once"
     if index == 2 and not marker.exists():
         marker.write_text("killed once")
         os._exit(1)
-    return cluster.run_slice(binary, run_args, index, count)
+    return cluster.run_slice(binary, run_args, index, count, command)
 
 
-def kill_worker_always(binary: str, run_args: list[str], index: int, count: int) -> cluster.SliceOutput:
+def kill_worker_always(binary: str, run_args: list[str], index: int, count: int,
+                       command: str = "run") -> cluster.SliceOutput:
     if index == 1:
         os._exit(1)
-    return cluster.run_slice(binary, run_args, index, count)
+    return cluster.run_slice(binary, run_args, index, count, command)
 
 
 def test_a_worker_killed_mid_run_loses_nothing(scheduler_file: Path, tmp_path: Path) -> None:

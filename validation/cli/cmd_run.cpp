@@ -16,8 +16,7 @@
 #include "validation/case_library.h"
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
-#include "validation/cli/python_module.h"
-#include "validation/json_text.h"
+#include "validation/cli/executors.h"
 #include "validation/results.h"
 #include "validation/run_plan.h"
 #include "validation/run_scheduler.h"
@@ -69,43 +68,6 @@ ArgParser runParser() {
   return parser;
 }
 
-/// The plan as JSON on standard output (--list-plan): what a run would do, for executors and
-/// for a user checking a study before starting it.
-void printPlan(const RunPlan& plan) {
-  nlohmann::json runs = nlohmann::json::array();
-  for (const RunRequest& r : plan.requests)
-    runs.push_back({{"case", r.caseName},
-                    {"caseFile", r.caseFile},
-                    {"engine", r.engine},
-                    {"method", r.method},
-                    {"assignments", r.assignments}});
-  nlohmann::json unreadable = nlohmann::json::array();
-  for (const RunRecord& u : plan.unreadable)
-    unreadable.push_back(
-        {{"case", u.request.caseName}, {"caseFile", u.request.caseFile}, {"reason", u.reason}});
-  const nlohmann::json document = {{"planSize", plan.requests.size() + plan.unreadable.size()},
-                                   {"planDigest", planDigest(plan)},
-                                   {"runs", runs},
-                                   {"unreadable", unreadable}};
-  std::printf("%s\n", jsonText(document).c_str());
-}
-
-/// --executor dask: the Dask client is Python (pbdval.cluster, in the project's virtual
-/// environment); this process becomes it, with the same arguments.
-int runOnDask(const Arguments& arguments) {
-  const std::string python = std::string(PBDVAL_SOURCE_DIR) + "/.venv/bin/python";
-  std::vector<std::string> argv = {python, "-m", "pbdval.cluster", "run"};
-  for (std::size_t i = 0; i < arguments.size(); ++i) {
-    if (arguments[i] == "--executor") {
-      ++i;  // its value
-      continue;
-    }
-    if (arguments[i].rfind("--executor=", 0) == 0) continue;
-    argv.push_back(arguments[i]);
-  }
-  return execPython(argv);
-}
-
 std::string clock(double seconds) {
   char text[16];
   std::snprintf(text, sizeof text, "%02d:%02d", int(seconds) / 60, int(seconds) % 60);
@@ -138,7 +100,7 @@ int runCommand(const Context& context, const Arguments& arguments) {
     const std::vector<std::string> paths =
         args.positionals.empty() ? std::vector<std::string>{defaultCaseFolder()} : args.positionals;
     const std::string executor = args.value("executor", "local");
-    if (executor == "dask") return runOnDask(arguments);
+    if (executor == "dask") return runOnDask("run", arguments);
     if (executor != "local")
       throw UsageError("--executor: expected local or dask, got '" + executor + "'");
     for (const char* option : {"scheduler", "scheduler-file", "connect-timeout", "runs-per-task"})

@@ -10,7 +10,12 @@
 #include "validation/case_library.h"
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
+#include "validation/cli/executors.h"
 #include "validation/overrides.h"
+#include "validation/results.h"
+#include "validation/run_scheduler.h"
+#include "validation/sharding.h"
+#include "validation/summary.h"
 #include "validation/sweep.h"
 
 namespace pbdval::cli {
@@ -39,6 +44,17 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
       .option("out", "DIR", "write DIR/sweep.json (default: out)")
       .option("jobs", "N", "runs in parallel (default: the number of cores)")
       .option("timeout", "S", "wall-time limit per run (default 600)")
+      .option("shard", "K/N", "run only the K-th of N slices of the sweep's runs (docs/cluster.md)")
+      .option("from-shards", "DIR,...",
+              "fit the runs of the shard folders (comma-separated) instead of running")
+      .option("executor", "local|dask", "where the runs execute (docs/cluster.md)")
+      .option("scheduler", "ADDRESS", "dask: the scheduler's address")
+      .option("scheduler-file", "FILE", "dask: the scheduler's file")
+      .option("connect-timeout", "S", "dask: seconds to reach the scheduler (default 10)")
+      .option("runs-per-task", "N", "dask: runs per task")
+      .option("fail-with", "REASON", "with --shard: record the runs as error without running")
+      .flag("list-plan", "print the sweep's runs as JSON and run nothing")
+      .flag("quiet", "no progress lines")
       .epilog(
           "example: pbdval sweep cases/projectile.json --param "
           "timeStepSize=0.01,0.005,0.0025,0.00125 --methods pbd");
@@ -67,7 +83,14 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
         int(args.integer("jobs", long(std::max(1u, std::thread::hardware_concurrency()))));
     options.timeout = args.number("timeout", 600);
     options.scratchFolder = args.value("out", "out") + "/.scratch";
-    checkOutputFile(args.value("out", "out") + "/sweep.json");  // before the runs
+    const std::string executor = args.value("executor", "local");
+    if (executor == "dask") return runOnDask("sweep", arguments);
+    if (executor != "local") throw UsageError("--executor: expected local or dask, got '" + executor + "'");
+    for (const char* option : {"scheduler", "scheduler-file", "connect-timeout", "runs-per-task"})
+      if (args.has(option)) throw UsageError(std::string("--") + option + " needs --executor dask");
+    if (args.has("fail-with") && !args.has("shard")) throw UsageError("--fail-with needs --shard");
+    if (!args.flags.count("list-plan"))
+      checkOutputFile(args.value("out", "out") + (args.has("shard") ? "/results.json" : "/sweep.json"));
   } catch (const UsageError& e) {
     return parser.usageError(e.what());
   } catch (const std::exception& e) {
@@ -77,20 +100,71 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
   command << "pbdval sweep";
   for (const std::string& a : arguments)
     command << ' ' << a;
-  SweepResult result;
+  const bool quiet = args.flags.count("quiet") > 0;
+  auto progress = [quiet](const RunRecord& r, std::size_t done, std::size_t total) {
+    if (quiet) return;
+    std::string values;
+    for (const std::string& a : r.request.assignments) values += " " + a;
+    std::fprintf(stderr, "[%3zu/%zu] %s%s %s\n", done, total, runLabel(r.request).c_str(),
+                 values.c_str(), runStatusName(r.status));
+  };
   try {
-    result = runSweep(options, context.engines, [](const RunRecord& r, std::size_t done, std::size_t total) {
-      std::string values;
-      for (const std::string& a : r.request.assignments)
-        values += " " + a;
-      std::fprintf(stderr, "[%3zu/%zu] %s%s %s\n", done, total, runLabel(r.request).c_str(),
-                   values.c_str(), runStatusName(r.status));
-    });
-    std::filesystem::remove_all(options.scratchFolder);
-    const std::string path = args.value("out", "out") + "/sweep.json";
+    const SweepPlan plan = planSweep(options, context.engines);
+    // The sweep's runs as a run plan: what shards, --list-plan and executors work on.
+    RunPlan runs;
+    runs.requests = plan.requests;
+    if (args.flags.count("list-plan")) {
+      printPlan(runs);
+      return 0;
+    }
+    const std::string out = args.value("out", "out");
+    if (args.has("shard")) {
+      ShardInfo shard = parseShard(args.value("shard"));
+      const RunPlan part = shardOf(runs, shard);
+      ResultsFile results;
+      results.metadata = currentMetadata(command.str());
+      results.metadata.shard = shard;
+      results.cases[plan.caseName] = {options.caseFile, "sweep of " + plan.caseName, {}, {}};
+      if (args.has("fail-with")) {
+        for (const RunRequest& request : part.requests) {
+          RunRecord failed;
+          failed.request = request;
+          failed.reason = args.value("fail-with");
+          results.runs.push_back(failed);
+        }
+      } else {
+        RunScheduler scheduler(context.engines, options.jobs, options.timeout, options.scratchFolder);
+        results.runs = scheduler.runAll(part.requests, progress);
+        std::filesystem::remove_all(options.scratchFolder);
+      }
+      writeResults(out + "/results.json", results);
+      std::printf("%s; results in %s/results.json\n", statusCounts(results.runs).c_str(), out.c_str());
+      return 0;
+    }
+    std::vector<RunRecord> records;
+    if (args.has("from-shards")) {
+      std::vector<ShardResults> shards;
+      for (const std::string& folder : splitList(args.value("from-shards")))
+        shards.push_back({folder, readResults(folder + "/results.json")});
+      const ResultsFile merged = mergeShards(shards, command.str());
+      const std::string digest = planDigest(runs);
+      if (shards.front().results.metadata.shard->planDigest != digest)
+        throw std::invalid_argument(shards.front().folder + ": shards of another sweep (plan " +
+                                    shards.front().results.metadata.shard->planDigest +
+                                    ", this one's " + digest + ")");
+      records = merged.runs;
+    } else {
+      RunScheduler scheduler(context.engines, options.jobs, options.timeout, options.scratchFolder);
+      records = scheduler.runAll(plan.requests, progress);
+      std::filesystem::remove_all(options.scratchFolder);
+    }
+    const SweepResult result = collectSweep(plan, records);
+    const std::string path = out + "/sweep.json";
     writeSweepJson(path, result, currentMetadata(command.str()));
     printSweepTable(std::cout, result);
     std::printf("wrote %s\n", path.c_str());
+  } catch (const UsageError& e) {
+    return parser.usageError(e.what());
   } catch (const std::exception& e) {
     return parser.inputError(e.what());
   }

@@ -1,0 +1,43 @@
+#include "validation/cli/executors.h"
+
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "pbdval/build_info.h"
+#include "validation/cli/python_module.h"
+#include "validation/json_text.h"
+#include "validation/sharding.h"
+
+namespace pbdval::cli {
+
+void printPlan(const RunPlan& plan) {
+  nlohmann::json runs = nlohmann::json::array();
+  for (const RunRequest& r : plan.requests)
+    runs.push_back({{"case", r.caseName}, {"caseFile", r.caseFile}, {"engine", r.engine},
+                    {"method", r.method}, {"assignments", r.assignments}});
+  nlohmann::json unreadable = nlohmann::json::array();
+  for (const RunRecord& u : plan.unreadable)
+    unreadable.push_back({{"case", u.request.caseName}, {"caseFile", u.request.caseFile},
+                          {"reason", u.reason}});
+  const nlohmann::json document = {{"planSize", plan.requests.size() + plan.unreadable.size()},
+                                   {"planDigest", planDigest(plan)},
+                                   {"runs", runs},
+                                   {"unreadable", unreadable}};
+  std::printf("%s\n", jsonText(document).c_str());
+}
+
+int runOnDask(const std::string& command, const std::vector<std::string>& arguments) {
+  const std::string python = std::string(PBDVAL_SOURCE_DIR) + "/.venv/bin/python";
+  std::vector<std::string> argv = {python, "-m", "pbdval.cluster", command};
+  for (std::size_t i = 0; i < arguments.size(); ++i) {
+    if (arguments[i] == "--executor") {
+      ++i;  // its value
+      continue;
+    }
+    if (arguments[i].rfind("--executor=", 0) == 0) continue;
+    argv.push_back(arguments[i]);
+  }
+  return execPython(argv);
+}
+
+}  // namespace pbdval::cli
