@@ -170,6 +170,9 @@ struct EngineOptions {
 struct EngineEntry {
   std::string name;           ///< "pbd", "bullet", "ode", "mujoco"
   std::string defaultMethod;  ///< used when a run names the engine only
+  /// The methods `pbdval run` uses for this engine when neither --methods nor the case's
+  /// Validation.methods name one of them; empty: defaultMethod alone.
+  std::vector<std::string> runMethods;
   std::vector<MethodInfo> methods;
   /// Keys of the scene's Simulation block this engine uses (timeStepSize, gravitation, and for
   /// the PBD library its solver settings); `--set` of another key has no effect in it.

@@ -32,7 +32,19 @@ void EngineRegistry::add(EngineEntry entry) {
   if (!hasDefault)
     throw std::invalid_argument("engine " + entry.name + ": default method '" +
                                 entry.defaultMethod + "' is not one of its methods");
+  for (const std::string& run : entry.runMethods) {
+    bool known = false;
+    for (const MethodInfo& m : entry.methods) known = known || m.name == run;
+    if (!known)
+      throw std::invalid_argument("engine " + entry.name + ": run method '" + run +
+                                  "' is not one of its methods");
+  }
   entries_.push_back(std::move(entry));
+}
+
+std::vector<std::string> EngineRegistry::runMethods(const std::string& name) const {
+  const EngineEntry& entry = engine(name);
+  return entry.runMethods.empty() ? std::vector<std::string>{entry.defaultMethod} : entry.runMethods;
 }
 
 std::vector<std::string> EngineRegistry::engineNames() const {

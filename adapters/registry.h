@@ -30,6 +30,8 @@ class EngineRegistry {
   /// Throws std::invalid_argument naming the known methods.
   const MethodInfo& method(const std::string& name) const;
   std::string defaultMethod(const std::string& engine) const { return this->engine(engine).defaultMethod; }
+  /// EngineEntry::runMethods, or the default method alone.
+  std::vector<std::string> runMethods(const std::string& engine) const;
 
   /// Defaults, then `overrides` (parameter → text), each parsed and checked against its
   /// declaration. Throws std::invalid_argument for an unknown parameter (naming the valid ones)

@@ -31,7 +31,7 @@ std::vector<std::string> methodsFor(const std::string& engine, const PlanOptions
     return selected;
   }
   std::vector<std::string> selected = ofEngine(spec.methods);
-  if (selected.empty()) selected.push_back(registry.defaultMethod(engine));
+  if (selected.empty()) selected = registry.runMethods(engine);
   return selected;
 }
 

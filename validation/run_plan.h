@@ -2,7 +2,8 @@
 //
 // Engines: --engines, else every engine; a case's Validation.engines restricts them further.
 // Methods: --methods (each belonging to a selected engine), else the case's Validation.methods,
-// else each selected engine's default method.
+// else each selected engine's run methods (EngineEntry::runMethods: the PBD library runs both
+// of its methods, every other engine its default).
 #pragma once
 
 #include <map>

@@ -137,6 +137,8 @@ EngineEntry pbdEngineEntry() {
   EngineEntry entry;
   entry.name = "pbd";
   entry.defaultMethod = "pbd";
+  // Both of the library's methods run on every case: the seed's algorithm and XPBD.
+  entry.runMethods = {"pbd", "pbd.xpbd"};
   entry.methods = pbdMethods();
   entry.honouredSettings = pbd::simulationSettingKeys();
   entry.make = [](const EngineOptions& options) {
