@@ -24,6 +24,7 @@ const std::vector<Command>& commands() {
        &gateCommand},
       {"baseline", "write a baseline from a results folder", &baselineCommand},
       {"merge", "join the results folders of 'pbdval run --shard K/N' into one", &mergeCommand},
+      {"report", "an HTML and Markdown report of a results folder (and sweeps)", &reportCommand},
       {"distance", "compare the PBD library's SDF collision distances with FCL's exact distances",
        &distanceCommand},
       {"simulate", "run one scene headless in one engine and write its trajectory as CSV",

@@ -1,0 +1,343 @@
+"""`pbdval report RESULTS_DIR [--out DIR] [--baseline FILE] [--sweeps DIR...]` (docs/report.md).
+
+A static, self-contained, offline report of a results folder: `index.html` (the overview: the
+cases × engine/method matrix coloured by status with the key metric, the gate's verdict when a
+baseline is given, the run's metadata), one page per case (its metrics, the energy drift over
+time of every run overlaid, each engine's effective settings), one convergence page per sweep
+(error against the swept parameter, log-log, with the fitted order, R², the local orders, the
+points left out and the flags), every figure a standalone SVG file; and `report.md`, the same
+overview for a pull request. Nothing here computes a metric: the numbers come from
+results.json, the energy series from the suite's own code (`pbdval.energy`), the verdict from
+`pbdval gate`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+from dataclasses import dataclass
+from html import escape
+from pathlib import Path
+from typing import Any, Sequence
+
+from pbdval.errors import PbdvalError, ResultsError
+from pbdval.results import Results, RunResult, load_results, pbdval_binary
+from pbdval.svg import PALETTE, Series, line_plot
+
+STATUS_COLOURS = {"ok": "#d9f2d9", "unsupported": "#eeeeee", "diverged": "#ffd9b3", "timeout": "#ffe9a8",
+                  "error": "#f7c6c6"}
+#: Points per series in a time plot (every k-th sample beyond it: a 600-pixel-wide figure shows no
+#: more, and a 39-case report stays small).
+MAX_PLOT_POINTS = 400
+#: The metric shown in a cell of the overview, in order of preference.
+KEY_METRICS = ("trajectory_error_max", "joint_error_linear_max", "penetration_max", "energy_drift_max")
+
+CSS = """
+body { font-family: Helvetica, Arial, sans-serif; margin: 24px; color: #222; }
+table { border-collapse: collapse; font-size: 12px; }
+th, td { border: 1px solid #ccc; padding: 3px 6px; text-align: left; vertical-align: top; }
+th { background: #f4f4f4; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; }
+.badge { display: inline-block; padding: 1px 6px; border-radius: 8px; font-size: 11px; margin-left: 4px; }
+.warn { background: #ffe9a8; } .fail { background: #f7c6c6; } .pass { background: #d9f2d9; }
+figure { margin: 12px 0; } figcaption { font-size: 12px; color: #555; }
+nav a { margin-right: 12px; }
+pre { background: #f7f7f7; padding: 8px; overflow-x: auto; font-size: 12px; }
+"""
+
+
+def page(title: str, body: str) -> str:
+    return (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8"><title>{escape(title)}</title>'
+            f"<style>{CSS}</style></head><body>\n{body}\n</body></html>\n")
+
+
+def number(value: float | None) -> str:
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return "–"
+    return f"{value:.3g}"
+
+
+def slug(text: str) -> str:
+    return "".join(c if c.isalnum() or c in "-_." else "_" for c in text)
+
+
+@dataclass
+class Colours:
+    """One colour per engine/method label across the whole report."""
+
+    labels: list[str]
+
+    def of(self, label: str) -> str:
+        if label not in self.labels:
+            self.labels.append(label)
+        return PALETTE[self.labels.index(label) % len(PALETTE)]
+
+
+def key_metric(run: RunResult) -> tuple[str, float | None]:
+    for name in KEY_METRICS:
+        if name in run.metrics and math.isfinite(run.metrics[name]):
+            return name, run.metrics[name]
+    return "", None
+
+
+def write(path: Path, text: str) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    temporary = path.with_name(path.name + ".tmp")
+    temporary.write_text(text, encoding="utf-8")
+    os.replace(temporary, path)
+
+
+def progress(message: str, quiet: bool) -> None:
+    if not quiet:
+        print(message, file=sys.stderr, flush=True)
+
+
+# ---- the gate ------------------------------------------------------------------------------------
+
+
+def gate_markdown(results_dir: Path, baseline: Path) -> tuple[str, int]:
+    """`pbdval gate`'s own Markdown summary and exit status (0 passed, 1 failed, 2 unreadable)."""
+    with tempfile.TemporaryDirectory() as folder:
+        summary = Path(folder) / "gate.md"
+        done = subprocess.run([str(pbdval_binary()), "gate", "--baseline", str(baseline), "--results",
+                               str(results_dir), "--markdown", str(summary), "--quiet"],
+                              capture_output=True, text=True)
+        text = summary.read_text(encoding="utf-8") if summary.exists() else done.stderr
+    return text, done.returncode
+
+
+# ---- pages ---------------------------------------------------------------------------------------
+
+
+def overview(results: Results, labels: list[str], gate: tuple[str, int] | None) -> tuple[str, str]:
+    """The index page's body and report.md."""
+    cases = sorted({r.case for r in results})
+    cell: dict[tuple[str, str], RunResult] = {}
+    for r in results:
+        cell.setdefault((r.case, r.label), r)
+    meta = results.metadata
+    build = meta.get("pbdval", {})
+    machine = meta.get("machine", {})
+    html = [f"<h1>pbdval report</h1><nav><a href='index.html'>overview</a><a href='convergence.html'>convergence</a></nav>",
+            f"<p>{len(results)} runs of {len(cases)} cases. Results: <code>{escape(str(results.folder))}</code>, "
+            f"created {escape(str(meta.get('created', '?')))} by <code>{escape(str(meta.get('command', '?')))}</code>; "
+            f"pbdval {escape(str(build.get('version', '?')))}, commit {escape(str(build.get('commit', '?'))[:12])} "
+            f"({escape(str(build.get('commitState', '?')))}), {escape(str(build.get('buildType', '')))}, "
+            f"{escape(str(build.get('compiler', '')))}, <code>{escape(str(build.get('flags', '')))}</code>, "
+            f"{escape(str(build.get('precision', '')))}; machine {escape(str(machine.get('hostname', '?')))} "
+            f"({escape(str(machine.get('cpu', '')))}, {escape(str(machine.get('cores', '')))} cores).</p>"]
+    md = ["# pbdval report", "", f"{len(results)} runs of {len(cases)} cases; commit "
+          f"`{str(build.get('commit', '?'))[:12]}` ({build.get('commitState', '?')}), {build.get('compiler', '')}.", ""]
+    if gate is not None:
+        text, status = gate
+        verdict = {0: ("passed", "pass"), 1: ("FAILED", "fail")}.get(status, ("could not run", "warn"))
+        html.append(f"<h2>Gate <span class='badge {verdict[1]}'>{verdict[0]}</span></h2><pre>{escape(text)}</pre>")
+        md += [f"## Gate: {verdict[0]}", "", text, ""]
+    html.append("<h2>Runs</h2><p>Each cell: status (colour) and the case's key metric "
+                "(trajectory error, else joint error, else penetration, else energy drift; units in the "
+                "case page). Unsupported runs name what is missing on the case page.</p><table><tr><th>case</th>")
+    html += [f"<th>{escape(label)}</th>" for label in labels]
+    html.append("</tr>")
+    md += ["## Runs", "", "| case | " + " | ".join(labels) + " |", "|---" * (len(labels) + 1) + "|"]
+    for case in cases:
+        html.append(f"<tr><td><a href='cases/{slug(case)}.html'>{escape(case)}</a></td>")
+        row = [case]
+        for label in labels:
+            run = cell.get((case, label))
+            if run is None:
+                html.append("<td></td>")
+                row.append("")
+                continue
+            name, value = key_metric(run)
+            colour = STATUS_COLOURS.get(run.status, "#ffffff")
+            text = number(value) if run.ok else run.status
+            html.append(f"<td class='num' style='background:{colour}' title='{escape(name or run.reason)}'>{escape(text)}</td>")
+            row.append(text)
+        html.append("</tr>")
+        md.append("| " + " | ".join(row) + " |")
+    html.append("</table>")
+    return "\n".join(html), "\n".join(md) + "\n"
+
+
+def case_page(case: str, runs: list[RunResult], results: Results, colours: Colours, figures: Path,
+              quiet: bool) -> str:
+    from pbdval.api import energy, load_scene  # noqa: PLC0415  (the C++ core)
+
+    info = results.cases.get(case, {})
+    body = [f"<nav><a href='../index.html'>overview</a><a href='../convergence.html'>convergence</a></nav>",
+            f"<h1>{escape(case)}</h1><p>{escape(str(info.get('description', '')))}</p>",
+            f"<p>Scene: <code>{escape(str(info.get('file', '')))}</code>. References: "
+            + escape(", ".join(sorted({r.reference for r in runs if r.reference})) or "none") + "</p>"]
+    # Energy drift over time, every run overlaid (the suite's own energy, pbdval.energy).
+    series: list[Series] = []
+    notes: list[str] = []
+    scene = None
+    try:
+        scene = load_scene(info["file"]) if info.get("file") else None
+    except (PbdvalError, OSError) as error:
+        notes.append(f"the scene could not be loaded for the plots: {error}")
+    for r in runs:
+        if not r.ok or scene is None:
+            continue
+        try:
+            trajectory = r.trajectory()
+            drift = energy(scene, trajectory).relative_drift
+            stride = max(1, len(drift) // MAX_PLOT_POINTS)  # the plot, not the data, is thinned
+            series.append(Series(r.label, list(trajectory.times[::stride]), list(drift[::stride]),
+                                 colours.of(r.label)))
+        except (PbdvalError, ValueError, OSError) as error:
+            notes.append(f"{r.label}: no energy series ({error})")
+    svg = line_plot(series, title=f"{case}: energy drift", xlabel="time (s)", ylabel="(E(t) − E(0)) / E_ref",
+                    width=820, legend_width=290)
+    write(figures / f"{slug(case)}-energy.svg", svg)
+    body.append(f"<figure>{svg}<figcaption>Relative energy drift of every ok run "
+                f"(<a href='../figures/{slug(case)}-energy.svg' download>SVG</a>).</figcaption></figure>")
+    for note in notes:
+        body.append(f"<p class='badge warn'>{escape(note)}</p>")
+    # Metrics table.
+    metrics = sorted({m for r in runs for m in r.metrics})
+    body.append("<h2>Metrics</h2><table><tr><th>engine/method</th><th>status</th>"
+                + "".join(f"<th>{escape(m)}</th>" for m in metrics) + "</tr>")
+    for r in runs:
+        body.append(f"<tr><td>{escape(r.label)}</td><td style='background:{STATUS_COLOURS.get(r.status, '#fff')}'>"
+                    f"{escape(r.status)}</td>"
+                    + "".join(f"<td class='num'>{number(r.metrics.get(m))}</td>" for m in metrics) + "</tr>")
+    body.append("</table>")
+    failed = [r for r in runs if not r.ok]
+    if failed:
+        body.append("<h2>Runs that did not complete</h2><ul>"
+                    + "".join(f"<li><b>{escape(r.label)}</b> {escape(r.status)}: {escape(r.reason)}</li>" for r in failed)
+                    + "</ul>")
+    # Parity record.
+    body.append("<h2>Effective settings (the parity record)</h2>")
+    for r in runs:
+        settings = "".join(f"<tr><td>{escape(k)}</td><td>{escape(str(v))}</td></tr>" for k, v in sorted(r.settings.items()))
+        parameters = ", ".join(f"{k} = {v}" for k, v in sorted(r.parameters.items()))
+        body.append(f"<details><summary>{escape(r.label)} — {escape(str(r.facts.get('engineVersion', '')))}"
+                    f"{'; ' + escape(parameters) if parameters else ''}</summary><table>{settings}</table></details>")
+    progress(f"  case {case}: {len(runs)} runs", quiet)
+    return page(f"pbdval report: {case}", "\n".join(body))
+
+
+def convergence_page(sweeps: Sequence[Path], colours: Colours, figures: Path) -> str:
+    body = ["<nav><a href='index.html'>overview</a><a href='convergence.html'>convergence</a></nav>",
+            "<h1>Convergence</h1><p>Error against the swept parameter, log-log, per method: filled points are "
+            "fitted, hollow ones were left out (on a floor); dashed lines are reference slopes 1, 2 and 4 "
+            "through the coarsest point of the first method. The legend gives the fitted order and R².</p>"]
+    if not sweeps:
+        body.append("<p class='badge warn'>no sweep given (pbdval report --sweeps DIR...)</p>")
+    for path in sweeps:
+        try:
+            document: dict[str, Any] = json.loads((path / "sweep.json").read_text(encoding="utf-8"))
+        except (OSError, json.JSONDecodeError) as error:
+            body.append(f"<p class='badge fail'>{escape(str(path))}: not a sweep ({escape(str(error))})</p>")
+            continue
+        points = document.get("points", [])
+        names = sorted({k for p in points for k in p.get("parameters", {})})
+        title = f"{document.get('case', '?')}: {document.get('metric', '?')}"
+        if len(names) != 1 or not points:
+            body.append(f"<h2>{escape(title)}</h2><p class='badge warn'>"
+                        f"{'no points' if not points else 'a grid of several parameters: see sweep.json'}</p>")
+            continue
+        name = names[0]
+        series: list[Series] = []
+        badges: list[str] = []
+        for fit in document.get("fits", []):
+            method = fit.get("method", "?")
+            mine = [p for p in points if p.get("method") == method]
+            excluded = {float(e.get("value")) for e in fit.get("excluded", [])}
+            xs = [float(p["parameters"][name]) for p in mine]
+            ys = [float(p["metric"]) if p.get("metric") is not None else math.nan for p in mine]
+            order = fit.get("orders", {}).get(name, {}).get("order")
+            label = f"{method}: p = {order:.2f}, R² {fit.get('r_squared', 0):.3f}" if order is not None else \
+                f"{method}: no fit"
+            series.append(Series(label, xs, ys, colours.of(method), markers=True,
+                                 hollow=[x in excluded for x in xs]))
+            for flag in fit.get("flags", []):
+                badges.append(f"<span class='badge warn'>{escape(method)}: {escape(flag)}</span>")
+            local = fit.get("orders", {}).get(name, {}).get("local", [])
+            if local:
+                badges.append(f"<span class='badge'>{escape(method)} local orders: "
+                              + ", ".join(f"{l['order']:.2f}" for l in local) + "</span>")
+        first = next((s for s in series if any(math.isfinite(y) and y > 0 for y in s.y)), None)
+        if first is not None:
+            x0, y0 = next((x, y) for x, y in zip(first.x, first.y) if math.isfinite(y) and y > 0)
+            step_like = name in ("timeStepSize", "tolerance")
+            for p in (1, 2, 4):
+                xs = sorted(first.x)
+                series.append(Series(f"slope {p}", xs,
+                                     [y0 * (x / x0) ** (p if step_like else -p) for x in xs], "#999999", dashed=True))
+        svg = line_plot(series, title=title, xlabel=name, ylabel=str(document.get("metric", "")), logx=True, logy=True,
+                        width=900, height=400, legend_width=330)
+        file = f"sweep-{slug(path.name)}.svg"
+        write(figures / file, svg)
+        body.append(f"<h2>{escape(title)}</h2><p>{' '.join(badges)}</p><figure>{svg}<figcaption>"
+                    f"<code>{escape(str(document.get('metadata', {}).get('command', '')))}</code> "
+                    f"(<a href='figures/{file}' download>SVG</a>)</figcaption></figure>")
+    return page("pbdval report: convergence", "\n".join(body))
+
+
+# ---- the whole report ----------------------------------------------------------------------------
+
+
+def build_report(results_dir: Path, out: Path, *, baseline: Path | None = None, sweeps: Sequence[Path] = (),
+                 quiet: bool = False) -> Path:
+    """Writes the report into `out` and returns the path of its index.html. A results folder of
+    another schema version gives a report that says so (nothing else can be read from it); a
+    folder that is not a results folder raises ResultsError."""
+    try:
+        results = load_results(results_dir)
+    except ResultsError as error:
+        if "schemaVersion" not in str(error):
+            raise
+        write(out / "index.html", page("pbdval report", f"<h1>pbdval report</h1><p class='badge warn'>"
+                                       f"{escape(str(error))}: re-run the cases with this pbdval to report "
+                                       f"them.</p>"))
+        write(out / "report.md", f"# pbdval report\n\n{error}\n")
+        progress(f"pbdval report: {error}", quiet)
+        return out / "index.html"
+    progress(f"pbdval report: {len(results)} runs of {len(results.cases)} cases from {results_dir}", quiet)
+    colours = Colours([])
+    labels = sorted({r.label for r in results}, key=lambda l: (l.split("/")[0] != "pbd", l))
+    for label in labels:
+        colours.of(label)
+    figures = out / "figures"
+    gate = gate_markdown(results_dir, baseline) if baseline else None
+    body, markdown = overview(results, labels, gate)
+    by_case: dict[str, list[RunResult]] = {}
+    for r in results:
+        by_case.setdefault(r.case, []).append(r)
+    for case, runs in sorted(by_case.items()):
+        write(out / "cases" / f"{slug(case)}.html", case_page(case, runs, results, colours, figures, quiet))
+    write(out / "convergence.html", convergence_page(sweeps, colours, figures))
+    write(out / "index.html", page("pbdval report", body))
+    write(out / "report.md", markdown)
+    progress(f"pbdval report: wrote {out / 'index.html'}", quiet)
+    return out / "index.html"
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="pbdval report", description=__doc__.splitlines()[0])
+    parser.add_argument("results", type=Path, help="a results folder (pbdval run --out)")
+    parser.add_argument("--out", type=Path, default=None, help="report folder (default: RESULTS/report)")
+    parser.add_argument("--baseline", type=Path, default=None, help="gate against this baseline")
+    parser.add_argument("--sweeps", type=Path, nargs="*", default=[], help="sweep folders (with sweep.json)")
+    parser.add_argument("--quiet", action="store_true")
+    args = parser.parse_args(argv)
+    try:
+        index = build_report(args.results, args.out or args.results / "report", baseline=args.baseline,
+                             sweeps=args.sweeps, quiet=args.quiet)
+    except ResultsError as error:
+        print(f"pbdval report: error: {error}", file=sys.stderr)
+        return 2
+    print(index)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

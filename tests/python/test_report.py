@@ -1,0 +1,100 @@
+"""`pbdval report` (python/pbdval/report.py): a real run and synthetic results folders with every
+kind of gap render without crashing and say what is missing; a folder that is not a results
+folder is a clear error."""
+
+from __future__ import annotations
+
+import json
+import re
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from pbdval.report import build_report
+from pbdval.results import pbdval_binary
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def pbdval(*args: str, check: bool = True) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([str(pbdval_binary()), *args], capture_output=True, text=True, check=check)
+
+
+@pytest.fixture(scope="module")
+def real_results(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("results") / "out"
+    pbdval("run", str(REPO / "cases/joint_hinge.json"), str(REPO / "cases/joint_distance.json"),
+           "--engines", "pbd,bullet", "--out", str(out), "--jobs", "2", "--quiet")
+    return out
+
+
+def test_a_real_run_renders_every_case_and_run(real_results: Path, tmp_path: Path) -> None:
+    report = tmp_path / "report"
+    done = pbdval("report", str(real_results), "--out", str(report), "--baseline",
+                  str(REPO / "reports/baselines/main.json"), "--sweeps", str(REPO / "reports/sweeps/joint_hinge-timestep"))
+    assert done.stdout.strip() == str(report / "index.html")
+    index = (report / "index.html").read_text()
+    for case in ("joint_hinge", "joint_distance"):
+        assert f"cases/{case}.html" in index
+        assert (report / "cases" / f"{case}.html").is_file()
+    for label in ("pbd/pbd", "pbd/pbd.xpbd", "bullet/bullet.si"):
+        assert label in index
+    assert "Gate" in index  # the gate ran against the baseline (missing runs: it fails, and says so)
+    hinge = (report / "cases/joint_hinge.html").read_text()
+    # One energy curve per ok run: three (pbd, pbd.xpbd, bullet) with a path each.
+    assert len(re.findall(r'<path d="M', hinge)) == 3
+    distance = (report / "cases/joint_distance.html").read_text()
+    assert "unsupported" in distance and "DistanceJoints[0]" in distance  # bullet lacks it, says why
+    convergence = (report / "convergence.html").read_text()
+    assert "p = " in convergence and "slope 4" in convergence
+    assert (report / "figures/joint_hinge-energy.svg").read_text().startswith("<svg")
+    assert "| joint_hinge |" in (report / "report.md").read_text()
+
+
+def synthetic(folder: Path, runs: list[dict], schema_version: int = 1, case_file: str = "") -> Path:
+    folder.mkdir(parents=True)
+    cases = {r["case"]: {"file": case_file, "description": "synthetic", "checks": [], "tolerances": {}}
+             for r in runs}
+    (folder / "results.json").write_text(json.dumps({
+        "schema": "pbdval-results", "schemaVersion": schema_version, "metadata": {}, "cases": cases, "runs": runs}))
+    return folder
+
+
+def run_record(case: str, engine: str, method: str, status: str, metrics: dict, trajectory: str = "") -> dict:
+    return {"case": case, "caseFile": "", "engine": engine, "method": method, "status": status,
+            "reason": "" if status == "ok" else f"synthetic {status}", "metrics": metrics,
+            "trajectory": trajectory, "parameters": {}, "settings": {"solver": "x"}, "facts": {}}
+
+
+def test_gaps_render_with_a_note_instead_of_crashing(tmp_path: Path) -> None:
+    runs = [run_record("a", "pbd", "pbd", "ok", {"energy_drift_max": None}, trajectory="missing.csv"),
+            run_record("a", "ode", "ode.quickstep", "diverged", {}),
+            run_record("a", "bullet", "bullet.si", "unsupported", {}),
+            run_record("b", "mujoco", "mujoco.euler", "error", {"wall_time_s": 0.1})]
+    folder = synthetic(tmp_path / "results", runs, case_file=str(tmp_path / "no-such-scene.json"))
+    empty_sweep = tmp_path / "sweep-empty"
+    empty_sweep.mkdir()
+    (empty_sweep / "sweep.json").write_text(json.dumps({"case": "a", "metric": "m", "points": [], "fits": []}))
+    index = build_report(folder, tmp_path / "report", sweeps=[empty_sweep, tmp_path / "no-sweep"], quiet=True)
+    text = index.read_text()
+    for status in ("diverged", "unsupported", "error"):
+        assert status in text
+    page = (tmp_path / "report/cases/a.html").read_text()
+    assert "could not be loaded" in page  # the scene file is missing: no plots, a note
+    assert "synthetic diverged" in page
+    convergence = (tmp_path / "report/convergence.html").read_text()
+    assert "no points" in convergence and "not a sweep" in convergence
+
+
+def test_an_older_schema_renders_a_note(tmp_path: Path) -> None:
+    folder = synthetic(tmp_path / "old", [run_record("a", "pbd", "pbd", "ok", {})], schema_version=0)
+    index = build_report(folder, tmp_path / "report", quiet=True)
+    assert "schemaVersion 0" in index.read_text()
+
+
+def test_a_folder_that_is_not_a_results_folder_is_a_clear_error(tmp_path: Path) -> None:
+    done = pbdval("report", str(tmp_path), "--out", str(tmp_path / "r"), check=False)
+    assert done.returncode == 2
+    assert f"{tmp_path}: expected a results folder" in done.stderr
+    assert not (tmp_path / "r").exists()
