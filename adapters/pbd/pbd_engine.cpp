@@ -37,6 +37,10 @@ std::vector<MethodInfo> pbdMethods() {
       realParameter("speculativeMargin", double(defaults.speculativeMargin), 0, 1e3, "",
                     "contacts are collected within contactTolerance + margin x h x (fastest "
                     "point speed)"),
+      realParameter("jointLinearDamping", double(defaults.jointLinearDamping), 0, 1e6, "1/s",
+                    "joint damping of the anchors' relative velocity (Mueller et al. 2020, 3.6)"),
+      realParameter("jointAngularDamping", double(defaults.jointAngularDamping), 0, 1e6, "1/s",
+                    "joint damping of the relative angular velocity"),
   };
   return {seed, xpbd};
 }
@@ -52,6 +56,8 @@ pbd::SimulationSettings pbdSettingsFor(const pbd::Scene& scene, const Method& me
   settings.xpbd.jointAngularCompliance = pbd::Real(method.real("jointAngularCompliance"));
   settings.xpbd.contactCompliance = pbd::Real(method.real("contactCompliance"));
   settings.xpbd.speculativeMargin = pbd::Real(method.real("speculativeMargin"));
+  settings.xpbd.jointLinearDamping = pbd::Real(method.real("jointLinearDamping"));
+  settings.xpbd.jointAngularDamping = pbd::Real(method.real("jointAngularDamping"));
   return settings;
 }
 
@@ -123,6 +129,8 @@ std::map<std::string, std::string> PbdEngine::effectiveSettings() const {
           {"xpbd.jointAngularCompliance", number(s.xpbd.jointAngularCompliance)},
           {"xpbd.contactCompliance", number(s.xpbd.contactCompliance)},
           {"xpbd.speculativeMargin", number(s.xpbd.speculativeMargin)},
+          {"xpbd.jointLinearDamping", number(s.xpbd.jointLinearDamping)},
+          {"xpbd.jointAngularDamping", number(s.xpbd.jointAngularDamping)},
           {"precision", sizeof(pbd::Real) == 8 ? "double" : "float"}};
 }
 

@@ -129,7 +129,7 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
   world.collision = CollisionDetector(scene, options);
   world.materials = ContactMaterials(scene);
   world.contacts.reserve(world.collision);
-  prepareXpbd(world);
+  prepareXpbd(world, scene);
   return world;
 }
 

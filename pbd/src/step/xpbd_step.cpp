@@ -40,6 +40,10 @@ void solvePositions(World& world, Real h) {
 void solveVelocities(World& world, Real h) {
   for (Joint& joint : world.joints)
     solveJointVelocityXpbd(joint, world.bodies);
+  const XpbdSettings& settings = world.settings.xpbd;
+  if (settings.jointLinearDamping > 0 || settings.jointAngularDamping > 0)
+    for (const JointDampingAnchor& anchor : world.xpbd.jointAnchors)
+      dampJoint(world.bodies.rigid, anchor, settings.jointLinearDamping, settings.jointAngularDamping, h);
   const Real restitutionThreshold = 2 * world.settings.gravitation.norm() * h;  // 2|g|h
   for (const XpbdContact& contact : world.xpbd.contacts.contacts)
     contact.solveVelocity(world.bodies, h, restitutionThreshold);
@@ -47,17 +51,44 @@ void solveVelocities(World& world, Real h) {
 
 }  // namespace
 
-void prepareXpbd(World& world) {
+void prepareXpbd(World& world, const Scene& scene) {
   const XpbdSettings& settings = world.settings.xpbd;
   if (settings.substeps < 1)
     throw std::invalid_argument("XPBD settings: substeps must be at least 1, got " +
                                 std::to_string(settings.substeps));
   if (!(settings.jointLinearCompliance >= 0) || !(settings.jointAngularCompliance >= 0) ||
-      !(settings.contactCompliance >= 0) || !(settings.speculativeMargin >= 0))
+      !(settings.contactCompliance >= 0) || !(settings.speculativeMargin >= 0) ||
+      !(settings.jointLinearDamping >= 0) || !(settings.jointAngularDamping >= 0))
     throw std::invalid_argument(
-        "XPBD settings: compliances and speculativeMargin must be >= 0 (not NaN)");
+        "XPBD settings: compliances, speculativeMargin and damping must be >= 0 (not NaN)");
   XpbdState& state = world.xpbd;
   state.jointMultipliers.assign(world.joints.size(), XpbdJointMultipliers::Zero());
+  state.jointAnchors.clear();
+  const RigidBodyStates& rigid = world.bodies.rigid;
+  for (int sceneIndex : world.jointSceneIndex) {
+    const JointDesc& desc = scene.joints[static_cast<std::size_t>(sceneIndex)];
+    JointDampingAnchor anchor;
+    if (desc.body2 >= 0) {
+      const auto i0 = static_cast<std::size_t>(desc.body1), i1 = static_cast<std::size_t>(desc.body2);
+      Vector3 point = Real(0.5) * (rigid.position[i0] + rigid.position[i1]);
+      switch (desc.type) {
+        case JointType::RigidBodySpring:
+        case JointType::Distance:
+          point = Real(0.5) * (desc.position1 + desc.position2);
+          break;
+        case JointType::Slider:
+        case JointType::Damper:
+        case JointType::TargetPositionMotorSlider:
+        case JointType::TargetVelocityMotorSlider:
+          break;  // no point: the middle of the centres of mass
+        default:
+          point = desc.position;
+      }
+      anchor = {desc.body1, desc.body2, rigid.rotation[i0].conjugate() * (point - rigid.position[i0]),
+                rigid.rotation[i1].conjugate() * (point - rigid.position[i1])};
+    }
+    state.jointAnchors.push_back(anchor);
+  }
   state.contacts.reserve(world.contacts.geometry);
   const RigidBodyStates& b = world.bodies.rigid;
   state.sampleRadius.assign(b.size(), 0);

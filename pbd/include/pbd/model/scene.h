@@ -240,6 +240,10 @@ struct XpbdSettings {
   /// Contacts are collected once per step for points within contactTolerance +
   /// speculativeMargin · h · (|v| + |ω| ρ) of another body (ρ the body's sample radius).
   Real speculativeMargin = 2;
+  /// Joint damping (1/s, the paper's §3.6; joints/xpbd_joint_damping.h): the relative velocity
+  /// of a joint's anchors and the relative angular velocity fall by min(μ h, 1) per substep.
+  Real jointLinearDamping = 0;
+  Real jointAngularDamping = 0;
 };
 
 /// The `Simulation` block: every key the seed documents, with the seed's code defaults.

@@ -15,8 +15,9 @@
 //        λ reset, then every contact (detection order, contacts/xpbd_contact.h): the normal
 //        projection and static friction, contacts re-evaluated at the current poses;
 //      - velocities from positions: v = (x − x_old)/h_s, ω = 2 vec(q ⊗ q_old⁻¹)/h_s (w ≥ 0);
-//      - velocity pass: velocity motors, then every contact active in the substep
-//        (restitution, dynamic friction);
+//      - velocity pass: velocity motors, joint damping (when jointLinearDamping or
+//        jointAngularDamping > 0: joints/xpbd_joint_damping.h), then every contact active in
+//        the substep (restitution, dynamic friction);
 //   4. t ← t + h.
 // Nothing here allocates; the order of every loop is fixed (bitwise deterministic).
 #pragma once
@@ -25,6 +26,7 @@
 
 #include "pbd/contacts/xpbd_contact.h"
 #include "pbd/joints/xpbd_joint.h"
+#include "pbd/joints/xpbd_joint_damping.h"
 
 namespace pbd {
 
@@ -35,10 +37,12 @@ struct XpbdState {
   XpbdContactSet contacts;
   std::vector<XpbdJointMultipliers> jointMultipliers;  ///< λ of the last substep, per joint
   std::vector<Real> sampleRadius;                      ///< ρ_i per rigid body (m)
+  std::vector<JointDampingAnchor> jointAnchors;        ///< per joint, in World::joints order
 };
 
-/// Sizes `state` for `world` (joints, contact capacity, sample radii).
-void prepareXpbd(World& world);
+/// Sizes `state` for `world` (joints, contact capacity, sample radii) and fixes the joints'
+/// damping anchors from their descriptions (`scene`, in World::jointSceneIndex order).
+void prepareXpbd(World& world, const Scene& scene);
 
 void stepWorldXpbd(World& world);
 
