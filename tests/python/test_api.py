@@ -171,7 +171,7 @@ def test_measure_gives_exactly_the_metrics_of_pbdval_run(tmp_path: Path) -> None
     # penetration with the engine's margin, as the runner does).
     cases = [REPO / "cases/joint_hinge.json", REPO / "cases/contact_resting_box.json"]
     results = pbdval.run(cases, engines=["pbd", "bullet"], out=tmp_path / "out", jobs=1)
-    assert len(results) == 4
+    assert len(results) == 6  # 2 cases x (pbd's two run methods, pbd and pbd.xpbd, + bullet.si)
     for run in results:
         assert run.ok, (run.case, run.label, run.reason)
         scene = pbdval.load_scene(REPO / "cases" / f"{run.case}.json")

@@ -178,9 +178,12 @@ TEST(Runner, PlanSelectsEnginesAndMethods) {
   PlanOptions options;
   options.engines = {"pbd"};
   RunPlan plan = planRuns({kHinge}, options, testRegistry());
-  ASSERT_EQ(plan.requests.size(), 1u);
+  // A case that names no PBD method runs the engine's run methods: both of the library's.
+  ASSERT_EQ(plan.requests.size(), 2u);
   EXPECT_EQ(plan.requests[0].method, "pbd");
+  EXPECT_EQ(plan.requests[1].method, "pbd.xpbd");
   EXPECT_EQ(plan.requests[0].trajectoryPath, "out/trajectories/joint_hinge/pbd-pbd.csv");
+  EXPECT_EQ(plan.requests[1].trajectoryPath, "out/trajectories/joint_hinge/pbd-pbd.xpbd.csv");
 
   // Methods of engines not named in --engines run only when listed.
   options.engines = {"pbd", "selftest"};
