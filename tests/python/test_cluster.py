@@ -39,6 +39,9 @@ def scheduler_file(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
     env = {**os.environ,
            # A task on workers that died twice is given up (the "crashes a worker twice" test).
            "DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES": "1",
+           # One task per worker thread at a time (the default 1.1 queues a second one): a worker
+           # killed by one task then takes no other task's count of deaths with it.
+           "DASK_DISTRIBUTED__SCHEDULER__WORKER_SATURATION": "1.0",
            # Workers import this module's task functions (the fault tests).
            "PYTHONPATH": os.pathsep.join([str(Path(__file__).parent), str(REPO / "python")]),
            # Where the fault tests' tasks leave their markers (shared by both workers).

@@ -4,13 +4,12 @@
 // (python/pbdval/report.py, the project's virtual environment): this command hands over to it.
 #include "validation/cli/commands.h"
 #include "validation/cli/python_module.h"
-#include "pbdval/build_info.h"
+#include "validation/engines/standard_engines.h"
 
 namespace pbdval::cli {
 
 int reportCommand(const Context& /*context*/, const Arguments& arguments) {
-  std::vector<std::string> argv = {std::string(PBDVAL_SOURCE_DIR) + "/.venv/bin/python", "-m",
-                                   "pbdval.report"};
+  std::vector<std::string> argv = {projectPython(), "-m", "pbdval.report"};
   argv.insert(argv.end(), arguments.begin(), arguments.end());
   return execPython(argv);
 }

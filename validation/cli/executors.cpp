@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
-#include "pbdval/build_info.h"
+#include "validation/engines/standard_engines.h"
 #include "validation/cli/python_module.h"
 #include "validation/json_text.h"
 #include "validation/sharding.h"
@@ -27,8 +27,7 @@ void printPlan(const RunPlan& plan) {
 }
 
 int runOnDask(const std::string& command, const std::vector<std::string>& arguments) {
-  const std::string python = std::string(PBDVAL_SOURCE_DIR) + "/.venv/bin/python";
-  std::vector<std::string> argv = {python, "-m", "pbdval.cluster", command};
+  std::vector<std::string> argv = {projectPython(), "-m", "pbdval.cluster", command};
   for (std::size_t i = 0; i < arguments.size(); ++i) {
     if (arguments[i] == "--executor") {
       ++i;  // its value

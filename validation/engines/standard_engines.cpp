@@ -9,6 +9,10 @@
 
 namespace pbdval {
 
+std::string projectPython() {
+  return std::string(PBDVAL_SOURCE_DIR) + "/.venv/bin/python";
+}
+
 EngineRegistry standardEngines(const EnvironmentLookup& environment) {
   EngineOptions options;
   options.gridCacheFolder = sdfCacheFolder(environment);
@@ -16,7 +20,7 @@ EngineRegistry standardEngines(const EnvironmentLookup& environment) {
   const std::string root = PBDVAL_SOURCE_DIR;
   const char* catalogue = environment("PBDVAL_ENGINE_CATALOGUE");
   for (EngineEntry& entry : readEngineCatalogue(catalogue ? catalogue : root + "/engines",
-                                                root + "/.venv/bin/python", root))
+                                                projectPython(), root))
     engines.add(std::move(entry));
   return engines;
 }

@@ -3,6 +3,8 @@
 #pragma once
 
 #include "adapters/registry.h"
+#include <string>
+
 #include "validation/cache_folder.h"
 
 namespace pbdval {
@@ -12,5 +14,9 @@ namespace pbdval {
 /// project's virtual environment (<source>/.venv/bin/python). Throws std::runtime_error for a
 /// malformed catalogue (the message names the file).
 EngineRegistry standardEngines(const EnvironmentLookup& environment);
+
+/// The project's Python, by path (<source>/.venv/bin/python, made by scripts/install-deps): the
+/// interpreter of the external engines, the Dask client and the report.
+std::string projectPython();
 
 }  // namespace pbdval
