@@ -99,14 +99,7 @@ int runCommand(const Context& context, const Arguments& arguments) {
     if (timeout < 0) throw UsageError("--timeout: expected seconds ≥ 0");
     const std::vector<std::string> paths =
         args.positionals.empty() ? std::vector<std::string>{defaultCaseFolder()} : args.positionals;
-    const std::string executor = args.value("executor", "local");
-    if (executor == "dask") return runOnDask("run", arguments);
-    if (executor != "local")
-      throw UsageError("--executor: expected local or dask, got '" + executor + "'");
-    for (const char* option : {"scheduler", "scheduler-file", "connect-timeout", "runs-per-task"})
-      if (args.has(option))
-        throw UsageError(std::string("--") + option + " needs --executor dask");
-    if (args.has("fail-with") && !args.has("shard")) throw UsageError("--fail-with needs --shard");
+    if (wantsDask(args)) return runOnDask("run", arguments);
     plan = planRuns(collectCaseFiles(paths), options, context.engines);
     if (args.flags.count("list-plan")) {
       printPlan(plan);
@@ -152,16 +145,9 @@ int runCommand(const Context& context, const Arguments& arguments) {
   RunScheduler scheduler(context.engines, jobs, timeout, options.outFolder + "/.scratch");
   int tick = 0;
   std::vector<RunRecord> records;
-  if (args.has("fail-with")) {
-    for (const RunRequest& request : plan.requests) {
-      RunRecord failed;
-      failed.request = request;
-      failed.request.trajectoryPath.clear();
-      failed.status = RunStatus::Error;
-      failed.reason = args.value("fail-with");
-      records.push_back(failed);
-    }
-  } else
+  if (args.has("fail-with"))
+    records = failedRecords(plan.requests, args.value("fail-with"));
+  else
     records = scheduler.runAll(
         plan.requests,
         [&](const RunRecord& r, std::size_t done, std::size_t total) {

@@ -83,12 +83,7 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
         int(args.integer("jobs", long(std::max(1u, std::thread::hardware_concurrency()))));
     options.timeout = args.number("timeout", 600);
     options.scratchFolder = args.value("out", "out") + "/.scratch";
-    const std::string executor = args.value("executor", "local");
-    if (executor == "dask") return runOnDask("sweep", arguments);
-    if (executor != "local") throw UsageError("--executor: expected local or dask, got '" + executor + "'");
-    for (const char* option : {"scheduler", "scheduler-file", "connect-timeout", "runs-per-task"})
-      if (args.has(option)) throw UsageError(std::string("--") + option + " needs --executor dask");
-    if (args.has("fail-with") && !args.has("shard")) throw UsageError("--fail-with needs --shard");
+    if (wantsDask(args)) return runOnDask("sweep", arguments);
     if (!args.flags.count("list-plan"))
       checkOutputFile(args.value("out", "out") + (args.has("shard") ? "/results.json" : "/sweep.json"));
   } catch (const UsageError& e) {
@@ -126,12 +121,7 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
       results.metadata.shard = shard;
       results.cases[plan.caseName] = {options.caseFile, "sweep of " + plan.caseName, {}, {}};
       if (args.has("fail-with")) {
-        for (const RunRequest& request : part.requests) {
-          RunRecord failed;
-          failed.request = request;
-          failed.reason = args.value("fail-with");
-          results.runs.push_back(failed);
-        }
+        results.runs = failedRecords(part.requests, args.value("fail-with"));
       } else {
         RunScheduler scheduler(context.engines, options.jobs, options.timeout, options.scratchFolder);
         results.runs = scheduler.runAll(part.requests, progress);

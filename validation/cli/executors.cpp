@@ -26,6 +26,29 @@ void printPlan(const RunPlan& plan) {
   std::printf("%s\n", jsonText(document).c_str());
 }
 
+bool wantsDask(const ParsedArgs& args) {
+  const std::string executor = args.value("executor", "local");
+  if (executor == "dask") return true;
+  if (executor != "local") throw UsageError("--executor: expected local or dask, got '" + executor + "'");
+  for (const char* option : {"scheduler", "scheduler-file", "connect-timeout", "runs-per-task"})
+    if (args.has(option)) throw UsageError(std::string("--") + option + " needs --executor dask");
+  if (args.has("fail-with") && !args.has("shard")) throw UsageError("--fail-with needs --shard");
+  return false;
+}
+
+std::vector<RunRecord> failedRecords(const std::vector<RunRequest>& requests, const std::string& reason) {
+  std::vector<RunRecord> records;
+  for (const RunRequest& request : requests) {
+    RunRecord failed;
+    failed.request = request;
+    failed.request.trajectoryPath.clear();
+    failed.status = RunStatus::Error;
+    failed.reason = reason;
+    records.push_back(failed);
+  }
+  return records;
+}
+
 int runOnDask(const std::string& command, const std::vector<std::string>& arguments) {
   std::vector<std::string> argv = {projectPython(), "-m", "pbdval.cluster", command};
   for (std::size_t i = 0; i < arguments.size(); ++i) {
