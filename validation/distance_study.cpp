@@ -202,7 +202,14 @@ GridErrors studyGrid(const RigidBodyDesc& body, const DistanceStudyOptions& opti
     probeState.position = p;
     const double d = oracle.distance(0, bodyState, 1, probeState).distance + rho;
     if (d < 0.005 || d > 0.1) continue;                // near the surface ...
-    if (windingNumber(*body.mesh, p) > 0.5) continue;  // ... and outside the mesh
+    if (windingNumber(*body.mesh, p) > 0.5) continue;  // ... outside the mesh ...
+    // ... and inside the grid (the seed's grid is padded by only 0.1 of the mesh file's units;
+    // beyond it the seed sees no contact and pbdval an upper bound, neither a grid error).
+    const Vector3 gridPoint = p.cwiseProduct(reference.gridScale().cwiseInverse());
+    if (reference.grid() && !(gridPoint.array() >= reference.grid()->domainMin().array() &&
+                              gridPoint.array() <= reference.grid()->domainMax().array())
+                                 .all())
+      continue;
     points.push_back(p);
     exact.push_back(d);
   }

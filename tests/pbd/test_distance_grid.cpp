@@ -157,6 +157,87 @@ TEST(DistanceGrid, InterpolationErrorFallsAtTheOrderOfTheInterpolant) {
   EXPECT_NEAR(gradientOrder, 2, 0.3);
 }
 
+// --- Cubic Lagrange interpolation (the seed's) --------------------------------------------------
+
+// The 32-node serendipity element spans every complete cubic polynomial (Zienkiewicz & Taylor,
+// vol. 1, §8.7), so a cubic field, the mixed term xyz included, is reproduced exactly in value
+// and gradient: the only error is round-off of a 32-term sum of O(10) values.
+TEST(CubicLagrangeGrid, ReproducesCubicsExactly) {
+  auto cubic = [](const Vector3& x) {
+    return 1 + x.x() - 2 * x.y() + x.x() * x.x() - x.y() * x.z() + x.x() * x.y() * x.z() +
+           2 * x.x() * x.x() * x.x() - x.y() * x.y() * x.z() + Real(0.5) * x.z() * x.z() * x.z();
+  };
+  const DistanceGrid grid = DistanceGrid::sample(Vector3(-1, 0, -2), Vector3(1, 1, 0),
+                                                 Vector3i(5, 3, 7), cubic,
+                                                 GridInterpolation::CubicLagrange);
+  EXPECT_EQ(grid.nodes().size(), DistanceGrid::nodeCount(Vector3i(5, 3, 7),
+                                                         GridInterpolation::CubicLagrange));
+  // 6·4·8 corners and two nodes on each of 5·4·8 + 6·3·8 + 6·4·7 edges.
+  EXPECT_EQ(grid.nodes().size(), std::size_t(192 + 2 * (160 + 144 + 168)));
+  for (const Vector3& p : randomPoints(500, Vector3(-1, 0, -2), Vector3(1, 1, 0), 3)) {
+    const DistanceSample s = grid.evaluate(p);
+    EXPECT_NEAR(s.distance, cubic(p), 1024 * kEpsilon);
+    const Vector3 exactGradient(
+        1 + 2 * p.x() + p.y() * p.z() + 6 * p.x() * p.x(),
+        -2 - p.z() + p.x() * p.z() - 2 * p.y() * p.z(),
+        -p.y() + p.x() * p.y() - p.y() * p.y() + Real(1.5) * p.z() * p.z());
+    EXPECT_LE((s.gradient - exactGradient).norm(), 1024 * kEpsilon * 10);
+  }
+}
+
+// Neighbouring cells share their face nodes, so the field is continuous across a face (C⁰):
+// the values just either side of a face differ only by the field's slope times the offset.
+TEST(CubicLagrangeGrid, IsContinuousAcrossCellFaces) {
+  const Vector3 centre(-1, Real(-0.5), Real(-0.8));
+  auto field = [&](const Vector3& x) { return (x - centre).norm() - Real(0.7); };
+  const DistanceGrid grid = DistanceGrid::sample(Vector3::Zero(), Vector3::Ones(),
+                                                 Vector3i::Constant(4), field,
+                                                 GridInterpolation::CubicLagrange);
+  const Real offset = Real(1e-9);
+  for (const Vector3& p : randomPoints(200, Vector3::Zero(), Vector3::Ones(), 9)) {
+    for (int axis = 0; axis < 3; ++axis) {
+      Vector3 below = p, above = p;
+      below(axis) = Real(0.5) - offset;  // the face between cells 1 and 2
+      above(axis) = Real(0.5) + offset;
+      // |∇φ| ≤ ~1.3 for this interpolated distance: 2 × offset × 2 plus round-off.
+      EXPECT_NEAR(grid.value(below), grid.value(above), 4 * offset + 64 * kEpsilon);
+    }
+  }
+}
+
+// For a smooth field the serendipity element's error is O(Δ⁴) in value and O(Δ³) in gradient
+// (it reproduces cubics). Same field and points as the Catmull-Rom test; fitted orders within
+// ±0.3 of the element's.
+TEST(CubicLagrangeGrid, InterpolationErrorFallsAtTheOrderOfTheElement) {
+  if (sizeof(Real) < 8) GTEST_SKIP() << "the finest errors are below float round-off";
+  const Vector3 centre(-1, Real(-0.5), Real(-0.8));
+  auto field = [&](const Vector3& x) { return (x - centre).norm() - Real(0.7); };
+  const std::vector<Vector3> points = randomPoints(4000, Vector3::Zero(), Vector3::Ones(), 4);
+  std::vector<int> cells = {4, 8, 16, 32};
+  std::vector<double> valueErrors, gradientErrors;
+  for (int n : cells) {
+    const DistanceGrid grid =
+        DistanceGrid::sample(Vector3::Zero(), Vector3::Ones(), Vector3i::Constant(n), field,
+                             GridInterpolation::CubicLagrange);
+    double value = 0, gradient = 0;
+    for (const Vector3& p : points) {
+      const DistanceSample s = grid.evaluate(p);
+      value = std::max(value, double(std::abs(s.distance - field(p))));
+      gradient = std::max(gradient, double((s.gradient - (p - centre).normalized()).norm()));
+    }
+    valueErrors.push_back(value);
+    gradientErrors.push_back(gradient);
+    std::printf("  smooth field, %2d cells: max value error %.3e, max gradient error %.3e\n", n,
+                value, gradient);
+  }
+  const double valueOrder = fittedOrder(cells, valueErrors);
+  const double gradientOrder = fittedOrder(cells, gradientErrors);
+  std::printf("  fitted orders: value %.2f (serendipity cubic: 4), gradient %.2f (3)\n",
+              valueOrder, gradientOrder);
+  EXPECT_NEAR(valueOrder, 4, 0.3);
+  EXPECT_NEAR(gradientOrder, 3, 0.3);
+}
+
 // The grid of the icosphere mesh against its exact mesh distance, in the band |φ| < 0.2 around
 // the surface, where contacts are evaluated. The mesh field is only Lipschitz across the
 // medial surfaces of the polyhedron (inside, they reach the surface at every edge) and its
@@ -178,7 +259,8 @@ TEST(DistanceGrid, MeshGridConvergesToTheExactMeshDistance) {
   std::vector<double> errors, outsideErrors;
   const Vector3 low = Vector3::Constant(Real(-1.2)), high = Vector3::Constant(Real(1.2));
   for (int n : cells) {
-    const CachedGrid grid = loadOrBuildMeshGrid(mesh, low, high, Vector3i::Constant(n), "");
+    const CachedGrid grid = loadOrBuildMeshGrid(mesh, low, high, Vector3i::Constant(n),
+                                                GridInterpolation::CatmullRom, "");
     double worst = 0, worstOutside = 0;
     for (const Vector3& p : band) {
       const double d = exact.signedDistance(p);
@@ -228,7 +310,7 @@ TEST(DistanceGrid, TorusMeshGridApproachesTheAnalyticTorus) {
   const Vector3 low(Real(-1.54), Real(-0.54), Real(-1.54)), high = -low;
   for (int n : {16, 32, 64}) {
     const Vector3i cells(n, std::max(4, n * 2 / 5), n);
-    const CachedGrid grid = loadOrBuildMeshGrid(mesh, low, high, cells, "");
+    const CachedGrid grid = loadOrBuildMeshGrid(mesh, low, high, cells, GridInterpolation::CatmullRom, "");
     Real toMesh = 0, toTorus = 0;
     for (const Vector3& p : band) {
       const Real g = grid.grid->value(p);
@@ -251,9 +333,10 @@ const TriangleMesh& cubeMesh() {
   return mesh;
 }
 
-CachedGrid cubeGrid(const std::string& folder, int cells = 6) {
+CachedGrid cubeGrid(const std::string& folder, int cells = 6,
+                    GridInterpolation interpolation = GridInterpolation::CatmullRom) {
   return loadOrBuildMeshGrid(cubeMesh(), Vector3::Constant(-1), Vector3::Constant(1),
-                             Vector3i::Constant(cells), folder);
+                             Vector3i::Constant(cells), interpolation, folder);
 }
 
 void overwrite(const std::string& path, const std::function<void(std::string&)>& edit) {
@@ -278,6 +361,15 @@ TEST(GridCache, SecondBuildLoadsTheSameGrid) {
   const CachedGrid other = cubeGrid(folder.path.string(), 7);
   EXPECT_EQ(other.outcome, GridCacheOutcome::Built);
   EXPECT_NE(other.path, first.path);
+  // So is the other interpolation: its own file, loaded back as itself.
+  const CachedGrid lagrange = cubeGrid(folder.path.string(), 6, GridInterpolation::CubicLagrange);
+  EXPECT_EQ(lagrange.outcome, GridCacheOutcome::Built);
+  EXPECT_NE(lagrange.path, first.path);
+  const CachedGrid lagrangeAgain =
+      cubeGrid(folder.path.string(), 6, GridInterpolation::CubicLagrange);
+  EXPECT_EQ(lagrangeAgain.outcome, GridCacheOutcome::Loaded);
+  EXPECT_EQ(lagrangeAgain.grid->interpolation(), GridInterpolation::CubicLagrange);
+  EXPECT_EQ(lagrangeAgain.grid->nodes(), lagrange.grid->nodes());
   // Writes are atomic: no temporary file is left behind.
   for (const auto& entry : fs::directory_iterator(folder.path))
     EXPECT_EQ(entry.path().extension(), ".grid") << entry.path();
@@ -310,7 +402,8 @@ TEST(GridCache, CorruptTruncatedForeignOrStaleFilesAreRebuilt) {
     v.x() += Real(0.25);
   const CachedGrid foreign =
       loadOrBuildMeshGrid(shifted, Vector3::Constant(-1), Vector3::Constant(1),
-                          Vector3i::Constant(6), folder.path.string());
+                          Vector3i::Constant(6), GridInterpolation::CatmullRom,
+                          folder.path.string());
   fs::copy_file(foreign.path, path, fs::copy_options::overwrite_existing);
   const CachedGrid stale = cubeGrid(folder.path.string());
   EXPECT_EQ(stale.outcome, GridCacheOutcome::Rebuilt);
@@ -346,6 +439,7 @@ TEST(CollisionShape, SignedDistanceFieldBodyUsesItsScaledMeshAndResolution) {
   CollisionShapeOptions options;
   options.gridCacheFolder = folder.path.string();
   options.minimumGridPadding = Real(0.02);
+  options.gridInterpolation = GridInterpolation::CatmullRom;
   const CollisionShape shape = makeCollisionShape(body, options);
   ASSERT_NE(shape.grid(), nullptr);
   EXPECT_EQ(shape.gridOutcome(), GridCacheOutcome::Built);
@@ -365,6 +459,22 @@ TEST(CollisionShape, SignedDistanceFieldBodyUsesItsScaledMeshAndResolution) {
   body.collision.invertSDF = true;
   const Vector3 p(Real(0.1), Real(0.2), Real(-0.1));
   EXPECT_EQ(makeCollisionShape(body, options).distance(p), -shape.distance(p));
+  // The seed's grid: the box of the unscaled mesh (radius 1) padded by 0.1, ±1.1 whatever the
+  // minimum padding, looked up at p ⊙ collisionObjectScale⁻¹ and scaled back by 0.5.
+  body.collision.invertSDF = false;
+  options.gridInterpolation = GridInterpolation::CubicLagrange;
+  const CollisionShape seedShape = makeCollisionShape(body, options);
+  ASSERT_NE(seedShape.grid(), nullptr);
+  EXPECT_EQ(seedShape.grid()->interpolation(), GridInterpolation::CubicLagrange);
+  EXPECT_NEAR(seedShape.grid()->domainMax().x(), Real(1.1), 4 * kEpsilon);
+  EXPECT_NEAR(seedShape.grid()->domainMin().z(), Real(-1.1), 4 * kEpsilon);
+  EXPECT_EQ(seedShape.gridScale(), Vector3::Constant(Real(0.5)));
+  for (const Vector3& q : randomPoints(200, Vector3::Constant(-1), Vector3::Constant(1), 7)) {
+    const Real exact = sdf::sphere(q, Real(0.5)).distance;
+    if (std::abs(exact) < Real(0.05)) {
+      EXPECT_NEAR(seedShape.distance(q), exact, Real(0.01));
+    }
+  }
 }
 
 }  // namespace

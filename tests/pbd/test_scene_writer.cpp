@@ -71,6 +71,7 @@ void expectSameScene(const Scene& a, const Scene& b) {
   EXPECT_EQ(s.contactStiffnessParticleRigidBody, t.contactStiffnessParticleRigidBody);
   EXPECT_EQ(s.contactCombineRule, t.contactCombineRule);
   EXPECT_EQ(s.contactModel, t.contactModel);
+  EXPECT_EQ(s.distanceGrid, t.distanceGrid);
   EXPECT_EQ(s.clothSimulationMethod, t.clothSimulationMethod);
   EXPECT_EQ(s.clothBendingMethod, t.clothBendingMethod);
   for (auto member :
@@ -261,7 +262,8 @@ class RandomScene {
       << ", \"contactStiffnessRigidBody\": " << uniform(0, 10)
       << ", \"gravitation\": " << vector(-10, 10) << ", \"contactCombineRule\": \""
       << pick({"seed", "product", "average", "min", "max"}) << "\", \"contactModel\": \""
-      << pick({"seed", "corrected"}) << "\", \"pauseAt\": " << uniform(-1, 5)
+      << pick({"seed", "corrected"}) << "\", \"distanceGrid\": \""
+      << pick({"cubicLagrange", "catmullRom"}) << "\", \"pauseAt\": " << uniform(-1, 5)
       << ", \"exportFPS\": " << uniform(1, 60) << ", \"cloth_stiffness\": " << uniform(0, 2)
       << ", \"solid_poissonRatio\": " << uniform(0, 0.49)
       << ", \"renderAABB\": " << pick({"true", "false"}) << "}, \"RigidBodies\": [";

@@ -60,7 +60,7 @@ int distanceCommand(const Context& /*context*/, const Arguments& arguments) {
   for (const GridErrors& g : study.grids) {
     std::printf(
         "\ngrid SDF %s: point error against the exact mesh distance (%d points outside, 5 mm to 10 "
-        "cm)\n",
+        "cm, inside the grid)\n",
         g.shape.c_str(), g.samples);
     std::printf("  %10s %12s %12s %12s\n", "resolution", "cell m", "max |err| m", "RMS m");
     for (std::size_t k = 0; k < g.resolutions.size(); ++k)

@@ -44,7 +44,9 @@ void seedOrder(std::vector<ContactPointGeometry>::iterator begin,
 
 }  // namespace
 
-CollisionDetector::CollisionDetector(const Scene& scene, const CollisionShapeOptions& options) {
+CollisionDetector::CollisionDetector(const Scene& scene, const CollisionShapeOptions& givenOptions) {
+  CollisionShapeOptions options = givenOptions;
+  options.gridInterpolation = scene.simulation.distanceGrid;
   rigid_.resize(scene.rigidBodies.size());
   std::size_t shapedBodies = 0, rigidPoints = 0, particlePoints = 0;
   for (std::size_t i = 0; i < scene.rigidBodies.size(); ++i) {
@@ -177,16 +179,26 @@ void CollisionDetector::testPoint(const Vector3& world, int sdfBody, Real tolera
                                   Emit&& emit) const {
   const Frame& frame = frames_[std::size_t(sdfBody)];
   const Vector3 local = frame.rotation.transpose() * (world - frame.origin);
-  const DistanceSample sample = rigid_[std::size_t(sdfBody)].shape.evaluate(local);
+  const CollisionShape& shape = rigid_[std::size_t(sdfBody)].shape;
+  // The seed's grid test (CubicSDFCollisionObject::collisionTest) works in the grid's unscaled
+  // frame and does not scale the distance back: d = φ_unscaled(x ⊙ s⁻¹) − tolerance, the
+  // shell point (x ⊙ s⁻¹ − d n) ⊙ s. Kept with the seed's rules; exact (s = 1) otherwise.
+  const bool unscaledGrid = seedGridDistance_ && shape.grid() && shape.gridScale() != Vector3::Ones();
+  const Vector3 gridPoint =
+      unscaledGrid ? Vector3(local.cwiseProduct(shape.gridScale().cwiseInverse())) : local;
+  const DistanceSample sample = unscaledGrid ? shape.evaluateGrid(gridPoint) : shape.evaluate(local);
   const Real distance = sample.distance - tolerance;
   if (!(distance < 0)) return;
   const Real squared = sample.gradient.squaredNorm();
   if (squared < kMinimumSquaredGradient) return;  // no direction to push along
   const Vector3 normal = sample.gradient / std::sqrt(squared);
+  const Vector3 shellPoint = unscaledGrid
+                                 ? Vector3((gridPoint - distance * normal).cwiseProduct(shape.gridScale()))
+                                 : Vector3(local - distance * normal);
   ContactPointGeometry contact;
   contact.sdfBody = sdfBody;
   contact.vertexPoint = world;
-  contact.surfacePoint = frame.rotation * (local - distance * normal) + frame.origin;
+  contact.surfacePoint = frame.rotation * shellPoint + frame.origin;
   contact.normal = frame.rotation * normal;
   contact.distance = distance;
   emit(contact);
@@ -247,6 +259,7 @@ void CollisionDetector::detect(const BodyStates& bodies, Real tolerance,
   out.rigid.clear();
   out.particle.clear();
   out.droppedContacts = 0;
+  seedGridDistance_ = order == ContactOrder::Seed;
   updateFrames(bodies.rigid);
   updateBoxes(bodies, tolerance);
   out.droppedPairs = broadPhase_.findPairs(boxes_);

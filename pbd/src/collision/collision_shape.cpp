@@ -28,31 +28,45 @@ int usedScaleComponents(CollisionObjectType type) {
   }
 }
 
+/// The grid of a type-5 body, and the bounds of its collision mesh in the scene frame.
 CachedGrid buildGrid(const RigidBodyDesc& body, const CollisionShapeOptions& options,
                      Eigen::AlignedBox<Real, 3>& bounds) {
   const TriangleMesh mesh = collisionMesh(body);
   bounds.setEmpty();
   for (const Vector3& v : mesh.vertices)
     bounds.extend(v);
-  const Real padding = std::max(Real(0.1) * bounds.sizes().maxCoeff(), options.minimumGridPadding);
-  const Vector3 margin = Vector3::Constant(padding);
+  if (options.gridInterpolation == GridInterpolation::CubicLagrange) {
+    // The seed's grid: the unscaled mesh's box padded by 0.1 (SceneLoaderDemo's generateSDF).
+    const TriangleMesh unscaled = collisionMesh(body, /*scaled=*/false);
+    Eigen::AlignedBox<Real, 3> box;
+    for (const Vector3& v : unscaled.vertices)
+      box.extend(v);
+    const Vector3 margin = Vector3::Constant(Real(0.1));
+    return loadOrBuildMeshGrid(unscaled, box.min() - margin, box.max() + margin,
+                               body.collision.resolutionSDF, options.gridInterpolation,
+                               options.gridCacheFolder);
+  }
+  const Vector3 margin = Vector3::Constant(
+      std::max(Real(0.1) * bounds.sizes().maxCoeff(), options.minimumGridPadding));
   return loadOrBuildMeshGrid(mesh, bounds.min() - margin, bounds.max() + margin,
-                             body.collision.resolutionSDF, options.gridCacheFolder);
+                             body.collision.resolutionSDF, options.gridInterpolation,
+                             options.gridCacheFolder);
 }
 
 }  // namespace
 
-TriangleMesh collisionMesh(const RigidBodyDesc& body) {
+TriangleMesh collisionMesh(const RigidBodyDesc& body, bool scaled) {
   const CollisionObjectDesc& c = body.collision;
+  const Vector3 scale = scaled ? c.scale : Vector3::Ones();
   TriangleMesh mesh;
   if (c.mesh) {
     mesh = *c.mesh;
     for (Vector3& v : mesh.vertices)
-      v = v.cwiseProduct(c.scale);
+      v = v.cwiseProduct(scale);
   } else if (body.mesh) {
     mesh = *body.mesh;
     for (Vector3& v : mesh.vertices)
-      v = v.cwiseQuotient(body.scale).cwiseProduct(c.scale);
+      v = v.cwiseQuotient(body.scale).cwiseProduct(scale);
   } else {
     fail(body,
          "collisionObjectType 5 (signed distance field) needs a mesh: a geometryFile or a "
@@ -88,6 +102,8 @@ CollisionShape makeCollisionShape(const RigidBodyDesc& body, const CollisionShap
       const CachedGrid grid = buildGrid(body, options, shape.meshBounds_);
       shape.grid_ = grid.grid;
       shape.gridOutcome_ = grid.outcome;
+      if (options.gridInterpolation == GridInterpolation::CubicLagrange)
+        shape.gridScale_ = c.scale;
       break;
     }
     default:
@@ -108,14 +124,27 @@ DistanceSample CollisionShape::evaluateUninverted(const Vector3& p) const {
       return sdf::cylinder(p, size_.x(), size_.y());
     case CollisionObjectType::Torus:
       return sdf::torus(p, size_.x(), size_.y());
-    case CollisionObjectType::SignedDistanceField:
-      return grid_->evaluate(p);
+    case CollisionObjectType::SignedDistanceField: {
+      // As the seed's CubicSDFCollisionObject::distance: x ⊙ scale⁻¹, times scale[0].
+      DistanceSample sample = grid_->evaluate(p.cwiseProduct(gridScale_.cwiseInverse()));
+      sample.distance *= gridScale_.x();
+      return sample;
+    }
     case CollisionObjectType::HollowSphere:
       return sdf::hollowSphere(p, size_.x(), thickness_);
     case CollisionObjectType::HollowBox:
       return sdf::hollowBox(p, size_, thickness_);
   }
   return {std::numeric_limits<Real>::infinity(), Vector3::Zero()};
+}
+
+DistanceSample CollisionShape::evaluateGrid(const Vector3& gridPoint) const {
+  DistanceSample sample = grid_->evaluate(gridPoint);
+  if (sign_ < 0) {
+    sample.distance = -sample.distance;
+    sample.gradient = -sample.gradient;
+  }
+  return sample;
 }
 
 DistanceSample CollisionShape::evaluate(const Vector3& p) const {

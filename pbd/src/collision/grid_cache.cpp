@@ -18,7 +18,7 @@ namespace pbd {
 namespace {
 
 constexpr char kMagic[8] = {'P', 'B', 'D', 'V', 'G', 'R', 'I', 'D'};
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;
 constexpr std::uint64_t kFnvOffset = 14695981039346656037ull;
 constexpr std::uint64_t kFnvPrime = 1099511628211ull;
 
@@ -49,6 +49,7 @@ std::string encode(const DistanceGrid& grid, std::uint64_t key) {
     append(double(grid.domainMin()(axis)));
   for (int axis = 0; axis < 3; ++axis)
     append(double(grid.domainMax()(axis)));
+  append(std::uint32_t(grid.interpolation()));
   append(std::uint64_t(grid.nodes().size()));
   for (Real value : grid.nodes())
     append(double(value));
@@ -61,9 +62,10 @@ std::string encode(const DistanceGrid& grid, std::uint64_t key) {
 /// Reads `bytes` as a grid with exactly this key, domain and resolution; false if anything
 /// differs or the checksum fails.
 bool decode(const std::string& bytes, std::uint64_t key, const Vector3& domainMin,
-            const Vector3& domainMax, const Vector3i& cells, DistanceGrid& grid) {
-  const std::size_t count = DistanceGrid::nodeCount(cells);
-  const std::size_t header = sizeof kMagic + 4 + 8 + 3 * 4 + 6 * 8 + 8;
+            const Vector3& domainMax, const Vector3i& cells, GridInterpolation interpolation,
+            DistanceGrid& grid) {
+  const std::size_t count = DistanceGrid::nodeCount(cells, interpolation);
+  const std::size_t header = sizeof kMagic + 4 + 8 + 3 * 4 + 6 * 8 + 4 + 8;
   if (bytes.size() != header + 8 * count + 8) return false;
   if (std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) return false;
   std::size_t offset = sizeof kMagic;
@@ -71,7 +73,7 @@ bool decode(const std::string& bytes, std::uint64_t key, const Vector3& domainMi
     std::memcpy(&value, bytes.data() + offset, sizeof value);
     offset += sizeof value;
   };
-  std::uint32_t version = 0;
+  std::uint32_t version = 0, fileInterpolation = 0;
   std::uint64_t fileKey = 0, fileCount = 0, checksum = 0;
   std::int32_t fileCells[3];
   double bounds[6];
@@ -81,8 +83,11 @@ bool decode(const std::string& bytes, std::uint64_t key, const Vector3& domainMi
     read(c);
   for (double& b : bounds)
     read(b);
+  read(fileInterpolation);
   read(fileCount);
-  if (version != kVersion || fileKey != key || fileCount != count) return false;
+  if (version != kVersion || fileKey != key || fileCount != count ||
+      fileInterpolation != std::uint32_t(interpolation))
+    return false;
   for (int axis = 0; axis < 3; ++axis) {
     if (fileCells[axis] != cells(axis) || bounds[axis] != double(domainMin(axis)) ||
         bounds[3 + axis] != double(domainMax(axis)))
@@ -99,7 +104,7 @@ bool decode(const std::string& bytes, std::uint64_t key, const Vector3& domainMi
   hashBytes(expected, bytes.data(), offset);
   read(checksum);
   if (checksum != expected) return false;
-  grid = DistanceGrid(domainMin, domainMax, cells, std::move(nodes));
+  grid = DistanceGrid(domainMin, domainMax, cells, interpolation, std::move(nodes));
   return true;
 }
 
@@ -160,7 +165,8 @@ const char* gridCacheOutcomeName(GridCacheOutcome outcome) {
 }
 
 std::uint64_t meshGridKey(const TriangleMesh& mesh, const Vector3& domainMin,
-                          const Vector3& domainMax, const Vector3i& cells) {
+                          const Vector3& domainMax, const Vector3i& cells,
+                          GridInterpolation interpolation) {
   std::uint64_t hash = kFnvOffset;
   hashValue(hash, kVersion);
   hashValue(hash, std::uint32_t(sizeof(Real)));
@@ -177,14 +183,15 @@ std::uint64_t meshGridKey(const TriangleMesh& mesh, const Vector3& domainMin,
     hashValue(hash, double(domainMax(axis)));
     hashValue(hash, std::int32_t(cells(axis)));
   }
+  hashValue(hash, std::uint32_t(interpolation));
   return hash;
 }
 
 CachedGrid loadOrBuildMeshGrid(const TriangleMesh& mesh, const Vector3& domainMin,
                                const Vector3& domainMax, const Vector3i& cells,
-                               const std::string& folder) {
+                               GridInterpolation interpolation, const std::string& folder) {
   CachedGrid result;
-  const std::uint64_t key = meshGridKey(mesh, domainMin, domainMax, cells);
+  const std::uint64_t key = meshGridKey(mesh, domainMin, domainMax, cells, interpolation);
   bool fileExisted = false;
   if (!folder.empty()) {
     const std::filesystem::path path =
@@ -193,7 +200,7 @@ CachedGrid loadOrBuildMeshGrid(const TriangleMesh& mesh, const Vector3& domainMi
     std::string bytes;
     fileExisted = readFile(path, bytes);
     DistanceGrid cached;
-    if (fileExisted && decode(bytes, key, domainMin, domainMax, cells, cached)) {
+    if (fileExisted && decode(bytes, key, domainMin, domainMax, cells, interpolation, cached)) {
       result.grid = std::make_shared<const DistanceGrid>(std::move(cached));
       result.outcome = GridCacheOutcome::Loaded;
       return result;
@@ -201,7 +208,8 @@ CachedGrid loadOrBuildMeshGrid(const TriangleMesh& mesh, const Vector3& domainMi
   }
   const MeshDistance distance(mesh);
   auto grid = std::make_shared<const DistanceGrid>(DistanceGrid::sample(
-      domainMin, domainMax, cells, [&](const Vector3& x) { return distance.signedDistance(x); }));
+      domainMin, domainMax, cells, [&](const Vector3& x) { return distance.signedDistance(x); },
+      interpolation));
   result.grid = grid;
   if (folder.empty()) return result;
   writeFileAtomically(result.path, encode(*grid, key));

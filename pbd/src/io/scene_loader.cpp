@@ -31,6 +31,14 @@ ContactModel contactModel(const JsonValue& value) {
   value.fail("one of \"seed\", \"corrected\"");
 }
 
+/// Extension: "cubicLagrange" | "catmullRom".
+GridInterpolation distanceGrid(const JsonValue& value) {
+  const std::string name = value.string();
+  for (GridInterpolation kind : {GridInterpolation::CubicLagrange, GridInterpolation::CatmullRom})
+    if (name == gridInterpolationName(kind)) return kind;
+  value.fail("one of \"cubicLagrange\", \"catmullRom\"");
+}
+
 void readGravityAlias(JsonObject& object, SimulationSettings& settings) {
   const auto gravity = object.find("gravity");
   if (!gravity) return;
@@ -107,6 +115,10 @@ KeyTable<SimulationSettings> simulationKeys() {
       {"contactModel", [](const JsonValue& v, S& s) { s.contactModel = contactModel(v); }, false,
        [](const S& s, Json& j) {
          writeString(j, "contactModel", contactModelName(s.contactModel));
+       }},
+      {"distanceGrid", [](const JsonValue& v, S& s) { s.distanceGrid = distanceGrid(v); }, false,
+       [](const S& s, Json& j) {
+         writeString(j, "distanceGrid", gridInterpolationName(s.distanceGrid));
        }},
 
       integerKey("clothSimulationMethod", &S::clothSimulationMethod, between(0, 4)),

@@ -14,7 +14,10 @@
 //      ρ) reaches the SDF side's box and satisfies φ(c) − tolerance < ρ;
 //   4. a point x with d = φ(x) − tolerance < 0 makes a contact: normal n = ∇φ/|∇φ| (world,
 //      out of the SDF body), the point x on the vertex side and x − d n on the SDF side's
-//      tolerance shell, and the distance d;
+//      tolerance shell, and the distance d. With ContactOrder::Seed, a point against the seed's
+//      grid of a scaled mesh (collisionObjectScale s ≠ 1) takes the seed's unscaled distance,
+//      d = φ_mesh(x ⊙ s⁻¹) − tolerance, and shell point (x ⊙ s⁻¹ − d n) ⊙ s (the seed's
+//      CubicSDFCollisionObject::collisionTest does not scale d back; research/pbd.md §16);
 //   5. the contacts of one direction are ordered. ContactOrder::Seed (the `seed` contact model):
 //      a rigid body with a mesh reports in the seed's kd-tree order (seed_point_order.h), which
 //      depends on the mesh's vertex numbering and its round-off-determined principal frame;
@@ -112,6 +115,7 @@ class CollisionDetector {
   bool sphereMayTouch(const Vector3& centerWorld, Real radius, int sdfBody, Real tolerance) const;
 
   std::vector<RigidObject> rigid_;
+  bool seedGridDistance_ = false;  ///< the seed's unscaled grid distance (step 4), per detection
   std::vector<ParticleModel> particleModels_;
   std::size_t rigidContactCapacity_ = 0, particleContactCapacity_ = 0;
   // Per-detection scratch, sized at construction.

@@ -45,6 +45,11 @@ struct CollisionShapeOptions {
   /// the mesh's largest extent and this value (m). The world passes 2 × contactTolerance, so
   /// every point inside the contact shell lies inside the grid.
   Real minimumGridPadding = 0;
+  /// How type-5 grids are interpolated and how far they are padded: the seed's cubic Lagrange
+  /// grid pads the collision mesh's box by 0.1 × collisionObjectScale on every side (the
+  /// seed's 0.1 in the mesh file's units) and ignores minimumGridPadding; Catmull-Rom uses
+  /// the rule above. The collision detector takes it from `Simulation.distanceGrid`.
+  GridInterpolation gridInterpolation = GridInterpolation::CubicLagrange;
 };
 
 class CollisionShape {
@@ -66,6 +71,14 @@ class CollisionShape {
 
   /// The grid of a type-5 shape (null otherwise), and how it was obtained.
   const DistanceGrid* grid() const { return grid_.get(); }
+  /// The frame the grid is sampled in: a point p of the scene frame is looked up at
+  /// p ⊙ gridScale⁻¹. The seed's cubic Lagrange grid is the unscaled mesh's (gridScale =
+  /// collisionObjectScale, and distance() multiplies by its first component, as the seed's
+  /// does: exact for uniform scales); a Catmull-Rom grid is the scaled mesh's (gridScale = 1).
+  const Vector3& gridScale() const { return gridScale_; }
+  /// Type 5 only: the signed distance sample in the grid's own frame (unscaled units),
+  /// invertSDF applied; `gridPoint` = p ⊙ gridScale⁻¹.
+  DistanceSample evaluateGrid(const Vector3& gridPoint) const;
   GridCacheOutcome gridOutcome() const { return gridOutcome_; }
 
   /// An axis-aligned box in the scene frame that contains the shape's surface (the solid's
@@ -82,6 +95,7 @@ class CollisionShape {
   Real thickness_ = 0;
   Real sign_ = 1;  ///< −1 with invertSDF
   std::shared_ptr<const DistanceGrid> grid_;
+  Vector3 gridScale_ = Vector3::Ones();
   Eigen::AlignedBox<Real, 3> meshBounds_;  ///< type 5: bounds of the collision mesh
   GridCacheOutcome gridOutcome_ = GridCacheOutcome::Disabled;
 };
@@ -95,7 +109,8 @@ CollisionShape makeCollisionShape(const RigidBodyDesc& body,
 
 /// The mesh a type-5 shape of `body` is built from, in the scene frame: the vertices of
 /// collisionObjectFileName's mesh, or of the geometry file (undoing `scale`), multiplied
-/// component-wise by collisionObjectScale. Throws std::invalid_argument without a mesh.
-TriangleMesh collisionMesh(const RigidBodyDesc& body);
+/// component-wise by collisionObjectScale (`scaled`) or not (the mesh file's own units, the
+/// frame of the seed's grid). Throws std::invalid_argument without a mesh.
+TriangleMesh collisionMesh(const RigidBodyDesc& body, bool scaled = true);
 
 }  // namespace pbd

@@ -4,10 +4,12 @@
 // from $PBDVAL_SDF_CACHE, $XDG_CACHE_HOME or $HOME); an empty folder disables the cache.
 //
 // One file per grid, named sdf-<key>.grid, where the key is a 64-bit FNV-1a hash of the format
-// version, the precision, the mesh (vertices and triangles, bit for bit), the domain and the
-// resolution. File layout (native byte order; the cache is local to one machine):
+// version, the precision, the mesh (vertices and triangles, bit for bit), the domain, the
+// resolution and the interpolation. File layout (native byte order; the cache is local to one
+// machine):
 //   magic "PBDVGRID" (8 bytes) | version u32 | key u64 | cells 3 × i32 | domain 6 × f64 |
-//   node count u64 | nodes f64[count] | checksum u64 (FNV-1a of every preceding byte)
+//   interpolation u32 | node count u64 | nodes f64[count] |
+//   checksum u64 (FNV-1a of every preceding byte)
 // A file is used only if every field matches and the checksum is right; anything else (a
 // truncated, corrupt, foreign or stale file) is rebuilt and replaced. Writes go to a
 // temporary file in the same folder, renamed over the target, so readers never see a partial
@@ -39,13 +41,14 @@ struct CachedGrid {
 
 /// The key of the grid of `mesh` over [domainMin, domainMax] with `cells`.
 std::uint64_t meshGridKey(const TriangleMesh& mesh, const Vector3& domainMin,
-                          const Vector3& domainMax, const Vector3i& cells);
+                          const Vector3& domainMax, const Vector3i& cells,
+                          GridInterpolation interpolation);
 
 /// The signed distance grid of the closed mesh `mesh` (MeshDistance) sampled over the
 /// domain, from the cache in `folder` when a valid file exists, else built (and cached when
 /// `folder` is not empty).
 CachedGrid loadOrBuildMeshGrid(const TriangleMesh& mesh, const Vector3& domainMin,
                                const Vector3& domainMax, const Vector3i& cells,
-                               const std::string& folder);
+                               GridInterpolation interpolation, const std::string& folder);
 
 }  // namespace pbd

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "pbd/math/types.h"
+#include "pbd/collision/grid_interpolation.h"
 #include "pbd/model/mass_properties.h"
 #include "pbd/model/mesh.h"
 
@@ -259,6 +260,7 @@ struct SimulationSettings {
   Real contactStiffnessParticleRigidBody = 100;
   ContactCombineRule contactCombineRule = ContactCombineRule::Seed;  ///< extension
   ContactModel contactModel = ContactModel::Seed;                    ///< extension
+  GridInterpolation distanceGrid = GridInterpolation::CubicLagrange;  ///< extension
   StepMethod stepMethod = StepMethod::Seed;  ///< extension (set by the method, not the file)
   XpbdSettings xpbd;                         ///< used when stepMethod == StepMethod::Xpbd
 
