@@ -30,10 +30,12 @@ example=$("$pbdval" simulate --help | grep -o 'example: pbdval simulate [^ ]*' |
 
 # --- --out special files
 mkfifo "$work/fifo"
-cat "$work/fifo" >"$work/from_fifo.csv" &
+# Both sides time out: a writer that never opens the FIFO (or opens it twice, so the reader
+# sees an early end) must fail this test, not hang it.
+timeout 60 cat "$work/fifo" >"$work/from_fifo.csv" &
 reader=$!
-expect 0 "" -- "${sim[@]}" --out "$work/fifo"
-wait $reader
+expect 0 "" -- timeout 60 "${sim[@]}" --out "$work/fifo"
+wait $reader || fail "the FIFO's reader ended with status $? (124: nothing was written to it)"
 [[ -p "$work/fifo" ]] || fail "the FIFO was replaced"
 head -1 "$work/from_fifo.csv" | grep -q '^t,id,x' || fail "nothing came through the FIFO"
 

@@ -227,7 +227,8 @@ GridErrors studyGrid(const RigidBodyDesc& body, const DistanceStudyOptions& opti
     }
     const Vector3 extent = shape.grid()
                                ? Vector3((shape.grid()->domainMax() - shape.grid()->domainMin())
-                                             .cwiseQuotient(shape.grid()->cells().cast<Real>()))
+                                             .cwiseQuotient(shape.grid()->cells().cast<Real>())
+                                             .cwiseProduct(shape.gridScale()))  // scene frame
                                : Vector3::Zero();
     g.resolutions.push_back(resolution);
     g.cellSizes.push_back(double(extent.maxCoeff()));

@@ -122,6 +122,7 @@ std::map<std::string, std::string> PbdEngine::effectiveSettings() const {
           {"contactStiffnessRigidBody", number(s.contactStiffnessRigidBody)},
           {"contactStiffnessParticleRigidBody", number(s.contactStiffnessParticleRigidBody)},
           {"contactModel", pbd::contactModelName(s.contactModel)},
+          {"distanceGrid", pbd::gridInterpolationName(pbd::distanceGridFor(s))},
           {"contactCombineRule", pbd::contactCombineRuleName(s.contactCombineRule)},
           {"stepMethod", pbd::stepMethodName(s.stepMethod)},
           {"xpbd.substeps", std::to_string(s.xpbd.substeps)},

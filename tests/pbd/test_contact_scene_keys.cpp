@@ -31,6 +31,26 @@ TEST(ContactSceneKeys, ContactModelIsReadAndChecked) {
                 "\"exact\"");
 }
 
+// Unset, the grid is the method's (the seed's for `pbd`, Catmull-Rom for XPBD); given, it wins.
+TEST(ContactSceneKeys, DistanceGridIsReadCheckedAndDefaultsPerMethod) {
+  SimulationSettings settings = parseScene("{}", kInline).scene.simulation;
+  EXPECT_FALSE(settings.distanceGrid.has_value());
+  EXPECT_EQ(distanceGridFor(settings), GridInterpolation::CubicLagrange);
+  settings.stepMethod = StepMethod::Xpbd;
+  EXPECT_EQ(distanceGridFor(settings), GridInterpolation::CatmullRom);
+  settings = parseScene(R"({"Simulation": {"distanceGrid": "cubicLagrange"}})", kInline)
+                 .scene.simulation;
+  settings.stepMethod = StepMethod::Xpbd;
+  EXPECT_EQ(distanceGridFor(settings), GridInterpolation::CubicLagrange);
+  settings = parseScene(R"({"Simulation": {"distanceGrid": "catmullRom"}})", kInline)
+                 .scene.simulation;
+  EXPECT_EQ(distanceGridFor(settings), GridInterpolation::CatmullRom);
+  EXPECT_EQ(errorOf(R"({"Simulation": {"distanceGrid": "trilinear"}})"),
+            kInline +
+                ": Simulation.distanceGrid: expected one of \"cubicLagrange\", \"catmullRom\", "
+                "got \"trilinear\"");
+}
+
 TEST(ContactSceneKeys, SignedDistanceFieldWithoutMeshIsAnError) {
   EXPECT_EQ(errorOf(R"({"RigidBodies": [{"collisionObjectType": 5, "mass": 1,
                         "inertia": [1, 1, 1]}]})"),

@@ -46,7 +46,7 @@ void seedOrder(std::vector<ContactPointGeometry>::iterator begin,
 
 CollisionDetector::CollisionDetector(const Scene& scene, const CollisionShapeOptions& givenOptions) {
   CollisionShapeOptions options = givenOptions;
-  options.gridInterpolation = scene.simulation.distanceGrid;
+  options.gridInterpolation = distanceGridFor(scene.simulation);
   rigid_.resize(scene.rigidBodies.size());
   std::size_t shapedBodies = 0, rigidPoints = 0, particlePoints = 0;
   for (std::size_t i = 0; i < scene.rigidBodies.size(); ++i) {

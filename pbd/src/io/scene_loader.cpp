@@ -118,7 +118,7 @@ KeyTable<SimulationSettings> simulationKeys() {
        }},
       {"distanceGrid", [](const JsonValue& v, S& s) { s.distanceGrid = distanceGrid(v); }, false,
        [](const S& s, Json& j) {
-         writeString(j, "distanceGrid", gridInterpolationName(s.distanceGrid));
+         if (s.distanceGrid) writeString(j, "distanceGrid", gridInterpolationName(*s.distanceGrid));
        }},
 
       integerKey("clothSimulationMethod", &S::clothSimulationMethod, between(0, 4)),

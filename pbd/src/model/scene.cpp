@@ -110,6 +110,12 @@ const char* stepMethodName(StepMethod method) {
   return "?";
 }
 
+GridInterpolation distanceGridFor(const SimulationSettings& settings) {
+  if (settings.distanceGrid) return *settings.distanceGrid;
+  return settings.stepMethod == StepMethod::Xpbd ? GridInterpolation::CatmullRom
+                                                 : GridInterpolation::CubicLagrange;
+}
+
 const char* contactModelName(ContactModel model) {
   switch (model) {
     case ContactModel::Seed:

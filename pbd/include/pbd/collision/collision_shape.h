@@ -48,7 +48,7 @@ struct CollisionShapeOptions {
   /// How type-5 grids are interpolated and how far they are padded: the seed's cubic Lagrange
   /// grid pads the collision mesh's box by 0.1 × collisionObjectScale on every side (the
   /// seed's 0.1 in the mesh file's units) and ignores minimumGridPadding; Catmull-Rom uses
-  /// the rule above. The collision detector takes it from `Simulation.distanceGrid`.
+  /// the rule above. The collision detector takes it from the scene (distanceGridFor).
   GridInterpolation gridInterpolation = GridInterpolation::CubicLagrange;
 };
 

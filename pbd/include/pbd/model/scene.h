@@ -260,7 +260,8 @@ struct SimulationSettings {
   Real contactStiffnessParticleRigidBody = 100;
   ContactCombineRule contactCombineRule = ContactCombineRule::Seed;  ///< extension
   ContactModel contactModel = ContactModel::Seed;                    ///< extension
-  GridInterpolation distanceGrid = GridInterpolation::CubicLagrange;  ///< extension
+  /// Extension; unset: the method's own (distanceGridFor).
+  std::optional<GridInterpolation> distanceGrid;
   StepMethod stepMethod = StepMethod::Seed;  ///< extension (set by the method, not the file)
   XpbdSettings xpbd;                         ///< used when stepMethod == StepMethod::Xpbd
 
@@ -290,6 +291,13 @@ struct SimulationSettings {
   Real rod_bendingStiffnessY = Real(0.5);
   Real rod_twistingStiffness = Real(0.5);
 };
+
+/// The grid interpolation of type-5 shapes: `Simulation.distanceGrid` when the scene gives it,
+/// else the method's own: the seed's cubic Lagrange grid for the `pbd` method (its fidelity to
+/// PositionBasedDynamics), pbdval's Catmull-Rom grid for `pbd.xpbd` (C¹, and padded widely
+/// enough for XPBD's speculative contacts; docs/contacts.md#grid-sdfs).
+GridInterpolation distanceGridFor(const SimulationSettings& settings);
+
 
 /// Keys of the seed's viewer (DemoBase). Parsed and kept; a headless run ignores them, except
 /// that `pauseAt` > 0 serves as the default duration of `pbdval simulate`.
