@@ -17,6 +17,7 @@ import argparse
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -26,8 +27,16 @@ from pathlib import Path
 from typing import Any, Sequence
 
 from pbdval.errors import PbdvalError, ResultsError
+from pbdval.replay import replay_data, replay_script
 from pbdval.results import Results, RunResult, load_results, pbdval_binary
 from pbdval.svg import PALETTE, Series, line_plot
+
+#: The report's browser code: three.js from npm (python/pbdval/web, `npm ci` by
+#: scripts/install-deps) and the replay viewer, copied into the report's assets/.
+WEB = Path(__file__).resolve().parent / "web"
+THREE_FILES = {"three.min.js": "node_modules/three/build/three.min.js",
+               "OrbitControls.js": "node_modules/three/examples/js/controls/OrbitControls.js",
+               "three-LICENSE.txt": "node_modules/three/LICENSE"}
 
 STATUS_COLOURS = {"ok": "#d9f2d9", "unsupported": "#eeeeee", "diverged": "#ffd9b3", "timeout": "#ffe9a8",
                   "error": "#f7c6c6"}
@@ -48,6 +57,8 @@ td.num { text-align: right; font-variant-numeric: tabular-nums; }
 figure { margin: 12px 0; } figcaption { font-size: 12px; color: #555; }
 nav a { margin-right: 12px; }
 pre { background: #f7f7f7; padding: 8px; overflow-x: auto; font-size: 12px; }
+.replay-controls { margin: 6px 0; font-size: 13px; } .replay-legend label { margin-right: 14px; font-size: 12px; }
+.swatch { display: inline-block; width: 12px; height: 12px; margin: 0 4px; vertical-align: middle; }
 """
 
 
@@ -164,8 +175,22 @@ def overview(results: Results, labels: list[str], gate: tuple[str, int] | None) 
     return "\n".join(html), "\n".join(md) + "\n"
 
 
+def copy_assets(out: Path) -> bool:
+    """Copies three.js and the replay viewer into out/assets; False when three.js is not
+    installed (the case pages then say so instead of replaying)."""
+    assets = out / "assets"
+    assets.mkdir(parents=True, exist_ok=True)
+    shutil.copyfile(WEB / "replay.js", assets / "replay.js")
+    sources = {name: WEB / relative for name, relative in THREE_FILES.items()}
+    if not all(path.is_file() for path in sources.values()):
+        return False
+    for name, path in sources.items():
+        shutil.copyfile(path, assets / name)
+    return True
+
+
 def case_page(case: str, runs: list[RunResult], results: Results, colours: Colours, figures: Path,
-              quiet: bool) -> str:
+              quiet: bool, out: Path | None = None, three: bool = False) -> str:
     from pbdval.api import energy, load_scene  # noqa: PLC0415  (the C++ core)
 
     info = results.cases.get(case, {})
@@ -181,11 +206,13 @@ def case_page(case: str, runs: list[RunResult], results: Results, colours: Colou
         scene = load_scene(info["file"]) if info.get("file") else None
     except (PbdvalError, OSError) as error:
         notes.append(f"the scene could not be loaded for the plots: {error}")
+    replayed = []
     for r in runs:
         if not r.ok or scene is None:
             continue
         try:
             trajectory = r.trajectory()
+            replayed.append((r.label, colours.of(r.label), trajectory))
             drift = energy(scene, trajectory).relative_drift
             stride = max(1, len(drift) // MAX_PLOT_POINTS)  # the plot, not the data, is thinned
             series.append(Series(r.label, list(trajectory.times[::stride]), list(drift[::stride]),
@@ -199,6 +226,19 @@ def case_page(case: str, runs: list[RunResult], results: Results, colours: Colou
                 f"(<a href='../figures/{slug(case)}-energy.svg' download>SVG</a>).</figcaption></figure>")
     for note in notes:
         body.append(f"<p class='badge warn'>{escape(note)}</p>")
+    # 3D replay (python/pbdval/replay.py, web/replay.js).
+    body.append("<h2>3D replay</h2>")
+    if out is not None and scene is not None and replayed:
+        write(out / "replay" / f"{slug(case)}.js", replay_script(replay_data(case, scene, replayed)))
+        body.append("<p>Every ok run's bodies together, one colour per engine/method (static bodies grey): "
+                    "drag to turn, wheel to zoom, the slider to scrub.</p><div id='replay'></div>")
+        if three:
+            body.append("<script src='../assets/three.min.js'></script>"
+                        "<script src='../assets/OrbitControls.js'></script>")
+        body.append(f"<script src='../replay/{slug(case)}.js'></script><script src='../assets/replay.js'></script>")
+    else:
+        body.append("<p class='badge warn'>no replay: no ok run with a trajectory, or the scene could not be "
+                    "loaded</p>")
     # Metrics table.
     metrics = sorted({m for r in runs for m in r.metrics})
     body.append("<h2>Metrics</h2><table><tr><th>engine/method</th><th>status</th>"
@@ -307,13 +347,17 @@ def build_report(results_dir: Path, out: Path, *, baseline: Path | None = None, 
     for label in labels:
         colours.of(label)
     figures = out / "figures"
+    three = copy_assets(out)
+    if not three:
+        progress("pbdval report: three.js is not installed (scripts/install-deps): no 3D replay", quiet)
     gate = gate_markdown(results_dir, baseline) if baseline else None
     body, markdown = overview(results, labels, gate)
     by_case: dict[str, list[RunResult]] = {}
     for r in results:
         by_case.setdefault(r.case, []).append(r)
     for case, runs in sorted(by_case.items()):
-        write(out / "cases" / f"{slug(case)}.html", case_page(case, runs, results, colours, figures, quiet))
+        write(out / "cases" / f"{slug(case)}.html",
+              case_page(case, runs, results, colours, figures, quiet, out=out, three=three))
     write(out / "convergence.html", convergence_page(sweeps, colours, figures))
     write(out / "index.html", page("pbdval report", body))
     write(out / "report.md", markdown)
