@@ -134,7 +134,7 @@ def overview(results: Results, labels: list[str], gate: tuple[str, int] | None) 
     meta = results.metadata
     build = meta.get("pbdval", {})
     machine = meta.get("machine", {})
-    html = [f"<h1>pbdval report</h1><nav><a href='index.html'>overview</a><a href='convergence.html'>convergence</a></nav>",
+    html = [f"<h1>pbdval report</h1><nav><a href='index.html'>overview</a><a href='convergence.html'>convergence</a><a href='parity.html'>parity</a></nav>",
             f"<p>{len(results)} runs of {len(cases)} cases. Results: <code>{escape(str(results.folder))}</code>, "
             f"created {escape(str(meta.get('created', '?')))} by <code>{escape(str(meta.get('command', '?')))}</code>; "
             f"pbdval {escape(str(build.get('version', '?')))}, commit {escape(str(build.get('commit', '?'))[:12])} "
@@ -194,7 +194,7 @@ def case_page(case: str, runs: list[RunResult], results: Results, colours: Colou
     from pbdval.api import energy, load_scene  # noqa: PLC0415  (the C++ core)
 
     info = results.cases.get(case, {})
-    body = [f"<nav><a href='../index.html'>overview</a><a href='../convergence.html'>convergence</a></nav>",
+    body = [f"<nav><a href='../index.html'>overview</a><a href='../convergence.html'>convergence</a><a href='../parity.html'>parity</a></nav>",
             f"<h1>{escape(case)}</h1><p>{escape(str(info.get('description', '')))}</p>",
             f"<p>Scene: <code>{escape(str(info.get('file', '')))}</code>. References: "
             + escape(", ".join(sorted({r.reference for r in runs if r.reference})) or "none") + "</p>"]
@@ -265,10 +265,11 @@ def case_page(case: str, runs: list[RunResult], results: Results, colours: Colou
 
 
 def convergence_page(sweeps: Sequence[Path], colours: Colours, figures: Path) -> str:
-    body = ["<nav><a href='index.html'>overview</a><a href='convergence.html'>convergence</a></nav>",
+    body = ["<nav><a href='index.html'>overview</a><a href='convergence.html'>convergence</a><a href='parity.html'>parity</a></nav>",
             "<h1>Convergence</h1><p>Error against the swept parameter, log-log, per method: filled points are "
             "fitted, hollow ones were left out (on a floor); dashed lines are reference slopes 1, 2 and 4 "
-            "through the coarsest point of the first method. The legend gives the fitted order and R².</p>"]
+            "through the coarsest point of the first method. The legend gives the fitted order and R². Under it, "
+            "the error against the wall time of each run, with the Pareto front.</p>"]
     if not sweeps:
         body.append("<p class='badge warn'>no sweep given (pbdval report --sweeps DIR...)</p>")
     for path in sweeps:
@@ -319,7 +320,120 @@ def convergence_page(sweeps: Sequence[Path], colours: Colours, figures: Path) ->
         body.append(f"<h2>{escape(title)}</h2><p>{' '.join(badges)}</p><figure>{svg}<figcaption>"
                     f"<code>{escape(str(document.get('metadata', {}).get('command', '')))}</code> "
                     f"(<a href='figures/{file}' download>SVG</a>)</figcaption></figure>")
+        # Error against wall time: the cost of accuracy, with the sweep's Pareto front (the points
+        # no other point beats in both, marked by `pbdval sweep` in sweep.json).
+        cost: list[Series] = []
+        for method in sorted({str(p.get("method", "?")) for p in points}):
+            mine = sorted((p for p in points if p.get("method") == method and p.get("metric") is not None
+                           and p.get("wall_time_s") is not None), key=lambda p: float(p["wall_time_s"]))
+            cost.append(Series(method, [float(p["wall_time_s"]) for p in mine], [float(p["metric"]) for p in mine],
+                               colours.of(method), markers=True))
+        front = sorted((p for p in points if p.get("pareto") and p.get("metric") is not None
+                        and p.get("wall_time_s") is not None), key=lambda p: float(p["wall_time_s"]))
+        if front:
+            cost.append(Series("Pareto front", [float(p["wall_time_s"]) for p in front],
+                               [float(p["metric"]) for p in front], "#000000", dashed=True, markers=True,
+                               hollow=[True] * len(front)))
+        svg = line_plot(cost, title=f"{title}: cost", xlabel="wall time per run (s)",
+                        ylabel=str(document.get("metric", "")), logx=True, logy=True, width=900, height=400,
+                        legend_width=330)
+        file = f"sweep-{slug(path.name)}-cost.svg"
+        write(figures / file, svg)
+        body.append(f"<figure>{svg}<figcaption>Error against wall time per run, every method; the dashed "
+                    f"line joins the Pareto front ({len(front)} points: none is beaten in both by another) "
+                    f"(<a href='figures/{file}' download>SVG</a>)</figcaption></figure>")
     return page("pbdval report: convergence", "\n".join(body))
+
+
+# ---- parity ------------------------------------------------------------------------------------
+
+#: The documented mappings (docs/parity-*.md, docs/external-engines.md): one table per engine
+#: whose rows are "| scene feature | how | status |".
+DOCS = Path(__file__).resolve().parents[2] / "docs"
+PARITY_SOURCES = (("bullet", "parity-bullet.md", None), ("ode", "parity-ode.md", None),
+                  ("mujoco", "parity-mujoco.md", None), ("pybullet", "external-engines.md", "| item | pybullet |"),
+                  ("mujoco-python", "external-engines.md", "| item | MuJoCo |"))
+#: Scene features (rows of the parity page) and how each engine's table names them.
+PARITY_FEATURES: tuple[tuple[str, str], ...] = (
+    ("sphere (type 1)", r"(?<!hollow )\bsphere\b"), ("box (type 2)", r"(?<!hollow )\bbox\b"),
+    ("cylinder (type 3)", r"\bcylinder"), ("torus (type 4)", r"\btorus"),
+    ("mesh SDF (type 5)", r"\bSDF\b|\bsdf\b|signed distance field"), ("hollow sphere (type 6)", r"hollow sphere"),
+    ("hollow box (type 7)", r"hollow box"), ("invertSDF", r"invertSDF"),
+    ("particles (cloth, tets)", r"particles|TriangleModels"),
+    ("BallJoints", r"`BallJoints`|\bball joint|^ball, hinge"), ("BallOnLineJoints", r"`BallOnLineJoints`"),
+    ("HingeJoints", r"`HingeJoints`|^hinge\b|ball, hinge joints"), ("UniversalJoints", r"`UniversalJoints`"),
+    ("SliderJoints", r"`SliderJoints`"), ("DistanceJoints", r"`DistanceJoints`"),
+    ("DamperJoints", r"`DamperJoints`"), ("RigidBodySprings", r"`RigidBodySprings`"),
+    ("TargetAngleMotorHingeJoints", r"`TargetAngleMotorHingeJoints`"),
+    ("TargetVelocityMotorHingeJoints", r"`TargetVelocityMotorHingeJoints`"),
+    ("TargetPositionMotorSliderJoints", r"`TargetPositionMotorSliderJoints`"),
+    ("TargetVelocityMotorSliderJoints", r"`TargetVelocityMotorSliderJoints`"),
+    ("RigidBodyParticleBallJoints", r"`RigidBodyParticleBallJoints`"),
+    ("pair friction", r"friction coefficient|pair friction"), ("restitution", r"restitution"),
+)
+PARITY_COLOURS = {"native": "#d9f2d9", "approximated": "#ffe9a8", "unsupported": "#f7c6c6"}
+
+
+def parity_table(text: str, start: str | None) -> list[tuple[str, str]]:
+    """(feature, status) rows of the first three-column table (after the line starting with
+    `start`, when given)."""
+    lines = text.splitlines()
+    if start is not None:
+        begin = next((i for i, line in enumerate(lines) if line.startswith(start)), len(lines))
+        lines = lines[begin:]
+        end = next((i for i, line in enumerate(lines) if not line.startswith("|")), len(lines))
+        lines = lines[:end]
+    rows = []
+    for line in lines:
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) >= 3 and not set(cells[0]) <= set("-: ") and cells[0].lower() not in ("scene", "feature", "item"):
+            # The status column: the second in parity-ode.md and parity-mujoco.md, the last elsewhere.
+            second = cells[1].split(" ")[0].strip("*,;:").lower()
+            rows.append((cells[0], cells[1] if second in PARITY_COLOURS else cells[-1]))
+    return rows
+
+
+def parity_status(rows: list[tuple[str, str]], pattern: str, feature: str) -> str:
+    import re  # noqa: PLC0415
+
+    for name, status in rows:
+        if re.search(pattern, name):
+            return status
+    if feature.endswith("Joints") or feature == "RigidBodySprings":
+        for name, status in rows:
+            if re.search(r"other joints", name):
+                return status
+    return ""
+
+
+def parity_page() -> str:
+    body = ["<nav><a href='index.html'>overview</a><a href='convergence.html'>convergence</a>"
+            "<a href='parity.html'>parity</a></nav>",
+            "<h1>Parity</h1><p>How each engine maps the scene's features: <b>native</b> (its own feature with the "
+            "scene's meaning), <b>approximated</b> (the closest feature; the difference is documented and recorded "
+            "in each run's effective settings) or <b>unsupported</b> (the run is reported unsupported, naming the "
+            "feature). From the parity pages in <code>docs/</code> (parity-bullet.md, parity-ode.md, "
+            "parity-mujoco.md, external-engines.md), where every row says how. The <code>pbd</code> engine "
+            "implements the seed's scene format: every feature is its own.</p>"]
+    tables: dict[str, list[tuple[str, str]]] = {}
+    for engine, file, start in PARITY_SOURCES:
+        try:
+            tables[engine] = parity_table((DOCS / file).read_text(encoding="utf-8"), start)
+        except OSError as error:
+            body.append(f"<p class='badge warn'>{escape(file)}: {escape(str(error))}</p>")
+            tables[engine] = []
+    engines = ["pbd"] + list(tables)
+    body.append("<table><tr><th>scene feature</th>" + "".join(f"<th>{escape(e)}</th>" for e in engines) + "</tr>")
+    for feature, pattern in PARITY_FEATURES:
+        cells = [f"<td style='background:{PARITY_COLOURS['native']}'>native</td>"]
+        for engine in tables:
+            status = parity_status(tables[engine], pattern, feature)
+            word = status.split(" ")[0].strip("*,;:").lower() if status else ""
+            colour = PARITY_COLOURS.get(word, "#ffffff")
+            cells.append(f"<td style='background:{colour}' title='{escape(status)}'>{escape(status or '–')}</td>")
+        body.append(f"<tr><td>{escape(feature)}</td>{''.join(cells)}</tr>")
+    body.append("</table>")
+    return page("pbdval report: parity", "\n".join(body))
 
 
 # ---- the whole report ----------------------------------------------------------------------------
@@ -359,6 +473,7 @@ def build_report(results_dir: Path, out: Path, *, baseline: Path | None = None, 
         write(out / "cases" / f"{slug(case)}.html",
               case_page(case, runs, results, colours, figures, quiet, out=out, three=three))
     write(out / "convergence.html", convergence_page(sweeps, colours, figures))
+    write(out / "parity.html", parity_page())
     write(out / "index.html", page("pbdval report", body))
     write(out / "report.md", markdown)
     progress(f"pbdval report: wrote {out / 'index.html'}", quiet)

@@ -48,6 +48,14 @@ def test_a_real_run_renders_every_case_and_run(real_results: Path, tmp_path: Pat
     assert "unsupported" in distance and "DistanceJoints[0]" in distance  # bullet lacks it, says why
     convergence = (report / "convergence.html").read_text()
     assert "p = " in convergence and "slope 4" in convergence
+    # Error against wall time with the sweep's Pareto front (marked by pbdval sweep).
+    assert "Pareto front" in convergence and (report / "figures/sweep-joint_hinge-timestep-cost.svg").is_file()
+    # The parity matrix from docs/parity-*.md: Bullet lacks distance joints, MuJoCo universal joints.
+    parity = (report / "parity.html").read_text()
+    distance_row = parity[parity.index("<td>DistanceJoints</td>"):].split("</tr>")[0]
+    assert distance_row.count("unsupported") >= 3 and "native" in distance_row
+    universal_row = parity[parity.index("<td>UniversalJoints</td>"):].split("</tr>")[0]
+    assert "unsupported" in universal_row
     assert (report / "figures/joint_hinge-energy.svg").read_text().startswith("<svg")
     assert "| joint_hinge |" in (report / "report.md").read_text()
 

@@ -136,9 +136,18 @@ def test_convergence_page_renders(browser: Browser, report: Path) -> None:
     watched = Watched(browser)
     page = watched.open(report / "convergence.html")
     figures = drawn_figures(page)
-    assert len(figures) == 1
-    assert figures[0]["marks"] > 5
+    assert len(figures) == 2  # the sweep's order plot and its cost plot (error against wall time)
+    for figure in figures:
+        assert figure["marks"] > 5, figure
     page.screenshot(path=str(screenshots_folder() / "convergence.png"), full_page=True)
+    assert watched.problems == []
+
+
+def test_parity_page_loads_cleanly(browser: Browser, report: Path) -> None:
+    watched = Watched(browser)
+    page = watched.open(report / "parity.html")
+    assert page.locator("td", has_text="unsupported").count() > 10
+    page.screenshot(path=str(screenshots_folder() / "parity.png"), full_page=True)
     assert watched.problems == []
 
 
