@@ -264,8 +264,10 @@ def case_page(case: str, runs: list[RunResult], results: Results, colours: Colou
     return page(f"pbdval report: {case}", "\n".join(body))
 
 
-def convergence_page(sweeps: Sequence[Path], colours: Colours, figures: Path) -> str:
-    body = ["<nav><a href='index.html'>overview</a><a href='convergence.html'>convergence</a><a href='parity.html'>parity</a></nav>",
+def convergence_page(sweeps: Sequence[Path], colours: Colours, figures: Path, *, standalone: bool = False) -> str:
+    nav = "" if standalone else ("<nav><a href='index.html'>overview</a><a href='convergence.html'>convergence</a>"
+                                 "<a href='parity.html'>parity</a></nav>")
+    body = [nav,
             "<h1>Convergence</h1><p>Error against the swept parameter, log-log, per method: filled points are "
             "fitted, hollow ones were left out (on a floor); dashed lines are reference slopes 1, 2 and 4 "
             "through the coarsest point of the first method. The legend gives the fitted order and R². Under it, "
@@ -480,8 +482,29 @@ def build_report(results_dir: Path, out: Path, *, baseline: Path | None = None, 
     return out / "index.html"
 
 
+def build_convergence_report(sweeps: Sequence[Path], out: Path, *, quiet: bool = False) -> Path:
+    """The convergence page of sweep folders on its own (`pbdval sweep --report`): writes
+    out/convergence.html and its figures and returns its path."""
+    colours = Colours([])
+    page_text = convergence_page(sweeps, colours, out / "figures", standalone=True)
+    write(out / "convergence.html", page_text)
+    progress(f"pbdval report: wrote {out / 'convergence.html'}", quiet)
+    return out / "convergence.html"
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="pbdval report", description=__doc__.splitlines()[0])
+    if argv is None:
+        argv = sys.argv[1:]
+    if argv and argv[0] == "--convergence":
+        # pbdval sweep --report: python -m pbdval.report --convergence SWEEP_DIR --out DIR
+        only = argparse.ArgumentParser(prog="pbdval report --convergence")
+        only.add_argument("--convergence", type=Path, nargs="+", required=True, help="sweep folders")
+        only.add_argument("--out", type=Path, required=True)
+        only.add_argument("--quiet", action="store_true")
+        known = only.parse_args(argv)
+        print(build_convergence_report(known.convergence, known.out, quiet=known.quiet))
+        return 0
     parser.add_argument("results", type=Path, help="a results folder (pbdval run --out)")
     parser.add_argument("--out", type=Path, default=None, help="report folder (default: RESULTS/report)")
     parser.add_argument("--baseline", type=Path, default=None, help="gate against this baseline")

@@ -60,6 +60,16 @@ def test_a_real_run_renders_every_case_and_run(real_results: Path, tmp_path: Pat
     assert "| joint_hinge |" in (report / "report.md").read_text()
 
 
+def test_sweep_writes_its_convergence_page(tmp_path: Path) -> None:
+    out = tmp_path / "sweep"
+    done = pbdval("sweep", str(REPO / "cases/projectile.json"), "--param", "timeStepSize=0.01,0.005,0.0025",
+                  "--methods", "pbd", "--out", str(out), "--report", "--quiet")
+    assert done.stdout.strip().endswith(str(out / "report/convergence.html"))
+    page = (out / "report/convergence.html").read_text()
+    assert "projectile" in page and "p = " in page and "Pareto front" in page
+    assert "href='index.html'" not in page  # on its own: no links to pages that do not exist
+
+
 def synthetic(folder: Path, runs: list[dict], schema_version: int = 1, case_file: str = "") -> Path:
     folder.mkdir(parents=True)
     cases = {r["case"]: {"file": case_file, "description": "synthetic", "checks": [], "tolerances": {}}

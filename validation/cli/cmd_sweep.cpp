@@ -11,6 +11,8 @@
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
 #include "validation/cli/executors.h"
+#include "validation/cli/python_module.h"
+#include "validation/engines/standard_engines.h"
 #include "validation/overrides.h"
 #include "validation/results.h"
 #include "validation/run_scheduler.h"
@@ -54,6 +56,7 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
       .option("runs-per-task", "N", "dask: runs per task")
       .option("fail-with", "REASON", "with --shard: record the runs as error without running")
       .flag("list-plan", "print the sweep's runs as JSON and run nothing")
+      .flag("report", "also write DIR/report/convergence.html, the sweep's page of pbdval report")
       .flag("quiet", "no progress lines")
       .epilog(
           "example: pbdval sweep cases/projectile.json --param "
@@ -153,6 +156,13 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
     writeSweepJson(path, result, currentMetadata(command.str()));
     printSweepTable(std::cout, result);
     std::printf("wrote %s\n", path.c_str());
+    if (args.flags.count("report")) {
+      // The convergence page, by the report's own code (python/pbdval/report.py): the last step.
+      std::vector<std::string> argv = {projectPython(), "-m", "pbdval.report", "--convergence", out,
+                                       "--out", out + "/report"};
+      if (quiet) argv.push_back("--quiet");
+      return execPython(argv);
+    }
   } catch (const UsageError& e) {
     return parser.usageError(e.what());
   } catch (const std::exception& e) {
