@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -19,6 +20,8 @@ std::string motorTrackingMax(const std::string& quantity) {
 }  // namespace metric
 
 namespace {
+
+constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
 
 double timeSlack(double time) {
   return 1e-9 * std::max(1.0, std::abs(time));
@@ -48,8 +51,9 @@ struct ErrorAccumulator {
 void addEnergyMetrics(const MetricInputs& in, MetricSet& out) {
   std::string scaleNote;
   const double scale = energyScale(*in.scene, *in.spec, &scaleNote);
-  const DriftSummary drift =
-      summarizeDrift(sampleTimes(*in.samples), relativeEnergyDrift(*in.scene, *in.samples, scale));
+  std::vector<double> relative = relativeEnergyDrift(*in.scene, *in.samples, scale);
+  const DriftSummary drift = summarizeDrift(sampleTimes(*in.samples), relative);
+  if (in.series) in.series->energyDrift = std::move(relative);
   out.values["energy_scale"] = scale;
   out.values[metric::kEnergyDriftMax] = drift.max;
   out.values[metric::kEnergyDriftFinal] = drift.final;
@@ -113,16 +117,33 @@ struct TypeAccumulator {
   int joints = 0;
   bool hasAngular = false;
   MotorQuantity motor = MotorQuantity::None;
+  bool recordSeries = false;
+  /// Per sample, the largest error over the type's joints (recordSeries only).
+  std::vector<double> linearSeries, angularSeries, trackingSeries;
 };
+
+/// series[k] = max(series[k], value), sizing the series (NaN: no value yet) on first use.
+void raiseTo(std::vector<double>& series, std::size_t samples, std::size_t k, double value) {
+  if (series.empty()) series.assign(samples, kNoValue);
+  series[k] = std::isnan(series[k]) ? value : std::max(series[k], value);
+}
 
 void measureJointOverRun(const JointGeometry& joint, const std::vector<State>& samples,
                          TypeAccumulator& acc) {
-  for (std::size_t k = 0; k < samples.size(); ++k) {
+  const std::size_t n = samples.size();
+  for (std::size_t k = 0; k < n; ++k) {
     const JointMeasurement m = measureJoint(joint, samples[k]);
     acc.linear.add(m.linear);
-    if (m.angular) acc.angular.add(*m.angular);
+    if (acc.recordSeries) raiseTo(acc.linearSeries, n, k, m.linear);
+    if (m.angular) {
+      acc.angular.add(*m.angular);
+      if (acc.recordSeries) raiseTo(acc.angularSeries, n, k, *m.angular);
+    }
     // The motor acts from the first step on: its set point at t_0 is not yet tracked.
-    if (m.tracking && k > 0) acc.tracking.add(*m.tracking);
+    if (m.tracking && k > 0) {
+      acc.tracking.add(*m.tracking);
+      if (acc.recordSeries) raiseTo(acc.trackingSeries, n, k, std::abs(*m.tracking));
+    }
   }
 }
 
@@ -152,6 +173,7 @@ void addJointMetrics(const MetricInputs& in, MetricSet& out) {
       continue;
     }
     TypeAccumulator& acc = byType[pbd::jointTypeName(joint.type)];
+    acc.recordSeries = in.series != nullptr;
     ++acc.joints;
     acc.hasAngular = hasAngularError(joint.type);
     acc.motor = motorQuantity(joint.type);
@@ -166,6 +188,17 @@ void addJointMetrics(const MetricInputs& in, MetricSet& out) {
   bool anyAngular = false;
   for (const auto& [name, acc] : byType) {
     out.jointErrorByType[name] = summarize(acc);
+    if (in.series) {
+      in.series->jointErrorLinear[name] = acc.linearSeries;
+      if (acc.hasAngular && !acc.angularSeries.empty())
+        in.series->jointErrorAngular[name] = acc.angularSeries;
+      if (acc.motor != MotorQuantity::None && !acc.trackingSeries.empty()) {
+        std::vector<double>& tracking = in.series->motorTracking[motorQuantityName(acc.motor)];
+        for (std::size_t k = 0; k < acc.trackingSeries.size(); ++k)
+          if (!std::isnan(acc.trackingSeries[k]))
+            raiseTo(tracking, acc.trackingSeries.size(), k, acc.trackingSeries[k]);
+      }
+    }
     linear.max = std::max(linear.max, acc.linear.max);
     linear.sumOfSquares += acc.linear.sumOfSquares;
     linear.count += acc.linear.count;
@@ -199,12 +232,14 @@ void addPenetrationMetrics(const MetricInputs& in, MetricSet& out) {
   }
   double max = 0, sum = 0;
   std::size_t contacts = 0;
-  for (const State& s : *in.samples)
-    for (const double depth : in.penetration(s)) {
+  if (in.series) in.series->penetration.assign(in.samples->size(), 0.0);
+  for (std::size_t k = 0; k < in.samples->size(); ++k)
+    for (const double depth : in.penetration((*in.samples)[k])) {
       if (!(depth > 0)) continue;  // touching or separated pairs are not active contacts
       max = std::max(max, depth);
       sum += depth;
       ++contacts;
+      if (in.series) in.series->penetration[k] = std::max(in.series->penetration[k], depth);
     }
   out.values[metric::kPenetrationMax] = max;
   out.values[metric::kPenetrationMean] = contacts > 0 ? sum / double(contacts) : 0;
@@ -221,7 +256,7 @@ void addTrajectoryMetrics(const MetricInputs& in, MetricSet& out) {
     out.notes.push_back("trajectory: the reference (" + reference.description + ") has no samples");
     return;
   }
-  const TrajectoryErrors e = trajectoryErrors(*in.samples, reference);
+  const TrajectoryErrors e = trajectoryErrors(*in.samples, reference, in.series);
   out.values[metric::kTrajectoryErrorMax] = e.positionMax;
   out.values[metric::kTrajectoryErrorRms] = e.positionRms;
   if (reference.hasRotation) {
@@ -262,10 +297,14 @@ std::vector<double> relativeEnergyDrift(const pbd::Scene& scene, const std::vect
 }
 
 TrajectoryErrors trajectoryErrors(const std::vector<State>& samples,
-                                  const ReferenceTrajectory& reference) {
+                                  const ReferenceTrajectory& reference, MetricSeries* series) {
   TrajectoryErrors e;
   const std::size_t count = std::min(samples.size(), reference.samples.size());
   ErrorAccumulator position;
+  if (series) {
+    series->trajectoryError.assign(samples.size(), kNoValue);
+    if (reference.hasRotation) series->rotationError.assign(samples.size(), kNoValue);
+  }
   for (std::size_t k = 0; k < count; ++k) {
     const State& run = samples[k];
     const State& ref = reference.samples[k];
@@ -287,10 +326,14 @@ TrajectoryErrors trajectoryErrors(const std::vector<State>& samples,
       if (!reference.bodies.empty() && (i >= reference.bodies.size() || !reference.bodies[i]))
         continue;
       ++compared;
-      position.add((run.bodies[i].position - ref.bodies[i].position).norm());
-      if (reference.hasRotation)
-        e.rotationMax =
-            std::max(e.rotationMax, geodesicAngle(run.bodies[i].rotation, ref.bodies[i].rotation));
+      const double distance = (run.bodies[i].position - ref.bodies[i].position).norm();
+      position.add(distance);
+      if (series) raiseTo(series->trajectoryError, samples.size(), k, distance);
+      if (reference.hasRotation) {
+        const double angle = geodesicAngle(run.bodies[i].rotation, ref.bodies[i].rotation);
+        e.rotationMax = std::max(e.rotationMax, angle);
+        if (series) raiseTo(series->rotationError, samples.size(), k, angle);
+      }
     }
     e.bodiesCompared = compared;
   }
@@ -320,6 +363,10 @@ MetricSet computeMetrics(const MetricInputs& inputs) {
   }
   for (const State& s : *inputs.samples)
     checkStateMatchesScene(*inputs.scene, s);
+  if (inputs.series) {
+    *inputs.series = MetricSeries{};
+    inputs.series->times = sampleTimes(*inputs.samples);
+  }
   addEnergyMetrics(inputs, out);
   addMomentumMetrics(inputs, out);
   addJointMetrics(inputs, out);

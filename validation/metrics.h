@@ -81,12 +81,28 @@ struct ReferenceTrajectory {
   bool hasRotation = true;
 };
 
+/// The per-sample values behind the summaries (the report's curves), one entry per sample: at
+/// each sample the largest value over the joints of a type, the overlapping pairs or the
+/// compared bodies. NaN where a sample has no value (a motor's first sample, whose set point is
+/// not yet tracked; samples beyond the reference). A series is empty when its metric is absent.
+struct MetricSeries {
+  std::vector<double> times;
+  std::vector<double> energyDrift;                               ///< (E − E₀)/E_ref
+  std::map<std::string, std::vector<double>> jointErrorLinear;   ///< joint type → m
+  std::map<std::string, std::vector<double>> jointErrorAngular;  ///< joint type → rad
+  std::map<std::string, std::vector<double>> motorTracking;      ///< quantity → its unit
+  std::vector<double> penetration;                               ///< m (0: no overlap)
+  std::vector<double> trajectoryError;                           ///< m
+  std::vector<double> rotationError;                             ///< rad
+};
+
 struct MetricInputs {
   const pbd::Scene* scene = nullptr;
   const CaseSpec* spec = nullptr;
   const std::vector<State>* samples = nullptr;
   const ReferenceTrajectory* reference = nullptr;  ///< null: no trajectory metrics
   PenetrationQuery penetration;                    ///< empty: no penetration metrics
+  MetricSeries* series = nullptr;                  ///< also record the series (null: don't)
 };
 
 /// All metrics of a run. Throws std::invalid_argument when scene, spec or samples is null, or
@@ -118,8 +134,10 @@ struct TrajectoryErrors {
 /// Throws std::invalid_argument when a compared pair's times differ by more than
 /// 1e-9·max(1, |t|) s (resample the reference first: resampleReference) or when the mask
 /// names more bodies than the states hold.
+/// With `series`, also its trajectoryError and rotationError per sample.
 TrajectoryErrors trajectoryErrors(const std::vector<State>& samples,
-                                  const ReferenceTrajectory& reference);
+                                  const ReferenceTrajectory& reference,
+                                  MetricSeries* series = nullptr);
 
 /// `reference` resampled at `times` (numerics.h resampleStates: linear positions and
 /// velocities, slerp rotations), for fine-step and cross-engine references whose samples fall

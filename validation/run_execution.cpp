@@ -139,7 +139,7 @@ void mergeMetrics(MetricSet& into, MetricSet&& from) {
 
 MetricSet measureSamples(const pbd::Scene& scene, const CaseSpec& spec,
                          const std::vector<State>& samples, const ReferenceTrajectory* reference,
-                         double contactMargin) {
+                         double contactMargin, MetricSeries* series) {
   std::vector<std::string> notes;
   std::optional<DistanceOracle> oracle;
   MetricInputs inputs;
@@ -148,6 +148,7 @@ MetricSet measureSamples(const pbd::Scene& scene, const CaseSpec& spec,
   inputs.samples = &samples;
   inputs.reference = reference;
   inputs.penetration = penetrationQuery(scene, oracle, contactMargin, notes);
+  inputs.series = series;
   MetricSet metrics = computeMetrics(inputs);
   for (std::string& note : notes)
     metrics.notes.push_back(std::move(note));

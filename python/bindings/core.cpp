@@ -439,12 +439,35 @@ py::dict measure(const Registry& registry, const SceneHandle& handle, const Arra
     ref = resampleReference(given, sampleTimes);
   }
   MetricSet metrics;
+  MetricSeries series;
   {
     py::gil_scoped_release release;
-    metrics = measureSamples(scene, spec, samples, ref ? &*ref : nullptr, contactMargin);
+    metrics = measureSamples(scene, spec, samples, ref ? &*ref : nullptr, contactMargin, &series);
   }
   py::dict d = metricsDict(metrics);
   d["reference"] = ref ? ref->description : std::string();
+  // The series behind the metrics, by name: "energy_drift", "joint_error_linear/<type>",
+  // "joint_error_angular/<type>", "motor_tracking/<quantity>", "penetration",
+  // "trajectory_error", "rotation_error" (absent when the metric is).
+  auto vector = [](const std::vector<double>& values) {
+    Array a = newArray({py::ssize_t(values.size())});
+    for (std::size_t k = 0; k < values.size(); ++k)
+      a.mutable_at(py::ssize_t(k)) = values[k];
+    return a;
+  };
+  py::dict s;
+  s["times"] = vector(series.times);
+  if (!series.energyDrift.empty()) s["energy_drift"] = vector(series.energyDrift);
+  for (const auto& [type, values] : series.jointErrorLinear)
+    s[py::str("joint_error_linear/" + type)] = vector(values);
+  for (const auto& [type, values] : series.jointErrorAngular)
+    s[py::str("joint_error_angular/" + type)] = vector(values);
+  for (const auto& [quantity, values] : series.motorTracking)
+    s[py::str("motor_tracking/" + quantity)] = vector(values);
+  if (!series.penetration.empty()) s["penetration"] = vector(series.penetration);
+  if (!series.trajectoryError.empty()) s["trajectory_error"] = vector(series.trajectoryError);
+  if (!series.rotationError.empty()) s["rotation_error"] = vector(series.rotationError);
+  d["series"] = s;
   return d;
 }
 

@@ -407,6 +407,12 @@ class Metrics:
     joint_error_by_type: dict[str, dict[str, Any]] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
     reference: str = ""
+    #: The per-sample values behind the metrics, by name: "times", "energy_drift",
+    #: "joint_error_linear/<type>" (m), "joint_error_angular/<type>" (rad),
+    #: "motor_tracking/<quantity>", "penetration" (m), "trajectory_error" (m),
+    #: "rotation_error" (rad); at each sample the largest value over the joints of a type, the
+    #: overlapping pairs or the compared bodies; NaN where a sample has none. Absent with the metric.
+    series: dict[str, FloatArray] = field(default_factory=dict)
 
     def __getitem__(self, name: str) -> float:
         return self.values[name]
@@ -456,6 +462,7 @@ def measure(
         joint_error_by_type={k: dict(v) for k, v in d["joint_error_by_type"].items()},
         notes=list(d["notes"]),
         reference=d["reference"],
+        series={k: np.asarray(v, dtype=np.float64) for k, v in d["series"].items()},
     )
 
 

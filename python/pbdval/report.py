@@ -96,6 +96,23 @@ def key_metric(run: RunResult) -> tuple[str, float | None]:
     return "", None
 
 
+def thin(times: Any, values: Any) -> tuple[list[float], list[float]]:
+    """At most MAX_PLOT_POINTS points of a series for a plot (the data is not changed): from each
+    window of consecutive samples, the one farthest from zero, so that a short spike (an impact's
+    penetration) survives the thinning."""
+    import numpy as np  # noqa: PLC0415
+
+    t, v = np.asarray(times, dtype=np.float64), np.asarray(values, dtype=np.float64)
+    stride = max(1, -(-len(t) // MAX_PLOT_POINTS))
+    if stride == 1:
+        return t.tolist(), v.tolist()
+    picked = []
+    for start in range(0, len(t), stride):
+        window = np.abs(v[start:start + stride])
+        picked.append(start + (int(np.nanargmax(window)) if np.isfinite(window).any() else 0))
+    return t[picked].tolist(), v[picked].tolist()
+
+
 def write(path: Path, text: str) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     temporary = path.with_name(path.name + ".tmp")
@@ -106,6 +123,26 @@ def write(path: Path, text: str) -> None:
 def progress(message: str, quiet: bool) -> None:
     if not quiet:
         print(message, file=sys.stderr, flush=True)
+
+
+#: The metric series of a case page, in this order: (label, unit, logarithmic axis).
+SERIES_ORDER = ("trajectory_error", "rotation_error", "joint_error_linear", "joint_error_angular",
+                "motor_tracking", "penetration")
+SERIES_LABELS = {"trajectory_error": ("trajectory error", "m", True), "rotation_error": ("rotation error", "rad", True),
+                 "joint_error_linear": ("joint error, linear", "m", True),
+                 "joint_error_angular": ("joint error, angular", "rad", True),
+                 "motor_tracking": ("motor tracking error", "", True), "penetration": ("penetration", "m", False)}
+SERIES_CAPTIONS = {
+    "trajectory_error": "Largest distance of a compared body from the reference, per sample "
+                        "(trajectory_error_max is its maximum; docs/metrics.md).",
+    "rotation_error": "Largest geodesic angle of a compared body from the reference, per sample.",
+    "joint_error_linear": "Largest anchor separation over the joints of this type, per sample "
+                          "(zero, exact joints, is off the logarithmic axis).",
+    "joint_error_angular": "Largest angular error over the joints of this type, per sample.",
+    "motor_tracking": "Largest |set point − achieved| over the motors of this kind, per sample "
+                      "(rad, rad/s, m or m/s by kind; the first sample is not yet tracked).",
+    "penetration": "Deepest overlap of any body pair (FCL, the engine's margin subtracted), per sample.",
+}
 
 
 # ---- the gate ------------------------------------------------------------------------------------
@@ -191,15 +228,17 @@ def copy_assets(out: Path) -> bool:
 
 def case_page(case: str, runs: list[RunResult], results: Results, colours: Colours, figures: Path,
               quiet: bool, out: Path | None = None, three: bool = False) -> str:
-    from pbdval.api import energy, load_scene  # noqa: PLC0415  (the C++ core)
+    from pbdval.api import load_scene, measure  # noqa: PLC0415  (the C++ core)
 
     info = results.cases.get(case, {})
     body = [f"<nav><a href='../index.html'>overview</a><a href='../convergence.html'>convergence</a><a href='../parity.html'>parity</a></nav>",
             f"<h1>{escape(case)}</h1><p>{escape(str(info.get('description', '')))}</p>",
             f"<p>Scene: <code>{escape(str(info.get('file', '')))}</code>. References: "
             + escape(", ".join(sorted({r.reference for r in runs if r.reference})) or "none") + "</p>"]
-    # Energy drift over time, every run overlaid (the suite's own energy, pbdval.energy).
+    # Every metric over time, every run overlaid: the series behind the metrics, from the suite's
+    # own measurement code (pbdval.measure: the runner's path, with the run's margin and step).
     series: list[Series] = []
+    over_time: dict[str, list[Series]] = {}
     notes: list[str] = []
     scene = None
     try:
@@ -213,10 +252,16 @@ def case_page(case: str, runs: list[RunResult], results: Results, colours: Colou
         try:
             trajectory = r.trajectory()
             replayed.append((r.label, colours.of(r.label), trajectory))
-            drift = energy(scene, trajectory).relative_drift
-            stride = max(1, len(drift) // MAX_PLOT_POINTS)  # the plot, not the data, is thinned
-            series.append(Series(r.label, list(trajectory.times[::stride]), list(drift[::stride]),
-                                 colours.of(r.label)))
+            steps = float(r.facts.get("integratorStepsPerSceneStep") or 1)
+            measured = measure(scene, trajectory, contact_margin=float(r.facts.get("contactMargin") or 0.0),
+                               integration_step=scene.time_step / max(1.0, steps)).series
+            times = measured["times"]
+            for name, values in measured.items():
+                if name == "times":
+                    continue
+                target = series if name == "energy_drift" else over_time.setdefault(name, [])
+                thinned_times, thinned = thin(times, values)
+                target.append(Series(r.label, thinned_times, thinned, colours.of(r.label)))
         except (PbdvalError, ValueError, OSError) as error:
             notes.append(f"{r.label}: no energy series ({error})")
     svg = line_plot(series, title=f"{case}: energy drift", xlabel="time (s)", ylabel="(E(t) − E(0)) / E_ref",
@@ -224,6 +269,18 @@ def case_page(case: str, runs: list[RunResult], results: Results, colours: Colou
     write(figures / f"{slug(case)}-energy.svg", svg)
     body.append(f"<figure>{svg}<figcaption>Relative energy drift of every ok run "
                 f"(<a href='../figures/{slug(case)}-energy.svg' download>SVG</a>).</figcaption></figure>")
+    for name in sorted(over_time, key=lambda n: [k for k in SERIES_ORDER if n.startswith(k)][:1] + [n]):
+        kind, _, detail = name.partition("/")
+        label, unit, logy = SERIES_LABELS.get(kind, (kind, "", False))
+        # A logarithmic axis needs a positive value (exact joints have an error of zero).
+        logy = logy and any(math.isfinite(y) and y > 0 for s in over_time[name] for y in s.y)
+        title = f"{case}: {label}" + (f" ({detail.replace('_', ' ')})" if detail else "")
+        svg = line_plot(over_time[name], title=title, xlabel="time (s)", ylabel=f"{label} ({unit})" if unit else label,
+                        logy=logy, width=820, legend_width=290)
+        file = f"{slug(case)}-{slug(name)}.svg"
+        write(figures / file, svg)
+        body.append(f"<figure>{svg}<figcaption>{escape(SERIES_CAPTIONS.get(kind, ''))} "
+                    f"(<a href='../figures/{file}' download>SVG</a>)</figcaption></figure>")
     for note in notes:
         body.append(f"<p class='badge warn'>{escape(note)}</p>")
     # 3D replay (python/pbdval/replay.py, web/replay.js).

@@ -200,6 +200,37 @@ def test_measure_against_another_trajectory_and_the_energy_series() -> None:
     assert metrics["energy_drift_max"] == pytest.approx(np.max(np.abs(e.relative_drift)), rel=1e-12, abs=1e-15)
 
 
+def test_measure_series_are_the_values_behind_the_metrics() -> None:
+    # The summaries are the series' maxima, computed in the same loop: equal exactly.
+    for case, method in (("joint_target_velocity_motor_hinge", "pbd"), ("contact_seed_bounce", "pbd"),
+                         ("double_pendulum", "pbd.xpbd")):
+        scene = pbdval.load_scene(REPO / "cases" / f"{case}.json")
+        _, trajectory = pbdval.simulate(scene, method, duration=0.5)
+        metrics = pbdval.measure(scene, trajectory)
+        series = metrics.series
+        assert np.array_equal(series["times"], trajectory.times)
+        for name, values in series.items():
+            assert values.shape == trajectory.times.shape, (case, name)
+        assert np.max(np.abs(series["energy_drift"])) == metrics["energy_drift_max"]
+        if "trajectory_error_max" in metrics:
+            assert np.nanmax(series["trajectory_error"]) == metrics["trajectory_error_max"]
+            assert np.nanmax(series["rotation_error"]) == metrics["rotation_error_max"]
+        if "penetration_max" in metrics:
+            assert np.max(series["penetration"]) == metrics["penetration_max"]
+        for joint_type, summary in metrics.joint_error_by_type.items():
+            assert np.max(series[f"joint_error_linear/{joint_type}"]) == summary["joint_error_linear_max"]
+        for quantity in ("angle", "angular_velocity", "position", "velocity"):
+            name = f"motor_tracking_{quantity}_max"
+            if name in metrics:
+                tracking = series[f"motor_tracking/{quantity}"]
+                assert np.isnan(tracking[0])  # the set point at t_0 is not yet tracked
+                assert np.nanmax(tracking) == metrics[name]
+    assert "motor_tracking/angular_velocity" in pbdval.measure(
+        pbdval.load_scene(REPO / "cases/joint_target_velocity_motor_hinge.json"),
+        pbdval.simulate(pbdval.load_scene(REPO / "cases/joint_target_velocity_motor_hinge.json"), "pbd",
+                        duration=0.1)[1]).series
+
+
 def test_measure_rejects_arrays_of_the_wrong_shape() -> None:
     scene = pbdval.load_scene(REPO / "cases/chain_10.json")
     _, t = pbdval.simulate(scene, "pbd", duration=0.05)

@@ -42,8 +42,12 @@ def test_a_real_run_renders_every_case_and_run(real_results: Path, tmp_path: Pat
         assert label in index
     assert "Gate" in index  # the gate ran against the baseline (missing runs: it fails, and says so)
     hinge = (report / "cases/joint_hinge.html").read_text()
-    # One energy curve per ok run: three (pbd, pbd.xpbd, bullet) with a path each.
-    assert len(re.findall(r'<path d="M', hinge)) == 3
+    # One curve per ok run (pbd, pbd.xpbd, bullet) in the energy figure and in every metric's
+    # figure over time (the series behind the metrics, pbdval.measure).
+    for figure in ("energy", "trajectory_error", "joint_error_linear_hinge", "joint_error_angular_hinge"):
+        svg = (report / f"figures/joint_hinge-{figure}.svg").read_text()
+        assert len(re.findall(r'<path d="M', svg)) == 3, figure
+        assert svg in hinge  # shown on the page as well
     distance = (report / "cases/joint_distance.html").read_text()
     assert "unsupported" in distance and "DistanceJoints[0]" in distance  # bullet lacks it, says why
     convergence = (report / "convergence.html").read_text()
