@@ -159,10 +159,79 @@ def gate_markdown(results_dir: Path, baseline: Path) -> tuple[str, int]:
     return text, done.returncode
 
 
+#: Metrics compared with the baseline (errors and drifts: smaller |value| is better); timings
+#: and scales are not compared.
+COMPARED_METRICS = ("trajectory_error_max", "trajectory_error_rms", "rotation_error_max", "joint_error_linear_max",
+                    "joint_error_angular_max", "penetration_max", "energy_drift_max", "energy_drift_final",
+                    "momentum_linear_drift_max", "momentum_angular_drift_max", "motor_tracking_angle_max",
+                    "motor_tracking_angular_velocity_max", "motor_tracking_position_max",
+                    "motor_tracking_velocity_max")
+#: A change smaller than this (relative, or absolute below 1e-12) is not listed: round-off.
+CHANGE_THRESHOLD = 1e-9
+
+
+def baseline_changes(results: Results, baseline: Path) -> tuple[str, str]:
+    """What changed against the baseline: runs better, worse, new or missing, with the numbers
+    (HTML and Markdown). The verdict is the gate's; this lists every change, tolerated or not."""
+    try:
+        document = json.loads(baseline.read_text(encoding="utf-8"))
+        old = {(r["case"], f"{r['engine']}/{r['method']}"): r for r in document.get("runs", [])
+               if not r.get("assignments")}
+    except (OSError, json.JSONDecodeError, KeyError, TypeError) as error:
+        note = f"the baseline {baseline} could not be read: {error}"
+        return f"<p class='badge warn'>{escape(note)}</p>", note + "\n"
+    new = {(r.case, r.label): r for r in results}
+    rows: list[tuple[str, str, str, str, float, float]] = []
+    for key in sorted(set(old) & set(new)):
+        before, after = old[key], new[key]
+        if before.get("status") != after.status:
+            rows.append(("status", *key, "status", math.nan, math.nan))
+            continue
+        for name in COMPARED_METRICS:
+            a, b = before.get("metrics", {}).get(name), after.metrics.get(name)
+            if a is None or b is None or not (math.isfinite(a) and math.isfinite(b)):
+                continue
+            if abs(b - a) <= max(1e-12, CHANGE_THRESHOLD * max(abs(a), abs(b))):
+                continue
+            rows.append(("better" if abs(b) < abs(a) else "worse", *key, name, a, b))
+    added = sorted(set(new) - set(old))
+    missing = sorted(set(old) - set(new))
+    counts = {k: sum(1 for r in rows if r[0] == k) for k in ("better", "worse", "status")}
+    summary = (f"{counts['worse']} metrics worse, {counts['better']} better, {counts['status']} status changes, "
+               f"{len(added)} new runs, {len(missing)} missing runs (changes below {CHANGE_THRESHOLD:g} relative "
+               "are round-off and not listed)")
+    html = [f"<h2>Changes against the baseline</h2><p>{escape(summary)}; baseline "
+            f"<code>{escape(str(baseline))}</code>.</p>"]
+    md = ["## Changes against the baseline", "", summary + ".", ""]
+    if rows:
+        html.append("<table><tr><th>change</th><th>case</th><th>engine/method</th><th>metric</th>"
+                    "<th>baseline</th><th>now</th><th>ratio</th></tr>")
+        md += ["| change | case | engine/method | metric | baseline | now |", "|---|---|---|---|---|---|"]
+        order = {"worse": 0, "status": 1, "better": 2}
+        for kind, case, label, name, a, b in sorted(rows, key=lambda r: (order[r[0]], r[1], r[2], r[3])):
+            css = {"worse": "fail", "better": "pass"}.get(kind, "warn")
+            if kind == "status":
+                a_text, b_text, ratio = str(old[(case, label)].get("status")), new[(case, label)].status, ""
+            else:
+                a_text, b_text = f"{a:.4g}", f"{b:.4g}"
+                ratio = f"{b / a:.3g}×" if a != 0 else ""
+            html.append(f"<tr><td><span class='badge {css}'>{kind}</span></td><td>{escape(case)}</td>"
+                        f"<td>{escape(label)}</td><td>{escape(name)}</td><td class='num'>{escape(a_text)}</td>"
+                        f"<td class='num'>{escape(b_text)}</td><td class='num'>{escape(ratio)}</td></tr>")
+            md.append(f"| {kind} | {case} | {label} | {name} | {a_text} | {b_text} |")
+        html.append("</table>")
+    for title, keys in (("New runs (not in the baseline)", added), ("Missing runs (in the baseline only)", missing)):
+        if keys:
+            html.append(f"<p><b>{title}:</b> " + escape(", ".join(f"{c} {l}" for c, l in keys)) + "</p>")
+            md += ["", f"{title}: " + ", ".join(f"{c} {l}" for c, l in keys)]
+    return "\n".join(html), "\n".join(md) + "\n"
+
+
 # ---- pages ---------------------------------------------------------------------------------------
 
 
-def overview(results: Results, labels: list[str], gate: tuple[str, int] | None) -> tuple[str, str]:
+def overview(results: Results, labels: list[str], gate: tuple[str, int] | None,
+             changes: tuple[str, str] | None = None) -> tuple[str, str]:
     """The index page's body and report.md."""
     cases = sorted({r.case for r in results})
     cell: dict[tuple[str, str], RunResult] = {}
@@ -186,6 +255,9 @@ def overview(results: Results, labels: list[str], gate: tuple[str, int] | None) 
         verdict = {0: ("passed", "pass"), 1: ("FAILED", "fail")}.get(status, ("could not run", "warn"))
         html.append(f"<h2>Gate <span class='badge {verdict[1]}'>{verdict[0]}</span></h2><pre>{escape(text)}</pre>")
         md += [f"## Gate: {verdict[0]}", "", text, ""]
+    if changes is not None:
+        html.append(changes[0])
+        md += [changes[1], ""]
     html.append("<h2>Runs</h2><p>Each cell: status (colour) and the case's key metric "
                 "(trajectory error, else joint error, else penetration, else energy drift; units in the "
                 "case page). Unsupported runs name what is missing on the case page.</p><table><tr><th>case</th>")
@@ -524,7 +596,8 @@ def build_report(results_dir: Path, out: Path, *, baseline: Path | None = None, 
     if not three:
         progress("pbdval report: three.js is not installed (scripts/install-deps): no 3D replay", quiet)
     gate = gate_markdown(results_dir, baseline) if baseline else None
-    body, markdown = overview(results, labels, gate)
+    changes = baseline_changes(results, baseline) if baseline else None
+    body, markdown = overview(results, labels, gate, changes)
     by_case: dict[str, list[RunResult]] = {}
     for r in results:
         by_case.setdefault(r.case, []).append(r)

@@ -64,6 +64,29 @@ def test_a_real_run_renders_every_case_and_run(real_results: Path, tmp_path: Pat
     assert "| joint_hinge |" in (report / "report.md").read_text()
 
 
+def test_changes_against_the_baseline_are_listed_with_their_numbers(real_results: Path, tmp_path: Path) -> None:
+    baseline = tmp_path / "baseline.json"
+    pbdval("baseline", "--results", str(real_results), "--out", str(baseline))
+    document = json.loads(baseline.read_text())
+    runs = document["runs"]
+    hinge = next(r for r in runs if r["case"] == "joint_hinge" and r["method"] == "pbd")
+    now = hinge["metrics"]["trajectory_error_max"]
+    hinge["metrics"]["trajectory_error_max"] = now / 2  # the run is now twice as far off: worse
+    distance = next(r for r in runs if r["case"] == "joint_distance" and r["method"] == "pbd.xpbd")
+    distance["metrics"]["joint_error_linear_max"] *= 4  # now four times better
+    runs.remove(next(r for r in runs if r["case"] == "joint_distance" and r["engine"] == "bullet"))  # new
+    runs.append(dict(hinge, case="joint_gone"))  # missing
+    baseline.write_text(json.dumps(document))
+    report = tmp_path / "report"
+    build_report(real_results, report, baseline=baseline, quiet=True)
+    index = (report / "index.html").read_text()
+    assert "1 metrics worse, 1 better, 0 status changes, 1 new runs, 1 missing runs" in index
+    worse = index[index.index("<span class='badge fail'>worse</span>"):].split("</tr>")[0]
+    assert "joint_hinge" in worse and "trajectory_error_max" in worse and f"{now / 2:.4g}" in worse and "2×" in worse
+    assert "joint_distance bullet/bullet.si" in index and "joint_gone pbd/pbd" in index
+    assert "| worse | joint_hinge | pbd/pbd | trajectory_error_max |" in (report / "report.md").read_text()
+
+
 def test_sweep_writes_its_convergence_page(tmp_path: Path) -> None:
     out = tmp_path / "sweep"
     done = pbdval("sweep", str(REPO / "cases/projectile.json"), "--param", "timeStepSize=0.01,0.005,0.0025",
