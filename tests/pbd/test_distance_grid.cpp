@@ -128,16 +128,16 @@ TEST(DistanceGrid, ReproducesQuadraticsExactly) {
 // distance to a sphere whose centre lies outside the domain (so it is smooth there). Fitted
 // orders must be those of the interpolant within ±0.3 (the error constants vary a little with
 // the resolution: the maxima sit at different points).
-TEST(DistanceGrid, InterpolationErrorFallsAtTheOrderOfTheInterpolant) {
-  if (sizeof(Real) < 8) GTEST_SKIP() << "the finest errors are below float round-off";
+/// Fitted orders (value, gradient) of a grid of `interpolation` on the smooth field of the
+/// order tests: the distance to a sphere whose centre lies outside the unit cube.
+std::pair<double, double> smoothFieldOrders(GridInterpolation interpolation, const std::vector<int>& cells) {
   const Vector3 centre(-1, Real(-0.5), Real(-0.8));
   auto field = [&](const Vector3& x) { return (x - centre).norm() - Real(0.7); };
   const std::vector<Vector3> points = randomPoints(4000, Vector3::Zero(), Vector3::Ones(), 4);
-  std::vector<int> cells = {8, 16, 32, 64};
   std::vector<double> valueErrors, gradientErrors;
   for (int n : cells) {
-    const DistanceGrid grid =
-        DistanceGrid::sample(Vector3::Zero(), Vector3::Ones(), Vector3i::Constant(n), field);
+    const DistanceGrid grid = DistanceGrid::sample(Vector3::Zero(), Vector3::Ones(),
+                                                   Vector3i::Constant(n), field, interpolation);
     double value = 0, gradient = 0;
     for (const Vector3& p : points) {
       const DistanceSample s = grid.evaluate(p);
@@ -146,11 +146,16 @@ TEST(DistanceGrid, InterpolationErrorFallsAtTheOrderOfTheInterpolant) {
     }
     valueErrors.push_back(value);
     gradientErrors.push_back(gradient);
-    std::printf("  smooth field, %2d cells: max value error %.3e, max gradient error %.3e\n", n,
-                value, gradient);
+    std::printf("  %s, smooth field, %2d cells: max value error %.3e, max gradient error %.3e\n",
+                gridInterpolationName(interpolation), n, value, gradient);
   }
-  const double valueOrder = fittedOrder(cells, valueErrors);
-  const double gradientOrder = fittedOrder(cells, gradientErrors);
+  return {fittedOrder(cells, valueErrors), fittedOrder(cells, gradientErrors)};
+}
+
+TEST(DistanceGrid, InterpolationErrorFallsAtTheOrderOfTheInterpolant) {
+  if (sizeof(Real) < 8) GTEST_SKIP() << "the finest errors are below float round-off";
+  const auto [valueOrder, gradientOrder] =
+      smoothFieldOrders(GridInterpolation::CatmullRom, {8, 16, 32, 64});
   std::printf("  fitted orders: value %.2f (Catmull-Rom: 3), gradient %.2f (2)\n", valueOrder,
               gradientOrder);
   EXPECT_NEAR(valueOrder, 3, 0.3);
@@ -210,28 +215,8 @@ TEST(CubicLagrangeGrid, IsContinuousAcrossCellFaces) {
 // ±0.3 of the element's.
 TEST(CubicLagrangeGrid, InterpolationErrorFallsAtTheOrderOfTheElement) {
   if (sizeof(Real) < 8) GTEST_SKIP() << "the finest errors are below float round-off";
-  const Vector3 centre(-1, Real(-0.5), Real(-0.8));
-  auto field = [&](const Vector3& x) { return (x - centre).norm() - Real(0.7); };
-  const std::vector<Vector3> points = randomPoints(4000, Vector3::Zero(), Vector3::Ones(), 4);
-  std::vector<int> cells = {4, 8, 16, 32};
-  std::vector<double> valueErrors, gradientErrors;
-  for (int n : cells) {
-    const DistanceGrid grid =
-        DistanceGrid::sample(Vector3::Zero(), Vector3::Ones(), Vector3i::Constant(n), field,
-                             GridInterpolation::CubicLagrange);
-    double value = 0, gradient = 0;
-    for (const Vector3& p : points) {
-      const DistanceSample s = grid.evaluate(p);
-      value = std::max(value, double(std::abs(s.distance - field(p))));
-      gradient = std::max(gradient, double((s.gradient - (p - centre).normalized()).norm()));
-    }
-    valueErrors.push_back(value);
-    gradientErrors.push_back(gradient);
-    std::printf("  smooth field, %2d cells: max value error %.3e, max gradient error %.3e\n", n,
-                value, gradient);
-  }
-  const double valueOrder = fittedOrder(cells, valueErrors);
-  const double gradientOrder = fittedOrder(cells, gradientErrors);
+  const auto [valueOrder, gradientOrder] =
+      smoothFieldOrders(GridInterpolation::CubicLagrange, {4, 8, 16, 32});
   std::printf("  fitted orders: value %.2f (serendipity cubic: 4), gradient %.2f (3)\n",
               valueOrder, gradientOrder);
   EXPECT_NEAR(valueOrder, 4, 0.3);
