@@ -293,7 +293,8 @@ bool survivesAbort(Call&& call) {
   const int devNull = ::open("/dev/null", O_WRONLY);
   if (devNull >= 0) ::dup2(devNull, STDERR_FILENO);
   sigjmp_buf jump;
-  bool completed = false;
+  // volatile: written between sigsetjmp and a possible siglongjmp (C11 7.13.2.1).
+  volatile bool completed = false;
   tAbortJump = &jump;
   if (sigsetjmp(jump, 1) == 0) {
     call();
