@@ -20,30 +20,14 @@ void writeCsvHeader(std::ostream& out) {
   out << kTrajectoryCsvHeader << '\n';
 }
 
-namespace {
-
-/// Appends `value` as formatReal writes it (the shortest text that reads back to the same
-/// double; nan, inf, -inf) at `end`, which has room for 32 characters; returns the new end.
-char* appendNumber(char* end, double value) {
-  if (!std::isfinite(value)) {
-    const char* text = std::isnan(value) ? "nan" : value > 0 ? "inf" : "-inf";
-    const std::size_t length = std::strlen(text);
-    std::memcpy(end, text, length);
-    return end + length;
-  }
-  return std::to_chars(end, end + 32, value).ptr;
-}
-
-}  // namespace
-
 void writeCsvRows(std::ostream& out, const State& state) {
   // The time exactly as the engine's clock has it (an accumulated clock reads 0.30000000000000004,
   // not 0.3): metrics computed from a CSV then equal the runner's to the bit (docs/python.md).
   // A row is formatted into one buffer and written at once: no string per number (the CSV is
   // most of the cost of a run outside the engine's step; issue 13).
-  char time[32];
-  const std::size_t timeLength = std::size_t(appendNumber(time, state.time) - time);
-  char row[16 * 34];
+  char time[pbd::kRealTextCapacity];
+  const std::size_t timeLength = std::size_t(pbd::writeReal(time, state.time) - time);
+  char row[16 * (pbd::kRealTextCapacity + 1)];  // the time, the id, 13 numbers, commas, newline
   for (const BodyState& b : state.bodies) {
     const Quaternion q = b.rotation.w() < 0 ? Quaternion(-b.rotation.coeffs()) : b.rotation;
     char* end = row;
@@ -57,7 +41,7 @@ void writeCsvRows(std::ostream& out, const State& state) {
           double(b.velocity.y()), double(b.velocity.z()), double(b.angularVelocity.x()),
           double(b.angularVelocity.y()), double(b.angularVelocity.z())}) {
       *end++ = ',';
-      end = appendNumber(end, v);
+      end = pbd::writeReal(end, v);
     }
     *end++ = '\n';
     out.write(row, std::streamsize(end - row));

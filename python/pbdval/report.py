@@ -17,6 +17,7 @@ import argparse
 import json
 import math
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -25,6 +26,8 @@ from dataclasses import dataclass
 from html import escape
 from pathlib import Path
 from typing import Any, Sequence
+
+import numpy as np
 
 from pbdval.errors import PbdvalError, ResultsError
 from pbdval.replay import replay_data, replay_script
@@ -60,6 +63,12 @@ pre { background: #f7f7f7; padding: 8px; overflow-x: auto; font-size: 12px; }
 .replay-controls { margin: 6px 0; font-size: 13px; } .replay-legend label { margin-right: 14px; font-size: 12px; }
 .swatch { display: inline-block; width: 12px; height: 12px; margin: 0 4px; vertical-align: middle; }
 """
+
+
+def nav(prefix: str = "") -> str:
+    """The links between the report's pages; `prefix` leads from a subfolder ("../")."""
+    return (f"<nav><a href='{prefix}index.html'>overview</a><a href='{prefix}convergence.html'>convergence</a>"
+            f"<a href='{prefix}parity.html'>parity</a></nav>")
 
 
 def page(title: str, body: str) -> str:
@@ -100,8 +109,6 @@ def thin(times: Any, values: Any) -> tuple[list[float], list[float]]:
     """At most MAX_PLOT_POINTS points of a series for a plot (the data is not changed): from each
     window of consecutive samples, the one farthest from zero, so that a short spike (an impact's
     penetration) survives the thinning."""
-    import numpy as np  # noqa: PLC0415
-
     t, v = np.asarray(times, dtype=np.float64), np.asarray(values, dtype=np.float64)
     stride = max(1, -(-len(t) // MAX_PLOT_POINTS))
     if stride == 1:
@@ -240,7 +247,7 @@ def overview(results: Results, labels: list[str], gate: tuple[str, int] | None,
     meta = results.metadata
     build = meta.get("pbdval", {})
     machine = meta.get("machine", {})
-    html = [f"<h1>pbdval report</h1><nav><a href='index.html'>overview</a><a href='convergence.html'>convergence</a><a href='parity.html'>parity</a></nav>",
+    html = [f"<h1>pbdval report</h1>{nav()}",
             f"<p>{len(results)} runs of {len(cases)} cases. Results: <code>{escape(str(results.folder))}</code>, "
             f"created {escape(str(meta.get('created', '?')))} by <code>{escape(str(meta.get('command', '?')))}</code>; "
             f"pbdval {escape(str(build.get('version', '?')))}, commit {escape(str(build.get('commit', '?'))[:12])} "
@@ -303,7 +310,7 @@ def case_page(case: str, runs: list[RunResult], results: Results, colours: Colou
     from pbdval.api import load_scene, measure  # noqa: PLC0415  (the C++ core)
 
     info = results.cases.get(case, {})
-    body = [f"<nav><a href='../index.html'>overview</a><a href='../convergence.html'>convergence</a><a href='../parity.html'>parity</a></nav>",
+    body = [nav("../"),
             f"<h1>{escape(case)}</h1><p>{escape(str(info.get('description', '')))}</p>",
             f"<p>Scene: <code>{escape(str(info.get('file', '')))}</code>. References: "
             + escape(", ".join(sorted({r.reference for r in runs if r.reference})) or "none") + "</p>"]
@@ -394,9 +401,7 @@ def case_page(case: str, runs: list[RunResult], results: Results, colours: Colou
 
 
 def convergence_page(sweeps: Sequence[Path], colours: Colours, figures: Path, *, standalone: bool = False) -> str:
-    nav = "" if standalone else ("<nav><a href='index.html'>overview</a><a href='convergence.html'>convergence</a>"
-                                 "<a href='parity.html'>parity</a></nav>")
-    body = [nav,
+    body = ["" if standalone else nav(),
             "<h1>Convergence</h1><p>Error against the swept parameter, log-log, per method: filled points are "
             "fitted, hollow ones were left out (on a floor); dashed lines are reference slopes 1, 2 and 4 "
             "through the coarsest point of the first method. The legend gives the fitted order and R². Under it, "
@@ -525,8 +530,6 @@ def parity_table(text: str, start: str | None) -> list[tuple[str, str]]:
 
 
 def parity_status(rows: list[tuple[str, str]], pattern: str, feature: str) -> str:
-    import re  # noqa: PLC0415
-
     for name, status in rows:
         if re.search(pattern, name):
             return status
@@ -538,8 +541,7 @@ def parity_status(rows: list[tuple[str, str]], pattern: str, feature: str) -> st
 
 
 def parity_page() -> str:
-    body = ["<nav><a href='index.html'>overview</a><a href='convergence.html'>convergence</a>"
-            "<a href='parity.html'>parity</a></nav>",
+    body = [nav(),
             "<h1>Parity</h1><p>How each engine maps the scene's features: <b>native</b> (its own feature with the "
             "scene's meaning), <b>approximated</b> (the closest feature; the difference is documented and recorded "
             "in each run's effective settings) or <b>unsupported</b> (the run is reported unsupported, naming the "

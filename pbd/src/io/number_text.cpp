@@ -1,5 +1,6 @@
 #include "pbd/io/number_text.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <system_error>
@@ -24,12 +25,17 @@ std::optional<std::int64_t> parseInteger(std::string_view text) {
   return value;
 }
 
+char* writeReal(char* destination, double value) {
+  if (!std::isfinite(value)) {
+    const std::string_view text = std::isnan(value) ? "nan" : value > 0 ? "inf" : "-inf";
+    return std::copy(text.begin(), text.end(), destination);
+  }
+  return std::to_chars(destination, destination + kRealTextCapacity, value).ptr;
+}
+
 std::string formatReal(double value) {
-  if (std::isnan(value)) return "nan";
-  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, result.ptr);
+  char buffer[kRealTextCapacity];
+  return std::string(buffer, writeReal(buffer, value));
 }
 
 }  // namespace pbd

@@ -6,6 +6,7 @@
 // shortest text that reads back to the same double ("0.1", not "0.10000000000000001").
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -22,5 +23,12 @@ std::optional<std::int64_t> parseInteger(std::string_view text);
 
 /// The shortest decimal text that reads back to `value` ("nan", "inf", "-inf" for non-finite).
 std::string formatReal(double value);
+
+/// Room `writeReal` needs at its destination.
+inline constexpr std::size_t kRealTextCapacity = 32;
+/// Writes formatReal's text at `destination` (kRealTextCapacity characters of room, no
+/// terminator) and returns the end of what it wrote: for writers that format many numbers
+/// into one buffer.
+char* writeReal(char* destination, double value);
 
 }  // namespace pbd
