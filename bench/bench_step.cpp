@@ -20,15 +20,14 @@
 #include "pbd/io/scene_loader.h"
 #include "pbd/math/types.h"
 #include "pbdval/build_info.h"
+#include "scaling_scenes.h"
 
 namespace {
 
 constexpr double kHorizonSeconds = 2.0;
 
-void stepCase(benchmark::State& state, const pbdval::EngineRegistry& engines,
-              const std::string& caseName, const std::string& method) {
-  const pbd::Scene scene =
-      pbd::loadScene(std::string(PBDVAL_SOURCE_DIR) + "/cases/" + caseName + ".json").scene;
+void stepScene(benchmark::State& state, const pbdval::EngineRegistry& engines,
+               const pbd::Scene& scene, const std::string& method, int warmUpSteps = 50) {
   const pbdval::Method resolved = engines.resolve(method);
   std::unique_ptr<pbdval::Engine> engine = engines.make(engines.method(method).engine);
   const std::vector<std::string> missing = engine->unsupported(scene, resolved);
@@ -39,7 +38,6 @@ void stepCase(benchmark::State& state, const pbdval::EngineRegistry& engines,
     state.SkipWithError(reason.c_str());
     return;
   }
-  const int warmUpSteps = 50;
   const long stepsPerLoad = std::max(
       long(warmUpSteps) + 1, long(std::ceil(kHorizonSeconds / scene.simulation.timeStepSize)));
   try {
@@ -71,13 +69,33 @@ void stepCase(benchmark::State& state, const pbdval::EngineRegistry& engines,
                          benchmark::Counter::kIsRate);
 }
 
+void stepCase(benchmark::State& state, const pbdval::EngineRegistry& engines,
+              const std::string& caseName, const std::string& method) {
+  const pbd::Scene scene =
+      pbd::loadScene(std::string(PBDVAL_SOURCE_DIR) + "/cases/" + caseName + ".json").scene;
+  stepScene(state, engines, scene, method);
+}
+
+/// One member of a scaling family (scaling_scenes.h), generated and loaded untimed.
+void stepScaling(benchmark::State& state, const pbdval::EngineRegistry& engines,
+                 const std::string& family, int bodies, const std::string& method) {
+  const std::string models = std::string(PBDVAL_SOURCE_DIR) + "/cases/models";
+  const std::string text = family == "chain"
+                               ? pbdval::bench::chainScene(bodies, models)
+                               : pbdval::bench::pileScene(bodies, family == "boxes", models);
+  const pbd::Scene scene = pbd::parseScene(text, "scaling_" + family + ".json").scene;
+  // 10 warm-up steps (50 ms: the piles' upper layer has landed) instead of the cases' 50, as a
+  // step of 10,000 bodies can take seconds.
+  stepScene(state, engines, scene, method, 10);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const std::vector<std::string> cases = {
       "chain_10",     "chain_100", "double_pendulum", "contact_stack_5", "contact_sphere_pile",
       "contact_pile", "car"};
-  const std::vector<std::string> methods = {"pbd",      "bullet.si",    "ode.quickstep",
+  const std::vector<std::string> methods = {"pbd",      "pbd.xpbd",     "bullet.si",    "ode.quickstep",
                                             "ode.step", "mujoco.euler", "mujoco.rk4"};
   const pbdval::EngineRegistry engines = pbdval::builtInEngines();  // no grid cache: built in memory
   for (const std::string& c : cases)
@@ -85,6 +103,17 @@ int main(int argc, char** argv) {
       benchmark::RegisterBenchmark(("step/" + c + "/" + m).c_str(),
                                    [&engines, c, m](benchmark::State& s) { stepCase(s, engines, c, m); })
           ->Unit(benchmark::kMicrosecond);
+  // Scaling families: 10 to 10,000 bodies, the PBD methods and the two reference engines whose
+  // cost is linear in the body count (MuJoCo's dense factorisation of a 10,000-link tree is not
+  // a fair member of this family). Fitted by bench/fit_scaling.py.
+  const std::vector<std::string> scalingMethods = {"pbd", "pbd.xpbd", "bullet.si", "ode.quickstep"};
+  for (const std::string family : {"chain", "spheres", "boxes"})
+    for (const std::string& m : scalingMethods)
+      for (const int n : {10, 30, 100, 300, 1000, 3000, 10000})
+        benchmark::RegisterBenchmark(
+            ("scaling/" + family + "/" + m + "/" + std::to_string(n)).c_str(),
+            [&engines, family, m, n](benchmark::State& s) { stepScaling(s, engines, family, n, m); })
+            ->Unit(benchmark::kMicrosecond);
   benchmark::AddCustomContext("pbdval_version", PBDVAL_VERSION);
   benchmark::AddCustomContext("pbdval_commit",
                               std::string(PBDVAL_GIT_COMMIT) + " (" + PBDVAL_GIT_DIRTY + ")");

@@ -1,6 +1,9 @@
 #include "pbd/collision/collision_detection.h"
 
 #include <algorithm>
+#include <map>
+#include <memory>
+#include <tuple>
 
 #include "pbd/collision/seed_point_order.h"
 #include "pbd/collision/surface_samples.h"
@@ -49,21 +52,36 @@ CollisionDetector::CollisionDetector(const Scene& scene, const CollisionShapeOpt
   options.gridInterpolation = distanceGridFor(scene.simulation);
   rigid_.resize(scene.rigidBodies.size());
   std::size_t shapedBodies = 0, rigidPoints = 0, particlePoints = 0;
+  // Samples depend only on the mesh (shared by the loader) or on the primitive's type and
+  // size (surface_samples.h): bodies alike share one SampledSurface.
+  using SurfaceKey = std::tuple<const TriangleMesh*, int, Real, Real, Real>;
+  std::map<SurfaceKey, std::shared_ptr<const SampledSurface>> surfaces;
+  const auto empty = std::make_shared<const SampledSurface>();
   for (std::size_t i = 0; i < scene.rigidBodies.size(); ++i) {
     const RigidBodyDesc& desc = scene.rigidBodies[i];
     RigidObject& object = rigid_[i];
     object.shape = makeCollisionShape(desc, options);
     object.dynamic = desc.isDynamic && desc.massProperties.mass > 0;
     object.testMesh = desc.collision.testMesh;
+    object.surface = empty;
     if (!object.shape.exists()) continue;
     ++shapedBodies;
-    object.samples = surfaceSamples(desc);
+    const Vector3 size = desc.mesh ? Vector3::Zero() : desc.collision.scale;
+    const SurfaceKey key{desc.mesh.get(), desc.mesh ? -1 : int(desc.collision.type), size.x(),
+                         size.y(), size.z()};
+    std::shared_ptr<const SampledSurface>& surface = surfaces[key];
+    if (!surface) {
+      auto built = std::make_shared<SampledSurface>();
+      built->samples = surfaceSamples(desc);
+      built->hierarchy = PointBvh(built->samples);
+      surface = std::move(built);
+    }
+    object.surface = surface;
     if (desc.mesh)
       object.seedRank = seedVertexReportRank(*desc.mesh, desc.scale, desc.translation,
                                              desc.rotation, desc.density);
-    object.hierarchy = PointBvh(object.samples);
-    object.localBounds = boundsOf(object.samples).extend(object.shape.bounds());
-    if (object.testMesh) rigidPoints += object.samples.size();
+    object.localBounds = boundsOf(surface->samples).extend(object.shape.bounds());
+    if (object.testMesh) rigidPoints += surface->samples.size();
   }
   auto addModel = [&](int first, std::size_t count, bool testMesh) {
     ParticleModel model;
@@ -146,7 +164,7 @@ bool CollisionDetector::canBeVertexSide(int object) const {
   if (object >= static_cast<int>(rigid_.size()))
     return particleModels_[std::size_t(object) - rigid_.size()].testMesh;
   const RigidObject& body = rigid_[std::size_t(object)];
-  return body.testMesh && !body.samples.empty();
+  return body.testMesh && !body.surface->samples.empty();
 }
 
 void CollisionDetector::collectDirections() {
@@ -209,13 +227,13 @@ void CollisionDetector::rigidAgainstRigid(int vertexBody, int sdfBody, Real tole
                                           std::size_t& dropped) const {
   const RigidObject& body = rigid_[std::size_t(vertexBody)];
   const Frame& frame = frames_[std::size_t(vertexBody)];
-  body.hierarchy.traverse(
+  body.surface->hierarchy.traverse(
       [&](const PointBvh::Node& node) {
         return sphereMayTouch(frame.rotation * node.center + frame.origin, node.radius, sdfBody,
                               tolerance);
       },
       [&](int point) {
-        const Vector3 world = frame.rotation * body.samples[std::size_t(point)] + frame.origin;
+        const Vector3 world = frame.rotation * body.surface->samples[std::size_t(point)] + frame.origin;
         testPoint(world, sdfBody, tolerance, [&](ContactPointGeometry& contact) {
           contact.vertexSide = vertexBody;
           contact.sample = point;

@@ -1,5 +1,7 @@
 #include "pbd/joints/ball_joint.h"
 
+#include "pbd/joints/point_constraint.h"
+
 namespace pbd {
 
 BallJoint::BallJoint(const BodyStates& bodies, const JointDesc& desc)
@@ -13,7 +15,15 @@ ConstraintRows<BallJoint::kRows> BallJoint::positionRows(const BodyStates& bodie
 }
 
 void BallJoint::solvePosition(BodyStates& bodies, Real /*substepSize*/) {
-  joint_parts::projectPositions(bodies.rigid, frames_.body0, frames_.body1, positionRows(bodies));
+  projectPointConstraint(bodies.rigid, frames_.body0, frames_.body1, frames_.anchor0.inBody,
+                         frames_.anchor1.inBody);
+}
+
+Vector3 BallJoint::solvePositionCompliant(BodyStates& bodies, Real complianceTilde,
+                                          const Vector3& lambda) {
+  return projectPointConstraint(bodies.rigid, frames_.body0, frames_.body1,
+                                frames_.anchor0.inBody, frames_.anchor1.inBody, complianceTilde,
+                                lambda);
 }
 
 JointError BallJoint::error(const BodyStates& bodies) const {

@@ -68,11 +68,19 @@ void solve(const T& joint, BodyStates& bodies, Real substepSize, const XpbdSetti
     joint_parts::applyPositionCorrection(bodies.rigid, ends.body1, c.linear[1], c.angular[1]);
 }
 
+/// The ball joint: three linear rows of one compliance, through its direct solve.
+void solve(BallJoint& joint, BodyStates& bodies, Real substepSize, const XpbdSettings& settings,
+           XpbdJointMultipliers& multipliers) {
+  const Real complianceTilde = settings.jointLinearCompliance / (substepSize * substepSize);
+  multipliers.head<3>() +=
+      joint.solvePositionCompliant(bodies, complianceTilde, multipliers.head<3>());
+}
+
 }  // namespace
 
 void solveJointPositionXpbd(Joint& joint, BodyStates& bodies, Real substepSize,
                             const XpbdSettings& settings, XpbdJointMultipliers& multipliers) {
-  std::visit([&](const auto& j) { solve(j, bodies, substepSize, settings, multipliers); }, joint);
+  std::visit([&](auto& j) { solve(j, bodies, substepSize, settings, multipliers); }, joint);
 }
 
 void solveJointVelocityXpbd(Joint& joint, BodyStates& bodies) {

@@ -32,6 +32,7 @@
 // pairs beyond the capacity are dropped and counted (see ContactGeometryBuffer).
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "pbd/collision/broad_phase.h"
@@ -79,14 +80,21 @@ class CollisionDetector {
   std::size_t rigidBodyCount() const { return rigid_.size(); }
   const CollisionShape& shape(std::size_t body) const { return rigid_[body].shape; }
   /// Surface samples of a rigid body, in its scene frame.
-  const std::vector<Vector3>& samples(std::size_t body) const { return rigid_[body].samples; }
+  const std::vector<Vector3>& samples(std::size_t body) const {
+    return rigid_[body].surface->samples;
+  }
 
  private:
+  /// Surface samples and their hierarchy, shared by every body with the same samples (a pile
+  /// of equal spheres holds one copy: the detection reads it from cache instead of memory).
+  struct SampledSurface {
+    std::vector<Vector3> samples;  ///< scene frame
+    PointBvh hierarchy;
+  };
   struct RigidObject {
     CollisionShape shape;
-    std::vector<Vector3> samples;  ///< scene frame
-    std::vector<int> seedRank;     ///< the seed's report rank per sample (meshes only)
-    PointBvh hierarchy;
+    std::shared_ptr<const SampledSurface> surface;  ///< never null
+    std::vector<int> seedRank;  ///< the seed's report rank per sample (meshes only)
     Eigen::AlignedBox<Real, 3> localBounds;  ///< samples ∪ shape bounds, scene frame
     bool testMesh = true;
     bool dynamic = false;

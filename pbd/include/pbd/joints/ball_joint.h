@@ -2,7 +2,9 @@
 //
 //   C = c₁ − c₀ ∈ ℝ³ (anchors at the scene's `position`)
 //   ∇C: A₀ = −𝟙, B₀ = [r₀]×, A₁ = 𝟙, B₁ = −[r₁]×
-// Solved as one 3×3 Newton step (K₀ + K₁) Δλ = −C, K_k = w_k 𝟙 − [r_k]× J_k [r_k]×.
+// Solved as one 3×3 Newton step (K₀ + K₁) Δλ = −C, K_k = w_k 𝟙 − [r_k]× J_k [r_k]×, by the
+// direct point-constraint solve of point_constraint.h (the rows below are the same C and ∇C,
+// for the error, the tests and the generic solver).
 // Reference: Deul, Charrier, Bender 2014, "Position-based rigid-body dynamics", §4.2.
 #pragma once
 
@@ -17,6 +19,8 @@ class BallJoint : public JointDefaults {
 
   BallJoint(const BodyStates& bodies, const JointDesc& desc);
   void solvePosition(BodyStates& bodies, Real substepSize);
+  /// XPBD: one projection with compliance α̃ = α/h² and the accumulated λ; returns Δλ.
+  Vector3 solvePositionCompliant(BodyStates& bodies, Real complianceTilde, const Vector3& lambda);
   ConstraintRows<kRows> positionRows(const BodyStates& bodies) const;
   JointError error(const BodyStates& bodies) const;
   JointEnds ends() const { return frames_.ends(); }
