@@ -4,8 +4,9 @@ depend on the machine's load, so they are measured where timing is too noisy.
 
     .venv/bin/python bench/callgrind_harness.py [--duration S] [--json FILE]
 
-Runs `pbdval simulate cases/chain_100.json` (every step written to the CSV) and `pbdval run`
-of the same case with its own sample interval (the pbd method, one worker) under
+Runs `pbdval simulate cases/chain_100.json` (every step written, as CSV and as NPY) and
+`pbdval run` of the same case with its own sample interval (the pbd method, one worker;
+trajectories as CSV and as NPY) under
 `valgrind --tool=callgrind` and prints, from `callgrind_annotate --inclusive=yes`:
 instructions in total, in the engine's step (pbd::World::step), in the CSV writer, in the
 metrics, the share outside the step, and the instructions per ball-joint position solve
@@ -27,6 +28,7 @@ REPO = Path(__file__).resolve().parents[1]
 PBDVAL = REPO / "build/release/bin/pbdval"
 CASE = REPO / "cases/chain_100.json"
 FUNCTIONS = {"step": r"pbd::World::step\(\)", "csv": r"pbdval::writeCsvRows\(",
+             "npy": r"pbdval::writeTrajectoryNpy\(",
              "metrics": r"pbdval::measureSamples\(", "ball": r"pbd::BallJoint::solvePosition\(",
              "simulation": r"pbdval::runSimulation\("}
 
@@ -66,23 +68,32 @@ def main() -> int:
         folder = Path(scratch)
         simulate = profile(["simulate", str(CASE), "--duration", str(args.duration), "--out",
                             str(folder / "c.csv"), "--quiet"], folder, "simulate")
+        simulate_npy = profile(["simulate", str(CASE), "--duration", str(args.duration), "--out",
+                                str(folder / "c.npy"), "--quiet"], folder, "npy")
         run = profile(["run", str(CASE), "--engines", "pbd", "--methods", "pbd", "--out", str(folder / "out"),
                        "--jobs", "1", "--quiet"], folder, "run")
+        run_npy = profile(["run", str(CASE), "--engines", "pbd", "--methods", "pbd", "--out", str(folder / "rnpy"),
+                           "--jobs", "1", "--quiet", "--trajectory-format", "npy"], folder, "rnpy")
     steps = round(args.duration / sim["timeStepSize"])
     solves = steps * sim["subSteps"] * sim["maxIterations"] * joints
     report = {"case": "chain_100", "duration_s": args.duration, "ball_joint_solves": solves,
-              "simulate": simulate, "run": run,
+              "simulate": simulate, "simulate_npy": simulate_npy, "run": run, "run_npy": run_npy,
               "instructions_per_ball_solve": simulate["ball"] / solves,
               "simulate_outside_step_share": 1 - simulate["step"] / simulate["total"],
               "simulate_loop_outside_step_share": 1 - simulate["step"] / simulate["simulation"],
               "run_outside_step_share": 1 - run["step"] / run["total"],
+              "run_npy_outside_step_share": 1 - run_npy["step"] / run_npy["total"],
+              "simulate_npy_outside_step_share": 1 - simulate_npy["step"] / simulate_npy["total"],
+              "simulate_npy_loop_outside_step_share": 1 - simulate_npy["step"] / simulate_npy["simulation"],
               "version": subprocess.run([str(PBDVAL), "--version"], capture_output=True, text=True).stdout.strip()}
-    for label, counts in (("simulate (CSV every step)", simulate), ("run (the case's sampling)", run)):
+    for label, counts in (("simulate (CSV every step)", simulate), ("simulate (NPY every step)", simulate_npy),
+                          ("run (the case's sampling, CSV)", run), ("run (the case's sampling, NPY)", run_npy)):
         print(f"{label}: {counts['total']:,} instructions; step {counts['step'] / counts['total']:.1%}, "
-              f"CSV {counts['csv'] / counts['total']:.1%}, metrics {counts['metrics'] / counts['total']:.1%}, "
+              f"CSV {counts['csv'] / counts['total']:.1%}, NPY {counts['npy'] / counts['total']:.1%}, metrics {counts['metrics'] / counts['total']:.1%}, "
               f"outside the step {1 - counts['step'] / counts['total']:.1%}")
     print(f"simulate, the stepping loop only (no start-up): outside the step "
-          f"{report['simulate_loop_outside_step_share']:.1%}")
+          f"{report['simulate_loop_outside_step_share']:.1%} (CSV), "
+          f"{report['simulate_npy_loop_outside_step_share']:.1%} (NPY)")
     print(f"ball-joint position solve: {report['instructions_per_ball_solve']:.0f} instructions "
           f"({solves:,} solves)")
     if args.json:

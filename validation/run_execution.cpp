@@ -164,19 +164,26 @@ RunRecord executeRun(const RunRequest& request, const EngineRegistry& registry) 
     const std::unique_ptr<Engine> engine = registry.make(request.engine);
 
     std::vector<State> samples;
-    std::optional<AtomicFileWriter> csv;
-    if (!request.trajectoryPath.empty()) {
-      csv.emplace(request.trajectoryPath);
-      writeCsvHeader(csv->stream());
+    // The trajectory file, by its extension: CSV rows as samples come, or NPY (the samples
+    // kept for the metrics, written at once: no text conversion).
+    const std::string& path = request.trajectoryPath;
+    const bool npy = hasNpyExtension(path);
+    std::optional<AtomicFileWriter> trajectory;
+    if (!path.empty()) {
+      trajectory.emplace(path);
+      if (!npy) writeCsvHeader(trajectory->stream());
     }
     RunCallbacks callbacks;
     callbacks.onSample = [&](const State& s) {
       samples.push_back(s);
-      if (csv) writeCsvRows(csv->stream(), s);
+      if (trajectory && !npy) writeCsvRows(trajectory->stream(), s);
     };
     const RunOutcome outcome =
         runSimulation(*engine, c.scene, c.method, lengthOf(c, request), callbacks);
-    if (csv) csv->commit();
+    if (trajectory) {
+      if (npy) writeTrajectoryNpy(trajectory->stream(), samples);
+      trajectory->commit();
+    }
 
     record.status = outcome.status;
     record.reason = outcome.reason;

@@ -38,8 +38,10 @@ std::vector<std::string> methodsFor(const std::string& engine, const PlanOptions
 }  // namespace
 
 std::string trajectoryPathFor(const std::string& outFolder, const std::string& caseName,
-                              const std::string& engine, const std::string& method) {
-  return outFolder + "/trajectories/" + caseName + "/" + engine + "-" + method + ".csv";
+                              const std::string& engine, const std::string& method,
+                              TrajectoryFormat format) {
+  return outFolder + "/trajectories/" + caseName + "/" + engine + "-" + method + "." +
+         trajectoryFormatName(format);
 }
 
 RunPlan planRuns(const std::vector<std::string>& caseFiles, const PlanOptions& options,
@@ -87,7 +89,8 @@ RunPlan planRuns(const std::vector<std::string>& caseFiles, const PlanOptions& o
         r.assignments = options.assignments;
         r.strictScene = options.strictScene;
         if (options.writeTrajectories)
-          r.trajectoryPath = trajectoryPathFor(options.outFolder, name, engine, method);
+          r.trajectoryPath =
+              trajectoryPathFor(options.outFolder, name, engine, method, options.trajectoryFormat);
         plan.requests.push_back(r);
       }
     }

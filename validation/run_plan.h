@@ -13,6 +13,7 @@
 #include "adapters/registry.h"
 #include "validation/case_spec.h"
 #include "validation/run_record.h"
+#include "validation/trajectory.h"
 
 namespace pbdval {
 
@@ -22,6 +23,7 @@ struct PlanOptions {
   std::vector<std::string> assignments;  ///< --set, passed to every run
   std::string outFolder = "out";
   bool writeTrajectories = true;
+  TrajectoryFormat trajectoryFormat = TrajectoryFormat::Csv;
   bool strictScene = false;
 };
 
@@ -37,8 +39,9 @@ struct RunPlan {
 RunPlan planRuns(const std::vector<std::string>& caseFiles, const PlanOptions& options,
                  const EngineRegistry& registry);
 
-/// "trajectories/CASE/ENGINE-METHOD.csv" under the out folder.
+/// "trajectories/CASE/ENGINE-METHOD.csv" (or ".npy") under the out folder.
 std::string trajectoryPathFor(const std::string& outFolder, const std::string& caseName,
-                              const std::string& engine, const std::string& method);
+                              const std::string& engine, const std::string& method,
+                              TrajectoryFormat format = TrajectoryFormat::Csv);
 
 }  // namespace pbdval

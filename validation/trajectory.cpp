@@ -173,4 +173,46 @@ Trajectory parseTrajectoryNpy(const std::string& bytes, const std::string& sourc
   return trajectory;
 }
 
+void writeTrajectoryNpy(std::ostream& out, const std::vector<State>& samples) {
+  std::size_t rows = 0;
+  for (const State& s : samples) rows += s.bodies.size();
+  // NPY 1.0: magic, version, header length (uint16 LE), then a Python dict literal padded with
+  // spaces and ended by '\n' so that the data starts at a multiple of 64 bytes.
+  std::string header = "{'descr': '<f8', 'fortran_order': False, 'shape': (" +
+                       std::to_string(rows) + ", 15), }";
+  const std::size_t preamble = 10;
+  const std::size_t total = (preamble + header.size() + 1 + 63) / 64 * 64;
+  header.append(total - preamble - header.size() - 1, ' ');
+  header += '\n';
+  const char magic[8] = {'\x93', 'N', 'U', 'M', 'P', 'Y', 1, 0};
+  out.write(magic, sizeof magic);
+  const char length[2] = {char(header.size() & 0xff), char((header.size() >> 8) & 0xff)};
+  out.write(length, sizeof length);
+  out.write(header.data(), std::streamsize(header.size()));
+  static_assert(sizeof(double) == 8, "float64 rows");
+  for (const State& s : samples)
+    for (const BodyState& b : s.bodies) {
+      const Quaternion q = b.rotation.w() < 0 ? Quaternion(-b.rotation.coeffs()) : b.rotation;
+      const double row[15] = {s.time, double(b.id), double(b.position.x()), double(b.position.y()),
+                              double(b.position.z()), double(q.w()), double(q.x()), double(q.y()),
+                              double(q.z()), double(b.velocity.x()), double(b.velocity.y()),
+                              double(b.velocity.z()), double(b.angularVelocity.x()),
+                              double(b.angularVelocity.y()), double(b.angularVelocity.z())};
+      // The machine's byte order is the file's ('<f8'): x86-64 and AArch64 are little-endian.
+      out.write(reinterpret_cast<const char*>(row), sizeof row);
+    }
+}
+
+bool hasNpyExtension(const std::string& path) {
+  return path.size() >= 4 && path.compare(path.size() - 4, 4, ".npy") == 0;
+}
+
+Trajectory readTrajectory(const std::string& path) {
+  return hasNpyExtension(path) ? readTrajectoryNpy(path) : readTrajectoryCsv(path);
+}
+
+const char* trajectoryFormatName(TrajectoryFormat format) {
+  return format == TrajectoryFormat::Npy ? "npy" : "csv";
+}
+
 }  // namespace pbdval

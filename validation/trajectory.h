@@ -37,6 +37,22 @@ Trajectory readTrajectoryNpy(const std::string& path);
 /// The same on the file's bytes; `sourceName` names it in messages.
 Trajectory parseTrajectoryNpy(const std::string& bytes, const std::string& sourceName);
 
+/// Writes `samples` (bodies only) as NPY: little-endian float64, shape (rows, 15), the CSV's
+/// rows and columns (quaternions with w ≥ 0, as in the CSV), exactly the values (no text
+/// conversion), readable by readTrajectoryNpy and numpy.load.
+void writeTrajectoryNpy(std::ostream& out, const std::vector<State>& samples);
+
+/// Whether `path` names an NPY trajectory (ends in ".npy"); every other name is a CSV.
+bool hasNpyExtension(const std::string& path);
+
+/// Reads a trajectory file by its extension: ".npy" as NPY, anything else as CSV.
+Trajectory readTrajectory(const std::string& path);
+
+/// How the runner writes trajectories (`pbdval run --trajectory-format`).
+enum class TrajectoryFormat { Csv, Npy };
+/// "csv" or "npy" (the file extension).
+const char* trajectoryFormatName(TrajectoryFormat format);
+
 /// The shortest decimal text that reads back to `value` exactly.
 std::string formatNumber(double value);
 

@@ -578,7 +578,7 @@ PYBIND11_MODULE(_core, m) {
   m.def("_measure", &measure);
   m.def("_energy", &energy);
   m.def("_read_trajectory", [](const std::string& path) {
-    const pv::Trajectory t = pv::readTrajectoryCsv(path);
+    const pv::Trajectory t = pv::readTrajectory(path);  // .npy or CSV
     const std::size_t n = t.samples.empty() ? 0 : t.samples.front().bodies.size();
     return statesDict(t.samples, n);
   });

@@ -281,10 +281,16 @@ class Trajectory:
         )
 
     @classmethod
-    def read_csv(cls, path: str | Path) -> "Trajectory":
-        """Reads a trajectory CSV of `pbdval simulate`/`run` with the suite's own reader (errors
-        name the file and line)."""
+    def read(cls, path: str | Path) -> "Trajectory":
+        """Reads a trajectory file of `pbdval simulate`/`run` with the suite's own reader: NPY
+        when the name ends in .npy (`pbdval run --trajectory-format npy`), else CSV. Errors name
+        the file and the line or row."""
         return cls._from_core(_core()._read_trajectory(str(path)))
+
+    @classmethod
+    def read_csv(cls, path: str | Path) -> "Trajectory":
+        """Reads a trajectory CSV (or NPY, by its extension): the same as `read`."""
+        return cls.read(path)
 
     def __len__(self) -> int:
         return int(self.times.size)

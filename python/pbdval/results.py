@@ -68,10 +68,10 @@ class RunResult:
         return f"{base} [{','.join(self.assignments)}]" if self.assignments else base
 
     def trajectory(self) -> Trajectory:
-        """The run's trajectory CSV, read with the suite's reader."""
+        """The run's trajectory (CSV or NPY), read with the suite's reader."""
         if self.trajectory_path is None or not self.trajectory_path.is_file():
             raise ResultsError(f"run {self.case} {self.label}: no trajectory file ({self.trajectory_path})")
-        return Trajectory.read_csv(self.trajectory_path)
+        return Trajectory.read(self.trajectory_path)
 
 
 @dataclass

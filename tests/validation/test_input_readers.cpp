@@ -41,6 +41,55 @@ TEST(TrajectoryCsv, ReadsWhatWriteCsvRowsWrites) {
   EXPECT_EQ(t.samples[0].bodies.at(0).position, Vector3(1, -2, 3));  // exact: shortest round trip
 }
 
+TEST(TrajectoryNpy, ReadsBackExactlyWhatWriteTrajectoryNpyWrites) {
+  // Two samples of two bodies with values no short decimal holds, a quaternion with w < 0
+  // (written with w ≥ 0, as the CSV writes it) and a non-finite state (a diverged run's last
+  // sample is data).
+  std::vector<State> samples(2);
+  for (std::size_t k = 0; k < 2; ++k) {
+    samples[k].time = 0.1 * double(k + 1) / 3;
+    for (int id : {3, 9}) {
+      BodyState b;
+      b.id = id;
+      b.position = Vector3(1.0 / 3, -2.0 / 7, double(id) + 1e-17);
+      b.rotation = Quaternion(-0.5, 0.5, -0.5, 0.5);
+      b.velocity = Vector3(std::nextafter(1.0, 2.0), -0.0, 1e-300);
+      b.angularVelocity = Vector3(0.1, 0.2, k == 1 ? std::nan("") : 0.3);
+      samples[k].bodies.push_back(b);
+    }
+  }
+  std::ostringstream npy;
+  writeTrajectoryNpy(npy, samples);
+  // The data starts at a multiple of 64 bytes (NPY 1.0) and holds 4 rows × 15 doubles.
+  EXPECT_EQ((npy.str().size() - 4 * 15 * 8) % 64, 0u);
+  const Trajectory t = parseTrajectoryNpy(npy.str(), "t.npy");
+  ASSERT_EQ(t.samples.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(t.samples[k].time, samples[k].time);
+    ASSERT_EQ(t.samples[k].bodies.size(), 2u);
+    for (std::size_t i = 0; i < 2; ++i) {
+      const BodyState& read = t.samples[k].bodies[i];
+      const BodyState& written = samples[k].bodies[i];
+      EXPECT_EQ(read.id, written.id);
+      EXPECT_EQ(read.position, written.position);
+      EXPECT_EQ(read.rotation.coeffs(), -written.rotation.coeffs());  // w ≥ 0
+      EXPECT_EQ(read.velocity, written.velocity);
+      EXPECT_EQ(std::signbit(read.velocity.y()), true);  // −0 kept: the bits, not text
+      EXPECT_EQ(read.angularVelocity.head<2>(), written.angularVelocity.head<2>());
+    }
+  }
+  EXPECT_TRUE(std::isnan(t.samples[1].bodies[0].angularVelocity.z()));
+}
+
+TEST(TrajectoryNpy, AnEmptyRunIsAValidFileOfNoRows) {
+  std::ostringstream npy;
+  writeTrajectoryNpy(npy, {});
+  EXPECT_TRUE(parseTrajectoryNpy(npy.str(), "t.npy").samples.empty());
+  EXPECT_TRUE(hasNpyExtension("out/trajectories/a/pbd-pbd.npy"));
+  EXPECT_FALSE(hasNpyExtension("out/trajectories/a/pbd-pbd.csv"));
+  EXPECT_FALSE(hasNpyExtension("npy"));
+}
+
 TEST(TrajectoryCsv, NonFiniteTimesAndBadIdsAreLocatedErrors) {
   EXPECT_EQ(parseTrajectoryCsv(kHeader + kRow, "t.csv").samples.size(), 1u);
   // A non-finite state is data (a diverged run's last sample), read as it is; the runner

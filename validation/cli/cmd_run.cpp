@@ -31,9 +31,9 @@ ArgParser runParser() {
       "run", "[CASES or folders ...] [options]",
       "Runs every case in every engine with each engine's default method (or the case's\n"
       "Validation.methods), each run isolated in its own process, and computes the metrics.\n"
-      "Writes DIR/results.json (docs/results.md) and DIR/trajectories/CASE/ENGINE-METHOD.csv,\n"
-      "and prints a summary table. A run that diverges, times out, crashes or lacks a feature\n"
-      "gets that status; the others still complete.");
+      "Writes DIR/results.json (docs/results.md) and DIR/trajectories/CASE/ENGINE-METHOD.csv\n"
+      "(or .npy: --trajectory-format), and prints a summary table. A run that diverges, times\n"
+      "out, crashes or lacks a feature gets that status; the others still complete.");
   parser.positionals("CASES", "scene files or folders of them (default: cases/)", 0, -1)
       .option("engines", "LIST", "comma-separated engines (default: all; 'pbdval methods')")
       .option("methods", "LIST",
@@ -57,7 +57,10 @@ ArgParser runParser() {
       .option("fail-with", "REASON",
               "with --shard: record every run of the shard as status error with REASON, without "
               "running it (for executors that lost a run)")
-      .flag("no-trajectories", "do not write trajectory CSVs")
+      .flag("no-trajectories", "do not write trajectory files")
+      .option("trajectory-format", "csv|npy",
+              "trajectories as CSV text (default) or NPY (float64, the same rows and columns; "
+              "no text conversion, numpy.load reads it)")
       .flag("strict", "treat scene warnings as errors")
       .flag("quiet", "no progress, only the summary")
       .epilog(
@@ -92,6 +95,10 @@ int runCommand(const Context& context, const Arguments& arguments) {
     options.assignments = args.values("set");
     options.outFolder = args.value("out", "out");
     options.writeTrajectories = !args.flags.count("no-trajectories");
+    const std::string format = args.value("trajectory-format", "csv");
+    if (format != "csv" && format != "npy")
+      throw UsageError("--trajectory-format: expected csv or npy, got '" + format + "'");
+    options.trajectoryFormat = format == "npy" ? TrajectoryFormat::Npy : TrajectoryFormat::Csv;
     options.strictScene = args.flags.count("strict") > 0;
     jobs = int(args.integer("jobs", long(std::max(1u, std::thread::hardware_concurrency()))));
     if (jobs < 1) throw UsageError("--jobs: expected at least 1");

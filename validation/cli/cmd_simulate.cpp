@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iostream>
 #include <optional>
+#include <vector>
 
 #include "adapters/engine.h"
 #include "pbd/io/scene_loader.h"
@@ -25,14 +26,17 @@ ArgParser simulateParser() {
       "Runs SCENE.json headless in one engine and writes one CSV row per rigid body per sample:\n"
       "  t,id,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n"
       "x,y,z: centre of mass (world); q: the body's scene frame -> world; v, w: linear and\n"
-      "angular velocity (world). Warnings and a summary go to stderr.");
+      "angular velocity (world). With --out FILE.npy, the same rows as NPY (float64, shape\n"
+      "(rows, 15): no text conversion; numpy.load reads it). Warnings and a summary go to\n"
+      "stderr.");
   parser
       .positionals("SCENE.json",
                    "a scene in the PositionBasedDynamics format (docs/scene-format.md)", 1, 1)
       .option("duration", "T",
               "simulated seconds (default: the scene's Validation.duration, else "
               "its pauseAt when > 0, else 5)")
-      .option("out", "FILE.csv", "write the CSV here, atomically (default: standard output)")
+      .option("out", "FILE.csv",
+              "write the CSV here, atomically (default: standard output); FILE.npy: as NPY")
       .option("sample-interval", "S", "seconds between samples (default: every step)")
       .option("engine", "NAME",
               "pbd (default), bullet, ode or mujoco ('pbdval methods' lists them)")
@@ -86,13 +90,19 @@ int simulateCommand(const Context& context, const Arguments& arguments) {
   std::optional<AtomicFileWriter> file;
   if (args.has("out")) file.emplace(args.value("out"));
   std::ostream& out = file ? file->stream() : std::cout;
-  writeCsvHeader(out);
+  // NPY needs its row count in the header: the samples are kept and written at the end.
+  const bool npy = file && hasNpyExtension(args.value("out"));
+  std::vector<State> kept;
+  if (!npy) writeCsvHeader(out);
 
   const bool showProgress = !quiet && ::isatty(STDERR_FILENO);
   RunCallbacks callbacks;
   std::size_t samples = 0;
   callbacks.onSample = [&](const State& state) {
-    writeCsvRows(out, state);
+    if (npy)
+      kept.push_back(state);
+    else
+      writeCsvRows(out, state);
     ++samples;
   };
   if (showProgress)
@@ -107,6 +117,7 @@ int simulateCommand(const Context& context, const Arguments& arguments) {
   if (showProgress) std::fprintf(stderr, "\r%70s\r", "");
 
   if (file) {
+    if (npy) writeTrajectoryNpy(out, kept);
     file->commit();
   } else {
     // `pbdval simulate ... > /dev/full` must not report success either.
