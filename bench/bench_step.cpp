@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <exception>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -28,8 +29,17 @@ constexpr double kHorizonSeconds = 2.0;
 
 void stepScene(benchmark::State& state, const pbdval::EngineRegistry& engines,
                const pbd::Scene& scene, const std::string& method, int warmUpSteps = 50) {
-  const pbdval::Method resolved = engines.resolve(method);
-  std::unique_ptr<pbdval::Engine> engine = engines.make(engines.method(method).engine);
+  // "name@key=value": a method with one parameter set (e.g. pbd@threads=2).
+  const std::size_t at = method.find('@');
+  const std::string name = method.substr(0, at);
+  std::map<std::string, std::string> overrides;
+  if (at != std::string::npos) {
+    const std::string assignment = method.substr(at + 1);
+    const std::size_t equals = assignment.find('=');
+    overrides[assignment.substr(0, equals)] = assignment.substr(equals + 1);
+  }
+  const pbdval::Method resolved = engines.resolve(name, overrides);
+  std::unique_ptr<pbdval::Engine> engine = engines.make(engines.method(name).engine);
   const std::vector<std::string> missing = engine->unsupported(scene, resolved);
   if (!missing.empty()) {
     std::string reason = "unsupported:";
@@ -84,8 +94,8 @@ void stepScaling(benchmark::State& state, const pbdval::EngineRegistry& engines,
                                ? pbdval::bench::chainScene(bodies, models)
                                : pbdval::bench::pileScene(bodies, family == "boxes", models);
   const pbd::Scene scene = pbd::parseScene(text, "scaling_" + family + ".json").scene;
-  // 10 warm-up steps (50 ms: the piles' upper layer has landed) instead of the cases' 50, as a
-  // step of 10,000 bodies can take seconds.
+  // 10 warm-up steps (50 ms: the piles' upper bodies have landed) instead of the cases' 50, as
+  // a step of 10,000 bodies can take seconds.
   stepScene(state, engines, scene, method, 10);
 }
 
@@ -106,14 +116,25 @@ int main(int argc, char** argv) {
   // Scaling families: 10 to 10,000 bodies, the PBD methods and the two reference engines whose
   // cost is linear in the body count (MuJoCo's dense factorisation of a 10,000-link tree is not
   // a fair member of this family). Fitted by bench/fit_scaling.py.
+  // The piles also with the collision detection on two threads (the `threads` parameter; the
+  // XPBD step spends under a tenth of its time in the detection, so only `pbd`).
   const std::vector<std::string> scalingMethods = {"pbd", "pbd.xpbd", "bullet.si", "ode.quickstep"};
-  for (const std::string family : {"chain", "spheres", "boxes"})
-    for (const std::string& m : scalingMethods)
+  const std::vector<std::string> threadedMethods = {"pbd@threads=2"};
+  for (const std::string family : {"chain", "spheres", "boxes"}) {
+    std::vector<std::string> familyMethods = scalingMethods;
+    if (family != "chain")
+      familyMethods.insert(familyMethods.begin() + 2, threadedMethods.begin(), threadedMethods.end());
+    for (const std::string& m : familyMethods)
       for (const int n : {10, 30, 100, 300, 1000, 3000, 10000})
         benchmark::RegisterBenchmark(
             ("scaling/" + family + "/" + m + "/" + std::to_string(n)).c_str(),
             [&engines, family, m, n](benchmark::State& s) { stepScaling(s, engines, family, n, m); })
-            ->Unit(benchmark::kMicrosecond);
+            ->Unit(benchmark::kMicrosecond)
+            // The same 20 steps (0.05 to 0.15 s) for every N: with an adaptive iteration count a
+            // small scene would be timed over its whole 2 s and a large one over its first steps,
+            // different motions (landing, settling) with different contact counts.
+            ->Iterations(20);
+  }
   benchmark::AddCustomContext("pbdval_version", PBDVAL_VERSION);
   benchmark::AddCustomContext("pbdval_commit",
                               std::string(PBDVAL_GIT_COMMIT) + " (" + PBDVAL_GIT_DIRTY + ")");

@@ -27,7 +27,8 @@ def load(path: Path) -> tuple[dict[tuple[str, str], dict[int, float]], dict[tupl
         name = b.get("run_name", b["name"])
         if not name.startswith("scaling/"):
             continue
-        _, family, method, count = name.split("/")
+        # scaling/FAMILY/METHOD/N, with "/iterations:20" appended by Google Benchmark
+        _, family, method, count = name.split("/")[:4]
         key = (family, method)
         if b.get("error_occurred"):
             errors.setdefault(key, f"N = {count}: {b.get('error_message', '')}")

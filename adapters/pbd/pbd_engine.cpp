@@ -17,6 +17,11 @@ std::vector<MethodInfo> pbdMethods() {
       "joint projection (Deul et al. 2014), velocity-level contacts once per step; solver "
       "settings from the scene's Simulation block (--set subSteps=..., maxIterations=..., "
       "contactModel=seed|corrected)";
+  // Both methods: the collision detection's threads (results are bitwise the same for any count).
+  const ParameterSpec threads = integerParameter(
+      "threads", 1, 1, 64,
+      "threads of the collision detection's narrow phase (results bitwise equal for any count)");
+  seed.parameters = {threads};
   MethodInfo xpbd;
   xpbd.name = "pbd.xpbd";
   xpbd.engine = "pbd";
@@ -41,6 +46,7 @@ std::vector<MethodInfo> pbdMethods() {
                     "joint damping of the anchors' relative velocity (Mueller et al. 2020, 3.6)"),
       realParameter("jointAngularDamping", double(defaults.jointAngularDamping), 0, 1e6, "1/s",
                     "joint damping of the relative angular velocity"),
+      threads,
   };
   return {seed, xpbd};
 }
@@ -49,6 +55,7 @@ std::vector<MethodInfo> pbdMethods() {
 
 pbd::SimulationSettings pbdSettingsFor(const pbd::Scene& scene, const Method& method) {
   pbd::SimulationSettings settings = scene.simulation;
+  settings.detectionThreads = static_cast<int>(method.integer("threads"));
   if (method.name != "pbd.xpbd") return settings;
   settings.stepMethod = pbd::StepMethod::Xpbd;
   settings.xpbd.substeps = static_cast<int>(method.integer("substeps"));
@@ -125,6 +132,7 @@ std::map<std::string, std::string> PbdEngine::effectiveSettings() const {
           {"distanceGrid", pbd::gridInterpolationName(pbd::distanceGridFor(s))},
           {"contactCombineRule", pbd::contactCombineRuleName(s.contactCombineRule)},
           {"stepMethod", pbd::stepMethodName(s.stepMethod)},
+          {"detectionThreads", std::to_string(s.detectionThreads)},
           {"xpbd.substeps", std::to_string(s.xpbd.substeps)},
           {"xpbd.jointLinearCompliance", number(s.xpbd.jointLinearCompliance)},
           {"xpbd.jointAngularCompliance", number(s.xpbd.jointAngularCompliance)},

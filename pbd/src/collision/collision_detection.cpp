@@ -113,6 +113,20 @@ CollisionDetector::CollisionDetector(const Scene& scene, const CollisionShapeOpt
   boxes_.resize(objects);
   broadPhase_ = SweepAndPrune(objects, pairCapacity);
   directions_.reserve(2 * pairCapacity);
+  const int threads = scene.simulation.detectionThreads;
+  if (threads < 1)
+    throw std::invalid_argument("detection threads: expected at least 1, got " +
+                                std::to_string(threads));
+  if (threads > 1) {
+    workers_ = std::make_unique<WorkerPool>(threads);
+    parts_.resize(std::size_t(threads));
+    for (PartBuffers& part : parts_) {
+      part.rigid.reserve(rigidContactCapacity_);
+      part.particle.reserve(particleContactCapacity_);
+    }
+    directionContacts_.resize(2 * pairCapacity);
+    partBegin_.resize(std::size_t(threads) + 1);
+  }
 }
 
 void CollisionDetector::reserve(ContactGeometryBuffer& out) const {
@@ -282,23 +296,112 @@ void CollisionDetector::detect(const BodyStates& bodies, Real tolerance,
   updateBoxes(bodies, tolerance);
   out.droppedPairs = broadPhase_.findPairs(boxes_);
   collectDirections();
+  if (workers_) {
+    detectInParallel(bodies, tolerance, out, order);
+    return;
+  }
   const int rigidCount = static_cast<int>(rigid_.size());
   for (const ObjectPair& direction : directions_) {
     std::vector<ContactPointGeometry>& list =
         direction.first < rigidCount ? out.rigid : out.particle;
     const std::size_t first = list.size();
-    if (direction.first < rigidCount)
-      rigidAgainstRigid(direction.first, direction.second, tolerance, list, out.droppedContacts);
-    else
-      particlesAgainstRigid(particleModels_[std::size_t(direction.first - rigidCount)],
-                            bodies.particles, direction.second, tolerance, list,
-                            out.droppedContacts);
-    const auto begin = list.begin() + static_cast<std::ptrdiff_t>(first);
-    if (order == ContactOrder::Seed && direction.first < rigidCount &&
-        !rigid_[std::size_t(direction.first)].seedRank.empty())
-      seedOrder(begin, list.end(), rigid_[std::size_t(direction.first)].seedRank);
-    else
-      deepestFirst(begin, list.end());
+    collectDirection(direction, bodies.particles, tolerance, out.rigid, out.particle,
+                     out.droppedContacts);
+    orderDirection(direction, list.begin() + static_cast<std::ptrdiff_t>(first), list.end(),
+                   order);
+  }
+}
+
+void CollisionDetector::collectDirection(const ObjectPair& direction,
+                                         const ParticleStates& particles, Real tolerance,
+                                         std::vector<ContactPointGeometry>& rigidOut,
+                                         std::vector<ContactPointGeometry>& particleOut,
+                                         std::size_t& dropped) const {
+  const int rigidCount = static_cast<int>(rigid_.size());
+  if (direction.first < rigidCount)
+    rigidAgainstRigid(direction.first, direction.second, tolerance, rigidOut, dropped);
+  else
+    particlesAgainstRigid(particleModels_[std::size_t(direction.first - rigidCount)], particles,
+                          direction.second, tolerance, particleOut, dropped);
+}
+
+void CollisionDetector::orderDirection(const ObjectPair& direction,
+                                       std::vector<ContactPointGeometry>::iterator begin,
+                                       std::vector<ContactPointGeometry>::iterator end,
+                                       ContactOrder order) const {
+  const int rigidCount = static_cast<int>(rigid_.size());
+  if (order == ContactOrder::Seed && direction.first < rigidCount &&
+      !rigid_[std::size_t(direction.first)].seedRank.empty())
+    seedOrder(begin, end, rigid_[std::size_t(direction.first)].seedRank);
+  else
+    deepestFirst(begin, end);
+}
+
+void CollisionDetector::detectInParallel(const BodyStates& bodies, Real tolerance,
+                                         ContactGeometryBuffer& out, ContactOrder order) {
+  // Contiguous ranges of directions with about equal work (the vertex side's point count).
+  const int rigidCount = static_cast<int>(rigid_.size());
+  auto work = [&](const ObjectPair& d) -> std::size_t {
+    return d.first < rigidCount
+               ? rigid_[std::size_t(d.first)].surface->samples.size() + 1
+               : std::size_t(particleModels_[std::size_t(d.first - rigidCount)].particleCount) + 1;
+  };
+  std::size_t total = 0;
+  for (const ObjectPair& d : directions_) total += work(d);
+  const std::size_t partCount = parts_.size();
+  std::size_t done = 0, direction = 0;
+  for (std::size_t part = 0; part < partCount; ++part) {
+    partBegin_[part] = direction;
+    const std::size_t target = total * (part + 1) / partCount;
+    while (direction < directions_.size() && (part + 1 == partCount || done < target))
+      done += work(directions_[direction++]);
+  }
+  partBegin_[partCount] = directions_.size();
+
+  struct Context {
+    CollisionDetector* self;
+    const ParticleStates* particles;
+    Real tolerance;
+  } context{this, &bodies.particles, tolerance};
+  workers_->run(
+      [](void* raw, int partIndex) {
+        const Context& c = *static_cast<const Context*>(raw);
+        CollisionDetector& d = *c.self;
+        PartBuffers& part = d.parts_[std::size_t(partIndex)];
+        part.rigid.clear();
+        part.particle.clear();
+        part.dropped = 0;
+        for (std::size_t k = d.partBegin_[std::size_t(partIndex)];
+             k < d.partBegin_[std::size_t(partIndex) + 1]; ++k) {
+          const std::size_t before = part.rigid.size() + part.particle.size();
+          d.collectDirection(d.directions_[k], *c.particles, c.tolerance, part.rigid,
+                             part.particle, part.dropped);
+          d.directionContacts_[k] = part.rigid.size() + part.particle.size() - before;
+        }
+      },
+      &context);
+
+  // In direction order: append up to the capacity (the serial detection's drops), then order.
+  for (std::size_t p = 0; p < partCount; ++p) {
+    const PartBuffers& part = parts_[p];
+    out.droppedContacts += part.dropped;
+    std::size_t rigidAt = 0, particleAt = 0;
+    for (std::size_t k = partBegin_[p]; k < partBegin_[p + 1]; ++k) {
+      const bool rigidSide = directions_[k].first < rigidCount;
+      std::vector<ContactPointGeometry>& list = rigidSide ? out.rigid : out.particle;
+      const std::vector<ContactPointGeometry>& source = rigidSide ? part.rigid : part.particle;
+      std::size_t& at = rigidSide ? rigidAt : particleAt;
+      const std::size_t count = directionContacts_[k];
+      const std::size_t room = list.capacity() - list.size();
+      const std::size_t kept = std::min(count, room);
+      const std::size_t first = list.size();
+      const auto from = source.begin() + static_cast<std::ptrdiff_t>(at);
+      list.insert(list.end(), from, from + static_cast<std::ptrdiff_t>(kept));
+      out.droppedContacts += count - kept;
+      at += count;
+      orderDirection(directions_[k], list.begin() + static_cast<std::ptrdiff_t>(first),
+                     list.end(), order);
+    }
   }
 }
 

@@ -264,6 +264,9 @@ struct SimulationSettings {
   std::optional<GridInterpolation> distanceGrid;
   StepMethod stepMethod = StepMethod::Seed;  ///< extension (set by the method, not the file)
   XpbdSettings xpbd;                         ///< used when stepMethod == StepMethod::Xpbd
+  /// Threads of the collision detection's narrow phase (the method parameter `threads`, not a
+  /// scene key): results are bitwise the same for every count (collision_detection.h).
+  int detectionThreads = 1;
 
   int clothSimulationMethod = 2;
   int clothBendingMethod = 2;
