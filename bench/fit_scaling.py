@@ -3,7 +3,9 @@
 
     .venv/bin/python bench/fit_scaling.py bench/results/<host>/step-<stamp>.json [--json FILE] [--markdown]
 
-For each family and method: the median CPU time per step at every body count N, the exponent p
+For each family and method: the median wall time per step at every body count N (wall, not
+CPU: `pbd@threads=2` runs part of its step on a second thread, which the calling thread's CPU
+time would not count; single-threaded, the two agree), the exponent p
 of t ≈ c·Nᵖ fitted by least squares on log t against log N over N ≥ --from (default 100: below
 it the fixed cost per step, the same for every N, flattens the curve and would flatter the
 fit), and the local exponent of each successive pair of sizes (where a cost turns super-linear).
@@ -35,7 +37,7 @@ def load(path: Path) -> tuple[dict[tuple[str, str], dict[int, float]], dict[tupl
             continue
         if b.get("run_type") == "aggregate" and b.get("aggregate_name") != "median":
             continue
-        times.setdefault(key, {})[int(count)] = float(b["cpu_time"])
+        times.setdefault(key, {})[int(count)] = float(b["real_time"])
     return times, errors, data.get("context", {})
 
 
@@ -66,20 +68,20 @@ def main() -> int:
         return 1
     rows = []
     for (family, method), points in sorted(times.items()):
-        rows.append({"family": family, "method": method, "cpu_time_us": {str(n): t for n, t in sorted(points.items())},
+        rows.append({"family": family, "method": method, "wall_time_us": {str(n): t for n, t in sorted(points.items())},
                      "exponent": fit(points, args.smallest), "fit_from": args.smallest,
                      "local_exponents": [{"from": a, "to": b, "exponent": e} for a, b, e in local_exponents(points)],
                      "error": errors.get((family, method))})
     for (family, method), message in sorted(errors.items()):
         if (family, method) not in times:
-            rows.append({"family": family, "method": method, "cpu_time_us": {}, "exponent": None,
+            rows.append({"family": family, "method": method, "wall_time_us": {}, "exponent": None,
                          "fit_from": args.smallest, "local_exponents": [], "error": message})
-    sizes = sorted({int(n) for r in rows for n in r["cpu_time_us"]})
+    sizes = sorted({int(n) for r in rows for n in r["wall_time_us"]})
     if args.markdown:
         print(f"| family | method | " + " | ".join(f"N = {n}" for n in sizes) + f" | exponent (N ≥ {args.smallest}) | local exponents |")
         print("|---|---|" + "---|" * len(sizes) + "---|---|")
         for r in rows:
-            cells = [f"{r['cpu_time_us'][str(n)]:.4g}" if str(n) in r["cpu_time_us"] else "—" for n in sizes]
+            cells = [f"{r['wall_time_us'][str(n)]:.4g}" if str(n) in r["wall_time_us"] else "—" for n in sizes]
             exponent = f"{r['exponent']:.3f}" if r["exponent"] is not None else "—"
             local = ", ".join(f"{e['exponent']:.2f}" for e in r["local_exponents"])
             print(f"| {r['family']} | {r['method']} | " + " | ".join(cells) + f" | {exponent} | {local} |")

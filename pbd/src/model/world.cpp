@@ -126,6 +126,7 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
     world.joints.push_back(std::move(created[static_cast<std::size_t>(index)]));
     world.jointSceneIndex.push_back(index);
   }
+  world.particleDistances = clothDistanceConstraints(scene);
   world.collision = CollisionDetector(scene, options);
   world.materials = ContactMaterials(scene);
   world.contacts.reserve(world.collision);

@@ -10,9 +10,11 @@ namespace {
 void projectPositions(World& world, Real h) {
   for (Joint& joint : world.joints)
     std::visit([&](auto& j) { j.beginSubstep(h); }, joint);
-  for (int iteration = 0; iteration < world.settings.maxIterations; ++iteration)
+  for (int iteration = 0; iteration < world.settings.maxIterations; ++iteration) {
     for (Joint& joint : world.joints)
       std::visit([&](auto& j) { j.solvePosition(world.bodies, h); }, joint);
+    solveParticleDistances(world.particleDistances, world.bodies.particles, h, iteration == 0);
+  }
 }
 
 /// Collision detection on the positions after the substeps; contacts are set up from the

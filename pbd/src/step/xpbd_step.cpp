@@ -33,6 +33,8 @@ void solvePositions(World& world, Real h) {
     lambda.setZero();
     solveJointPositionXpbd(world.joints[j], world.bodies, h, settings, lambda);
   }
+  // Cloth edges as their family says (PBD or XPBD), one iteration per substep.
+  solveParticleDistances(world.particleDistances, world.bodies.particles, h, true);
   for (XpbdContact& contact : world.xpbd.contacts.contacts)
     contact.solvePosition(world.bodies, h, settings.contactCompliance);
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "pbd/collision/collision_detection.h"
+#include "pbd/constraints/particle_distance.h"
 #include "pbd/contacts/contact_set.h"
 #include "pbd/joints/joint.h"
 #include "pbd/model/body_states.h"
@@ -28,6 +29,9 @@ struct World {
   BodyStates bodies;
   std::vector<Joint> joints;         ///< in solve order (greedy colouring of the scene order)
   std::vector<int> jointSceneIndex;  ///< joints[k] is Scene::joints[jointSceneIndex[k]]
+  /// Distance constraints between particles (cloth edges, constraints/particle_distance.h),
+  /// solved after the joints in every position iteration.
+  std::vector<ParticleDistanceConstraint> particleDistances;
   CollisionDetector collision;       ///< shapes, surface samples, hierarchies, broad phase
   ContactMaterials materials;        ///< friction and restitution per pair
   ContactSet contacts;               ///< the contacts of the last step

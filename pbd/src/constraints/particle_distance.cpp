@@ -1,0 +1,93 @@
+#include "pbd/constraints/particle_distance.h"
+
+#include <algorithm>
+#include <set>
+#include <utility>
+
+#include "pbd/model/body_states.h"
+#include "pbd/model/scene.h"
+
+namespace pbd {
+
+Real particleDistanceValue(const Vector3& p1, const Vector3& p2, Real restLength) {
+  return (p1 - p2).norm() - restLength;
+}
+
+DistanceCorrection particleDistancePbd(const Vector3& p1, const Vector3& p2, Real inverseMass1,
+                                       Real inverseMass2, Real restLength, Real stiffness) {
+  DistanceCorrection c;
+  const Real inverseMassSum = inverseMass1 + inverseMass2;
+  const Vector3 d = p1 - p2;
+  const Real length = d.norm();
+  if (!(inverseMassSum > 0) || !(length > 0)) return c;
+  const Vector3 n = d / length;
+  const Real s = (length - restLength) / inverseMassSum;
+  c.first = -stiffness * inverseMass1 * s * n;
+  c.second = stiffness * inverseMass2 * s * n;
+  return c;
+}
+
+DistanceCorrection particleDistanceXpbd(const Vector3& p1, const Vector3& p2, Real inverseMass1,
+                                        Real inverseMass2, Real restLength, Real stiffness,
+                                        Real substepSize, Real multiplier) {
+  DistanceCorrection c;
+  const Real inverseMassSum = inverseMass1 + inverseMass2;
+  const Vector3 d = p1 - p2;
+  const Real length = d.norm();
+  if (!(inverseMassSum > 0) || !(length > 0) || !(stiffness > 0)) return c;
+  const Vector3 n = d / length;
+  const Real compliance = Real(1) / (stiffness * substepSize * substepSize);  // α̃
+  c.multiplier = (-(length - restLength) - compliance * multiplier) / (inverseMassSum + compliance);
+  c.first = inverseMass1 * c.multiplier * n;
+  c.second = -inverseMass2 * c.multiplier * n;
+  return c;
+}
+
+std::vector<ParticleDistanceConstraint> clothDistanceConstraints(const Scene& scene) {
+  std::vector<ParticleDistanceConstraint> constraints;
+  const int method = scene.simulation.clothSimulationMethod;
+  if (method != 1 && method != 4) return constraints;
+  for (const TriangleModelDesc& model : scene.triangleModels) {
+    std::set<std::pair<int, int>> seen;
+    for (const auto& triangle : model.mesh.triangles)
+      for (int k = 0; k < 3; ++k) {
+        const int a = model.firstParticle + int(triangle[k]);
+        const int b = model.firstParticle + int(triangle[(k + 1) % 3]);
+        if (!seen.insert({std::min(a, b), std::max(a, b)}).second) continue;
+        const ParticleDesc& pa = scene.particles[std::size_t(a)];
+        const ParticleDesc& pb = scene.particles[std::size_t(b)];
+        if (!(pa.mass > 0) && !(pb.mass > 0)) continue;
+        ParticleDistanceConstraint c;
+        c.particle1 = a;
+        c.particle2 = b;
+        c.restLength = (pa.position - pb.position).norm();
+        c.xpbd = method == 4;
+        c.stiffness = scene.simulation.cloth_stiffness;
+        constraints.push_back(c);
+      }
+  }
+  return constraints;
+}
+
+void solveParticleDistances(std::vector<ParticleDistanceConstraint>& constraints,
+                            ParticleStates& particles, Real substepSize, bool firstIteration) {
+  for (ParticleDistanceConstraint& c : constraints) {
+    const auto i = std::size_t(c.particle1), j = std::size_t(c.particle2);
+    DistanceCorrection d;
+    if (c.xpbd) {
+      if (firstIteration) c.multiplier = 0;
+      d = particleDistanceXpbd(particles.position[i], particles.position[j],
+                               particles.inverseMass[i], particles.inverseMass[j], c.restLength,
+                               c.stiffness, substepSize, c.multiplier);
+      c.multiplier += d.multiplier;
+    } else {
+      d = particleDistancePbd(particles.position[i], particles.position[j],
+                              particles.inverseMass[i], particles.inverseMass[j], c.restLength,
+                              c.stiffness);
+    }
+    particles.position[i] += d.first;
+    particles.position[j] += d.second;
+  }
+}
+
+}  // namespace pbd
