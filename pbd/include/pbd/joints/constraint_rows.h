@@ -44,17 +44,54 @@ struct RowCorrection {
   Vector multiplier = Vector::Zero();                                ///< Δλ
 };
 
-/// K = Σ_k (w_k A_k A_kᵀ + B_k J_k B_kᵀ) + diag(compliance).
+/// K = Σ_k (w_k A_k A_kᵀ + B_k J_k B_kᵀ) + diag(compliance), accumulated on the upper triangle
+/// and mirrored (K is symmetric): N_k = B_k J_k once, then K_ij += w_k A_k,i·A_k,j + N_k,i·B_k,j
+/// for j ≥ i.
 template <int Rows>
 Eigen::Matrix<Real, Rows, Rows> effectiveMassMatrix(
     const ConstraintRows<Rows>& rows, const std::array<EndInverseMass, 2>& ends,
     const Eigen::Matrix<Real, Rows, 1>& compliance) {
   Eigen::Matrix<Real, Rows, Rows> k = compliance.asDiagonal();
   for (std::size_t e = 0; e < 2; ++e) {
-    k.noalias() += ends[e].linear * rows.linear[e] * rows.linear[e].transpose();
-    k.noalias() += rows.angular[e] * ends[e].angular * rows.angular[e].transpose();
+    const Real w = ends[e].linear;
+    const Eigen::Matrix<Real, Rows, 3> n = rows.angular[e] * ends[e].angular;
+    for (int i = 0; i < Rows; ++i)
+      for (int j = i; j < Rows; ++j)
+        k(i, j) += w * rows.linear[e].row(i).dot(rows.linear[e].row(j)) +
+                   n.row(i).dot(rows.angular[e].row(j));
   }
+  for (int i = 0; i < Rows; ++i)
+    for (int j = 0; j < i; ++j) k(i, j) = k(j, i);
   return k;
+}
+
+/// Solves the symmetric K x = b by L D Lᵀ without pivoting (fixed size, unrolled by the
+/// compiler; Eigen's pivoting LDLT spent most of a 5-row joint solve in dynamic-size blocks).
+/// Returns false when a pivot is not above 10⁻¹² of K's largest diagonal entry (K singular or
+/// nearly: the caller then uses the pivoting factorisation).
+template <int Rows>
+bool solveSymmetricUnpivoted(Eigen::Matrix<Real, Rows, Rows> k,
+                             const Eigen::Matrix<Real, Rows, 1>& b,
+                             Eigen::Matrix<Real, Rows, 1>& x) {
+  const Real floor = Real(1e-12) * k.diagonal().maxCoeff();
+  for (int j = 0; j < Rows; ++j) {  // in place: D on the diagonal, L below it
+    Real d = k(j, j);
+    for (int m = 0; m < j; ++m) d -= k(j, m) * k(j, m) * k(m, m);
+    if (!(d > floor)) return false;
+    k(j, j) = d;
+    for (int i = j + 1; i < Rows; ++i) {
+      Real v = k(i, j);
+      for (int m = 0; m < j; ++m) v -= k(i, m) * k(j, m) * k(m, m);
+      k(i, j) = v / d;
+    }
+  }
+  x = b;
+  for (int i = 0; i < Rows; ++i)
+    for (int m = 0; m < i; ++m) x(i) -= k(i, m) * x(m);
+  for (int i = 0; i < Rows; ++i) x(i) /= k(i, i);
+  for (int i = Rows - 1; i >= 0; --i)
+    for (int m = i + 1; m < Rows; ++m) x(i) -= k(m, i) * x(m);
+  return true;
 }
 
 /// Solves K Δλ = rhs and maps Δλ to per-end corrections. Returns false (and no correction)
@@ -65,9 +102,13 @@ bool solveRows(const ConstraintRows<Rows>& rows, const std::array<EndInverseMass
                const Eigen::Matrix<Real, Rows, 1>& rhs, RowCorrection<Rows>& out) {
   const Eigen::Matrix<Real, Rows, Rows> k = effectiveMassMatrix(rows, ends, compliance);
   if (!(k.diagonal().maxCoeff() > 0)) return false;
-  const Eigen::LDLT<Eigen::Matrix<Real, Rows, Rows>> factor(k);
-  if (factor.info() != Eigen::Success) return false;
-  out.multiplier = factor.solve(rhs);
+  if (!solveSymmetricUnpivoted(k, rhs, out.multiplier)) {
+    // Singular or nearly (rows that depend on each other in this pose): the pivoting
+    // factorisation solves what can be solved.
+    const Eigen::LDLT<Eigen::Matrix<Real, Rows, Rows>> factor(k);
+    if (factor.info() != Eigen::Success) return false;
+    out.multiplier = factor.solve(rhs);
+  }
   if (!out.multiplier.allFinite()) return false;
   for (std::size_t e = 0; e < 2; ++e) {
     out.linear[e] = ends[e].linear * (rows.linear[e].transpose() * out.multiplier);
