@@ -86,11 +86,13 @@ std::vector<std::string> PbdEngine::unsupported(const pbd::Scene& scene,
                         ") is not implemented yet; set clothBendingMethod 0 for distance "
                         "constraints alone");
   }
+  const int solid = scene.simulation.solidSimulationMethod;
   for (const pbd::TetModelDesc& model : scene.tetModels)
-    if (scene.simulation.solidSimulationMethod != 0)
+    if (solid != 0 && solid != 1 && solid != 6)
       missing.push_back(model.jsonPath + ": deformable solids (solidSimulationMethod " +
-                        std::to_string(scene.simulation.solidSimulationMethod) +
-                        ") are not implemented yet; set solidSimulationMethod 0 for free particles");
+                        std::to_string(solid) +
+                        ") are not implemented yet; 1 (distance and volume, PBD) and 6 (the same, "
+                        "XPBD) are, 0 leaves free particles");
   return missing;
 }
 

@@ -287,6 +287,9 @@ TEST(ParticleDistanceWorld, ClothEdgesComeFromTheTriangleModels) {
   for (int i = 0; i < 4; ++i)
     scene.particles.push_back(
         {cloth.mesh.vertices[std::size_t(i)], Vector3::Zero(), i < 2 ? Real(0) : Real(1)});
+  scene.simulation.clothSimulationMethod = 4;
+  // Unset, the stiffness is the seed's forced default: 10⁵ N/m for XPBD distance constraints.
+  EXPECT_EQ(buildWorld(scene).particleDistances.front().stiffness, Real(1e5));
   scene.simulation.cloth_stiffness = 300;
   for (int method : {0, 1, 2, 3, 4}) {
     scene.simulation.clothSimulationMethod = method;

@@ -414,7 +414,9 @@ TEST(SceneLoaderDefaults, AbsentKeysTakeTheSeedsCodeDefaults) {
   EXPECT_EQ(s.contactStiffnessParticleRigidBody, 100);
   EXPECT_EQ(s.clothSimulationMethod, 2);
   EXPECT_EQ(s.clothBendingMethod, 2);
-  EXPECT_EQ(s.cloth_stiffness, 1);
+  // Unset: the seed's forced value for the method (1; 10⁵ N/m for XPBD distance, method 4).
+  EXPECT_FALSE(s.cloth_stiffness.has_value());
+  EXPECT_EQ(clothStiffnessFor(s), 1);
   EXPECT_EQ(s.cloth_bendingStiffness, Real(0.01));
   EXPECT_EQ(s.cloth_xxStiffness, 1);
   EXPECT_EQ(s.cloth_yyStiffness, 1);
@@ -424,9 +426,23 @@ TEST(SceneLoaderDefaults, AbsentKeysTakeTheSeedsCodeDefaults) {
   EXPECT_FALSE(s.cloth_normalizeStretch);
   EXPECT_FALSE(s.cloth_normalizeShear);
   EXPECT_EQ(s.solidSimulationMethod, 2);
-  EXPECT_EQ(s.solid_stiffness, 1);
+  EXPECT_FALSE(s.solid_stiffness.has_value());
+  EXPECT_EQ(solidStiffnessFor(s), 1);
   EXPECT_EQ(s.solid_poissonRatio, Real(0.3));
-  EXPECT_EQ(s.solid_volumeStiffness, 1);
+  EXPECT_FALSE(s.solid_volumeStiffness.has_value());
+  EXPECT_EQ(solidVolumeStiffnessFor(s), 1);
+  {
+    SimulationSettings xpbd = s;
+    xpbd.clothSimulationMethod = 4;
+    xpbd.solidSimulationMethod = 6;
+    EXPECT_EQ(clothStiffnessFor(xpbd), Real(1e5));
+    EXPECT_EQ(solidStiffnessFor(xpbd), Real(1e5));
+    EXPECT_EQ(solidVolumeStiffnessFor(xpbd), Real(1e5));
+    xpbd.solidSimulationMethod = 3;
+    EXPECT_EQ(solidStiffnessFor(xpbd), Real(1e6));
+    xpbd.cloth_stiffness = Real(7);  // a scene's value wins, as in the seed
+    EXPECT_EQ(clothStiffnessFor(xpbd), 7);
+  }
   EXPECT_FALSE(s.solid_normalizeStretch);
   EXPECT_FALSE(s.solid_normalizeShear);
   EXPECT_EQ(s.rod_stretchingStiffness, 1);

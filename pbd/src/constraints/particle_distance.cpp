@@ -43,16 +43,21 @@ DistanceCorrection particleDistanceXpbd(const Vector3& p1, const Vector3& p2, Re
   return c;
 }
 
-std::vector<ParticleDistanceConstraint> clothDistanceConstraints(const Scene& scene) {
-  std::vector<ParticleDistanceConstraint> constraints;
-  const int method = scene.simulation.clothSimulationMethod;
-  if (method != 1 && method != 4) return constraints;
-  for (const TriangleModelDesc& model : scene.triangleModels) {
-    std::set<std::pair<int, int>> seen;
-    for (const auto& triangle : model.mesh.triangles)
-      for (int k = 0; k < 3; ++k) {
-        const int a = model.firstParticle + int(triangle[k]);
-        const int b = model.firstParticle + int(triangle[(k + 1) % 3]);
+namespace {
+
+/// A constraint along every edge of `elements` (triangles or tets of one model), each edge once,
+/// in the order it first appears (per element, vertex pairs (i, j) with i < j); none between two
+/// static particles.
+template <std::size_t N>
+void addEdges(const std::vector<std::array<int, N>>& elements, int firstParticle,
+              const Scene& scene, bool xpbd, Real stiffness,
+              std::vector<ParticleDistanceConstraint>& out) {
+  std::set<std::pair<int, int>> seen;
+  for (const auto& element : elements)
+    for (std::size_t i = 0; i < N; ++i)
+      for (std::size_t j = i + 1; j < N; ++j) {
+        const int a = firstParticle + element[i];
+        const int b = firstParticle + element[j];
         if (!seen.insert({std::min(a, b), std::max(a, b)}).second) continue;
         const ParticleDesc& pa = scene.particles[std::size_t(a)];
         const ParticleDesc& pb = scene.particles[std::size_t(b)];
@@ -61,11 +66,26 @@ std::vector<ParticleDistanceConstraint> clothDistanceConstraints(const Scene& sc
         c.particle1 = a;
         c.particle2 = b;
         c.restLength = (pa.position - pb.position).norm();
-        c.xpbd = method == 4;
-        c.stiffness = scene.simulation.cloth_stiffness;
-        constraints.push_back(c);
+        c.xpbd = xpbd;
+        c.stiffness = stiffness;
+        out.push_back(c);
       }
-  }
+}
+
+}  // namespace
+
+std::vector<ParticleDistanceConstraint> deformableDistanceConstraints(const Scene& scene) {
+  std::vector<ParticleDistanceConstraint> constraints;
+  const int cloth = scene.simulation.clothSimulationMethod;
+  if (cloth == 1 || cloth == 4)
+    for (const TriangleModelDesc& model : scene.triangleModels)
+      addEdges(model.mesh.triangles, model.firstParticle, scene, cloth == 4,
+               clothStiffnessFor(scene.simulation), constraints);
+  const int solid = scene.simulation.solidSimulationMethod;
+  if (solid == 1 || solid == 6)
+    for (const TetModelDesc& model : scene.tetModels)
+      addEdges(model.mesh.tetrahedra, model.firstParticle, scene, solid == 6,
+               solidStiffnessFor(scene.simulation), constraints);
   return constraints;
 }
 

@@ -176,6 +176,15 @@ KeyReader<Target> numberKey(std::string key, Real Target::*member, Bounds bounds
   return {key, [member, bounds](const JsonValue& v, Target& t) { t.*member = v.number(bounds); },
           false, [key, member](const Target& t, Json& j) { writeNumber(j, key, t.*member); }};
 }
+/// A number whose absence means "the default of whatever uses it" (written back only when set).
+template <class Target>
+KeyReader<Target> numberKey(std::string key, std::optional<Real> Target::*member,
+                            Bounds bounds = {}) {
+  return {key, [member, bounds](const JsonValue& v, Target& t) { t.*member = v.number(bounds); },
+          false, [key, member](const Target& t, Json& j) {
+            if (t.*member) writeNumber(j, key, *(t.*member));
+          }};
+}
 template <class Target>
 KeyReader<Target> integerKey(std::string key, int Target::*member, Bounds bounds = {}) {
   return {key, [member, bounds](const JsonValue& v, Target& t) { t.*member = v.integer(bounds); },

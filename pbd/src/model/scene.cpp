@@ -110,6 +110,22 @@ const char* stepMethodName(StepMethod method) {
   return "?";
 }
 
+Real clothStiffnessFor(const SimulationSettings& settings) {
+  if (settings.cloth_stiffness) return *settings.cloth_stiffness;
+  return settings.clothSimulationMethod == 4 ? Real(1e5) : Real(1);
+}
+
+Real solidStiffnessFor(const SimulationSettings& settings) {
+  if (settings.solid_stiffness) return *settings.solid_stiffness;
+  if (settings.solidSimulationMethod == 3) return Real(1e6);
+  return settings.solidSimulationMethod == 6 ? Real(1e5) : Real(1);
+}
+
+Real solidVolumeStiffnessFor(const SimulationSettings& settings) {
+  if (settings.solid_volumeStiffness) return *settings.solid_volumeStiffness;
+  return settings.solidSimulationMethod == 6 ? Real(1e5) : Real(1);
+}
+
 GridInterpolation distanceGridFor(const SimulationSettings& settings) {
   if (settings.distanceGrid) return *settings.distanceGrid;
   return settings.stepMethod == StepMethod::Xpbd ? GridInterpolation::CatmullRom

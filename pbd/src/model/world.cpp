@@ -126,7 +126,8 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
     world.joints.push_back(std::move(created[static_cast<std::size_t>(index)]));
     world.jointSceneIndex.push_back(index);
   }
-  world.particleDistances = clothDistanceConstraints(scene);
+  world.particleDistances = deformableDistanceConstraints(scene);
+  world.tetVolumes = solidVolumeConstraints(scene);
   world.collision = CollisionDetector(scene, options);
   world.materials = ContactMaterials(scene);
   world.contacts.reserve(world.collision);

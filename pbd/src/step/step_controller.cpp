@@ -14,6 +14,7 @@ void projectPositions(World& world, Real h) {
     for (Joint& joint : world.joints)
       std::visit([&](auto& j) { j.solvePosition(world.bodies, h); }, joint);
     solveParticleDistances(world.particleDistances, world.bodies.particles, h, iteration == 0);
+    solveTetVolumes(world.tetVolumes, world.bodies.particles, h, iteration == 0);
   }
 }
 

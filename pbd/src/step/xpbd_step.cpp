@@ -33,8 +33,10 @@ void solvePositions(World& world, Real h) {
     lambda.setZero();
     solveJointPositionXpbd(world.joints[j], world.bodies, h, settings, lambda);
   }
-  // Cloth edges as their family says (PBD or XPBD), one iteration per substep.
+  // Cloth and solid edges, then tet volumes, as their family says (PBD or XPBD), one iteration
+  // per substep.
   solveParticleDistances(world.particleDistances, world.bodies.particles, h, true);
+  solveTetVolumes(world.tetVolumes, world.bodies.particles, h, true);
   for (XpbdContact& contact : world.xpbd.contacts.contacts)
     contact.solvePosition(world.bodies, h, settings.contactCompliance);
 }

@@ -1,4 +1,5 @@
-// Distance between two particles: the edges of a cloth (clothSimulationMethod 1: PBD, 4: XPBD).
+// Distance between two particles: the edges of a cloth (clothSimulationMethod 1: PBD, 4: XPBD)
+// and of a solid (solidSimulationMethod 1: PBD, 6: XPBD, with tet_volume.h).
 //
 //   C(p₁, p₂) = |p₁ − p₂| − L,   n = (p₁ − p₂)/|p₁ − p₂|,   ∇_{p₁}C = n,   ∇_{p₂}C = −n
 // (L the rest length at t = 0; the gradients sum to zero, so w-weighted corrections conserve
@@ -31,7 +32,7 @@ struct ParticleDistanceConstraint {
   int particle2 = -1;
   Real restLength = 0;
   bool xpbd = false;    ///< false: PBD, stiffness ∈ [0, 1]; true: XPBD, stiffness in N/m
-  Real stiffness = 1;   ///< of the family that made it (cloth_stiffness for cloth edges)
+  Real stiffness = 1;   ///< of the family that made it (cloth or solid stiffness)
   Real multiplier = 0;  ///< λ of the current substep (XPBD)
 };
 
@@ -55,10 +56,12 @@ DistanceCorrection particleDistanceXpbd(const Vector3& p1, const Vector3& p2, Re
                                         Real substepSize, Real multiplier);
 
 /// The distance constraints along every edge of the scene's triangle models whose
-/// clothSimulationMethod is 1 (PBD) or 4 (XPBD), with cloth_stiffness, the rest lengths at
-/// t = 0: per model, edges in the order they first appear in its triangles. Edges between two
+/// clothSimulationMethod is 1 (PBD) or 4 (XPBD), with clothStiffnessFor, then of its tet models
+/// whose solidSimulationMethod is 1 (PBD) or 6 (XPBD), with solidStiffnessFor (each family its
+/// own stiffness: the seed writes one into all). Rest lengths at t = 0; per model, each edge once
+/// in the order it first appears (per element, vertex pairs (i, j), i < j); edges between two
 /// static particles are left out.
-std::vector<ParticleDistanceConstraint> clothDistanceConstraints(const Scene& scene);
+std::vector<ParticleDistanceConstraint> deformableDistanceConstraints(const Scene& scene);
 
 /// One Gauss–Seidel sweep over `constraints` in order; the XPBD ones reset λ first when
 /// `firstIteration` (the start of a substep of size `substepSize`).

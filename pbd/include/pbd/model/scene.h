@@ -270,7 +270,9 @@ struct SimulationSettings {
 
   int clothSimulationMethod = 2;
   int clothBendingMethod = 2;
-  Real cloth_stiffness = 1;
+  /// Unset: the value the seed forces for the method when the scene does not give it
+  /// (clothStiffnessFor: 1, or 10⁵ N/m for XPBD distance constraints, method 4).
+  std::optional<Real> cloth_stiffness;
   Real cloth_bendingStiffness = Real(0.01);
   Real cloth_xxStiffness = 1;
   Real cloth_yyStiffness = 1;
@@ -281,9 +283,12 @@ struct SimulationSettings {
   bool cloth_normalizeShear = false;
 
   int solidSimulationMethod = 2;
-  Real solid_stiffness = 1;
+  /// Unset: the seed's forced value for the method (solidStiffnessFor: 1, 10⁶ for FEM-XPBD
+  /// (method 3), 10⁵ N/m for XPBD distance constraints (method 6)).
+  std::optional<Real> solid_stiffness;
   Real solid_poissonRatio = Real(0.3);
-  Real solid_volumeStiffness = 1;
+  /// Unset: 1, or 10⁵ N/m⁵ for XPBD volume constraints (method 6) (solidVolumeStiffnessFor).
+  std::optional<Real> solid_volumeStiffness;
   bool solid_normalizeStretch = false;
   bool solid_normalizeShear = false;
 
@@ -294,6 +299,14 @@ struct SimulationSettings {
   Real rod_bendingStiffnessY = Real(0.5);
   Real rod_twistingStiffness = Real(0.5);
 };
+
+/// The deformables' stiffness as used: the scene's value, else what the seed's
+/// initTriangleModelConstraints / initTetModelConstraints force for the method
+/// (research/pbd.md §1.5): cloth 1, 10⁵ N/m with clothSimulationMethod 4; solid 1, 10⁶ with
+/// solidSimulationMethod 3, 10⁵ N/m with 6; solid volume 1, 10⁵ N/m⁵ with 6.
+Real clothStiffnessFor(const SimulationSettings& settings);
+Real solidStiffnessFor(const SimulationSettings& settings);
+Real solidVolumeStiffnessFor(const SimulationSettings& settings);
 
 /// The grid interpolation of type-5 shapes: `Simulation.distanceGrid` when the scene gives it,
 /// else the method's own: the seed's cubic Lagrange grid for the `pbd` method (its fidelity to

@@ -8,6 +8,7 @@
 
 #include "pbd/collision/collision_detection.h"
 #include "pbd/constraints/particle_distance.h"
+#include "pbd/constraints/tet_volume.h"
 #include "pbd/contacts/contact_set.h"
 #include "pbd/joints/joint.h"
 #include "pbd/model/body_states.h"
@@ -29,9 +30,11 @@ struct World {
   BodyStates bodies;
   std::vector<Joint> joints;         ///< in solve order (greedy colouring of the scene order)
   std::vector<int> jointSceneIndex;  ///< joints[k] is Scene::joints[jointSceneIndex[k]]
-  /// Distance constraints between particles (cloth edges, constraints/particle_distance.h),
-  /// solved after the joints in every position iteration.
+  /// Distance constraints between particles (cloth and solid edges,
+  /// constraints/particle_distance.h) and volume constraints of tets (constraints/tet_volume.h),
+  /// solved in this order after the joints in every position iteration.
   std::vector<ParticleDistanceConstraint> particleDistances;
+  std::vector<TetVolumeConstraint> tetVolumes;
   CollisionDetector collision;       ///< shapes, surface samples, hierarchies, broad phase
   ContactMaterials materials;        ///< friction and restitution per pair
   ContactSet contacts;               ///< the contacts of the last step

@@ -12,8 +12,8 @@
 //      - predict: v ← v + h_s a, x ← x + h_s v; ω ← ω + h_s I_w⁻¹(τ − ω × I_w ω),
 //        q ← normalize(q + ½ h_s [0, ω] ⊗ q); contacts record their approach velocity ṽ_n;
 //      - one position iteration: every joint (colouring order, joints/xpbd_joint.h) with
-//        λ reset, the particle distance constraints (cloth edges,
-//        constraints/particle_distance.h), then every contact (detection order,
+//        λ reset, the particle distance and tet volume constraints (cloth and solid
+//        edges, tets: constraints/), then every contact (detection order,
 //        contacts/xpbd_contact.h): the normal
 //        projection and static friction, contacts re-evaluated at the current poses;
 //      - velocities from positions: v = (x − x_old)/h_s, ω = 2 vec(q ⊗ q_old⁻¹)/h_s (w ≥ 0);

@@ -1,0 +1,70 @@
+// Volume of a tetrahedron of four particles: the solids of solidSimulationMethod 1 (PBD, with
+// PBD distance constraints on the edges) and 6 (XPBD, with XPBD distance constraints).
+//
+//   C(p₁, p₂, p₃, p₄) = V − V₀,   V = ⅙ (p₂ − p₁) × (p₃ − p₁) · (p₄ − p₁)   (signed)
+//   ∇_{p₂}C = ⅙ (p₃ − p₁) × (p₄ − p₁),   ∇_{p₃}C = ⅙ (p₄ − p₁) × (p₂ − p₁),
+//   ∇_{p₄}C = ⅙ (p₂ − p₁) × (p₃ − p₁),   ∇_{p₁}C = −(∇_{p₂}C + ∇_{p₃}C + ∇_{p₄}C)
+// (Müller, Heidelberger, Hennix, Ratcliff 2007, "Position based dynamics", §4.3; the gradients
+// sum to zero, so w-weighted corrections conserve linear momentum, and C is invariant under
+// rigid motions). V₀ is the signed rest volume: the seed takes |V₀| against the signed V, so a
+// tet listed with negative orientation starts at C = −2|V₀| and is driven to invert
+// (research/pbd.md §5.3 #11); here C = 0 at rest whatever the orientation.
+//
+// PBD, stiffness k ∈ [0, 1] per iteration:  s = C / Σ w_i |∇_iC|²,  Δp_i = −k s w_i ∇_iC.
+// XPBD, stiffness k in N/m⁵ (½ k C² is the energy), α̃ = 1/(k h_s²), λ reset every substep:
+//   Δλ = (−C − α̃ λ) / (Σ w_i |∇_iC|² + α̃),  Δp_i = w_i Δλ ∇_iC.
+// Pure functions (positions in, corrections out); nothing allocates.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "pbd/math/types.h"
+#include "pbd/model/body_states.h"
+
+namespace pbd {
+
+struct Scene;
+
+struct TetVolumeConstraint {
+  std::array<int, 4> particles{-1, -1, -1, -1};
+  Real restVolume = 0;  ///< signed, at t = 0
+  bool xpbd = false;    ///< false: PBD, stiffness ∈ [0, 1]; true: XPBD, stiffness in N/m⁵
+  Real stiffness = 1;
+  Real multiplier = 0;  ///< λ of the current substep (XPBD)
+};
+
+struct TetVolumeCorrection {
+  std::array<Vector3, 4> positions{Vector3::Zero(), Vector3::Zero(), Vector3::Zero(),
+                                   Vector3::Zero()};
+  Real multiplier = 0;  ///< Δλ (XPBD; 0 for PBD)
+};
+
+/// The signed volume ⅙ (p₂ − p₁) × (p₃ − p₁) · (p₄ − p₁).
+Real signedTetVolume(const std::array<Vector3, 4>& p);
+
+/// ∇_{p_i}C for i = 1 … 4 (C = V − V₀).
+std::array<Vector3, 4> tetVolumeGradients(const std::array<Vector3, 4>& p);
+
+/// The PBD projection (k ∈ [0, 1]); no correction when every particle is static or the
+/// gradients vanish (a degenerate tet).
+TetVolumeCorrection tetVolumePbd(const std::array<Vector3, 4>& p,
+                                 const std::array<Real, 4>& inverseMasses, Real restVolume,
+                                 Real stiffness);
+
+/// The XPBD projection (k > 0 in N/m⁵) at substep size h_s with the accumulated λ.
+TetVolumeCorrection tetVolumeXpbd(const std::array<Vector3, 4>& p,
+                                  const std::array<Real, 4>& inverseMasses, Real restVolume,
+                                  Real stiffness, Real substepSize, Real multiplier);
+
+/// The volume constraints of every tet of the scene's tet models whose solidSimulationMethod
+/// is 1 (PBD) or 6 (XPBD), with solidVolumeStiffnessFor; tets of four static particles are left
+/// out.
+std::vector<TetVolumeConstraint> solidVolumeConstraints(const Scene& scene);
+
+/// One Gauss–Seidel sweep over `constraints` in order; the XPBD ones reset λ first when
+/// `firstIteration` (the start of a substep of size `substepSize`).
+void solveTetVolumes(std::vector<TetVolumeConstraint>& constraints, ParticleStates& particles,
+                     Real substepSize, bool firstIteration);
+
+}  // namespace pbd

@@ -1,0 +1,105 @@
+#include "pbd/constraints/tet_volume.h"
+
+#include "pbd/model/scene.h"
+
+namespace pbd {
+
+Real signedTetVolume(const std::array<Vector3, 4>& p) {
+  return (p[1] - p[0]).cross(p[2] - p[0]).dot(p[3] - p[0]) / Real(6);
+}
+
+std::array<Vector3, 4> tetVolumeGradients(const std::array<Vector3, 4>& p) {
+  std::array<Vector3, 4> g;
+  g[1] = (p[2] - p[0]).cross(p[3] - p[0]) / Real(6);
+  g[2] = (p[3] - p[0]).cross(p[1] - p[0]) / Real(6);
+  g[3] = (p[1] - p[0]).cross(p[2] - p[0]) / Real(6);
+  g[0] = -(g[1] + g[2] + g[3]);
+  return g;
+}
+
+namespace {
+
+/// Σ w_i |∇_iC|².
+Real weightedGradientNorm(const std::array<Vector3, 4>& gradients,
+                          const std::array<Real, 4>& inverseMasses) {
+  Real sum = 0;
+  for (std::size_t i = 0; i < 4; ++i) sum += inverseMasses[i] * gradients[i].squaredNorm();
+  return sum;
+}
+
+}  // namespace
+
+TetVolumeCorrection tetVolumePbd(const std::array<Vector3, 4>& p,
+                                 const std::array<Real, 4>& inverseMasses, Real restVolume,
+                                 Real stiffness) {
+  TetVolumeCorrection c;
+  const std::array<Vector3, 4> gradients = tetVolumeGradients(p);
+  const Real denominator = weightedGradientNorm(gradients, inverseMasses);
+  if (!(denominator > 0)) return c;
+  const Real s = (signedTetVolume(p) - restVolume) / denominator;
+  for (std::size_t i = 0; i < 4; ++i) c.positions[i] = -stiffness * s * inverseMasses[i] * gradients[i];
+  return c;
+}
+
+TetVolumeCorrection tetVolumeXpbd(const std::array<Vector3, 4>& p,
+                                  const std::array<Real, 4>& inverseMasses, Real restVolume,
+                                  Real stiffness, Real substepSize, Real multiplier) {
+  TetVolumeCorrection c;
+  if (!(stiffness > 0)) return c;
+  const std::array<Vector3, 4> gradients = tetVolumeGradients(p);
+  const Real denominator = weightedGradientNorm(gradients, inverseMasses);
+  if (!(denominator > 0)) return c;
+  const Real compliance = Real(1) / (stiffness * substepSize * substepSize);  // α̃
+  c.multiplier = (-(signedTetVolume(p) - restVolume) - compliance * multiplier) /
+                 (denominator + compliance);
+  for (std::size_t i = 0; i < 4; ++i) c.positions[i] = c.multiplier * inverseMasses[i] * gradients[i];
+  return c;
+}
+
+std::vector<TetVolumeConstraint> solidVolumeConstraints(const Scene& scene) {
+  std::vector<TetVolumeConstraint> constraints;
+  const int method = scene.simulation.solidSimulationMethod;
+  if (method != 1 && method != 6) return constraints;
+  for (const TetModelDesc& model : scene.tetModels)
+    for (const auto& tet : model.mesh.tetrahedra) {
+      TetVolumeConstraint c;
+      std::array<Vector3, 4> rest;
+      bool anyDynamic = false;
+      for (std::size_t i = 0; i < 4; ++i) {
+        c.particles[i] = model.firstParticle + int(tet[i]);
+        const ParticleDesc& particle = scene.particles[std::size_t(c.particles[i])];
+        rest[i] = particle.position;
+        anyDynamic = anyDynamic || particle.mass > 0;
+      }
+      if (!anyDynamic) continue;
+      c.restVolume = signedTetVolume(rest);
+      c.xpbd = method == 6;
+      c.stiffness = solidVolumeStiffnessFor(scene.simulation);
+      constraints.push_back(c);
+    }
+  return constraints;
+}
+
+void solveTetVolumes(std::vector<TetVolumeConstraint>& constraints, ParticleStates& particles,
+                     Real substepSize, bool firstIteration) {
+  for (TetVolumeConstraint& c : constraints) {
+    std::array<Vector3, 4> p;
+    std::array<Real, 4> w;
+    for (std::size_t i = 0; i < 4; ++i) {
+      p[i] = particles.position[std::size_t(c.particles[i])];
+      w[i] = particles.inverseMass[std::size_t(c.particles[i])];
+    }
+    TetVolumeCorrection d;
+    if (c.xpbd) {
+      if (firstIteration) c.multiplier = 0;
+      d = tetVolumeXpbd(p, w, c.restVolume, c.stiffness, substepSize, c.multiplier);
+      c.multiplier += d.multiplier;
+    } else {
+      d = tetVolumePbd(p, w, c.restVolume, c.stiffness);
+    }
+    for (std::size_t i = 0; i < 4; ++i)
+      particles.position[std::size_t(c.particles[i])] += d.positions[i];
+  }
+}
+
+}  // namespace pbd

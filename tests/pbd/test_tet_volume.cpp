@@ -1,0 +1,193 @@
+// Tet volume constraints (constraints/tet_volume.h), PBD and XPBD: the gradients against
+// central differences, the rest state in either orientation (the seed's |V₀| bug), rigid-motion
+// invariance and momentum; in the world: an apex on a static base held by the volume constraint
+// alone settles at the closed-form compression 9 m g/(k A²) (XPBD) or (1 − k)ⁿ g h_s²/(1 − (1 − k)ⁿ)
+// (PBD, iteration-dependent); the constraints a tet model gets from solidSimulationMethod.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "common/tolerances.h"
+#include "pbd/constraints/tet_volume.h"
+#include "pbd/model/world.h"
+
+namespace pbd {
+namespace {
+
+const std::array<Vector3, 4> kTet = {Vector3(0.1, -0.2, 0.3), Vector3(1.2, 0.1, -0.1),
+                                     Vector3(0.3, 0.9, 0.2), Vector3(0.2, 0.1, 1.1)};
+
+TEST(TetVolume, GradientsMatchCentralDifferences) {
+  const std::array<Vector3, 4> g = tetVolumeGradients(kTet);
+  const Real h = test::finiteDifferenceStep();
+  for (std::size_t i = 0; i < 4; ++i)
+    for (int axis = 0; axis < 3; ++axis) {
+      std::array<Vector3, 4> plus = kTet, minus = kTet;
+      plus[i](axis) += h;
+      minus[i](axis) -= h;
+      const Real numeric = (signedTetVolume(plus) - signedTetVolume(minus)) / (2 * h);
+      EXPECT_NEAR(numeric, g[i](axis), test::finiteDifferenceTolerance()) << i << " " << axis;
+    }
+  // The gradients sum to zero (translation invariance): exactly up to round-off.
+  EXPECT_LT((g[0] + g[1] + g[2] + g[3]).norm(), 10 * kEpsilon);
+}
+
+TEST(TetVolume, RestStateInEitherOrientationHasNoCorrection) {
+  // Swapping two vertices flips the orientation: V₀ < 0. The seed's |V₀| would give C = −2|V₀|;
+  // the signed rest volume gives C = 0 and no correction.
+  std::array<Vector3, 4> flipped = kTet;
+  std::swap(flipped[1], flipped[2]);
+  const std::array<Real, 4> w = {1, 2, Real(0.5), 1};
+  for (const auto& tet : {kTet, flipped}) {
+    const Real rest = signedTetVolume(tet);
+    const TetVolumeCorrection pbd = tetVolumePbd(tet, w, rest, 1);
+    const TetVolumeCorrection xpbd = tetVolumeXpbd(tet, w, rest, 1e4, 1e-3, 0);
+    for (std::size_t i = 0; i < 4; ++i) {
+      EXPECT_EQ(pbd.positions[i], Vector3::Zero());
+      EXPECT_EQ(xpbd.positions[i], Vector3::Zero());
+    }
+  }
+  EXPECT_LT(signedTetVolume(flipped), 0);
+}
+
+TEST(TetVolume, RigidMotionsAndMomentum) {
+  const Quaternion q(AngleAxis(0.8, Vector3(1, 1, -2).normalized()));
+  const Vector3 t(-2, 3, 1);
+  std::array<Vector3, 4> moved;
+  for (std::size_t i = 0; i < 4; ++i) moved[i] = q * kTet[i] + t;
+  // Round-off of a triple product of O(1) coordinates: a few ε.
+  EXPECT_NEAR(signedTetVolume(moved), signedTetVolume(kTet), 20 * kEpsilon);
+  const std::array<Real, 4> w = {1, 2, Real(0.5), Real(0.25)};
+  const Real rest = Real(0.8) * signedTetVolume(kTet);  // compressed by a fifth
+  for (const TetVolumeCorrection& c : {tetVolumePbd(kTet, w, rest, 0.7),
+                                       tetVolumeXpbd(kTet, w, rest, 1e5, 1e-2, 0)}) {
+    Vector3 momentum = Vector3::Zero();
+    for (std::size_t i = 0; i < 4; ++i) momentum += c.positions[i] / w[i];
+    EXPECT_LT(momentum.norm(), 20 * kEpsilon);  // Σ m_i Δp_i = 0: the gradients sum to zero
+    EXPECT_GT(c.positions[1].norm(), 1e-3);
+  }
+  // One PBD projection with k = 1 restores the volume to first order: the residual is the
+  // second-order term of V along the correction (small against the initial error 0.2 V).
+  const TetVolumeCorrection exact = tetVolumePbd(kTet, w, rest, 1);
+  std::array<Vector3, 4> projected;
+  for (std::size_t i = 0; i < 4; ++i) projected[i] = kTet[i] + exact.positions[i];
+  EXPECT_LT(std::abs(signedTetVolume(projected) - rest), 0.05 * std::abs(0.2 * signedTetVolume(kTet)));
+}
+
+// A tet with a static base (right triangle of legs 1 in the xz-plane, area A = ½) and an apex of
+// mass m at height 1, gravity along −y, the volume constraint alone.
+World apexOnBase(bool xpbd, Real stiffness, int iterations) {
+  Scene scene;
+  scene.simulation.timeStepSize = Real(0.005);
+  scene.simulation.subSteps = 5;
+  scene.simulation.maxIterations = iterations;
+  scene.particles.push_back({Vector3(0, 0, 0), Vector3::Zero(), 0});
+  scene.particles.push_back({Vector3(1, 0, 0), Vector3::Zero(), 0});
+  scene.particles.push_back({Vector3(0, 0, 1), Vector3::Zero(), 0});
+  scene.particles.push_back({Vector3(0.2, 1, 0.2), Vector3::Zero(), 1});
+  World world = buildWorld(scene);
+  TetVolumeConstraint c;
+  c.particles = {0, 1, 2, 3};
+  c.restVolume = signedTetVolume({scene.particles[0].position, scene.particles[1].position,
+                                  scene.particles[2].position, scene.particles[3].position});
+  c.xpbd = xpbd;
+  c.stiffness = stiffness;
+  world.tetVolumes.push_back(c);
+  return world;
+}
+
+Real meanCompression(World& world, Real from, Real to) {
+  Real sum = 0;
+  int count = 0;
+  while (world.time < to) {
+    world.step();
+    if (world.time > from) {
+      sum += 1 - world.bodies.particles.position[3].y();
+      ++count;
+    }
+  }
+  return sum / count;
+}
+
+TEST(TetVolumeWorld, XpbdCompressionIsTheClosedFormAndPbdsIsSetByIterations) {
+  // XPBD: k C ∇C = m g with C = (A/3) Δh, |∇C| = A/3: Δh = 9 m g/(k A²) = 35.3 mm for
+  // k = 10⁴ N/m⁵; ω = (A/3)√(k/m) = 16.7 rad/s. The mean over 3 s (eight periods, lightly
+  // damped) is the static value within the window's share of a partial period: 1 % allowed.
+  const Real g = Real(9.81), area = Real(0.5), k = Real(1e4);
+  const Real expected = 9 * g / (k * area * area);
+  for (int iterations : {1, 8}) {
+    World world = apexOnBase(true, k, iterations);
+    const Real measured = meanCompression(world, 0, 3);
+    std::printf("  XPBD tet apex, %d iterations: compression %.6g m (9 m g/(k A^2) = %.6g m)\n",
+                iterations, double(measured), double(expected));
+    EXPECT_NEAR(measured, expected, 0.01 * expected);
+  }
+  // PBD, k = 0.5: C is linear in the apex height, so each iteration keeps (1 − k) of the error
+  // the prediction adds (g h_s² per substep): (1 − k)ⁿ g h_s²/(1 − (1 − k)ⁿ), as for a distance.
+  const Real substep = Real(0.001);
+  for (int iterations : {1, 8}) {
+    const Real kept = std::pow(Real(0.5), Real(iterations));
+    const Real closed = kept * g * substep * substep / (1 - kept);
+    World world = apexOnBase(false, Real(0.5), iterations);
+    const Real measured = meanCompression(world, 0.5, 1);
+    std::printf("  PBD tet apex, k = 0.5, %d iterations: compression %.6g m (closed form %.6g m)\n",
+                iterations, double(measured), double(closed));
+    EXPECT_NEAR(measured, closed, 0.01 * closed);
+  }
+}
+
+TEST(TetVolumeWorld, SolidsGetEdgeAndVolumeConstraintsFromTheirMethod) {
+  // A unit cube of five tets: 12 cube edges and 6 face diagonals, 5 volumes.
+  Scene scene;
+  TetModelDesc solid;
+  for (int k = 0; k < 8; ++k)
+    solid.mesh.vertices.push_back(Vector3(Real(k & 1), Real((k >> 1) & 1), Real((k >> 2) & 1)));
+  solid.mesh.tetrahedra = {{0, 1, 2, 4}, {1, 3, 2, 7}, {1, 4, 5, 7}, {2, 4, 7, 6}, {1, 2, 4, 7}};
+  scene.tetModels.push_back(solid);
+  for (const Vector3& v : solid.mesh.vertices) scene.particles.push_back({v, Vector3::Zero(), 1});
+  for (int method : {0, 1, 2, 3, 4, 5, 6}) {
+    scene.simulation.solidSimulationMethod = method;
+    const World world = buildWorld(scene);
+    const bool made = method == 1 || method == 6;
+    ASSERT_EQ(world.particleDistances.size(), made ? 18u : 0u) << method;
+    ASSERT_EQ(world.tetVolumes.size(), made ? 5u : 0u) << method;
+    Real volume = 0;
+    for (const TetVolumeConstraint& c : world.tetVolumes) {
+      EXPECT_EQ(c.xpbd, method == 6);
+      EXPECT_EQ(c.stiffness, method == 6 ? Real(1e5) : Real(1));  // the seed's forced values
+      volume += std::abs(c.restVolume);
+    }
+    if (made) {
+      EXPECT_NEAR(volume, 1, 10 * kEpsilon);  // the five tets fill the unit cube
+    }
+    for (const ParticleDistanceConstraint& c : world.particleDistances)
+      EXPECT_EQ(c.stiffness, method == 6 ? Real(1e5) : Real(1));
+  }
+  // The cube stands on its own static bottom face: a step keeps its volume (no load but
+  // gravity on the top four, 1 kg each, against 10⁵-stiff constraints).
+  for (int i = 0; i < 8; ++i)
+    if (((i >> 1) & 1) == 0) scene.particles[std::size_t(i)].mass = 0;
+  scene.simulation.solidSimulationMethod = 6;
+  World world = buildWorld(scene);
+  Real worst = 0;
+  while (world.time < 1) {
+    world.step();
+    Real volume = 0;
+    for (const TetVolumeConstraint& c : world.tetVolumes) {
+      std::array<Vector3, 4> p;
+      for (std::size_t i = 0; i < 4; ++i)
+        p[i] = world.bodies.particles.position[std::size_t(c.particles[i])];
+      volume += signedTetVolume(p) * (c.restVolume < 0 ? -1 : 1);
+    }
+    worst = std::max(worst, std::abs(volume - 1));
+  }
+  std::printf("  XPBD cube of 5 tets under its own weight: largest volume change %.3g\n",
+              double(worst));
+  // The load is 4 × 9.81 N on a unit face against edge and volume stiffness 10⁵: a compression
+  // of order 40/10⁵ = 4·10⁻⁴ (twice that in the first swing); 10⁻² allowed.
+  EXPECT_LT(worst, 1e-2);
+}
+
+}  // namespace
+}  // namespace pbd
