@@ -173,13 +173,14 @@ Trajectory parseTrajectoryNpy(const std::string& bytes, const std::string& sourc
   return trajectory;
 }
 
-void writeTrajectoryNpy(std::ostream& out, const std::vector<State>& samples) {
-  std::size_t rows = 0;
-  for (const State& s : samples) rows += s.bodies.size();
-  // NPY 1.0: magic, version, header length (uint16 LE), then a Python dict literal padded with
-  // spaces and ended by '\n' so that the data starts at a multiple of 64 bytes.
+namespace {
+
+/// NPY 1.0 preamble of a little-endian float64 array of shape (rows, columns), C order: magic,
+/// version, header length (uint16 LE), then a Python dict literal padded with spaces and ended
+/// by '\n' so that the data starts at a multiple of 64 bytes.
+void writeNpyPreamble(std::ostream& out, std::size_t rows, int columns) {
   std::string header = "{'descr': '<f8', 'fortran_order': False, 'shape': (" +
-                       std::to_string(rows) + ", 15), }";
+                       std::to_string(rows) + ", " + std::to_string(columns) + "), }";
   const std::size_t preamble = 10;
   const std::size_t total = (preamble + header.size() + 1 + 63) / 64 * 64;
   header.append(total - preamble - header.size() - 1, ' ');
@@ -189,7 +190,21 @@ void writeTrajectoryNpy(std::ostream& out, const std::vector<State>& samples) {
   const char length[2] = {char(header.size() & 0xff), char((header.size() >> 8) & 0xff)};
   out.write(length, sizeof length);
   out.write(header.data(), std::streamsize(header.size()));
+}
+
+/// One row of doubles as the file's '<f8' (x86-64 and AArch64 are little-endian).
+template <std::size_t N>
+void writeNpyRow(std::ostream& out, const double (&row)[N]) {
   static_assert(sizeof(double) == 8, "float64 rows");
+  out.write(reinterpret_cast<const char*>(row), sizeof row);
+}
+
+}  // namespace
+
+void writeTrajectoryNpy(std::ostream& out, const std::vector<State>& samples) {
+  std::size_t rows = 0;
+  for (const State& s : samples) rows += s.bodies.size();
+  writeNpyPreamble(out, rows, 15);
   for (const State& s : samples)
     for (const BodyState& b : s.bodies) {
       const Quaternion q = b.rotation.w() < 0 ? Quaternion(-b.rotation.coeffs()) : b.rotation;
@@ -198,8 +213,46 @@ void writeTrajectoryNpy(std::ostream& out, const std::vector<State>& samples) {
                               double(q.z()), double(b.velocity.x()), double(b.velocity.y()),
                               double(b.velocity.z()), double(b.angularVelocity.x()),
                               double(b.angularVelocity.y()), double(b.angularVelocity.z())};
-      // The machine's byte order is the file's ('<f8'): x86-64 and AArch64 are little-endian.
-      out.write(reinterpret_cast<const char*>(row), sizeof row);
+      writeNpyRow(out, row);
+    }
+}
+
+void writeParticleCsvHeader(std::ostream& out) {
+  out << kParticleCsvHeader << '\n';
+}
+
+void writeParticleCsvRows(std::ostream& out, const State& state) {
+  char time[pbd::kRealTextCapacity];
+  const std::size_t timeLength = std::size_t(pbd::writeReal(time, state.time) - time);
+  char row[9 * (pbd::kRealTextCapacity + 1)];  // the time, the index, 6 numbers, commas, newline
+  for (std::size_t i = 0; i < state.particles.size(); ++i) {
+    const ParticleState& p = state.particles[i];
+    char* end = row;
+    std::memcpy(end, time, timeLength);
+    end += timeLength;
+    *end++ = ',';
+    end = std::to_chars(end, end + 24, i).ptr;
+    for (double v : {double(p.position.x()), double(p.position.y()), double(p.position.z()),
+                     double(p.velocity.x()), double(p.velocity.y()), double(p.velocity.z())}) {
+      *end++ = ',';
+      end = pbd::writeReal(end, v);
+    }
+    *end++ = '\n';
+    out.write(row, std::streamsize(end - row));
+  }
+}
+
+void writeParticleTrajectoryNpy(std::ostream& out, const std::vector<State>& samples) {
+  std::size_t rows = 0;
+  for (const State& s : samples) rows += s.particles.size();
+  writeNpyPreamble(out, rows, 8);
+  for (const State& s : samples)
+    for (std::size_t i = 0; i < s.particles.size(); ++i) {
+      const ParticleState& p = s.particles[i];
+      const double row[8] = {s.time, double(i), double(p.position.x()), double(p.position.y()),
+                             double(p.position.z()), double(p.velocity.x()),
+                             double(p.velocity.y()), double(p.velocity.z())};
+      writeNpyRow(out, row);
     }
 }
 

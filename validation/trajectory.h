@@ -42,6 +42,16 @@ Trajectory parseTrajectoryNpy(const std::string& bytes, const std::string& sourc
 /// conversion), readable by readTrajectoryNpy and numpy.load.
 void writeTrajectoryNpy(std::ostream& out, const std::vector<State>& samples);
 
+/// Particle trajectories (`pbdval simulate --particles FILE`): header
+/// `t,index,x,y,z,vx,vy,vz`, one row per particle per sample, particles in scene order (index:
+/// the particle's place in it: triangle models', then tet models' vertices, as the loader
+/// appends them); the numbers as in the body CSV. NPY: float64, shape (rows, 8), the same
+/// columns.
+inline constexpr const char* kParticleCsvHeader = "t,index,x,y,z,vx,vy,vz";
+void writeParticleCsvHeader(std::ostream& out);
+void writeParticleCsvRows(std::ostream& out, const State& state);
+void writeParticleTrajectoryNpy(std::ostream& out, const std::vector<State>& samples);
+
 /// Whether `path` names an NPY trajectory (ends in ".npy"); every other name is a CSV.
 bool hasNpyExtension(const std::string& path);
 

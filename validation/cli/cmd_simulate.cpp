@@ -37,6 +37,9 @@ ArgParser simulateParser() {
               "its pauseAt when > 0, else 5)")
       .option("out", "FILE.csv",
               "write the CSV here, atomically (default: standard output); FILE.npy: as NPY")
+      .option("particles", "FILE.csv",
+              "also write the particles' states here, one row per particle per sample "
+              "(t,index,x,y,z,vx,vy,vz; FILE.npy: as NPY)")
       .option("sample-interval", "S", "seconds between samples (default: every step)")
       .option("engine", "NAME",
               "pbd (default), bullet, ode or mujoco ('pbdval methods' lists them)")
@@ -92,17 +95,20 @@ int simulateCommand(const Context& context, const Arguments& arguments) {
   std::ostream& out = file ? file->stream() : std::cout;
   // NPY needs its row count in the header: the samples are kept and written at the end.
   const bool npy = file && hasNpyExtension(args.value("out"));
-  std::vector<State> kept;
+  std::optional<AtomicFileWriter> particleFile;
+  if (args.has("particles")) particleFile.emplace(args.value("particles"));
+  const bool particleNpy = particleFile && hasNpyExtension(args.value("particles"));
+  std::vector<State> kept;  // for the NPY files, whose headers need the row count
   if (!npy) writeCsvHeader(out);
+  if (particleFile && !particleNpy) writeParticleCsvHeader(particleFile->stream());
 
   const bool showProgress = !quiet && ::isatty(STDERR_FILENO);
   RunCallbacks callbacks;
   std::size_t samples = 0;
   callbacks.onSample = [&](const State& state) {
-    if (npy)
-      kept.push_back(state);
-    else
-      writeCsvRows(out, state);
+    if (npy || particleNpy) kept.push_back(state);
+    if (!npy) writeCsvRows(out, state);
+    if (particleFile && !particleNpy) writeParticleCsvRows(particleFile->stream(), state);
     ++samples;
   };
   if (showProgress)
@@ -116,6 +122,10 @@ int simulateCommand(const Context& context, const Arguments& arguments) {
   const RunOutcome outcome = runSimulation(*engine, scene, method, length, callbacks);
   if (showProgress) std::fprintf(stderr, "\r%70s\r", "");
 
+  if (particleFile) {
+    if (particleNpy) writeParticleTrajectoryNpy(particleFile->stream(), kept);
+    particleFile->commit();
+  }
   if (file) {
     if (npy) writeTrajectoryNpy(out, kept);
     file->commit();
