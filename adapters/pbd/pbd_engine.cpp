@@ -72,19 +72,12 @@ std::vector<std::string> PbdEngine::unsupported(const pbd::Scene& scene,
                                                 const Method& /*method*/) const {
   std::vector<std::string> missing;
   const int cloth = scene.simulation.clothSimulationMethod;
-  const int bending = scene.simulation.clothBendingMethod;
   for (const pbd::TriangleModelDesc& model : scene.triangleModels) {
     if (cloth != 0 && cloth != 1 && cloth != 4)
       missing.push_back(model.jsonPath + ": cloth simulation (clothSimulationMethod " +
                         std::to_string(cloth) +
                         ") is not implemented yet; 1 (distance, PBD) and 4 (distance, XPBD) are, "
                         "0 leaves free particles");
-    // The seed drops the bending of a cloth without a simulation method silently; pbdval says so.
-    if ((cloth == 1 || cloth == 4) && bending != 0)
-      missing.push_back(model.jsonPath + ": cloth bending (clothBendingMethod " +
-                        std::to_string(bending) +
-                        ") is not implemented yet; set clothBendingMethod 0 for distance "
-                        "constraints alone");
   }
   const int solid = scene.simulation.solidSimulationMethod;
   for (const pbd::TetModelDesc& model : scene.tetModels)

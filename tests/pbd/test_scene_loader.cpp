@@ -417,7 +417,8 @@ TEST(SceneLoaderDefaults, AbsentKeysTakeTheSeedsCodeDefaults) {
   // Unset: the seed's forced value for the method (1; 10⁵ N/m for XPBD distance, method 4).
   EXPECT_FALSE(s.cloth_stiffness.has_value());
   EXPECT_EQ(clothStiffnessFor(s), 1);
-  EXPECT_EQ(s.cloth_bendingStiffness, Real(0.01));
+  EXPECT_FALSE(s.cloth_bendingStiffness.has_value());
+  EXPECT_EQ(clothBendingStiffnessFor(s), Real(0.01));
   EXPECT_EQ(s.cloth_xxStiffness, 1);
   EXPECT_EQ(s.cloth_yyStiffness, 1);
   EXPECT_EQ(s.cloth_xyStiffness, 1);
@@ -440,6 +441,8 @@ TEST(SceneLoaderDefaults, AbsentKeysTakeTheSeedsCodeDefaults) {
     EXPECT_EQ(solidVolumeStiffnessFor(xpbd), Real(1e5));
     xpbd.solidSimulationMethod = 3;
     EXPECT_EQ(solidStiffnessFor(xpbd), Real(1e6));
+    xpbd.clothBendingMethod = 3;
+    EXPECT_EQ(clothBendingStiffnessFor(xpbd), Real(100));
     xpbd.cloth_stiffness = Real(7);  // a scene's value wins, as in the seed
     EXPECT_EQ(clothStiffnessFor(xpbd), 7);
   }

@@ -75,11 +75,11 @@ void expectSameScene(const Scene& a, const Scene& b) {
   EXPECT_EQ(s.clothSimulationMethod, t.clothSimulationMethod);
   EXPECT_EQ(s.clothBendingMethod, t.clothBendingMethod);
   for (auto member : {&SimulationSettings::cloth_stiffness, &SimulationSettings::solid_stiffness,
-                      &SimulationSettings::solid_volumeStiffness})
+                      &SimulationSettings::solid_volumeStiffness,
+                      &SimulationSettings::cloth_bendingStiffness})
     EXPECT_EQ(s.*member, t.*member);  // optional: unset stays unset
   for (auto member :
-       {&SimulationSettings::cloth_bendingStiffness,
-        &SimulationSettings::cloth_xxStiffness, &SimulationSettings::cloth_yyStiffness,
+       {&SimulationSettings::cloth_xxStiffness, &SimulationSettings::cloth_yyStiffness,
         &SimulationSettings::cloth_xyStiffness, &SimulationSettings::cloth_xyPoissonRatio,
         &SimulationSettings::cloth_yxPoissonRatio,
         &SimulationSettings::solid_poissonRatio,
@@ -174,6 +174,7 @@ void expectSameScene(const Scene& a, const Scene& b) {
     EXPECT_EQ(x.staticParticles, y.staticParticles);
     EXPECT_EQ(x.restitution, y.restitution);
     EXPECT_EQ(x.friction, y.friction);
+    EXPECT_EQ(x.density, y.density);
     EXPECT_EQ(x.firstParticle, y.firstParticle);
   }
   ASSERT_EQ(a.tetModels.size(), b.tetModels.size());
@@ -192,6 +193,7 @@ void expectSameScene(const Scene& a, const Scene& b) {
     EXPECT_EQ(x.restitution, y.restitution);
     EXPECT_EQ(x.friction, y.friction);
     expectSameCollision(x.collision, y.collision, x.jsonPath);
+    EXPECT_EQ(x.density, y.density);
     EXPECT_EQ(x.firstParticle, y.firstParticle);
   }
   ASSERT_EQ(a.particles.size(), b.particles.size());
@@ -293,7 +295,9 @@ class RandomScene {
       << ", \"invertSDF\": " << pick({"true", "false"}) << "}]";
     o << ", \"TriangleModels\": [{\"id\": 5, \"geometryFile\": \"" << PBDVAL_SOURCE_DIR
       << "/cases/models/triangle.obj\", \"translation\": " << vector(-1, 1)
-      << ", \"staticParticles\": [0]}]";
+      << ", \"staticParticles\": [0]"
+      << (integer(0, 1) ? ", \"density\": " + std::to_string(uniform(0.1, 3)) : std::string())
+      << "}]";
     o << ", \"TetModels\": [{\"id\": 6, \"nodeFile\": \"" << PBDVAL_SOURCE_DIR
       << "/tests/data/meshes/tet.node\", "
       << "\"eleFile\": \"" << PBDVAL_SOURCE_DIR

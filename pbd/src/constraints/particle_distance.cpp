@@ -1,10 +1,7 @@
 #include "pbd/constraints/particle_distance.h"
 
-#include <algorithm>
-#include <set>
-#include <utility>
-
 #include "pbd/model/body_states.h"
+#include "pbd/model/mesh.h"
 #include "pbd/model/scene.h"
 
 namespace pbd {
@@ -46,30 +43,25 @@ DistanceCorrection particleDistanceXpbd(const Vector3& p1, const Vector3& p2, Re
 namespace {
 
 /// A constraint along every edge of `elements` (triangles or tets of one model), each edge once,
-/// in the order it first appears (per element, vertex pairs (i, j) with i < j); none between two
-/// static particles.
+/// in the order it first appears (uniqueEdges); none between two static particles.
 template <std::size_t N>
 void addEdges(const std::vector<std::array<int, N>>& elements, int firstParticle,
               const Scene& scene, bool xpbd, Real stiffness,
               std::vector<ParticleDistanceConstraint>& out) {
-  std::set<std::pair<int, int>> seen;
-  for (const auto& element : elements)
-    for (std::size_t i = 0; i < N; ++i)
-      for (std::size_t j = i + 1; j < N; ++j) {
-        const int a = firstParticle + element[i];
-        const int b = firstParticle + element[j];
-        if (!seen.insert({std::min(a, b), std::max(a, b)}).second) continue;
-        const ParticleDesc& pa = scene.particles[std::size_t(a)];
-        const ParticleDesc& pb = scene.particles[std::size_t(b)];
-        if (!(pa.mass > 0) && !(pb.mass > 0)) continue;
-        ParticleDistanceConstraint c;
-        c.particle1 = a;
-        c.particle2 = b;
-        c.restLength = (pa.position - pb.position).norm();
-        c.xpbd = xpbd;
-        c.stiffness = stiffness;
-        out.push_back(c);
-      }
+  for (const std::array<int, 2>& edge : uniqueEdges(elements)) {
+    const int a = firstParticle + edge[0];
+    const int b = firstParticle + edge[1];
+    const ParticleDesc& pa = scene.particles[std::size_t(a)];
+    const ParticleDesc& pb = scene.particles[std::size_t(b)];
+    if (!(pa.mass > 0) && !(pb.mass > 0)) continue;
+    ParticleDistanceConstraint c;
+    c.particle1 = a;
+    c.particle2 = b;
+    c.restLength = (pa.position - pb.position).norm();
+    c.xpbd = xpbd;
+    c.stiffness = stiffness;
+    out.push_back(c);
+  }
 }
 
 }  // namespace

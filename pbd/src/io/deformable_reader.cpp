@@ -1,6 +1,8 @@
 // TriangleModels[] and TetModels[]: meshes transformed to the world, and one particle per
-// vertex (triangle models first, then tet models, in file order), of mass 1 as in the seed,
-// or 0 when listed in `staticParticles`.
+// vertex (triangle models first, then tet models, in file order), of mass 1 as in the seed or,
+// with the model's `density`, lumped from the element areas or volumes; 0 when listed in
+// `staticParticles`.
+#include "pbd/model/mass_properties.h"
 #include "scene_reading.h"
 
 namespace pbd::scene_io {
@@ -15,6 +17,7 @@ KeyTable<Model> commonModelKeys() {
        [](const JsonValue& v, Model& m) { m.staticParticles = v.integers(nonNegative()); }},
       numberKey("restitution", &Model::restitution, between(0, 1)),
       numberKey("friction", &Model::friction, nonNegative()),
+      numberKey("density", &Model::density, positive()),
   };
 }
 
@@ -30,13 +33,28 @@ void checkStaticParticles(const std::vector<int>& indices, std::size_t vertexCou
   }
 }
 
-/// Appends one particle per vertex; returns the index of the first.
-int appendParticles(const std::vector<Vector3>& vertices, const std::vector<int>& staticParticles,
-                    Scene& scene) {
+/// Appends one particle per vertex: mass 1 (the seed's rule) or, with a density, the lumped
+/// masses of the elements; returns the index of the first. With a density, a vertex in no
+/// element is an error (its mass would be 0: static without being listed as such).
+template <class Mesh>
+int appendParticles(const Mesh& mesh, const std::optional<Real>& density,
+                    const std::vector<int>& staticParticles, JsonObject& object, Scene& scene) {
+  std::vector<Real> masses(mesh.vertices.size(), Real(1));
+  if (density) {
+    masses = lumpedMasses(mesh, *density);
+    for (std::size_t i = 0; i < masses.size(); ++i)
+      if (!(masses[i] > 0))
+        object.find("density")->error(
+            "vertex " + std::to_string(i) +
+            " is in no element of positive size, so a density gives it no mass; remove the "
+            "vertex from the mesh or leave \"density\" out (every vertex then has mass 1, as in "
+            "the seed)");
+  }
   const std::size_t first = scene.particles.size();
-  for (const Vector3& vertex : vertices) {
-    ParticleDesc particle;  // mass 1, at rest (the seed's rule)
-    particle.position = vertex;
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    ParticleDesc particle;  // at rest
+    particle.position = mesh.vertices[i];
+    particle.mass = masses[i];
     scene.particles.push_back(particle);
   }
   for (int index : staticParticles)
@@ -71,7 +89,8 @@ TriangleModelDesc readTriangleModel(const JsonValue& element, LoadContext& conte
   for (auto& v : model.mesh.vertices)
     v = toWorld(v, model.scale, model.rotation, model.translation);
   checkStaticParticles(model.staticParticles, model.mesh.vertices.size(), object);
-  model.firstParticle = appendParticles(model.mesh.vertices, model.staticParticles, scene);
+  model.firstParticle =
+      appendParticles(model.mesh, model.density, model.staticParticles, object, scene);
   object.warnUnknownKeys();
   return model;
 }
@@ -126,7 +145,8 @@ TetModelDesc readTetModel(const JsonValue& element, LoadContext& context, Scene&
     model.visMesh = std::make_shared<const TriangleMesh>(std::move(visual));
   }
   checkStaticParticles(model.staticParticles, model.mesh.vertices.size(), object);
-  model.firstParticle = appendParticles(model.mesh.vertices, model.staticParticles, scene);
+  model.firstParticle =
+      appendParticles(model.mesh, model.density, model.staticParticles, object, scene);
   object.warnUnknownKeys();
   return model;
 }

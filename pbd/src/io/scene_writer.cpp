@@ -55,6 +55,7 @@ void writeModelKeys(Json& o, const Model& m) {
   o["staticParticles"] = integers(m.staticParticles);
   writeNumber(o, "restitution", m.restitution);
   writeNumber(o, "friction", m.friction);
+  if (m.density) writeNumber(o, "density", *m.density);
   writePose(o, m.translation, m.givenRotation, m.scale);
 }
 

@@ -115,6 +115,11 @@ Real clothStiffnessFor(const SimulationSettings& settings) {
   return settings.clothSimulationMethod == 4 ? Real(1e5) : Real(1);
 }
 
+Real clothBendingStiffnessFor(const SimulationSettings& settings) {
+  if (settings.cloth_bendingStiffness) return *settings.cloth_bendingStiffness;
+  return settings.clothBendingMethod == 3 ? Real(100) : Real(0.01);
+}
+
 Real solidStiffnessFor(const SimulationSettings& settings) {
   if (settings.solid_stiffness) return *settings.solid_stiffness;
   if (settings.solidSimulationMethod == 3) return Real(1e6);

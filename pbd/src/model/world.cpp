@@ -128,6 +128,8 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
   }
   world.particleDistances = deformableDistanceConstraints(scene);
   world.tetVolumes = solidVolumeConstraints(scene);
+  world.clothBending = clothBendingConstraints(scene);
+  world.clothDihedrals = clothDihedralConstraints(scene);
   world.collision = CollisionDetector(scene, options);
   world.materials = ContactMaterials(scene);
   world.contacts.reserve(world.collision);

@@ -12,6 +12,8 @@
 // of a 3D solid body represented by a triangle mesh", 2004.
 #pragma once
 
+#include <vector>
+
 #include "pbd/math/types.h"
 #include "pbd/model/mesh.h"
 
@@ -50,5 +52,12 @@ SolidMoments cylinderMoments(Real radius, Real height, Real density);
 /// exactly the identity when the tensor is already diagonal to round-off, so that
 /// axis-aligned bodies keep their frame.
 MassProperties toPrincipal(const SolidMoments& moments);
+
+/// Lumped particle masses of a deformable model: each triangle's mass ρ A (ρ in kg/m²) or each
+/// tet's ρ |V| (ρ in kg/m³) split equally among its vertices, so the model's mass is ρ times its
+/// area or volume whatever the refinement (the seed gives every vertex mass 1 instead). A vertex
+/// in no element gets 0.
+std::vector<Real> lumpedMasses(const TriangleMesh& mesh, Real arealDensity);
+std::vector<Real> lumpedMasses(const TetMesh& mesh, Real density);
 
 }  // namespace pbd

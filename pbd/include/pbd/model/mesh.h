@@ -20,4 +20,21 @@ struct TetMesh {
   std::vector<std::array<int, 4>> tetrahedra;
 };
 
+/// Every edge of the elements once, in the order it first appears: per element the vertex pairs
+/// (element[i], element[j]) with i < j, a pair's first appearance fixing its orientation.
+std::vector<std::array<int, 2>> uniqueEdges(const std::vector<std::array<int, 3>>& triangles);
+std::vector<std::array<int, 2>> uniqueEdges(const std::vector<std::array<int, 4>>& tetrahedra);
+
+/// The bending stencil of an interior edge: the edge's vertices, then the opposite vertex of each
+/// of its two triangles (in the order the triangles are listed).
+struct EdgeStencil {
+  std::array<int, 2> edge;
+  std::array<int, 2> opposite;
+};
+
+/// One stencil per edge shared by exactly two triangles, edges in the order they first appear
+/// (border edges and non-manifold edges, shared by three or more, have none).
+std::vector<EdgeStencil> interiorEdgeStencils(const TriangleMesh& mesh);
+
 }  // namespace pbd
+

@@ -203,6 +203,9 @@ struct TriangleModelDesc {
   std::vector<int> staticParticles;
   Real restitution = Real(0.1);
   Real friction = Real(0.2);
+  /// kg/m²: particle masses lumped from the triangles' areas (model/mass_properties.h). Unset:
+  /// every vertex has mass 1, as in the seed (the model's mass grows with refinement).
+  std::optional<Real> density;
   int firstParticle = 0;  ///< index of its first vertex in Scene::particles
 };
 
@@ -220,6 +223,9 @@ struct TetModelDesc {
   Real restitution = Real(0.1);
   Real friction = Real(0.2);
   CollisionObjectDesc collision;
+  /// kg/m³: particle masses lumped from the tets' volumes (model/mass_properties.h). Unset:
+  /// every vertex has mass 1, as in the seed.
+  std::optional<Real> density;
   int firstParticle = 0;
 };
 
@@ -273,7 +279,9 @@ struct SimulationSettings {
   /// Unset: the value the seed forces for the method when the scene does not give it
   /// (clothStiffnessFor: 1, or 10⁵ N/m for XPBD distance constraints, method 4).
   std::optional<Real> cloth_stiffness;
-  Real cloth_bendingStiffness = Real(0.01);
+  /// Unset: 0.01, or 100 for XPBD isometric bending (clothBendingMethod 3), as the seed forces
+  /// (clothBendingStiffnessFor).
+  std::optional<Real> cloth_bendingStiffness;
   Real cloth_xxStiffness = 1;
   Real cloth_yyStiffness = 1;
   Real cloth_xyStiffness = 1;
@@ -305,6 +313,8 @@ struct SimulationSettings {
 /// (research/pbd.md §1.5): cloth 1, 10⁵ N/m with clothSimulationMethod 4; solid 1, 10⁶ with
 /// solidSimulationMethod 3, 10⁵ N/m with 6; solid volume 1, 10⁵ N/m⁵ with 6.
 Real clothStiffnessFor(const SimulationSettings& settings);
+/// cloth_bendingStiffness, else 0.01, or 100 with clothBendingMethod 3.
+Real clothBendingStiffnessFor(const SimulationSettings& settings);
 Real solidStiffnessFor(const SimulationSettings& settings);
 Real solidVolumeStiffnessFor(const SimulationSettings& settings);
 

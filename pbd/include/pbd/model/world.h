@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "pbd/collision/collision_detection.h"
+#include "pbd/constraints/dihedral_bending.h"
+#include "pbd/constraints/isometric_bending.h"
 #include "pbd/constraints/particle_distance.h"
 #include "pbd/constraints/tet_volume.h"
 #include "pbd/contacts/contact_set.h"
@@ -32,9 +34,13 @@ struct World {
   std::vector<int> jointSceneIndex;  ///< joints[k] is Scene::joints[jointSceneIndex[k]]
   /// Distance constraints between particles (cloth and solid edges,
   /// constraints/particle_distance.h) and volume constraints of tets (constraints/tet_volume.h),
-  /// solved in this order after the joints in every position iteration.
+  /// and the bending of cloth, isometric (constraints/isometric_bending.h) or dihedral
+  /// (constraints/dihedral_bending.h), solved in this order after the joints in every position
+  /// iteration.
   std::vector<ParticleDistanceConstraint> particleDistances;
   std::vector<TetVolumeConstraint> tetVolumes;
+  std::vector<IsometricBendingConstraint> clothBending;
+  std::vector<DihedralBendingConstraint> clothDihedrals;
   CollisionDetector collision;       ///< shapes, surface samples, hierarchies, broad phase
   ContactMaterials materials;        ///< friction and restitution per pair
   ContactSet contacts;               ///< the contacts of the last step

@@ -1,0 +1,117 @@
+#include "pbd/constraints/dihedral_bending.h"
+
+#include <cmath>
+#include <limits>
+
+#include "pbd/model/mesh.h"
+#include "pbd/model/scene.h"
+
+namespace pbd {
+namespace {
+
+const Real kPi = Real(EIGEN_PI);
+
+/// The normals of the two triangles, scaled by 1/|N|² (zero-sized when degenerate).
+struct ScaledNormals {
+  Vector3 a, b;
+  Vector3 edge;
+  Real edgeLength;
+  bool valid;
+};
+
+ScaledNormals scaledNormals(const std::array<Vector3, 4>& x) {
+  ScaledNormals n;
+  n.edge = x[1] - x[0];
+  n.edgeLength = n.edge.norm();
+  const Vector3 normalA = n.edge.cross(x[2] - x[0]);
+  const Vector3 normalB = (x[3] - x[0]).cross(n.edge);
+  const Real a2 = normalA.squaredNorm(), b2 = normalB.squaredNorm();
+  n.valid = n.edgeLength > kEpsilon && a2 > kEpsilon * kEpsilon && b2 > kEpsilon * kEpsilon;
+  n.a = n.valid ? Vector3(normalA / a2) : Vector3::Zero();
+  n.b = n.valid ? Vector3(normalB / b2) : Vector3::Zero();
+  return n;
+}
+
+/// θ − θ₀ wrapped into (−π, π].
+Real wrappedDifference(Real angle, Real rest) {
+  Real d = angle - rest;
+  if (d > kPi) d -= 2 * kPi;
+  if (d <= -kPi) d += 2 * kPi;
+  return d;
+}
+
+}  // namespace
+
+Real dihedralAngle(const std::array<Vector3, 4>& x) {
+  const Vector3 edge = x[1] - x[0];
+  const Vector3 normalA = edge.cross(x[2] - x[0]);
+  const Vector3 normalB = (x[3] - x[0]).cross(edge);
+  const Real na = normalA.norm(), nb = normalB.norm(), ne = edge.norm();
+  if (!(na > 0) || !(nb > 0) || !(ne > 0)) return std::numeric_limits<Real>::quiet_NaN();
+  return std::atan2(normalA.cross(normalB).dot(edge) / (na * nb * ne), normalA.dot(normalB) / (na * nb));
+}
+
+std::array<Vector3, 4> dihedralAngleGradient(const std::array<Vector3, 4>& x) {
+  const ScaledNormals n = scaledNormals(x);
+  if (!n.valid) return {Vector3::Zero(), Vector3::Zero(), Vector3::Zero(), Vector3::Zero()};
+  const Vector3 unitEdge = n.edge / n.edgeLength;
+  return {Vector3(-(x[2] - x[1]).dot(unitEdge) * n.a - (x[3] - x[1]).dot(unitEdge) * n.b),
+          Vector3((x[2] - x[0]).dot(unitEdge) * n.a + (x[3] - x[0]).dot(unitEdge) * n.b),
+          Vector3(-n.edgeLength * n.a), Vector3(-n.edgeLength * n.b)};
+}
+
+BendingCorrection dihedralBendingPbd(const std::array<Vector3, 4>& x,
+                                     const std::array<Real, 4>& inverseMasses,
+                                     const DihedralBendingConstraint& c) {
+  BendingCorrection out;
+  const Real angle = dihedralAngle(x);
+  if (std::isnan(angle)) return out;  // a degenerate triangle: no direction
+  const std::array<Vector3, 4> g = dihedralAngleGradient(x);
+  Real weightedNorm = 0;
+  for (std::size_t i = 0; i < 4; ++i) weightedNorm += inverseMasses[i] * g[i].squaredNorm();
+  if (!(weightedNorm > kEpsilon * kEpsilon)) return out;
+  const Real s = wrappedDifference(angle, c.restAngle) / weightedNorm;
+  for (std::size_t i = 0; i < 4; ++i) out.positions[i] = -c.stiffness * s * inverseMasses[i] * g[i];
+  return out;
+}
+
+std::vector<DihedralBendingConstraint> clothDihedralConstraints(const Scene& scene) {
+  std::vector<DihedralBendingConstraint> constraints;
+  const int cloth = scene.simulation.clothSimulationMethod;
+  if ((cloth != 1 && cloth != 4) || scene.simulation.clothBendingMethod != 1) return constraints;
+  for (const TriangleModelDesc& model : scene.triangleModels)
+    for (const EdgeStencil& stencil : interiorEdgeStencils(model.mesh)) {
+      DihedralBendingConstraint c;
+      const std::array<int, 4> local = {stencil.edge[0], stencil.edge[1], stencil.opposite[0],
+                                        stencil.opposite[1]};
+      std::array<Vector3, 4> rest;
+      bool anyDynamic = false;
+      for (std::size_t i = 0; i < 4; ++i) {
+        c.particles[i] = model.firstParticle + local[i];
+        const ParticleDesc& p = scene.particles[std::size_t(c.particles[i])];
+        rest[i] = p.position;
+        anyDynamic = anyDynamic || p.mass > 0;
+      }
+      c.restAngle = dihedralAngle(rest);
+      if (!anyDynamic || std::isnan(c.restAngle)) continue;
+      c.stiffness = clothBendingStiffnessFor(scene.simulation);
+      constraints.push_back(c);
+    }
+  return constraints;
+}
+
+void solveDihedralBending(const std::vector<DihedralBendingConstraint>& constraints,
+                          ParticleStates& particles) {
+  for (const DihedralBendingConstraint& c : constraints) {
+    std::array<Vector3, 4> x;
+    std::array<Real, 4> w;
+    for (std::size_t i = 0; i < 4; ++i) {
+      x[i] = particles.position[std::size_t(c.particles[i])];
+      w[i] = particles.inverseMass[std::size_t(c.particles[i])];
+    }
+    const BendingCorrection d = dihedralBendingPbd(x, w, c);
+    for (std::size_t i = 0; i < 4; ++i) particles.position[std::size_t(c.particles[i])] += d.positions[i];
+  }
+}
+
+}  // namespace pbd

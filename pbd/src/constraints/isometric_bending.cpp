@@ -1,0 +1,127 @@
+#include "pbd/constraints/isometric_bending.h"
+
+#include "pbd/model/scene.h"
+
+namespace pbd {
+namespace {
+
+/// cot of the angle between a and b.
+Real cotangent(const Vector3& a, const Vector3& b) {
+  return a.dot(b) / a.cross(b).norm();
+}
+
+/// ∇_iC = scale K_i H and Σ w_i |∇_iC|².
+struct Gradients {
+  std::array<Vector3, 4> g;
+  Real weightedNorm = 0;
+};
+
+Gradients gradients(const std::array<Vector3, 4>& x, const std::array<Real, 4>& inverseMasses,
+                    const IsometricBendingConstraint& c) {
+  Vector3 h = Vector3::Zero();
+  for (std::size_t i = 0; i < 4; ++i) h += c.weights[i] * x[i];
+  Gradients out;
+  for (std::size_t i = 0; i < 4; ++i) {
+    out.g[i] = c.scale * c.weights[i] * h;
+    out.weightedNorm += inverseMasses[i] * out.g[i].squaredNorm();
+  }
+  return out;
+}
+
+}  // namespace
+
+bool isometricBendingStencil(const std::array<Vector3, 4>& rest, std::array<Real, 4>& weights,
+                             Real& scale) {
+  const Vector3 e0 = rest[1] - rest[0], e1 = rest[2] - rest[0], e2 = rest[3] - rest[0];
+  const Vector3 e3 = rest[2] - rest[1], e4 = rest[3] - rest[1];
+  const Real area0 = e0.cross(e1).norm() / 2, area1 = e0.cross(e2).norm() / 2;
+  if (!(area0 > 0) || !(area1 > 0)) return false;
+  const Real cotAlpha0 = cotangent(e0, e1), cotAlpha1 = cotangent(e0, e2);
+  const Real cotBeta0 = cotangent(-e0, e3), cotBeta1 = cotangent(-e0, e4);
+  weights = {cotBeta0 + cotBeta1, cotAlpha0 + cotAlpha1, -cotAlpha0 - cotBeta0,
+             -cotAlpha1 - cotBeta1};
+  scale = Real(3) / (area0 + area1);
+  return true;
+}
+
+Real isometricBendingEnergy(const std::array<Vector3, 4>& x, const std::array<Real, 4>& weights,
+                            Real scale) {
+  Vector3 h = Vector3::Zero();
+  for (std::size_t i = 0; i < 4; ++i) h += weights[i] * x[i];
+  return scale * h.squaredNorm() / 2;
+}
+
+BendingCorrection isometricBendingPbd(const std::array<Vector3, 4>& x,
+                                      const std::array<Real, 4>& inverseMasses,
+                                      const IsometricBendingConstraint& c) {
+  BendingCorrection out;
+  const Gradients g = gradients(x, inverseMasses, c);
+  // At a flat state C and ∇C vanish together: nothing to do (and no direction).
+  if (!(g.weightedNorm > kEpsilon * kEpsilon)) return out;
+  const Real s = isometricBendingEnergy(x, c.weights, c.scale) / g.weightedNorm;
+  for (std::size_t i = 0; i < 4; ++i) out.positions[i] = -c.stiffness * s * inverseMasses[i] * g.g[i];
+  return out;
+}
+
+BendingCorrection isometricBendingXpbd(const std::array<Vector3, 4>& x,
+                                       const std::array<Real, 4>& inverseMasses,
+                                       const IsometricBendingConstraint& c, Real substepSize) {
+  BendingCorrection out;
+  if (!(c.stiffness > 0)) return out;
+  const Gradients g = gradients(x, inverseMasses, c);
+  const Real compliance = Real(1) / (c.stiffness * substepSize * substepSize);  // α̃
+  out.multiplier = (-isometricBendingEnergy(x, c.weights, c.scale) - compliance * c.multiplier) /
+                   (g.weightedNorm + compliance);
+  for (std::size_t i = 0; i < 4; ++i) out.positions[i] = out.multiplier * inverseMasses[i] * g.g[i];
+  return out;
+}
+
+std::vector<IsometricBendingConstraint> clothBendingConstraints(const Scene& scene) {
+  std::vector<IsometricBendingConstraint> constraints;
+  const int cloth = scene.simulation.clothSimulationMethod;
+  const int bending = scene.simulation.clothBendingMethod;
+  if ((cloth != 1 && cloth != 4) || (bending != 2 && bending != 3)) return constraints;
+  for (const TriangleModelDesc& model : scene.triangleModels) {
+    for (const EdgeStencil& stencil : interiorEdgeStencils(model.mesh)) {
+      IsometricBendingConstraint c;
+      const std::array<int, 4> local = {stencil.edge[0], stencil.edge[1], stencil.opposite[0],
+                                        stencil.opposite[1]};
+      std::array<Vector3, 4> rest;
+      bool anyDynamic = false;
+      for (std::size_t i = 0; i < 4; ++i) {
+        c.particles[i] = model.firstParticle + local[i];
+        const ParticleDesc& p = scene.particles[std::size_t(c.particles[i])];
+        rest[i] = p.position;
+        anyDynamic = anyDynamic || p.mass > 0;
+      }
+      if (!anyDynamic || !isometricBendingStencil(rest, c.weights, c.scale)) continue;
+      c.xpbd = bending == 3;
+      c.stiffness = clothBendingStiffnessFor(scene.simulation);
+      constraints.push_back(c);
+    }
+  }
+  return constraints;
+}
+
+void solveIsometricBending(std::vector<IsometricBendingConstraint>& constraints,
+                           ParticleStates& particles, Real substepSize, bool firstIteration) {
+  for (IsometricBendingConstraint& c : constraints) {
+    std::array<Vector3, 4> x;
+    std::array<Real, 4> w;
+    for (std::size_t i = 0; i < 4; ++i) {
+      x[i] = particles.position[std::size_t(c.particles[i])];
+      w[i] = particles.inverseMass[std::size_t(c.particles[i])];
+    }
+    BendingCorrection d;
+    if (c.xpbd) {
+      if (firstIteration) c.multiplier = 0;
+      d = isometricBendingXpbd(x, w, c, substepSize);
+      c.multiplier += d.multiplier;
+    } else {
+      d = isometricBendingPbd(x, w, c);
+    }
+    for (std::size_t i = 0; i < 4; ++i) particles.position[std::size_t(c.particles[i])] += d.positions[i];
+  }
+}
+
+}  // namespace pbd
