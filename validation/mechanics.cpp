@@ -90,6 +90,10 @@ void checkStateMatchesScene(const pbd::Scene& scene, const State& state) {
 }
 
 EnergyTerms energyOf(const pbd::Scene& scene, const State& state) {
+  return energyOf(scene, state, ElasticEnergy(scene));
+}
+
+EnergyTerms energyOf(const pbd::Scene& scene, const State& state, const ElasticEnergy& elastic) {
   const Vector3 g = scene.simulation.gravitation;
   EnergyTerms e;
   const std::size_t count = std::min(state.bodies.size(), scene.rigidBodies.size());
@@ -107,6 +111,7 @@ EnergyTerms energyOf(const pbd::Scene& scene, const State& state) {
     e.gravitational -= m * g.dot(x);
   });
   e.spring = springEnergy(scene, state);
+  e.elastic = elastic.of(state);
   return e;
 }
 

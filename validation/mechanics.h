@@ -11,6 +11,7 @@
 
 #include "adapters/engine.h"
 #include "validation/case_spec.h"
+#include "validation/deformation.h"
 
 namespace pbdval {
 
@@ -32,13 +33,16 @@ struct EnergyTerms {
   double rotational = 0;     ///< Σ ½ ωᵀ I_w ω, J
   double gravitational = 0;  ///< Σ −m g·x (bodies' centres of mass and particles), J
   double spring = 0;         ///< RigidBodySprings ½ k (ℓ − ℓ₀)², DamperJoints ½ k s², J
+  double elastic = 0;        ///< the XPBD particle constraints' energy (ElasticEnergy), J
   double kinetic() const { return translational + rotational; }
-  double total() const { return translational + rotational + gravitational + spring; }
+  double total() const { return translational + rotational + gravitational + spring + elastic; }
 };
 
 /// The energy of `state`; g = Simulation.gravitation. Particles enter only when the state
-/// holds them.
+/// holds them. The first form collects the scene's particle constraints on every call; pass
+/// an ElasticEnergy built once when measuring many states.
 EnergyTerms energyOf(const pbd::Scene& scene, const State& state);
+EnergyTerms energyOf(const pbd::Scene& scene, const State& state, const ElasticEnergy& elastic);
 
 struct Momenta {
   double mass = 0;                         ///< M, kg (dynamic bodies and particles)

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "validation/deformation.h"
 #include "validation/joint_error.h"
 #include "validation/mechanics.h"
 #include "validation/numerics.h"
@@ -67,9 +68,49 @@ void addEnergyMetrics(const MetricInputs& in, MetricSet& out) {
     out.notes.push_back(
         "energy: not declared conserved (Validation.energyConserved); the drift includes the "
         "scene's physical dissipation and work");
-  if (!in.scene->triangleModels.empty() || !in.scene->tetModels.empty())
+  if ((!in.scene->triangleModels.empty() || !in.scene->tetModels.empty()) &&
+      !in.samples->front().particles.empty()) {
+    const ElasticEnergy elastic(*in.scene);
+    if (elastic.defined())
+      out.notes.push_back(
+          "energy: includes the elastic energy of the XPBD particle constraints (½ k C²)");
+    if (elastic.hasPbdConstraints())
+      out.notes.push_back(
+          "energy: PBD particle constraints (k a fraction per iteration) define no elastic "
+          "energy; the drift includes what they store and dissipate");
+  }
+}
+
+/// Stretch of the models' edges and volume change of their tets over the samples.
+void addDeformationMetrics(const MetricInputs& in, MetricSet& out) {
+  const pbd::Scene& scene = *in.scene;
+  if (scene.triangleModels.empty() && scene.tetModels.empty()) return;
+  if (in.samples->front().particles.empty()) {
     out.notes.push_back(
-        "energy: the elastic energy of particle models (cloth, solids) is not included");
+        "particle_stretch_max: the engine reads back no particles: no deformation metrics");
+    return;
+  }
+  const RestShape rest(scene);
+  if (rest.empty()) return;
+  RestShape::Measures worst;
+  double sumOfSquares = 0;
+  std::size_t count = 0;
+  for (const State& s : *in.samples) {
+    const RestShape::Measures m = rest.measure(s);
+    worst.stretchMax = std::max(worst.stretchMax, m.stretchMax);
+    worst.tetVolumeErrorMax = std::max(worst.tetVolumeErrorMax, m.tetVolumeErrorMax);
+    worst.solidVolumeErrorMax = std::max(worst.solidVolumeErrorMax, m.solidVolumeErrorMax);
+    sumOfSquares += m.stretchSumOfSquares;
+    count += m.edges;
+  }
+  if (count > 0) {
+    out.values[metric::kParticleStretchMax] = worst.stretchMax;
+    out.values[metric::kParticleStretchRms] = std::sqrt(sumOfSquares / double(count));
+  }
+  if (rest.hasTets()) {
+    out.values[metric::kTetVolumeErrorMax] = worst.tetVolumeErrorMax;
+    out.values[metric::kSolidVolumeErrorMax] = worst.solidVolumeErrorMax;
+  }
 }
 
 /// max_k ‖Q(t_k) − Q(t_0)‖ / scale for a vector quantity Q of each sample.
@@ -289,10 +330,11 @@ std::vector<double> relativeEnergyDrift(const pbd::Scene& scene, const std::vect
                                         double energyScale) {
   std::vector<double> drift;
   if (samples.empty()) return drift;
-  const double start = energyOf(scene, samples.front()).total();
+  const ElasticEnergy elastic(scene);
+  const double start = energyOf(scene, samples.front(), elastic).total();
   drift.reserve(samples.size());
   for (const State& s : samples)
-    drift.push_back((energyOf(scene, s).total() - start) / energyScale);
+    drift.push_back((energyOf(scene, s, elastic).total() - start) / energyScale);
   return drift;
 }
 
@@ -372,6 +414,7 @@ MetricSet computeMetrics(const MetricInputs& inputs) {
   addJointMetrics(inputs, out);
   addPenetrationMetrics(inputs, out);
   addTrajectoryMetrics(inputs, out);
+  addDeformationMetrics(inputs, out);
   return out;
 }
 

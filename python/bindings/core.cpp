@@ -173,6 +173,27 @@ py::dict statesDict(const std::vector<State>& samples, std::size_t bodies) {
   d["quaternions"] = quaternions;
   d["velocities"] = velocities;
   d["angular_velocities"] = angular;
+  // Particles (cloth and solid vertices) when the engine reads them back: (T, P, 3) each.
+  if (!samples.empty() && !samples.front().particles.empty()) {
+    const py::ssize_t p = py::ssize_t(samples.front().particles.size());
+    Array particlePositions = newArray({t, p, 3}), particleVelocities = newArray({t, p, 3});
+    auto X = particlePositions.mutable_unchecked<3>();
+    auto U = particleVelocities.mutable_unchecked<3>();
+    for (py::ssize_t k = 0; k < t; ++k) {
+      const State& s = samples[std::size_t(k)];
+      if (py::ssize_t(s.particles.size()) != p)
+        throw std::invalid_argument("sample " + std::to_string(k) + " holds " +
+                                    std::to_string(s.particles.size()) + " particles, expected " +
+                                    std::to_string(p));
+      for (py::ssize_t i = 0; i < p; ++i)
+        for (int a = 0; a < 3; ++a) {
+          X(k, i, a) = double(s.particles[std::size_t(i)].position[a]);
+          U(k, i, a) = double(s.particles[std::size_t(i)].velocity[a]);
+        }
+    }
+    d["particle_positions"] = particlePositions;
+    d["particle_velocities"] = particleVelocities;
+  }
   return d;
 }
 
@@ -184,9 +205,13 @@ void requireShape(const Array& a, const char* name, py::ssize_t t, py::ssize_t n
 }
 
 /// Samples from trajectory arrays (the inverse of statesDict); ids from the scene.
+/// `particlePositions` and `particleVelocities`: None (no particles) or both (T, P, 3), P the
+/// scene's particle count.
 std::vector<State> samplesOf(const pbd::Scene& scene, const Array& times, const Array& positions,
                              const Array& quaternions, const Array& velocities,
-                             const Array& angularVelocities) {
+                             const Array& angularVelocities,
+                             const py::object& particlePositions = py::none(),
+                             const py::object& particleVelocities = py::none()) {
   if (times.ndim() != 1) throw std::invalid_argument("times: expected a 1-D array");
   const py::ssize_t t = times.shape(0);
   const py::ssize_t n = py::ssize_t(scene.rigidBodies.size());
@@ -212,6 +237,25 @@ std::vector<State> samplesOf(const pbd::Scene& scene, const Array& times, const 
       body.angularVelocity = Vector3(Real(W(k, b, 0)), Real(W(k, b, 1)), Real(W(k, b, 2)));
       body.rotation =
           Quaternion(Real(Q(k, b, 0)), Real(Q(k, b, 1)), Real(Q(k, b, 2)), Real(Q(k, b, 3)));
+    }
+  }
+  if (particlePositions.is_none() != particleVelocities.is_none())
+    throw std::invalid_argument(
+        "particle_positions and particle_velocities: give both (T, P, 3) arrays or neither");
+  if (!particlePositions.is_none()) {
+    const py::ssize_t p = py::ssize_t(scene.particles.size());
+    const Array x = particlePositions.cast<Array>(), u = particleVelocities.cast<Array>();
+    requireShape(x, "particle_positions", t, p, 3);
+    requireShape(u, "particle_velocities", t, p, 3);
+    auto X = x.unchecked<3>();
+    auto U = u.unchecked<3>();
+    for (py::ssize_t k = 0; k < t; ++k) {
+      std::vector<ParticleState>& particles = samples[std::size_t(k)].particles;
+      particles.resize(std::size_t(p));
+      for (py::ssize_t i = 0; i < p; ++i) {
+        particles[std::size_t(i)].position = Vector3(Real(X(k, i, 0)), Real(X(k, i, 1)), Real(X(k, i, 2)));
+        particles[std::size_t(i)].velocity = Vector3(Real(U(k, i, 0)), Real(U(k, i, 1)), Real(U(k, i, 2)));
+      }
     }
   }
   return samples;
@@ -413,12 +457,14 @@ py::tuple simulate(const Registry& registry, const SceneHandle& scene, const std
 /// analytic reference when it has one, else none), False (none), or reference arrays.
 py::dict measure(const Registry& registry, const SceneHandle& handle, const Array& times,
                  const Array& positions, const Array& quaternions, const Array& velocities,
-                 const Array& angularVelocities, const py::object& reference, double contactMargin,
-                 double integrationStep) {
+                 const Array& angularVelocities, const py::object& particlePositions,
+                 const py::object& particleVelocities, const py::object& reference,
+                 double contactMargin, double integrationStep) {
   const pbd::Scene& scene = *handle.scene;
   const CaseSpec spec = parseCaseSpec(scene, registry.engines);
-  const std::vector<State> samples =
-      samplesOf(scene, times, positions, quaternions, velocities, angularVelocities);
+  const std::vector<State> samples = samplesOf(scene, times, positions, quaternions, velocities,
+                                               angularVelocities, particlePositions,
+                                               particleVelocities);
   std::optional<ReferenceTrajectory> ref;
   std::vector<double> sampleTimes;
   for (const State& s : samples)
@@ -435,7 +481,11 @@ py::dict measure(const Registry& registry, const SceneHandle& handle, const Arra
                                                   : std::string("reference trajectory");
     given.samples = samplesOf(scene, r["times"].cast<Array>(), r["positions"].cast<Array>(),
                               r["quaternions"].cast<Array>(), r["velocities"].cast<Array>(),
-                              r["angular_velocities"].cast<Array>());
+                              r["angular_velocities"].cast<Array>(),
+                              r.contains("particle_positions") ? py::object(r["particle_positions"])
+                                                               : py::object(py::none()),
+                              r.contains("particle_velocities") ? py::object(r["particle_velocities"])
+                                                                : py::object(py::none()));
     ref = resampleReference(given, sampleTimes);
   }
   MetricSet metrics;
@@ -473,19 +523,23 @@ py::dict measure(const Registry& registry, const SceneHandle& handle, const Arra
 
 py::dict energy(const Registry& registry, const SceneHandle& handle, const Array& times,
                 const Array& positions, const Array& quaternions, const Array& velocities,
-                const Array& angularVelocities) {
+                const Array& angularVelocities, const py::object& particlePositions,
+                const py::object& particleVelocities) {
   const pbd::Scene& scene = *handle.scene;
-  const std::vector<State> samples =
-      samplesOf(scene, times, positions, quaternions, velocities, angularVelocities);
+  const std::vector<State> samples = samplesOf(scene, times, positions, quaternions, velocities,
+                                               angularVelocities, particlePositions,
+                                               particleVelocities);
   const py::ssize_t t = py::ssize_t(samples.size());
   Array translational = newArray({t}), rotational = newArray({t}), gravitational = newArray({t}),
-        spring = newArray({t}), total = newArray({t});
+        spring = newArray({t}), elastic = newArray({t}), total = newArray({t});
+  const ElasticEnergy elasticModel(scene);
   for (py::ssize_t k = 0; k < t; ++k) {
-    const EnergyTerms e = energyOf(scene, samples[std::size_t(k)]);
+    const EnergyTerms e = energyOf(scene, samples[std::size_t(k)], elasticModel);
     translational.mutable_at(k) = e.translational;
     rotational.mutable_at(k) = e.rotational;
     gravitational.mutable_at(k) = e.gravitational;
     spring.mutable_at(k) = e.spring;
+    elastic.mutable_at(k) = e.elastic;
     total.mutable_at(k) = e.total();
   }
   py::dict d;
@@ -493,6 +547,7 @@ py::dict energy(const Registry& registry, const SceneHandle& handle, const Array
   d["rotational"] = rotational;
   d["gravitational"] = gravitational;
   d["spring"] = spring;
+  d["elastic"] = elastic;
   d["total"] = total;
   d["scale"] = energyScale(scene, parseCaseSpec(scene, registry.engines));
   return d;

@@ -48,6 +48,7 @@ if TYPE_CHECKING:  # what the lazy __getattr__ below returns, for type checkers
         engines,
         load_scene,
         measure,
+        read_particles,
         simulate,
     )
     from pbdval.results import Results, RunResult, load_results, run
@@ -78,13 +79,14 @@ __all__ = [
     "load_results",
     "load_scene",
     "measure",
+    "read_particles",
     "run",
     "simulate",
 ]
 
 _API = {"BodyStates", "Energy", "EngineInfo", "Engines", "MethodInfo", "Metrics", "Parameter",
         "RunInfo", "Scene", "Simulation", "Trajectory", "energy", "engines", "load_scene",
-        "measure", "simulate"}
+        "measure", "read_particles", "simulate"}
 _RESULTS = {"Results", "RunResult", "load_results", "run"}
 
 

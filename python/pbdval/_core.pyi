@@ -44,6 +44,8 @@ def _measure(
     quaternions: NDArray[np.float64],
     velocities: NDArray[np.float64],
     angular_velocities: NDArray[np.float64],
+    particle_positions: NDArray[np.float64] | None,
+    particle_velocities: NDArray[np.float64] | None,
     reference: Any,
     contact_margin: float,
     integration_step: float,
@@ -56,5 +58,7 @@ def _energy(
     quaternions: NDArray[np.float64],
     velocities: NDArray[np.float64],
     angular_velocities: NDArray[np.float64],
+    particle_positions: NDArray[np.float64] | None,
+    particle_velocities: NDArray[np.float64] | None,
 ) -> dict[str, Any]: ...
 def _read_trajectory(path: str) -> dict[str, Any]: ...

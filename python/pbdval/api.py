@@ -11,7 +11,7 @@ body's scene frame to world; bodies in scene order; a trajectory stacks samples 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Iterator, Mapping, Sequence, Union
 
@@ -260,7 +260,9 @@ class BodyStates:
 @dataclass
 class Trajectory:
     """Samples of a run: times (T,), body ids (N,), positions (T, N, 3), quaternions (T, N, 4)
-    in (w, x, y, z), velocities (T, N, 3), angular velocities (T, N, 3)."""
+    in (w, x, y, z), velocities (T, N, 3), angular velocities (T, N, 3); and, when the engine
+    reads particles back (cloth and solid vertices, in the scene's particle order), particle
+    positions and velocities (T, P, 3), else None."""
 
     times: FloatArray
     ids: IntArray
@@ -268,6 +270,8 @@ class Trajectory:
     quaternions: FloatArray
     velocities: FloatArray
     angular_velocities: FloatArray
+    particle_positions: FloatArray | None = None
+    particle_velocities: FloatArray | None = None
 
     @classmethod
     def _from_core(cls, d: Mapping[str, Any]) -> "Trajectory":
@@ -278,14 +282,36 @@ class Trajectory:
             quaternions=np.asarray(d["quaternions"]),
             velocities=np.asarray(d["velocities"]),
             angular_velocities=np.asarray(d["angular_velocities"]),
+            particle_positions=np.asarray(d["particle_positions"]) if "particle_positions" in d else None,
+            particle_velocities=np.asarray(d["particle_velocities"]) if "particle_velocities" in d else None,
         )
 
     @classmethod
-    def read(cls, path: str | Path) -> "Trajectory":
+    def read(cls, path: str | Path, *, particles: str | Path | None = None) -> "Trajectory":
         """Reads a trajectory file of `pbdval simulate`/`run` with the suite's own reader: NPY
         when the name ends in .npy (`pbdval run --trajectory-format npy`), else CSV. Errors name
-        the file and the line or row."""
-        return cls._from_core(_core()._read_trajectory(str(path)))
+        the file and the line or row. `particles`: the file of `pbdval simulate --particles`
+        written with it (CSV or NPY), attached as particle_positions/velocities; its sample
+        times must be the trajectory's."""
+        trajectory = cls._from_core(_core()._read_trajectory(str(path)))
+        if particles is not None:
+            times, positions, velocities = read_particles(particles)
+            if trajectory.ids.size == 0:
+                # A scene without rigid bodies: the body file has no rows, the times come from
+                # the particle file.
+                count = times.size
+                trajectory = replace(
+                    trajectory, times=times, positions=np.zeros((count, 0, 3)),
+                    quaternions=np.zeros((count, 0, 4)), velocities=np.zeros((count, 0, 3)),
+                    angular_velocities=np.zeros((count, 0, 3)))
+            if times.shape != trajectory.times.shape or not np.allclose(times, trajectory.times, rtol=0, atol=1e-9):
+                raise ValueError(
+                    f"{particles}: its {times.size} sample times are not those of {path} "
+                    f"({trajectory.times.size} samples)"
+                )
+            trajectory.particle_positions = positions
+            trajectory.particle_velocities = velocities
+        return trajectory
 
     @classmethod
     def read_csv(cls, path: str | Path) -> "Trajectory":
@@ -295,11 +321,48 @@ class Trajectory:
     def __len__(self) -> int:
         return int(self.times.size)
 
-    def _arrays(self) -> tuple[FloatArray, ...]:
-        return tuple(
+    def _arrays(self) -> tuple[FloatArray | None, ...]:
+        """The arrays the core takes: the body arrays, then the particle arrays (or None)."""
+        bodies = tuple(
             np.ascontiguousarray(a, dtype=np.float64)
             for a in (self.times, self.positions, self.quaternions, self.velocities, self.angular_velocities)
         )
+        particles = tuple(
+            None if a is None else np.ascontiguousarray(a, dtype=np.float64)
+            for a in (self.particle_positions, self.particle_velocities)
+        )
+        return bodies + particles
+
+
+def read_particles(path: str | Path) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Reads a particle file of `pbdval simulate --particles` (CSV with the header
+    t,index,x,y,z,vx,vy,vz, or NPY of the same (rows, 8) table, by the extension) into
+    times (T,), positions (T, P, 3) and velocities (T, P, 3). Errors name the file."""
+    path = Path(path)
+    try:
+        if path.suffix == ".npy":
+            table = np.load(path, allow_pickle=False)
+        else:
+            with path.open() as f:
+                header = f.readline().strip()
+                if header != "t,index,x,y,z,vx,vy,vz":
+                    raise ValueError(f"line 1: expected the header t,index,x,y,z,vx,vy,vz, got {header!r}")
+                table = np.loadtxt(f, delimiter=",", ndmin=2)
+    except (OSError, ValueError) as error:
+        raise ValueError(f"{path}: {error}") from None
+    if table.ndim != 2 or table.shape[1] != 8:
+        raise ValueError(f"{path}: expected rows of 8 columns (t,index,x,y,z,vx,vy,vz), got shape {table.shape}")
+    if table.shape[0] == 0:
+        raise ValueError(f"{path}: no rows")
+    count = int(np.count_nonzero(table[:, 0] == table[0, 0]))
+    if table.shape[0] % count != 0:
+        raise ValueError(f"{path}: {table.shape[0]} rows are not whole samples of {count} particles")
+    samples = table.reshape(-1, count, 8)
+    if not np.array_equal(samples[:, :, 1], np.tile(np.arange(count), (samples.shape[0], 1))):
+        raise ValueError(f"{path}: every sample must list particles 0..{count - 1} in order")
+    if not np.all(samples[:, :, 0] == samples[:, :1, 0]):
+        raise ValueError(f"{path}: the rows of a sample must share its time")
+    return samples[:, 0, 0].copy(), samples[:, :, 2:5].copy(), samples[:, :, 5:8].copy()
 
 
 # ---- stepping ------------------------------------------------------------------------------------
@@ -450,7 +513,7 @@ def measure(
     registry = engines or Engines()
     ref: Any
     if isinstance(reference, Trajectory):
-        times, positions, quaternions, velocities, angular = reference._arrays()
+        times, positions, quaternions, velocities, angular, particle_x, particle_v = reference._arrays()
         ref = {
             "times": times,
             "positions": positions,
@@ -458,6 +521,9 @@ def measure(
             "velocities": velocities,
             "angular_velocities": angular,
         }
+        if particle_x is not None:
+            ref["particle_positions"] = particle_x
+            ref["particle_velocities"] = particle_v
     else:
         ref = reference
     d = _core()._measure(
@@ -482,6 +548,7 @@ class Energy:
     spring: FloatArray
     total: FloatArray
     scale: float
+    elastic: FloatArray | None = None  # XPBD particle constraints' ½ k C² (0 without particles)
 
     @property
     def relative_drift(self) -> FloatArray:
@@ -498,6 +565,7 @@ def energy(scene: Scene, trajectory: Trajectory, *, engines: Engines | None = No
         rotational=d["rotational"],
         gravitational=d["gravitational"],
         spring=d["spring"],
+        elastic=d["elastic"],
         total=d["total"],
         scale=float(d["scale"]),
     )

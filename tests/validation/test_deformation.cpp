@@ -1,0 +1,166 @@
+// Particle-model measurements (validation/deformation.h) against closed forms: a uniformly scaled
+// cloth stretches every edge by the scale, a scaled solid changes every tet's volume by its cube,
+// the XPBD constraints' energy is ½ k C² of those, a symmetric fold's isometric bending energy is
+// ½ k ((6/d) sin²(φ/2))², and computeMetrics reports them for a run.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "tests/validation/fixtures.h"
+#include "validation/deformation.h"
+#include "validation/mechanics.h"
+#include "validation/metrics.h"
+
+namespace pbdval {
+namespace {
+
+// A 2 × 2-cell cloth (9 vertices, 8 triangles, 16 edges: 6 of length 0.5, 6 of 0.5 and 4
+// diagonals of 0.5√2) in the xz plane, and a unit cube of 5 tets, both with free particles of
+// mass 1 (no gravity).
+pbd::Scene clothAndCube(int clothMethod, int solidMethod) {
+  pbd::Scene scene = test::emptyScene(Vector3::Zero());
+  pbd::TriangleModelDesc cloth;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) cloth.mesh.vertices.push_back(Vector3(0.5 * i, 0, 0.5 * j));
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      const int a = 3 * j + i;
+      cloth.mesh.triangles.push_back({a, a + 3, a + 4});
+      cloth.mesh.triangles.push_back({a, a + 4, a + 1});
+    }
+  cloth.firstParticle = 0;
+  scene.triangleModels.push_back(cloth);
+  pbd::TetModelDesc cube;
+  for (int k = 0; k < 8; ++k)
+    cube.mesh.vertices.push_back(Vector3(k & 1, (k >> 1) & 1, (k >> 2) & 1) + Vector3(5, 0, 0));
+  // The cube's corner tets around the central tet (0, 3, 5, 6), each positively oriented.
+  cube.mesh.tetrahedra = {{0, 1, 3, 5}, {0, 3, 2, 6}, {0, 5, 6, 4}, {3, 6, 5, 7}, {0, 3, 6, 5}};
+  cube.firstParticle = 9;
+  scene.tetModels.push_back(cube);
+  for (const auto& v : cloth.mesh.vertices) scene.particles.push_back({v, Vector3::Zero(), 1});
+  for (const auto& v : cube.mesh.vertices) scene.particles.push_back({v, Vector3::Zero(), 1});
+  scene.simulation.clothSimulationMethod = clothMethod;
+  scene.simulation.solidSimulationMethod = solidMethod;
+  scene.simulation.clothBendingMethod = 0;
+  return scene;
+}
+
+/// The initial state with every particle scaled by `s` about its model's first vertex.
+State scaled(const pbd::Scene& scene, double s) {
+  State state = initialState(scene);
+  const Vector3 clothOrigin = scene.particles[0].position, cubeOrigin = scene.particles[9].position;
+  for (std::size_t i = 0; i < state.particles.size(); ++i) {
+    const Vector3 origin = i < 9 ? clothOrigin : cubeOrigin;
+    state.particles[i].position = origin + s * (state.particles[i].position - origin);
+  }
+  return state;
+}
+
+TEST(Deformation, SignedTetVolumeOfTheCubesTetsSumsToOne) {
+  const pbd::Scene scene = clothAndCube(0, 0);
+  double total = 0;
+  for (const auto& t : scene.tetModels[0].mesh.tetrahedra) {
+    const auto x = [&](int i) { return scene.tetModels[0].mesh.vertices[std::size_t(i)]; };
+    const double v = signedTetVolume(x(t[0]), x(t[1]), x(t[2]), x(t[3]));
+    EXPECT_GT(v, 0);
+    total += v;
+  }
+  EXPECT_NEAR(total, 1, 1e-15);  // 4 · 1/6 + 1/3
+}
+
+TEST(Deformation, UniformScalingStretchesEveryEdgeAndCubesEveryVolume) {
+  const pbd::Scene scene = clothAndCube(0, 0);
+  const RestShape rest(scene);
+  const RestShape::Measures atRest = rest.measure(initialState(scene));
+  EXPECT_EQ(atRest.stretchMax, 0);
+  EXPECT_EQ(atRest.tetVolumeErrorMax, 0);
+  const double s = 1.01;
+  const RestShape::Measures m = rest.measure(scaled(scene, s));
+  // 16 cloth edges + the cube's 18 (12 sides, 6 face diagonals); each stretched by s − 1.
+  EXPECT_EQ(m.edges, 34u);
+  EXPECT_NEAR(m.stretchMax, s - 1, 1e-14);  // ratios of O(1) lengths: round-off ~10⁻¹⁶
+  EXPECT_NEAR(std::sqrt(m.stretchSumOfSquares / double(m.edges)), s - 1, 1e-14);
+  EXPECT_NEAR(m.tetVolumeErrorMax, s * s * s - 1, 1e-14);
+  EXPECT_NEAR(m.solidVolumeErrorMax, s * s * s - 1, 1e-14);
+  // A state without the models' particles is an error, not a silent 0.
+  State none = initialState(scene);
+  none.particles.resize(5);
+  EXPECT_THROW(rest.measure(none), std::invalid_argument);
+}
+
+TEST(Deformation, ElasticEnergyIsHalfKTimesTheSquaredConstraints) {
+  const double s = 1.02;
+  // PBD methods (1): no energy.
+  {
+    const pbd::Scene scene = clothAndCube(1, 1);
+    const ElasticEnergy elastic(scene);
+    EXPECT_FALSE(elastic.defined());
+    EXPECT_TRUE(elastic.hasPbdConstraints());
+    EXPECT_EQ(elastic.of(scaled(scene, s)), 0);
+  }
+  // XPBD (cloth 4, solid 6) with distinct stiffnesses per family.
+  pbd::Scene scene = clothAndCube(4, 6);
+  scene.simulation.cloth_stiffness = 300;
+  scene.simulation.solid_stiffness = 500;
+  scene.simulation.solid_volumeStiffness = 7000;
+  const ElasticEnergy elastic(scene);
+  EXPECT_TRUE(elastic.defined());
+  EXPECT_FALSE(elastic.hasPbdConstraints());
+  EXPECT_EQ(elastic.of(initialState(scene)), 0);
+  // Σ ℓ₀²: cloth 12 · 0.25 + 4 · 0.5 = 5; cube 12 · 1 + 6 · 2 = 24. Tets: 4 of 1/6, 1 of 1/3.
+  const double e = s - 1, v = s * s * s - 1;
+  const double expected = 0.5 * 300 * e * e * 5 + 0.5 * 500 * e * e * 24 +
+                          0.5 * 7000 * v * v * (4.0 / 36 + 1.0 / 9);
+  EXPECT_NEAR(elastic.of(scaled(scene, s)), expected, 1e-12 * expected);
+  EXPECT_NEAR(energyOf(scene, scaled(scene, s)).elastic, expected, 1e-12 * expected);
+}
+
+TEST(Deformation, IsometricBendingEnergyOfASymmetricFold) {
+  // Two triangles over the edge (0,0,0)–(1,0,0), opposite vertices at d over the foot (0.4,0,0);
+  // C = (6/d) sin²(φ/2) (tests/pbd/test_isometric_bending.cpp), energy ½ k C².
+  const double d = 0.7, phi = 0.9, k = 40;
+  pbd::Scene scene = test::emptyScene(Vector3::Zero());
+  pbd::TriangleModelDesc hinge;
+  hinge.mesh.vertices = {Vector3(0, 0, 0), Vector3(1, 0, 0), Vector3(0.4, d, 0),
+                         Vector3(0.4, -d, 0)};
+  hinge.mesh.triangles = {{0, 1, 2}, {1, 0, 3}};
+  scene.triangleModels.push_back(hinge);
+  for (std::size_t i = 0; i < 4; ++i)
+    scene.particles.push_back({hinge.mesh.vertices[i], Vector3::Zero(), i < 2 ? 0.0 : 1.0});
+  scene.simulation.clothSimulationMethod = 4;
+  scene.simulation.clothBendingMethod = 3;
+  scene.simulation.cloth_bendingStiffness = k;
+  scene.simulation.cloth_stiffness = 1;  // the fold keeps every edge length: no stretch energy
+  State folded = initialState(scene);
+  folded.particles[2].position = Vector3(0.4, d * std::cos(phi / 2), d * std::sin(phi / 2));
+  folded.particles[3].position = Vector3(0.4, -d * std::cos(phi / 2), d * std::sin(phi / 2));
+  const double c = 6 / d * std::pow(std::sin(phi / 2), 2);
+  EXPECT_NEAR(ElasticEnergy(scene).of(folded), 0.5 * k * c * c, 1e-12);
+}
+
+TEST(Deformation, ComputeMetricsReportsStretchAndVolume) {
+  const pbd::Scene scene = clothAndCube(4, 6);
+  const std::vector<State> samples = {initialState(scene), scaled(scene, 1.03),
+                                      scaled(scene, 0.99)};
+  MetricInputs in;
+  in.scene = &scene;
+  const CaseSpec spec;
+  in.spec = &spec;
+  in.samples = &samples;
+  const MetricSet m = computeMetrics(in);
+  EXPECT_NEAR(m.values.at(metric::kParticleStretchMax), 0.03, 1e-14);
+  // RMS over 3 samples × 34 edges of strains 0, 0.03, −0.01.
+  EXPECT_NEAR(m.values.at(metric::kParticleStretchRms),
+              std::sqrt((0.03 * 0.03 + 0.01 * 0.01) / 3), 1e-14);
+  EXPECT_NEAR(m.values.at(metric::kTetVolumeErrorMax), std::pow(1.03, 3) - 1, 1e-14);
+  EXPECT_NEAR(m.values.at(metric::kSolidVolumeErrorMax), std::pow(1.03, 3) - 1, 1e-14);
+  // Without particles read back: no deformation metrics, and a note.
+  std::vector<State> bare = samples;
+  for (State& s : bare) s.particles.clear();
+  in.samples = &bare;
+  const MetricSet without = computeMetrics(in);
+  EXPECT_EQ(without.values.count(metric::kParticleStretchMax), 0u);
+}
+
+}  // namespace
+}  // namespace pbdval

@@ -1,0 +1,144 @@
+#include "validation/deformation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "pbd/constraints/dihedral_bending.h"
+#include "pbd/constraints/isometric_bending.h"
+#include "pbd/constraints/particle_distance.h"
+#include "pbd/constraints/tet_volume.h"
+#include "pbd/model/mesh.h"
+
+namespace pbdval {
+
+double signedTetVolume(const Vector3& x0, const Vector3& x1, const Vector3& x2,
+                       const Vector3& x3) {
+  return (x1 - x0).dot((x2 - x0).cross(x3 - x0)) / 6;
+}
+
+namespace {
+
+const Vector3& positionOf(const State& state, int particle) {
+  return state.particles[std::size_t(particle)].position;
+}
+
+}  // namespace
+
+ElasticEnergy::ElasticEnergy(const pbd::Scene& scene) {
+  // The constraints the Scene's methods define (the same builders the PBD library uses: they
+  // are the scene's definition of the models); their values are evaluated here.
+  for (const pbd::ParticleDistanceConstraint& c : pbd::deformableDistanceConstraints(scene)) {
+    if (c.xpbd)
+      springs_.push_back({c.particle1, c.particle2, double(c.restLength), double(c.stiffness)});
+    else
+      hasPbdConstraints_ = true;
+  }
+  for (const pbd::TetVolumeConstraint& c : pbd::solidVolumeConstraints(scene)) {
+    if (c.xpbd)
+      volumes_.push_back({c.particles, double(c.restVolume), double(c.stiffness)});
+    else
+      hasPbdConstraints_ = true;
+  }
+  for (const pbd::IsometricBendingConstraint& c : pbd::clothBendingConstraints(scene)) {
+    if (c.xpbd)
+      bending_.push_back({c.particles,
+                          {double(c.weights[0]), double(c.weights[1]), double(c.weights[2]),
+                           double(c.weights[3])},
+                          double(c.scale), double(c.stiffness)});
+    else
+      hasPbdConstraints_ = true;
+  }
+  if (!pbd::clothDihedralConstraints(scene).empty()) hasPbdConstraints_ = true;
+}
+
+double ElasticEnergy::of(const State& state) const {
+  if (state.particles.empty()) return 0;
+  double energy = 0;
+  for (const Spring& s : springs_) {
+    const double stretch = (positionOf(state, s.a) - positionOf(state, s.b)).norm() - s.restLength;
+    energy += 0.5 * s.stiffness * stretch * stretch;
+  }
+  for (const Volume& v : volumes_) {
+    const auto& p = v.particles;
+    const double change = signedTetVolume(positionOf(state, p[0]), positionOf(state, p[1]),
+                                          positionOf(state, p[2]), positionOf(state, p[3])) -
+                          v.restVolume;
+    energy += 0.5 * v.stiffness * change * change;
+  }
+  for (const Bending& b : bending_) {
+    Vector3 h = Vector3::Zero();
+    for (std::size_t i = 0; i < 4; ++i) h += b.weights[i] * positionOf(state, b.particles[i]);
+    const double c = 0.5 * b.scale * h.squaredNorm();
+    energy += 0.5 * b.stiffness * c * c;
+  }
+  return energy;
+}
+
+RestShape::RestShape(const pbd::Scene& scene) {
+  const auto isStatic = [&](int particle) {
+    return !(scene.particles[std::size_t(particle)].mass > 0);
+  };
+  const auto rest = [&](int particle) -> Vector3 {
+    return scene.particles[std::size_t(particle)].position;
+  };
+  const auto addEdges = [&](const std::vector<std::array<int, 2>>& edges, int first) {
+    for (const auto& e : edges) {
+      const int a = first + e[0], b = first + e[1];
+      if (isStatic(a) && isStatic(b)) continue;
+      const double length = (rest(a) - rest(b)).norm();
+      if (length > 0) edges_.push_back({a, b, length});
+      particlesNeeded_ = std::max(particlesNeeded_, std::size_t(std::max(a, b)) + 1);
+    }
+  };
+  for (const pbd::TriangleModelDesc& model : scene.triangleModels)
+    addEdges(pbd::uniqueEdges(model.mesh.triangles), model.firstParticle);
+  for (const pbd::TetModelDesc& model : scene.tetModels) {
+    addEdges(pbd::uniqueEdges(model.mesh.tetrahedra), model.firstParticle);
+    double total = 0;
+    for (const auto& t : model.mesh.tetrahedra) {
+      Tet tet;
+      for (std::size_t i = 0; i < 4; ++i) {
+        tet.particles[i] = model.firstParticle + t[i];
+        particlesNeeded_ = std::max(particlesNeeded_, std::size_t(tet.particles[i]) + 1);
+      }
+      tet.restVolume = signedTetVolume(rest(tet.particles[0]), rest(tet.particles[1]),
+                                       rest(tet.particles[2]), rest(tet.particles[3]));
+      tet.model = modelRestVolumes_.size();
+      total += tet.restVolume;
+      if (tet.restVolume != 0) tets_.push_back(tet);
+    }
+    modelRestVolumes_.push_back(total);
+  }
+}
+
+RestShape::Measures RestShape::measure(const State& state) const {
+  if (state.particles.size() < particlesNeeded_)
+    throw std::invalid_argument("deformation metrics: the state holds " +
+                                std::to_string(state.particles.size()) +
+                                " particles, the scene's models need " +
+                                std::to_string(particlesNeeded_));
+  Measures m;
+  for (const Edge& e : edges_) {
+    const double strain = (positionOf(state, e.a) - positionOf(state, e.b)).norm() / e.restLength - 1;
+    m.stretchMax = std::max(m.stretchMax, std::abs(strain));
+    m.stretchSumOfSquares += strain * strain;
+  }
+  m.edges = edges_.size();
+  std::vector<double> volumes(modelRestVolumes_.size(), 0.0);
+  for (const Tet& t : tets_) {
+    const auto& p = t.particles;
+    const double volume = signedTetVolume(positionOf(state, p[0]), positionOf(state, p[1]),
+                                          positionOf(state, p[2]), positionOf(state, p[3]));
+    m.tetVolumeErrorMax = std::max(m.tetVolumeErrorMax, std::abs(volume / t.restVolume - 1));
+    volumes[t.model] += volume;
+  }
+  for (std::size_t k = 0; k < volumes.size(); ++k)
+    if (modelRestVolumes_[k] != 0)
+      m.solidVolumeErrorMax =
+          std::max(m.solidVolumeErrorMax, std::abs(volumes[k] / modelRestVolumes_[k] - 1));
+  return m;
+}
+
+}  // namespace pbdval
