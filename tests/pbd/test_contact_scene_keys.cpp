@@ -65,9 +65,9 @@ TEST(ContactSceneKeys, SignedDistanceFieldFromTheSeedsGridFilesIsAnError) {
       errorOf(R"({"RigidBodies": [{"geometryFile": "../meshes/tet_surface.obj",
       "collisionObjectType": 5, "collisionObjectFileName": "../meshes/placeholder.csdf"}]})");
   EXPECT_EQ(message, kInline +
-                         ": RigidBodies[0].collisionObjectFileName: expected an OBJ mesh to build "
-                         "the signed distance field from (pbdval builds its grids itself and does "
-                         "not read the seed's .csdf files), got \"../meshes/placeholder.csdf\"");
+                         ": RigidBodies[0].collisionObjectFileName: expected an OBJ or PLY mesh to "
+                         "build the signed distance field from (pbdval builds its grids itself and "
+                         "does not read the seed's .csdf files), got \"../meshes/placeholder.csdf\"");
 }
 
 TEST(ContactSceneKeys, SignedDistanceFieldOfAnOpenMeshIsAnError) {

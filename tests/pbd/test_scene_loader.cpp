@@ -720,9 +720,10 @@ TEST(SceneLoaderErrors, MissingMeshFileNamesTheKeyAndTheResolvedPath) {
       {"TetModels[0].eleFile: expected an existing file"}));
   EXPECT_TRUE(containsAll(errorOf(R"({"RigidBodies": [{"geometryFile": ""}]})"),
                           {"RigidBodies[0].geometryFile: expected a file path, got \"\""}));
-  EXPECT_TRUE(
-      containsAll(errorOf(R"({"RigidBodies": [{"geometryFile": "../meshes/triangle.ply"}]})"),
-                  {"RigidBodies[0].geometryFile: expected an OBJ file (PLY"}));
+  // A PLY file that exists but is malformed: the key, the file and the header line.
+  EXPECT_TRUE(containsAll(errorOf(R"({"RigidBodies": [{"geometryFile": "../meshes/malformed.ply"}]})"),
+                          {"RigidBodies[0].geometryFile: cannot load the mesh: ", "malformed.ply",
+                           "header line 1: a PLY file starts with the line 'ply'"}));
   // A mesh that exists but is malformed: the key, the mesh file and its line.
   EXPECT_TRUE(containsAll(errorOf(R"({"RigidBodies": [{"geometryFile": "../meshes/tet.ele"}]})"),
                           {"RigidBodies[0].geometryFile: cannot load the mesh: ",

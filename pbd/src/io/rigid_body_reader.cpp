@@ -180,10 +180,10 @@ void readSignedDistanceFieldMesh(RigidBodyDesc& body, JsonObject& object, LoadCo
   std::optional<JsonValue> meshKey = object.find("geometryFile");
   if (!c.fileName.empty()) {
     meshKey = object.find("collisionObjectFileName");
-    if (lowerCaseExtension(c.fileName) != ".obj") {
+    if (lowerCaseExtension(c.fileName) != ".obj" && lowerCaseExtension(c.fileName) != ".ply") {
       meshKey->fail(
-          "an OBJ mesh to build the signed distance field from (pbdval builds its grids "
-          "itself and does not read the seed's .csdf files)");
+          "an OBJ or PLY mesh to build the signed distance field from (pbdval builds its "
+          "grids itself and does not read the seed's .csdf files)");
     }
     c.mesh = context.scaledObj(c.fileName, Vector3::Ones(), *meshKey);
     mesh = c.mesh;

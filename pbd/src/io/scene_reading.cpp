@@ -29,13 +29,8 @@ std::string LoadContext::existingFile(const JsonValue& fileKey) const {
 const TriangleMesh& LoadContext::obj(const std::string& path, const JsonValue& fileKey) {
   auto it = objFiles_.find(path);
   if (it == objFiles_.end()) {
-    std::string extension = std::filesystem::path(path).extension().string();
-    for (char& c : extension)
-      c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (extension == ".ply")
-      fileKey.fail("an OBJ file (PLY, which the seed also reads, is not supported)");
     try {
-      it = objFiles_.emplace(path, loadObj(path)).first;
+      it = objFiles_.emplace(path, loadSurfaceMesh(path)).first;
     } catch (const SceneError& e) {
       fileKey.error(std::string("cannot load the mesh: ") + e.what());
     }
