@@ -90,6 +90,7 @@ void runWhole(Engine& engine, const pbd::Scene& scene, const Method& method,
   for (const State& state : whole.samples) {
     outcome.simulatedTime = state.time;
     const std::string diverged = divergenceReason(state);
+    if (callbacks.onStep) callbacks.onStep(state);
     if (callbacks.onSample) callbacks.onSample(state);
     if (!diverged.empty()) {
       outcome.status = RunStatus::Diverged;
@@ -130,6 +131,7 @@ RunOutcome runSimulation(Engine& engine, const pbd::Scene& scene, const Method& 
 
     State state;
     engine.read(state);
+    if (callbacks.onStep) callbacks.onStep(state);
     if (callbacks.onSample) callbacks.onSample(state);
     for (long n = 1; n <= plan.steps; ++n) {
       t0 = Clock::now();
@@ -139,6 +141,7 @@ RunOutcome runSimulation(Engine& engine, const pbd::Scene& scene, const Method& 
       engine.read(state);
       outcome.simulatedTime = state.time;
       const std::string diverged = divergenceReason(state);
+      if (diverged.empty() && callbacks.onStep) callbacks.onStep(state);
       if (!diverged.empty()) {
         outcome.status = RunStatus::Diverged;
         outcome.reason = diverged;

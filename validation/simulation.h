@@ -40,6 +40,9 @@ struct RunOutcome {
 struct RunCallbacks {
   /// Every sample (t = 0 included); may throw to abort.
   std::function<void(const State&)> onSample;
+  /// Every state read, t = 0 and after every step, before the sample test (engines that run
+  /// whole in another process: their samples); for outputs with their own rate (mesh export).
+  std::function<void(const State&)> onStep;
   /// Called about every 0.2 s of wall time with the fraction done.
   std::function<void(double fraction, double elapsedSeconds)> onProgress;
 };

@@ -128,3 +128,25 @@ def test_bad_particle_files_are_named(tmp_path: Path) -> None:
     ragged.write_text("t,index,x,y,z,vx,vy,vz\n0,0,0,0,0,0,0,0\n0,1,0,0,0,0,0,0\n0.1,0,0,0,0,0,0,0\n")
     with pytest.raises(ValueError, match="ragged.csv.*whole samples"):
         pbdval.read_particles(ragged)
+
+
+def test_mesh_export_writes_the_particles_surface(
+        run: tuple[pbdval.Scene, pbdval.Trajectory, Path], tmp_path: Path) -> None:
+    # docs/cli.md#mesh-export: frame k at the first state at or after k / fps. With 10 fps over
+    # 0.5 s of 5 ms steps: frames 0..5, each the cloth's particles at t = k / 10 exactly the
+    # states sampled every 0.1 s.
+    _, _, path = run
+    export = tmp_path / "meshes"
+    particles = tmp_path / "p.npy"
+    subprocess.run([str(pbdval_binary()), "simulate", str(path), "--duration", "0.5", "--sample-interval", "0.1",
+                    "--out", str(tmp_path / "b.csv"), "--particles", str(particles), "--export-dir", str(export),
+                    "--export-format", "ply", "--export-fps", "10", "--quiet"],
+                   check=True, capture_output=True, text=True)
+    assert sorted(p.name for p in export.iterdir()) == [f"cloth0_{k:05d}.ply" for k in range(6)]
+    _, positions, _ = pbdval.read_particles(particles)
+    assert positions.shape[0] == 6
+    for k in range(6):
+        data = (export / f"cloth0_{k:05d}.ply").read_bytes()
+        body = data[data.index(b"end_header\n") + len(b"end_header\n"):]
+        vertices = np.frombuffer(body[: 9 * 3 * 8], dtype="<f8").reshape(9, 3)
+        np.testing.assert_array_equal(vertices, positions[k])  # float64 written as is

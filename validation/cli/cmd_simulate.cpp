@@ -13,6 +13,7 @@
 #include "validation/case_spec.h"
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
+#include "validation/mesh_export.h"
 #include "validation/overrides.h"
 #include "validation/simulation.h"
 #include "validation/trajectory.h"
@@ -41,6 +42,12 @@ ArgParser simulateParser() {
               "also write the particles' states here, one row per particle per sample "
               "(t,index,x,y,z,vx,vy,vz; FILE.npy: as NPY)")
       .option("sample-interval", "S", "seconds between samples (default: every step)")
+      .option("export-dir", "DIR",
+              "write the surface meshes (rigid bodies, cloth, solids) into DIR at the export "
+              "frame rate, as the seed's exportOBJ/exportPLY do (docs/cli.md#mesh-export)")
+      .option("export-format", "obj|ply|both",
+              "the mesh files (default: the scene's exportOBJ/exportPLY, else obj)")
+      .option("export-fps", "F", "frames per simulated second (default: the scene's exportFPS, 25)")
       .option("engine", "NAME",
               "pbd (default), bullet, ode or mujoco ('pbdval methods' lists them)")
       .option("method", "NAME", "a method of the engine (default: the engine's default method)")
@@ -90,6 +97,41 @@ int simulateCommand(const Context& context, const Arguments& arguments) {
     return parser.inputError(e.what());
   }
 
+  // Mesh export: asked for by --export-dir; the scene's exportOBJ/exportPLY/exportFPS give the
+  // defaults (without --export-dir the scene's request is only noted: nothing is written
+  // where the user did not say).
+  std::optional<MeshExporter> exporter;
+  const pbd::ViewerSettings& viewer = scene.viewer;
+  if (args.has("export-dir")) {
+    try {
+      MeshExportOptions options;
+      options.directory = args.value("export-dir");
+      const std::string format = args.value("export-format", "");
+      if (format.empty()) {
+        options.obj = viewer.exportOBJ || !viewer.exportPLY;
+        options.ply = viewer.exportPLY;
+      } else if (format == "obj" || format == "ply" || format == "both") {
+        options.obj = format != "ply";
+        options.ply = format != "obj";
+      } else {
+        throw UsageError("--export-format: expected obj, ply or both, got '" + format + "'");
+      }
+      options.framesPerSecond = args.number("export-fps", double(viewer.exportFPS));
+      exporter.emplace(scene, options);
+      if (!quiet)
+        for (const std::string& note : exporter->notes())
+          std::fprintf(stderr, "note: mesh export: %s\n", note.c_str());
+    } catch (const std::exception& e) {
+      return parser.inputError(e.what());
+    }
+  } else if ((args.has("export-format") || args.has("export-fps"))) {
+    return parser.inputError("--export-format and --export-fps need --export-dir DIR");
+  } else if ((viewer.exportOBJ || viewer.exportPLY) && !quiet) {
+    std::fprintf(stderr,
+                 "note: the scene asks for mesh export (exportOBJ/exportPLY); give --export-dir "
+                 "DIR to write the meshes\n");
+  }
+
   std::optional<AtomicFileWriter> file;
   if (args.has("out")) file.emplace(args.value("out"));
   std::ostream& out = file ? file->stream() : std::cout;
@@ -104,6 +146,7 @@ int simulateCommand(const Context& context, const Arguments& arguments) {
 
   const bool showProgress = !quiet && ::isatty(STDERR_FILENO);
   RunCallbacks callbacks;
+  if (exporter) callbacks.onStep = [&](const State& state) { exporter->onState(state); };
   std::size_t samples = 0;
   callbacks.onSample = [&](const State& state) {
     if (npy || particleNpy) kept.push_back(state);
@@ -146,6 +189,9 @@ int simulateCommand(const Context& context, const Arguments& arguments) {
         outcome.steps, outcome.simulatedTime, outcome.wallTime,
         outcome.wallTime > 0 ? outcome.simulatedTime / outcome.wallTime : 0.0, samples,
         scene.rigidBodies.size(), file ? ", wrote " : "", file ? args.value("out").c_str() : "");
+    if (exporter)
+      std::fprintf(stderr, "mesh export: %zu frames, %zu files in %s\n", exporter->frames(),
+                   exporter->files(), args.value("export-dir").c_str());
     if (outcome.status != RunStatus::Ok)
       std::fprintf(stderr, "reason: %s\n", outcome.reason.c_str());
   }

@@ -1,6 +1,8 @@
 #include "pbd/model/mesh.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <utility>
@@ -51,4 +53,73 @@ std::vector<EdgeStencil> interiorEdgeStencils(const TriangleMesh& mesh) {
   return stencils;
 }
 
+std::vector<std::array<int, 3>> boundaryFaces(const TetMesh& mesh) {
+  // The faces of a tet (x₀, x₁, x₂, x₃) of positive volume, each turned away from the vertex it
+  // lacks: (1,2,3), (0,3,2), (0,1,3), (0,2,1); a tet of negative volume flips them.
+  static constexpr int kFaces[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+  std::map<std::array<int, 3>, int> count;
+  std::vector<std::array<int, 3>> faces;
+  for (const auto& t : mesh.tetrahedra) {
+    const Vector3& x0 = mesh.vertices[std::size_t(t[0])];
+    const Real volume = (mesh.vertices[std::size_t(t[1])] - x0)
+                            .cross(mesh.vertices[std::size_t(t[2])] - x0)
+                            .dot(mesh.vertices[std::size_t(t[3])] - x0);
+    for (const auto& f : kFaces) {
+      std::array<int, 3> face = {t[std::size_t(f[0])], t[std::size_t(f[1])], t[std::size_t(f[2])]};
+      if (volume < 0) std::swap(face[1], face[2]);
+      std::array<int, 3> key = face;
+      std::sort(key.begin(), key.end());
+      if (++count[key] == 1) faces.push_back(face);
+    }
+  }
+  std::vector<std::array<int, 3>> boundary;
+  for (const auto& face : faces) {
+    std::array<int, 3> key = face;
+    std::sort(key.begin(), key.end());
+    if (count[key] == 1) boundary.push_back(face);
+  }
+  return boundary;
+}
+
+bool tetBarycentric(const std::array<Vector3, 4>& tet, const Vector3& point,
+                    std::array<Real, 4>& weights) {
+  Matrix3 edges;
+  edges.col(0) = tet[1] - tet[0];
+  edges.col(1) = tet[2] - tet[0];
+  edges.col(2) = tet[3] - tet[0];
+  const Real determinant = edges.determinant();
+  const Real scale = edges.colwise().norm().prod();
+  if (!(std::abs(determinant) > kEpsilon * scale)) return false;
+  const Vector3 local = edges.inverse() * (point - tet[0]);
+  weights = {1 - local.sum(), local.x(), local.y(), local.z()};
+  return true;
+}
+
+std::vector<BarycentricAttachment> attachToTets(const TetMesh& mesh,
+                                                const std::vector<Vector3>& points) {
+  std::vector<BarycentricAttachment> attachments;
+  attachments.reserve(points.size());
+  for (const Vector3& point : points) {
+    BarycentricAttachment best;
+    Real bestInside = -std::numeric_limits<Real>::infinity();
+    for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t) {
+      std::array<Vector3, 4> corners;
+      for (std::size_t i = 0; i < 4; ++i)
+        corners[i] = mesh.vertices[std::size_t(mesh.tetrahedra[t][i])];
+      std::array<Real, 4> weights;
+      if (!tetBarycentric(corners, point, weights)) continue;
+      const Real inside = *std::min_element(weights.begin(), weights.end());
+      if (inside > bestInside) {
+        bestInside = inside;
+        best = {int(t), weights};
+        if (inside >= 0) break;  // contained: the first containing tet
+      }
+    }
+    if (best.tet < 0) return {};
+    attachments.push_back(best);
+  }
+  return attachments;
+}
+
 }  // namespace pbd
+

@@ -36,5 +36,26 @@ struct EdgeStencil {
 /// (border edges and non-manifold edges, shared by three or more, have none).
 std::vector<EdgeStencil> interiorEdgeStencils(const TriangleMesh& mesh);
 
+/// The faces of a tet mesh that belong to one tet only, each turned outwards (its normal points
+/// away from its tet's fourth vertex), in tet order; vertices index the tet mesh's.
+std::vector<std::array<int, 3>> boundaryFaces(const TetMesh& mesh);
+
+/// A point carried by a tet: x = Σ weights[i] · x_{tet[i]}.
+struct BarycentricAttachment {
+  int tet = -1;
+  std::array<Real, 4> weights{0, 0, 0, 0};
+};
+
+/// Each point attached to the tet of `mesh` that contains it, or, outside the mesh, to the tet
+/// it is least outside of (the largest smallest barycentric coordinate; the weights then
+/// extrapolate). Degenerate tets are skipped; an empty result means the mesh has no usable tet.
+/// O(points × tets).
+std::vector<BarycentricAttachment> attachToTets(const TetMesh& mesh,
+                                                const std::vector<Vector3>& points);
+
+/// The barycentric coordinates of `point` in the tet (x₀, x₁, x₂, x₃); false when degenerate.
+bool tetBarycentric(const std::array<Vector3, 4>& tet, const Vector3& point,
+                    std::array<Real, 4>& weights);
+
 }  // namespace pbd
 

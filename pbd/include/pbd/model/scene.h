@@ -326,7 +326,8 @@ GridInterpolation distanceGridFor(const SimulationSettings& settings);
 
 
 /// Keys of the seed's viewer (DemoBase). Parsed and kept; a headless run ignores them, except
-/// that `pauseAt` > 0 serves as the default duration of `pbdval simulate`.
+/// that `pauseAt` > 0 serves as the default duration of `pbdval simulate`, and exportOBJ,
+/// exportPLY, exportFPS as the defaults of its mesh export (--export-dir).
 struct ViewerSettings {
   bool pause = true;
   Real pauseAt = -1;
