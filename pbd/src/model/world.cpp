@@ -127,6 +127,7 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
     world.jointSceneIndex.push_back(index);
   }
   world.particleDistances = deformableDistanceConstraints(scene);
+  world.femTriangles = femTriangleConstraints(scene);
   world.tetVolumes = solidVolumeConstraints(scene);
   world.clothBending = clothBendingConstraints(scene);
   world.clothDihedrals = clothDihedralConstraints(scene);

@@ -8,6 +8,7 @@
 
 #include "pbd/collision/collision_detection.h"
 #include "pbd/constraints/dihedral_bending.h"
+#include "pbd/constraints/fem_triangle.h"
 #include "pbd/constraints/isometric_bending.h"
 #include "pbd/constraints/particle_distance.h"
 #include "pbd/constraints/tet_volume.h"
@@ -38,6 +39,7 @@ struct World {
   /// (constraints/dihedral_bending.h), solved in this order after the joints in every position
   /// iteration.
   std::vector<ParticleDistanceConstraint> particleDistances;
+  std::vector<FemTriangleConstraint> femTriangles;  ///< cloth method 2 (fem_triangle.h)
   std::vector<TetVolumeConstraint> tetVolumes;
   std::vector<IsometricBendingConstraint> clothBending;
   std::vector<DihedralBendingConstraint> clothDihedrals;
