@@ -128,6 +128,7 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
   }
   world.particleDistances = deformableDistanceConstraints(scene);
   world.femTriangles = femTriangleConstraints(scene);
+  world.strainTriangles = strainTriangleConstraints(scene);
   world.tetVolumes = solidVolumeConstraints(scene);
   world.clothBending = clothBendingConstraints(scene);
   world.clothDihedrals = clothDihedralConstraints(scene);
