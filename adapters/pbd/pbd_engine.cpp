@@ -73,11 +73,12 @@ std::vector<std::string> PbdEngine::unsupported(const pbd::Scene& scene,
   std::vector<std::string> missing;
   const int cloth = scene.simulation.clothSimulationMethod;
   for (const pbd::TriangleModelDesc& model : scene.triangleModels) {
-    if (cloth != 0 && cloth != 1 && cloth != 4)
+    if (cloth < 0 || cloth > 4)
       missing.push_back(model.jsonPath + ": cloth simulation (clothSimulationMethod " +
                         std::to_string(cloth) +
-                        ") is not implemented yet; 1 (distance, PBD) and 4 (distance, XPBD) are, "
-                        "0 leaves free particles");
+                        ") is not implemented; 1 (distance, PBD), 2 (FEM triangles, PBD), 3 "
+                        "(strain-based triangles, PBD) and 4 (distance, XPBD) are, 0 leaves free "
+                        "particles");
   }
   const int solid = scene.simulation.solidSimulationMethod;
   for (const pbd::TetModelDesc& model : scene.tetModels)

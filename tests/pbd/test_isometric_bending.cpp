@@ -130,10 +130,13 @@ TEST(IsometricBending, ClothGetsOneConstraintPerInteriorEdge) {
       EXPECT_EQ(c.stiffness, bending == 3 ? Real(100) : Real(0.01));  // the seed's forced values
     }
   }
-  // No bending without a cloth method that makes constraints (the seed drops it too).
-  scene.simulation.clothSimulationMethod = 0;
+  // Every cloth method that models stretch (1–4: distances, FEM triangles, strain-based
+  // triangles) gets bending, as in the seed; 0 (free particles) gets none.
   scene.simulation.clothBendingMethod = 2;
-  EXPECT_TRUE(buildWorld(scene).clothBending.empty());
+  for (int method : {0, 1, 2, 3, 4}) {
+    scene.simulation.clothSimulationMethod = method;
+    EXPECT_EQ(buildWorld(scene).clothBending.size(), method == 0 ? 0u : 8u) << method;
+  }
 }
 
 // A hinge of two triangles: the edge's particles static, the tips (mass m each) free, no gravity,

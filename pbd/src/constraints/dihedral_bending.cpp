@@ -78,7 +78,7 @@ BendingCorrection dihedralBendingPbd(const std::array<Vector3, 4>& x,
 std::vector<DihedralBendingConstraint> clothDihedralConstraints(const Scene& scene) {
   std::vector<DihedralBendingConstraint> constraints;
   const int cloth = scene.simulation.clothSimulationMethod;
-  if ((cloth != 1 && cloth != 4) || scene.simulation.clothBendingMethod != 1) return constraints;
+  if (cloth < 1 || cloth > 4 || scene.simulation.clothBendingMethod != 1) return constraints;
   for (const TriangleModelDesc& model : scene.triangleModels)
     for (const EdgeStencil& stencil : interiorEdgeStencils(model.mesh)) {
       DihedralBendingConstraint c;

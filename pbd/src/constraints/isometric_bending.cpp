@@ -80,7 +80,7 @@ std::vector<IsometricBendingConstraint> clothBendingConstraints(const Scene& sce
   std::vector<IsometricBendingConstraint> constraints;
   const int cloth = scene.simulation.clothSimulationMethod;
   const int bending = scene.simulation.clothBendingMethod;
-  if ((cloth != 1 && cloth != 4) || (bending != 2 && bending != 3)) return constraints;
+  if (cloth < 1 || cloth > 4 || (bending != 2 && bending != 3)) return constraints;
   for (const TriangleModelDesc& model : scene.triangleModels) {
     for (const EdgeStencil& stencil : interiorEdgeStencils(model.mesh)) {
       IsometricBendingConstraint c;

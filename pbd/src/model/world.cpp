@@ -127,6 +127,8 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
     world.jointSceneIndex.push_back(index);
   }
   world.particleDistances = deformableDistanceConstraints(scene);
+  world.femTriangles = femTriangleConstraints(scene);
+  world.strainTriangles = strainTriangleConstraints(scene);
   world.tetVolumes = solidVolumeConstraints(scene);
   world.clothBending = clothBendingConstraints(scene);
   world.clothDihedrals = clothDihedralConstraints(scene);

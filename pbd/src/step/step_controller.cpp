@@ -14,6 +14,8 @@ void projectPositions(World& world, Real h) {
     for (Joint& joint : world.joints)
       std::visit([&](auto& j) { j.solvePosition(world.bodies, h); }, joint);
     solveParticleDistances(world.particleDistances, world.bodies.particles, h, iteration == 0);
+    solveFemTriangles(world.femTriangles, world.bodies.particles);
+    solveStrainTriangles(world.strainTriangles, world.bodies.particles);
     solveTetVolumes(world.tetVolumes, world.bodies.particles, h, iteration == 0);
     solveIsometricBending(world.clothBending, world.bodies.particles, h, iteration == 0);
     solveDihedralBending(world.clothDihedrals, world.bodies.particles);

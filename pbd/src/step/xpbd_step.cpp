@@ -36,6 +36,8 @@ void solvePositions(World& world, Real h) {
   // Cloth and solid edges, then tet volumes, as their family says (PBD or XPBD), one iteration
   // per substep.
   solveParticleDistances(world.particleDistances, world.bodies.particles, h, true);
+  solveFemTriangles(world.femTriangles, world.bodies.particles);
+  solveStrainTriangles(world.strainTriangles, world.bodies.particles);
   solveTetVolumes(world.tetVolumes, world.bodies.particles, h, true);
   solveIsometricBending(world.clothBending, world.bodies.particles, h, true);
   solveDihedralBending(world.clothDihedrals, world.bodies.particles);

@@ -42,8 +42,9 @@ BendingCorrection dihedralBendingPbd(const std::array<Vector3, 4>& x,
                                      const std::array<Real, 4>& inverseMasses,
                                      const DihedralBendingConstraint& c);
 
-/// One constraint per interior edge of every triangle model when clothSimulationMethod is 1 or 4
-/// and clothBendingMethod is 1, with clothBendingStiffnessFor and the rest angle at t = 0; none
+/// One constraint per interior edge of every triangle model when clothSimulationMethod is 1 to 4
+/// (every method that models the cloth's stretch, as in the seed) and clothBendingMethod is 1,
+/// with clothBendingStiffnessFor and the rest angle at t = 0; none
 /// whose four particles are static or whose triangles are degenerate.
 std::vector<DihedralBendingConstraint> clothDihedralConstraints(const Scene& scene);
 

@@ -59,7 +59,8 @@ BendingCorrection isometricBendingXpbd(const std::array<Vector3, 4>& x,
                                        const IsometricBendingConstraint& c, Real substepSize);
 
 /// One constraint per interior edge (shared by exactly two triangles) of every triangle model
-/// when clothSimulationMethod is 1 or 4 and clothBendingMethod is 2 (PBD) or 3 (XPBD), with
+/// when clothSimulationMethod is 1 to 4 (every method that models the cloth's stretch, as in the
+/// seed) and clothBendingMethod is 2 (PBD) or 3 (XPBD), with
 /// clothBendingStiffnessFor; edges in the order they first appear; none whose four particles
 /// are static.
 std::vector<IsometricBendingConstraint> clothBendingConstraints(const Scene& scene);

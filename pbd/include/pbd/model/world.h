@@ -8,8 +8,10 @@
 
 #include "pbd/collision/collision_detection.h"
 #include "pbd/constraints/dihedral_bending.h"
+#include "pbd/constraints/fem_triangle.h"
 #include "pbd/constraints/isometric_bending.h"
 #include "pbd/constraints/particle_distance.h"
+#include "pbd/constraints/strain_triangle.h"
 #include "pbd/constraints/tet_volume.h"
 #include "pbd/contacts/contact_set.h"
 #include "pbd/joints/joint.h"
@@ -33,11 +35,14 @@ struct World {
   std::vector<Joint> joints;         ///< in solve order (greedy colouring of the scene order)
   std::vector<int> jointSceneIndex;  ///< joints[k] is Scene::joints[jointSceneIndex[k]]
   /// Distance constraints between particles (cloth and solid edges,
-  /// constraints/particle_distance.h) and volume constraints of tets (constraints/tet_volume.h),
+  /// constraints/particle_distance.h), the triangles of cloth (FEM or strain-based), volume
+  /// constraints of tets (constraints/tet_volume.h),
   /// and the bending of cloth, isometric (constraints/isometric_bending.h) or dihedral
   /// (constraints/dihedral_bending.h), solved in this order after the joints in every position
   /// iteration.
   std::vector<ParticleDistanceConstraint> particleDistances;
+  std::vector<FemTriangleConstraint> femTriangles;  ///< cloth method 2 (fem_triangle.h)
+  std::vector<StrainTriangleConstraint> strainTriangles;  ///< cloth method 3 (strain_triangle.h)
   std::vector<TetVolumeConstraint> tetVolumes;
   std::vector<IsometricBendingConstraint> clothBending;
   std::vector<DihedralBendingConstraint> clothDihedrals;
