@@ -6,8 +6,10 @@
 #include <string>
 
 #include "pbd/constraints/dihedral_bending.h"
+#include "pbd/constraints/fem_triangle.h"
 #include "pbd/constraints/isometric_bending.h"
 #include "pbd/constraints/particle_distance.h"
+#include "pbd/constraints/strain_triangle.h"
 #include "pbd/constraints/tet_volume.h"
 #include "pbd/model/mesh.h"
 
@@ -50,7 +52,11 @@ ElasticEnergy::ElasticEnergy(const pbd::Scene& scene) {
     else
       hasPbdConstraints_ = true;
   }
-  if (!pbd::clothDihedralConstraints(scene).empty()) hasPbdConstraints_ = true;
+  // PBD-only families (a fraction per iteration, or the FEM energy with no stiffness factor):
+  // no energy of their own.
+  if (!pbd::clothDihedralConstraints(scene).empty() ||
+      !pbd::femTriangleConstraints(scene).empty() || !pbd::strainTriangleConstraints(scene).empty())
+    hasPbdConstraints_ = true;
 }
 
 double ElasticEnergy::of(const State& state) const {
