@@ -128,6 +128,7 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
   }
   world.particleDistances = deformableDistanceConstraints(scene);
   world.tetVolumes = solidVolumeConstraints(scene);
+  world.femTets = solidFemConstraints(scene);
   world.clothBending = clothBendingConstraints(scene);
   world.clothDihedrals = clothDihedralConstraints(scene);
   world.collision = CollisionDetector(scene, options);

@@ -15,6 +15,7 @@ void projectPositions(World& world, Real h) {
       std::visit([&](auto& j) { j.solvePosition(world.bodies, h); }, joint);
     solveParticleDistances(world.particleDistances, world.bodies.particles, h, iteration == 0);
     solveTetVolumes(world.tetVolumes, world.bodies.particles, h, iteration == 0);
+    solveFemTets(world.femTets, world.bodies.particles, h, iteration == 0);
     solveIsometricBending(world.clothBending, world.bodies.particles, h, iteration == 0);
     solveDihedralBending(world.clothDihedrals, world.bodies.particles);
   }

@@ -37,6 +37,7 @@ void solvePositions(World& world, Real h) {
   // per substep.
   solveParticleDistances(world.particleDistances, world.bodies.particles, h, true);
   solveTetVolumes(world.tetVolumes, world.bodies.particles, h, true);
+  solveFemTets(world.femTets, world.bodies.particles, h, true);
   solveIsometricBending(world.clothBending, world.bodies.particles, h, true);
   solveDihedralBending(world.clothDihedrals, world.bodies.particles);
   for (XpbdContact& contact : world.xpbd.contacts.contacts)

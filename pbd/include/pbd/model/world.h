@@ -8,6 +8,7 @@
 
 #include "pbd/collision/collision_detection.h"
 #include "pbd/constraints/dihedral_bending.h"
+#include "pbd/constraints/fem_tet.h"
 #include "pbd/constraints/isometric_bending.h"
 #include "pbd/constraints/particle_distance.h"
 #include "pbd/constraints/tet_volume.h"
@@ -39,6 +40,7 @@ struct World {
   /// iteration.
   std::vector<ParticleDistanceConstraint> particleDistances;
   std::vector<TetVolumeConstraint> tetVolumes;
+  std::vector<FemTetConstraint> femTets;  ///< FEM tets (constraints/fem_tet.h), after the volumes
   std::vector<IsometricBendingConstraint> clothBending;
   std::vector<DihedralBendingConstraint> clothDihedrals;
   CollisionDetector collision;       ///< shapes, surface samples, hierarchies, broad phase
