@@ -22,9 +22,10 @@
 //   s = U / Σ w_i |∇_iU|²,  Δx_i = −s w_i ∇_iU.
 // Scaling E scales U and ∇U alike, so the correction does not depend on E at all, only on ν,
 // the iteration and substep counts (research/pbd.md §3.4, §5.3 #7): E = 1 (the forced default)
-// is as stiff as E = 10⁹. The seed skips the projection when Σ w|∇U|² is below a fixed 10⁻⁶
-// (§4.1), which makes small strains of small tets go uncorrected; here only Σ w|∇U|² ≤ ε²
-// (a state at rest) is skipped.
+// is as stiff as E = 10⁹. The seed's solvers use a fixed ε = 10⁻⁶ (§4.1; if it bounds
+// Σ w|∇U|² here, small strains of small tets go uncorrected, and E's scale would matter there
+// after all: not verified against the seed); here only Σ w|∇U|² ≤ ε² (a state at rest) is
+// skipped.
 // Method 3, XPBD with C = √(2U/E), so ½ E C² = U; α̃ = 1/(E h_s²), λ reset every substep:
 //   Δλ = (−C − α̃ λ) / (Σ w_i |∇_iC|² + α̃),  Δx_i = w_i Δλ ∇_iC,  ∇C = ∇U / (E C);
 // computed with g = ∇U/E (finite as C → 0) as Δλ = C² (−C − α̃ λ)/(Σ w|g|² + α̃ C²),
