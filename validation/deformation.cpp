@@ -6,6 +6,7 @@
 #include <string>
 
 #include "pbd/constraints/dihedral_bending.h"
+#include "pbd/constraints/fem_tet.h"
 #include "pbd/constraints/fem_triangle.h"
 #include "pbd/constraints/isometric_bending.h"
 #include "pbd/constraints/particle_distance.h"
@@ -52,6 +53,16 @@ ElasticEnergy::ElasticEnergy(const pbd::Scene& scene) {
     else
       hasPbdConstraints_ = true;
   }
+  for (const pbd::FemTetConstraint& c : pbd::solidFemConstraints(scene)) {
+    if (!c.xpbd) {
+      hasPbdConstraints_ = true;
+      continue;
+    }
+    // Lamé parameters from E and ν (computed here, not taken from the library).
+    const double e = double(c.youngsModulus), nu = double(c.poissonRatio);
+    femTets_.push_back({c.particles, c.inverseRestMatrix, double(c.restVolume),
+                        e / (2 * (1 + nu)), e * nu / ((1 + nu) * (1 - 2 * nu))});
+  }
   // PBD-only families (a fraction per iteration, or the FEM energy with no stiffness factor):
   // no energy of their own.
   if (!pbd::clothDihedralConstraints(scene).empty() ||
@@ -78,6 +89,15 @@ double ElasticEnergy::of(const State& state) const {
     for (std::size_t i = 0; i < 4; ++i) h += b.weights[i] * positionOf(state, b.particles[i]);
     const double c = 0.5 * b.scale * h.squaredNorm();
     energy += 0.5 * b.stiffness * c * c;
+  }
+  for (const FemTet& t : femTets_) {
+    const Vector3& x0 = positionOf(state, t.particles[0]);
+    pbd::Matrix3 deformed;
+    for (int i = 0; i < 3; ++i) deformed.col(i) = positionOf(state, t.particles[std::size_t(i + 1)]) - x0;
+    const pbd::Matrix3 f = deformed * t.inverseRestMatrix;
+    const pbd::Matrix3 strain = 0.5 * (f.transpose() * f - pbd::Matrix3::Identity());
+    const double trace = strain.trace();
+    energy += t.restVolume * (t.mu * strain.squaredNorm() + 0.5 * t.lambda * trace * trace);
   }
   return energy;
 }

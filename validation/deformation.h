@@ -4,7 +4,11 @@
 //
 //   elastic energy  Σ ½ k (ℓ − ℓ₀)² over XPBD distance constraints (clothSimulationMethod 4,
 //                   solidSimulationMethod 6), + Σ ½ k (V − V₀)² over XPBD tet volumes (solid 6),
-//                   + Σ ½ k C² over XPBD isometric bending (clothBendingMethod 3, C its energy).
+//                   + Σ ½ k C² over XPBD isometric bending (clothBendingMethod 3, C its energy)
+//                   + Σ V₀ ψ(F) over XPBD FEM tets (solidSimulationMethod 3: C = √(2U/E) with
+//                   compliance 1/E, so ½ E C² = U), ψ the St. Venant–Kirchhoff energy density
+//                   μ ε:ε + ½ λ (tr ε)², ε = ½ (FᵀF − 𝟙), F = D_s D_m⁻¹ of the state's tet
+//                   (the true F, also for an inverted tet).
 //                   PBD constraints (k a fraction per iteration) define no energy.
 //   stretch         |ℓ/ℓ₀ − 1| of every edge of every model (not both ends static), whatever
 //                   the method: the same measurement for every engine.
@@ -16,6 +20,7 @@
 #include <vector>
 
 #include "adapters/engine.h"
+#include "pbd/math/types.h"
 
 namespace pbdval {
 
@@ -26,7 +31,9 @@ class ElasticEnergy {
   /// J; 0 when the state holds no particles.
   double of(const State& state) const;
   /// Whether any XPBD particle constraint contributes.
-  bool defined() const { return !springs_.empty() || !volumes_.empty() || !bending_.empty(); }
+  bool defined() const {
+    return !springs_.empty() || !volumes_.empty() || !bending_.empty() || !femTets_.empty();
+  }
   /// Whether the scene has PBD particle constraints, which define no energy.
   bool hasPbdConstraints() const { return hasPbdConstraints_; }
 
@@ -44,7 +51,13 @@ class ElasticEnergy {
     std::array<double, 4> weights;
     double scale, stiffness;
   };
+  struct FemTet {
+    std::array<int, 4> particles;
+    pbd::Matrix3 inverseRestMatrix;
+    double restVolume, mu, lambda;
+  };
   std::vector<Spring> springs_;
+  std::vector<FemTet> femTets_;
   std::vector<Volume> volumes_;
   std::vector<Bending> bending_;
   bool hasPbdConstraints_ = false;

@@ -81,12 +81,22 @@ std::vector<std::string> PbdEngine::unsupported(const pbd::Scene& scene,
                         "particles");
   }
   const int solid = scene.simulation.solidSimulationMethod;
-  for (const pbd::TetModelDesc& model : scene.tetModels)
-    if (solid != 0 && solid != 1 && solid != 6)
+  const pbd::Real poissonRatio = scene.simulation.solid_poissonRatio;
+  const bool fem = solid == 2 || solid == 3;
+  for (const pbd::TetModelDesc& model : scene.tetModels) {
+    if (solid != 0 && solid != 1 && solid != 2 && solid != 3 && solid != 6) {
       missing.push_back(model.jsonPath + ": deformable solids (solidSimulationMethod " +
                         std::to_string(solid) +
-                        ") are not implemented yet; 1 (distance and volume, PBD) and 6 (the same, "
-                        "XPBD) are, 0 leaves free particles");
+                        ") are not implemented yet; 1 (distance and volume, PBD), 2 (FEM, PBD), "
+                        "3 (FEM, XPBD) and 6 (distance and volume, XPBD) are, 0 leaves free "
+                        "particles");
+    } else if (fem && !(poissonRatio >= 0 && poissonRatio <= pbd::Real(0.49))) {
+      // The seed's FEM solve returns false for such a ν (research/pbd.md §4.1).
+      missing.push_back(model.jsonPath + ": FEM solids (solidSimulationMethod " +
+                        std::to_string(solid) + ") with solid_poissonRatio " +
+                        pbd::formatReal(double(poissonRatio)) + " outside [0, 0.49]");
+    }
+  }
   return missing;
 }
 
@@ -98,7 +108,9 @@ void PbdEngine::load(const pbd::Scene& scene, const Method& method) {
   for (const pbd::RigidBodyDesc& body : scene.rigidBodies) bodyIds_.push_back(body.id);
 }
 
-void PbdEngine::step() { world_->step(); }
+void PbdEngine::step() {
+  world_->step();
+}
 
 void PbdEngine::read(State& state) const {
   const pbd::World& w = *world_;
@@ -110,7 +122,8 @@ void PbdEngine::read(State& state) const {
   }
   const pbd::ParticleStates& p = w.bodies.particles;
   state.particles.resize(p.size());
-  for (std::size_t i = 0; i < p.size(); ++i) state.particles[i] = {p.position[i], p.velocity[i]};
+  for (std::size_t i = 0; i < p.size(); ++i)
+    state.particles[i] = {p.position[i], p.velocity[i]};
 }
 
 RunFacts PbdEngine::runFacts() const {

@@ -103,6 +103,48 @@ TEST(World, StepAllocatesNothing) {
   EXPECT_GT(gAllocations.load() - before, 0);
 }
 
+// FEM solids (solidSimulationMethod 2 and 3, both step methods) allocate nothing, the inversion
+// path's fixed-size SVD included: one tet of a cube of five starts inverted (a vertex pushed
+// through its opposite face), and two worlds stay bitwise identical.
+TEST(World, FemSolidStepAllocatesNothing) {
+  Scene scene;
+  TetModelDesc solid;
+  for (int k = 0; k < 8; ++k)
+    solid.mesh.vertices.push_back(Vector3(Real(k & 1), Real((k >> 1) & 1), Real((k >> 2) & 1)));
+  solid.mesh.tetrahedra = {{0, 1, 2, 4}, {1, 3, 2, 7}, {1, 4, 5, 7}, {2, 4, 7, 6}, {1, 2, 4, 7}};
+  scene.tetModels.push_back(solid);
+  for (int k = 0; k < 8; ++k)
+    scene.particles.push_back({solid.mesh.vertices[std::size_t(k)], Vector3::Zero(),
+                               ((k >> 1) & 1) ? Real(1) : Real(0)});  // bottom (y = 0) static
+  for (StepMethod stepMethod : {StepMethod::Seed, StepMethod::Xpbd})
+    for (int method : {2, 3}) {
+      scene.simulation.solidSimulationMethod = method;
+      scene.simulation.stepMethod = stepMethod;
+      World a = buildWorld(scene);
+      World b = buildWorld(scene);
+      ASSERT_EQ(a.femTets.size(), 5u);
+      for (World* w : {&a, &b})
+        w->bodies.particles.position[6] = Vector3(Real(0.2), Real(-0.5), Real(0.8));  // inverted
+      int inverted = 0;
+      for (const FemTetConstraint& c : a.femTets) {
+        std::array<Vector3, 4> x;
+        for (std::size_t i = 0; i < 4; ++i)
+          x[i] = a.bodies.particles.position[std::size_t(c.particles[i])];
+        inverted += femTetEnergy(x, c).inverted ? 1 : 0;
+      }
+      ASSERT_EQ(inverted, 1);
+      a.step();
+      b.step();
+      const long before = gAllocations.load();
+      for (int n = 0; n < 200; ++n) {
+        a.step();
+        b.step();
+      }
+      EXPECT_EQ(gAllocations.load() - before, 0) << method;
+      EXPECT_EQ(a.stateHash(), b.stateHash()) << method;
+    }
+}
+
 // A contact scene: a stack of boxes, spheres, a body with a grid SDF (type 5, built from a
 // cube mesh) and free particles, all on a static ground; contacts in both models.
 Scene contactScene(ContactModel model) {

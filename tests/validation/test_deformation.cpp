@@ -138,6 +138,38 @@ TEST(Deformation, IsometricBendingEnergyOfASymmetricFold) {
   EXPECT_NEAR(ElasticEnergy(scene).of(folded), 0.5 * k * c * c, 1e-12);
 }
 
+TEST(Deformation, XpbdFemTetEnergyIsTheStVenantKirchhoffEnergy) {
+  // One tet of solidSimulationMethod 3 stretched along x by 1 + e: ε = diag(a, 0, 0) with
+  // a = ((1 + e)² − 1)/2, so U = V₀ (μ a² + ½ λ a²) = V₀ (λ + 2μ) a² / 2.
+  pbd::Scene scene = test::emptyScene(Vector3::Zero());
+  pbd::TetModelDesc tet;
+  tet.mesh.vertices = {Vector3(0, 0, 0), Vector3(1, 0, 0), Vector3(0, 1, 0), Vector3(0, 0, 1)};
+  tet.mesh.tetrahedra = {{0, 1, 2, 3}};
+  scene.tetModels.push_back(tet);
+  for (const auto& v : tet.mesh.vertices) scene.particles.push_back({v, Vector3::Zero(), 1});
+  scene.simulation.solidSimulationMethod = 3;
+  scene.simulation.solid_stiffness = 5000;
+  scene.simulation.solid_poissonRatio = 0.25;
+  const ElasticEnergy elastic(scene);
+  EXPECT_TRUE(elastic.defined());
+  State stretched = initialState(scene);
+  const double e = 0.03;
+  for (ParticleState& p : stretched.particles) p.position.x() *= 1 + e;
+  const double mu = 5000 / (2 * 1.25), lambda = 5000 * 0.25 / (1.25 * 0.5);
+  const double a = ((1 + e) * (1 + e) - 1) / 2;
+  const double expected = (1.0 / 6) * (lambda + 2 * mu) * a * a / 2;
+  EXPECT_NEAR(elastic.of(stretched), expected, 1e-12 * expected);  // a few products: round-off
+  // A rigid motion stores nothing.
+  State moved = initialState(scene);
+  const Quaternion q = test::turn(Vector3(1, 2, 3), 0.8);
+  for (ParticleState& p : moved.particles) p.position = q * p.position + Vector3(1, 2, 3);
+  EXPECT_LT(elastic.of(moved), 1e-20);
+  // Method 2 (PBD FEM) defines no energy.
+  scene.simulation.solidSimulationMethod = 2;
+  EXPECT_FALSE(ElasticEnergy(scene).defined());
+  EXPECT_TRUE(ElasticEnergy(scene).hasPbdConstraints());
+}
+
 TEST(Deformation, ComputeMetricsReportsStretchAndVolume) {
   const pbd::Scene scene = clothAndCube(4, 6);
   const std::vector<State> samples = {initialState(scene), scaled(scene, 1.03),

@@ -130,6 +130,7 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
   world.femTriangles = femTriangleConstraints(scene);
   world.strainTriangles = strainTriangleConstraints(scene);
   world.tetVolumes = solidVolumeConstraints(scene);
+  world.femTets = solidFemConstraints(scene);
   world.clothBending = clothBendingConstraints(scene);
   world.clothDihedrals = clothDihedralConstraints(scene);
   world.collision = CollisionDetector(scene, options);

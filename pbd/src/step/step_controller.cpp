@@ -17,6 +17,7 @@ void projectPositions(World& world, Real h) {
     solveFemTriangles(world.femTriangles, world.bodies.particles);
     solveStrainTriangles(world.strainTriangles, world.bodies.particles);
     solveTetVolumes(world.tetVolumes, world.bodies.particles, h, iteration == 0);
+    solveFemTets(world.femTets, world.bodies.particles, h, iteration == 0);
     solveIsometricBending(world.clothBending, world.bodies.particles, h, iteration == 0);
     solveDihedralBending(world.clothDihedrals, world.bodies.particles);
   }

@@ -39,6 +39,7 @@ void solvePositions(World& world, Real h) {
   solveFemTriangles(world.femTriangles, world.bodies.particles);
   solveStrainTriangles(world.strainTriangles, world.bodies.particles);
   solveTetVolumes(world.tetVolumes, world.bodies.particles, h, true);
+  solveFemTets(world.femTets, world.bodies.particles, h, true);
   solveIsometricBending(world.clothBending, world.bodies.particles, h, true);
   solveDihedralBending(world.clothDihedrals, world.bodies.particles);
   for (XpbdContact& contact : world.xpbd.contacts.contacts)

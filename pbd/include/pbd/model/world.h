@@ -9,6 +9,7 @@
 #include "pbd/collision/collision_detection.h"
 #include "pbd/constraints/dihedral_bending.h"
 #include "pbd/constraints/fem_triangle.h"
+#include "pbd/constraints/fem_tet.h"
 #include "pbd/constraints/isometric_bending.h"
 #include "pbd/constraints/particle_distance.h"
 #include "pbd/constraints/strain_triangle.h"
@@ -44,6 +45,7 @@ struct World {
   std::vector<FemTriangleConstraint> femTriangles;  ///< cloth method 2 (fem_triangle.h)
   std::vector<StrainTriangleConstraint> strainTriangles;  ///< cloth method 3 (strain_triangle.h)
   std::vector<TetVolumeConstraint> tetVolumes;
+  std::vector<FemTetConstraint> femTets;  ///< FEM tets (constraints/fem_tet.h), after the volumes
   std::vector<IsometricBendingConstraint> clothBending;
   std::vector<DihedralBendingConstraint> clothDihedrals;
   CollisionDetector collision;       ///< shapes, surface samples, hierarchies, broad phase
