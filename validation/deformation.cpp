@@ -63,6 +63,19 @@ ElasticEnergy::ElasticEnergy(const pbd::Scene& scene) {
     femTets_.push_back({c.particles, c.inverseRestMatrix, double(c.restVolume),
                         e / (2 * (1 + nu)), e * nu / ((1 + nu) * (1 - 2 * nu))});
   }
+  const auto need = [this](int particle) {
+    particlesNeeded_ = std::max(particlesNeeded_, std::size_t(particle) + 1);
+  };
+  for (const Spring& s : springs_) {
+    need(s.a);
+    need(s.b);
+  }
+  for (const Volume& v : volumes_)
+    for (int p : v.particles) need(p);
+  for (const Bending& b : bending_)
+    for (int p : b.particles) need(p);
+  for (const FemTet& t : femTets_)
+    for (int p : t.particles) need(p);
   // PBD-only families (a fraction per iteration, or the FEM energy with no stiffness factor):
   // no energy of their own.
   if (!pbd::clothDihedralConstraints(scene).empty() ||
@@ -72,6 +85,11 @@ ElasticEnergy::ElasticEnergy(const pbd::Scene& scene) {
 
 double ElasticEnergy::of(const State& state) const {
   if (state.particles.empty()) return 0;
+  if (state.particles.size() < particlesNeeded_)
+    throw std::invalid_argument("elastic energy: the state holds " +
+                                std::to_string(state.particles.size()) +
+                                " particles, the scene's constraints need " +
+                                std::to_string(particlesNeeded_));
   double energy = 0;
   for (const Spring& s : springs_) {
     const double stretch = (positionOf(state, s.a) - positionOf(state, s.b)).norm() - s.restLength;

@@ -28,7 +28,8 @@ namespace pbdval {
 class ElasticEnergy {
  public:
   explicit ElasticEnergy(const pbd::Scene& scene);
-  /// J; 0 when the state holds no particles.
+  /// J; 0 when the state holds no particles. Throws std::invalid_argument when it holds fewer
+  /// than the constraints need.
   double of(const State& state) const;
   /// Whether any XPBD particle constraint contributes.
   bool defined() const {
@@ -61,6 +62,7 @@ class ElasticEnergy {
   std::vector<Volume> volumes_;
   std::vector<Bending> bending_;
   bool hasPbdConstraints_ = false;
+  std::size_t particlesNeeded_ = 0;
 };
 
 /// The rest geometry of the models' edges and tets, for the deformation measures.

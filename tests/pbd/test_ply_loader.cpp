@@ -173,6 +173,11 @@ TEST(PlyLoader, MalformedFilesNameThePlace) {
       {"the face element comes before the vertex element"}));
   EXPECT_TRUE(containsAll(errorOf("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n"),
                           {"needs scalar properties x, y and z"}));
+  EXPECT_TRUE(containsAll(
+      errorOf("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+              "property float z\nelement face 1\nproperty list uchar float vertex_indices\n"
+              "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 1e300\n"),
+      {"vertex_indices must be of an integer type"}));
   // A binary file cut short, and a NaN coordinate.
   std::string cut = binaryPly(false);
   cut.resize(cut.size() - 5);

@@ -107,6 +107,9 @@ TEST(Deformation, ElasticEnergyIsHalfKTimesTheSquaredConstraints) {
   EXPECT_TRUE(elastic.defined());
   EXPECT_FALSE(elastic.hasPbdConstraints());
   EXPECT_EQ(elastic.of(initialState(scene)), 0);
+  State partial = initialState(scene);
+  partial.particles.resize(3);
+  EXPECT_THROW(elastic.of(partial), std::invalid_argument);
   // Σ ℓ₀²: cloth 12 · 0.25 + 4 · 0.5 = 5; cube 12 · 1 + 6 · 2 = 24. Tets: 4 of 1/6, 1 of 1/3.
   const double e = s - 1, v = s * s * s - 1;
   const double expected = 0.5 * 300 * e * e * 5 + 0.5 * 500 * e * e * 24 +

@@ -276,6 +276,8 @@ TriangleMesh parsePly(const std::string& bytes, const std::string& sourceName) {
     }
     if (isFace && indexList < 0)
       failPly(sourceName, "the face element needs a list property vertex_indices");
+    if (isFace && !isInteger(element.properties[std::size_t(indexList)].type))
+      failPly(sourceName, "the face element's vertex_indices must be of an integer type");
     if (isFace && !sawVertices)
       failPly(sourceName, "the face element comes before the vertex element");
     for (std::uint64_t item = 0; item < element.count; ++item) {
@@ -297,7 +299,8 @@ TriangleMesh parsePly(const std::string& bytes, const std::string& sourceName) {
         for (std::int64_t k = 0; k < std::int64_t(count); ++k) {
           const double value = data.next(property.type, where + ", " + property.name);
           if (isFace && int(p) == indexList) {
-            if (!(value >= 0 && value < double(mesh.vertices.size())) || value != std::floor(value))
+            // An integer type (checked above): exact in a double, and within int64.
+            if (!(value >= 0 && value < double(mesh.vertices.size())))
               failPly(sourceName, where + ": vertex index " + std::to_string(std::int64_t(value)) +
                                       " out of range (the file has " +
                                       std::to_string(mesh.vertices.size()) + " vertices)");
