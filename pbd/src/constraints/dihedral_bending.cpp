@@ -1,4 +1,5 @@
 #include "pbd/constraints/dihedral_bending.h"
+#include "pbd/constraints/particle_stencil.h"
 
 #include <cmath>
 #include <limits>
@@ -84,14 +85,9 @@ std::vector<DihedralBendingConstraint> clothDihedralConstraints(const Scene& sce
       DihedralBendingConstraint c;
       const std::array<int, 4> local = {stencil.edge[0], stencil.edge[1], stencil.opposite[0],
                                         stencil.opposite[1]};
+      for (std::size_t i = 0; i < 4; ++i) c.particles[i] = model.firstParticle + local[i];
       std::array<Vector3, 4> rest;
-      bool anyDynamic = false;
-      for (std::size_t i = 0; i < 4; ++i) {
-        c.particles[i] = model.firstParticle + local[i];
-        const ParticleDesc& p = scene.particles[std::size_t(c.particles[i])];
-        rest[i] = p.position;
-        anyDynamic = anyDynamic || p.mass > 0;
-      }
+      const bool anyDynamic = restPositions(scene, c.particles, rest);
       c.restAngle = dihedralAngle(rest);
       if (!anyDynamic || std::isnan(c.restAngle)) continue;
       c.stiffness = clothBendingStiffnessFor(scene.simulation);
@@ -105,12 +101,9 @@ void solveDihedralBending(const std::vector<DihedralBendingConstraint>& constrai
   for (const DihedralBendingConstraint& c : constraints) {
     std::array<Vector3, 4> x;
     std::array<Real, 4> w;
-    for (std::size_t i = 0; i < 4; ++i) {
-      x[i] = particles.position[std::size_t(c.particles[i])];
-      w[i] = particles.inverseMass[std::size_t(c.particles[i])];
-    }
+    gatherParticles(particles, c.particles, x, w);
     const BendingCorrection d = dihedralBendingPbd(x, w, c);
-    for (std::size_t i = 0; i < 4; ++i) particles.position[std::size_t(c.particles[i])] += d.positions[i];
+    applyCorrections(particles, c.particles, d.positions);
   }
 }
 

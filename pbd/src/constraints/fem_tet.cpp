@@ -1,4 +1,5 @@
 #include "pbd/constraints/fem_tet.h"
+#include "pbd/constraints/particle_stencil.h"
 
 #include <Eigen/SVD>
 #include <algorithm>
@@ -142,14 +143,9 @@ std::vector<FemTetConstraint> solidFemConstraints(const Scene& scene) {
   for (const TetModelDesc& model : scene.tetModels)
     for (const auto& tet : model.mesh.tetrahedra) {
       FemTetConstraint c;
+      for (std::size_t i = 0; i < 4; ++i) c.particles[i] = model.firstParticle + int(tet[i]);
       std::array<Vector3, 4> rest;
-      bool anyDynamic = false;
-      for (std::size_t i = 0; i < 4; ++i) {
-        c.particles[i] = model.firstParticle + int(tet[i]);
-        const ParticleDesc& particle = scene.particles[std::size_t(c.particles[i])];
-        rest[i] = particle.position;
-        anyDynamic = anyDynamic || particle.mass > 0;
-      }
+      const bool anyDynamic = restPositions(scene, c.particles, rest);
       if (!anyDynamic || !femTetRestState(rest, c.inverseRestMatrix, c.restVolume)) continue;
       c.youngsModulus = solidStiffnessFor(scene.simulation);
       c.poissonRatio = poissonRatio;
@@ -164,10 +160,7 @@ void solveFemTets(std::vector<FemTetConstraint>& constraints, ParticleStates& pa
   for (FemTetConstraint& c : constraints) {
     std::array<Vector3, 4> x;
     std::array<Real, 4> w;
-    for (std::size_t i = 0; i < 4; ++i) {
-      x[i] = particles.position[std::size_t(c.particles[i])];
-      w[i] = particles.inverseMass[std::size_t(c.particles[i])];
-    }
+    gatherParticles(particles, c.particles, x, w);
     FemTetCorrection d;
     if (c.xpbd) {
       if (firstIteration) c.multiplier = 0;
@@ -176,8 +169,7 @@ void solveFemTets(std::vector<FemTetConstraint>& constraints, ParticleStates& pa
     } else {
       d = femTetPbd(x, w, c);
     }
-    for (std::size_t i = 0; i < 4; ++i)
-      particles.position[std::size_t(c.particles[i])] += d.positions[i];
+    applyCorrections(particles, c.particles, d.positions);
   }
 }
 

@@ -1,4 +1,5 @@
 #include "pbd/constraints/fem_triangle.h"
+#include "pbd/constraints/particle_stencil.h"
 
 #include <cmath>
 
@@ -101,14 +102,9 @@ std::vector<FemTriangleConstraint> femTriangleConstraints(const Scene& scene) {
   for (const TriangleModelDesc& model : scene.triangleModels) {
     for (const std::array<int, 3>& triangle : model.mesh.triangles) {
       FemTriangleConstraint c;
+      for (std::size_t i = 0; i < 3; ++i) c.particles[i] = model.firstParticle + triangle[i];
       std::array<Vector3, 3> rest;
-      bool anyDynamic = false;
-      for (std::size_t i = 0; i < 3; ++i) {
-        c.particles[i] = model.firstParticle + triangle[i];
-        const ParticleDesc& p = scene.particles[std::size_t(c.particles[i])];
-        rest[i] = p.position;
-        anyDynamic = anyDynamic || p.mass > 0;
-      }
+      const bool anyDynamic = restPositions(scene, c.particles, rest);
       if (!anyDynamic || !femTriangleRest(rest, c.area, c.restInverse)) continue;
       c.stiffness = stiffness;
       constraints.push_back(c);
@@ -122,12 +118,9 @@ void solveFemTriangles(const std::vector<FemTriangleConstraint>& constraints,
   for (const FemTriangleConstraint& c : constraints) {
     std::array<Vector3, 3> x;
     std::array<Real, 3> w;
-    for (std::size_t i = 0; i < 3; ++i) {
-      x[i] = particles.position[std::size_t(c.particles[i])];
-      w[i] = particles.inverseMass[std::size_t(c.particles[i])];
-    }
+    gatherParticles(particles, c.particles, x, w);
     const std::array<Vector3, 3> d = femTrianglePbd(x, w, c);
-    for (std::size_t i = 0; i < 3; ++i) particles.position[std::size_t(c.particles[i])] += d[i];
+    applyCorrections(particles, c.particles, d);
   }
 }
 

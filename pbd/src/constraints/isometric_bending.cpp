@@ -1,4 +1,5 @@
 #include "pbd/constraints/isometric_bending.h"
+#include "pbd/constraints/particle_stencil.h"
 
 #include "pbd/model/scene.h"
 
@@ -86,14 +87,9 @@ std::vector<IsometricBendingConstraint> clothBendingConstraints(const Scene& sce
       IsometricBendingConstraint c;
       const std::array<int, 4> local = {stencil.edge[0], stencil.edge[1], stencil.opposite[0],
                                         stencil.opposite[1]};
+      for (std::size_t i = 0; i < 4; ++i) c.particles[i] = model.firstParticle + local[i];
       std::array<Vector3, 4> rest;
-      bool anyDynamic = false;
-      for (std::size_t i = 0; i < 4; ++i) {
-        c.particles[i] = model.firstParticle + local[i];
-        const ParticleDesc& p = scene.particles[std::size_t(c.particles[i])];
-        rest[i] = p.position;
-        anyDynamic = anyDynamic || p.mass > 0;
-      }
+      const bool anyDynamic = restPositions(scene, c.particles, rest);
       if (!anyDynamic || !isometricBendingStencil(rest, c.weights, c.scale)) continue;
       c.xpbd = bending == 3;
       c.stiffness = clothBendingStiffnessFor(scene.simulation);
@@ -108,10 +104,7 @@ void solveIsometricBending(std::vector<IsometricBendingConstraint>& constraints,
   for (IsometricBendingConstraint& c : constraints) {
     std::array<Vector3, 4> x;
     std::array<Real, 4> w;
-    for (std::size_t i = 0; i < 4; ++i) {
-      x[i] = particles.position[std::size_t(c.particles[i])];
-      w[i] = particles.inverseMass[std::size_t(c.particles[i])];
-    }
+    gatherParticles(particles, c.particles, x, w);
     BendingCorrection d;
     if (c.xpbd) {
       if (firstIteration) c.multiplier = 0;
@@ -120,7 +113,7 @@ void solveIsometricBending(std::vector<IsometricBendingConstraint>& constraints,
     } else {
       d = isometricBendingPbd(x, w, c);
     }
-    for (std::size_t i = 0; i < 4; ++i) particles.position[std::size_t(c.particles[i])] += d.positions[i];
+    applyCorrections(particles, c.particles, d.positions);
   }
 }
 

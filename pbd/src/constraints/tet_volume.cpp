@@ -1,4 +1,5 @@
 #include "pbd/constraints/tet_volume.h"
+#include "pbd/constraints/particle_stencil.h"
 
 #include "pbd/model/scene.h"
 
@@ -63,14 +64,9 @@ std::vector<TetVolumeConstraint> solidVolumeConstraints(const Scene& scene) {
   for (const TetModelDesc& model : scene.tetModels)
     for (const auto& tet : model.mesh.tetrahedra) {
       TetVolumeConstraint c;
+      for (std::size_t i = 0; i < 4; ++i) c.particles[i] = model.firstParticle + int(tet[i]);
       std::array<Vector3, 4> rest;
-      bool anyDynamic = false;
-      for (std::size_t i = 0; i < 4; ++i) {
-        c.particles[i] = model.firstParticle + int(tet[i]);
-        const ParticleDesc& particle = scene.particles[std::size_t(c.particles[i])];
-        rest[i] = particle.position;
-        anyDynamic = anyDynamic || particle.mass > 0;
-      }
+      const bool anyDynamic = restPositions(scene, c.particles, rest);
       if (!anyDynamic) continue;
       c.restVolume = signedTetVolume(rest);
       c.xpbd = method == 6;
@@ -85,10 +81,7 @@ void solveTetVolumes(std::vector<TetVolumeConstraint>& constraints, ParticleStat
   for (TetVolumeConstraint& c : constraints) {
     std::array<Vector3, 4> p;
     std::array<Real, 4> w;
-    for (std::size_t i = 0; i < 4; ++i) {
-      p[i] = particles.position[std::size_t(c.particles[i])];
-      w[i] = particles.inverseMass[std::size_t(c.particles[i])];
-    }
+    gatherParticles(particles, c.particles, p, w);
     TetVolumeCorrection d;
     if (c.xpbd) {
       if (firstIteration) c.multiplier = 0;
@@ -97,8 +90,7 @@ void solveTetVolumes(std::vector<TetVolumeConstraint>& constraints, ParticleStat
     } else {
       d = tetVolumePbd(p, w, c.restVolume, c.stiffness);
     }
-    for (std::size_t i = 0; i < 4; ++i)
-      particles.position[std::size_t(c.particles[i])] += d.positions[i];
+    applyCorrections(particles, c.particles, d.positions);
   }
 }
 
