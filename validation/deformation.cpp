@@ -10,6 +10,7 @@
 #include "pbd/constraints/fem_triangle.h"
 #include "pbd/constraints/isometric_bending.h"
 #include "pbd/constraints/particle_distance.h"
+#include "pbd/constraints/shape_matching.h"
 #include "pbd/constraints/strain_tet.h"
 #include "pbd/constraints/strain_triangle.h"
 #include "pbd/constraints/tet_volume.h"
@@ -68,7 +69,7 @@ ElasticEnergy::ElasticEnergy(const pbd::Scene& scene) {
   // no energy of their own.
   if (!pbd::clothDihedralConstraints(scene).empty() ||
       !pbd::femTriangleConstraints(scene).empty() || !pbd::strainTriangleConstraints(scene).empty() ||
-      !pbd::strainTetConstraints(scene).empty())
+      !pbd::strainTetConstraints(scene).empty() || !pbd::shapeMatchingConstraints(scene).empty())
     hasPbdConstraints_ = true;
 }
 
