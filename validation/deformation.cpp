@@ -10,6 +10,8 @@
 #include "pbd/constraints/fem_triangle.h"
 #include "pbd/constraints/isometric_bending.h"
 #include "pbd/constraints/particle_distance.h"
+#include "pbd/constraints/shape_matching.h"
+#include "pbd/constraints/strain_tet.h"
 #include "pbd/constraints/strain_triangle.h"
 #include "pbd/constraints/tet_volume.h"
 #include "pbd/model/mesh.h"
@@ -79,7 +81,8 @@ ElasticEnergy::ElasticEnergy(const pbd::Scene& scene) {
   // PBD-only families (a fraction per iteration, or the FEM energy with no stiffness factor):
   // no energy of their own.
   if (!pbd::clothDihedralConstraints(scene).empty() ||
-      !pbd::femTriangleConstraints(scene).empty() || !pbd::strainTriangleConstraints(scene).empty())
+      !pbd::femTriangleConstraints(scene).empty() || !pbd::strainTriangleConstraints(scene).empty() ||
+      !pbd::strainTetConstraints(scene).empty() || !pbd::shapeMatchingConstraints(scene).empty())
     hasPbdConstraints_ = true;
 }
 

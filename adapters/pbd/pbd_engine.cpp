@@ -84,12 +84,12 @@ std::vector<std::string> PbdEngine::unsupported(const pbd::Scene& scene,
   const pbd::Real poissonRatio = scene.simulation.solid_poissonRatio;
   const bool fem = solid == 2 || solid == 3;
   for (const pbd::TetModelDesc& model : scene.tetModels) {
-    if (solid != 0 && solid != 1 && solid != 2 && solid != 3 && solid != 6) {
+    if (solid < 0 || solid > 6) {
       missing.push_back(model.jsonPath + ": deformable solids (solidSimulationMethod " +
                         std::to_string(solid) +
-                        ") are not implemented yet; 1 (distance and volume, PBD), 2 (FEM, PBD), "
-                        "3 (FEM, XPBD) and 6 (distance and volume, XPBD) are, 0 leaves free "
-                        "particles");
+                        ") are not implemented; 1 (distance and volume, PBD), 2 (FEM, PBD), "
+                        "3 (FEM, XPBD), 4 (strain-based, PBD), 5 (shape matching, PBD) and 6 "
+                        "(distance and volume, XPBD) are, 0 leaves free particles");
     } else if (fem && !(poissonRatio >= 0 && poissonRatio <= pbd::Real(0.49))) {
       // The seed's FEM solve returns false for such a ν (research/pbd.md §4.1).
       missing.push_back(model.jsonPath + ": FEM solids (solidSimulationMethod " +

@@ -1,5 +1,5 @@
-// The pbd engine's coverage of tet models: the solid methods it simulates (0, 1, 2, 3, 6) run,
-// the others (4, 5) are reported unsupported naming the model, and FEM (2, 3) with a Poisson
+// The pbd engine's coverage of tet models: the seed's solid methods (0 to 6) all run, an
+// unknown one (7) is reported unsupported naming the model, and FEM (2, 3) with a Poisson
 // ratio outside the seed's [0, 0.49] is reported rather than silently accepted.
 #include <gtest/gtest.h>
 
@@ -26,12 +26,12 @@ pbd::Scene oneTetScene(int method) {
   return scene;
 }
 
-TEST(PbdSolidMethods, FemSolidsRunAndOtherMethodsAreReported) {
+TEST(PbdSolidMethods, SeedSolidMethodsRunAndUnknownOnesAreReported) {
   PbdEngine engine;
   const Method& method = testRegistry().resolve("pbd");
-  for (int solid : {0, 1, 2, 3, 4, 5, 6}) {
+  for (int solid : {0, 1, 2, 3, 4, 5, 6, 7}) {
     const std::vector<std::string> missing = engine.unsupported(oneTetScene(solid), method);
-    if (solid == 4 || solid == 5) {
+    if (solid == 7) {
       ASSERT_EQ(missing.size(), 1u) << solid;
       EXPECT_NE(missing[0].find("TetModels[0]"), std::string::npos);
       EXPECT_NE(missing[0].find("solidSimulationMethod " + std::to_string(solid)),
@@ -42,6 +42,10 @@ TEST(PbdSolidMethods, FemSolidsRunAndOtherMethodsAreReported) {
   }
   engine.load(oneTetScene(3), method);
   EXPECT_EQ(engine.world().femTets.size(), 1u);
+  engine.load(oneTetScene(4), method);
+  EXPECT_EQ(engine.world().strainTets.size(), 1u);
+  engine.load(oneTetScene(5), method);
+  EXPECT_EQ(engine.world().shapeMatching.size(), 1u);
 }
 
 TEST(PbdSolidMethods, FemPoissonRatioOutsideTheSeedsRangeIsReported) {

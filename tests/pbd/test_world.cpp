@@ -145,6 +145,40 @@ TEST(World, FemSolidStepAllocatesNothing) {
     }
 }
 
+// Strain-based tets (solidSimulationMethod 4) and shape matching (5), both step methods,
+// allocate nothing (shape matching's fixed-size SVD and its reflection fix included: one tet
+// starts inverted), and two worlds stay bitwise identical.
+TEST(World, StrainTetAndShapeMatchingStepAllocatesNothing) {
+  Scene scene;
+  TetModelDesc solid;
+  for (int k = 0; k < 8; ++k)
+    solid.mesh.vertices.push_back(Vector3(Real(k & 1), Real((k >> 1) & 1), Real((k >> 2) & 1)));
+  solid.mesh.tetrahedra = {{0, 1, 2, 4}, {1, 3, 2, 7}, {1, 4, 5, 7}, {2, 4, 7, 6}, {1, 2, 4, 7}};
+  scene.tetModels.push_back(solid);
+  for (int k = 0; k < 8; ++k)
+    scene.particles.push_back({solid.mesh.vertices[std::size_t(k)], Vector3::Zero(),
+                               ((k >> 1) & 1) ? Real(1) : Real(0)});  // bottom (y = 0) static
+  for (StepMethod stepMethod : {StepMethod::Seed, StepMethod::Xpbd})
+    for (int method : {4, 5}) {
+      scene.simulation.solidSimulationMethod = method;
+      scene.simulation.stepMethod = stepMethod;
+      World a = buildWorld(scene);
+      World b = buildWorld(scene);
+      ASSERT_EQ(a.strainTets.size() + a.shapeMatching.size(), 5u);
+      for (World* w : {&a, &b})
+        w->bodies.particles.position[6] = Vector3(Real(0.2), Real(-0.5), Real(0.8));  // inverted
+      a.step();
+      b.step();
+      const long before = gAllocations.load();
+      for (int n = 0; n < 200; ++n) {
+        a.step();
+        b.step();
+      }
+      EXPECT_EQ(gAllocations.load() - before, 0) << method;
+      EXPECT_EQ(a.stateHash(), b.stateHash()) << method;
+    }
+}
+
 // A contact scene: a stack of boxes, spheres, a body with a grid SDF (type 5, built from a
 // cube mesh) and free particles, all on a static ground; contacts in both models.
 Scene contactScene(ContactModel model) {

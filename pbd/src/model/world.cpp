@@ -131,6 +131,8 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
   world.strainTriangles = strainTriangleConstraints(scene);
   world.tetVolumes = solidVolumeConstraints(scene);
   world.femTets = solidFemConstraints(scene);
+  world.strainTets = strainTetConstraints(scene);
+  world.shapeMatching = shapeMatchingConstraints(scene);
   world.clothBending = clothBendingConstraints(scene);
   world.clothDihedrals = clothDihedralConstraints(scene);
   world.collision = CollisionDetector(scene, options);

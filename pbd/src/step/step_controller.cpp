@@ -18,6 +18,8 @@ void projectPositions(World& world, Real h) {
     solveStrainTriangles(world.strainTriangles, world.bodies.particles);
     solveTetVolumes(world.tetVolumes, world.bodies.particles, h, iteration == 0);
     solveFemTets(world.femTets, world.bodies.particles, h, iteration == 0);
+    solveStrainTets(world.strainTets, world.bodies.particles);
+    solveShapeMatching(world.shapeMatching, world.bodies.particles);
     solveIsometricBending(world.clothBending, world.bodies.particles, h, iteration == 0);
     solveDihedralBending(world.clothDihedrals, world.bodies.particles);
   }

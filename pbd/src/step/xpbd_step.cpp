@@ -40,6 +40,8 @@ void solvePositions(World& world, Real h) {
   solveStrainTriangles(world.strainTriangles, world.bodies.particles);
   solveTetVolumes(world.tetVolumes, world.bodies.particles, h, true);
   solveFemTets(world.femTets, world.bodies.particles, h, true);
+  solveStrainTets(world.strainTets, world.bodies.particles);
+  solveShapeMatching(world.shapeMatching, world.bodies.particles);
   solveIsometricBending(world.clothBending, world.bodies.particles, h, true);
   solveDihedralBending(world.clothDihedrals, world.bodies.particles);
   for (XpbdContact& contact : world.xpbd.contacts.contacts)

@@ -12,6 +12,8 @@
 #include "pbd/constraints/fem_tet.h"
 #include "pbd/constraints/isometric_bending.h"
 #include "pbd/constraints/particle_distance.h"
+#include "pbd/constraints/shape_matching.h"
+#include "pbd/constraints/strain_tet.h"
 #include "pbd/constraints/strain_triangle.h"
 #include "pbd/constraints/tet_volume.h"
 #include "pbd/contacts/contact_set.h"
@@ -46,6 +48,8 @@ struct World {
   std::vector<StrainTriangleConstraint> strainTriangles;  ///< cloth method 3 (strain_triangle.h)
   std::vector<TetVolumeConstraint> tetVolumes;
   std::vector<FemTetConstraint> femTets;  ///< FEM tets (constraints/fem_tet.h), after the volumes
+  std::vector<StrainTetConstraint> strainTets;  ///< solid method 4 (strain_tet.h)
+  std::vector<ShapeMatchingConstraint> shapeMatching;  ///< solid method 5 (shape_matching.h)
   std::vector<IsometricBendingConstraint> clothBending;
   std::vector<DihedralBendingConstraint> clothDihedrals;
   CollisionDetector collision;       ///< shapes, surface samples, hierarchies, broad phase
