@@ -20,6 +20,7 @@ void projectPositions(World& world, Real h) {
     solveFemTets(world.femTets, world.bodies.particles, h, iteration == 0);
     solveIsometricBending(world.clothBending, world.bodies.particles, h, iteration == 0);
     solveDihedralBending(world.clothDihedrals, world.bodies.particles);
+    solveGenericConstraints(world.genericConstraints, world.bodies.particles);
   }
 }
 

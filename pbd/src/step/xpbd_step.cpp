@@ -42,6 +42,7 @@ void solvePositions(World& world, Real h) {
   solveFemTets(world.femTets, world.bodies.particles, h, true);
   solveIsometricBending(world.clothBending, world.bodies.particles, h, true);
   solveDihedralBending(world.clothDihedrals, world.bodies.particles);
+  solveGenericConstraints(world.genericConstraints, world.bodies.particles);
   for (XpbdContact& contact : world.xpbd.contacts.contacts)
     contact.solvePosition(world.bodies, h, settings.contactCompliance);
 }
