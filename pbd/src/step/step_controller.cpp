@@ -22,6 +22,7 @@ void projectPositions(World& world, Real h) {
     solveShapeMatching(world.shapeMatching, world.bodies.particles);
     solveIsometricBending(world.clothBending, world.bodies.particles, h, iteration == 0);
     solveDihedralBending(world.clothDihedrals, world.bodies.particles);
+    solveGenericConstraints(world.genericConstraints, world.bodies.particles);
   }
 }
 

@@ -44,6 +44,7 @@ void solvePositions(World& world, Real h) {
   solveShapeMatching(world.shapeMatching, world.bodies.particles);
   solveIsometricBending(world.clothBending, world.bodies.particles, h, true);
   solveDihedralBending(world.clothDihedrals, world.bodies.particles);
+  solveGenericConstraints(world.genericConstraints, world.bodies.particles);
   for (XpbdContact& contact : world.xpbd.contacts.contacts)
     contact.solvePosition(world.bodies, h, settings.contactCompliance);
 }

@@ -10,6 +10,7 @@
 #include "pbd/constraints/dihedral_bending.h"
 #include "pbd/constraints/fem_triangle.h"
 #include "pbd/constraints/fem_tet.h"
+#include "pbd/constraints/generic_constraint.h"
 #include "pbd/constraints/isometric_bending.h"
 #include "pbd/constraints/particle_distance.h"
 #include "pbd/constraints/shape_matching.h"
@@ -52,6 +53,9 @@ struct World {
   std::vector<ShapeMatchingConstraint> shapeMatching;  ///< solid method 5 (shape_matching.h)
   std::vector<IsometricBendingConstraint> clothBending;
   std::vector<DihedralBendingConstraint> clothDihedrals;
+  /// User constraints (constraints/generic_constraint.h), added in C++ after buildWorld (no
+  /// scene key); solved after every other particle constraint.
+  std::vector<GenericParticleConstraint> genericConstraints;
   CollisionDetector collision;       ///< shapes, surface samples, hierarchies, broad phase
   ContactMaterials materials;        ///< friction and restitution per pair
   ContactSet contacts;               ///< the contacts of the last step
