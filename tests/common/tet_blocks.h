@@ -8,6 +8,7 @@
 #include <cmath>
 #include <vector>
 
+#include "common/edge_stretch.h"
 #include "pbd/model/world.h"
 
 namespace pbd::test {
@@ -35,21 +36,6 @@ inline Scene tetBlock(int nx, int ny, int nz, int solidMethod) {
   for (const Vector3& v : solid.mesh.vertices) scene.particles.push_back({v, Vector3::Zero(), 1});
   scene.simulation.solidSimulationMethod = solidMethod;
   return scene;
-}
-
-/// max |ℓ/ℓ₀ − 1| over the edges of the first tet model's tets.
-inline Real maxTetEdgeStretch(const World& world, const Scene& scene) {
-  Real worst = 0;
-  for (const auto& t : scene.tetModels[0].mesh.tetrahedra)
-    for (std::size_t a = 0; a < 4; ++a)
-      for (std::size_t b = a + 1; b < 4; ++b) {
-        const auto i = std::size_t(t[a]), j = std::size_t(t[b]);
-        const Real rest = (scene.particles[i].position - scene.particles[j].position).norm();
-        const Real now =
-            (world.bodies.particles.position[i] - world.bodies.particles.position[j]).norm();
-        worst = std::max(worst, std::abs(now / rest - 1));
-      }
-  return worst;
 }
 
 /// A 2 × 5 × 2 column (20 tets) of `solidMethod` hanging from its static top face for 1 s with

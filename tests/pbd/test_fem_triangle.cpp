@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "common/edge_stretch.h"
 #include "common/tolerances.h"
 #include "pbd/constraints/fem_triangle.h"
 #include "pbd/model/world.h"
@@ -247,19 +248,6 @@ TEST(FemTriangleWorld, ClothGetsOneConstraintPerTriangleForMethodTwoOnly) {
   EXPECT_EQ(buildWorld(scene).femTriangles.size(), 6u);
 }
 
-// Maximum relative edge stretch |l/l₀ − 1| over the cloth's edges.
-Real maxStretch(const World& world, const Scene& scene) {
-  Real worst = 0;
-  for (const std::array<int, 3>& t : scene.triangleModels[0].mesh.triangles)
-    for (int k = 0; k < 3; ++k) {
-      const auto a = std::size_t(t[std::size_t(k)]), b = std::size_t(t[std::size_t((k + 1) % 3)]);
-      const Real rest = (scene.particles[a].position - scene.particles[b].position).norm();
-      const Real now =
-          (world.bodies.particles.position[a] - world.bodies.particles.position[b]).norm();
-      worst = std::max(worst, std::abs(now / rest - 1));
-    }
-  return worst;
-}
 
 TEST(FemTriangleWorld, PinnedClothStaysBoundedAndStretchesLessWithMoreIterations) {
   // A 1 m cloth of 6 × 6 particles (1 kg each) pinned along its z = 0 edge falls under gravity
@@ -281,7 +269,7 @@ TEST(FemTriangleWorld, PinnedClothStaysBoundedAndStretchesLessWithMoreIterations
         // Bounded: no particle farther from the pinned edge than twice the cloth's length.
         ASSERT_LT(Vector2(p.y(), p.z()).norm(), 2);
       }
-      worst = std::max(worst, maxStretch(world, scene));
+      worst = std::max(worst, test::maxTriangleEdgeStretch(world, scene));
     }
     stretch.push_back(worst);
     // The pinned particles stay.

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "common/edge_stretch.h"
 #include "common/tolerances.h"
 #include "pbd/constraints/strain_triangle.h"
 #include "pbd/model/world.h"
@@ -230,18 +231,6 @@ TEST(StrainTriangleWorld, ClothGetsOneConstraintPerTriangleForMethodThreeOnly) {
   EXPECT_EQ(buildWorld(scene).strainTriangles.size(), 6u);
 }
 
-Real maxStretch(const World& world, const Scene& scene) {
-  Real worst = 0;
-  for (const std::array<int, 3>& t : scene.triangleModels[0].mesh.triangles)
-    for (int k = 0; k < 3; ++k) {
-      const auto a = std::size_t(t[std::size_t(k)]), b = std::size_t(t[std::size_t((k + 1) % 3)]);
-      const Real rest = (scene.particles[a].position - scene.particles[b].position).norm();
-      const Real now =
-          (world.bodies.particles.position[a] - world.bodies.particles.position[b]).norm();
-      worst = std::max(worst, std::abs(now / rest - 1));
-    }
-  return worst;
-}
 
 TEST(StrainTriangleWorld, HangingVerticalClothStaysBoundedAndStretchesLessWithMoreIterations) {
   // A 1 m vertical cloth of 6 × 6 particles (1 kg each) pinned along its top edge hangs under
@@ -262,7 +251,7 @@ TEST(StrainTriangleWorld, HangingVerticalClothStaysBoundedAndStretchesLessWithMo
         ASSERT_TRUE(p.allFinite());
         ASSERT_LT(Vector2(p.x(), p.y()).norm(), 2);  // bounded: within twice its length
       }
-      worst = std::max(worst, maxStretch(world, scene));
+      worst = std::max(worst, test::maxTriangleEdgeStretch(world, scene));
     }
     stretch.push_back(worst);
   }
