@@ -248,7 +248,6 @@ TEST(FemTriangleWorld, ClothGetsOneConstraintPerTriangleForMethodTwoOnly) {
   EXPECT_EQ(buildWorld(scene).femTriangles.size(), 6u);
 }
 
-
 TEST(FemTriangleWorld, PinnedClothStaysBoundedAndStretchesLessWithMoreIterations) {
   // A 1 m cloth of 6 × 6 particles (1 kg each) pinned along its z = 0 edge falls under gravity
   // for 1 s. More iterations project the FEM constraints more often per substep, so the cloth

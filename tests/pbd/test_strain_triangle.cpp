@@ -231,7 +231,6 @@ TEST(StrainTriangleWorld, ClothGetsOneConstraintPerTriangleForMethodThreeOnly) {
   EXPECT_EQ(buildWorld(scene).strainTriangles.size(), 6u);
 }
 
-
 TEST(StrainTriangleWorld, HangingVerticalClothStaysBoundedAndStretchesLessWithMoreIterations) {
   // A 1 m vertical cloth of 6 × 6 particles (1 kg each) pinned along its top edge hangs under
   // gravity for 1 s; gravity pulls in its plane, so only the strain constraints hold it (the

@@ -144,10 +144,9 @@ TEST(GenericConstraintWorld, StepAllocatesNothing) {
   }
 }
 
-// FEM solids (solidSimulationMethod 2 and 3, both step methods) allocate nothing, the inversion
-// path's fixed-size SVD included: one tet of a cube of five starts inverted (a vertex pushed
-// through its opposite face), and two worlds stay bitwise identical.
-TEST(World, FemSolidStepAllocatesNothing) {
+// A unit cube of five tets whose bottom (y = 0) particles are static, for the solid methods
+// allocation tests below.
+Scene cubeOfFiveTets() {
   Scene scene;
   TetModelDesc solid;
   for (int k = 0; k < 8; ++k)
@@ -157,15 +156,42 @@ TEST(World, FemSolidStepAllocatesNothing) {
   for (int k = 0; k < 8; ++k)
     scene.particles.push_back({solid.mesh.vertices[std::size_t(k)], Vector3::Zero(),
                                ((k >> 1) & 1) ? Real(1) : Real(0)});  // bottom (y = 0) static
+  return scene;
+}
+
+/// The world of `scene` with vertex 6 pushed through its opposite face: one tet starts inverted.
+World withInvertedTet(const Scene& scene) {
+  World world = buildWorld(scene);
+  world.bodies.particles.position[6] = Vector3(Real(0.2), Real(-0.5), Real(0.8));
+  return world;
+}
+
+/// After one warm-up step, 200 steps of two worlds of the same input allocate nothing and leave
+/// them bitwise identical.
+void expectStepsAllocateNothingAndAgree(World& a, World& b, int method) {
+  a.step();
+  b.step();
+  const long before = gAllocations.load();
+  for (int n = 0; n < 200; ++n) {
+    a.step();
+    b.step();
+  }
+  EXPECT_EQ(gAllocations.load() - before, 0) << method;
+  EXPECT_EQ(a.stateHash(), b.stateHash()) << method;
+}
+
+// FEM solids (solidSimulationMethod 2 and 3, both step methods) allocate nothing, the inversion
+// path's fixed-size SVD included (one tet starts inverted), and two worlds stay bitwise
+// identical.
+TEST(World, FemSolidStepAllocatesNothing) {
+  Scene scene = cubeOfFiveTets();
   for (StepMethod stepMethod : {StepMethod::Seed, StepMethod::Xpbd})
     for (int method : {2, 3}) {
       scene.simulation.solidSimulationMethod = method;
       scene.simulation.stepMethod = stepMethod;
-      World a = buildWorld(scene);
-      World b = buildWorld(scene);
+      World a = withInvertedTet(scene);
+      World b = withInvertedTet(scene);
       ASSERT_EQ(a.femTets.size(), 5u);
-      for (World* w : {&a, &b})
-        w->bodies.particles.position[6] = Vector3(Real(0.2), Real(-0.5), Real(0.8));  // inverted
       int inverted = 0;
       for (const FemTetConstraint& c : a.femTets) {
         std::array<Vector3, 4> x;
@@ -174,15 +200,7 @@ TEST(World, FemSolidStepAllocatesNothing) {
         inverted += femTetEnergy(x, c).inverted ? 1 : 0;
       }
       ASSERT_EQ(inverted, 1);
-      a.step();
-      b.step();
-      const long before = gAllocations.load();
-      for (int n = 0; n < 200; ++n) {
-        a.step();
-        b.step();
-      }
-      EXPECT_EQ(gAllocations.load() - before, 0) << method;
-      EXPECT_EQ(a.stateHash(), b.stateHash()) << method;
+      expectStepsAllocateNothingAndAgree(a, b, method);
     }
 }
 
@@ -190,33 +208,15 @@ TEST(World, FemSolidStepAllocatesNothing) {
 // allocate nothing (shape matching's fixed-size SVD and its reflection fix included: one tet
 // starts inverted), and two worlds stay bitwise identical.
 TEST(World, StrainTetAndShapeMatchingStepAllocatesNothing) {
-  Scene scene;
-  TetModelDesc solid;
-  for (int k = 0; k < 8; ++k)
-    solid.mesh.vertices.push_back(Vector3(Real(k & 1), Real((k >> 1) & 1), Real((k >> 2) & 1)));
-  solid.mesh.tetrahedra = {{0, 1, 2, 4}, {1, 3, 2, 7}, {1, 4, 5, 7}, {2, 4, 7, 6}, {1, 2, 4, 7}};
-  scene.tetModels.push_back(solid);
-  for (int k = 0; k < 8; ++k)
-    scene.particles.push_back({solid.mesh.vertices[std::size_t(k)], Vector3::Zero(),
-                               ((k >> 1) & 1) ? Real(1) : Real(0)});  // bottom (y = 0) static
+  Scene scene = cubeOfFiveTets();
   for (StepMethod stepMethod : {StepMethod::Seed, StepMethod::Xpbd})
     for (int method : {4, 5}) {
       scene.simulation.solidSimulationMethod = method;
       scene.simulation.stepMethod = stepMethod;
-      World a = buildWorld(scene);
-      World b = buildWorld(scene);
+      World a = withInvertedTet(scene);
+      World b = withInvertedTet(scene);
       ASSERT_EQ(a.strainTets.size() + a.shapeMatching.size(), 5u);
-      for (World* w : {&a, &b})
-        w->bodies.particles.position[6] = Vector3(Real(0.2), Real(-0.5), Real(0.8));  // inverted
-      a.step();
-      b.step();
-      const long before = gAllocations.load();
-      for (int n = 0; n < 200; ++n) {
-        a.step();
-        b.step();
-      }
-      EXPECT_EQ(gAllocations.load() - before, 0) << method;
-      EXPECT_EQ(a.stateHash(), b.stateHash()) << method;
+      expectStepsAllocateNothingAndAgree(a, b, method);
     }
 }
 
