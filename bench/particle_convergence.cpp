@@ -15,14 +15,17 @@
 // proportional to their product, so the anti-diagonals compare equal cost. Writes JSON with the
 // build's metadata (--json PATH, atomically) and prints Markdown tables (docs/convergence.md).
 //   pbdval_particle_convergence [--json PATH]
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <fstream>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <thread>
 #include <vector>
+
+#include <unistd.h>
 
 #include "common/cantilever_beam.h"
 #include "pbd/constraints/particle_distance.h"
@@ -101,6 +104,25 @@ Real beamError(int solidMethod, int substeps, int iterations, Real linear) {
   return std::abs(d.tip - linear) / linear;
 }
 
+/// The machine the study ran on: host name and CPU model (from /proc/cpuinfo where it exists).
+std::string machineDescription() {
+  char host[256] = {};
+  if (gethostname(host, sizeof host - 1) != 0) host[0] = 0;
+  std::string cpu;
+  std::ifstream info("/proc/cpuinfo");
+  for (std::string line; cpu.empty() && std::getline(info, line);)
+    if (line.rfind("model name", 0) == 0) cpu = line.substr(line.find(':') + 2);
+  return std::string(host) + (cpu.empty() ? "" : ", " + cpu) + ", " +
+         std::to_string(std::thread::hardware_concurrency()) + " threads";
+}
+
+std::string utcNow() {
+  const std::time_t now = std::time(nullptr);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  return text;
+}
+
 struct Study {
   std::string name, method, error;
   std::function<Real(int, int)> measure;
@@ -138,6 +160,8 @@ int main(int argc, char** argv) {
     const std::vector<int> counts = {1, 2, 4, 8, 16};
     nlohmann::json out;
     out["metadata"] = {{"program", "pbdval_particle_convergence"},
+                       {"date", utcNow()},
+                       {"machine", machineDescription()},
                        {"pbdval_version", PBDVAL_VERSION},
                        {"commit", std::string(PBDVAL_GIT_COMMIT) + " (" + PBDVAL_GIT_DIRTY + ")"},
                        {"build_type", PBDVAL_BUILD_TYPE},
