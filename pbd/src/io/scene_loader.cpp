@@ -3,6 +3,7 @@
 #include "pbd/io/scene_loader.h"
 
 #include <fstream>
+#include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -76,6 +77,41 @@ void checkClothPoissonRatios(JsonObject& object, const SimulationSettings& setti
           "Poisson ratios with cloth_xyPoissonRatio * cloth_yxPoissonRatio < 1 (the "
           "orthotropic material divides by 1 - their product)");
 }
+
+/// The set {m₁, m₂, …} of method numbers as bits.
+constexpr unsigned methodSet(std::initializer_list<int> methods) {
+  unsigned bits = 0;
+  for (int m : methods) bits |= 1u << m;
+  return bits;
+}
+
+/// Which cloth and solid methods read a `Simulation` key (pbd/src/constraints/*: the
+/// constraints each method builds).
+struct ModelSettingUse {
+  const char* key;
+  bool cloth;        ///< a cloth key (else a solid key)
+  unsigned methods;  ///< methodSet of the methods that read it
+};
+
+constexpr ModelSettingUse kModelSettingUses[] = {
+    {"clothSimulationMethod", true, methodSet({0, 1, 2, 3, 4})},
+    {"clothBendingMethod", true, methodSet({1, 2, 3, 4})},
+    {"cloth_stiffness", true, methodSet({1, 4})},
+    {"cloth_bendingStiffness", true, methodSet({1, 2, 3, 4})},
+    {"cloth_xxStiffness", true, methodSet({2, 3})},
+    {"cloth_yyStiffness", true, methodSet({2, 3})},
+    {"cloth_xyStiffness", true, methodSet({2, 3})},
+    {"cloth_xyPoissonRatio", true, methodSet({2})},
+    {"cloth_yxPoissonRatio", true, methodSet({2})},
+    {"cloth_normalizeStretch", true, methodSet({3})},
+    {"cloth_normalizeShear", true, methodSet({3})},
+    {"solidSimulationMethod", false, methodSet({0, 1, 2, 3, 4, 5, 6})},
+    {"solid_stiffness", false, methodSet({1, 2, 3, 4, 5, 6})},
+    {"solid_poissonRatio", false, methodSet({2, 3})},
+    {"solid_volumeStiffness", false, methodSet({1, 6})},
+    {"solid_normalizeStretch", false, methodSet({4})},
+    {"solid_normalizeShear", false, methodSet({4})},
+};
 
 KeyTable<Scene> topLevelKeys() {
   return {
@@ -169,6 +205,26 @@ KeyTable<ViewerSettings> viewerKeys() {
   };
 }
 
+std::string unusedModelSettingReason(const std::string& key, const Scene& scene) {
+  const SimulationSettings& settings = scene.simulation;
+  for (const ModelSettingUse& use : kModelSettingUses) {
+    if (key != use.key) continue;
+    const bool haveModels = use.cloth ? !scene.triangleModels.empty() : !scene.tetModels.empty();
+    if (!haveModels)
+      return std::string("the scene has no ") + (use.cloth ? "TriangleModels" : "TetModels");
+    if (key == "cloth_bendingStiffness" && settings.clothBendingMethod == 0 &&
+        settings.clothSimulationMethod != 0)
+      return "clothBendingMethod 0 has no bending";
+    const int method = use.cloth ? settings.clothSimulationMethod : settings.solidSimulationMethod;
+    if ((use.methods & (1u << method)) != 0) return "";
+    return std::string(use.cloth ? "clothSimulationMethod " : "solidSimulationMethod ") +
+           std::to_string(method) +
+           (method == 0 ? std::string(" simulates no ") + (use.cloth ? "cloth" : "solid")
+                        : std::string(" does not use it"));
+  }
+  return "";
+}
+
 /// `gravitation` is the seed's key; `gravity` is parsed by the seed but never used.
 void readSimulation(const JsonValue& block, Scene& scene) {
   JsonObject object = block.object();
@@ -211,6 +267,27 @@ void applySimulationSetting(SimulationSettings& settings, const std::string& key
       origin, "", "unknown Simulation setting '" + key + "' (settings: " + known + ")"});
 }
 
+namespace scene_io {
+namespace {
+
+/// A cloth or solid setting the scene gives but nothing reads gets a warning that says why
+/// (unusedModelSettingReason); the seed reads every such key and silently ignores it, bending
+/// on a cloth of method 0 included.
+void warnUnusedModelSettings(JsonObject& root, const Scene& scene) {
+  const auto block = root.find("Simulation");
+  if (!block || !block->isObject()) return;
+  JsonObject simulation = block->object();
+  for (const ModelSettingUse& use : kModelSettingUses) {
+    const auto given = simulation.find(use.key);
+    if (!given) continue;
+    const std::string reason = unusedModelSettingReason(use.key, scene);
+    if (!reason.empty()) given->warn("ignored: " + reason);
+  }
+}
+
+}  // namespace
+}  // namespace scene_io
+
 LoadedScene parseScene(const std::string& jsonText, const std::string& sourcePath,
                        const LoadOptions& options) {
   using namespace scene_io;
@@ -230,6 +307,7 @@ LoadedScene parseScene(const std::string& jsonText, const std::string& sourcePat
   if (auto block = root.find("TetModels")) readTetModels(*block, context, scene);
   if (auto block = root.find("ContactPairs")) readContactPairs(*block, scene);
   readJoints(root, scene);
+  warnUnusedModelSettings(root, scene);
   root.warnUnknownKeys();
   return LoadedScene{std::move(scene), sink.takeWarnings()};
 }

@@ -60,6 +60,10 @@ std::optional<GivenRotation> givenRotation(const PoseInput& pose);
 /// and writes it back: scene_writer.cpp).
 KeyTable<SimulationSettings> simulationKeys();
 KeyTable<ViewerSettings> viewerKeys();
+/// Why nothing reads the cloth or solid `Simulation` setting `key` in `scene` ("the scene has no
+/// TetModels", "clothSimulationMethod 1 does not use it", …), or "" when something does (and
+/// for every other key).
+std::string unusedModelSettingReason(const std::string& key, const Scene& scene);
 
 /// The collision keys shared by rigid bodies and tet models.
 KeyTable<CollisionObjectDesc> collisionKeys(const LoadContext& context);

@@ -110,6 +110,19 @@ std::string writeSceneJson(const Scene& scene) {
 
   Json simulation = Json::object();
   writeKeys(simulationKeys(), scene.simulation, simulation);
+  // A cloth or solid setting nothing in this scene reads is left out when it has its default
+  // value (reading it back gives the same), so a clean scene writes no key the loader would
+  // warn about; a non-default one is kept (the round trip is exact) and warned about on reading.
+  Json defaults = Json::object();
+  writeKeys(simulationKeys(), SimulationSettings{}, defaults);
+  for (auto it = simulation.begin(); it != simulation.end();) {
+    const bool unused = !unusedModelSettingReason(it.key(), scene).empty();
+    const auto standard = defaults.find(it.key());
+    if (unused && standard != defaults.end() && *standard == it.value())
+      it = simulation.erase(it);
+    else
+      ++it;
+  }
   writeKeys(viewerKeys(), scene.viewer, simulation);
   root["Simulation"] = simulation;
 
