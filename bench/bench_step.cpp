@@ -99,6 +99,15 @@ void stepScaling(benchmark::State& state, const pbdval::EngineRegistry& engines,
   stepScene(state, engines, scene, method, 10);
 }
 
+/// One member of a particle scaling family (cloth: side² particles, solid: side³).
+void stepParticleScaling(benchmark::State& state, const pbdval::EngineRegistry& engines,
+                         const std::string& family, int side, const std::string& method) {
+  const pbd::Scene scene =
+      family == "cloth" ? pbdval::bench::clothScene(side) : pbdval::bench::solidScene(side);
+  stepScene(state, engines, scene, method, 10);
+  state.counters["particles"] = double(scene.particles.size());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -134,6 +143,23 @@ int main(int argc, char** argv) {
             // small scene would be timed over its whole 2 s and a large one over its first steps,
             // different motions (landing, settling) with different contact counts.
             ->Iterations(20);
+  }
+  // Particle families: 10² to 10⁵ particles (named by the exact count), the PBD methods only
+  // (no reference engine simulates cloth or solids here).
+  for (const std::string family : {"cloth", "solid"}) {
+    const std::vector<int> sides =
+        family == "cloth" ? std::vector<int>{10, 32, 100, 316} : std::vector<int>{5, 10, 22, 46};
+    for (const std::string m : {"pbd", "pbd.xpbd"})
+      for (const int side : sides) {
+        const int particles = family == "cloth" ? side * side : side * side * side;
+        benchmark::RegisterBenchmark(
+            ("scaling/" + family + "/" + m + "/" + std::to_string(particles)).c_str(),
+            [&engines, family, m, side](benchmark::State& s) {
+              stepParticleScaling(s, engines, family, side, m);
+            })
+            ->Unit(benchmark::kMicrosecond)
+            ->Iterations(20);
+      }
   }
   benchmark::AddCustomContext("pbdval_version", PBDVAL_VERSION);
   benchmark::AddCustomContext("pbdval_commit",

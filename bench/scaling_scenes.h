@@ -13,14 +13,26 @@
 //          engine, 1.2 as an exponent for Bullet too). The broad phase still sees all piles at
 //          once: a sweep along x meets every pile of a column.
 //   boxes  the same with cubes of 0.2 m, the fifth bridging the four below it.
+//   cloth  a square sheet of n × n particles (N = n²), 1 m wide, 0.3 kg/m², pinned at two
+//          corners: cloth_hanging's methods and settings (XPBD distances of 1000 N/m and XPBD
+//          isometric bending; 5 substeps × 2 iterations), released flat. Every particle has the
+//          same stencil, so the work per particle is the same for every N.
+//   solid  a cube of n × n × n particles (N = n³), 0.1 m cells, Kuhn tets (pbd::tetLattice),
+//          1000 kg/m³, XPBD FEM (solid method 3, E = 10⁶ Pa, ν = 0.3), hanging from its static
+//          top face (5 substeps × 1 iteration).
 //
-// Each scene is written as the seed's scene JSON and read by the loader, as a case file is.
+// The rigid scenes are written as the seed's scene JSON and read by the loader, as a case file
+// is; the particle scenes are built as pbd::Scene directly (their meshes would need files).
 #pragma once
 
 #include <cmath>
 #include <string>
 
 #include <nlohmann/json.hpp>
+
+#include "pbd/model/mass_properties.h"
+#include "pbd/model/mesh.h"
+#include "pbd/model/scene.h"
 
 namespace pbdval::bench {
 
@@ -93,6 +105,53 @@ inline std::string pileScene(int count, bool boxes, const std::string& modelFold
   }
   scene["RigidBodies"] = bodies;
   return scene.dump();
+}
+
+/// The cloth family: `side` × `side` particles.
+inline pbd::Scene clothScene(int side) {
+  pbd::Scene scene;
+  scene.name = "scaling_cloth_" + std::to_string(side * side);
+  scene.simulation.timeStepSize = 0.005;
+  scene.simulation.subSteps = 5;
+  scene.simulation.maxIterations = 2;
+  scene.simulation.clothSimulationMethod = 4;
+  scene.simulation.cloth_stiffness = 1000;
+  scene.simulation.clothBendingMethod = 3;
+  scene.simulation.cloth_bendingStiffness = 1;
+  pbd::TriangleModelDesc cloth;
+  const double spacing = 1.0 / (side - 1);
+  cloth.mesh = pbd::triangleGrid(side, side, spacing, pbd::Vector3(0, 1, 0));
+  cloth.density = 0.3;
+  cloth.staticParticles = {0, side - 1};
+  const std::vector<pbd::Real> masses = pbd::lumpedMasses(cloth.mesh, 0.3);
+  for (std::size_t p = 0; p < cloth.mesh.vertices.size(); ++p) {
+    const bool pinned = p == 0 || p == std::size_t(side - 1);
+    scene.particles.push_back({cloth.mesh.vertices[p], pbd::Vector3::Zero(), pinned ? 0 : masses[p]});
+  }
+  scene.triangleModels.push_back(std::move(cloth));
+  return scene;
+}
+
+/// The solid family: `side`³ particles.
+inline pbd::Scene solidScene(int side) {
+  pbd::Scene scene;
+  scene.name = "scaling_solid_" + std::to_string(side * side * side);
+  scene.simulation.timeStepSize = 0.005;
+  scene.simulation.subSteps = 5;
+  scene.simulation.maxIterations = 1;
+  scene.simulation.solidSimulationMethod = 3;
+  scene.simulation.solid_stiffness = 1e6;
+  pbd::TetModelDesc solid;
+  solid.mesh = pbd::tetLattice(side, side, side, pbd::Vector3(0.1, -0.1, 0.1));
+  solid.density = 1000;
+  const std::vector<pbd::Real> masses = pbd::lumpedMasses(solid.mesh, 1000);
+  for (std::size_t p = 0; p < solid.mesh.vertices.size(); ++p) {
+    const bool top = solid.mesh.vertices[p].y() == 0;
+    if (top) solid.staticParticles.push_back(int(p));
+    scene.particles.push_back({solid.mesh.vertices[p], pbd::Vector3::Zero(), top ? 0 : masses[p]});
+  }
+  scene.tetModels.push_back(std::move(solid));
+  return scene;
 }
 
 }  // namespace pbdval::bench

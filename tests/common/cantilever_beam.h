@@ -8,8 +8,8 @@
 //   Timoshenko's shear term         δ_s  = q L² / (2 κ G A), κ = 5/6, G = E/2 (ν = 0),
 //                                   δ_s / δ_EB = 0.8 (H/L)² = 3.2 %.
 // The tip deflection δ/L ≈ 2·10⁻³ keeps StVK's geometric nonlinearity negligible.
-// Mesh: each cube of the lattice split into the six Kuhn tets around its main diagonal, which
-// is conforming (unlike one five-tet pattern repeated).
+// Mesh: pbd::tetLattice (each cube split into the six Kuhn tets around its main diagonal,
+// conforming, unlike one five-tet pattern repeated), downwards from y = 0.
 // The static state of a world is found by mass-proportional damping of the velocities between
 // steps (a viscous force −c m v, c = 64/s, of the order of the critical 2ω₁ = 81/s of the first
 // bending mode, ω₁ = 1.875² √(EI/(ρA L⁴)) = 41 rad/s), which moves no fixed point of the step
@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "pbd/model/mass_properties.h"
+#include "pbd/model/mesh.h"
 #include "pbd/model/world.h"
 
 namespace pbd::test::beam {
@@ -36,33 +37,8 @@ inline Scene beamScene(int cells, int substeps, int iterations, int solidMethod 
   const int nx = static_cast<int>(std::lround(kLength / kHeight)) * cells + 1;
   const int ny = cells + 1, nz = cells + 1;
   const Real spacing = kHeight / static_cast<Real>(cells);
-  const auto index = [&](int i, int j, int k) { return (k * ny + j) * nx + i; };
   TetModelDesc beam;
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i)
-        beam.mesh.vertices.push_back(spacing * Vector3(Real(i), -Real(j), Real(k)));
-  const std::array<std::array<int, 3>, 6> axisOrders = {
-      {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}}};
-  for (int k = 0; k + 1 < nz; ++k)
-    for (int j = 0; j + 1 < ny; ++j)
-      for (int i = 0; i + 1 < nx; ++i)
-        for (const std::array<int, 3>& order : axisOrders) {
-          // The path 000 → one axis → two axes → 111 through the cube.
-          std::array<int, 3> corner = {0, 0, 0};
-          std::array<int, 4> tet;
-          tet[0] = index(i, j, k);
-          for (std::size_t step = 0; step < 3; ++step) {
-            corner[std::size_t(order[step])] = 1;
-            tet[step + 1] = index(i + corner[0], j + corner[1], k + corner[2]);
-          }
-          const auto& v = beam.mesh.vertices;
-          const Real volume = (v[std::size_t(tet[1])] - v[std::size_t(tet[0])])
-                                  .cross(v[std::size_t(tet[2])] - v[std::size_t(tet[0])])
-                                  .dot(v[std::size_t(tet[3])] - v[std::size_t(tet[0])]);
-          if (volume < 0) std::swap(tet[2], tet[3]);
-          beam.mesh.tetrahedra.push_back(tet);
-        }
+  beam.mesh = tetLattice(nx, ny, nz, Vector3(spacing, -spacing, spacing));
   Scene scene;
   scene.simulation.timeStepSize = Real(0.005);
   scene.simulation.subSteps = substeps;

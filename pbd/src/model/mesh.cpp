@@ -121,5 +121,49 @@ std::vector<BarycentricAttachment> attachToTets(const TetMesh& mesh,
   return attachments;
 }
 
+TetMesh tetLattice(int nx, int ny, int nz, const Vector3& step, const Vector3& origin) {
+  TetMesh mesh;
+  const auto index = [&](int i, int j, int k) { return (k * ny + j) * nx + i; };
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i)
+        mesh.vertices.push_back(origin + Vector3(Real(i) * step.x(), Real(j) * step.y(),
+                                                 Real(k) * step.z()));
+  constexpr std::array<std::array<int, 3>, 6> kAxisOrders = {
+      {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}}};
+  for (int k = 0; k + 1 < nz; ++k)
+    for (int j = 0; j + 1 < ny; ++j)
+      for (int i = 0; i + 1 < nx; ++i)
+        for (const std::array<int, 3>& order : kAxisOrders) {
+          std::array<int, 3> corner = {0, 0, 0};
+          std::array<int, 4> tet;
+          tet[0] = index(i, j, k);
+          for (std::size_t axis = 0; axis < 3; ++axis) {
+            corner[std::size_t(order[axis])] = 1;
+            tet[axis + 1] = index(i + corner[0], j + corner[1], k + corner[2]);
+          }
+          const auto at = [&](std::size_t v) { return mesh.vertices[std::size_t(tet[v])]; };
+          if ((at(1) - at(0)).cross(at(2) - at(0)).dot(at(3) - at(0)) < 0) std::swap(tet[2], tet[3]);
+          mesh.tetrahedra.push_back(tet);
+        }
+  return mesh;
+}
+
+TriangleMesh triangleGrid(int nx, int nz, Real spacing, const Vector3& origin) {
+  TriangleMesh mesh;
+  for (int k = 0; k < nz; ++k)
+    for (int i = 0; i < nx; ++i)
+      mesh.vertices.push_back(origin + spacing * Vector3(Real(i), 0, Real(k)));
+  for (int k = 0; k + 1 < nz; ++k)
+    for (int i = 0; i + 1 < nx; ++i) {
+      const int a = k * nx + i, b = a + 1, c = a + nx, d = c + 1;
+      // Counter-clockwise seen from +y: (x, z) → normal (b − a) × (c − a) = x̂ × ẑ = −ŷ, so
+      // the triangles are listed a, c, b and b, c, d.
+      mesh.triangles.push_back({a, c, b});
+      mesh.triangles.push_back({b, c, d});
+    }
+  return mesh;
+}
+
 }  // namespace pbd
 

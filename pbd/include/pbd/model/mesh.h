@@ -57,5 +57,18 @@ std::vector<BarycentricAttachment> attachToTets(const TetMesh& mesh,
 bool tetBarycentric(const std::array<Vector3, 4>& tet, const Vector3& point,
                     std::array<Real, 4>& weights);
 
+/// A box of nx × ny × nz vertices at origin + (i step.x, j step.y, k step.z), vertex
+/// (i, j, k) at index (k ny + j) nx + i, each cell split into the six Kuhn tets around its
+/// diagonal from (i, j, k) to (i+1, j+1, k+1) (the paths along the three axes in every order),
+/// each listed with positive volume. The same split in every cell makes the mesh conforming
+/// (neighbouring cells share their face diagonals). A step component may be negative. (The
+/// seed's BarDemo builds its bar in code too.) Requires nx, ny, nz ≥ 2.
+TetMesh tetLattice(int nx, int ny, int nz, const Vector3& step,
+                   const Vector3& origin = Vector3::Zero());
+
+/// A flat sheet of nx × nz vertices at origin + (i spacing, 0, k spacing), vertex (i, k) at
+/// index k nx + i, each cell split into two triangles facing +y. Requires nx, nz ≥ 2.
+TriangleMesh triangleGrid(int nx, int nz, Real spacing, const Vector3& origin = Vector3::Zero());
+
 }  // namespace pbd
 
