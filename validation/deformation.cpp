@@ -84,6 +84,14 @@ ElasticEnergy::ElasticEnergy(const pbd::Scene& scene) {
       !pbd::femTriangleConstraints(scene).empty() || !pbd::strainTriangleConstraints(scene).empty() ||
       !pbd::strainTetConstraints(scene).empty() || !pbd::shapeMatchingConstraints(scene).empty())
     hasPbdConstraints_ = true;
+  // Cosserat rods: the PBD ones define no energy; the XPBD ones do, but their bend–twist part
+  // needs the segment orientations, which the read-back State does not carry.
+  for (const pbd::LineModelDesc& model : scene.lineModels) {
+    if (model.usesModuli())
+      hasUnmeasuredRods_ = true;
+    else
+      hasPbdConstraints_ = true;
+  }
 }
 
 double ElasticEnergy::of(const State& state) const {
@@ -157,6 +165,12 @@ RestShape::RestShape(const pbd::Scene& scene) {
       if (tet.restVolume != 0) tets_.push_back(tet);
     }
     modelRestVolumes_.push_back(total);
+  }
+  // Cosserat rods: each segment is an edge (its stretch is the rod's axial strain).
+  for (const pbd::LineModelDesc& model : scene.lineModels) {
+    std::vector<std::array<int, 2>> segments;
+    for (std::size_t k = 0; k < model.segmentCount(); ++k) segments.push_back({int(k), int(k) + 1});
+    addEdges(segments, model.firstParticle);
   }
 }
 

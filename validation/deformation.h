@@ -10,8 +10,10 @@
 //                   μ ε:ε + ½ λ (tr ε)², ε = ½ (FᵀF − 𝟙), F = D_s D_m⁻¹ of the state's tet
 //                   (the true F, also for an inverted tet).
 //                   PBD constraints (k a fraction per iteration) define no energy.
-//   stretch         |ℓ/ℓ₀ − 1| of every edge of every model (not both ends static), whatever
-//                   the method: the same measurement for every engine.
+//                   Cosserat rods: PBD ones define none; the XPBD ones' is not measured (it
+//                   needs the segment orientations, which State does not hold).
+//   stretch         |ℓ/ℓ₀ − 1| of every edge (rod segments too) of every model (not both ends
+//                   static), whatever the method: the same measurement for every engine.
 //   tet volume      |V/V₀ − 1| of every tet (signed volumes: an inverted tet counts ≥ 1);
 //   solid volume    |ΣV/ΣV₀ − 1| of each tet model.
 #pragma once
@@ -37,6 +39,9 @@ class ElasticEnergy {
   }
   /// Whether the scene has PBD particle constraints, which define no energy.
   bool hasPbdConstraints() const { return hasPbdConstraints_; }
+  /// Whether the scene has XPBD Cosserat rods, whose elastic energy is not measured (it needs
+  /// the segment orientations, which State does not hold).
+  bool hasUnmeasuredRods() const { return hasUnmeasuredRods_; }
 
  private:
   struct Spring {
@@ -62,6 +67,7 @@ class ElasticEnergy {
   std::vector<Volume> volumes_;
   std::vector<Bending> bending_;
   bool hasPbdConstraints_ = false;
+  bool hasUnmeasuredRods_ = false;
   std::size_t particlesNeeded_ = 0;
 };
 

@@ -68,7 +68,8 @@ void addEnergyMetrics(const MetricInputs& in, MetricSet& out) {
     out.notes.push_back(
         "energy: not declared conserved (Validation.energyConserved); the drift includes the "
         "scene's physical dissipation and work");
-  if ((!in.scene->triangleModels.empty() || !in.scene->tetModels.empty()) &&
+  if ((!in.scene->triangleModels.empty() || !in.scene->tetModels.empty() ||
+       !in.scene->lineModels.empty()) &&
       !in.samples->front().particles.empty()) {
     const ElasticEnergy elastic(*in.scene);
     if (elastic.defined())
@@ -78,13 +79,21 @@ void addEnergyMetrics(const MetricInputs& in, MetricSet& out) {
       out.notes.push_back(
           "energy: PBD particle constraints (k a fraction per iteration) define no elastic "
           "energy; the drift includes what they store and dissipate");
+    if (elastic.hasUnmeasuredRods())
+      out.notes.push_back(
+          "energy: the XPBD Cosserat rods' elastic energy is not included (its bend-twist part "
+          "needs the segment orientations, which the read-back state does not hold)");
+    if (!in.scene->lineModels.empty())
+      out.notes.push_back(
+          "energy: the rod segments' rotational kinetic energy (½ |ω|²/(4 w_q), >= 0) is not "
+          "included (the read-back state holds no segment orientations)");
   }
 }
 
 /// Stretch of the models' edges and volume change of their tets over the samples.
 void addDeformationMetrics(const MetricInputs& in, MetricSet& out) {
   const pbd::Scene& scene = *in.scene;
-  if (scene.triangleModels.empty() && scene.tetModels.empty()) return;
+  if (scene.triangleModels.empty() && scene.tetModels.empty() && scene.lineModels.empty()) return;
   if (in.samples->front().particles.empty()) {
     out.notes.push_back(
         "particle_stretch_max: the engine reads back no particles: no deformation metrics");

@@ -256,7 +256,8 @@ TEST(SceneLoaderEveryKey, TriangleAndTetModelsAndTheirParticles) {
   const Scene& scene = everyKeyScene().scene;
   ASSERT_EQ(scene.triangleModels.size(), 1u);
   ASSERT_EQ(scene.tetModels.size(), 1u);
-  ASSERT_EQ(scene.particles.size(), 9u + 4u);  // 3 × 3 cloth, then one tetrahedron
+  // 3 × 3 cloth, then one tetrahedron, then the rods (3 + 4 points: test_line_models.cpp)
+  ASSERT_EQ(scene.particles.size(), 9u + 4u + 7u);
 
   const TriangleModelDesc& cloth = scene.triangleModels[0];
   EXPECT_EQ(cloth.id, 7);

@@ -305,6 +305,8 @@ LoadedScene parseScene(const std::string& jsonText, const std::string& sourcePat
   if (auto block = root.find("RigidBodies")) readRigidBodies(*block, context, scene);
   if (auto block = root.find("TriangleModels")) readTriangleModels(*block, context, scene);
   if (auto block = root.find("TetModels")) readTetModels(*block, context, scene);
+  if (auto block = root.find("LineModels")) readLineModels(*block, scene);
+  warnUnusedRodSettings(root, scene);
   if (auto block = root.find("ContactPairs")) readContactPairs(*block, scene);
   readJoints(root, scene);
   warnUnusedModelSettings(root, scene);

@@ -79,6 +79,10 @@ void readSimulation(const JsonValue& block, Scene& scene);
 void readRigidBodies(const JsonValue& block, LoadContext& context, Scene& scene);
 void readTriangleModels(const JsonValue& block, LoadContext& context, Scene& scene);
 void readTetModels(const JsonValue& block, LoadContext& context, Scene& scene);
+/// Extension: Cosserat rods (line_model_reader.cpp); call after the tet models.
+void readLineModels(const JsonValue& block, Scene& scene);
+/// Warns at each rod_* key of the Simulation block when the scene has no line models.
+void warnUnusedRodSettings(JsonObject& root, const Scene& scene);
 /// Extension: explicit friction/restitution per pair of rigid bodies.
 void readContactPairs(const JsonValue& block, Scene& scene);
 /// The index of the rigid body with id `idValue`'s value; fails (naming the key) when no body or

@@ -124,6 +124,11 @@ std::string writeSceneJson(const Scene& scene) {
       ++it;
   }
   writeKeys(viewerKeys(), scene.viewer, simulation);
+  if (scene.lineModels.empty())  // they would only draw the "ignored" warning when read back
+    for (const char* key : {"rod_stretchingStiffness", "rod_shearingStiffnessX",
+                            "rod_shearingStiffnessY", "rod_bendingStiffnessX",
+                            "rod_bendingStiffnessY", "rod_twistingStiffness"})
+      simulation.erase(key);
   root["Simulation"] = simulation;
 
   Json bodies = Json::array();
@@ -153,6 +158,26 @@ std::string writeSceneJson(const Scene& scene) {
       models.push_back(o);
     }
     root["TetModels"] = models;
+  }
+  if (!scene.lineModels.empty()) {
+    Json models = Json::array();
+    for (const LineModelDesc& m : scene.lineModels) {
+      Json o = Json::object();
+      writeInteger(o, "id", m.id);
+      Json points = Json::array();
+      for (const Vector3& p : m.points)
+        points.push_back({double(p.x()), double(p.y()), double(p.z())});
+      o["points"] = points;
+      o["staticParticles"] = integers(m.staticParticles);
+      o["staticSegments"] = integers(m.staticSegments);
+      if (m.radius) writeNumber(o, "radius", *m.radius);
+      if (m.density) writeNumber(o, "density", *m.density);
+      if (m.youngsModulus) writeNumber(o, "youngsModulus", *m.youngsModulus);
+      if (m.shearModulus) writeNumber(o, "shearModulus", *m.shearModulus);
+      if (m.usesModuli()) writeNumber(o, "shearFactor", m.shearFactor);
+      models.push_back(o);
+    }
+    root["LineModels"] = models;
   }
   if (!scene.contactPairs.empty()) {
     Json pairs = Json::array();

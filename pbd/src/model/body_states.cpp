@@ -31,4 +31,12 @@ void ParticleStates::resize(std::size_t n) {
   mass.resize(n, 0);
 }
 
+void SegmentStates::resize(std::size_t n) {
+  rotation.resize(n, Quaternion::Identity());
+  oldRotation.resize(n, Quaternion::Identity());
+  angularVelocity.resize(n, Vector3::Zero());
+  torque.resize(n, Vector3::Zero());
+  inverseMass.resize(n, 0);
+}
+
 }  // namespace pbd

@@ -44,6 +44,18 @@ void addParticles(const Scene& scene, ParticleStates& p) {
   }
 }
 
+void addRodSegments(const Scene& scene, SegmentStates& segments) {
+  std::size_t count = 0;
+  for (const LineModelDesc& model : scene.lineModels) count += model.segmentCount();
+  segments.resize(count);
+  for (const LineModelDesc& model : scene.lineModels)
+    for (std::size_t k = 0; k < model.segmentCount(); ++k) {
+      const std::size_t s = std::size_t(model.firstSegment) + k;
+      segments.rotation[s] = segments.oldRotation[s] = model.frames[k];
+      segments.inverseMass[s] = model.segmentInverseMass(k);
+    }
+}
+
 template <typename T>
 void hashBytes(std::uint64_t& hash, const T& value) {
   unsigned char bytes[sizeof(T)];
@@ -114,6 +126,7 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
   world.settings = scene.simulation;
   addRigidBodies(scene, world.bodies.rigid);
   addParticles(scene, world.bodies.particles);
+  addRodSegments(scene, world.bodies.segments);
 
   std::vector<Joint> created;
   std::vector<JointEnds> ends;
@@ -135,6 +148,7 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
   world.shapeMatching = shapeMatchingConstraints(scene);
   world.clothBending = clothBendingConstraints(scene);
   world.clothDihedrals = clothDihedralConstraints(scene);
+  world.rods = rodConstraints(scene);
   world.collision = CollisionDetector(scene, options);
   world.materials = ContactMaterials(scene);
   world.contacts.reserve(world.collision);
@@ -166,6 +180,10 @@ std::uint64_t World::stateHash() const {
   hashVectors(hash, b.angularVelocity);
   hashVectors(hash, bodies.particles.position);
   hashVectors(hash, bodies.particles.velocity);
+  for (const Quaternion& q : bodies.segments.rotation)
+    for (Eigen::Index k = 0; k < 4; ++k)
+      hashBytes(hash, q.coeffs()(k));
+  hashVectors(hash, bodies.segments.angularVelocity);
   return hash;
 }
 

@@ -23,6 +23,7 @@ void projectPositions(World& world, Real h) {
     solveIsometricBending(world.clothBending, world.bodies.particles, h, iteration == 0);
     solveDihedralBending(world.clothDihedrals, world.bodies.particles);
     solveGenericConstraints(world.genericConstraints, world.bodies.particles);
+    solveRods(world.rods, world.bodies.particles, world.bodies.segments, h, iteration == 0);
   }
 }
 

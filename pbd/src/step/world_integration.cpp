@@ -34,6 +34,16 @@ void predictPositions(World& world, Real h) {
     integration::semiImplicitEuler(h, p.inverseMass[i], p.position[i], p.velocity[i],
                                    p.acceleration[i]);
   }
+  // Rod segments: the seed's semiImplicitEulerRotation with the isotropic inertia 1/(4 w_q)
+  // (so no gyroscopic term) and the segment's torque (0 unless set in code); no gravity.
+  auto& r = world.bodies.segments;
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    r.oldRotation[i] = r.rotation[i];
+    const Real wq = r.inverseMass[i];
+    const Vector3 inertia = Vector3::Constant(wq > 0 ? Real(1) / (4 * wq) : Real(0));
+    integration::semiImplicitEulerRotation(h, wq, inertia, Vector3::Constant(4 * wq),
+                                           r.rotation[i], r.angularVelocity[i], r.torque[i]);
+  }
 }
 
 void updateVelocities(World& world, Real h, bool secondOrder) {
@@ -57,6 +67,10 @@ void updateVelocities(World& world, Real h, bool secondOrder) {
       integration::velocityUpdateFirstOrder(h, p.inverseMass[i], p.position[i], p.oldPosition[i],
                                             p.velocity[i]);
   }
+  auto& r = world.bodies.segments;  // first order in both modes, as the seed's angular update
+  for (std::size_t i = 0; i < r.size(); ++i)
+    integration::angularVelocityUpdateFirstOrder(h, r.inverseMass[i], r.rotation[i],
+                                                 r.oldRotation[i], r.angularVelocity[i]);
 }
 
 }  // namespace pbd

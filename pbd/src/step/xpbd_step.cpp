@@ -45,6 +45,7 @@ void solvePositions(World& world, Real h) {
   solveIsometricBending(world.clothBending, world.bodies.particles, h, true);
   solveDihedralBending(world.clothDihedrals, world.bodies.particles);
   solveGenericConstraints(world.genericConstraints, world.bodies.particles);
+  solveRods(world.rods, world.bodies.particles, world.bodies.segments, h, true);
   for (XpbdContact& contact : world.xpbd.contacts.contacts)
     contact.solvePosition(world.bodies, h, settings.contactCompliance);
 }

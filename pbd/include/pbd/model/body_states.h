@@ -63,10 +63,25 @@ struct ParticleStates {
   void resize(std::size_t n);
 };
 
+/// The orientations of Cosserat-rod segments (constraints/cosserat_rod.h): one quaternion per
+/// segment, integrated like a rigid body's with the isotropic inertia 1/(4 w_q) (w_q the
+/// quaternion's 4-vector inverse mass, the seed's "orientation mass" inverse) and no gravity.
+struct SegmentStates {
+  std::vector<Quaternion> rotation;      ///< director frame → world (d₃ along the segment)
+  std::vector<Quaternion> oldRotation;   ///< at the start of the current substep
+  std::vector<Vector3> angularVelocity;  ///< world
+  std::vector<Vector3> torque;           ///< constant external torque, world (0 unless set in code)
+  std::vector<Real> inverseMass;         ///< w_q; 0 for static segments
+
+  std::size_t size() const { return rotation.size(); }
+  void resize(std::size_t n);
+};
+
 /// Everything a constraint may read or move.
 struct BodyStates {
   RigidBodyStates rigid;
   ParticleStates particles;
+  SegmentStates segments;  ///< rod segment orientations (after the particles of their rods)
 };
 
 }  // namespace pbd

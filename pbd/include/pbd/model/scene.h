@@ -229,6 +229,56 @@ struct TetModelDesc {
   int firstParticle = 0;
 };
 
+/// Extension (pbdval's; the seed builds rods in code only): a Cosserat rod of the `LineModels`
+/// block (constraints/cosserat_rod.h, docs/scene-format.md#linemodels). Particles p₀ … p_N at
+/// `points`, one segment (p_k, p_{k+1}) with an orientation per consecutive pair.
+struct LineModelDesc {
+  int id = 0;
+  std::string jsonPath;
+  std::vector<Vector3> points;       ///< world, at least 2, consecutive points distinct
+  std::vector<int> staticParticles;  ///< indices into `points`
+  std::vector<int> staticSegments;   ///< segment indices whose orientation is fixed
+  std::optional<Real> radius;        ///< m (cross-section radius)
+  /// kg/m³: particle masses lumped from the segments' volumes ρπr²ℓ (half to each end) and each
+  /// segment's quaternion given the inertia ½ m_s r² (isotropic). Unset: the seed's mass 1 per
+  /// particle and quaternion "mass" 1.
+  std::optional<Real> density;
+  /// Pa; both given: the XPBD variant with physical moduli, else the PBD variant with the
+  /// Simulation block's rod_* fractions.
+  std::optional<Real> youngsModulus, shearModulus;
+  Real shearFactor = 1;  ///< Timoshenko κ of the shear rows (κGA), XPBD only
+  /// Computed by appendLineModel: each segment's rest frame (d₃ along the segment; the first
+  /// frame d₁ = normalise(d₃ × e_y), or d₃ × e_x when |d₃ · e_y| > 0.99, d₂ = d₃ × d₁; the
+  /// next frames by parallel transport, the minimal rotation between consecutive tangents).
+  std::vector<Quaternion> frames;
+  int firstParticle = 0;  ///< index of p₀ in Scene::particles
+  int firstSegment = 0;   ///< index of its first segment across all line models
+
+  bool usesModuli() const { return youngsModulus.has_value() && shearModulus.has_value(); }
+  std::size_t segmentCount() const { return points.size() - 1; }
+  /// w_q of segment k (constraints/cosserat_rod.h): 0 when static, 1 without a density (the
+  /// seed's), else 1/(4 I) with I = ½ ρπr²ℓ r².
+  Real segmentInverseMass(std::size_t segment) const;
+};
+
+/// The parallel-transported rest frames of a polyline (LineModelDesc::frames). Throws
+/// std::invalid_argument naming the segment for a zero-length segment or a reversal (two
+/// consecutive tangents with cosine below −0.999, where transport is undefined).
+std::vector<Quaternion> lineModelFrames(const std::vector<Vector3>& points);
+
+/// `points` + 1 points on a helix about the vertical axis through `center`: point i at angle
+/// φ = 2π turns i/points, at center + (R cos φ, −pitch φ/(2π), R sin φ) (it starts at
+/// center + (R, 0, 0) and descends by `pitch` per turn).
+std::vector<Vector3> helixPoints(Real radius, Real pitch, Real turns, int segments,
+                                 const Vector3& center);
+
+struct Scene;
+
+/// Appends the model's particles to scene.particles (masses lumped or 1, static ones 0), sets
+/// its frames, firstParticle and firstSegment, and adds it to scene.lineModels. Rod particles
+/// come after the triangle- and tet-model particles: call it after those are read.
+void appendLineModel(Scene& scene, LineModelDesc model);
+
 /// Which step World::step takes. `Seed` is the seed's algorithm (step/step_controller.h);
 /// `Xpbd` is Müller et al. 2020's substepping with position-level contacts
 /// (step/xpbd_step.h). Selected by the method (`pbd` / `pbd.xpbd`), not by the scene file.
@@ -350,7 +400,9 @@ struct Scene {
   std::vector<JointDesc> joints;  ///< in creation order (block order of JointType, then file order)
   std::vector<TriangleModelDesc> triangleModels;
   std::vector<TetModelDesc> tetModels;
-  std::vector<ParticleDesc> particles;  ///< all model vertices: triangle models first, then tets
+  std::vector<LineModelDesc> lineModels;  ///< extension: Cosserat rods
+  /// All model vertices: triangle models first, then tets, then line models (rods).
+  std::vector<ParticleDesc> particles;
   std::vector<ContactPairDesc> contactPairs;  ///< extension: explicit per-pair materials
   /// The top-level `Validation` block as JSON text (empty when absent). The library does not
   /// read it; validation/ parses it (docs/scene-format.md).

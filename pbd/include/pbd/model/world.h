@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "pbd/collision/collision_detection.h"
+#include "pbd/constraints/cosserat_rod.h"
 #include "pbd/constraints/dihedral_bending.h"
 #include "pbd/constraints/fem_triangle.h"
 #include "pbd/constraints/fem_tet.h"
@@ -56,6 +57,9 @@ struct World {
   /// User constraints (constraints/generic_constraint.h), added in C++ after buildWorld (no
   /// scene key); solved after every other particle constraint.
   std::vector<GenericParticleConstraint> genericConstraints;
+  /// Cosserat rods of the scene's line models (constraints/cosserat_rod.h), on the particles
+  /// and bodies.segments; solved after the generic constraints.
+  RodConstraints rods;
   CollisionDetector collision;       ///< shapes, surface samples, hierarchies, broad phase
   ContactMaterials materials;        ///< friction and restitution per pair
   ContactSet contacts;               ///< the contacts of the last step
@@ -68,8 +72,8 @@ struct World {
   void step();
 
   SceneFrameState sceneFrameState(std::size_t body) const;
-  /// FNV-1a hash of the raw bits of every position, rotation and velocity: equal hashes for
-  /// bitwise-equal states (the determinism check).
+  /// FNV-1a hash of the raw bits of every position, rotation (rod segments' too) and velocity:
+  /// equal hashes for bitwise-equal states (the determinism check).
   std::uint64_t stateHash() const;
 };
 
