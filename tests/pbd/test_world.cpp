@@ -8,6 +8,7 @@
 #include <string>
 
 #include "common/scene_fixtures.h"
+#include "common/stiff_rod_scenes.h"
 #include "pbd/model/world.h"
 
 // Counting allocator for this test binary: every operator new (plain and nothrow, which
@@ -413,6 +414,29 @@ TEST(World, BallChainResidualIsBoundedByNeighbourDrift) {
   EXPECT_LE(worst, 10 * maxDelta);
   std::printf("  10-link ball chain: max joint error %.3e m (bound %.3e m)\n", double(worst),
               double(10 * maxDelta));
+}
+
+}  // namespace
+}  // namespace pbd
+
+namespace pbd {
+namespace {
+
+// Stiff rods (joints/stiff_rod_tree_solver.h, joints/stretch_bending_twisting_joint.h): the
+// direct tree solver preallocates every block, the per-joint constraint is fixed-size; neither
+// step method allocates, for a chain and a Y-shaped tree.
+TEST(StiffRodWorld, StepAllocatesNothing) {
+  const test::RodMaterial material;
+  for (StiffRodSolver solver : {StiffRodSolver::Direct, StiffRodSolver::Iterative})
+    for (StepMethod method : {StepMethod::Seed, StepMethod::Xpbd}) {
+      for (Scene scene : {test::cantileverScene(6, 1, material, solver, Real(1e-3), 3),
+                          test::yTreeScene(3, Real(0.1), material, solver)}) {
+        scene.simulation.stepMethod = method;
+        World a = buildWorld(scene), b = buildWorld(scene);
+        expectStepsAllocateNothingAndAgree(a, b, int(solver) * 10 + int(method));
+        EXPECT_LT(a.bodies.rigid.position.back().y(), 0);  // it moved (sagged)
+      }
+    }
 }
 
 }  // namespace

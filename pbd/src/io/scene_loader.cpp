@@ -230,6 +230,7 @@ LoadedScene parseScene(const std::string& jsonText, const std::string& sourcePat
   if (auto block = root.find("TetModels")) readTetModels(*block, context, scene);
   if (auto block = root.find("ContactPairs")) readContactPairs(*block, scene);
   readJoints(root, scene);
+  readStiffRods(root, scene);
   root.warnUnknownKeys();
   return LoadedScene{std::move(scene), sink.takeWarnings()};
 }
