@@ -140,6 +140,8 @@ JointShape jointShape(JointType type) {
       return JointShape::Distance;
     case JointType::RigidBodySpring:
       return JointShape::Spring;
+    case JointType::StiffRod:  // its hard part is the point (zero-stretch) constraint
+      return JointShape::Ball;
   }
   return JointShape::Ball;
 }
@@ -160,6 +162,15 @@ JointGeometry captureJointGeometry(const pbd::Scene& scene, const pbd::JointDesc
   g.jsonPath = joint.jsonPath;
   g.stiffness = double(joint.stiffness);
   g.target = joint.target;
+  if (joint.type == JointType::StiffRod) {
+    const pbd::StiffRodJointParams& rod = joint.stiffRod;
+    const Real r2 = rod.averageRadius * rod.averageRadius;
+    const Real secondMoment = Real(EIGEN_PI) / 4 * r2 * r2;
+    g.rodStiffness = Vector3(rod.youngsModulus * secondMoment, 2 * rod.torsionModulus * secondMoment,
+                             rod.youngsModulus * secondMoment)
+                         .cwiseProduct(rod.stiffnessModifier);
+    g.rodSegmentLength = double(rod.averageSegmentLength);
+  }
   const int body0 = joint.body1, body1 = joint.body2;
   if (body0 < 0 || static_cast<std::size_t>(body0) >= scene.rigidBodies.size())
     throw std::invalid_argument("joint metrics: " + joint.jsonPath + ": unknown first body");
@@ -265,7 +276,22 @@ JointMeasurement measureJoint(const JointGeometry& joint, const State& state) {
   return m;
 }
 
+namespace {
+Vector3 positiveScalarVector(const Quaternion& q) {
+  return q.w() < 0 ? Vector3(-q.vec()) : Vector3(q.vec());
+}
+}  // namespace
+
 double springPotential(const JointGeometry& joint, const State& state) {
+  if (joint.type == JointType::StiffRod) {
+    const Quaternion s0 = bodyIn(state, joint.anchor0.body).rotation.normalized();
+    const Quaternion s1 = bodyIn(state, joint.anchor1.body).rotation.normalized();
+    const double length = joint.rodSegmentLength;
+    const Vector3 change =
+        (2 / length) * (positiveScalarVector(s0.conjugate() * s1) -
+                        positiveScalarVector(joint.initialRotation0.conjugate() * joint.initialRotation1));
+    return 0.5 * length * change.dot(joint.rodStiffness.cwiseProduct(change));
+  }
   if (joint.type != JointType::RigidBodySpring && joint.type != JointType::Damper) return 0;
   const double extension = measureJoint(joint, state).springExtension;
   return 0.5 * joint.stiffness * extension * extension;

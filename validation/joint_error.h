@@ -10,6 +10,8 @@
 //
 // Per type (linear error in m, angular in rad):
 //   ball, rigid-body–particle ball: ‖p₁ − p₀‖ (particle: its position in State::particles)
+//   stiff rod (CosseratJoints):    ‖p₁ − p₀‖, its zero-stretch constraint (bending and twist
+//                                  are elastic, not errors)
 //   hinge (+ both hinge motors):   ‖p₁ − p₀‖;  ∠(a₀, a₁) = atan2(‖a₀ × a₁‖, a₀·a₁)
 //   universal:                     ‖p₁ − p₀‖;  |π/2 − ∠(a₀, a₁)| (axis1 fixed in body 0, axis2 in
 //   body 1) slider, damper, slider motors: ‖(𝟙 − a₀a₀ᵀ) d‖, d = x₁ − p₀ (p₀ fixed in body 0 at body
@@ -20,7 +22,10 @@
 //   distance:                      |‖p₁ − p₀‖ − L|, L = ‖position2 − position1‖
 //   rigid-body spring:             not a constraint (its extension is a spring, see below)
 // The damper's axial offset s = a₀·d and the spring's extension ℓ − ℓ₀ are spring extensions,
-// not errors (mechanics.h adds ½ k s² to the energy).
+// not errors (mechanics.h adds ½ k s² to the energy). A stiff rod's bending and twisting are
+// elastic: mechanics.h adds ½ L ΔΩᵀ K ΔΩ, ΔΩ = (2/L)(vec e − vec e⁰), e = S₀⁻¹ S₁ of the two
+// segments' scene rotations (w ≥ 0), e⁰ at t = 0, K = (E I, 2 G I, E I), I = π r⁴/4 (Deul et al.
+// 2018; the same energy as pbd/joints/stretch_bending_twisting_joint.h, computed here anew).
 // Motor tracking (set point f(t) of the sample's time, the value the step ending at t aims at):
 //   target-angle hinge:    wrap(θ − clamp(f, −π, π)), θ = twist of D about the initial axis (rad)
 //   target-velocity hinge: (ω₁ − ω₀)·a₀ − f (rad/s)
@@ -90,6 +95,8 @@ struct JointGeometry {
   int particle = -1;      ///< global particle index (rigid-body–particle ball)
   double restLength = 0;  ///< distance joint and spring, m
   double stiffness = 0;   ///< spring and damper, N/m
+  Vector3 rodStiffness = Vector3::Zero();  ///< stiff rod: (E I, 2 G I, E I) ∘ modifier, N m²
+  double rodSegmentLength = 0;             ///< stiff rod: L, m
   pbd::MotorTarget target;
 };
 
@@ -110,7 +117,8 @@ JointMeasurement measureJoint(const JointGeometry& joint, const State& state);
 /// Relative rotation change D = W₀⁻¹ W₁ of the joint's two bodies (t = 0 world frame).
 Quaternion relativeRotationChange(const JointGeometry& joint, const State& state);
 
-/// ½ k (extension)² for springs and dampers, 0 for the other types (J).
+/// ½ k (extension)² for springs and dampers, the bending and twisting energy of stiff rods, 0 for
+/// the other types (J).
 double springPotential(const JointGeometry& joint, const State& state);
 
 }  // namespace pbdval

@@ -25,7 +25,8 @@ void forEachMovingParticle(const pbd::Scene& scene, const State& state, F&& f) {
 double springEnergy(const pbd::Scene& scene, const State& state) {
   double energy = 0;
   for (const pbd::JointDesc& joint : scene.joints)
-    if (joint.type == pbd::JointType::RigidBodySpring || joint.type == pbd::JointType::Damper)
+    if (joint.type == pbd::JointType::RigidBodySpring || joint.type == pbd::JointType::Damper ||
+        joint.type == pbd::JointType::StiffRod)
       energy += springPotential(captureJointGeometry(scene, joint), state);
   return energy;
 }

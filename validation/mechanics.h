@@ -32,7 +32,7 @@ struct EnergyTerms {
   double translational = 0;  ///< Σ ½ m ‖v‖² (bodies and particles), J
   double rotational = 0;     ///< Σ ½ ωᵀ I_w ω, J
   double gravitational = 0;  ///< Σ −m g·x (bodies' centres of mass and particles), J
-  double spring = 0;         ///< RigidBodySprings ½ k (ℓ − ℓ₀)², DamperJoints ½ k s², J
+  double spring = 0;  ///< RigidBodySprings ½ k (ℓ − ℓ₀)², DamperJoints ½ k s², stiff rods, J
   double elastic = 0;        ///< the XPBD particle constraints' energy (ElasticEnergy), J
   double kinetic() const { return translational + rotational; }
   double total() const { return translational + rotational + gravitational + spring + elastic; }

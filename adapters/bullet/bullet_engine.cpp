@@ -285,6 +285,11 @@ std::vector<std::string> BulletEngine::unsupported(const pbd::Scene& scene,
   for (const pbd::LineModelDesc& model : scene.lineModels)
     missing.push_back(model.jsonPath +
                       ": particles (Cosserat rod): the Bullet adapter maps rigid bodies only");
+  for (const pbd::JointDesc& joint : scene.joints)
+    if (joint.type == pbd::JointType::StiffRod)
+      missing.push_back(joint.jsonPath +
+                        ": stiff-rod joints (CosseratJoints, elastic bending and twisting "
+                        "between rod segments) are not mapped by the Bullet adapter");
   for (const pbd::RigidBodyDesc& body : scene.rigidBodies)
     if (std::string why = bullet::unsupportedCollision(body); !why.empty())
       missing.push_back(std::move(why));

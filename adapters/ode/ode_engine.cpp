@@ -42,6 +42,11 @@ std::vector<std::string> OdeEngine::unsupported(const pbd::Scene& scene,
     missing.push_back(model.jsonPath + ": ODE has no particles (deformable solids)");
   for (const pbd::LineModelDesc& model : scene.lineModels)
     missing.push_back(model.jsonPath + ": ODE has no particles (Cosserat rods)");
+  for (const pbd::JointDesc& joint : scene.joints)
+    if (joint.type == pbd::JointType::StiffRod)
+      missing.push_back(joint.jsonPath +
+                        ": stiff-rod joints (CosseratJoints, elastic bending and twisting "
+                        "between rod segments) are not mapped by the ODE adapter");
   for (const pbd::RigidBodyDesc& body : scene.rigidBodies)
     for (std::string& reason : ode::unsupportedShapeFeatures(body))
       missing.push_back(std::move(reason));

@@ -109,6 +109,8 @@ void OdeJoints::add(const pbd::JointDesc& desc) {
     case JointType::BallOnLine:
     case JointType::RigidBodyParticleBall:
       break;  // handled above
+    case JointType::StiffRod:
+      break;  // unsupported: reported before load (OdeEngine::unsupported)
   }
 }
 

@@ -58,6 +58,12 @@ inline JointDesc makeJointDesc(JointType type, int body1, int body2) {
   j.jsonPath = std::string(jointBlockName(type)) + "[0]";
   j.bodyId1 = j.body1 = body1;
   j.bodyId2 = j.body2 = body2;
+  if (type == JointType::StiffRod) {  // a soft rod (E = 10 MPa, r = 5 cm, L = 0.4 m)
+    j.stiffRod.youngsModulus = Real(1e7);
+    j.stiffRod.torsionModulus = Real(4e6);
+    j.stiffRod.averageRadius = Real(0.05);
+    j.stiffRod.averageSegmentLength = Real(0.4);
+  }
   return j;
 }
 

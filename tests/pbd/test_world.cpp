@@ -8,6 +8,7 @@
 #include <string>
 
 #include "common/scene_fixtures.h"
+#include "common/stiff_rod_scenes.h"
 #include "pbd/model/world.h"
 
 // Counting allocator for this test binary: every operator new (plain and nothrow, which
@@ -456,6 +457,23 @@ TEST(CosseratRodWorld, StepAllocatesNothingAndHashesOrientations) {
       b.bodies.segments.rotation[3].x() =
           std::nextafter(b.bodies.segments.rotation[3].x(), Real(1e9));
       EXPECT_NE(a.stateHash(), b.stateHash()) << xpbd;
+    }
+}
+
+// Stiff rods (joints/stiff_rod_tree_solver.h, joints/stretch_bending_twisting_joint.h): the
+// direct tree solver preallocates every block, the per-joint constraint is fixed-size; neither
+// step method allocates, for a chain and a Y-shaped tree.
+TEST(StiffRodWorld, StepAllocatesNothing) {
+  const test::RodMaterial material;
+  for (StiffRodSolver solver : {StiffRodSolver::Direct, StiffRodSolver::Iterative})
+    for (StepMethod method : {StepMethod::Seed, StepMethod::Xpbd}) {
+      for (Scene scene : {test::cantileverScene(6, 1, material, solver, Real(1e-3), 3),
+                          test::yTreeScene(3, Real(0.1), material, solver)}) {
+        scene.simulation.stepMethod = method;
+        World a = buildWorld(scene), b = buildWorld(scene);
+        expectStepsAllocateNothingAndAgree(a, b, int(solver) * 10 + int(method));
+        EXPECT_LT(a.bodies.rigid.position.back().y(), 0);  // it moved (sagged)
+      }
     }
 }
 

@@ -247,6 +247,7 @@ void readJoints(JsonObject& root, Scene& scene) {
   const BodyLookup bodies(scene);
   for (int t = 0; t < kJointTypeCount; ++t) {
     const auto type = static_cast<JointType>(t);
+    if (type == JointType::StiffRod) continue;  // readStiffRods
     const auto block = root.find(jointBlockName(type));
     if (!block) continue;
     for (const JsonValue& element : block->elements("joint objects"))

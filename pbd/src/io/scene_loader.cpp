@@ -310,6 +310,7 @@ LoadedScene parseScene(const std::string& jsonText, const std::string& sourcePat
   if (auto block = root.find("ContactPairs")) readContactPairs(*block, scene);
   readJoints(root, scene);
   warnUnusedModelSettings(root, scene);
+  readStiffRods(root, scene);
   root.warnUnknownKeys();
   return LoadedScene{std::move(scene), sink.takeWarnings()};
 }

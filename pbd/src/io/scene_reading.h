@@ -125,11 +125,17 @@ inline unsigned jointKeys(JointType type) {
     case JointType::TargetPositionMotorSlider:
     case JointType::TargetVelocityMotorSlider:
       return kTwoBodies | kAxis | kMotor;
+    case JointType::StiffRod:  // read by readStiffRods (stiff_rod_reader.cpp)
+      return kTwoBodies | kPosition;
   }
   return 0;
 }
 
-/// Reads all 13 joint blocks of the top-level object, in JointType order.
+/// Reads the 13 joint blocks of the seed's SceneLoader, in JointType order.
 void readJoints(JsonObject& root, Scene& scene);
+/// Reads the seed's stiff-rods blocks `CosseratJoints` (JointType::StiffRod, appended to
+/// Scene::joints) and `TreeModels` (Scene::stiffRodTrees); refuses CompactTreeModels,
+/// SkinningMeshes and RodAnimators.
+void readStiffRods(JsonObject& root, Scene& scene);
 
 }  // namespace pbd::scene_io

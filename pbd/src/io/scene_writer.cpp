@@ -82,6 +82,10 @@ Json jointJson(const JointDesc& j) {
     writeVector(o, "axis2", j.axis2);
   }
   if (keys & kStiffness) writeNumber(o, "stiffness", j.stiffness);
+  if (j.type == JointType::StiffRod) {
+    writeInteger(o, "id", j.stiffRod.id);
+    writeVector(o, "stiffnessModifier", j.stiffRod.stiffnessModifier);
+  }
   if (keys & kMotor) {
     if (j.target.hasSequence()) {
       Json flat = Json::array();
@@ -197,6 +201,28 @@ std::string writeSceneJson(const Scene& scene) {
     for (const JointDesc& j : scene.joints)
       if (j.type == type) block.push_back(jointJson(j));
     if (!block.empty()) root[jointBlockName(type)] = block;
+  }
+  if (!scene.stiffRodTrees.empty()) {
+    const auto bodyIds = [&](const std::vector<int>& indices) {
+      Json ids = Json::array();
+      for (int b : indices) ids.push_back(scene.rigidBodies[static_cast<std::size_t>(b)].id);
+      return ids;
+    };
+    Json trees = Json::array();
+    for (const StiffRodTreeDesc& tree : scene.stiffRodTrees) {
+      Json o = Json::object();
+      writeInteger(o, "id", tree.id);
+      writeNumber(o, "youngsModulus", tree.youngsModulus);
+      writeNumber(o, "torsionModulus", tree.torsionModulus);
+      writeInteger(o, "solverType", static_cast<int>(tree.solver));
+      o["rbIds"] = bodyIds(tree.bodies);
+      o["staticSegments"] = bodyIds(tree.staticSegments);
+      Json jointIds = Json::array();
+      for (int j : tree.joints) jointIds.push_back(scene.joints[static_cast<std::size_t>(j)].stiffRod.id);
+      o["jIds"] = jointIds;
+      trees.push_back(o);
+    }
+    root["TreeModels"] = trees;
   }
   if (!scene.validationJson.empty()) root["Validation"] = Json::parse(scene.validationJson);
   return root.dump(2) + "\n";

@@ -76,6 +76,15 @@ void solve(BallJoint& joint, BodyStates& bodies, Real substepSize, const XpbdSet
       joint.solvePositionCompliant(bodies, complianceTilde, multipliers.head<3>());
 }
 
+/// The stiff-rod joint: its own compliances (stretch regularisation, 1/(K L h²)), not the
+/// settings' joint compliances.
+void solve(StretchBendingTwistingJoint& joint, BodyStates& bodies, Real substepSize,
+           const XpbdSettings& /*settings*/, XpbdJointMultipliers& multipliers) {
+  const stiff_rod::Vector6 compliance =
+      stiff_rod::rowCompliance(joint.stiffness(), joint.segmentLength(), substepSize);
+  multipliers += joint.project(bodies, compliance, multipliers);
+}
+
 }  // namespace
 
 void solveJointPositionXpbd(Joint& joint, BodyStates& bodies, Real substepSize,

@@ -33,6 +33,8 @@ const char* jointBlockName(JointType type) {
       return "TargetPositionMotorSliderJoints";
     case JointType::TargetVelocityMotorSlider:
       return "TargetVelocityMotorSliderJoints";
+    case JointType::StiffRod:
+      return "CosseratJoints";
   }
   return "?";
 }
@@ -65,6 +67,8 @@ const char* jointTypeName(JointType type) {
       return "target_position_motor_slider";
     case JointType::TargetVelocityMotorSlider:
       return "target_velocity_motor_slider";
+    case JointType::StiffRod:
+      return "stiff_rod";
   }
   return "?";
 }

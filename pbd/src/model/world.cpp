@@ -1,6 +1,8 @@
 #include "pbd/model/world.h"
 
 #include <cstring>
+#include <stdexcept>
+#include <string>
 
 #include "pbd/step/step_controller.h"
 #include "pbd/step/xpbd_step.h"
@@ -73,6 +75,16 @@ void hashVectors(std::uint64_t& hash, const Vectors& values) {
       hashBytes(hash, v(k));
 }
 
+/// Stiff-rod joints of a tree with the direct solver are solved by its StiffRodTreeSolver.
+bool solvedByTreeSolver(const Scene& scene, const JointDesc& desc) {
+  if (desc.type != JointType::StiffRod || desc.stiffRod.tree < 0) return false;
+  if (static_cast<std::size_t>(desc.stiffRod.tree) >= scene.stiffRodTrees.size())
+    throw std::invalid_argument("stiff-rod joint " + desc.jsonPath + ": tree index " +
+                                std::to_string(desc.stiffRod.tree) + " is not in the scene");
+  return scene.stiffRodTrees[static_cast<std::size_t>(desc.stiffRod.tree)].solver ==
+         StiffRodSolver::Direct;
+}
+
 }  // namespace
 
 std::vector<int> colouredJointOrder(const std::vector<JointEnds>& ends, std::size_t bodyCount) {
@@ -131,13 +143,23 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
   std::vector<Joint> created;
   std::vector<JointEnds> ends;
   created.reserve(scene.joints.size());
-  for (const JointDesc& desc : scene.joints) {
+  std::vector<int> sceneIndex;
+  for (std::size_t k = 0; k < scene.joints.size(); ++k) {
+    const JointDesc& desc = scene.joints[k];
+    if (solvedByTreeSolver(scene, desc)) continue;
     created.push_back(makeJoint(world.bodies, desc));
     ends.push_back(jointEnds(created.back()));
+    sceneIndex.push_back(static_cast<int>(k));
   }
   for (int index : colouredJointOrder(ends, world.bodies.rigid.size())) {
     world.joints.push_back(std::move(created[static_cast<std::size_t>(index)]));
-    world.jointSceneIndex.push_back(index);
+    world.jointSceneIndex.push_back(sceneIndex[static_cast<std::size_t>(index)]);
+  }
+  for (const StiffRodTreeDesc& tree : scene.stiffRodTrees) {
+    if (tree.solver != StiffRodSolver::Direct) continue;
+    std::vector<JointDesc> treeJoints;
+    for (int j : tree.joints) treeJoints.push_back(scene.joints[static_cast<std::size_t>(j)]);
+    world.stiffRodTrees.emplace_back(world.bodies, treeJoints, tree.jsonPath);
   }
   world.particleDistances = deformableDistanceConstraints(scene);
   world.femTriangles = femTriangleConstraints(scene);

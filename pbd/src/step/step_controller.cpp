@@ -10,9 +10,11 @@ namespace {
 void projectPositions(World& world, Real h) {
   for (Joint& joint : world.joints)
     std::visit([&](auto& j) { j.beginSubstep(h); }, joint);
+  for (StiffRodTreeSolver& tree : world.stiffRodTrees) tree.beginSubstep(h);
   for (int iteration = 0; iteration < world.settings.maxIterations; ++iteration) {
     for (Joint& joint : world.joints)
       std::visit([&](auto& j) { j.solvePosition(world.bodies, h); }, joint);
+    for (StiffRodTreeSolver& tree : world.stiffRodTrees) tree.solvePosition(world.bodies);
     solveParticleDistances(world.particleDistances, world.bodies.particles, h, iteration == 0);
     solveFemTriangles(world.femTriangles, world.bodies.particles);
     solveStrainTriangles(world.strainTriangles, world.bodies.particles);

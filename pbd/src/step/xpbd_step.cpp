@@ -33,6 +33,11 @@ void solvePositions(World& world, Real h) {
     lambda.setZero();
     solveJointPositionXpbd(world.joints[j], world.bodies, h, settings, lambda);
   }
+  // Stiff-rod trees: their own compliances, one direct solve per substep.
+  for (StiffRodTreeSolver& tree : world.stiffRodTrees) {
+    tree.beginSubstep(h);
+    tree.solvePosition(world.bodies);
+  }
   // Cloth and solid edges, then tet volumes, as their family says (PBD or XPBD), one iteration
   // per substep.
   solveParticleDistances(world.particleDistances, world.bodies.particles, h, true);

@@ -14,6 +14,7 @@
 #include "pbd/joints/rigid_body_particle_ball_joint.h"
 #include "pbd/joints/rigid_body_spring.h"
 #include "pbd/joints/slider_joint.h"
+#include "pbd/joints/stretch_bending_twisting_joint.h"
 #include "pbd/joints/target_angle_motor_hinge_joint.h"
 #include "pbd/joints/target_position_motor_slider_joint.h"
 #include "pbd/joints/target_velocity_motor_hinge_joint.h"
@@ -25,7 +26,8 @@ namespace pbd {
 using Joint = std::variant<BallJoint, BallOnLineJoint, HingeJoint, UniversalJoint, SliderJoint,
                            RigidBodyParticleBallJoint, RigidBodySpring, DistanceJoint, DamperJoint,
                            TargetAngleMotorHingeJoint, TargetVelocityMotorHingeJoint,
-                           TargetPositionMotorSliderJoint, TargetVelocityMotorSliderJoint>;
+                           TargetPositionMotorSliderJoint, TargetVelocityMotorSliderJoint,
+                           StretchBendingTwistingJoint>;
 static_assert(std::variant_size_v<Joint> == kJointTypeCount);
 
 namespace detail {

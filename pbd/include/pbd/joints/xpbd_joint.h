@@ -18,7 +18,8 @@
 //     α_r = jointAngularCompliance / 4 (jointAngularCompliance in rad/(N m));
 //   every other row: jointLinearCompliance (m/N);
 //   rigid-body spring: its row 1/k (k from the scene); damper joint: its axial row 1/k;
-//   a spring with k = 0 exerts nothing and is skipped.
+//   a spring with k = 0 exerts nothing and is skipped;
+//   stiff-rod joints: their own rows' compliances (stretch_bending_twisting_joint.h).
 // Drives: the target-angle and target-position motors are position rows (their targets in C);
 // the velocity motors drive their relative velocity in the velocity pass of every substep
 // (their solveVelocity, a hard velocity constraint). The seed's joints have no limits.

@@ -145,8 +145,9 @@ enum class JointType : int {
   TargetVelocityMotorHinge,
   TargetPositionMotorSlider,
   TargetVelocityMotorSlider,
+  StiffRod,  ///< `CosseratJoints` of the seed's stiff-rods loader (joints/stretch_bending_twisting_joint.h)
 };
-inline constexpr int kJointTypeCount = 13;
+inline constexpr int kJointTypeCount = 14;
 
 /// The scene block name of a joint type ("HingeJoints").
 const char* jointBlockName(JointType type);
@@ -166,6 +167,19 @@ struct MotorTarget {
   Real valueAt(Real time) const;
 };
 
+/// A stiff-rod joint's material and geometry (JointType::StiffRod; Deul, Müller, Bender 2018).
+/// The loader fills it from the joint's TreeModel and the two segments' shapes
+/// (docs/scene-format.md#cosseratjoints-and-treemodels).
+struct StiffRodJointParams {
+  int id = -1;                  ///< the CosseratJoint's `id`
+  int tree = -1;                ///< index into Scene::stiffRodTrees
+  Real youngsModulus = 0;       ///< E, Pa
+  Real torsionModulus = 0;      ///< G, Pa
+  Real averageRadius = 0;       ///< r of the circular cross-section, m (I = π r⁴ / 4)
+  Real averageSegmentLength = 0;  ///< L, m: mean length of the two segments along their y axes
+  Vector3 stiffnessModifier = Vector3::Ones();  ///< factors on (E I, 2 G I, E I)
+};
+
 struct JointDesc {
   JointType type = JointType::Ball;
   std::string jsonPath;  ///< "HingeJoints[0]"
@@ -182,6 +196,26 @@ struct JointDesc {
   Vector3 axis2 = Vector3::UnitY();     ///< unit; universal joint, fixed in body 2
   Real stiffness = 0;                   ///< spring and damper joints, N/m
   MotorTarget target;                   ///< motors only
+  StiffRodJointParams stiffRod;         ///< stiff-rod joints only
+};
+
+/// How the joints of a stiff-rod tree are solved (`TreeModels[i].solverType`).
+enum class StiffRodSolver : int {
+  Iterative = 0,  ///< pbdval extension: one StretchBendingTwisting constraint per joint (Gauss–Seidel)
+  Direct = 12,    ///< the seed's value: the tree-structured direct solver (stiff_rod_tree_solver.h)
+};
+
+/// A `TreeModels` entry of the seed's stiff-rods format: segments (rigid bodies) joined by
+/// stiff-rod joints, with one material.
+struct StiffRodTreeDesc {
+  int id = 0;
+  std::string jsonPath;
+  std::vector<int> bodies;          ///< indices into Scene::rigidBodies (`rbIds`)
+  std::vector<int> joints;          ///< indices into Scene::joints (`jIds`)
+  std::vector<int> staticSegments;  ///< indices into Scene::rigidBodies, made static
+  Real youngsModulus = 0;           ///< Pa
+  Real torsionModulus = 0;          ///< Pa
+  StiffRodSolver solver = StiffRodSolver::Direct;
 };
 
 /// One particle of a triangle or tet model (the seed gives every particle mass 1, static ones 0).
@@ -404,6 +438,7 @@ struct Scene {
   /// All model vertices: triangle models first, then tets, then line models (rods).
   std::vector<ParticleDesc> particles;
   std::vector<ContactPairDesc> contactPairs;  ///< extension: explicit per-pair materials
+  std::vector<StiffRodTreeDesc> stiffRodTrees;  ///< `TreeModels` (stiff rods)
   /// The top-level `Validation` block as JSON text (empty when absent). The library does not
   /// read it; validation/ parses it (docs/scene-format.md).
   std::string validationJson;

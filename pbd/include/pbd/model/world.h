@@ -20,6 +20,7 @@
 #include "pbd/constraints/tet_volume.h"
 #include "pbd/contacts/contact_set.h"
 #include "pbd/joints/joint.h"
+#include "pbd/joints/stiff_rod_tree_solver.h"
 #include "pbd/model/body_states.h"
 #include "pbd/model/scene.h"
 #include "pbd/step/xpbd_step.h"
@@ -39,6 +40,9 @@ struct World {
   BodyStates bodies;
   std::vector<Joint> joints;         ///< in solve order (greedy colouring of the scene order)
   std::vector<int> jointSceneIndex;  ///< joints[k] is Scene::joints[jointSceneIndex[k]]
+  /// Stiff-rod trees with the direct solver (Scene::stiffRodTrees with StiffRodSolver::Direct),
+  /// solved after the joints in every position iteration; their joints are not in `joints`.
+  std::vector<StiffRodTreeSolver> stiffRodTrees;
   /// Distance constraints between particles (cloth and solid edges,
   /// constraints/particle_distance.h), the triangles of cloth (FEM or strain-based), volume
   /// constraints of tets (constraints/tet_volume.h),
