@@ -228,6 +228,8 @@ LoadedScene parseScene(const std::string& jsonText, const std::string& sourcePat
   if (auto block = root.find("RigidBodies")) readRigidBodies(*block, context, scene);
   if (auto block = root.find("TriangleModels")) readTriangleModels(*block, context, scene);
   if (auto block = root.find("TetModels")) readTetModels(*block, context, scene);
+  // Keep last among the particle blocks: fluid particles follow every other model's.
+  if (auto block = root.find("FluidModels")) readFluidModels(*block, scene);
   if (auto block = root.find("ContactPairs")) readContactPairs(*block, scene);
   readJoints(root, scene);
   root.warnUnknownKeys();

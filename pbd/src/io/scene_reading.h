@@ -75,6 +75,11 @@ void readSimulation(const JsonValue& block, Scene& scene);
 void readRigidBodies(const JsonValue& block, LoadContext& context, Scene& scene);
 void readTriangleModels(const JsonValue& block, LoadContext& context, Scene& scene);
 void readTetModels(const JsonValue& block, LoadContext& context, Scene& scene);
+/// Extension: position-based fluids; must stay the last particle block read (its particles come
+/// after every other model's).
+void readFluidModels(const JsonValue& block, Scene& scene);
+/// FluidModels' scalar keys (read and written back).
+KeyTable<FluidModelDesc> fluidModelKeys();
 /// Extension: explicit friction/restitution per pair of rigid bodies.
 void readContactPairs(const JsonValue& block, Scene& scene);
 /// The index of the rigid body with id `idValue`'s value; fails (naming the key) when no body or

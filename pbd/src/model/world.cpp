@@ -135,6 +135,7 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
   world.shapeMatching = shapeMatchingConstraints(scene);
   world.clothBending = clothBendingConstraints(scene);
   world.clothDihedrals = clothDihedralConstraints(scene);
+  world.fluids = buildFluids(scene);
   world.collision = CollisionDetector(scene, options);
   world.materials = ContactMaterials(scene);
   world.contacts.reserve(world.collision);

@@ -18,6 +18,7 @@
 #include "pbd/constraints/strain_triangle.h"
 #include "pbd/constraints/tet_volume.h"
 #include "pbd/contacts/contact_set.h"
+#include "pbd/fluids/fluid_model.h"
 #include "pbd/joints/joint.h"
 #include "pbd/model/body_states.h"
 #include "pbd/model/scene.h"
@@ -56,6 +57,9 @@ struct World {
   /// User constraints (constraints/generic_constraint.h), added in C++ after buildWorld (no
   /// scene key); solved after every other particle constraint.
   std::vector<GenericParticleConstraint> genericConstraints;
+  /// Position-based fluids (fluids/fluid_model.h), one per scene FluidModel: solved in every
+  /// substep after the other particle constraints, XSPH after the velocity update.
+  std::vector<Fluid> fluids;
   CollisionDetector collision;       ///< shapes, surface samples, hierarchies, broad phase
   ContactMaterials materials;        ///< friction and restitution per pair
   ContactSet contacts;               ///< the contacts of the last step
