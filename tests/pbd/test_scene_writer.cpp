@@ -196,6 +196,26 @@ void expectSameScene(const Scene& a, const Scene& b) {
     EXPECT_EQ(x.density, y.density);
     EXPECT_EQ(x.firstParticle, y.firstParticle);
   }
+  ASSERT_EQ(a.fluidModels.size(), b.fluidModels.size());
+  for (std::size_t i = 0; i < a.fluidModels.size(); ++i) {
+    const FluidModelDesc &x = a.fluidModels[i], &y = b.fluidModels[i];
+    EXPECT_EQ(x.particleRadius, y.particleRadius);
+    EXPECT_EQ(x.density0, y.density0);
+    EXPECT_EQ(x.viscosity, y.viscosity);
+    EXPECT_EQ(x.iterations, y.iterations);
+    ASSERT_EQ(x.blocks.size(), y.blocks.size());
+    for (std::size_t k = 0; k < x.blocks.size(); ++k) {
+      EXPECT_VEC_EQ(x.blocks[k].min, y.blocks[k].min, x.jsonPath);
+      EXPECT_VEC_EQ(x.blocks[k].max, y.blocks[k].max, x.jsonPath);
+    }
+    ASSERT_EQ(x.container.has_value(), y.container.has_value());
+    if (x.container) {
+      EXPECT_VEC_EQ(x.container->min, y.container->min, x.jsonPath);
+      EXPECT_VEC_EQ(x.container->max, y.container->max, x.jsonPath);
+    }
+    EXPECT_EQ(x.firstParticle, y.firstParticle);
+    EXPECT_EQ(x.particleCount, y.particleCount);
+  }
   ASSERT_EQ(a.particles.size(), b.particles.size());
   for (std::size_t i = 0; i < a.particles.size(); ++i) {
     EXPECT_VEC_EQ(a.particles[i].position, b.particles[i].position, "particle");

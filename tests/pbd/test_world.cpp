@@ -221,6 +221,30 @@ TEST(World, StrainTetAndShapeMatchingStepAllocatesNothing) {
     }
 }
 
+// A fluid (FluidModels, fluids/fluid_model.h) in a container, both step methods: the neighbour
+// search, density iterations and XSPH allocate nothing, and two worlds stay bitwise identical.
+// A small block breaking in a box, so that the neighbour lists change every substep.
+TEST(World, FluidStepAllocatesNothing) {
+  Scene scene;
+  FluidModelDesc fluid;
+  fluid.jsonPath = "FluidModels[0]";
+  fluid.blocks.push_back({Vector3::Zero(), Vector3(Real(0.2), Real(0.3), Real(0.1))});
+  fluid.container = AxisAlignedBox{Vector3::Zero(), Vector3(Real(0.6), Real(0.5), Real(0.1))};
+  fluid.firstParticle = 0;
+  for (const Vector3& x : fluidBlockParticles(fluid.blocks.front(), fluid.particleRadius))
+    scene.particles.push_back({x, Vector3::Zero(), fluid.particleMass()});
+  fluid.particleCount = static_cast<int>(scene.particles.size());
+  scene.fluidModels.push_back(fluid);
+  for (StepMethod stepMethod : {StepMethod::Seed, StepMethod::Xpbd}) {
+    scene.simulation.stepMethod = stepMethod;
+    World a = buildWorld(scene);
+    World b = buildWorld(scene);
+    ASSERT_EQ(a.fluids.size(), 1u);
+    expectStepsAllocateNothingAndAgree(a, b, static_cast<int>(stepMethod));
+    EXPECT_EQ(a.fluids.front().droppedNeighbours, 0u);
+  }
+}
+
 // A contact scene: a stack of boxes, spheres, a body with a grid SDF (type 5, built from a
 // cube mesh) and free particles, all on a static ground; contacts in both models.
 Scene contactScene(ContactModel model) {

@@ -307,6 +307,8 @@ LoadedScene parseScene(const std::string& jsonText, const std::string& sourcePat
   if (auto block = root.find("TetModels")) readTetModels(*block, context, scene);
   if (auto block = root.find("LineModels")) readLineModels(*block, scene);
   warnUnusedRodSettings(root, scene);
+  // Keep last among the particle blocks: fluid particles follow every other model's.
+  if (auto block = root.find("FluidModels")) readFluidModels(*block, scene);
   if (auto block = root.find("ContactPairs")) readContactPairs(*block, scene);
   readJoints(root, scene);
   warnUnusedModelSettings(root, scene);

@@ -83,6 +83,11 @@ void readTetModels(const JsonValue& block, LoadContext& context, Scene& scene);
 void readLineModels(const JsonValue& block, Scene& scene);
 /// Warns at each rod_* key of the Simulation block when the scene has no line models.
 void warnUnusedRodSettings(JsonObject& root, const Scene& scene);
+/// Extension: position-based fluids; must stay the last particle block read (its particles come
+/// after every other model's).
+void readFluidModels(const JsonValue& block, Scene& scene);
+/// FluidModels' scalar keys (read and written back).
+KeyTable<FluidModelDesc> fluidModelKeys();
 /// Extension: explicit friction/restitution per pair of rigid bodies.
 void readContactPairs(const JsonValue& block, Scene& scene);
 /// The index of the rigid body with id `idValue`'s value; fails (naming the key) when no body or

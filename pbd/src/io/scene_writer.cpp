@@ -183,6 +183,26 @@ std::string writeSceneJson(const Scene& scene) {
     }
     root["LineModels"] = models;
   }
+  if (!scene.fluidModels.empty()) {
+    Json models = Json::array();
+    const auto boxJson = [](const AxisAlignedBox& box) {
+      Json o = Json::object();
+      writeVector(o, "min", box.min);
+      writeVector(o, "max", box.max);
+      return o;
+    };
+    for (const FluidModelDesc& m : scene.fluidModels) {
+      Json o = Json::object();
+      writeKeys(fluidModelKeys(), m, o);
+      Json blocks = Json::array();
+      for (const AxisAlignedBox& block : m.blocks)
+        blocks.push_back(boxJson(block));
+      o["blocks"] = blocks;
+      if (m.container) o["container"] = boxJson(*m.container);
+      models.push_back(o);
+    }
+    root["FluidModels"] = models;
+  }
   if (!scene.contactPairs.empty()) {
     Json pairs = Json::array();
     for (const ContactPairDesc& p : scene.contactPairs) {

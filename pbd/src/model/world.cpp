@@ -171,6 +171,7 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
   world.clothBending = clothBendingConstraints(scene);
   world.clothDihedrals = clothDihedralConstraints(scene);
   world.rods = rodConstraints(scene);
+  world.fluids = buildFluids(scene);
   world.collision = CollisionDetector(scene, options);
   world.materials = ContactMaterials(scene);
   world.contacts.reserve(world.collision);

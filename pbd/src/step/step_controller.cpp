@@ -61,7 +61,9 @@ void stepWorld(World& world) {
   for (int s = 0; s < substeps; ++s) {
     predictPositions(world, hs);
     projectPositions(world, hs);
+    solveFluids(world.fluids, world.bodies.particles);  // own neighbour search and iterations
     updateVelocities(world, hs, world.settings.velocityUpdateMethod == 1);
+    applyFluidViscosity(world.fluids, world.bodies.particles);
   }
   detectContacts(world);
   projectVelocities(world);

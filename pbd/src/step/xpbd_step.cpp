@@ -135,8 +135,10 @@ void stepWorldXpbd(World& world) {
     for (XpbdContact& contact : world.xpbd.contacts.contacts)
       contact.beginSubstep(world.bodies);
     solvePositions(world, hs);
+    solveFluids(world.fluids, world.bodies.particles);  // own neighbour search and iterations
     updateVelocities(world, hs, /*secondOrder=*/false);  // XPBD: first order (the paper)
     solveVelocities(world, hs);
+    applyFluidViscosity(world.fluids, world.bodies.particles);
   }
 
   ++world.stepCount;

@@ -313,6 +313,35 @@ struct Scene;
 /// come after the triangle- and tet-model particles: call it after those are read.
 void appendLineModel(Scene& scene, LineModelDesc model);
 
+/// An axis-aligned box [min, max].
+struct AxisAlignedBox {
+  Vector3 min = Vector3::Zero();
+  Vector3 max = Vector3::Zero();
+};
+
+/// Extension (pbdval's; the seed's fluids are demo-only, without a scene key): a
+/// position-based fluid (`FluidModels[]`, docs/scene-format.md#fluidmodels; the solver in
+/// constraints/fluid_density.h and fluids/fluid_model.h). Its particles are ordinary particles
+/// of Scene::particles, appended after every other particle model; the container's boundary
+/// particles are not (the World keeps them with the fluid).
+struct FluidModelDesc {
+  std::string jsonPath;
+  Real particleRadius = Real(0.025);  ///< r: lattice spacing 2r, kernel support 4r
+  Real density0 = 1000;               ///< rest density ρ₀, kg/m³
+  Real viscosity = Real(0.02);        ///< XSPH coefficient (dimensionless)
+  int iterations = 5;                 ///< Jacobi density iterations per substep
+  std::vector<AxisAlignedBox> blocks;        ///< filled on a lattice of spacing 2r
+  std::optional<AxisAlignedBox> container;   ///< walls sampled with boundary particles
+  int firstParticle = 0;  ///< index of its first particle in Scene::particles
+  int particleCount = 0;
+
+  /// The seed's particle mass 0.8 (2r)³ ρ₀.
+  Real particleMass() const {
+    const Real d = 2 * particleRadius;
+    return Real(0.8) * d * d * d * density0;
+  }
+};
+
 /// Which step World::step takes. `Seed` is the seed's algorithm (step/step_controller.h);
 /// `Xpbd` is Müller et al. 2020's substepping with position-level contacts
 /// (step/xpbd_step.h). Selected by the method (`pbd` / `pbd.xpbd`), not by the scene file.
@@ -435,7 +464,10 @@ struct Scene {
   std::vector<TriangleModelDesc> triangleModels;
   std::vector<TetModelDesc> tetModels;
   std::vector<LineModelDesc> lineModels;  ///< extension: Cosserat rods
-  /// All model vertices: triangle models first, then tets, then line models (rods).
+  /// Extension: position-based fluids; their particles come last in `particles`.
+  std::vector<FluidModelDesc> fluidModels;
+  /// All model vertices: triangle models first, then tets, then line models (rods), then the
+  /// fluids' particles.
   std::vector<ParticleDesc> particles;
   std::vector<ContactPairDesc> contactPairs;  ///< extension: explicit per-pair materials
   std::vector<StiffRodTreeDesc> stiffRodTrees;  ///< `TreeModels` (stiff rods)

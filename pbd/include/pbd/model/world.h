@@ -19,6 +19,7 @@
 #include "pbd/constraints/strain_triangle.h"
 #include "pbd/constraints/tet_volume.h"
 #include "pbd/contacts/contact_set.h"
+#include "pbd/fluids/fluid_model.h"
 #include "pbd/joints/joint.h"
 #include "pbd/joints/stiff_rod_tree_solver.h"
 #include "pbd/model/body_states.h"
@@ -64,6 +65,9 @@ struct World {
   /// Cosserat rods of the scene's line models (constraints/cosserat_rod.h), on the particles
   /// and bodies.segments; solved after the generic constraints.
   RodConstraints rods;
+  /// Position-based fluids (fluids/fluid_model.h), one per scene FluidModel: solved in every
+  /// substep after the other particle constraints, XSPH after the velocity update.
+  std::vector<Fluid> fluids;
   CollisionDetector collision;       ///< shapes, surface samples, hierarchies, broad phase
   ContactMaterials materials;        ///< friction and restitution per pair
   ContactSet contacts;               ///< the contacts of the last step

@@ -1,0 +1,119 @@
+// FluidModels[] (pbdval's extension; the seed's fluids are demo-only): position-based fluids
+// whose particles fill axis-aligned blocks on a lattice of spacing 2r, optionally in a box
+// container whose walls are sampled with boundary particles. The particles are appended to
+// Scene::particles after every other particle model (the block is read last of the particle
+// blocks). Keys and their checks: docs/scene-format.md#fluidmodels.
+#include <string>
+
+#include "pbd/fluids/fluid_lattice.h"
+#include "pbd/fluids/fluid_model.h"
+#include "pbd/io/scene_loader.h"
+#include "scene_reading.h"
+
+namespace pbd::scene_io {
+namespace {
+
+/// More particles than this in one model is a mistake in the scene (a block in metres meant in
+/// centimetres), not a simulation this library runs.
+constexpr std::size_t kMaxFluidParticles = 1000000;
+
+const char* axisName(int axis) {
+  static const char* const names[] = {"x", "y", "z"};
+  return names[axis];
+}
+
+/// {"min": [..], "max": [..]} with min < max in every component.
+AxisAlignedBox readBox(const JsonValue& value) {
+  JsonObject object = value.object();
+  AxisAlignedBox box;
+  box.min = object.require("min").vector3();
+  box.max = object.require("max").vector3();
+  for (int a = 0; a < 3; ++a)
+    if (!(box.min(a) < box.max(a)))
+      value.error(std::string("an empty box: min < max is needed in every component, but along ") +
+                  axisName(a) + " min = " + formatNumber(double(box.min(a))) +
+                  " and max = " + formatNumber(double(box.max(a))));
+  object.warnUnknownKeys();
+  return box;
+}
+
+bool contains(const AxisAlignedBox& outer, const AxisAlignedBox& inner) {
+  return (inner.min.array() >= outer.min.array()).all() &&
+         (inner.max.array() <= outer.max.array()).all();
+}
+
+bool overlap(const AxisAlignedBox& a, const AxisAlignedBox& b) {
+  return (a.min.array() < b.max.array()).all() && (b.min.array() < a.max.array()).all();
+}
+
+KeyTable<FluidModelDesc> fluidKeys() {
+  using F = FluidModelDesc;
+  return {
+      numberKey("particleRadius", &F::particleRadius, positive()),
+      numberKey("density0", &F::density0, positive()),
+      // XSPH blends a particle's velocity towards its neighbours': c > 1 overshoots.
+      numberKey("viscosity", &F::viscosity, between(0, 1)),
+      integerKey("iterations", &F::iterations, between(1, kMaxIterations)),
+  };
+}
+
+FluidModelDesc readFluidModel(const JsonValue& element, Scene& scene) {
+  JsonObject object = element.object();
+  FluidModelDesc model;
+  model.jsonPath = element.path();
+  readKeys(object, fluidKeys(), model);
+  if (auto container = object.find("container")) model.container = readBox(*container);
+
+  const JsonValue blocks = object.require("blocks");
+  const std::vector<JsonValue> blockValues = blocks.elements("fluid blocks {\"min\", \"max\"}");
+  if (blockValues.empty()) blocks.fail("at least one block {\"min\", \"max\"}");
+  const Real spacing = 2 * model.particleRadius;
+  std::vector<Vector3> positions;
+  for (std::size_t i = 0; i < blockValues.size(); ++i) {
+    const AxisAlignedBox block = readBox(blockValues[i]);
+    for (int a = 0; a < 3; ++a)
+      if (block.max(a) - block.min(a) < spacing * (1 - 1e-9))
+        blockValues[i].error(std::string("holds no particle: its extent along ") + axisName(a) +
+                             " is " + formatNumber(double(block.max(a) - block.min(a))) +
+                             ", less than the particle diameter 2 particleRadius = " +
+                             formatNumber(double(spacing)));
+    if (model.container && !contains(*model.container, block))
+      blockValues[i].error("lies outside the container " + formatVector(model.container->min) +
+                           " .. " + formatVector(model.container->max) +
+                           " (every block must be inside it)");
+    for (std::size_t k = 0; k < model.blocks.size(); ++k)
+      if (overlap(model.blocks[k], block))
+        blockValues[i].error("overlaps " + blockValues[k].path() +
+                             " (the particles would sit on top of each other)");
+    model.blocks.push_back(block);
+    const std::array<long long, 3> lattice = fluidBlockLatticeSize(block, model.particleRadius);
+    // Counted before any particle is made (each factor ≤ 2^30: no overflow in long double).
+    const long double count =
+        (long double)lattice[0] * (long double)lattice[1] * (long double)lattice[2];
+    if ((long double)positions.size() + count > (long double)kMaxFluidParticles)
+      blockValues[i].error("the model's blocks hold more than " +
+                           std::to_string(kMaxFluidParticles) +
+                           " particles; check the units of the block and particleRadius");
+    const std::vector<Vector3> filled = fluidBlockParticles(block, model.particleRadius);
+    positions.insert(positions.end(), filled.begin(), filled.end());
+  }
+  object.warnUnknownKeys();
+
+  model.firstParticle = static_cast<int>(scene.particles.size());
+  model.particleCount = static_cast<int>(positions.size());
+  const Real mass = model.particleMass();
+  for (const Vector3& x : positions)
+    scene.particles.push_back(ParticleDesc{x, Vector3::Zero(), mass});
+  return model;
+}
+
+}  // namespace
+
+void readFluidModels(const JsonValue& block, Scene& scene) {
+  for (const JsonValue& element : block.elements("fluid-model objects"))
+    scene.fluidModels.push_back(readFluidModel(element, scene));
+}
+
+KeyTable<FluidModelDesc> fluidModelKeys() { return fluidKeys(); }
+
+}  // namespace pbd::scene_io
