@@ -7,6 +7,18 @@
 namespace pbd {
 namespace {
 
+/// The particle–tet contacts' schedule: the seed's (detected after the substeps, solved one
+/// step late against snapshots) or, corrected, detected and solved in every substep.
+ParticleTetSchedule tetSchedule(const World& world) {
+  return world.settings.contactModel == ContactModel::Seed ? ParticleTetSchedule::Seed
+                                                           : ParticleTetSchedule::Current;
+}
+
+void detectTetContacts(World& world) {
+  world.collision.detectParticleTet(world.bodies.particles, world.tetContacts.geometry);
+  world.tetContacts.initialise(world.bodies.particles, world.materials);
+}
+
 void projectPositions(World& world, Real h) {
   for (Joint& joint : world.joints)
     std::visit([&](auto& j) { j.beginSubstep(h); }, joint);
@@ -23,6 +35,8 @@ void projectPositions(World& world, Real h) {
     solveIsometricBending(world.clothBending, world.bodies.particles, h, iteration == 0);
     solveDihedralBending(world.clothDihedrals, world.bodies.particles);
     solveGenericConstraints(world.genericConstraints, world.bodies.particles);
+    // Then, serially, the particle–tet contacts (the seed's place for them).
+    world.tetContacts.solvePositions(world.bodies.particles, tetSchedule(world), 0);
   }
 }
 
@@ -34,6 +48,8 @@ void detectContacts(World& world) {
                              ? ContactOrder::Seed
                              : ContactOrder::DeepestFirst);
   world.contacts.initialise(world.bodies, world.materials, world.settings);
+  // The seed: particle–tet contacts found here act in the next step's substeps.
+  if (tetSchedule(world) == ParticleTetSchedule::Seed) detectTetContacts(world);
 }
 
 void projectVelocities(World& world) {
@@ -57,6 +73,7 @@ void stepWorld(World& world) {
   resetAccelerations(world);
   for (int s = 0; s < substeps; ++s) {
     predictPositions(world, hs);
+    if (tetSchedule(world) == ParticleTetSchedule::Current) detectTetContacts(world);
     projectPositions(world, hs);
     updateVelocities(world, hs, world.settings.velocityUpdateMethod == 1);
   }

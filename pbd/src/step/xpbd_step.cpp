@@ -47,6 +47,8 @@ void solvePositions(World& world, Real h) {
   solveGenericConstraints(world.genericConstraints, world.bodies.particles);
   for (XpbdContact& contact : world.xpbd.contacts.contacts)
     contact.solvePosition(world.bodies, h, settings.contactCompliance);
+  world.tetContacts.solvePositions(world.bodies.particles, ParticleTetSchedule::Current,
+                                   settings.contactCompliance / (h * h));
 }
 
 void solveVelocities(World& world, Real h) {
@@ -128,6 +130,9 @@ void stepWorldXpbd(World& world) {
     predictPositions(world, hs);
     for (XpbdContact& contact : world.xpbd.contacts.contacts)
       contact.beginSubstep(world.bodies);
+    // Particle–tet contacts: detected on the predicted positions of every substep.
+    world.collision.detectParticleTet(world.bodies.particles, world.tetContacts.geometry);
+    world.tetContacts.initialise(world.bodies.particles, world.materials);
     solvePositions(world, hs);
     updateVelocities(world, hs, /*secondOrder=*/false);  // XPBD: first order (the paper)
     solveVelocities(world, hs);
