@@ -164,18 +164,14 @@ void TetContactDetector::testParticle(const Model& tetSide, int tetModel, int pa
     allStatic = allStatic && !(particles.inverseMass[std::size_t(contactTet[k])] > 0);
   }
   if (allStatic) return;
-  const Vector3 toSurface = point - x;
-  const Real length = toSurface.norm();
-  if (length > Real(1e-12)) {
-    contact.normal = toSurface / length;
-  } else {  // on the surface already: the face's current outward normal
-    const Vector3& a = positions[at(contactTet, face.corners[0])];
-    const Vector3 n = (positions[at(contactTet, face.corners[1])] - a)
-                          .cross(positions[at(contactTet, face.corners[2])] - a);
-    if (!(n.squaredNorm() > 0)) return;
-    contact.normal = n.normalized();
-  }
-  contact.distance = -length;
+  // The normal: the contact face's current outward normal (the seed: (c − x_p)/|c − x_p|,
+  // whose direction the reference mapping tilts as the solid deforms; docs/contacts.md).
+  const Vector3& a = positions[at(contactTet, face.corners[0])];
+  const Vector3 faceNormal = (positions[at(contactTet, face.corners[1])] - a)
+                                 .cross(positions[at(contactTet, face.corners[2])] - a);
+  if (!(faceNormal.squaredNorm() > 0)) return;  // a collapsed face: no direction
+  contact.normal = faceNormal.normalized();
+  contact.distance = contact.normal.dot(x - point);
   if (out.contacts.size() == out.contacts.capacity()) {
     ++out.droppedContacts;
     return;
