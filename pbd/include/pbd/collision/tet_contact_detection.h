@@ -15,8 +15,11 @@
 //      single tet, with an exact closest-triangle query: mesh_distance.h) lies on a face of
 //      exactly one tet T'; Q's barycentrics b' in T' (the face's, 0 at the opposite vertex)
 //      map it back to the current configuration, c = Σ b'_i x_i;
-//   4. the contact: particle p, tet T' with weights b', normal n = (c − x_p)/|c − x_p| (out of
-//      B; the current outward normal of the face when c = x_p) and depth d = −|c − x_p|.
+//   4. the contact: particle p, tet T' with weights b', normal n = the current outward unit
+//      normal of Q's face (out of B) and depth d = n·(x_p − c) ≤ 0. The seed takes
+//      n = (c − x_p)/|c − x_p|, which the reference mapping tilts as B deforms: under an
+//      off-centre load the tilted normals pushed a resting cube sideways; the face normal is
+//      exact for a flat face (and the same for an undeformed tet).
 // The seed does step 3 with B's signed distance field (its collisionObjectType shape, in B's
 // initial frame) and then searches the reference tet containing the SDF's closest point
 // (findRefTetAt); the tet model's own boundary makes the SDF unnecessary and the tet exact,
@@ -51,7 +54,7 @@ struct ParticleTetContactGeometry {
   std::array<int, 4> vertices{-1, -1, -1, -1};  ///< T''s global particle indices
   std::array<Real, 4> weights{0, 0, 0, 0};      ///< b', Σ = 1, all ≥ 0
   Vector3 normal = Vector3::UnitY();            ///< world, unit, out of the tet side
-  Real distance = 0;                            ///< n·(x_p − c) < 0
+  Real distance = 0;                            ///< n·(x_p − c) ≤ 0
 };
 
 struct ParticleTetGeometryBuffer {
