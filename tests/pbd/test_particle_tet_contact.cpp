@@ -59,7 +59,8 @@ TEST(ParticleTetContact, ValueIsInvariantUnderRigidMotion) {
                         .toRotationMatrix();
   const Vector3 t(3, -1, 2);
   std::array<Vector3, 4> moved;
-  for (std::size_t i = 0; i < 4; ++i) moved[i] = r * kTet[i] + t;
+  for (std::size_t i = 0; i < 4; ++i)
+    moved[i] = r * kTet[i] + t;
   const Real cMoved = particleTetContactValue(r * particle + t, moved, kWeights, r * kNormal);
   // O(10) roundings of coordinates of size ~3 (the translation).
   EXPECT_NEAR(cMoved, c, 100 * kEpsilon);
@@ -67,27 +68,32 @@ TEST(ParticleTetContact, ValueIsInvariantUnderRigidMotion) {
 
 TEST(ParticleTetContact, NoCorrectionWhenTheParticleIsOutside) {
   // C > 0: the particle is on the outer side of the contact point.
-  const Vector3 outside = Real(0.25) * (kTet[0] + kTet[1] + kTet[2] + kTet[3]) + Real(0.1) * kNormal;
+  const Vector3 outside =
+      Real(0.25) * (kTet[0] + kTet[1] + kTet[2] + kTet[3]) + Real(0.1) * kNormal;
   std::array<Real, 4> centre = {Real(0.25), Real(0.25), Real(0.25), Real(0.25)};
   ASSERT_GT(particleTetContactValue(outside, kTet, centre, kNormal), 0);
   const ParticleTetCorrection c = particleTetContactCorrection(
       outside, kTet, 1, kTetInverseMasses, centre, kNormal, 0, 0, /*unilateral=*/true);
   EXPECT_EQ(c.multiplier, 0);
   EXPECT_EQ(c.particle, Vector3::Zero());
-  for (const Vector3& d : c.tet) EXPECT_EQ(d, Vector3::Zero());
+  for (const Vector3& d : c.tet)
+    EXPECT_EQ(d, Vector3::Zero());
 }
 
 TEST(ParticleTetContact, SeedProjectionIsBilateral) {
   // The seed's λ = −C/W is not clamped: a particle outside is pulled back onto the point.
   const std::array<Real, 4> centre = {Real(0.25), Real(0.25), Real(0.25), Real(0.25)};
-  const Vector3 outside = Real(0.25) * (kTet[0] + kTet[1] + kTet[2] + kTet[3]) + Real(0.1) * kNormal;
+  const Vector3 outside =
+      Real(0.25) * (kTet[0] + kTet[1] + kTet[2] + kTet[3]) + Real(0.1) * kNormal;
   const ParticleTetCorrection c = particleTetContactCorrection(
       outside, kTet, 1, kTetInverseMasses, centre, kNormal, 0, 0, /*unilateral=*/false);
   EXPECT_LT(c.multiplier, 0);
   std::array<Vector3, 4> tet = kTet;
-  for (std::size_t i = 0; i < 4; ++i) tet[i] += c.tet[i];
+  for (std::size_t i = 0; i < 4; ++i)
+    tet[i] += c.tet[i];
   // One projection of a linear constraint closes it: O(10) roundings of O(1) values.
-  EXPECT_NEAR(particleTetContactValue(outside + c.particle, tet, centre, kNormal), 0, 100 * kEpsilon);
+  EXPECT_NEAR(particleTetContactValue(outside + c.particle, tet, centre, kNormal), 0,
+              100 * kEpsilon);
 }
 
 TEST(ParticleTetContact, CorrectionClosesTheGapAndConservesMomentum) {
@@ -114,8 +120,9 @@ TEST(ParticleTetContact, CorrectionClosesTheGapAndConservesMomentum) {
       particleTetFrictionCorrection(slip, wp, kTetInverseMasses, kWeights, kNormal, Real(0.01));
   ASSERT_GT(f.multiplier, 0);
   Vector3 frictionMomentum = f.particle / wp;
-  for (std::size_t i = 0; i < 4; ++i) frictionMomentum += f.tet[i] / kTetInverseMasses[i];
-  EXPECT_LT(frictionMomentum.norm(), 10 * kEpsilon * f.multiplier);  // as above
+  for (std::size_t i = 0; i < 4; ++i)
+    frictionMomentum += f.tet[i] / kTetInverseMasses[i];
+  EXPECT_LT(frictionMomentum.norm(), 10 * kEpsilon * f.multiplier);                 // as above
   EXPECT_LT(std::abs(f.particle.dot(kNormal)), 10 * kEpsilon * f.particle.norm());  // as above
   // Bounded by the Coulomb bound 0.01: |Δλ_t| = min(|d_t|/W, bound).
   EXPECT_EQ(f.multiplier, Real(0.01));
@@ -129,7 +136,8 @@ Scene tetAndProbe(const Vector3& point, const Vector3& away) {
   big.mesh.vertices = {Vector3(0, 0, 0), Vector3(1, 0, 0), Vector3(0, 1, 0), Vector3(0, 0, 1)};
   big.mesh.tetrahedra = {{0, 1, 2, 3}};
   big.firstParticle = 0;
-  for (const Vector3& v : big.mesh.vertices) scene.particles.push_back({v, Vector3::Zero(), 0});
+  for (const Vector3& v : big.mesh.vertices)
+    scene.particles.push_back({v, Vector3::Zero(), 0});
   scene.tetModels.push_back(big);
   TetModelDesc probe;
   const Vector3 d = 2 * away.normalized();
@@ -137,7 +145,8 @@ Scene tetAndProbe(const Vector3& point, const Vector3& away) {
                          point + d + Vector3(0, 0, 0.1)};
   probe.mesh.tetrahedra = {{0, 1, 2, 3}};
   probe.firstParticle = 4;
-  for (const Vector3& v : probe.mesh.vertices) scene.particles.push_back({v, Vector3::Zero(), 1});
+  for (const Vector3& v : probe.mesh.vertices)
+    scene.particles.push_back({v, Vector3::Zero(), 1});
   scene.tetModels.push_back(probe);
   return scene;
 }
@@ -191,8 +200,8 @@ TEST(ParticleTetContact, ParticleInsideATetIsPushedToTheNearestFace) {
     const Real after[4] = {(1 - moved.sum()) / std::sqrt(Real(3)), moved.x(), moved.y(), moved.z()};
     EXPECT_NEAR(after[nearest], 0, 100 * kEpsilon);  // as above
     // ... moving along the face's normal only: the other planes' distances change by the
-    // depth times minus the cosine between the outward normals (1/√3 between the slanted face and the
-    // others, 0 between two axis faces).
+    // depth times minus the cosine between the outward normals (1/√3 between the slanted face and
+    // the others, 0 between two axis faces).
     for (int k = 0; k < 4; ++k) {
       if (k == nearest) continue;
       const Real cosine = (k == 0 || nearest == 0) ? 1 / std::sqrt(Real(3)) : 0;
@@ -225,7 +234,8 @@ const char* nameOf(Schedule s) {
 }
 
 void useSchedule(Scene& scene, Schedule s) {
-  scene.simulation.contactModel = s == Schedule::Seed ? ContactModel::Seed : ContactModel::Corrected;
+  scene.simulation.contactModel =
+      s == Schedule::Seed ? ContactModel::Seed : ContactModel::Corrected;
   scene.simulation.stepMethod = s == Schedule::Xpbd ? StepMethod::Xpbd : StepMethod::Seed;
 }
 
@@ -293,7 +303,8 @@ Scene headOn(Schedule s) {
   Scene scene;
   test::appendTetCube(scene, Vector3(0, 0, 0), 2, Real(0.25));
   test::appendTetCube(scene, Vector3(0.55, 0.1, 0.1), 2, Real(0.25));
-  for (std::size_t i = 0; i < 27; ++i) scene.particles[i].velocity = Vector3(1, 0, 0);
+  for (std::size_t i = 0; i < 27; ++i)
+    scene.particles[i].velocity = Vector3(1, 0, 0);
   scene.simulation.gravitation = Vector3::Zero();
   scene.simulation.solidSimulationMethod = 3;
   useSchedule(scene, s);
@@ -310,7 +321,8 @@ TEST(ParticleTetContactWorld, HeadOnCollisionConservesMomentumAndSeparatesTheCub
     while (world.time < 1) {
       world.step();
       worstMomentum = std::max(worstMomentum, (momentum(world) - p0).norm());
-      deepest = std::max({deepest, deepestInside(world, scene, 0, 1), deepestInside(world, scene, 1, 0)});
+      deepest =
+          std::max({deepest, deepestInside(world, scene, 0, 1), deepestInside(world, scene, 1, 0)});
       if (!world.tetContacts.contacts.empty()) ++contactSteps;
     }
     Vector3 vA = Vector3::Zero(), vB = Vector3::Zero();
@@ -318,9 +330,10 @@ TEST(ParticleTetContactWorld, HeadOnCollisionConservesMomentumAndSeparatesTheCub
       vA += world.bodies.particles.velocity[i] / 27;
       vB += world.bodies.particles.velocity[27 + i] / 27;
     }
-    std::printf("[%s] momentum drift %.3g kg m/s, deepest %.3g mm, contact steps %zu, vA %.4f vB %.4f\n",
-                nameOf(s), double(worstMomentum), double(1e3 * deepest), contactSteps,
-                double(vA.x()), double(vB.x()));
+    std::printf(
+        "[%s] momentum drift %.3g kg m/s, deepest %.3g mm, contact steps %zu, vA %.4f vB %.4f\n",
+        nameOf(s), double(worstMomentum), double(1e3 * deepest), contactSteps, double(vA.x()),
+        double(vB.x()));
     EXPECT_GT(contactSteps, 0u) << nameOf(s);
     // Every correction conserves momentum (FEM, contacts): only round-off accumulates, ~10³
     // roundings per step of velocities of order 1 over 200 steps.
@@ -344,7 +357,8 @@ TEST(ParticleTetContactWorld, HeadOnCollisionConservesMomentumAndSeparatesTheCub
       EXPECT_GT(vB.x(), vA.x()) << nameOf(s);
       EXPECT_TRUE(world.tetContacts.contacts.empty()) << nameOf(s);
       // Found in every substep: a vertex is caught within one substep of approach, v h_s.
-      const int substeps = s == Schedule::Xpbd ? world.settings.xpbd.substeps : world.settings.subSteps;
+      const int substeps =
+          s == Schedule::Xpbd ? world.settings.xpbd.substeps : world.settings.subSteps;
       EXPECT_LT(deepest, approach * world.settings.timeStepSize / Real(substeps)) << nameOf(s);
     }
   }
@@ -368,7 +382,8 @@ TEST(ParticleTetContactWorld, CubeDroppedOnACubeFallsFreelyThenRestsOnIt) {
     const Scene scene = dropScene(s);
     World world = buildWorld(scene);
     const Vector3 start = centreOfMass(world, scene, 1);
-    const int substeps = s == Schedule::Xpbd ? world.settings.xpbd.substeps : world.settings.subSteps;
+    const int substeps =
+        s == Schedule::Xpbd ? world.settings.xpbd.substeps : world.settings.subSteps;
     const Real h = world.settings.timeStepSize, hs = h / Real(substeps);
     const Real g = -world.settings.gravitation.y();
     const Real impact = std::sqrt(2 * g * Real(0.1));  // m/s, after the 0.1 m gap
@@ -379,16 +394,21 @@ TEST(ParticleTetContactWorld, CubeDroppedOnACubeFallsFreelyThenRestsOnIt) {
       // Before the 0.1 m gap closes (t = 0.143 s): semi-implicit Euler's free fall from rest,
       // y = y₀ − g h_s² n(n+1)/2 after n substeps.
       if (world.time < Real(0.12))
-        freeFallError = std::max(freeFallError, std::abs(centreOfMass(world, scene, 1).y() -
-                                                         (start.y() - g * hs * hs * n * (n + 1) / 2)));
-      deepest = std::max({deepest, deepestInside(world, scene, 0, 1), deepestInside(world, scene, 1, 0)});
+        freeFallError =
+            std::max(freeFallError, std::abs(centreOfMass(world, scene, 1).y() -
+                                             (start.y() - g * hs * hs * n * (n + 1) / 2)));
+      deepest =
+          std::max({deepest, deepestInside(world, scene, 0, 1), deepestInside(world, scene, 1, 0)});
     }
     Vector3 v = Vector3::Zero();
-    for (std::size_t i = 27; i < 54; ++i) v += world.bodies.particles.velocity[i] / 27;
+    for (std::size_t i = 27; i < 54; ++i)
+      v += world.bodies.particles.velocity[i] / 27;
     const Vector3 end = centreOfMass(world, scene, 1);
-    std::printf("[%s] free fall error %.3g m, deepest %.3g mm, final COM (%.4f, %.4f, %.4f), |v| %.3g m/s\n",
-                nameOf(s), double(freeFallError), double(1e3 * deepest), double(end.x()),
-                double(end.y()), double(end.z()), double(v.norm()));
+    std::printf(
+        "[%s] free fall error %.3g m, deepest %.3g mm, final COM (%.4f, %.4f, %.4f), |v| %.3g "
+        "m/s\n",
+        nameOf(s), double(freeFallError), double(1e3 * deepest), double(end.x()), double(end.y()),
+        double(end.z()), double(v.norm()));
     // Free fall: internal constraints move no centre of mass; ~10 roundings of y ~ 1 per
     // substep over up to 480 substeps.
     EXPECT_LT(freeFallError, 1e5 * kEpsilon) << nameOf(s);

@@ -6,7 +6,8 @@ namespace pbd {
 namespace {
 
 Vector3 centroid(const std::array<int, 4>& tet, const Vector3* positions) {
-  return Real(0.25) * (positions[tet[0]] + positions[tet[1]] + positions[tet[2]] + positions[tet[3]]);
+  return Real(0.25) *
+         (positions[tet[0]] + positions[tet[1]] + positions[tet[2]] + positions[tet[3]]);
 }
 
 }  // namespace
@@ -17,9 +18,11 @@ TetBvh::TetBvh(const std::vector<std::array<int, 4>>& tets, const Vector3* posit
   if (n == 0) return;
   std::vector<Vector3> centres;
   centres.reserve(tets.size());
-  for (const std::array<int, 4>& tet : tets) centres.push_back(centroid(tet, positions));
+  for (const std::array<int, 4>& tet : tets)
+    centres.push_back(centroid(tet, positions));
   order_.resize(tets.size());
-  for (int i = 0; i < n; ++i) order_[std::size_t(i)] = i;
+  for (int i = 0; i < n; ++i)
+    order_[std::size_t(i)] = i;
   struct Pending {
     int node, first, count, depth;
   };
@@ -62,7 +65,8 @@ void TetBvh::refit(const std::vector<std::array<int, 4>>& tets, const Vector3* p
       continue;
     }
     for (int i = node.firstTet; i < node.firstTet + node.tetCount; ++i)
-      for (int v : tets[std::size_t(order_[std::size_t(i)])]) node.box.extend(positions[v]);
+      for (int v : tets[std::size_t(order_[std::size_t(i)])])
+        node.box.extend(positions[v]);
   }
 }
 

@@ -57,8 +57,7 @@ TetContactDetector::TetContactDetector(const Scene& scene) {
     Model model;
     model.firstParticle = desc.firstParticle;
     model.particleCount = static_cast<int>(desc.mesh.vertices.size());
-    model.vertexSide =
-        desc.collision.type == CollisionObjectType::None || desc.collision.testMesh;
+    model.vertexSide = desc.collision.type == CollisionObjectType::None || desc.collision.testMesh;
     model.reference = desc.mesh.vertices;
     for (const std::array<int, 4>& t : desc.mesh.tetrahedra)
       model.tets.push_back({t[0] + desc.firstParticle, t[1] + desc.firstParticle,
@@ -74,7 +73,8 @@ TetContactDetector::TetContactDetector(const Scene& scene) {
           std::array<int, 3> key;
           for (int k = 0; k < 3; ++k)
             key[std::size_t(k)] =
-                desc.mesh.tetrahedra[t][std::size_t(kFaceOpposite[std::size_t(slot)][std::size_t(k)])];
+                desc.mesh
+                    .tetrahedra[t][std::size_t(kFaceOpposite[std::size_t(slot)][std::size_t(k)])];
           std::sort(key.begin(), key.end());
           ++count[key];
           faceUse[key] = {int(t), slot};
@@ -121,8 +121,8 @@ void TetContactDetector::testParticle(const Model& tetSide, int tetModel, int pa
   tetSide.hierarchy.tetsContaining(x, [&](int t) {
     const std::array<int, 4>& tet = tetSide.tets[std::size_t(t)];
     std::array<Real, 4> b;
-    if (!tetBarycentrics({positions[tet[0]], positions[tet[1]], positions[tet[2]], positions[tet[3]]},
-                         x, b))
+    if (!tetBarycentrics(
+            {positions[tet[0]], positions[tet[1]], positions[tet[2]], positions[tet[3]]}, x, b))
       return;
     const Real minimum = *std::min_element(b.begin(), b.end());
     if (!(minimum >= 0)) return;
@@ -144,7 +144,9 @@ void TetContactDetector::testParticle(const Model& tetSide, int tetModel, int pa
   if (triangle < 0) return;
   const BoundaryFace& face = tetSide.faces[std::size_t(triangle)];
   const std::array<int, 4>& contactTet = tetSide.tets[std::size_t(face.tet)];
-  const auto at = [&](const std::array<int, 4>& t, int slot) -> int { return t[std::size_t(slot)]; };
+  const auto at = [&](const std::array<int, 4>& t, int slot) -> int {
+    return t[std::size_t(slot)];
+  };
   const std::array<Real, 3> faceWeights = triangleBarycentrics(
       tetSide.reference[std::size_t(at(contactTet, face.corners[0]) - first)],
       tetSide.reference[std::size_t(at(contactTet, face.corners[1]) - first)],

@@ -10,7 +10,8 @@ namespace {
 Real generalisedInverseMass(Real particleInverseMass, const std::array<Real, 4>& tetInverseMasses,
                             const std::array<Real, 4>& weights) {
   Real w = particleInverseMass;
-  for (std::size_t i = 0; i < 4; ++i) w += weights[i] * weights[i] * tetInverseMasses[i];
+  for (std::size_t i = 0; i < 4; ++i)
+    w += weights[i] * weights[i] * tetInverseMasses[i];
   return w;
 }
 
@@ -19,7 +20,8 @@ void distribute(ParticleTetCorrection& c, Real particleInverseMass,
                 const std::array<Real, 4>& tetInverseMasses, const std::array<Real, 4>& weights,
                 const Vector3& impulse) {
   c.particle = particleInverseMass * impulse;
-  for (std::size_t i = 0; i < 4; ++i) c.tet[i] = -tetInverseMasses[i] * weights[i] * impulse;
+  for (std::size_t i = 0; i < 4; ++i)
+    c.tet[i] = -tetInverseMasses[i] * weights[i] * impulse;
 }
 
 }  // namespace
@@ -27,7 +29,8 @@ void distribute(ParticleTetCorrection& c, Real particleInverseMass,
 Real particleTetContactValue(const Vector3& particle, const std::array<Vector3, 4>& tet,
                              const std::array<Real, 4>& weights, const Vector3& normal) {
   Vector3 point = Vector3::Zero();
-  for (std::size_t i = 0; i < 4; ++i) point += weights[i] * tet[i];
+  for (std::size_t i = 0; i < 4; ++i)
+    point += weights[i] * tet[i];
   return normal.dot(particle - point);
 }
 
@@ -37,13 +40,10 @@ std::array<Vector3, 5> particleTetContactGradients(const std::array<Real, 4>& we
           -weights[3] * normal};
 }
 
-ParticleTetCorrection particleTetContactCorrection(const Vector3& particle,
-                                                   const std::array<Vector3, 4>& tet,
-                                                   Real particleInverseMass,
-                                                   const std::array<Real, 4>& tetInverseMasses,
-                                                   const std::array<Real, 4>& weights,
-                                                   const Vector3& normal, Real alphaTilde,
-                                                   Real multiplier, bool unilateral) {
+ParticleTetCorrection particleTetContactCorrection(
+    const Vector3& particle, const std::array<Vector3, 4>& tet, Real particleInverseMass,
+    const std::array<Real, 4>& tetInverseMasses, const std::array<Real, 4>& weights,
+    const Vector3& normal, Real alphaTilde, Real multiplier, bool unilateral) {
   ParticleTetCorrection c;
   const Real w = generalisedInverseMass(particleInverseMass, tetInverseMasses, weights);
   if (!(w > 0)) return c;
@@ -88,7 +88,8 @@ void ParticleTetContactSet::initialise(const ParticleStates& particles,
     c.vertices = g.vertices;
     c.weights = g.weights;
     c.normal = g.normal;
-    for (std::size_t i = 0; i < 4; ++i) c.snapshot[i] = particles.position[std::size_t(g.vertices[i])];
+    for (std::size_t i = 0; i < 4; ++i)
+      c.snapshot[i] = particles.position[std::size_t(g.vertices[i])];
     // The material of the tet side: any of its vertices' model (all four are in one model).
     c.friction = materials.particles(g.particle, g.vertices[0]).friction;
     c.normalMultiplier = 0;
@@ -103,8 +104,8 @@ void ParticleTetContactSet::beginSubstep() {
   }
 }
 
-void ParticleTetContactSet::solvePositions(ParticleStates& particles,
-                                           ParticleTetSchedule schedule, Real alphaTilde) {
+void ParticleTetContactSet::solvePositions(ParticleStates& particles, ParticleTetSchedule schedule,
+                                           Real alphaTilde) {
   const bool seed = schedule == ParticleTetSchedule::Seed;
   for (ParticleTetContact& c : contacts) {
     const auto p = std::size_t(c.particle);
@@ -121,7 +122,8 @@ void ParticleTetContactSet::solvePositions(ParticleStates& particles,
         seed ? Real(0) : alphaTilde, seed ? Real(0) : c.normalMultiplier, !seed);
     c.normalMultiplier = seed ? normal.multiplier : c.normalMultiplier + normal.multiplier;
     particles.position[p] += normal.particle;
-    for (std::size_t i = 0; i < 4; ++i) particles.position[std::size_t(c.vertices[i])] += normal.tet[i];
+    for (std::size_t i = 0; i < 4; ++i)
+      particles.position[std::size_t(c.vertices[i])] += normal.tet[i];
     if (seed || !(c.normalMultiplier > 0) || !(c.friction > 0)) continue;
     Vector3 displacement = particles.position[p] - particles.oldPosition[p];
     for (std::size_t i = 0; i < 4; ++i) {

@@ -48,9 +48,9 @@ namespace pbd {
 
 /// A particle of one tet model inside a tet of another.
 struct ParticleTetContactGeometry {
-  int particle = -1;    ///< global particle index (vertex side)
-  int tetModel = -1;    ///< index of the tet side in Scene::tetModels
-  int tet = -1;         ///< the tet T' of the contact point, index in its model
+  int particle = -1;  ///< global particle index (vertex side)
+  int tetModel = -1;  ///< index of the tet side in Scene::tetModels
+  int tet = -1;       ///< the tet T' of the contact point, index in its model
   std::array<int, 4> vertices{-1, -1, -1, -1};  ///< T''s global particle indices
   std::array<Real, 4> weights{0, 0, 0, 0};      ///< b', Σ = 1, all ≥ 0
   Vector3 normal = Vector3::UnitY();            ///< world, unit, out of the tet side

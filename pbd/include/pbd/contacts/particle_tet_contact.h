@@ -74,13 +74,10 @@ std::array<Vector3, 5> particleTetContactGradients(const std::array<Real, 4>& we
 /// The normal projection: Δλ = (−C − α̃ λ)/(W + α̃) with `alphaTilde` α̃ ≥ 0 and the
 /// accumulated `multiplier` λ; `unilateral` keeps λ + Δλ ≥ 0 (no correction while C ≥ 0 and
 /// λ = 0). No correction when every end is static.
-ParticleTetCorrection particleTetContactCorrection(const Vector3& particle,
-                                                   const std::array<Vector3, 4>& tet,
-                                                   Real particleInverseMass,
-                                                   const std::array<Real, 4>& tetInverseMasses,
-                                                   const std::array<Real, 4>& weights,
-                                                   const Vector3& normal, Real alphaTilde,
-                                                   Real multiplier, bool unilateral);
+ParticleTetCorrection particleTetContactCorrection(
+    const Vector3& particle, const std::array<Vector3, 4>& tet, Real particleInverseMass,
+    const std::array<Real, 4>& tetInverseMasses, const std::array<Real, 4>& weights,
+    const Vector3& normal, Real alphaTilde, Real multiplier, bool unilateral);
 
 /// Position-level friction for a relative displacement `displacement` over the substep:
 /// undoes its tangential part up to the Coulomb bound μ λ − λ_t (`remainingBound`).
