@@ -4,9 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
+#include "pbd/collision/collision_shape.h"
+#include "pbd/collision/mesh_distance.h"
 #include "validation/deformation.h"
 #include "validation/joint_error.h"
 #include "validation/mechanics.h"
@@ -120,6 +123,101 @@ void addDeformationMetrics(const MetricInputs& in, MetricSet& out) {
     out.values[metric::kTetVolumeErrorMax] = worst.tetVolumeErrorMax;
     out.values[metric::kSolidVolumeErrorMax] = worst.solidVolumeErrorMax;
   }
+}
+
+/// The deepest particle inside a rigid body's collision shape: max over samples, particles and
+/// bodies with a collisionObjectType of −φ(x) (φ the body's SDF in its scene frame at the
+/// sample's pose, the same analytic shape or grid the PBD library collides with), 0 when none
+/// is inside. Measured against the surface, not the contact tolerance shell.
+void addParticlePenetrationMetrics(const MetricInputs& in, MetricSet& out) {
+  const pbd::Scene& scene = *in.scene;
+  if (scene.triangleModels.empty() && scene.tetModels.empty()) return;
+  std::vector<std::pair<std::size_t, pbd::CollisionShape>> shapes;
+  for (std::size_t b = 0; b < scene.rigidBodies.size(); ++b)
+    if (scene.rigidBodies[b].collision.type != pbd::CollisionObjectType::None)
+      shapes.emplace_back(b, pbd::makeCollisionShape(scene.rigidBodies[b]));
+  if (shapes.empty()) return;
+  if (in.samples->front().particles.empty()) {
+    out.notes.push_back(
+        "particle_penetration_max: the engine reads back no particles");
+    return;
+  }
+  double deepest = 0;
+  for (const State& s : *in.samples)
+    for (const auto& [body, shape] : shapes) {
+      const pbd::RigidBodyDesc& desc = scene.rigidBodies[body];
+      const Quaternion rotation = s.bodies[body].rotation.normalized();
+      const Vector3 origin =
+          s.bodies[body].position - rotation * desc.massProperties.centerOfMass;
+      const Quaternion inverse = rotation.conjugate();
+      for (const ParticleState& p : s.particles)
+        deepest = std::max(deepest, -double(shape.distance(
+                                        (inverse * (p.position - origin)).cast<pbd::Real>())));
+    }
+  out.values[metric::kParticlePenetrationMax] = deepest;
+}
+
+/// The deepest particle of a tet model inside another tet model: max over samples and ordered
+/// pairs (A, B) of models of the distance from a particle of A that lies inside a tet of B
+/// (barycentric coordinates all ≥ 0) to B's current boundary surface (the faces of exactly one
+/// tet), 0 when none is inside. Brute force over B's tets and faces.
+void addSolidPenetrationMetrics(const MetricInputs& in, MetricSet& out) {
+  const pbd::Scene& scene = *in.scene;
+  if (scene.tetModels.size() < 2) return;
+  if (in.samples->front().particles.empty()) {
+    out.notes.push_back("solid_penetration_max: the engine reads back no particles");
+    return;
+  }
+  // Boundary faces per model, global particle indices.
+  std::vector<std::vector<std::array<int, 3>>> boundaries;
+  for (const pbd::TetModelDesc& m : scene.tetModels) {
+    std::map<std::array<int, 3>, int> count;
+    for (const auto& t : m.mesh.tetrahedra)
+      for (int skip = 0; skip < 4; ++skip) {
+        std::array<int, 3> face{};
+        int k = 0;
+        for (int j = 0; j < 4; ++j)
+          if (j != skip) face[std::size_t(k++)] = t[std::size_t(j)] + m.firstParticle;
+        std::sort(face.begin(), face.end());
+        ++count[face];
+      }
+    std::vector<std::array<int, 3>> faces;
+    for (const auto& [face, n] : count)
+      if (n == 1) faces.push_back(face);
+    boundaries.push_back(std::move(faces));
+  }
+  double deepest = 0;
+  for (const State& s : *in.samples) {
+    pbd::TriangleMesh surface;
+    for (const ParticleState& p : s.particles) surface.vertices.push_back(p.position.cast<pbd::Real>());
+    for (std::size_t b = 0; b < scene.tetModels.size(); ++b) {
+      const pbd::TetModelDesc& tetSide = scene.tetModels[b];
+      if (boundaries[b].empty()) continue;
+      surface.triangles = boundaries[b];
+      const pbd::MeshDistance boundary(surface);
+      for (std::size_t a = 0; a < scene.tetModels.size(); ++a) {
+        if (a == b) continue;
+        const pbd::TetModelDesc& vertexSide = scene.tetModels[a];
+        for (std::size_t i = 0; i < vertexSide.mesh.vertices.size(); ++i) {
+          const pbd::Vector3& x = surface.vertices[std::size_t(vertexSide.firstParticle) + i];
+          for (const auto& t : tetSide.mesh.tetrahedra) {
+            const auto at = [&](std::size_t j) {
+              return surface.vertices[std::size_t(t[j] + tetSide.firstParticle)];
+            };
+            pbd::Matrix3 edges;
+            edges << at(1) - at(0), at(2) - at(0), at(3) - at(0);
+            if (edges.determinant() == 0) continue;
+            const pbd::Vector3 w = edges.inverse() * (x - at(0));
+            if (!(w.minCoeff() >= 0 && w.sum() <= 1)) continue;
+            pbd::Vector3 closest;
+            deepest = std::max(deepest, double(boundary.closestPoint(x, closest)));
+            break;
+          }
+        }
+      }
+    }
+  }
+  out.values[metric::kSolidPenetrationMax] = deepest;
 }
 
 /// max_k ‖Q(t_k) − Q(t_0)‖ / scale for a vector quantity Q of each sample.
@@ -424,6 +522,8 @@ MetricSet computeMetrics(const MetricInputs& inputs) {
   addPenetrationMetrics(inputs, out);
   addTrajectoryMetrics(inputs, out);
   addDeformationMetrics(inputs, out);
+  addParticlePenetrationMetrics(inputs, out);
+  addSolidPenetrationMetrics(inputs, out);
   return out;
 }
 

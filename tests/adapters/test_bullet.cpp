@@ -489,6 +489,9 @@ TEST(BulletEngineReport, EveryCaseRunsOrNamesWhatIsUnsupported) {
   const std::map<std::string, std::set<std::string>> expectedUnsupported = {
       {"joint_distance.json", {"DistanceJoints[0]"}},
       {"cloth_hanging.json", {"TriangleModels[0]"}},
+      {"cloth_on_sphere.json", {"TriangleModels[0]"}},
+      {"tet_bar.json", {"TetModels[0]"}},
+      {"solid_collision.json", {"TetModels[0]", "TetModels[1]"}},
       {"joint_rigid_body_particle_ball.json",
        {"TriangleModels[0]", "RigidBodyParticleBallJoints[0]"}},
   };

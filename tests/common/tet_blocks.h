@@ -38,6 +38,43 @@ inline Scene tetBlock(int nx, int ny, int nz, int solidMethod) {
   return scene;
 }
 
+/// Appends a cube of cells³ cubic cells (edge `spacing`, lower corner `corner`) as a tet model
+/// of 1 kg particles: every cell split into the six tets around its main diagonal (Kuhn), so
+/// that neighbouring cells share their face diagonals (a conforming mesh, whose boundary is
+/// the cube's surface), each tet positively oriented. Returns the model's index.
+inline int appendTetCube(Scene& scene, const Vector3& corner, int cells, Real spacing) {
+  TetModelDesc solid;
+  const int n = cells + 1;
+  const auto index = [&](int i, int j, int k) { return (k * n + j) * n + i; };
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        solid.mesh.vertices.push_back(corner + spacing * Vector3(Real(i), Real(j), Real(k)));
+  for (int k = 0; k < cells; ++k)
+    for (int j = 0; j < cells; ++j)
+      for (int i = 0; i < cells; ++i) {
+        std::array<int, 8> v;
+        for (int c = 0; c < 8; ++c)
+          v[std::size_t(c)] = index(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1));
+        for (const std::array<int, 4>& t : std::vector<std::array<int, 4>>{
+                 {0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}}) {
+          std::array<int, 4> tet{v[std::size_t(t[0])], v[std::size_t(t[1])], v[std::size_t(t[2])],
+                                 v[std::size_t(t[3])]};
+          const auto& p = solid.mesh.vertices;
+          const Vector3 a = p[std::size_t(tet[1])] - p[std::size_t(tet[0])];
+          const Vector3 b = p[std::size_t(tet[2])] - p[std::size_t(tet[0])];
+          const Vector3 c = p[std::size_t(tet[3])] - p[std::size_t(tet[0])];
+          if (a.cross(b).dot(c) < 0) std::swap(tet[2], tet[3]);
+          solid.mesh.tetrahedra.push_back(tet);
+        }
+      }
+  solid.id = static_cast<int>(scene.tetModels.size());
+  solid.firstParticle = static_cast<int>(scene.particles.size());
+  for (const Vector3& v : solid.mesh.vertices) scene.particles.push_back({v, Vector3::Zero(), 1});
+  scene.tetModels.push_back(solid);
+  return static_cast<int>(scene.tetModels.size()) - 1;
+}
+
 /// A 2 × 5 × 2 column (20 tets) of `solidMethod` hanging from its static top face for 1 s with
 /// `iterations`: its largest edge strain over the run; fails the test (gtest ASSERTs in the
 /// caller's view: returns a negative value) when a particle is not finite or leaves the ball of

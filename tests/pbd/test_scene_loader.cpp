@@ -289,12 +289,9 @@ TEST(SceneLoaderEveryKey, TriangleAndTetModelsAndTheirParticles) {
   EXPECT_EQ(tet.staticParticles, (std::vector<int>{3}));
   EXPECT_EQ(tet.restitution, Real(0.05));
   EXPECT_EQ(tet.friction, Real(0.35));
+  // A tet model's shape keys other than these two are ignored with a warning (warningCases).
   EXPECT_EQ(tet.collision.type, CollisionObjectType::SignedDistanceField);
-  EXPECT_EQ(tet.collision.fileName, "");
   EXPECT_TRUE(tet.collision.testMesh);
-  EXPECT_TRUE(tet.collision.invertSDF);
-  EXPECT_EQ(tet.collision.thicknessSDF, Real(0.2));
-  EXPECT_EQ(tet.collision.resolutionSDF, Vector3i(5, 6, 7));
   EXPECT_EQ(tet.firstParticle, 9);
   ASSERT_EQ(tet.mesh.tetrahedra.size(), 1u);
   EXPECT_EQ(tet.mesh.tetrahedra[0], (std::array<int, 4>{0, 1, 2, 3}));
@@ -861,6 +858,12 @@ std::vector<WarningCase> warningCases() {
           "axis": [1, 0, 0], "axes": [1, 0, 0]}]})",
        "HingeJoints[0].axes", "did you mean \"axis\"?"},
       {R"({"Foo": 1})", "Foo", "unknown key (ignored)"},
+      {R"({"TetModels": [{"nodeFile": "../meshes/tet.node", "eleFile": "../meshes/tet.ele",
+          "collisionObjectType": 1, "collisionObjectScale": [2, 2, 2]}]})",
+       "TetModels[0].collisionObjectScale", "ignored for a tet model"},
+      {R"({"TetModels": [{"nodeFile": "../meshes/tet.node", "eleFile": "../meshes/tet.ele",
+          "resolutionSDF": [4, 4, 4]}]})",
+       "TetModels[0].resolutionSDF", "only collisionObjectType and testMesh take effect"},
       {R"({"Simulation": {"maxIter": 4}})", "Simulation.maxIter",
        "stale name that PositionBasedDynamics silently ignores; did you mean \"maxIterations\"?"},
       {R"({"Simulation": {"maxIterVel": 4}})", "Simulation.maxIterVel",

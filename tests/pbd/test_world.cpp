@@ -9,6 +9,7 @@
 
 #include "common/scene_fixtures.h"
 #include "common/stiff_rod_scenes.h"
+#include "common/tet_blocks.h"
 #include "pbd/model/world.h"
 
 // Counting allocator for this test binary: every operator new (plain and nothrow, which
@@ -296,6 +297,32 @@ TEST(World, StepWithContactsAllocatesNothing) {
     // The scene really is in contact, rigid and particle alike.
     EXPECT_GT(rigidContacts, 10u);
     EXPECT_GT(particleContacts, 0u);
+  }
+}
+
+// Particle–tet contacts (a tet cube dropped on a tet cube clamped at its bottom) allocate
+// nothing in any schedule: the seed's (found after the substeps), the corrected one and the
+// XPBD step's (found in every substep), detection, set-up and solve.
+TEST(World, StepWithParticleTetContactsAllocatesNothing) {
+  for (int schedule = 0; schedule < 3; ++schedule) {
+    Scene scene;
+    test::appendTetCube(scene, Vector3(0, 0, 0), 2, Real(0.25));
+    test::appendTetCube(scene, Vector3(0.1, 0.52, 0.1), 2, Real(0.25));
+    for (std::size_t i = 0; i < 27; ++i)
+      if (scene.particles[i].position.y() == 0) scene.particles[i].mass = 0;
+    scene.simulation.solidSimulationMethod = 3;
+    scene.simulation.contactModel = schedule == 0 ? ContactModel::Seed : ContactModel::Corrected;
+    scene.simulation.stepMethod = schedule == 2 ? StepMethod::Xpbd : StepMethod::Seed;
+    World world = buildWorld(scene);
+    world.step();
+    const long before = gAllocations.load();
+    std::size_t contacts = 0;
+    for (int n = 0; n < 100; ++n) {
+      world.step();
+      contacts = std::max(contacts, world.tetContacts.contacts.size());
+    }
+    EXPECT_EQ(gAllocations.load() - before, 0) << schedule;
+    EXPECT_GT(contacts, 0u) << schedule;  // it really is in contact
   }
 }
 

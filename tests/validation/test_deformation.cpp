@@ -199,3 +199,61 @@ TEST(Deformation, ComputeMetricsReportsStretchAndVolume) {
 
 }  // namespace
 }  // namespace pbdval
+
+namespace pbdval {
+namespace {
+
+// particle_penetration_max: a static sphere (r = 0.5, centre (0, −1, 0), turned and placed by
+// its pose) below the cloth; cloth vertex 4 pushed 0.2 m into it, vertex 0 onto its surface.
+TEST(Deformation, ParticlePenetrationIsTheDeepestVertexBelowARigidSurface) {
+  pbd::Scene scene = clothAndCube(4, 6);
+  pbd::RigidBodyDesc sphere;
+  sphere.id = 7;
+  sphere.isDynamic = false;
+  sphere.translation = Vector3(0, -1, 0);
+  sphere.collision.type = pbd::CollisionObjectType::Sphere;
+  sphere.collision.scale = Vector3(0.5, 0.5, 0.5);
+  scene.rigidBodies.push_back(sphere);
+  std::vector<State> samples = {initialState(scene), initialState(scene)};
+  // The sample's pose moves the sphere's scene frame: centre at (1, −1, 2).
+  samples[1].bodies[0].position = Vector3(1, -1, 2);
+  samples[1].bodies[0].rotation = test::turn(Vector3(1, 1, 0), 0.4);
+  samples[1].particles[4].position = Vector3(1, -1, 2) + Vector3(0, 0.3, 0);  // 0.2 inside
+  samples[1].particles[0].position = Vector3(1, -1, 2) + Vector3(0.5, 0, 0);  // on the surface
+  MetricInputs in;
+  in.scene = &scene;
+  const CaseSpec spec;
+  in.spec = &spec;
+  in.samples = &samples;
+  const MetricSet m = computeMetrics(in);
+  // |x − c| − r = 0.3 − 0.5 exactly representable up to one rounding of the pose.
+  EXPECT_NEAR(m.values.at(metric::kParticlePenetrationMax), 0.2, 1e-14);
+  // Nothing inside: 0.
+  samples.pop_back();
+  EXPECT_EQ(computeMetrics(in).values.at(metric::kParticlePenetrationMax), 0);
+}
+
+// solid_penetration_max: a second unit cube of 5 tets overlapping the first; its vertex 0 moved
+// to (5.9, 0.5, 0.45) inside the first cube ([5, 6] × [0, 1]²): 0.1 from the face x = 6.
+TEST(Deformation, SolidPenetrationIsTheDeepestVertexInsideAnotherSolid) {
+  pbd::Scene scene = clothAndCube(4, 6);
+  pbd::TetModelDesc second = scene.tetModels[0];
+  second.firstParticle = static_cast<int>(scene.particles.size());
+  for (Vector3& v : second.mesh.vertices) v += Vector3(3, 0, 0);  // at x ∈ [8, 9]: apart
+  for (const Vector3& v : second.mesh.vertices) scene.particles.push_back({v, Vector3::Zero(), 1});
+  scene.tetModels.push_back(second);
+  std::vector<State> samples = {initialState(scene)};
+  MetricInputs in;
+  in.scene = &scene;
+  const CaseSpec spec;
+  in.spec = &spec;
+  in.samples = &samples;
+  EXPECT_EQ(computeMetrics(in).values.at(metric::kSolidPenetrationMax), 0);  // apart
+  samples.push_back(initialState(scene));
+  samples[1].particles[std::size_t(second.firstParticle)].position = Vector3(5.9, 0.5, 0.45);
+  // The distance to the face x = 6, a few roundings.
+  EXPECT_NEAR(computeMetrics(in).values.at(metric::kSolidPenetrationMax), 0.1, 1e-14);
+}
+
+}  // namespace
+}  // namespace pbdval

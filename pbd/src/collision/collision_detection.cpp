@@ -103,6 +103,7 @@ CollisionDetector::CollisionDetector(const Scene& scene, const CollisionShapeOpt
     addModel(m.firstParticle, m.mesh.vertices.size(),
              m.collision.type == CollisionObjectType::None || m.collision.testMesh);
 
+  tetContacts_ = TetContactDetector(scene);
   const std::size_t others = shapedBodies > 0 ? shapedBodies - 1 : 0;
   rigidContactCapacity_ = rigidPoints * std::min(others, kContactsPerPoint);
   particleContactCapacity_ = particlePoints * std::min(shapedBodies, kContactsPerPoint);

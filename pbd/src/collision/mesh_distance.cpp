@@ -219,6 +219,12 @@ Real MeshDistance::closestPoint(const Vector3& point, Vector3& closestOnSurface)
   return std::sqrt(q.squaredDistance);
 }
 
+int MeshDistance::closestTriangle(const Vector3& point, Vector3& closestOnSurface) const {
+  const Query q = closest(point);
+  closestOnSurface = q.point;
+  return q.triangle;
+}
+
 Real MeshDistance::signedDistance(const Vector3& point) const {
   const Query q = closest(point);
   const Real distance = std::sqrt(q.squaredDistance);

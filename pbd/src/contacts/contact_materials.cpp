@@ -48,4 +48,8 @@ ContactMaterial ContactMaterials::particle(int particle, int body) const {
                           bodies_[std::size_t(body)]);
 }
 
+ContactMaterial ContactMaterials::particles(int a, int b) const {
+  return combineMaterials(rule_, particleModels_[std::size_t(a)], particleModels_[std::size_t(b)]);
+}
+
 }  // namespace pbd

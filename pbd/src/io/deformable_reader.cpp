@@ -126,6 +126,15 @@ TetModelDesc readTetModel(const JsonValue& element, LoadContext& context, Scene&
   readKeys(object, poseKeys(), in.pose);
   readKeys(object, collisionKeys(context), model.collision);
   checkCollisionScale(model.collision, object);
+  // A tet model's collision shape is never used (docs/contacts.md): tet–tet contacts use the
+  // model's own boundary and no body is tested against a tet model's SDF. Only
+  // collisionObjectType (0: always tested) and testMesh take effect.
+  for (const char* key : {"collisionObjectFileName", "collisionObjectScale", "invertSDF",
+                          "thicknessSDF", "resolutionSDF"})
+    if (const auto value = object.find(key))
+      value->warn(std::string("ignored for a tet model: its particle-tet contacts use the tet "
+                              "mesh's own boundary, not a collision shape (only "
+                              "collisionObjectType and testMesh take effect)"));
 
   model.translation = in.pose.translation;
   model.scale = in.pose.scale;

@@ -158,7 +158,11 @@ std::string writeSceneJson(const Scene& scene) {
       writeString(o, "eleFile", m.eleFile);
       if (!m.visFile.empty()) writeString(o, "visFile", m.visFile);
       writeModelKeys(o, m);
-      writeKeys(collisionKeys(context), m.collision, o);
+      // Only the collision keys a tet model uses (the others warn when read).
+      Json collision = Json::object();
+      writeKeys(collisionKeys(context), m.collision, collision);
+      for (const char* key : {"collisionObjectType", "testMesh"})
+        if (collision.contains(key)) o[key] = collision[key];
       models.push_back(o);
     }
     root["TetModels"] = models;

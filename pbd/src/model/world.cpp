@@ -175,6 +175,7 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
   world.collision = CollisionDetector(scene, options);
   world.materials = ContactMaterials(scene);
   world.contacts.reserve(world.collision);
+  world.tetContacts.reserve(world.collision.tetContacts());
   prepareXpbd(world, scene);
   return world;
 }

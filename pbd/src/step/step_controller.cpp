@@ -7,6 +7,18 @@
 namespace pbd {
 namespace {
 
+/// The particle–tet contacts' schedule: the seed's (detected after the substeps, solved one
+/// step late against snapshots) or, corrected, detected and solved in every substep.
+ParticleTetSchedule tetSchedule(const World& world) {
+  return world.settings.contactModel == ContactModel::Seed ? ParticleTetSchedule::Seed
+                                                           : ParticleTetSchedule::Current;
+}
+
+void detectTetContacts(World& world) {
+  world.collision.detectParticleTet(world.bodies.particles, world.tetContacts.geometry);
+  world.tetContacts.initialise(world.bodies.particles, world.materials);
+}
+
 void projectPositions(World& world, Real h) {
   for (Joint& joint : world.joints)
     std::visit([&](auto& j) { j.beginSubstep(h); }, joint);
@@ -26,6 +38,8 @@ void projectPositions(World& world, Real h) {
     solveDihedralBending(world.clothDihedrals, world.bodies.particles);
     solveGenericConstraints(world.genericConstraints, world.bodies.particles);
     solveRods(world.rods, world.bodies.particles, world.bodies.segments, h, iteration == 0);
+    // Then, serially, the particle–tet contacts (the seed's place for them).
+    world.tetContacts.solvePositions(world.bodies.particles, tetSchedule(world), 0);
   }
 }
 
@@ -37,6 +51,8 @@ void detectContacts(World& world) {
                              ? ContactOrder::Seed
                              : ContactOrder::DeepestFirst);
   world.contacts.initialise(world.bodies, world.materials, world.settings);
+  // The seed: particle–tet contacts found here act in the next step's substeps.
+  if (tetSchedule(world) == ParticleTetSchedule::Seed) detectTetContacts(world);
 }
 
 void projectVelocities(World& world) {
@@ -60,6 +76,7 @@ void stepWorld(World& world) {
   resetAccelerations(world);
   for (int s = 0; s < substeps; ++s) {
     predictPositions(world, hs);
+    if (tetSchedule(world) == ParticleTetSchedule::Current) detectTetContacts(world);
     projectPositions(world, hs);
     solveFluids(world.fluids, world.bodies.particles);  // own neighbour search and iterations
     updateVelocities(world, hs, world.settings.velocityUpdateMethod == 1);

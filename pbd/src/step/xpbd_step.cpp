@@ -53,6 +53,8 @@ void solvePositions(World& world, Real h) {
   solveRods(world.rods, world.bodies.particles, world.bodies.segments, h, true);
   for (XpbdContact& contact : world.xpbd.contacts.contacts)
     contact.solvePosition(world.bodies, h, settings.contactCompliance);
+  world.tetContacts.solvePositions(world.bodies.particles, ParticleTetSchedule::Current,
+                                   settings.contactCompliance / (h * h));
 }
 
 void solveVelocities(World& world, Real h) {
@@ -134,6 +136,9 @@ void stepWorldXpbd(World& world) {
     predictPositions(world, hs);
     for (XpbdContact& contact : world.xpbd.contacts.contacts)
       contact.beginSubstep(world.bodies);
+    // Particle–tet contacts: detected on the predicted positions of every substep.
+    world.collision.detectParticleTet(world.bodies.particles, world.tetContacts.geometry);
+    world.tetContacts.initialise(world.bodies.particles, world.materials);
     solvePositions(world, hs);
     solveFluids(world.fluids, world.bodies.particles);  // own neighbour search and iterations
     updateVelocities(world, hs, /*secondOrder=*/false);  // XPBD: first order (the paper)

@@ -45,6 +45,7 @@
 #include "pbd/collision/broad_phase.h"
 #include "pbd/collision/collision_shape.h"
 #include "pbd/collision/point_bvh.h"
+#include "pbd/collision/tet_contact_detection.h"
 #include "pbd/parallel/worker_pool.h"
 #include "pbd/model/body_states.h"
 #include "pbd/model/scene.h"
@@ -86,6 +87,12 @@ class CollisionDetector {
               ContactOrder order = ContactOrder::DeepestFirst);
   /// Sizes `out` for the worst case this detector allows.
   void reserve(ContactGeometryBuffer& out) const;
+  /// Particle–tet contacts between tet models at the current positions
+  /// (tet_contact_detection.h). Allocates nothing after `tetContacts().reserve`.
+  void detectParticleTet(const ParticleStates& particles, ParticleTetGeometryBuffer& out) {
+    tetContacts_.detect(particles, out);
+  }
+  const TetContactDetector& tetContacts() const { return tetContacts_; }
 
   std::size_t rigidBodyCount() const { return rigid_.size(); }
   /// Threads of the narrow phase (1: serial).
@@ -137,6 +144,7 @@ class CollisionDetector {
   std::vector<RigidObject> rigid_;
   bool seedGridDistance_ = false;  ///< the seed's unscaled grid distance (step 4), per detection
   std::vector<ParticleModel> particleModels_;
+  TetContactDetector tetContacts_;  ///< tet model against tet model
   std::size_t rigidContactCapacity_ = 0, particleContactCapacity_ = 0;
   // Per-detection scratch, sized at construction.
   std::vector<Frame> frames_;

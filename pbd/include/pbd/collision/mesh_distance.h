@@ -27,6 +27,9 @@ class MeshDistance {
   Real signedDistance(const Vector3& point) const;
   /// Unsigned distance and the closest point on the surface.
   Real closestPoint(const Vector3& point, Vector3& closest) const;
+  /// The closest point on the surface and the index of its triangle (in the order of the
+  /// mesh's `triangles`).
+  int closestTriangle(const Vector3& point, Vector3& closest) const;
 
  private:
   enum class Feature : int { Face, EdgeAB, EdgeBC, EdgeCA, VertexA, VertexB, VertexC };

@@ -19,6 +19,9 @@ class ContactMaterials {
   ContactMaterial rigid(int a, int b) const;
   /// Global particle index `particle` against rigid body `body`.
   ContactMaterial particle(int particle, int body) const;
+  /// Global particles `a` and `b` of two models (particle–tet contacts): their models'
+  /// materials combined by the rule.
+  ContactMaterial particles(int a, int b) const;
 
  private:
   struct Override {

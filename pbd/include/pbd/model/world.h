@@ -20,6 +20,7 @@
 #include "pbd/constraints/tet_volume.h"
 #include "pbd/contacts/contact_set.h"
 #include "pbd/fluids/fluid_model.h"
+#include "pbd/contacts/particle_tet_contact.h"
 #include "pbd/joints/joint.h"
 #include "pbd/joints/stiff_rod_tree_solver.h"
 #include "pbd/model/body_states.h"
@@ -71,6 +72,9 @@ struct World {
   CollisionDetector collision;       ///< shapes, surface samples, hierarchies, broad phase
   ContactMaterials materials;        ///< friction and restitution per pair
   ContactSet contacts;               ///< the contacts of the last step
+  /// Particle–tet contacts between tet models (contacts/particle_tet_contact.h): those of the
+  /// last detection (seed model: after the last step's substeps; else the last substep's).
+  ParticleTetContactSet tetContacts;
   XpbdState xpbd;                    ///< the XPBD step's contacts and multipliers
   Real time = 0;
   std::int64_t stepCount = 0;
