@@ -63,6 +63,7 @@ inline constexpr const char* kParticleStretchMax = "particle_stretch_max";
 inline constexpr const char* kParticleStretchRms = "particle_stretch_rms";
 inline constexpr const char* kTetVolumeErrorMax = "tet_volume_error_max";
 inline constexpr const char* kSolidVolumeErrorMax = "solid_volume_error_max";
+inline constexpr const char* kFluidEscapeMax = "fluid_escape_max";
 /// "motor_tracking_<quantity>_max", quantity "angle", "angular_velocity", "position", "velocity".
 std::string motorTrackingMax(const std::string& quantity);
 }  // namespace metric

@@ -282,6 +282,9 @@ std::vector<std::string> BulletEngine::unsupported(const pbd::Scene& scene,
   for (const pbd::TetModelDesc& model : scene.tetModels)
     missing.push_back(model.jsonPath +
                       ": particles (deformable solid): the Bullet adapter maps rigid bodies only");
+  for (const pbd::FluidModelDesc& model : scene.fluidModels)
+    missing.push_back(model.jsonPath +
+                      ": particles (FluidModels: fluid): the Bullet adapter maps rigid bodies only");
   for (const pbd::RigidBodyDesc& body : scene.rigidBodies)
     if (std::string why = bullet::unsupportedCollision(body); !why.empty())
       missing.push_back(std::move(why));

@@ -40,6 +40,8 @@ std::vector<std::string> OdeEngine::unsupported(const pbd::Scene& scene,
     missing.push_back(model.jsonPath + ": ODE has no particles (cloth)");
   for (const pbd::TetModelDesc& model : scene.tetModels)
     missing.push_back(model.jsonPath + ": ODE has no particles (deformable solids)");
+  for (const pbd::FluidModelDesc& model : scene.fluidModels)
+    missing.push_back(model.jsonPath + ": ODE has no particles (FluidModels: fluids)");
   for (const pbd::RigidBodyDesc& body : scene.rigidBodies)
     for (std::string& reason : ode::unsupportedShapeFeatures(body))
       missing.push_back(std::move(reason));
