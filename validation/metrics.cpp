@@ -218,6 +218,29 @@ void addSolidPenetrationMetrics(const MetricInputs& in, MetricSet& out) {
     }
   }
   out.values[metric::kSolidPenetrationMax] = deepest;
+/// The farthest any fluid particle gets outside its model's container, over the samples (0
+/// when all stay inside): max_k max_i max_axis (min − x_i, x_i − max), clamped at 0.
+void addFluidMetrics(const MetricInputs& in, MetricSet& out) {
+  const pbd::Scene& scene = *in.scene;
+  bool contained = false;
+  for (const pbd::FluidModelDesc& model : scene.fluidModels)
+    contained = contained || model.container.has_value();
+  if (!contained) return;
+  if (in.samples->front().particles.empty()) {
+    out.notes.push_back("fluid_escape_max: the engine reads back no particles");
+    return;
+  }
+  double escape = 0;
+  for (const State& s : *in.samples)
+    for (const pbd::FluidModelDesc& model : scene.fluidModels) {
+      if (!model.container) continue;
+      for (int i = 0; i < model.particleCount; ++i) {
+        const Vector3& x = s.particles[std::size_t(model.firstParticle + i)].position;
+        const Vector3 outside = (model.container->min - x).cwiseMax(x - model.container->max);
+        escape = std::max(escape, double(outside.maxCoeff()));
+      }
+    }
+  out.values[metric::kFluidEscapeMax] = escape;
 }
 
 /// max_k ‖Q(t_k) − Q(t_0)‖ / scale for a vector quantity Q of each sample.
@@ -524,6 +547,7 @@ MetricSet computeMetrics(const MetricInputs& inputs) {
   addDeformationMetrics(inputs, out);
   addParticlePenetrationMetrics(inputs, out);
   addSolidPenetrationMetrics(inputs, out);
+  addFluidMetrics(inputs, out);
   return out;
 }
 

@@ -65,6 +65,7 @@ inline constexpr const char* kTetVolumeErrorMax = "tet_volume_error_max";
 inline constexpr const char* kSolidVolumeErrorMax = "solid_volume_error_max";
 inline constexpr const char* kParticlePenetrationMax = "particle_penetration_max";
 inline constexpr const char* kSolidPenetrationMax = "solid_penetration_max";
+inline constexpr const char* kFluidEscapeMax = "fluid_escape_max";
 /// "motor_tracking_<quantity>_max", quantity "angle", "angular_velocity", "position", "velocity".
 std::string motorTrackingMax(const std::string& quantity);
 }  // namespace metric

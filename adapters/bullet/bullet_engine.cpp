@@ -290,6 +290,9 @@ std::vector<std::string> BulletEngine::unsupported(const pbd::Scene& scene,
       missing.push_back(joint.jsonPath +
                         ": stiff-rod joints (CosseratJoints, elastic bending and twisting "
                         "between rod segments) are not mapped by the Bullet adapter");
+  for (const pbd::FluidModelDesc& model : scene.fluidModels)
+    missing.push_back(model.jsonPath +
+                      ": particles (FluidModels: fluid): the Bullet adapter maps rigid bodies only");
   for (const pbd::RigidBodyDesc& body : scene.rigidBodies)
     if (std::string why = bullet::unsupportedCollision(body); !why.empty())
       missing.push_back(std::move(why));

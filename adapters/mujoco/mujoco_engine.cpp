@@ -88,6 +88,8 @@ std::vector<std::string> MujocoEngine::unsupported(const pbd::Scene& scene,
       missing.push_back(joint.jsonPath +
                         ": stiff-rod joints (CosseratJoints, elastic bending and twisting "
                         "between rod segments) are not mapped by the MuJoCo adapter");
+  for (const pbd::FluidModelDesc& m : scene.fluidModels)
+    missing.push_back(m.jsonPath + ": MuJoCo has no particles in this adapter (FluidModels: fluid)");
   for (const pbd::RigidBodyDesc& body : scene.rigidBodies)
     if (auto problem = mujoco::unsupportedShape(body)) missing.push_back(*problem);
   for (std::string& problem : mujoco::planKinematicTree(scene).unsupported)

@@ -47,6 +47,8 @@ std::vector<std::string> OdeEngine::unsupported(const pbd::Scene& scene,
       missing.push_back(joint.jsonPath +
                         ": stiff-rod joints (CosseratJoints, elastic bending and twisting "
                         "between rod segments) are not mapped by the ODE adapter");
+  for (const pbd::FluidModelDesc& model : scene.fluidModels)
+    missing.push_back(model.jsonPath + ": ODE has no particles (FluidModels: fluids)");
   for (const pbd::RigidBodyDesc& body : scene.rigidBodies)
     for (std::string& reason : ode::unsupportedShapeFeatures(body))
       missing.push_back(std::move(reason));

@@ -492,6 +492,7 @@ TEST(BulletEngineReport, EveryCaseRunsOrNamesWhatIsUnsupported) {
       {"cloth_on_sphere.json", {"TriangleModels[0]"}},
       {"tet_bar.json", {"TetModels[0]"}},
       {"solid_collision.json", {"TetModels[0]", "TetModels[1]"}},
+      {"fluid_dam_break.json", {"FluidModels[0]"}},
       {"joint_rigid_body_particle_ball.json",
        {"TriangleModels[0]", "RigidBodyParticleBallJoints[0]"}},
       {"stiff_rod_cantilever.json", {"CosseratJoints[0]", "CosseratJoints[9]"}},

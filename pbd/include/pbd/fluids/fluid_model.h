@@ -28,8 +28,8 @@
 
 namespace pbd {
 
-/// Neighbour-list capacity (fluid and boundary lists each): about three times the ≈ 42
-/// neighbours a particle has at rest density (neighbour_search.h).
+/// Neighbour-list capacity (fluid and boundary lists each): four times the 32 neighbours of an
+/// interior lattice particle at rest density (neighbour_search.h).
 inline constexpr std::size_t kMaxFluidNeighbours = 128;
 /// The seed's ε in the denominator of λ.
 inline constexpr Real kPbfEpsilon = Real(1e-6);

@@ -16,8 +16,8 @@
 // `maxNeighbours` entries; when more points are in range, the list keeps the lowest indices
 // (deterministic) and `NeighbourLists::dropped` counts the points left out, so that callers and
 // tests can see the clamp. For PBF at the seed's settings (support 4r, rest spacing ≈ 1.86r)
-// a particle has about 42 neighbours at rest density, so a capacity of 128 is reached only at
-// about three times the rest density (docs/methods.md, "Fluids").
+// an interior particle of a lattice at rest density has 32 neighbours, so a capacity of 128 is
+// reached only at about four times the rest density (docs/methods.md, "Fluids").
 #pragma once
 
 #include <cstddef>
