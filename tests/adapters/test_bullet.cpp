@@ -489,6 +489,7 @@ TEST(BulletEngineReport, EveryCaseRunsOrNamesWhatIsUnsupported) {
   const std::map<std::string, std::set<std::string>> expectedUnsupported = {
       {"joint_distance.json", {"DistanceJoints[0]"}},
       {"cloth_hanging.json", {"TriangleModels[0]"}},
+      {"rod_helix.json", {"LineModels[0]"}},
       {"joint_rigid_body_particle_ball.json",
        {"TriangleModels[0]", "RigidBodyParticleBallJoints[0]"}},
   };
