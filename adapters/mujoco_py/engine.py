@@ -122,7 +122,7 @@ def unsupported_features(scene: pp.ResolvedScene) -> list[str]:
                 any(b.velocity) or any(b.angular_velocity)):
             missing.append(f"{b.json_path}: initial velocity of a body jointed to a moving body")
     if scene.particles or scene.triangle_models or scene.tet_models:
-        missing.append("particles (TriangleModels, TetModels)")
+        missing.append("particles (TriangleModels, TetModels, LineModels)")
     return missing
 
 

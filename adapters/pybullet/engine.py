@@ -86,7 +86,7 @@ def unsupported_features(scene: pp.ResolvedScene) -> list[str]:
         elif b.shape.type in ("sdf", "torus") and not b.geometry_file:
             missing.append(f"{b.json_path}: shape {b.shape.type} without a geometry file")
     if scene.particles or scene.triangle_models or scene.tet_models:
-        missing.append("particles (TriangleModels, TetModels)")
+        missing.append("particles (TriangleModels, TetModels, LineModels)")
     if material_factors(scene, "friction") is None:
         missing.append("contact friction: the pairs' values are not products of per-body values "
                        "(pybullet multiplies the bodies' lateralFriction)")

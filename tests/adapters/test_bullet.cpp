@@ -493,6 +493,7 @@ TEST(BulletEngineReport, EveryCaseRunsOrNamesWhatIsUnsupported) {
       {"tet_bar.json", {"TetModels[0]"}},
       {"solid_collision.json", {"TetModels[0]", "TetModels[1]"}},
       {"fluid_dam_break.json", {"FluidModels[0]"}},
+      {"rod_helix.json", {"LineModels[0]"}},
       {"joint_rigid_body_particle_ball.json",
        {"TriangleModels[0]", "RigidBodyParticleBallJoints[0]"}},
       {"stiff_rod_cantilever.json", {"CosseratJoints[0]", "CosseratJoints[9]"}},

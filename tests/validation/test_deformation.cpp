@@ -253,6 +253,33 @@ TEST(Deformation, SolidPenetrationIsTheDeepestVertexInsideAnotherSolid) {
   samples[1].particles[std::size_t(second.firstParticle)].position = Vector3(5.9, 0.5, 0.45);
   // The distance to the face x = 6, a few roundings.
   EXPECT_NEAR(computeMetrics(in).values.at(metric::kSolidPenetrationMax), 0.1, 1e-14);
+
+// Cosserat rods: each segment is an edge of the stretch measure (a rod stretched uniformly by
+// 2 % has every |ℓ/ℓ₀ − 1| = 0.02), a PBD rod defines no elastic energy and an XPBD rod's is
+// reported as unmeasured.
+TEST(Deformation, RodSegmentsAreEdgesAndRodsDefineNoMeasuredEnergy) {
+  for (bool xpbd : {false, true}) {
+    pbd::Scene scene = test::emptyScene(Vector3::Zero());
+    pbd::LineModelDesc rod;
+    rod.points = {Vector3(0, 0, 0), Vector3(0.5, 0, 0), Vector3(0.5, 0.25, 0), Vector3(1, 1, 1)};
+    rod.staticParticles = {0};
+    if (xpbd) {
+      rod.radius = 0.01;
+      rod.youngsModulus = 1e9;
+      rod.shearModulus = 4e8;
+    }
+    pbd::appendLineModel(scene, rod);
+    State state = initialState(scene);
+    for (auto& p : state.particles) p.position *= 1.02;  // about the static first point
+    const RestShape rest(scene);
+    const RestShape::Measures m = rest.measure(state);
+    EXPECT_EQ(m.edges, 3u);
+    EXPECT_NEAR(m.stretchMax, 0.02, 1e-14);  // 0.02 up to the round-off of lengths ~1
+    const ElasticEnergy energy(scene);
+    EXPECT_FALSE(energy.defined());
+    EXPECT_EQ(energy.hasPbdConstraints(), !xpbd);
+    EXPECT_EQ(energy.hasUnmeasuredRods(), xpbd);
+  }
 }
 
 }  // namespace
