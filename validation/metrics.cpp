@@ -218,6 +218,8 @@ void addSolidPenetrationMetrics(const MetricInputs& in, MetricSet& out) {
     }
   }
   out.values[metric::kSolidPenetrationMax] = deepest;
+}
+
 /// The farthest any fluid particle gets outside its model's container, over the samples (0
 /// when all stay inside): max_k max_i max_axis (min − x_i, x_i − max), clamped at 0.
 void addFluidMetrics(const MetricInputs& in, MetricSet& out) {

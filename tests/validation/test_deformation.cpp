@@ -253,6 +253,7 @@ TEST(Deformation, SolidPenetrationIsTheDeepestVertexInsideAnotherSolid) {
   samples[1].particles[std::size_t(second.firstParticle)].position = Vector3(5.9, 0.5, 0.45);
   // The distance to the face x = 6, a few roundings.
   EXPECT_NEAR(computeMetrics(in).values.at(metric::kSolidPenetrationMax), 0.1, 1e-14);
+}
 
 // Cosserat rods: each segment is an edge of the stretch measure (a rod stretched uniformly by
 // 2 % has every |ℓ/ℓ₀ − 1| = 0.02), a PBD rod defines no elastic energy and an XPBD rod's is
