@@ -102,8 +102,15 @@ void stepScaling(benchmark::State& state, const pbdval::EngineRegistry& engines,
 /// One member of a particle scaling family (cloth: side² particles, solid: side³).
 void stepParticleScaling(benchmark::State& state, const pbdval::EngineRegistry& engines,
                          const std::string& family, int side, const std::string& method) {
-  const pbd::Scene scene =
-      family == "cloth" ? pbdval::bench::clothScene(side) : pbdval::bench::solidScene(side);
+  pbd::Scene scene;
+  if (family == "cloth")
+    scene = pbdval::bench::clothScene(side);
+  else if (family == "solid")
+    scene = pbdval::bench::solidScene(side);
+  else if (family == "rod")
+    scene = pbd::parseScene(pbdval::bench::rodScene(side), "scaling_rod.json").scene;
+  else
+    scene = pbd::parseScene(pbdval::bench::fluidScene(side), "scaling_fluid.json").scene;
   stepScene(state, engines, scene, method, 10);
   state.counters["particles"] = double(scene.particles.size());
 }
@@ -145,13 +152,18 @@ int main(int argc, char** argv) {
             ->Iterations(20);
   }
   // Particle families: 10² to 10⁵ particles (named by the exact count), the PBD methods only
-  // (no reference engine simulates cloth or solids here).
-  for (const std::string family : {"cloth", "solid"}) {
+  // (no reference engine simulates cloth, solids, rods or fluids here).
+  // The rod family's "side" is its particle count.
+  for (const std::string family : {"cloth", "solid", "rod", "fluid"}) {
     const std::vector<int> sides =
-        family == "cloth" ? std::vector<int>{10, 32, 100, 316} : std::vector<int>{5, 10, 22, 46};
+        family == "cloth" ? std::vector<int>{10, 32, 100, 316}
+        : family == "rod" ? std::vector<int>{100, 1000, 10000, 100000}
+                          : std::vector<int>{5, 10, 22, 46};
     for (const std::string m : {"pbd", "pbd.xpbd"})
       for (const int side : sides) {
-        const int particles = family == "cloth" ? side * side : side * side * side;
+        const int particles = family == "cloth" ? side * side
+                              : family == "rod" ? side
+                                                : side * side * side;
         benchmark::RegisterBenchmark(
             ("scaling/" + family + "/" + m + "/" + std::to_string(particles)).c_str(),
             [&engines, family, m, side](benchmark::State& s) {

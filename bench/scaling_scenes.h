@@ -20,6 +20,12 @@
 //   solid  a cube of n × n × n particles (N = n³), 0.1 m cells, Kuhn tets (pbd::tetLattice),
 //          1000 kg/m³, XPBD FEM (solid method 3, E = 10⁶ Pa, ν = 0.3), hanging from its static
 //          top face (5 substeps × 1 iteration).
+//   rod    a straight Cosserat rod (LineModels) of N particles 1 cm apart, clamped at one end
+//          (first particle and segment static), the seed's PBD variant with the default rod_*
+//          stiffnesses, released horizontally (5 substeps x 1 iteration).
+//   fluid  a cube of n x n x n fluid particles (N = n^3, r = 0.025 m, the seed's FluidDemo
+//          parameters) in one corner of a container twice as long, collapsing as a dam break
+//          (5 ms frames, 5 substeps, 5 Jacobi iterations).
 //
 // The rigid scenes are written as the seed's scene JSON and read by the loader, as a case file
 // is; the particle scenes are built as pbd::Scene directly (their meshes would need files).
@@ -104,6 +110,37 @@ inline std::string pileScene(int count, bool boxes, const std::string& modelFold
     add(cx, boxes ? 0.31 : 0.255, cz);
   }
   scene["RigidBodies"] = bodies;
+  return scene.dump();
+}
+
+/// The rod family: `particles` particles (as scene JSON: LineModels need no file).
+inline std::string rodScene(int particles) {
+  nlohmann::json scene;
+  scene["Name"] = "scaling_rod_" + std::to_string(particles);
+  scene["Simulation"] = scalingSettings(false);
+  nlohmann::json points = nlohmann::json::array();
+  for (int i = 0; i < particles; ++i) points.push_back({0.01 * i, 1.0, 0.0});
+  nlohmann::json rod = nlohmann::json::object();
+  rod["points"] = points;
+  rod["staticParticles"] = nlohmann::json::array({0});
+  rod["staticSegments"] = nlohmann::json::array({0});
+  scene["LineModels"] = nlohmann::json::array({rod});
+  return scene.dump();
+}
+
+/// The fluid family: a cube of `side`³ particles in a container twice as long.
+inline std::string fluidScene(int side) {
+  const double spacing = 0.05;  // 2r
+  const double edge = side * spacing;
+  nlohmann::json scene;
+  scene["Name"] = "scaling_fluid_" + std::to_string(side * side * side);
+  scene["Simulation"] = scalingSettings(false);
+  nlohmann::json block = {{"min", {0, 0, 0}}, {"max", {edge, edge, edge}}};
+  nlohmann::json container = {{"min", {0, 0, 0}}, {"max", {2 * edge, 1.5 * edge, edge}}};
+  nlohmann::json fluid = nlohmann::json::object();
+  fluid["blocks"] = nlohmann::json::array({block});
+  fluid["container"] = container;
+  scene["FluidModels"] = nlohmann::json::array({fluid});
   return scene.dump();
 }
 
