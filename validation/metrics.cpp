@@ -1,6 +1,8 @@
 // computeMetrics: one code path for every engine (docs/metrics.md).
 #include "validation/metrics.h"
 
+#include "pbd/model/mesh.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -168,22 +170,12 @@ void addSolidPenetrationMetrics(const MetricInputs& in, MetricSet& out) {
     out.notes.push_back("solid_penetration_max: the engine reads back no particles");
     return;
   }
-  // Boundary faces per model, global particle indices.
+  // Boundary faces per model (pbd::boundaryFaces), global particle indices.
   std::vector<std::vector<std::array<int, 3>>> boundaries;
   for (const pbd::TetModelDesc& m : scene.tetModels) {
-    std::map<std::array<int, 3>, int> count;
-    for (const auto& t : m.mesh.tetrahedra)
-      for (int skip = 0; skip < 4; ++skip) {
-        std::array<int, 3> face{};
-        int k = 0;
-        for (int j = 0; j < 4; ++j)
-          if (j != skip) face[std::size_t(k++)] = t[std::size_t(j)] + m.firstParticle;
-        std::sort(face.begin(), face.end());
-        ++count[face];
-      }
-    std::vector<std::array<int, 3>> faces;
-    for (const auto& [face, n] : count)
-      if (n == 1) faces.push_back(face);
+    std::vector<std::array<int, 3>> faces = pbd::boundaryFaces(m.mesh);
+    for (std::array<int, 3>& face : faces)
+      for (int& v : face) v += m.firstParticle;
     boundaries.push_back(std::move(faces));
   }
   double deepest = 0;

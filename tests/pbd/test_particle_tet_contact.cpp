@@ -267,7 +267,7 @@ Real deepestInside(const World& world, const Scene& scene, int a, int b) {
     for (const auto& t : tb.mesh.tetrahedra) {
       std::array<Real, 4> w;
       const auto at = [&](int j) { return x[std::size_t(t[std::size_t(j)] + tb.firstParticle)]; };
-      if (!tetBarycentrics({at(0), at(1), at(2), at(3)}, p, w)) continue;
+      if (!tetBarycentric({at(0), at(1), at(2), at(3)}, p, w)) continue;
       if (*std::min_element(w.begin(), w.end()) < 0) continue;
       Vector3 closest;
       deepest = std::max(deepest, boundary.closestPoint(p, closest));

@@ -1,5 +1,7 @@
 #include "pbd/collision/tet_contact_detection.h"
 
+#include "pbd/model/mesh.h"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -34,20 +36,6 @@ std::array<Real, 3> triangleBarycentrics(const Vector3& a, const Vector3& b, con
 }
 
 }  // namespace
-
-bool tetBarycentrics(const std::array<Vector3, 4>& p, const Vector3& x,
-                     std::array<Real, 4>& weights) {
-  Matrix3 a;
-  a.col(0) = p[1] - p[0];
-  a.col(1) = p[2] - p[0];
-  a.col(2) = p[3] - p[0];
-  const Real det = a.determinant();
-  const Real scale = a.col(0).norm() * a.col(1).norm() * a.col(2).norm();
-  if (!(std::abs(det) > Real(1e-14) * scale)) return false;
-  const Vector3 b = a.inverse() * (x - p[0]);
-  weights = {1 - b.x() - b.y() - b.z(), b.x(), b.y(), b.z()};
-  return true;
-}
 
 TetContactDetector::TetContactDetector(const Scene& scene) {
   if (scene.tetModels.size() < 2) return;  // no pairs: nothing to build
@@ -121,7 +109,7 @@ void TetContactDetector::testParticle(const Model& tetSide, int tetModel, int pa
   tetSide.hierarchy.tetsContaining(x, [&](int t) {
     const std::array<int, 4>& tet = tetSide.tets[std::size_t(t)];
     std::array<Real, 4> b;
-    if (!tetBarycentrics(
+    if (!tetBarycentric(
             {positions[tet[0]], positions[tet[1]], positions[tet[2]], positions[tet[3]]}, x, b))
       return;
     const Real minimum = *std::min_element(b.begin(), b.end());

@@ -62,11 +62,6 @@ struct ParticleTetGeometryBuffer {
   std::size_t droppedContacts = 0;  ///< beyond capacity, last detection
 };
 
-/// The barycentric coordinates (b₀, b₁, b₂, b₃) of `x` in the tet `p` (Σ = 1); false for a
-/// degenerate tet (|det| ≤ 10⁻¹⁴ of its edge lengths cubed).
-bool tetBarycentrics(const std::array<Vector3, 4>& p, const Vector3& x,
-                     std::array<Real, 4>& weights);
-
 class TetContactDetector {
  public:
   TetContactDetector() = default;
