@@ -32,6 +32,8 @@ using Clock = std::chrono::steady_clock;
 constexpr const char* kStatusFile = "status.json";
 constexpr const char* kTrajectoryFile = "trajectory.csv";
 constexpr const char* kTrajectoryNpyFile = "trajectory.npy";  // the binary alternative
+constexpr const char* kParticlesFile = "particles.csv";          // particle states, when any
+constexpr const char* kParticlesNpyFile = "particles.npy";
 constexpr const char* kStderrFile = "stderr.txt";
 
 /// A scratch folder for one run, removed with everything in it when the run is over.
@@ -204,6 +206,26 @@ std::string checkSamples(const std::vector<State>& samples, const pbd::Scene& sc
   return "";
 }
 
+/// Moves the particles of `particles` into `samples` (the body trajectory's, already checked):
+/// the same number of samples at the same times, each with every particle of the scene.
+std::string mergeParticles(std::vector<State>& particles, const pbd::Scene& scene,
+                           std::vector<State>& samples) {
+  if (particles.size() != samples.size())
+    return "it has " + std::to_string(particles.size()) + " samples, the trajectory " +
+           std::to_string(samples.size()) + " (the same samples are expected)";
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    if (particles[k].time != samples[k].time)
+      return "sample " + std::to_string(k) + " is at t = " + pbd::formatReal(particles[k].time) +
+             " s, the trajectory's at t = " + pbd::formatReal(samples[k].time) + " s";
+    if (particles[k].particles.size() != scene.particles.size())
+      return "sample " + std::to_string(k) + " (t = " + pbd::formatReal(particles[k].time) +
+             ") has " + std::to_string(particles[k].particles.size()) + " particles, expected " +
+             std::to_string(scene.particles.size());
+    samples[k].particles = std::move(particles[k].particles);
+  }
+  return "";
+}
+
 }  // namespace
 
 ExternalEngine::ExternalEngine(std::string name, ExternalCommand command)
@@ -279,6 +301,31 @@ WholeRun ExternalEngine::runWhole(const pbd::Scene& scene, const Method& method,
   }
   if (const std::string wrong = checkSamples(run.samples, scene, plan, run.status); !wrong.empty())
     return fail(trajectoryFile + ": " + wrong);
+  // The particles: particles.csv or particles.npy, at the trajectory's samples, exactly when the
+  // scene has particles.
+  const bool particleCsv = fs::exists(outFolder / kParticlesFile);
+  const bool particleNpy = fs::exists(outFolder / kParticlesNpyFile);
+  if (particleCsv && particleNpy)
+    return fail(std::string("it wrote both ") + kParticlesFile + " and " + kParticlesNpyFile +
+                " (the protocol asks for one)");
+  if (scene.particles.empty()) {
+    if (particleCsv || particleNpy)
+      return fail(std::string("it wrote ") + (particleNpy ? kParticlesNpyFile : kParticlesFile) +
+                  " for a scene without particles");
+  } else {
+    if (!particleCsv && !particleNpy)
+      return fail("the scene has " + std::to_string(scene.particles.size()) +
+                  " particles and it wrote neither " + kParticlesNpyFile + " nor " + kParticlesFile);
+    const std::string particleFile = particleNpy ? kParticlesNpyFile : kParticlesFile;
+    Trajectory particles;
+    try {
+      particles = readParticleTrajectory((outFolder / particleFile).string());
+    } catch (const std::exception& e) {
+      return fail(particleFile + ": " + e.what());
+    }
+    if (const std::string wrong = mergeParticles(particles.samples, scene, run.samples); !wrong.empty())
+      return fail(particleFile + ": " + wrong);
+  }
   run.steps = plan.steps;
   return run;
 }

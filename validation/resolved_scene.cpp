@@ -1,8 +1,11 @@
 #include "validation/resolved_scene.h"
 
+#include <array>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 
+#include "pbd/model/mesh.h"
 #include "validation/case_spec.h"
 
 namespace pbdval {
@@ -240,6 +243,92 @@ json contactPairsJson(const pbd::Scene& scene) {
   return pairs;
 }
 
+/// Element index lists made local to a model (global particle index − firstParticle).
+template <std::size_t N>
+json localElements(const std::vector<std::array<int, N>>& elements) {
+  json list = json::array();
+  for (const std::array<int, N>& element : elements) {
+    json indices = json::array();
+    for (int i : element) indices.push_back(i);
+    list.push_back(std::move(indices));
+  }
+  return list;
+}
+
+json optionalNumber(const std::optional<pbd::Real>& value) {
+  return value ? json(double(*value)) : json(nullptr);
+}
+
+const char* clothMethodName(int method) {
+  static const char* const kNames[] = {"none", "distance", "fem", "strain", "xpbd_distance"};
+  return method >= 0 && method < 5 ? kNames[method] : "unknown";
+}
+
+const char* clothBendingMethodName(int method) {
+  static const char* const kNames[] = {"none", "dihedral", "isometric", "isometric_xpbd"};
+  return method >= 0 && method < 4 ? kNames[method] : "unknown";
+}
+
+const char* solidMethodName(int method) {
+  static const char* const kNames[] = {"none",   "distance_volume", "fem",
+                                       "fem_xpbd", "strain",        "shape_matching",
+                                       "xpbd_distance_volume"};
+  return method >= 0 && method < 7 ? kNames[method] : "unknown";
+}
+
+/// A triangle model with its topology and the cloth settings resolved for it (the Simulation
+/// block's, with the seed's forced defaults applied).
+json triangleModelJson(const pbd::TriangleModelDesc& model, const pbd::SimulationSettings& sim) {
+  const int method = sim.clothSimulationMethod;
+  return {{"id", model.id},
+          {"jsonPath", model.jsonPath},
+          {"firstParticle", model.firstParticle},
+          {"particleCount", model.mesh.vertices.size()},
+          {"triangles", localElements(model.mesh.triangles)},
+          {"staticParticles", model.staticParticles},
+          {"density", optionalNumber(model.density)},
+          {"friction", double(model.friction)},
+          {"restitution", double(model.restitution)},
+          {"simulationMethod", method},
+          {"methodName", clothMethodName(method)},
+          {"bendingMethod", method == 0 ? 0 : sim.clothBendingMethod},
+          {"bendingMethodName", clothBendingMethodName(method == 0 ? 0 : sim.clothBendingMethod)},
+          {"material",
+           {{"stiffness", double(pbd::clothStiffnessFor(sim))},
+            {"bendingStiffness", double(pbd::clothBendingStiffnessFor(sim))},
+            {"xxStiffness", double(sim.cloth_xxStiffness)},
+            {"yyStiffness", double(sim.cloth_yyStiffness)},
+            {"xyStiffness", double(sim.cloth_xyStiffness)},
+            {"xyPoissonRatio", double(sim.cloth_xyPoissonRatio)},
+            {"yxPoissonRatio", double(sim.cloth_yxPoissonRatio)},
+            {"normalizeStretch", sim.cloth_normalizeStretch},
+            {"normalizeShear", sim.cloth_normalizeShear}}}};
+}
+
+/// A tet model with its topology, its boundary faces (counter-clockwise seen from outside) and
+/// the solid settings resolved for it.
+json tetModelJson(const pbd::TetModelDesc& model, const pbd::SimulationSettings& sim) {
+  const int method = sim.solidSimulationMethod;
+  return {{"id", model.id},
+          {"jsonPath", model.jsonPath},
+          {"firstParticle", model.firstParticle},
+          {"particleCount", model.mesh.vertices.size()},
+          {"tets", localElements(model.mesh.tetrahedra)},
+          {"boundaryFaces", localElements(pbd::boundaryFaces(model.mesh))},
+          {"staticParticles", model.staticParticles},
+          {"density", optionalNumber(model.density)},
+          {"friction", double(model.friction)},
+          {"restitution", double(model.restitution)},
+          {"simulationMethod", method},
+          {"methodName", solidMethodName(method)},
+          {"material",
+           {{"stiffness", double(pbd::solidStiffnessFor(sim))},
+            {"poissonRatio", double(sim.solid_poissonRatio)},
+            {"volumeStiffness", double(pbd::solidVolumeStiffnessFor(sim))},
+            {"normalizeStretch", sim.solid_normalizeStretch},
+            {"normalizeShear", sim.solid_normalizeShear}}}};
+}
+
 }  // namespace
 
 RunLength caseRunLength(const pbd::Scene& scene, const EngineRegistry& registry) {
@@ -269,6 +358,13 @@ json resolvedSceneJson(const pbd::Scene& scene, const std::string& methodName,
   for (const pbd::ParticleDesc& p : scene.particles)
     particles.push_back(
         {{"position", vec(p.position)}, {"velocity", vec(p.velocity)}, {"mass", double(p.mass)}});
+
+  json triangleModels = json::array();
+  for (const pbd::TriangleModelDesc& model : scene.triangleModels)
+    triangleModels.push_back(triangleModelJson(model, sim));
+  json tetModels = json::array();
+  for (const pbd::TetModelDesc& model : scene.tetModels)
+    tetModels.push_back(tetModelJson(model, sim));
 
   return {
       {"format", kResolvedSceneFormat},
@@ -300,7 +396,12 @@ json resolvedSceneJson(const pbd::Scene& scene, const std::string& methodName,
       {"contactPairs", contactPairsJson(scene)},
       {"particles", particles},
       {"deformables",
-       {{"triangleModels", scene.triangleModels.size()}, {"tetModels", scene.tetModels.size()}}},
+       {{"triangleModels", scene.triangleModels.size()},
+        {"tetModels", scene.tetModels.size()},
+        {"lineModels", scene.lineModels.size()},
+        {"fluidModels", scene.fluidModels.size()}}},
+      {"triangleModels", triangleModels},
+      {"tetModels", tetModels},
   };
 }
 

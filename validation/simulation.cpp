@@ -67,8 +67,20 @@ std::string divergenceReason(const State& state) {
     return reason.str();
   }
   for (std::size_t i = 0; i < state.particles.size(); ++i)
-    if (!state.particles[i].position.allFinite() || !state.particles[i].velocity.allFinite())
-      return "non-finite state of particle " + std::to_string(i);
+  {
+    const ParticleState& p = state.particles[i];
+    if (!p.position.allFinite() || !p.velocity.allFinite()) {
+      std::ostringstream reason;
+      reason << "non-finite state of particle " << i << " at t = " << state.time << " s";
+      return reason.str();
+    }
+    if (p.position.norm() > kDivergenceLimit || p.velocity.norm() > kDivergenceLimit) {
+      std::ostringstream reason;
+      reason << "particle " << i << " blew up at t = " << state.time << " s (|x| = "
+             << p.position.norm() << " m, |v| = " << p.velocity.norm() << " m/s)";
+      return reason.str();
+    }
+  }
   return {};
 }
 

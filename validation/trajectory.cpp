@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
 
@@ -50,83 +51,43 @@ void writeCsvRows(std::ostream& out, const State& state) {
 
 namespace {
 
-/// One row (t, id, x y z, qw qx qy qz, vx vy vz, wx wy wz) into `trajectory`: a new sample when
-/// the time changes. `where` names the row in messages.
-void appendRow(Trajectory& trajectory, const double (&fields)[15], const std::string& where) {
-  for (int f = 0; f < 2; ++f)
-    // The time and the id must be finite; a state may not be: a diverged run's last sample
-    // holds its NaN or inf (the runner then reports the run diverged).
-    if (!std::isfinite(fields[f]))
-      throw std::runtime_error(where + ": field " + std::to_string(f + 1) + " is not a finite number");
-  if (fields[1] != std::floor(fields[1]) || std::abs(fields[1]) > 2147483647.0)
-    throw std::runtime_error(where + ": the body id (field 2) is not an integer");
-  if (trajectory.samples.empty() || trajectory.samples.back().time != fields[0]) {
-    trajectory.samples.emplace_back();
-    trajectory.samples.back().time = fields[0];
-  }
-  BodyState b;
-  b.id = static_cast<int>(fields[1]);
-  b.position = Vector3(Real(fields[2]), Real(fields[3]), Real(fields[4]));
-  b.rotation = Quaternion(Real(fields[5]), Real(fields[6]), Real(fields[7]), Real(fields[8]));
-  b.velocity = Vector3(Real(fields[9]), Real(fields[10]), Real(fields[11]));
-  b.angularVelocity = Vector3(Real(fields[12]), Real(fields[13]), Real(fields[14]));
-  trajectory.samples.back().bodies.push_back(b);
-}
+/// A trajectory file's rows, `columns` doubles each, handed to `row` with a name for messages
+/// ("FILE: line 3", "FILE: row 2").
+using RowSink = std::function<void(const double* fields, const std::string& where)>;
 
-std::string readWholeFile(const std::string& path, const char* what) {
-  const std::string problem = pbd::inputFileProblem(path, what);
-  if (!problem.empty()) throw std::runtime_error(pbd::printableText(path + ": " + problem));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(pbd::printableText(path + ": cannot be read"));
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-}  // namespace
-
-Trajectory readTrajectoryCsv(const std::string& path) {
-  return parseTrajectoryCsv(readWholeFile(path, "trajectory"), path);
-}
-
-Trajectory parseTrajectoryCsv(const std::string& text, const std::string& sourceName) {
-  const std::string path = pbd::printableText(sourceName);
+/// The rows of a CSV with exactly `header` on its first line and `columns` numbers per line.
+void parseCsvRows(const std::string& text, const char* header, int columns,
+                  const std::string& path, const RowSink& row) {
   std::istringstream in(text);
   std::string line;
-  if (!std::getline(in, line) || line != kTrajectoryCsvHeader)
-    throw std::runtime_error(path + ": line 1: expected the header '" +
-                             std::string(kTrajectoryCsvHeader) + "'");
-  Trajectory trajectory;
+  if (!std::getline(in, line) || line != header)
+    throw std::runtime_error(path + ": line 1: expected the header '" + std::string(header) + "'");
+  std::vector<double> fields(std::size_t(columns), 0.0);
   int lineNumber = 1;
   while (std::getline(in, line)) {
     ++lineNumber;
     if (line.empty()) continue;
-    double fields[15];
     const char* p = line.data();
     const char* end = line.data() + line.size();
-    for (int f = 0; f < 15; ++f) {
-      const auto r = std::from_chars(p, end, fields[f]);
-      if (r.ec != std::errc() || (f < 14 && (r.ptr == end || *r.ptr != ',')) ||
-          (f == 14 && r.ptr != end))
-        throw std::runtime_error(path + ": line " + std::to_string(lineNumber) +
-                                 ": expected 15 comma-separated numbers");
+    for (int f = 0; f < columns; ++f) {
+      const auto r = std::from_chars(p, end, fields[std::size_t(f)]);
+      if (r.ec != std::errc() || (f < columns - 1 && (r.ptr == end || *r.ptr != ',')) ||
+          (f == columns - 1 && r.ptr != end))
+        throw std::runtime_error(path + ": line " + std::to_string(lineNumber) + ": expected " +
+                                 std::to_string(columns) + " comma-separated numbers");
       p = r.ptr + 1;
     }
-    appendRow(trajectory, fields, path + ": line " + std::to_string(lineNumber));
+    row(fields.data(), path + ": line " + std::to_string(lineNumber));
   }
-  return trajectory;
 }
 
-Trajectory readTrajectoryNpy(const std::string& path) {
-  return parseTrajectoryNpy(readWholeFile(path, "trajectory"), path);
-}
-
-Trajectory parseTrajectoryNpy(const std::string& bytes, const std::string& sourceName) {
-  const std::string path = pbd::printableText(sourceName);
+/// The rows of an NPY file of little-endian float64, shape (rows, `columns`), C order.
+void parseNpyRows(const std::string& bytes, int columns, const std::string& path,
+                  const RowSink& row) {
+  const std::string shape = "shape (rows, " + std::to_string(columns) + ")";
   auto fail = [&](const std::string& expected) -> std::runtime_error {
-    return std::runtime_error(path + ": expected " + expected +
-                              " (an .npy file of float64, shape (rows, 15), C order: "
-                              "docs/external-engines.md#trajectory)");
+    return std::runtime_error(path + ": expected " + expected + " (an .npy file of float64, " +
+                              shape + ", C order: docs/external-engines.md#trajectory)");
   };
   static const std::string kMagic = "\x93NUMPY";
   if (bytes.size() < 10 || bytes.compare(0, kMagic.size(), kMagic) != 0) throw fail("the NPY magic");
@@ -152,25 +113,118 @@ Trajectory parseTrajectoryNpy(const std::string& bytes, const std::string& sourc
   if (shapeAt == std::string::npos) throw fail("a 'shape' entry");
   const char* p = header.data() + shapeAt + 10;
   const char* end = header.data() + header.size();
-  std::size_t rows = 0, columns = 0;
+  std::size_t rows = 0, found = 0;
   auto r = std::from_chars(p, end, rows);
-  if (r.ec != std::errc() || r.ptr + 2 > end || r.ptr[0] != ',' || r.ptr[1] != ' ')
-    throw fail("shape (rows, 15)");
-  r = std::from_chars(r.ptr + 2, end, columns);
-  if (r.ec != std::errc() || r.ptr >= end || *r.ptr != ')' || columns != 15)
-    throw fail("shape (rows, 15)");
+  if (r.ec != std::errc() || r.ptr + 2 > end || r.ptr[0] != ',' || r.ptr[1] != ' ') throw fail(shape);
+  r = std::from_chars(r.ptr + 2, end, found);
+  if (r.ec != std::errc() || r.ptr >= end || *r.ptr != ')' || found != std::size_t(columns))
+    throw fail(shape);
+  const std::size_t rowBytes = std::size_t(columns) * sizeof(double);
   const std::size_t dataAt = offset + headerLength;
-  if (rows > (bytes.size() - dataAt) / (15 * sizeof(double)) ||
-      bytes.size() - dataAt != rows * 15 * sizeof(double))
-    throw fail(std::to_string(rows) + " rows of data (" + std::to_string(rows * 15 * sizeof(double)) +
+  if (rows > (bytes.size() - dataAt) / rowBytes || bytes.size() - dataAt != rows * rowBytes)
+    throw fail(std::to_string(rows) + " rows of data (" + std::to_string(rows * rowBytes) +
                " bytes), found " + std::to_string(bytes.size() - dataAt) + " bytes");
-  Trajectory trajectory;
-  double fields[15];
-  for (std::size_t row = 0; row < rows; ++row) {
-    std::memcpy(fields, bytes.data() + dataAt + row * sizeof fields, sizeof fields);
-    appendRow(trajectory, fields, path + ": row " + std::to_string(row));
+  std::vector<double> fields(std::size_t(columns), 0.0);
+  for (std::size_t i = 0; i < rows; ++i) {
+    std::memcpy(fields.data(), bytes.data() + dataAt + i * rowBytes, rowBytes);
+    row(fields.data(), path + ": row " + std::to_string(i));
   }
+}
+
+/// The time and the id or index of a row (fields 1 and 2) must be finite, the second an integer;
+/// a state may not be finite: a diverged run's last sample holds its NaN or inf (the runner then
+/// reports the run diverged). A new sample starts when the time changes.
+State& sampleOfRow(Trajectory& trajectory, const double* fields, const std::string& where,
+                   const char* idName) {
+  for (int f = 0; f < 2; ++f)
+    if (!std::isfinite(fields[f]))
+      throw std::runtime_error(where + ": field " + std::to_string(f + 1) + " is not a finite number");
+  if (fields[1] != std::floor(fields[1]) || std::abs(fields[1]) > 2147483647.0)
+    throw std::runtime_error(where + ": the " + std::string(idName) + " (field 2) is not an integer");
+  if (trajectory.samples.empty() || trajectory.samples.back().time != fields[0]) {
+    trajectory.samples.emplace_back();
+    trajectory.samples.back().time = fields[0];
+  }
+  return trajectory.samples.back();
+}
+
+/// One body row (t, id, x y z, qw qx qy qz, vx vy vz, wx wy wz).
+void appendBodyRow(Trajectory& trajectory, const double* fields, const std::string& where) {
+  State& sample = sampleOfRow(trajectory, fields, where, "body id");
+  BodyState b;
+  b.id = static_cast<int>(fields[1]);
+  b.position = Vector3(Real(fields[2]), Real(fields[3]), Real(fields[4]));
+  b.rotation = Quaternion(Real(fields[5]), Real(fields[6]), Real(fields[7]), Real(fields[8]));
+  b.velocity = Vector3(Real(fields[9]), Real(fields[10]), Real(fields[11]));
+  b.angularVelocity = Vector3(Real(fields[12]), Real(fields[13]), Real(fields[14]));
+  sample.bodies.push_back(b);
+}
+
+/// One particle row (t, index, x y z, vx vy vz); the indices of a sample run 0, 1, 2, ...
+void appendParticleRow(Trajectory& trajectory, const double* fields, const std::string& where) {
+  State& sample = sampleOfRow(trajectory, fields, where, "particle index");
+  if (fields[1] != double(sample.particles.size()))
+    throw std::runtime_error(where + ": particle " + formatNumber(fields[1]) + ", expected " +
+                             std::to_string(sample.particles.size()) +
+                             " (each sample lists every particle in scene order, from 0)");
+  ParticleState p;
+  p.position = Vector3(Real(fields[2]), Real(fields[3]), Real(fields[4]));
+  p.velocity = Vector3(Real(fields[5]), Real(fields[6]), Real(fields[7]));
+  sample.particles.push_back(p);
+}
+
+std::string readWholeFile(const std::string& path, const char* what) {
+  const std::string problem = pbd::inputFileProblem(path, what);
+  if (!problem.empty()) throw std::runtime_error(pbd::printableText(path + ": " + problem));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(pbd::printableText(path + ": cannot be read"));
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+}  // namespace
+
+Trajectory readTrajectoryCsv(const std::string& path) {
+  return parseTrajectoryCsv(readWholeFile(path, "trajectory"), path);
+}
+
+Trajectory parseTrajectoryCsv(const std::string& text, const std::string& sourceName) {
+  Trajectory trajectory;
+  parseCsvRows(text, kTrajectoryCsvHeader, 15, pbd::printableText(sourceName),
+               [&](const double* f, const std::string& where) { appendBodyRow(trajectory, f, where); });
   return trajectory;
+}
+
+Trajectory readTrajectoryNpy(const std::string& path) {
+  return parseTrajectoryNpy(readWholeFile(path, "trajectory"), path);
+}
+
+Trajectory parseTrajectoryNpy(const std::string& bytes, const std::string& sourceName) {
+  Trajectory trajectory;
+  parseNpyRows(bytes, 15, pbd::printableText(sourceName),
+               [&](const double* f, const std::string& where) { appendBodyRow(trajectory, f, where); });
+  return trajectory;
+}
+
+Trajectory parseParticleTrajectoryCsv(const std::string& text, const std::string& sourceName) {
+  Trajectory trajectory;
+  parseCsvRows(text, kParticleCsvHeader, 8, pbd::printableText(sourceName),
+               [&](const double* f, const std::string& where) { appendParticleRow(trajectory, f, where); });
+  return trajectory;
+}
+
+Trajectory parseParticleTrajectoryNpy(const std::string& bytes, const std::string& sourceName) {
+  Trajectory trajectory;
+  parseNpyRows(bytes, 8, pbd::printableText(sourceName),
+               [&](const double* f, const std::string& where) { appendParticleRow(trajectory, f, where); });
+  return trajectory;
+}
+
+Trajectory readParticleTrajectory(const std::string& path) {
+  const std::string content = readWholeFile(path, "particle trajectory");
+  return hasNpyExtension(path) ? parseParticleTrajectoryNpy(content, path)
+                               : parseParticleTrajectoryCsv(content, path);
 }
 
 namespace {

@@ -51,6 +51,14 @@ inline constexpr const char* kParticleCsvHeader = "t,index,x,y,z,vx,vy,vz";
 void writeParticleCsvHeader(std::ostream& out);
 void writeParticleCsvRows(std::ostream& out, const State& state);
 void writeParticleTrajectoryNpy(std::ostream& out, const std::vector<State>& samples);
+/// Reads a particle trajectory (what `pbdval simulate --particles` and external engines write):
+/// samples with their time and particles only (no bodies). Every sample must list its particles
+/// in order from index 0. Throws std::runtime_error naming the file, the line or row, and what
+/// was expected.
+Trajectory parseParticleTrajectoryCsv(const std::string& text, const std::string& sourceName);
+Trajectory parseParticleTrajectoryNpy(const std::string& bytes, const std::string& sourceName);
+/// By the file's extension: ".npy" as NPY, anything else as CSV.
+Trajectory readParticleTrajectory(const std::string& path);
 
 /// Whether `path` names an NPY trajectory (ends in ".npy"); every other name is a CSV.
 bool hasNpyExtension(const std::string& path);

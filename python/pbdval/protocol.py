@@ -37,6 +37,11 @@ TRAJECTORY_FILE = "trajectory.csv"
 #: than most engines' step (docs/benchmarks.md#python).
 TRAJECTORY_NPY_FILE = "trajectory.npy"
 STATUS_FILE = "status.json"
+#: Particle states (cloth, solids), when the scene has particles: the CSV of
+#: `pbdval simulate --particles`, or the same rows as NPY, shape (rows, 8).
+PARTICLES_FILE = "particles.csv"
+PARTICLES_NPY_FILE = "particles.npy"
+PARTICLES_HEADER = "t,index,x,y,z,vx,vy,vz"
 TRAJECTORY_HEADER = "t,id,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz"
 STATUSES = ("ok", "unsupported", "diverged", "error")
 #: Positions beyond this many metres or speeds beyond this many m/s count as a blow-up
@@ -241,6 +246,54 @@ class Particle:
 
 
 @dataclass(frozen=True)
+class TriangleModel:
+    """A cloth (`TriangleModels[i]`): its particles are `particles[first_particle :
+    first_particle + particle_count]`; `triangles` and `static_particles` index them locally.
+    `simulation_method`/`method_name` and `bending_method`/`bending_method_name` are the scene's
+    cloth methods (docs/methods.md), `material` the cloth settings resolved for them (the seed's
+    forced defaults applied): stiffness (N/m per edge for xpbd_distance, a fraction per
+    iteration for distance), bendingStiffness, xxStiffness, yyStiffness, xyStiffness,
+    xyPoissonRatio, yxPoissonRatio, normalizeStretch, normalizeShear."""
+
+    id: int
+    json_path: str
+    first_particle: int
+    particle_count: int
+    triangles: np.ndarray = field(repr=False)  # (n, 3) int64, local indices
+    static_particles: tuple[int, ...]
+    density: float | None  # kg/m^2; None: every vertex mass 1 (the seed's)
+    friction: float
+    restitution: float
+    simulation_method: int
+    method_name: str
+    bending_method: int
+    bending_method_name: str
+    material: dict[str, ParameterValue]
+
+
+@dataclass(frozen=True)
+class TetModel:
+    """A solid (`TetModels[i]`), indexed like TriangleModel. `tets` are positively oriented,
+    `boundary_faces` counter-clockwise seen from outside. `material`: stiffness (Young's modulus
+    in Pa for fem_xpbd, N/m per edge for xpbd_distance_volume, else a fraction per iteration),
+    poissonRatio, volumeStiffness, normalizeStretch, normalizeShear."""
+
+    id: int
+    json_path: str
+    first_particle: int
+    particle_count: int
+    tets: np.ndarray = field(repr=False)  # (n, 4) int64, local indices
+    boundary_faces: np.ndarray = field(repr=False)  # (m, 3) int64, local indices
+    static_particles: tuple[int, ...]
+    density: float | None  # kg/m^3; None: every vertex mass 1
+    friction: float
+    restitution: float
+    simulation_method: int
+    method_name: str
+    material: dict[str, ParameterValue]
+
+
+@dataclass(frozen=True)
 class Method:
     name: str
     parameters: dict[str, ParameterValue]
@@ -263,8 +316,10 @@ class ResolvedScene:
     joints: tuple[Joint, ...]
     contact_pairs: tuple[ContactPair, ...]
     particles: tuple[Particle, ...]
-    triangle_models: int
-    tet_models: int
+    triangle_models: tuple[TriangleModel, ...]
+    tet_models: tuple[TetModel, ...]
+    line_models: int  # Cosserat rods (counted; their particles follow the tet models')
+    fluid_models: int  # position-based fluids (counted; their particles come last)
     document: dict[str, Any] = field(repr=False, compare=False, default_factory=dict)
 
     def body_by_id(self, body_id: int) -> Body:
@@ -437,6 +492,12 @@ def parse_resolved_scene(document: Any, source: str = "<resolved scene>") -> Res
     steps = r.integer(r.get(d, "steps", ""), "steps")
     if steps < 1:
         raise r.fail("steps", "an integer >= 1", steps)
+    particle_count = len(r.arr(d.get("particles", []), "particles"))
+    for key in ("triangleModels", "tetModels"):
+        given = len(r.arr(d.get(key, []), key))
+        counted = r.integer(deform.get(key, given), f"deformables.{key}")
+        if counted != given:
+            raise r.fail(f"deformables.{key}", f"{given} (the length of {key})", counted)
     return ResolvedScene(
         source=r.string(d.get("source", ""), "source"),
         name=r.string(d.get("name", ""), "name"),
@@ -466,10 +527,80 @@ def parse_resolved_scene(document: Any, source: str = "<resolved scene>") -> Res
                      velocity=r.vec(r.get(p, "velocity", f"particles[{i}]"), f"particles[{i}].velocity"),  # type: ignore[arg-type]
                      mass=r.num(r.get(p, "mass", f"particles[{i}]"), f"particles[{i}].mass"))
             for i, p in enumerate(r.arr(d.get("particles", []), "particles"))),
-        triangle_models=r.integer(deform.get("triangleModels", 0), "deformables.triangleModels"),
-        tet_models=r.integer(deform.get("tetModels", 0), "deformables.tetModels"),
+        triangle_models=tuple(
+            _triangle_model(r, r.obj(m, f"triangleModels[{i}]"), f"triangleModels[{i}]", particle_count)
+            for i, m in enumerate(r.arr(d.get("triangleModels", []), "triangleModels"))),
+        tet_models=tuple(
+            _tet_model(r, r.obj(m, f"tetModels[{i}]"), f"tetModels[{i}]", particle_count)
+            for i, m in enumerate(r.arr(d.get("tetModels", []), "tetModels"))),
+        line_models=r.integer(deform.get("lineModels", 0), "deformables.lineModels"),
+        fluid_models=r.integer(deform.get("fluidModels", 0), "deformables.fluidModels"),
         document=dict(d),
     )
+
+
+def _elements(r: _Reader, v: Any, path: str, size: int, vertices: int) -> np.ndarray:
+    """An (n, size) array of local vertex indices, each in [0, vertices)."""
+    items = r.arr(v, path)
+    out = np.empty((len(items), size), dtype=np.int64)
+    for e, element in enumerate(items):
+        indices = r.arr(element, f"{path}[{e}]")
+        if len(indices) != size:
+            raise r.fail(f"{path}[{e}]", f"{size} vertex indices", indices)
+        for k, index in enumerate(indices):
+            value = r.integer(index, f"{path}[{e}][{k}]")
+            if not 0 <= value < vertices:
+                raise r.fail(f"{path}[{e}][{k}]", f"a vertex index in [0, {vertices})", value)
+            out[e, k] = value
+    return out
+
+
+def _model_common(r: _Reader, m: Mapping[str, Any], path: str,
+                  particle_count: int) -> dict[str, Any]:
+    first = r.integer(r.get(m, "firstParticle", path), f"{path}.firstParticle")
+    count = r.integer(r.get(m, "particleCount", path), f"{path}.particleCount")
+    if first < 0 or count < 0 or first + count > particle_count:
+        raise r.fail(f"{path}.particleCount",
+                     f"a range of particles[] (firstParticle {first}, {particle_count} particles)", count)
+    statics = tuple(r.integer(i, f"{path}.staticParticles[{k}]")
+                    for k, i in enumerate(r.arr(m.get("staticParticles", []), f"{path}.staticParticles")))
+    for k, i in enumerate(statics):
+        if not 0 <= i < count:
+            raise r.fail(f"{path}.staticParticles[{k}]", f"a vertex index in [0, {count})", i)
+    density = m.get("density")
+    material = r.obj(r.get(m, "material", path), f"{path}.material")
+    for key, value in material.items():
+        if not isinstance(value, (bool, int, float)):
+            raise r.fail(f"{path}.material.{key}", "a number or true/false", value)
+    return dict(
+        id=r.integer(r.get(m, "id", path), f"{path}.id"),
+        json_path=r.string(m.get("jsonPath", ""), f"{path}.jsonPath"),
+        first_particle=first, particle_count=count, static_particles=statics,
+        density=None if density is None else r.num(density, f"{path}.density"),
+        friction=r.num(r.get(m, "friction", path), f"{path}.friction"),
+        restitution=r.num(r.get(m, "restitution", path), f"{path}.restitution"),
+        simulation_method=r.integer(r.get(m, "simulationMethod", path), f"{path}.simulationMethod"),
+        method_name=r.string(r.get(m, "methodName", path), f"{path}.methodName"),
+        material=dict(material))
+
+
+def _triangle_model(r: _Reader, m: Mapping[str, Any], path: str, particle_count: int) -> TriangleModel:
+    common = _model_common(r, m, path, particle_count)
+    return TriangleModel(
+        triangles=_elements(r, r.get(m, "triangles", path), f"{path}.triangles", 3,
+                            common["particle_count"]),
+        bending_method=r.integer(r.get(m, "bendingMethod", path), f"{path}.bendingMethod"),
+        bending_method_name=r.string(r.get(m, "bendingMethodName", path), f"{path}.bendingMethodName"),
+        **common)
+
+
+def _tet_model(r: _Reader, m: Mapping[str, Any], path: str, particle_count: int) -> TetModel:
+    common = _model_common(r, m, path, particle_count)
+    return TetModel(
+        tets=_elements(r, r.get(m, "tets", path), f"{path}.tets", 4, common["particle_count"]),
+        boundary_faces=_elements(r, r.get(m, "boundaryFaces", path), f"{path}.boundaryFaces", 3,
+                                 common["particle_count"]),
+        **common)
 
 
 def _pair_ids(r: _Reader, p: Any, i: int) -> tuple[int, int]:
@@ -558,32 +689,30 @@ def rows_divergence_reason(time: float, rows: np.ndarray) -> str | None:
     return None
 
 
-class TrajectoryWriter:
-    """Writes the run's samples into OUTDIR: by default OUTDIR/trajectory.npy (binary: float64
-    rows of shape (rows, 15), one per body per sample, columns as the CSV's), or with
-    `binary=False` OUTDIR/trajectory.csv in the format of `pbdval simulate` (docs/cli.md#csv).
-    Bodies in the resolved scene's order, quaternions with w >= 0. Written to a temporary file
-    and renamed on close(), so the file is never half-written."""
+class _RowWriter:
+    """Rows of `columns` float64 into OUTDIR/`npy_name` (binary: an NPY file of shape (rows,
+    columns)) or, with `binary=False`, OUTDIR/`csv_name` under `header`, the first two columns
+    (time, id or index) written as the C++ writers write them. Written to a temporary file and
+    renamed on close(), so the file is never half-written."""
 
-    def __init__(self, out_dir: str | os.PathLike[str], *, binary: bool = True) -> None:
+    def __init__(self, out_dir: str | os.PathLike[str], *, binary: bool, npy_name: str,
+                 csv_name: str, header: str, columns: int) -> None:
         self.binary = binary
-        self.path = Path(out_dir) / (TRAJECTORY_NPY_FILE if binary else TRAJECTORY_FILE)
+        self.columns = columns
+        self.path = Path(out_dir) / (npy_name if binary else csv_name)
         fd, temporary = tempfile.mkstemp(prefix=self.path.name + ".", suffix=".tmp",
                                          dir=str(self.path.parent))
         self._temporary = Path(temporary)
         self._file: BinaryIO = os.fdopen(fd, "wb")
         self._rows: list[np.ndarray] = []
         if not binary:
-            self._file.write((TRAJECTORY_HEADER + "\n").encode("ascii"))
+            self._file.write((header + "\n").encode("ascii"))
         self.samples = 0
 
-    def write(self, time: float, bodies: Sequence[BodyState]) -> None:
-        self.write_rows(state_rows(time, bodies))
-
     def write_rows(self, rows: np.ndarray) -> None:
-        """One sample's rows (state_rows), written as they are."""
-        if rows.ndim != 2 or rows.shape[1] != 15:
-            raise ValueError(f"expected rows of shape (bodies, 15), got {rows.shape}")
+        """One sample's rows, written as they are."""
+        if rows.ndim != 2 or rows.shape[1] != self.columns:
+            raise ValueError(f"expected rows of shape (n, {self.columns}), got {rows.shape}")
         if self.binary:
             self._rows.append(np.array(rows, dtype=np.float64))
         else:
@@ -597,7 +726,7 @@ class TrajectoryWriter:
         if self._file.closed:
             return
         if self.binary:
-            data = np.concatenate(self._rows) if self._rows else np.empty((0, 15))
+            data = np.concatenate(self._rows) if self._rows else np.empty((0, self.columns))
             np.save(self._file, np.ascontiguousarray(data, dtype="<f8"), allow_pickle=False)
         self._file.flush()
         os.fsync(self._file.fileno())
@@ -609,11 +738,65 @@ class TrajectoryWriter:
             self._file.close()
         self._temporary.unlink(missing_ok=True)
 
-    def __enter__(self) -> "TrajectoryWriter":
+    def __enter__(self) -> "_RowWriter":
         return self
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+class TrajectoryWriter(_RowWriter):
+    """Writes the run's samples into OUTDIR: by default OUTDIR/trajectory.npy (binary: float64
+    rows of shape (rows, 15), one per body per sample, columns as the CSV's), or with
+    `binary=False` OUTDIR/trajectory.csv in the format of `pbdval simulate` (docs/cli.md#csv).
+    Bodies in the resolved scene's order, quaternions with w >= 0."""
+
+    def __init__(self, out_dir: str | os.PathLike[str], *, binary: bool = True) -> None:
+        super().__init__(out_dir, binary=binary, npy_name=TRAJECTORY_NPY_FILE,
+                         csv_name=TRAJECTORY_FILE, header=TRAJECTORY_HEADER, columns=15)
+
+    def write(self, time: float, bodies: Sequence[BodyState]) -> None:
+        self.write_rows(state_rows(time, bodies))
+
+
+def particle_rows(time: float, states: np.ndarray) -> np.ndarray:
+    """The particle rows of one sample: (P, 8) float64 (t, index, x y z, vx vy vz) from the
+    (P, 6) array of positions and velocities of every particle in scene order."""
+    states = np.asarray(states, dtype=np.float64)
+    if states.ndim != 2 or states.shape[1] != 6:
+        raise ValueError(f"expected particle states of shape (particles, 6), got {states.shape}")
+    rows = np.empty((len(states), 8))
+    rows[:, 0] = time
+    rows[:, 1] = np.arange(len(states))
+    rows[:, 2:] = states
+    return rows
+
+
+def particle_rows_divergence_reason(time: float, rows: np.ndarray) -> str | None:
+    """The runner's divergence test on particle rows (validation/simulation.cpp)."""
+    finite = np.isfinite(rows[:, 2:]).all(axis=1)
+    if not finite.all():
+        return f"non-finite state of particle {int(np.argmin(finite))} at t = {time:g} s"
+    x = np.linalg.norm(rows[:, 2:5], axis=1)
+    v = np.linalg.norm(rows[:, 5:8], axis=1)
+    bad = (x > DIVERGENCE_LIMIT) | (v > DIVERGENCE_LIMIT)
+    if bad.any():
+        i = int(np.argmax(bad))
+        return f"particle {i} blew up at t = {time:g} s (|x| = {x[i]:g} m, |v| = {v[i]:g} m/s)"
+    return None
+
+
+class ParticleTrajectoryWriter(_RowWriter):
+    """Writes the particles' samples: OUTDIR/particles.npy (float64, shape (rows, 8)), or with
+    `binary=False` OUTDIR/particles.csv (header t,index,x,y,z,vx,vy,vz, docs/cli.md#particles):
+    every particle of the resolved scene's `particles`, in order, at every sample."""
+
+    def __init__(self, out_dir: str | os.PathLike[str], *, binary: bool = True) -> None:
+        super().__init__(out_dir, binary=binary, npy_name=PARTICLES_NPY_FILE,
+                         csv_name=PARTICLES_FILE, header=PARTICLES_HEADER, columns=8)
+
+    def write(self, time: float, states: np.ndarray) -> None:
+        self.write_rows(particle_rows(time, states))
 
 
 @dataclass
@@ -695,9 +878,14 @@ def parse_arguments(argv: Sequence[str] | None, description: str) -> EngineArgum
 def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callable[[], None],
              states: Callable[[float], list[BodyState]],
              failure: Callable[[float], str | None] = lambda t: None,
-             check: Callable[[float], str | None] | None = None) -> Status:
+             check: Callable[[float], str | None] | None = None,
+             particles: Callable[[float], np.ndarray] | None = None) -> Status:
     """The run every engine makes: the state at t = 0, then `scene.steps` calls of `step`
     (one scene step each), writing the samples the runner asks for (`scene.sample_steps()`).
+
+    `particles(t)`, for a scene with particles, returns the (P, 6) positions and velocities of
+    every particle in scene order; they are written to particles.npy at the same samples and
+    checked like the bodies. A scene with particles needs it (ValueError otherwise).
 
     Divergence: every sample's states are checked against the runner's limits
     (`divergence_reason`) and `failure(t)`; between samples the states are not read (reading
@@ -705,25 +893,55 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
     `check(t)`, called after every other step (e.g. a vectorised look at its state arrays).
     The run stops at the first divergence found, after writing that state, and the status is
     "diverged" with its time; otherwise "ok". The engine adds its version and settings."""
+    if scene.particles and particles is None:
+        raise ValueError(f"the scene has {len(scene.particles)} particles and the engine "
+                         "reads none back (simulate's `particles`)")
     sampled = set(scene.sample_steps())
-    status = Status("ok")
-    with TrajectoryWriter(out_dir) as writer:
-        writer.write(0.0, states(0.0))
-        for n in range(1, scene.steps + 1):
-            step()
-            t = n * scene.time_step_size
-            if n in sampled:
-                rows = state_rows(t, states(t))
-                reason = rows_divergence_reason(t, rows) or failure(t)
-            else:
-                reason = (check(t) if check is not None else None) or failure(t)
-                rows = state_rows(t, states(t)) if reason else None
-            if reason:
-                writer.write_rows(rows)
-                return Status("diverged", reason=reason, diverged_at=t)
-            if n in sampled:
-                writer.write_rows(rows)
-    return status
+    particle_writer = ParticleTrajectoryWriter(out_dir) if particles is not None and scene.particles else None
+
+    def sample(t: float) -> tuple[np.ndarray, np.ndarray | None, str | None]:
+        rows = state_rows(t, states(t))
+        reason = rows_divergence_reason(t, rows)
+        particle_sample = None
+        if particle_writer is not None and particles is not None:
+            particle_sample = particle_rows(t, particles(t))
+            if len(particle_sample) != len(scene.particles):
+                raise ValueError(f"particles({t:g}) gave {len(particle_sample)} particles, "
+                                 f"the scene has {len(scene.particles)}")
+            reason = reason or particle_rows_divergence_reason(t, particle_sample)
+        return rows, particle_sample, reason or failure(t)
+
+    def write(rows: np.ndarray, particle_sample: np.ndarray | None) -> None:
+        writer.write_rows(rows)
+        if particle_writer is not None and particle_sample is not None:
+            particle_writer.write_rows(particle_sample)
+
+    try:
+        with TrajectoryWriter(out_dir) as writer:
+            rows, particle_sample, _ = sample(0.0)
+            write(rows, particle_sample)
+            for n in range(1, scene.steps + 1):
+                step()
+                t = n * scene.time_step_size
+                if n in sampled:
+                    rows, particle_sample, reason = sample(t)
+                else:
+                    reason = (check(t) if check is not None else None) or failure(t)
+                    if reason:
+                        rows, particle_sample, _ = sample(t)
+                if reason:
+                    write(rows, particle_sample)
+                    return Status("diverged", reason=reason, diverged_at=t)
+                if n in sampled:
+                    write(rows, particle_sample)
+        return Status("ok")
+    except BaseException:
+        if particle_writer is not None:
+            particle_writer.discard()
+        raise
+    finally:
+        if particle_writer is not None:
+            particle_writer.close()
 
 
 def serve(argv: Sequence[str] | None, description: str,

@@ -241,6 +241,122 @@ TEST_F(ExternalEngineTest, UnsupportedFeaturesAreReportedByName) {
   EXPECT_EQ(outcome.reason, "SliderJoints[0]: joint slider; particles");
 }
 
+// --- Particles (cloth and solids) ------------------------------------------------------------
+
+/// The fixture's two bodies plus a cloth of one triangle (three particles, the first static).
+class ExternalEngineParticleTest : public ExternalEngineTest {
+ protected:
+  void SetUp() override {
+    ExternalEngineTest::SetUp();
+    std::ofstream(folder_ / "triangle.obj") << "v 0 1 0\nv 1 1 0\nv 0 1 1\nf 1 2 3\n";
+    const std::string text = R"({
+      "Simulation": {"timeStepSize": 0.01, "gravitation": [0, 0, 0], "clothSimulationMethod": 4},
+      "RigidBodies": [
+        {"id": 3, "collisionObjectType": 1, "collisionObjectScale": [0.5, 0.5, 0.5], "density": 1000}],
+      "TriangleModels": [{"id": 0, "geometryFile": "triangle.obj", "staticParticles": [0]}]
+    })";
+    scene_ = pbd::parseScene(text, (folder_ / "scene.json").string()).scene;
+    ASSERT_EQ(scene_.particles.size(), 3u);
+  }
+
+  /// The particles at rest at the planned sample times, `edit` applied, as CSV or NPY (the
+  /// library's writers: their format is tested in test_trajectory).
+  std::string restingParticles(bool npy, const std::function<void(std::vector<State>&)>& edit = {}) {
+    std::vector<State> samples;
+    for (int step : {0, 5, 10}) {
+      State s;
+      s.time = step * 0.01;
+      for (const pbd::ParticleDesc& p : scene_.particles) s.particles.push_back({p.position, Vector3::Zero()});
+      samples.push_back(s);
+    }
+    if (edit) edit(samples);
+    const fs::path file = folder_ / ("particles-" + std::to_string(counter_++) + (npy ? ".npy" : ".csv"));
+    std::ofstream out(file, std::ios::binary);
+    if (npy) {
+      writeParticleTrajectoryNpy(out, samples);
+    } else {
+      writeParticleCsvHeader(out);
+      for (const State& s : samples) writeParticleCsvRows(out, s);
+    }
+    return file.string();
+  }
+
+  std::string copies(const std::string& particles, const std::string& name) {
+    return "cp " + restingTrajectory() + " \"$4/trajectory.csv\"; cp " + particles + " \"$4/" +
+           name + "\"; " + okStatus();
+  }
+};
+
+TEST_F(ExternalEngineParticleTest, ParticlesAreReadBackWithTheirSamples) {
+  for (bool npy : {false, true}) {
+    const RunOutcome outcome = run(copies(restingParticles(npy), npy ? "particles.npy" : "particles.csv"));
+    ASSERT_EQ(outcome.status, RunStatus::Ok) << outcome.reason;
+    ASSERT_EQ(samples_.size(), 3u);
+    for (const State& s : samples_) {
+      ASSERT_EQ(s.particles.size(), 3u);
+      for (std::size_t i = 0; i < 3; ++i)  // the files hold the doubles exactly (shortest text or binary)
+        EXPECT_EQ(s.particles[i].position, scene_.particles[i].position) << "npy " << npy;
+    }
+  }
+}
+
+TEST_F(ExternalEngineParticleTest, MissingOrMisplacedParticlesAreErrors) {
+  const RunOutcome none = run("cp " + restingTrajectory() + " \"$4/trajectory.csv\"; " + okStatus());
+  EXPECT_EQ(none.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(none.reason, {"3 particles", "neither particles.npy nor particles.csv"}))
+      << none.reason;
+
+  const RunOutcome both = run("cp " + restingParticles(true) + " \"$4/particles.npy\"; " +
+                              copies(restingParticles(false), "particles.csv"));
+  EXPECT_TRUE(containsAll(both.reason, {"both", "particles.csv", "particles.npy"})) << both.reason;
+
+  const RunOutcome few = run(copies(
+      restingParticles(false, [](std::vector<State>& s) { s[1].particles.pop_back(); }), "particles.csv"));
+  EXPECT_EQ(few.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(few.reason, {"particles.csv", "sample 1", "2 particles, expected 3"})) << few.reason;
+
+  const RunOutcome late = run(copies(
+      restingParticles(true, [](std::vector<State>& s) { s[2].time = 0.11; }), "particles.npy"));
+  EXPECT_TRUE(containsAll(late.reason, {"particles.npy", "sample 2", "t = 0.11"})) << late.reason;
+
+  const RunOutcome missingSample = run(copies(
+      restingParticles(false, [](std::vector<State>& s) { s.pop_back(); }), "particles.csv"));
+  EXPECT_TRUE(containsAll(missingSample.reason, {"2 samples", "the trajectory 3"})) << missingSample.reason;
+}
+
+TEST_F(ExternalEngineParticleTest, ParticlesOutOfOrderAreAnErrorNamingTheRow) {
+  // Rows of the CSV reordered by hand: sample 0 lists particle 1 first.
+  const std::string file = (folder_ / "swapped.csv").string();
+  std::ofstream(file) << "t,index,x,y,z,vx,vy,vz\n0,1,1,1,0,0,0,0\n0,0,0,1,0,0,0,0\n";
+  const RunOutcome outcome = run(copies(file, "particles.csv"));
+  EXPECT_EQ(outcome.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(outcome.reason, {"particles.csv", "line 2", "particle 1, expected 0"}))
+      << outcome.reason;
+}
+
+TEST_F(ExternalEngineParticleTest, ABlownUpParticleIsADivergence) {
+  const RunOutcome nan = run(copies(restingParticles(true, [](std::vector<State>& s) {
+                                      s[1].particles[2].velocity.y() = std::nan("");
+                                    }), "particles.npy"));
+  EXPECT_EQ(nan.status, RunStatus::Diverged);
+  EXPECT_TRUE(containsAll(nan.reason, {"non-finite", "particle 2", "t = 0.05"})) << nan.reason;
+  // 2e6 m: beyond the runner's limit of 1e6 m (kDivergenceLimit).
+  const RunOutcome far = run(copies(restingParticles(false, [](std::vector<State>& s) {
+                                      s[2].particles[1].position.x() = 2e6;
+                                    }), "particles.csv"));
+  EXPECT_EQ(far.status, RunStatus::Diverged);
+  EXPECT_TRUE(containsAll(far.reason, {"particle 1 blew up"})) << far.reason;
+}
+
+TEST_F(ExternalEngineTest, ParticlesForASceneWithoutParticlesAreAnError) {
+  const std::string file = (folder_ / "stray.csv").string();
+  std::ofstream(file) << "t,index,x,y,z,vx,vy,vz\n";
+  const RunOutcome outcome = run("cp " + restingTrajectory() + " \"$4/trajectory.csv\"; cp " + file +
+                                 " \"$4/particles.csv\"; " + okStatus());
+  EXPECT_EQ(outcome.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(outcome.reason, {"particles.csv", "without particles"})) << outcome.reason;
+}
+
 TEST(EngineCatalogue, EntriesAreTypedAndBadFilesNameTheirPath) {
   const fs::path folder =
       fs::temp_directory_path() / ("pbdval-catalogue-" + std::to_string(::getpid()));
