@@ -192,6 +192,46 @@ SweepSpec parseSweep(const Node& node, const EngineRegistry& registry) {
   return s;
 }
 
+pbd::Vector3 vector3(const Node& node) {
+  if (!node.json.is_array() || node.json.size() != 3) node.fail("an array of 3 numbers");
+  return pbd::Vector3(pbd::Real(node.at(0).finite()), pbd::Real(node.at(1).finite()),
+                      pbd::Real(node.at(2).finite()));
+}
+
+StaticDisplacementSpec parseStaticDisplacement(const Node& node, const pbd::Scene& scene,
+                                               double duration) {
+  node.requireObject({"region", "direction", "from", "expected", "description"});
+  StaticDisplacementSpec d;
+  d.jsonPath = node.path;
+  const Node region = node.at("region");
+  region.requireObject({"min", "max"});
+  d.regionMin = vector3(region.at("min"));
+  d.regionMax = vector3(region.at("max"));
+  if (!(d.regionMin.array() <= d.regionMax.array()).all())
+    region.fail("min ≤ max in every coordinate");
+  for (std::size_t i = 0; i < scene.particles.size(); ++i) {
+    const pbd::Vector3& x = scene.particles[i].position;
+    if ((x.array() >= d.regionMin.array()).all() && (x.array() <= d.regionMax.array()).all())
+      d.particles.push_back(int(i));
+  }
+  if (d.particles.empty())
+    region.fail("a box holding at least one particle of the scene (" +
+                std::to_string(scene.particles.size()) + " particles)");
+  const Node direction = node.at("direction");
+  d.direction = vector3(direction);
+  if (!(d.direction.norm() > 0)) direction.fail("a non-zero vector");
+  d.direction.normalize();
+  const Node from = node.at("from");
+  d.from = from.finite();
+  if (d.from < 0 || d.from >= duration)
+    from.fail("a time in [0, " + formatNumber(duration) + ") s (the case's duration)");
+  const Node expected = node.at("expected");
+  d.expected = expected.finite();
+  if (d.expected == 0) expected.fail("a non-zero displacement (m)");
+  if (node.json.contains("description")) d.description = node.at("description").text();
+  return d;
+}
+
 }  // namespace
 
 CaseSpec parseCaseSpec(const pbd::Scene& scene, const EngineRegistry& registry) {
@@ -201,7 +241,7 @@ CaseSpec parseCaseSpec(const pbd::Scene& scene, const EngineRegistry& registry) 
   const Node root{block, "Validation", scene.sourceFile};
   root.requireObject({"schema", "description", "duration", "sampleInterval", "energyScale",
                       "conserved", "engines", "methods", "reference", "checks", "tolerances",
-                      "sweeps"});
+                      "sweeps", "staticDisplacement"});
   if (block.contains("schema")) {
     const Node schema = root.at("schema");
     if (!schema.json.is_number_integer() || schema.json.get<int>() != kValidationSchemaVersion)
@@ -249,6 +289,9 @@ CaseSpec parseCaseSpec(const pbd::Scene& scene, const EngineRegistry& registry) 
     for (std::size_t i = 0; i < sweeps.json.size(); ++i)
       spec.sweeps.push_back(parseSweep(sweeps.at(i), registry));
   }
+  if (block.contains("staticDisplacement"))
+    spec.staticDisplacement = parseStaticDisplacement(root.at("staticDisplacement"), scene,
+                                                      defaultDuration(scene, spec));
   return spec;
 }
 

@@ -44,6 +44,21 @@ struct CheckSpec {
   std::string description;
 };
 
+/// A static displacement to measure (`Validation.staticDisplacement`): the displacement of a
+/// group of particles along a direction, averaged over the particles and over the samples from
+/// `from` on, against the value `expected` of a closed form or an independent solve. An
+/// undamped oscillation about the static state averages to it: the mean of cos ωt over a window
+/// T differs from 0 by at most 1/(ωT).
+struct StaticDisplacementSpec {
+  std::string jsonPath;                  ///< "Validation.staticDisplacement"
+  pbd::Vector3 regionMin, regionMax;     ///< the particles initially inside this box (inclusive)
+  std::vector<int> particles;            ///< resolved from the region, in scene order, ≥ 1
+  pbd::Vector3 direction;                ///< unit
+  double from = 0;                       ///< s
+  double expected = 0;                   ///< m, non-zero
+  std::string description;
+};
+
 /// A convergence study declared with the case (pbdval sweep uses it when run without --param).
 struct SweepSpec {
   std::map<std::string, std::vector<std::string>> parameters;  ///< name → values
@@ -67,6 +82,7 @@ struct CaseSpec {
   std::vector<CheckSpec> checks;
   std::map<std::string, double> tolerances;  ///< gate tolerance overrides, per metric
   std::vector<SweepSpec> sweeps;
+  std::optional<StaticDisplacementSpec> staticDisplacement;
 };
 
 /// Parses scene.validationJson; throws std::invalid_argument "file: Validation.path: expected

@@ -16,6 +16,7 @@
 #include "validation/joint_error.h"
 #include "validation/mechanics.h"
 #include "validation/numerics.h"
+#include "validation/trajectory.h"
 
 namespace pbdval {
 
@@ -235,6 +236,34 @@ void addFluidMetrics(const MetricInputs& in, MetricSet& out) {
       }
     }
   out.values[metric::kFluidEscapeMax] = escape;
+}
+
+/// The case's static displacement (Validation.staticDisplacement): the mean over the samples at
+/// t ≥ from and over its particles of (x − x₀)·d, and its relative error against `expected`.
+void addStaticDisplacementMetrics(const MetricInputs& in, MetricSet& out) {
+  if (!in.spec->staticDisplacement) return;
+  const StaticDisplacementSpec& d = *in.spec->staticDisplacement;
+  if (in.samples->front().particles.empty()) {
+    out.notes.push_back("static_displacement: the engine reads back no particles");
+    return;
+  }
+  double sum = 0;
+  long count = 0;
+  for (const State& s : *in.samples) {
+    if (s.time < d.from) continue;
+    for (int i : d.particles) {
+      const auto index = std::size_t(i);
+      sum += double((s.particles[index].position - in.scene->particles[index].position).dot(d.direction));
+      ++count;
+    }
+  }
+  if (count == 0) {
+    out.notes.push_back("static_displacement: no sample at or after t = " + formatNumber(d.from) + " s");
+    return;
+  }
+  const double mean = sum / double(count);
+  out.values[metric::kStaticDisplacement] = mean;
+  out.values[metric::kStaticDisplacementError] = std::abs(mean - d.expected) / std::abs(d.expected);
 }
 
 /// max_k ‖Q(t_k) − Q(t_0)‖ / scale for a vector quantity Q of each sample.
@@ -542,6 +571,7 @@ MetricSet computeMetrics(const MetricInputs& inputs) {
   addParticlePenetrationMetrics(inputs, out);
   addSolidPenetrationMetrics(inputs, out);
   addFluidMetrics(inputs, out);
+  addStaticDisplacementMetrics(inputs, out);
   return out;
 }
 

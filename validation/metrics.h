@@ -66,6 +66,8 @@ inline constexpr const char* kSolidVolumeErrorMax = "solid_volume_error_max";
 inline constexpr const char* kParticlePenetrationMax = "particle_penetration_max";
 inline constexpr const char* kSolidPenetrationMax = "solid_penetration_max";
 inline constexpr const char* kFluidEscapeMax = "fluid_escape_max";
+inline constexpr const char* kStaticDisplacement = "static_displacement";
+inline constexpr const char* kStaticDisplacementError = "static_displacement_error";
 /// "motor_tracking_<quantity>_max", quantity "angle", "angular_velocity", "position", "velocity".
 std::string motorTrackingMax(const std::string& quantity);
 }  // namespace metric

@@ -4,9 +4,12 @@
 // ½ k ((6/d) sin²(φ/2))², and computeMetrics reports them for a run.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
+#include "engines/selftest_engine.h"
 #include "tests/validation/fixtures.h"
+#include "validation/case_spec.h"
 #include "validation/deformation.h"
 #include "validation/mechanics.h"
 #include "validation/metrics.h"
@@ -280,6 +283,81 @@ TEST(Deformation, RodSegmentsAreEdgesAndRodsDefineNoMeasuredEnergy) {
     EXPECT_FALSE(energy.defined());
     EXPECT_EQ(energy.hasPbdConstraints(), !xpbd);
     EXPECT_EQ(energy.hasUnmeasuredRods(), xpbd);
+  }
+}
+
+}  // namespace
+}  // namespace pbdval
+
+namespace pbdval {
+namespace {
+
+// Validation.staticDisplacement: the region picks particles by their initial positions, the
+// metric is the mean of (x − x₀)·d over them and over the samples from `from` on.
+pbd::Scene withStaticDisplacement(const std::string& block) {
+  pbd::Scene scene = clothAndCube(4, 6);
+  scene.sourceFile = "case.json";
+  scene.validationJson = R"({"duration": 1, "staticDisplacement": )" + block + "}";
+  return scene;
+}
+
+TEST(StaticDisplacement, IsTheMeanDisplacementOfTheRegionFromItsStartTime) {
+  // The cube's top face y = 1 (4 particles); direction −y given unnormalised.
+  const pbd::Scene scene = withStaticDisplacement(
+      R"({"region": {"min": [4, 0.9, -1], "max": [7, 1.1, 2]}, "direction": [0, -2, 0],
+          "from": 0.4, "expected": 0.01})");
+  const CaseSpec spec = parseCaseSpec(scene, testRegistry());
+  ASSERT_TRUE(spec.staticDisplacement);
+  EXPECT_EQ(spec.staticDisplacement->particles, (std::vector<int>{9 + 2, 9 + 3, 9 + 6, 9 + 7}));
+  // Samples at t = 0, 0.5, 1: the top face 0.3 m down at t = 0 (before `from`, ignored), then
+  // 0.008 m and 0.014 m down: mean 0.011 m (closed form), error |0.011 − 0.01| / 0.01 = 0.1.
+  std::vector<State> samples;
+  for (auto [t, down] : {std::pair{0.0, 0.3}, {0.5, 0.008}, {1.0, 0.014}}) {
+    State s = initialState(scene);
+    s.time = t;
+    for (int i : spec.staticDisplacement->particles) s.particles[std::size_t(i)].position.y() -= down;
+    samples.push_back(s);
+  }
+  MetricInputs in;
+  in.scene = &scene;
+  in.spec = &spec;
+  in.samples = &samples;
+  const MetricSet m = computeMetrics(in);
+  // Sums of a few doubles: round-off ~1e-17 m.
+  EXPECT_NEAR(m.values.at(metric::kStaticDisplacement), 0.011, 1e-15);
+  EXPECT_NEAR(m.values.at(metric::kStaticDisplacementError), 0.1, 1e-12);
+  // No particles read back: absent, with a note.
+  for (State& s : samples) s.particles.clear();
+  const MetricSet bare = computeMetrics(in);
+  EXPECT_EQ(bare.values.count(metric::kStaticDisplacement), 0u);
+  EXPECT_NE(bare.notes.end(), std::find_if(bare.notes.begin(), bare.notes.end(), [](const std::string& n) {
+              return n.find("static_displacement") != std::string::npos;
+            }));
+}
+
+TEST(StaticDisplacement, BadBlocksNameThePathAndWhatWasExpected) {
+  const std::pair<const char*, const char*> cases[] = {
+      {R"({"region": {"min": [10, 10, 10], "max": [11, 11, 11]}, "direction": [0, -1, 0], "from": 0, "expected": 1})",
+       "Validation.staticDisplacement.region: expected a box holding at least one particle"},
+      {R"({"region": {"min": [1, 0, 0], "max": [0, 1, 1]}, "direction": [0, -1, 0], "from": 0, "expected": 1})",
+       "region: expected min ≤ max"},
+      {R"({"region": {"min": [-1, -1, -1], "max": [9, 9, 9]}, "direction": [0, 0, 0], "from": 0, "expected": 1})",
+       "direction: expected a non-zero vector"},
+      {R"({"region": {"min": [-1, -1, -1], "max": [9, 9, 9]}, "direction": [0, 1, 0], "from": 1, "expected": 1})",
+       "from: expected a time in [0, 1) s"},
+      {R"({"region": {"min": [-1, -1, -1], "max": [9, 9, 9]}, "direction": [0, 1, 0], "from": 0, "expected": 0})",
+       "expected: expected a non-zero displacement"},
+      {R"({"region": {"min": [-1, -1, -1], "max": [9, 9, 9]}, "direction": [0, 1, 0], "from": 0, "expected": 1, "tip": 2})",
+       "Validation.staticDisplacement.tip: unknown key"},
+  };
+  for (const auto& [block, message] : cases) {
+    try {
+      parseCaseSpec(withStaticDisplacement(block), testRegistry());
+      ADD_FAILURE() << "accepted " << block;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("case.json"), std::string::npos) << e.what();
+    }
   }
 }
 
