@@ -451,6 +451,14 @@ void addTrajectoryMetrics(const MetricInputs& in, MetricSet& out) {
     return;
   }
   const TrajectoryErrors e = trajectoryErrors(*in.samples, reference, in.series);
+  if (e.particlesCompared > 0) {
+    out.values[metric::kParticleTrajectoryErrorMax] = e.particlePositionMax;
+    out.values[metric::kParticleTrajectoryErrorRms] = e.particlePositionRms;
+    if (e.bodiesCompared == 0) return;  // a scene of particles only: no body metrics
+  } else if (!in.samples->front().particles.empty()) {
+    out.notes.push_back("particle_trajectory_error: the reference (" + reference.description +
+                        ") holds no particles of the run");
+  }
   out.values[metric::kTrajectoryErrorMax] = e.positionMax;
   out.values[metric::kTrajectoryErrorRms] = e.positionRms;
   if (reference.hasRotation) {
@@ -495,7 +503,7 @@ TrajectoryErrors trajectoryErrors(const std::vector<State>& samples,
                                   const ReferenceTrajectory& reference, MetricSeries* series) {
   TrajectoryErrors e;
   const std::size_t count = std::min(samples.size(), reference.samples.size());
-  ErrorAccumulator position;
+  ErrorAccumulator position, particlePosition;
   if (series) {
     series->trajectoryError.assign(samples.size(), kNoValue);
     if (reference.hasRotation) series->rotationError.assign(samples.size(), kNoValue);
@@ -531,10 +539,17 @@ TrajectoryErrors trajectoryErrors(const std::vector<State>& samples,
       }
     }
     e.bodiesCompared = compared;
+    if (!run.particles.empty() && run.particles.size() == ref.particles.size()) {
+      for (std::size_t i = 0; i < run.particles.size(); ++i)
+        particlePosition.add((run.particles[i].position - ref.particles[i].position).norm());
+      e.particlesCompared = run.particles.size();
+    }
   }
   e.samplesCompared = count;
   e.positionMax = position.max;
   e.positionRms = position.rms();
+  e.particlePositionMax = particlePosition.max;
+  e.particlePositionRms = particlePosition.rms();
   return e;
 }
 

@@ -66,6 +66,8 @@ inline constexpr const char* kSolidVolumeErrorMax = "solid_volume_error_max";
 inline constexpr const char* kParticlePenetrationMax = "particle_penetration_max";
 inline constexpr const char* kSolidPenetrationMax = "solid_penetration_max";
 inline constexpr const char* kFluidEscapeMax = "fluid_escape_max";
+inline constexpr const char* kParticleTrajectoryErrorMax = "particle_trajectory_error_max";
+inline constexpr const char* kParticleTrajectoryErrorRms = "particle_trajectory_error_rms";
 inline constexpr const char* kStaticDisplacement = "static_displacement";
 inline constexpr const char* kStaticDisplacementError = "static_displacement_error";
 /// "motor_tracking_<quantity>_max", quantity "angle", "angular_velocity", "position", "velocity".
@@ -138,6 +140,11 @@ struct TrajectoryErrors {
   double rotationMax = 0;  ///< max geodesic angle, rad (0 when the reference has no rotations)
   std::size_t samplesCompared = 0;
   std::size_t bodiesCompared = 0;
+  /// Particles, when the run and the reference both hold the same ones (cloth, solids; an
+  /// engine reference): max and RMS of ‖x − x_ref‖ over particles and compared samples, m.
+  double particlePositionMax = 0;
+  double particlePositionRms = 0;
+  std::size_t particlesCompared = 0;
 };
 /// Compares `samples` with `reference` sample by sample (the first min(n, n_ref) samples).
 /// Throws std::invalid_argument when a compared pair's times differ by more than

@@ -363,3 +363,40 @@ TEST(StaticDisplacement, BadBlocksNameThePathAndWhatWasExpected) {
 
 }  // namespace
 }  // namespace pbdval
+
+namespace pbdval {
+namespace {
+
+TEST(ParticleTrajectoryError, IsTheDistanceToTheReferencesParticles) {
+  // Particles only (no bodies): the run's particles at sample 1 moved 0.03 m along x and 0.04 m
+  // along y from the reference's (distance 0.05 m, closed form), sample 0 identical: max 0.05 m,
+  // RMS over 2 samples × 17 particles √(0.05² / 2).
+  const pbd::Scene scene = clothAndCube(4, 6);
+  ReferenceTrajectory reference;
+  reference.description = "engine";
+  reference.samples = {initialState(scene), initialState(scene)};
+  reference.samples[1].time = 0.1;
+  std::vector<State> samples = reference.samples;
+  for (ParticleState& p : samples[1].particles) p.position += Vector3(0.03, 0.04, 0);
+  const CaseSpec spec;
+  MetricInputs in;
+  in.scene = &scene;
+  in.spec = &spec;
+  in.samples = &samples;
+  in.reference = &reference;
+  const MetricSet m = computeMetrics(in);
+  // A few roundings of 0.03, 0.04 and their squares: ~1e-17 m.
+  EXPECT_NEAR(m.values.at(metric::kParticleTrajectoryErrorMax), 0.05, 1e-15);
+  EXPECT_NEAR(m.values.at(metric::kParticleTrajectoryErrorRms), 0.05 / std::sqrt(2.0), 1e-15);
+  EXPECT_EQ(m.values.count(metric::kTrajectoryErrorMax), 0u);  // no bodies to compare
+  // A reference without particles (an analytic model): no particle metric, a note.
+  for (State& s : reference.samples) s.particles.clear();
+  const MetricSet without = computeMetrics(in);
+  EXPECT_EQ(without.values.count(metric::kParticleTrajectoryErrorMax), 0u);
+  EXPECT_NE(without.notes.end(), std::find_if(without.notes.begin(), without.notes.end(), [](const std::string& n) {
+              return n.find("particle_trajectory_error") != std::string::npos;
+            }));
+}
+
+}  // namespace
+}  // namespace pbdval
