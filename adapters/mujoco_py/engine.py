@@ -201,7 +201,10 @@ class MujocoRun:
         self.parents, _ = tree(scene)
         self._add_bodies(spec)
         self._add_pairs(spec)
-        self.layout = flexes.add_flexes(spec, scene, self._flex_contact, self.settings)
+        bending_curvature = float(scene.parameter("clothBendingCurvature", 2.0))
+        if bending_curvature < 0:
+            raise ValueError(f"parameter clothBendingCurvature: expected >= 0 (0: no bending), got {bending_curvature}")
+        self.layout = flexes.add_flexes(spec, scene, self._flex_contact, self.settings, bending_curvature)
         with warnings.catch_warnings():
             # MuJoCo 4.0.0 warns that a flex with elasticity but no edge equality "has no
             # equality constraints or passive forces"; its elasticity is there (tested).

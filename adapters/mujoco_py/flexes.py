@@ -23,10 +23,18 @@ Materials:
   4k/3, which reproduces the network's C_1111 = 3k/2 and C_1122 = C_1212 = k/2 along the grid
   axes exactly; the network's anisotropy (stiffer along the diagonals it has) is not
   representable: approximated.
-- bending, method 3 (XPBD isometric): its potential (1/2) k C^2 with C itself quadratic in the
-  positions is quartic in the fold angle, with no stiffness at the flat state; MuJoCo's shell
-  bending is Kirchhoff's (quadratic, D kappa^2 / 2). No modulus matches, so the membrane carries
-  no bending (recorded). Method 0: none, native. Methods 1 and 2 (PBD fractions) are unsupported.
+- bending, method 3 (XPBD isometric, Bergou et al. 2006): its potential (1/2) k C^2, with
+  C = (3/(A0 + A1)) |sum K_i x_i|^2 / 2 itself quadratic in the positions, is quartic in the fold,
+  with no stiffness at the flat state; MuJoCo's shell bending is quadratic (Kirchhoff,
+  D kappa^2 / 2 per area, discrete hinges; elastic2d "both"). No modulus matches at every fold,
+  so D is matched at one curvature kappa* (parameter clothBendingCurvature): the sheet bent into
+  a cylinder of curvature kappa* (an isometry of the plane) stores the seed's energy, summed over
+  its interior-edge stencils, in both models; MuJoCo's energy of that cylinder at D = 1 is
+  measured as the work of its bending forces along the bend (no assumption on its discrete
+  normalisation). Softer than the seed's for larger folds, stiffer for smaller: approximated.
+  The shell thickness then follows from D = E t^3 / (12 (1 - nu^2)) with E t fixed by the
+  membrane. kappa* = 0: no bending. Method 0: none, native. Methods 1 and 2 (PBD fractions per
+  iteration) are unsupported.
 - method 0 (no constraints) of either: a flex without elasticity, native.
 - damping 0 everywhere.
 
@@ -39,6 +47,7 @@ takes the flex's parameters. No self-collision.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -54,7 +63,7 @@ CLOTH_RADIUS = 0.001
 #: Poisson ratio of the membrane that matches a spring network (Cauchy relation, see above).
 NETWORK_POISSON = 1.0 / 3.0
 CLOTH_METHODS = {0: "none", 4: "xpbd_distance"}
-BENDING_METHODS = {0: "none", 3: "isometric_xpbd (omitted)"}
+BENDING_METHODS = {0: "none", 3: "isometric_xpbd (matched at one curvature)"}
 SOLID_METHODS = {0: "none", 3: "fem_xpbd"}
 
 
@@ -100,6 +109,106 @@ def membrane_stiffness(positions: np.ndarray, triangles: np.ndarray, edge_stiffn
     return edge_stiffness * total / (3.0 * area)
 
 
+def bending_stencils(positions: np.ndarray, triangles: np.ndarray) -> list[tuple[list[int], np.ndarray, float]]:
+    """The seed's isometric-bending stencils at `positions` (the rest state), one per interior
+    edge (x0, x1) with opposite vertices x2, x3: (indices, K, 3/(A0 + A1)),
+    K = (cot b0 + cot b1, cot a0 + cot a1, -cot a0 - cot b0, -cot a1 - cot b1), a at x0 and b at
+    x1 in each triangle (pbd/constraints/isometric_bending.h)."""
+    x = np.asarray(positions, dtype=np.float64)
+    faces: dict[tuple[int, int], list[int]] = {}
+    for a, b, c in np.asarray(triangles, dtype=np.int64):
+        for i, j, k in ((a, b, c), (b, c, a), (c, a, b)):
+            faces.setdefault((min(int(i), int(j)), max(int(i), int(j))), []).append(int(k))
+
+    def cot(at: np.ndarray, p: np.ndarray, q: np.ndarray) -> float:
+        u, v = p - at, q - at
+        return float(u @ v) / float(np.linalg.norm(np.cross(u, v)))
+
+    stencils = []
+    for (i, j), opposite in sorted(faces.items()):
+        if len(opposite) != 2:
+            continue
+        k, m = opposite
+        x0, x1, x2, x3 = x[i], x[j], x[k], x[m]
+        a0, b0, a1, b1 = cot(x0, x1, x2), cot(x1, x0, x2), cot(x0, x1, x3), cot(x1, x0, x3)
+        weights = np.array([b0 + b1, a0 + a1, -a0 - b0, -a1 - b1])
+        area = 0.5 * (np.linalg.norm(np.cross(x1 - x0, x2 - x0)) + np.linalg.norm(np.cross(x1 - x0, x3 - x0)))
+        stencils.append(([i, j, k, m], weights, 3.0 / area))
+    return stencils
+
+
+def isometric_xpbd_energy(stencils: list[tuple[list[int], np.ndarray, float]], x: np.ndarray,
+                          stiffness: float) -> float:
+    """The seed's XPBD bending potential, sum of (1/2) k C^2 with C = (scale/2) |sum K_i x_i|^2."""
+    total = 0.0
+    for indices, weights, scale in stencils:
+        h = weights @ x[indices]
+        c = 0.5 * scale * float(h @ h)
+        total += 0.5 * stiffness * c * c
+    return total
+
+
+def cylinder(positions: np.ndarray, triangles: np.ndarray, curvature: float) -> np.ndarray:
+    """The flat sheet bent into a cylinder of `curvature` (an isometry of its plane): arc length
+    along u, the direction of the first triangle's first edge, wraps onto a circle of radius
+    1/curvature that bulges along the sheet's normal."""
+    x = np.asarray(positions, dtype=np.float64)
+    t = np.asarray(triangles, dtype=np.int64)[0]
+    u = x[t[1]] - x[t[0]]
+    u /= np.linalg.norm(u)
+    n = np.cross(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]])
+    n /= np.linalg.norm(n)
+    s = (x - x.mean(axis=0)) @ u
+    radius = 1.0 / curvature
+    return (x + np.outer(radius * np.sin(s / radius) - s, u)
+            + np.outer(radius * (1 - np.cos(s / radius)), n))
+
+
+def kirchhoff_energy_per_rigidity(positions: np.ndarray, triangles: np.ndarray, target: np.ndarray,
+                                  poisson: float, steps: int = 64) -> float:
+    """MuJoCo's bending energy of `target` at D = 1 N m: the work of its bending forces (a
+    bending-only flex of the same mesh) along the straight path from the rest state, by the
+    trapezoidal rule (exact for its forces' linear part)."""
+    x = np.asarray(positions, dtype=np.float64)
+    spec = mujoco.MjSpec()
+    spec.option.gravity = [0.0, 0.0, 0.0]
+    names = []
+    for i, p in enumerate(x):
+        body = spec.worldbody.add_body(name=f"v{i}", pos=list(p), mass=1.0, inertia=[1.0] * 3,
+                                       explicitinertial=True)
+        for axis in np.eye(3):
+            body.add_joint(type=mujoco.mjtJoint.mjJNT_SLIDE, axis=list(axis))
+        names.append(f"v{i}")
+    sheet = spec.add_flex(name="sheet", dim=2, vertbody=names, vert=[0.0] * x.size,
+                          elem=[int(v) for v in np.asarray(triangles).ravel()])
+    thickness = 1e-3
+    sheet.thickness, sheet.poisson, sheet.radius, sheet.elastic2d = thickness, poisson, 1e-3, 1
+    sheet.young = 12 * (1 - poisson**2) / thickness**3  # D = E t^3 / (12 (1 - nu^2)) = 1
+    sheet.contype = sheet.conaffinity = 0
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message=".*has no equality constraints or passive forces")
+        model = spec.compile()
+    data = mujoco.MjData(model)
+    work, previous = 0.0, np.zeros(x.size)
+    displacement = (np.asarray(target) - x).ravel()
+    for step in range(1, steps + 1):
+        data.qpos[:] = displacement * step / steps
+        mujoco.mj_forward(model, data)
+        force = data.qfrc_passive.copy()
+        work -= 0.5 * float((force + previous) @ displacement) / steps
+        previous = force
+    return work
+
+
+def matched_rigidity(positions: np.ndarray, triangles: np.ndarray, stiffness: float,
+                     curvature: float, poisson: float) -> float:
+    """D (N m) at which MuJoCo's bending of the sheet into a cylinder of `curvature` stores the
+    seed's isometric XPBD energy of the same cylinder (module comment)."""
+    bent = cylinder(positions, triangles, curvature)
+    seed = isometric_xpbd_energy(bending_stencils(positions, triangles), bent, stiffness)
+    return seed / kirchhoff_energy_per_rigidity(positions, triangles, bent, poisson)
+
+
 @dataclass
 class FlexLayout:
     """Where each scene particle lives in the compiled model."""
@@ -131,9 +240,11 @@ class FlexLayout:
         return out
 
 
-def add_flexes(spec: "mujoco.MjSpec", scene: Any, contact: Any, settings: dict[str, Any]) -> FlexLayout:
+def add_flexes(spec: "mujoco.MjSpec", scene: Any, contact: Any, settings: dict[str, Any],
+               bending_curvature: float = 2.0) -> FlexLayout:
     """Adds a body per dynamic particle and one flex per triangle or tet model; `contact(model)`
-    gives (solref, solimp) of a model's contacts. Records every mapping in `settings`."""
+    gives (solref, solimp) of a model's contacts; XPBD isometric bending is matched at
+    `bending_curvature` (1/m, 0: none). Records every mapping in `settings`."""
     positions = np.array([p.position for p in scene.particles], dtype=np.float64).reshape(-1, 3)
     masses = np.array([p.mass for p in scene.particles], dtype=np.float64)
     names: list[str] = []
@@ -182,16 +293,29 @@ def add_flexes(spec: "mujoco.MjSpec", scene: Any, contact: Any, settings: dict[s
         elif cloth:
             k = float(tm.material["stiffness"])
             stiffness = membrane_stiffness(positions[first:first + count], elements, k)
-            thickness = 2 * CLOTH_RADIUS
+            rigidity = 0.0
+            if tm.bending_method == 3 and bending_curvature > 0:
+                rigidity = matched_rigidity(positions[first:first + count], elements,
+                                            float(tm.material["bendingStiffness"]),
+                                            bending_curvature, NETWORK_POISSON)
+            # D = E t^3/(12 (1 - nu^2)) with E t fixed: t^2 = 12 (1 - nu^2) D / (E t).
+            thickness = (math.sqrt(12 * (1 - NETWORK_POISSON**2) * rigidity / stiffness)
+                         if rigidity > 0 else 2 * CLOTH_RADIUS)
             flex.radius = CLOTH_RADIUS
             flex.thickness = thickness
             flex.young = stiffness / thickness
             flex.poisson = NETWORK_POISSON
-            flex.elastic2d = 2  # stretching only
+            flex.elastic2d = 3 if rigidity > 0 else 2  # both, or stretching only
             settings[f"{path}.membrane"] = (
                 f"St. Venant-Kirchhoff membrane for springs of {k:g} N/m on every edge "
-                f"(approximated): E t = {stiffness:.6g} N/m, nu = 1/3, t = {thickness:g} m, "
+                f"(approximated): E t = {stiffness:.6g} N/m, nu = 1/3, t = {thickness:.6g} m, "
                 f"E = {stiffness / thickness:.6g} Pa")
+            if rigidity > 0:
+                settings[f"{path}.bending"] = (
+                    f"Kirchhoff shell bending D = {rigidity:.6g} N m (approximated): MuJoCo's "
+                    f"quadratic bending matched to the quartic XPBD isometric bending "
+                    f"(k = {float(tm.material['bendingStiffness']):g}) on a cylinder of curvature "
+                    f"{bending_curvature:g} 1/m")
         else:
             flex.radius = 0.0
             flex.young = float(tm.material["stiffness"])
@@ -200,11 +324,11 @@ def add_flexes(spec: "mujoco.MjSpec", scene: Any, contact: Any, settings: dict[s
             settings[f"{path}.elasticity"] = (
                 f"St. Venant-Kirchhoff tets (native): young = {flex.young:g} Pa, "
                 f"poisson = {flex.poisson:g}")
-        if cloth:
+        if cloth and f"{path}.bending" not in settings:
             settings[f"{path}.bending"] = (
                 "none (native)" if tm.bending_method == 0 else
-                f"omitted: method {tm.bending_method} ({tm.bending_method_name}) has a quartic "
-                "potential with no stiffness at the flat state; MuJoCo's shell bending is quadratic")
+                f"omitted: method {tm.bending_method} ({tm.bending_method_name}) with "
+                "clothBendingCurvature 0, or on a cloth without elasticity")
         settings[f"{path}.radius"] = flex.radius
         settings[f"{path}.friction"] = tm.friction
     return FlexLayout(positions0=positions, dynamic=np.flatnonzero(masses > 0), body_names=names,

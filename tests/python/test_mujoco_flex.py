@@ -133,7 +133,9 @@ def test_cloth_membrane_under_uniaxial_strain_pulls_like_the_spring_network(expo
     right = np.isclose(x0[run.layout.dynamic, 0], x0[:, 0].max())
     expected = 1.5 * k * eps * width * (1 + eps) * (1 + eps / 2)
     assert -forces[right, 0].sum() == pytest.approx(expected, rel=1e-8)  # round-off on 1e-3 N
-    assert np.abs(forces.sum(axis=0)).max() < 1e-15  # internal forces: no net force
+    # Internal forces: no net force beyond round-off, far below 1e-9 of the column's force
+    # (measured 4e-14 N: per-element terms of the shell's stresses cancel to ~1e-16 relative).
+    assert np.abs(forces.sum(axis=0)).max() < 1e-9 * expected
 
 
 def test_tets_under_uniaxial_strain_pull_with_lambda_plus_two_mu(export_scene: Export) -> None:
@@ -153,6 +155,37 @@ def test_tets_under_uniaxial_strain_pull_with_lambda_plus_two_mu(export_scene: E
     end = np.isclose(x0[run.layout.dynamic, 0], x0[:, 0].max())
     expected = (lam + 2 * mu) * eps * area * (1 + eps) * (1 + eps / 2)
     assert -forces[end, 0].sum() == pytest.approx(expected, rel=1e-8)  # round-off on 0.05 N
+
+
+@pytest.mark.parametrize("distance,fold", [(0.5, 0.3), (0.8, 1.0)])
+def test_seed_bending_energy_of_a_symmetric_fold(distance: float, fold: float) -> None:
+    # Two triangles on a unit edge, opposite vertices `distance` from it over one foot point,
+    # folded symmetrically by `fold`: C = (6/d) sin^2(fold/2) (docs/methods.md, tested in
+    # tests/pbd/test_isometric_bending.cpp), the XPBD potential (1/2) k C^2.
+    rest = np.array([[0, 0, 0], [1, 0, 0], [0.4, distance, 0], [0.4, -distance, 0]], dtype=float)
+    c, s = math.cos(fold / 2), math.sin(fold / 2)
+    folded = np.array([[0, 0, 0], [1, 0, 0], [0.4, distance * c, distance * s],
+                       [0.4, -distance * c, distance * s]])
+    stencils = flexes.bending_stencils(rest, np.array([[0, 1, 2], [1, 0, 3]]))
+    assert len(stencils) == 1
+    k = 2.0
+    expected = 0.5 * k * (6 / distance * math.sin(fold / 2) ** 2) ** 2
+    assert flexes.isometric_xpbd_energy(stencils, folded, k) == pytest.approx(expected, rel=1e-13)
+
+
+def test_mujoco_bending_of_a_cylinder_is_kirchhoffs_on_the_interior_hinges(export_scene: Export) -> None:
+    # MuJoCo documents D kappa^2/2 per unit area for a sheet bent into a cylinder; on the 8 x 8
+    # grid the curvature is carried by the 7 interior hinge lines across the bend, each for a
+    # strip of one cell, so the measured work at D = 1 is (7/8) kappa^2 A/2 (A = 1 m^2). At
+    # kappa = 0.01 /m the chords differ from the arcs by (kappa a)^2/24 ~ 1e-8: 1e-5 covers it
+    # and the trapezoidal rule on the nonlinear rest.
+    scene = scene_of(export_scene, "cloth_on_sphere", "mujoco-python.euler.newton", without_bodies)
+    x = np.array([p.position for p in scene.particles])
+    triangles = scene.triangle_models[0].triangles
+    kappa = 0.01
+    work = flexes.kirchhoff_energy_per_rigidity(x, triangles, flexes.cylinder(x, triangles, kappa),
+                                                flexes.NETWORK_POISSON)
+    assert work == pytest.approx(7 / 8 * kappa**2 / 2, rel=1e-5)
 
 
 # --- dynamics ------------------------------------------------------------------------------
@@ -190,9 +223,16 @@ def test_free_cloth_centre_of_mass_follows_the_discrete_parabola(export_scene: E
         lengths = np.linalg.norm(state[edges[:, 0], :3] - state[edges[:, 1], :3], axis=1)
         strain = max(strain, np.abs(lengths / run.model.flexedge_length0 - 1).max())
     assert strain > 1e-3  # the elastic forces did act
-    # Round-off: the internal forces cancel to ~1e-16 relative; a few hundred (discrete: its
-    # iterative solve, converged to tolerance 1e-8 on the increments) steps of values below 2 m.
-    assert worst_x < 1e-12 and worst_v < 1e-12
+    if run.settings["integrator"] == "discrete":
+        # The step solves (M + h^2 K) dv = h f iteratively to relative residual `tolerance`
+        # (1e-8): the internal forces then cancel only to that fraction of the velocity
+        # increments, at most h a ~ 5 ms x 3e3 m/s^2 (k eps/m at percent strains) = 15 m/s, so
+        # over n = 100 steps |dv_com| <= n tol 15 m/s and |dx_com| <= n^2/2 h tol 15 m/s.
+        tolerance, n, increment = 1e-8, 100, 15.0
+        assert worst_v < n * tolerance * increment and worst_x < n * n / 2 * h * tolerance * increment
+    else:
+        # Round-off: the internal forces cancel to ~1e-16 relative over ~1000 steps below 2 m.
+        assert worst_x < 1e-12 and worst_v < 1e-12
 
 
 def test_explicit_integrators_substep_below_the_stability_limit(export_scene: Export) -> None:
