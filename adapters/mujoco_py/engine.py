@@ -203,7 +203,8 @@ class MujocoRun:
         self._add_pairs(spec)
         bending_curvature = float(scene.parameter("clothBendingCurvature", 2.0))
         if bending_curvature < 0:
-            raise ValueError(f"parameter clothBendingCurvature: expected >= 0 (0: no bending), got {bending_curvature}")
+            raise ValueError("parameter clothBendingCurvature: expected >= 0 (0: no bending), "
+                             f"got {bending_curvature}")
         self.layout = flexes.add_flexes(spec, scene, self._flex_contact, self.settings, bending_curvature)
         with warnings.catch_warnings():
             # MuJoCo 4.0.0 warns that a flex with elasticity but no edge equality "has no
@@ -218,7 +219,8 @@ class MujocoRun:
         mujoco.mj_forward(self.model, self.data)
         mismatch = flexes.state_matches(self.data, self.layout)
         if mismatch != 0.0:
-            raise RuntimeError(f"flex vertices are not the scene's particles at t = 0 (off by {mismatch:g} m)")
+            raise RuntimeError("flex vertices are not the scene's particles at t = 0 "
+                               f"(off by {mismatch:g} m)")
         self.body_ids = [mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, n)
                          for n in self.body_names]
         self.substeps = self._substeps(integrator, requested_substeps)
@@ -235,9 +237,9 @@ class MujocoRun:
         self.settings["elasticOmegaMax"] = omega
         return requested or flexes.explicit_substeps(omega, self.scene.time_step_size)
 
-    def _flex_contact(self, model: object) -> tuple[list[float], list[float]]:
+    def _flex_contact(self, model: pp.TriangleModel | pp.TetModel) -> tuple[list[float], list[float]]:
         """solref, solimp of a particle model's contacts: the rigid pairs' law with its restitution."""
-        law = contact_law.contact_solref(self.tau, self.scene.time_step_size, model.restitution)  # type: ignore[attr-defined]
+        law = contact_law.contact_solref(self.tau, self.scene.time_step_size, model.restitution)
         return [-law.stiffness, -law.damping], list(SOLIMP)
 
     def _add_geom(self, mj_body: "mujoco.MjsBody", b: pp.Body, spec: "mujoco.MjSpec") -> None:

@@ -12,11 +12,12 @@ Materials:
   model is St. Venant-Kirchhoff on linear tets (energy density mu tr(eps^2) + lambda/2 tr(eps)^2,
   Green strain eps), the energy of the scene's method: native.
 - cloth, method 4 (XPBD distance, k N/m on every edge): MuJoCo 4 has edge stiffness for 1D flexes
-  only, so the cloth is a St. Venant-Kirchhoff membrane (elastic2d "stretch") whose small-strain
-  stiffness is that of the spring network, averaged over directions. A network of springs k_e
-  along edges of length l_e and direction n_e stores, per unit area A under a homogeneous strain,
-  the stiffness tensor C = (1/A) sum_e w_e k_e l_e^2 n_e n_e n_e n_e (w_e: the edge's share of the
-  bulk, half per adjacent triangle). Its isotropic part is c (dd + dd + dd) with
+  only, so the cloth is a St. Venant-Kirchhoff membrane (elastic2d "stretch"; "both" with the
+  bending below) whose small-strain stiffness is that of the spring network, averaged over
+  directions. A network of springs k_e along edges of length l_e and direction n_e stores, per
+  unit area A under a homogeneous strain, the stiffness tensor
+  C = (1/A) sum_e w_e k_e l_e^2 n_e n_e n_e n_e (w_e: the edge's share of the bulk, half per
+  adjacent triangle). Its isotropic part is c (dd + dd + dd) with
   c = sum_e w_e k_e l_e^2 / (8 A) (the trace C_iijj = 8 c), i.e. Lame parameters lambda* = mu = c:
   a plane-stress membrane of Poisson ratio 1/3 (spring networks obey the Cauchy relation) and
   E t = (8/3) c = sum_e w_e k_e l_e^2 / (3 A). On a square grid with one diagonal per cell that is
@@ -109,7 +110,10 @@ def membrane_stiffness(positions: np.ndarray, triangles: np.ndarray, edge_stiffn
     return edge_stiffness * total / (3.0 * area)
 
 
-def bending_stencils(positions: np.ndarray, triangles: np.ndarray) -> list[tuple[list[int], np.ndarray, float]]:
+Stencil = tuple[list[int], np.ndarray, float]
+
+
+def bending_stencils(positions: np.ndarray, triangles: np.ndarray) -> list[Stencil]:
     """The seed's isometric-bending stencils at `positions` (the rest state), one per interior
     edge (x0, x1) with opposite vertices x2, x3: (indices, K, 3/(A0 + A1)),
     K = (cot b0 + cot b1, cot a0 + cot a1, -cot a0 - cot b0, -cot a1 - cot b1), a at x0 and b at
@@ -137,8 +141,7 @@ def bending_stencils(positions: np.ndarray, triangles: np.ndarray) -> list[tuple
     return stencils
 
 
-def isometric_xpbd_energy(stencils: list[tuple[list[int], np.ndarray, float]], x: np.ndarray,
-                          stiffness: float) -> float:
+def isometric_xpbd_energy(stencils: list[Stencil], x: np.ndarray, stiffness: float) -> float:
     """The seed's XPBD bending potential, sum of (1/2) k C^2 with C = (scale/2) |sum K_i x_i|^2."""
     total = 0.0
     for indices, weights, scale in stencils:
