@@ -17,6 +17,7 @@ from typing import Any, Callable
 import numpy as np
 import pytest
 
+import linear_fem
 from conftest import REPO
 from pbdval import protocol as pp
 
@@ -341,3 +342,33 @@ def test_pbdval_run_accepts_and_measures_the_particles(pbdval_binary: Path, tmp_
     # strained by its weight (0.3 kg x 9.81 over a few edges: percents), not zero, not torn.
     assert 1e-3 < metrics["particle_stretch_max"] < 0.2
     assert runs[0]["facts"]["integratorStepsPerSceneStep"] == 1
+
+
+# --- the cantilever against an independent static solve -----------------------------------
+
+def test_cantilever_settles_at_the_linear_fem_deflection(export_scene: Export) -> None:
+    # tet_cantilever (0.5 x 0.1 x 0.1 m, 1920 tets, E = 10 MPa, nu = 0, g = 0.981 m/s^2) in the
+    # discrete integrator, whose backward-Euler dissipation settles the released beam: the
+    # time-mean downward displacement of the tip face over the second half against the static
+    # linear-FEM solution of the same mesh, masses and clamp (tests/python/linear_fem.py, numpy
+    # only). MuJoCo's tets are St. Venant-Kirchhoff: at displacement gradients |grad u| ~
+    # 3 delta/(2 L) = 2.4e-3 its Green strain departs from the linear one by |grad u|/2
+    # relative, so 2.4e-3 bounds the difference of the static solutions; what is left of the
+    # oscillation after 1 s averages out far below that.
+    scene = scene_of(export_scene, "tet_cantilever", "mujoco-python.discrete.newton", duration=2.0)
+    run = engine.MujocoRun(scene)
+    model = scene.tet_models[0]
+    x0 = run.layout.positions0
+    masses = np.array([p.mass for p in scene.particles])
+    assert len(scene.tet_models) == 1 and model.first_particle == 0  # local indices are global
+    expected = linear_fem.static_displacement(x0, model.tets, masses, np.array(model.static_particles),
+                                              np.array(scene.gravity), model.material["stiffness"],
+                                              model.material["poissonRatio"])
+    tip = np.flatnonzero(np.isclose(x0[:, 0], x0[:, 0].max()))
+    sags = []
+    for n in range(1, scene.steps + 1):
+        step(run)
+        if n * scene.time_step_size > 1.0:
+            sags.append(-(run.layout.state(run.data)[tip, 1] - x0[tip, 1]).mean())
+    assert run.data.warning[int(mujoco.mjtWarning.mjWARN_INERTIA)].number == 0  # solves converged
+    assert np.mean(sags) == pytest.approx(-expected[tip, 1].mean(), rel=2.4e-3)
