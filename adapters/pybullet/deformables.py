@@ -76,6 +76,7 @@ class SoftModel:
     order: np.ndarray | None = None
     node_mass: float = 0.0
     mass_difference: float = 0.0  # max over dynamic particles of |m_B − m_i| / m_i
+    friction: float = 0.0  # kDF (frictionCoeff)
 
 
 def models(scene: Any) -> list[tuple[str, Any]]:
@@ -333,6 +334,7 @@ class SoftBodies:
             if body < 0:
                 raise RuntimeError(f"{m.json_path}: pybullet could not load the soft body")
             model.body = body
+            model.friction = float(friction[index])
             loaded = self._nodes(body)
             model.order = node_order(loaded, x, m.json_path)
             # No sleeping: a resting soft body must keep being simulated.

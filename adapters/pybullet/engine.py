@@ -224,6 +224,7 @@ class PybulletRun:
         })
         for m in self.soft.models:
             self.settings[f"{m.json_path}.nodeMass"] = m.node_mass
+            self.settings[f"{m.json_path}.frictionCoeff"] = m.friction
         for kind, m in deformables.models(scene):
             if kind == "solid":
                 young = float(m.material["stiffness"])
