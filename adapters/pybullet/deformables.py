@@ -102,11 +102,13 @@ def unsupported_features(scene: Any) -> list[str]:
     for m in scene.tet_models:
         if m.simulation_method not in SOLID_METHODS:
             missing.append(f"{m.json_path}: solid method {m.simulation_method} ({m.method_name}): "
-                           "only fem_xpbd (3, linear elasticity E, nu) maps to Bullet's Neo-Hookean")
+                           "only fem_xpbd (3, linear elasticity E, nu) maps to Bullet's "
+                           "Neo-Hookean")
         else:
             nu = float(m.material.get("poissonRatio", 0.3))
             if not 0.0 <= nu < 0.5:
-                missing.append(f"{m.json_path}: poissonRatio {nu} (Neo-Hookean needs 0 <= nu < 0.5)")
+                missing.append(f"{m.json_path}: poissonRatio {nu} (Neo-Hookean needs "
+                               "0 <= nu < 0.5)")
     if getattr(scene, "line_models", 0):
         missing.append("LineModels: rods (pybullet has no rod model)")
     if getattr(scene, "fluid_models", 0):
@@ -213,9 +215,11 @@ def spring_row_sums(positions: np.ndarray, pairs: np.ndarray, k: float) -> np.nd
     return sums
 
 
-def tet_row_sums(positions: np.ndarray, tets: np.ndarray, young: float, poisson: float) -> np.ndarray:
-    """Σ_j |K_ij| per degree of freedom of the linear-elastic (small-strain) tet stiffness,
-    K_e = V Bᵀ D B, which Bullet's Neo-Hookean with stable_neo_hookean's parameters has at rest."""
+def tet_row_sums(positions: np.ndarray, tets: np.ndarray, young: float,
+                 poisson: float) -> np.ndarray:
+    """Σ_j |K_ij| per degree of freedom of the linear-elastic (small-strain) tet stiffness
+    K_e = V Bᵀ D B, which Bullet's Neo-Hookean with stable_neo_hookean's parameters has at
+    rest."""
     mu, lam = lame(young, poisson)
     x = positions[tets]  # (n, 4, 3)
     dm = np.transpose(x[:, 1:] - x[:, :1], (0, 2, 1))  # columns x_a − x_0
@@ -261,101 +265,106 @@ def combine(rule: str, a: float, b: float) -> float:
 
 
 class SoftBodies:
-    """The scene's triangle and tet models loaded into a deformable world."""
+    """The scene's triangle and tet models loaded into a deformable world: `models` (scene
+    order), `omega` (the bound on ω_max over all of them), `notes` (approximations made)."""
 
     def __init__(self, client: int, scene: Any, folder: str, margin: float,
                  bending_spring_stiffness: float, friction: Sequence[float]) -> None:
         self.client = client
-        self.scene = scene
+        self.folder = folder
+        self.bending_spring_stiffness = bending_spring_stiffness
         self.models: list[SoftModel] = []
         self.notes: list[str] = []
         self.positions0 = np.array([p.position for p in scene.particles], dtype=np.float64)
         self.masses = np.array([p.mass for p in scene.particles], dtype=np.float64)
-        self.row_sums = np.zeros_like(self.positions0)
         self.omega = 0.0
-        bending_noted = False
         for index, (kind, m) in enumerate(models(scene)):
-            first, count = m.first_particle, m.particle_count
-            x = self.positions0[first:first + count]
-            masses = self.masses[first:first + count]
-            static = set(int(i) for i in m.static_particles) | set(np.flatnonzero(masses <= 0).tolist())
-            dynamic = np.ones(count, dtype=bool)
-            dynamic[list(static)] = False
-            model = SoftModel(m.json_path, kind, first, count)
-            # Uniform node masses keeping the dynamic mass: m_B = Σ m_i / (dynamic count).
-            dynamic_mass = float(masses[dynamic].sum())
-            model.node_mass = dynamic_mass / max(1, int(dynamic.sum()))
-            if dynamic.any():
-                model.mass_difference = float(np.max(np.abs(model.node_mass - masses[dynamic]) /
-                                                     masses[dynamic]))
-            total = model.node_mass * count  # setTotalMass spreads it over every node
-            common: dict[str, Any] = dict(scale=1.0, mass=total, collisionMargin=margin,
-                                          frictionCoeff=float(friction[index]),
-                                          physicsClientId=client)
-            if kind == "cloth":
-                path = os.path.join(folder, f"model{index}.obj")
-                triangles = np.asarray(m.triangles, dtype=np.int64)
-                write_obj(path, x, triangles)
-                k = float(m.material["stiffness"])
-                edges = mesh_edges(triangles)
-                sums = spring_row_sums(x, edges, k)
-                spring: dict[str, Any] = dict(useMassSpring=1, springElasticStiffness=k,
-                                              springDampingStiffness=0.0, useNeoHookean=0)
-                if m.bending_method == BENDING_ISOMETRIC_XPBD:
-                    if bending_spring_stiffness > 0:
-                        spring.update(useBendingSprings=1,
-                                      springBendingStiffness=bending_spring_stiffness)
-                        sums = sums + spring_row_sums(x, second_neighbours(edges, count),
-                                                      bending_spring_stiffness)
-                        if not bending_noted:
-                            self.notes.append(
-                                "isometric XPBD bending (clothBendingMethod 3) as Bullet's bending "
-                                f"springs between second neighbours, k = {bending_spring_stiffness:g} "
-                                "N/m (they also resist in-plane shear, and resist a fold of a flat "
-                                "sheet only at second order)")
-                            bending_noted = True
-                    elif not bending_noted:
-                        self.notes.append("isometric XPBD bending (clothBendingMethod 3) left out: "
-                                          "Bullet's deformables have no bending energy (parameter "
-                                          "bendingSpringStiffness adds bending springs instead)")
-                        bending_noted = True
-                body = pb.loadSoftBody(path, **spring, **common)
-            else:
-                path = os.path.join(folder, f"model{index}.vtk")
-                tets = np.asarray(m.tets, dtype=np.int64)
-                write_vtk(path, x, tets)
-                young = float(m.material["stiffness"])
-                poisson = float(m.material.get("poissonRatio", 0.3))
-                mu_b, lambda_b = stable_neo_hookean(young, poisson)
-                sums = tet_row_sums(x, tets, young, poisson)
-                body = pb.loadSoftBody(path, useNeoHookean=1, NeoHookeanMu=mu_b,
-                                       NeoHookeanLambda=lambda_b, NeoHookeanDamping=0.0,
-                                       useMassSpring=0, **common)
-            if body < 0:
-                raise RuntimeError(f"{m.json_path}: pybullet could not load the soft body")
-            model.body = body
-            model.friction = float(friction[index])
-            loaded = self._nodes(body)
-            model.order = node_order(loaded, x, m.json_path)
-            # No sleeping: a resting soft body must keep being simulated.
-            pb.changeDynamics(body, -1, activationState=pb.ACTIVATION_STATE_DISABLE_SLEEPING,
-                              physicsClientId=client)
-            for i in sorted(static):
-                pb.createSoftBodyAnchor(body, int(model.order[i]), -1, -1, physicsClientId=client)
-            self.row_sums[first:first + count] = sums
-            self.omega = max(self.omega, omega_max_bound(sums, model.node_mass, dynamic))
-            self.models.append(model)
-        differences = [(m.mass_difference, m.json_path) for m in self.models]
-        if differences and max(differences)[0] > 1e-12:
-            worst = max(differences)
+            self._load(index, kind, m, margin, float(friction[index]))
+        worst = max((sm.mass_difference, sm.json_path) for sm in self.models)
+        if worst[0] > 1e-12:
             self.notes.append(
                 "particle masses: pybullet gives every node of a soft body the same mass (the "
                 "model's dynamic mass over its dynamic nodes); largest relative difference from "
                 f"the scene's lumped masses {worst[0]:.3g} ({worst[1]})")
         can_touch = len(self.models) > 1 or any(b.shape.type != "none" for b in scene.bodies)
         if can_touch and any(m.restitution != 0 for _, m in models(scene)):
-            self.notes.append("particle contacts are inelastic in Bullet's deformable solver (the "
-                              "models' restitution is not used)")
+            self.notes.append("particle contacts are inelastic in Bullet's deformable solver "
+                              "(the models' restitution is not used)")
+
+    def _load(self, index: int, kind: str, m: Any, margin: float, friction: float) -> None:
+        first, count = m.first_particle, m.particle_count
+        x = self.positions0[first:first + count]
+        masses = self.masses[first:first + count]
+        static = {int(i) for i in m.static_particles} | set(np.flatnonzero(masses <= 0).tolist())
+        dynamic = np.ones(count, dtype=bool)
+        dynamic[sorted(static)] = False
+        model = SoftModel(m.json_path, kind, first, count, friction=friction)
+        # Uniform node masses keeping the dynamic mass: m_B = Σ m_i / (dynamic count).
+        model.node_mass = float(masses[dynamic].sum()) / max(1, int(dynamic.sum()))
+        if dynamic.any():
+            model.mass_difference = float(np.max(np.abs(model.node_mass - masses[dynamic]) /
+                                                 masses[dynamic]))
+        common: dict[str, Any] = dict(scale=1.0, mass=model.node_mass * count,
+                                      collisionMargin=margin, frictionCoeff=friction,
+                                      physicsClientId=self.client)
+        if kind == "cloth":
+            body, row_sums = self._cloth(index, m, x, common)
+        else:
+            body, row_sums = self._solid(index, m, x, common)
+        if body < 0:
+            raise RuntimeError(f"{m.json_path}: pybullet could not load the soft body")
+        model.body = body
+        model.order = node_order(self._nodes(body), x, m.json_path)
+        # No sleeping: a resting soft body must keep being simulated.
+        pb.changeDynamics(body, -1, activationState=pb.ACTIVATION_STATE_DISABLE_SLEEPING,
+                          physicsClientId=self.client)
+        for i in sorted(static):
+            pb.createSoftBodyAnchor(body, int(model.order[i]), -1, -1, physicsClientId=self.client)
+        self.omega = max(self.omega, omega_max_bound(row_sums, model.node_mass, dynamic))
+        self.models.append(model)
+
+    def _cloth(self, index: int, m: Any, x: np.ndarray,
+               common: dict[str, Any]) -> tuple[int, np.ndarray]:
+        """A mass-spring soft body of k per edge (and bending springs if asked for)."""
+        path = os.path.join(self.folder, f"model{index}.obj")
+        triangles = np.asarray(m.triangles, dtype=np.int64)
+        write_obj(path, x, triangles)
+        k = float(m.material["stiffness"])
+        edges = mesh_edges(triangles)
+        row_sums = spring_row_sums(x, edges, k)
+        springs: dict[str, Any] = dict(useMassSpring=1, springElasticStiffness=k,
+                                       springDampingStiffness=0.0, useNeoHookean=0)
+        bending = self.bending_spring_stiffness
+        if m.bending_method == BENDING_ISOMETRIC_XPBD and bending > 0:
+            springs.update(useBendingSprings=1, springBendingStiffness=bending)
+            row_sums = row_sums + spring_row_sums(x, second_neighbours(edges, len(x)), bending)
+            self._note_once(f"{m.json_path}: isometric XPBD bending (clothBendingMethod 3) as "
+                            "Bullet's bending springs between second neighbours, k = "
+                            f"{bending:g} N/m (they also resist in-plane shear, and resist a "
+                            "fold of a flat sheet only at second order)")
+        elif m.bending_method == BENDING_ISOMETRIC_XPBD:
+            self._note_once(f"{m.json_path}: isometric XPBD bending (clothBendingMethod 3) left "
+                            "out: Bullet's deformables have no bending energy (parameter "
+                            "bendingSpringStiffness adds bending springs instead)")
+        return pb.loadSoftBody(path, **springs, **common), row_sums
+
+    def _solid(self, index: int, m: Any, x: np.ndarray,
+               common: dict[str, Any]) -> tuple[int, np.ndarray]:
+        """A Neo-Hookean soft body whose small-strain limit is the scene's (E, ν)."""
+        path = os.path.join(self.folder, f"model{index}.vtk")
+        tets = np.asarray(m.tets, dtype=np.int64)
+        write_vtk(path, x, tets)
+        young = float(m.material["stiffness"])
+        poisson = float(m.material.get("poissonRatio", 0.3))
+        mu_b, lambda_b = stable_neo_hookean(young, poisson)
+        body = pb.loadSoftBody(path, useNeoHookean=1, NeoHookeanMu=mu_b,
+                               NeoHookeanLambda=lambda_b, NeoHookeanDamping=0.0,
+                               useMassSpring=0, **common)
+        return body, tet_row_sums(x, tets, young, poisson)
+
+    def _note_once(self, note: str) -> None:
+        if note not in self.notes:
+            self.notes.append(note)
 
     def _nodes(self, body: int) -> np.ndarray:
         _, vertices = pb.getMeshData(body, -1, flags=pb.MESH_DATA_SIMULATION_MESH,

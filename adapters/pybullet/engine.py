@@ -233,7 +233,8 @@ class PybulletRun:
                 self.settings[f"{m.json_path}.NeoHookeanMu"] = mu_b
                 self.settings[f"{m.json_path}.NeoHookeanLambda"] = lambda_b
             else:
-                self.settings[f"{m.json_path}.springElasticStiffness"] = float(m.material["stiffness"])
+                stiffness = float(m.material["stiffness"])
+                self.settings[f"{m.json_path}.springElasticStiffness"] = stiffness
 
     def _world(self) -> None:
         c = self.client
@@ -324,7 +325,8 @@ class PybulletRun:
     def run(self, out_dir: Path) -> pp.Status:
         if self.soft is None:
             status = pp.simulate(self.scene, out_dir,
-                                 lambda: pb.stepSimulation(physicsClientId=self.client), self.states)
+                                 lambda: pb.stepSimulation(physicsClientId=self.client),
+                                 self.states)
         else:
             status = self._run_with_particles(out_dir)
         status.engine_version = engine_version()
