@@ -250,6 +250,19 @@ def test_pinned_particles_stay_and_particles_come_in_scene_order(export_scene: E
         assert np.abs(states[-1, :, 1] - x0[:, 1]).max() > 1e-3, case
 
 
+def test_the_deformable_parameters_reach_the_engine(export_scene: Export, run_engine: Run) -> None:
+    parameters = {"deformableSubsteps": 12, "particleCollisionMargin": 0.002,
+                  "bendingSpringStiffness": 5.0}
+    status, _ = run_engine(PYBULLET, export_scene("cloth_hanging", method="pybullet.si",
+                                                  parameters=parameters, duration=0.05))
+    assert_ok(status)
+    settings = status["effectiveSettings"]
+    assert status["integratorStepsPerSceneStep"] == settings["deformableSubsteps"] == 12
+    assert settings["fixedTimeStep"] == pytest.approx(0.005 / 12, rel=1e-15)
+    assert settings["particleCollisionMargin"] == 0.002 and settings["bendingSpringStiffness"] == 5
+    assert "bending springs between second neighbours, k = 5 N/m" in settings["approximations"]
+
+
 def test_cloth_rests_on_the_sphere_at_the_margin(export_scene: Export, run_engine: Run) -> None:
     path = export_scene("cloth_on_sphere", method="pybullet.si", duration=1.0)
     scene = pp.read_resolved_scene(path)
@@ -282,7 +295,11 @@ def test_cloth_rests_on_the_sphere_at_the_margin(export_scene: Export, run_engin
 
 
 def test_unsupported_models_are_named(export_case: Callable[[dict[str, Any]], Path],
-                                      run_engine: Run) -> None:
+                                      export_scene: Export, run_engine: Run) -> None:
+    for case, feature in (("rod_helix", "LineModels: rods"),
+                          ("fluid_dam_break", "FluidModels: fluids")):
+        status, _ = run_engine(PYBULLET, export_scene(case, method="pybullet.si", duration=0.01))
+        assert status["status"] == "unsupported" and feature in status["reason"], case
     status, out = run_engine(PYBULLET, export_case(cloth_case("cloth_pbd", clothSimulationMethod=1)))
     assert status["status"] == "unsupported"
     assert any(u.startswith("TriangleModels[0]: cloth method 1 (distance)") for u in status["unsupported"])
