@@ -96,6 +96,10 @@ def unsupported_features(scene: pp.ResolvedScene) -> list[str]:
         elif b.shape.type in ("sdf", "torus") and not b.geometry_file:
             missing.append(f"{b.json_path}: shape {b.shape.type} without a geometry file")
     missing.extend(deformables.unsupported_features(scene))
+    if deformables.has_deformables(scene) and scene.method.name not in ("", DEFAULT_METHOD):
+        missing.append(f"method {scene.method.name} with cloth or solids: the deformable world "
+                       "solves with its own btDeformableMultiBodyConstraintSolver; switching "
+                       "constraintSolverType to the MLCP solvers crashes pybullet 3.2.7")
     if material_factors(scene, "friction") is None:
         missing.append("contact friction: the pairs' values are not products of per-body values "
                        "(pybullet multiplies the bodies' lateralFriction)")
