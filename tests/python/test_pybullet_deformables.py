@@ -313,21 +313,36 @@ def test_unsupported_models_are_named(export_case: Callable[[dict[str, Any]], Pa
     assert any(u.startswith("TriangleModels[0]: bending method 1 (dihedral)") for u in status["unsupported"])
 
 
-def test_the_runner_measures_a_pybullet_solid(pbdval_binary: Path, tmp_path: Path) -> None:
+def test_the_runner_measures_pybullet_solids(pbdval_binary: Path, export_scene: Export,
+                                             tmp_path: Path) -> None:
     out = tmp_path / "run"
-    result = subprocess.run([str(pbdval_binary), "run", str(REPO / "cases" / "tet_bar.json"),
-                             "--engines", "pybullet", "--out", str(out), "--no-trajectories"],
+    cases = [str(REPO / "cases" / f"{c}.json") for c in ("tet_bar", "solid_collision")]
+    result = subprocess.run([str(pbdval_binary), "run", *cases, "--engines", "pybullet",
+                             "--out", str(out), "--no-trajectories"],
                             capture_output=True, text=True, cwd=REPO, check=False, timeout=600)
     assert result.returncode == 0, result.stdout + result.stderr
-    (run,) = json.loads((out / "results.json").read_text())["runs"]
-    assert run["status"] == "ok", run["reason"]
-    metrics = run["metrics"]
+    runs = {r["case"]: r for r in json.loads((out / "results.json").read_text())["runs"]}
+    for run in runs.values():
+        assert run["status"] == "ok", run["reason"]
+    bar = runs["tet_bar"]["metrics"]
     # The case's own checks (cases/tet_bar.json): volume within 1 %, no tet beyond 10 %, and
     # no energy created beyond 1 % of E_ref.
-    assert metrics["solid_volume_error_max"] < 0.01
-    assert metrics["tet_volume_error_max"] < 0.1
-    assert metrics["energy_drift_final"] < 0.01
-    assert 0 < metrics["particle_stretch_max"] < 0.1
+    assert bar["solid_volume_error_max"] < 0.01
+    assert bar["tet_volume_error_max"] < 0.1
+    assert bar["energy_drift_final"] < 0.01
+    assert 0 < bar["particle_stretch_max"] < 0.1
+    # Two cubes: node-face contacts between soft bodies. The case's bound for contacts solved
+    # in every (sub)step (cases/solid_collision.json, pbd.xpbd): 0.35 mm; and no energy created.
+    pair = runs["solid_collision"]
+    assert pair["metrics"]["solid_penetration_max"] <= 0.00035
+    assert pair["metrics"]["energy_drift_final"] < 0.01
+    # Bullet multiplies the two soft bodies' kDF: the product is the pair's friction under the
+    # scene's rule, to the factor fit's 1e-9.
+    scene = pp.read_resolved_scene(export_scene("solid_collision", method="pybullet.si"))
+    lower, upper = scene.tet_models
+    kdf = [float(pair["settings"][f"TetModels[{i}].frictionCoeff"]) for i in (0, 1)]
+    assert kdf[0] * kdf[1] == pytest.approx(
+        deformables.combine(scene.contact_combine_rule, lower.friction, upper.friction), rel=1e-9)
 
 
 def whole_period_mean(t: np.ndarray, y: np.ndarray) -> tuple[float, float, float]:
