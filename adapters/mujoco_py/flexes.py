@@ -56,6 +56,8 @@ import numpy as np
 
 import mujoco
 
+from pbdval import protocol as pp
+
 #: contype/conaffinity bit of every flex and of the rigid geoms that particles touch.
 FLEX_CONTACT_BIT = 2
 #: Radius of a cloth's triangles (MuJoCo needs a positive one in 2D): a thin sheet. Its
@@ -70,22 +72,8 @@ SOLID_METHODS = {0: "none", 3: "fem_xpbd"}
 
 def unsupported(scene: Any) -> list[str]:
     """The particle features this engine cannot represent, each naming its JSON path."""
-    missing: list[str] = []
-    for tm in scene.triangle_models:
-        if tm.simulation_method not in CLOTH_METHODS:
-            missing.append(f"{tm.json_path}: cloth method {tm.simulation_method} ({tm.method_name}): "
-                           "only 0 (none) and 4 (xpbd_distance, N/m) are physical")
-        if tm.bending_method not in BENDING_METHODS:
-            missing.append(f"{tm.json_path}: bending method {tm.bending_method} "
-                           f"({tm.bending_method_name}): a fraction per iteration, not a stiffness")
-    for tm in scene.tet_models:
-        if tm.simulation_method not in SOLID_METHODS:
-            missing.append(f"{tm.json_path}: solid method {tm.simulation_method} ({tm.method_name}): "
-                           "only 0 (none) and 3 (fem_xpbd, E and nu) map to MuJoCo's elasticity")
-    if scene.line_models:
-        missing.append(f"LineModels: rods ({scene.line_models} models)")
-    if scene.fluid_models:
-        missing.append(f"FluidModels: fluids ({scene.fluid_models} models)")
+    missing = pp.unsupported_particle_models(scene, "MuJoCo's flexes", CLOTH_METHODS,
+                                             BENDING_METHODS, SOLID_METHODS)
     counted = sum(m.particle_count for m in (*scene.triangle_models, *scene.tet_models))
     if not (scene.line_models or scene.fluid_models) and counted != len(scene.particles):
         missing.append(f"particles: {len(scene.particles)} in the scene, {counted} in its triangle "

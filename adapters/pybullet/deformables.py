@@ -47,6 +47,8 @@ import numpy as np
 
 import pybullet as pb
 
+from pbdval import protocol as pp
+
 #: triangle-model simulationMethod → name; only the XPBD distance cloth has a physical
 #: stiffness (N/m per edge) that a spring can take.
 CLOTH_METHODS = {4: "xpbd_distance"}
@@ -91,28 +93,14 @@ def has_deformables(scene: Any) -> bool:
 
 def unsupported_features(scene: Any) -> list[str]:
     """What this mapping cannot represent, each naming its model."""
-    missing: list[str] = []
-    for m in scene.triangle_models:
-        if m.simulation_method not in CLOTH_METHODS:
-            missing.append(f"{m.json_path}: cloth method {m.simulation_method} ({m.method_name}): "
-                           "only xpbd_distance (4) has a physical stiffness a spring can take")
-        if m.bending_method not in (BENDING_NONE, BENDING_ISOMETRIC_XPBD):
-            missing.append(f"{m.json_path}: bending method {m.bending_method} "
-                           f"({m.bending_method_name}): its stiffness is a fraction per iteration")
+    missing = pp.unsupported_particle_models(scene, "Bullet's deformables", CLOTH_METHODS,
+                                             (BENDING_NONE, BENDING_ISOMETRIC_XPBD), SOLID_METHODS)
     for m in scene.tet_models:
-        if m.simulation_method not in SOLID_METHODS:
-            missing.append(f"{m.json_path}: solid method {m.simulation_method} ({m.method_name}): "
-                           "only fem_xpbd (3, linear elasticity E, nu) maps to Bullet's "
-                           "Neo-Hookean")
-        else:
+        if m.simulation_method in SOLID_METHODS:
             nu = float(m.material.get("poissonRatio", 0.3))
             if not 0.0 <= nu < 0.5:
                 missing.append(f"{m.json_path}: poissonRatio {nu} (Neo-Hookean needs "
                                "0 <= nu < 0.5)")
-    if getattr(scene, "line_models", 0):
-        missing.append("LineModels: rods (pybullet has no rod model)")
-    if getattr(scene, "fluid_models", 0):
-        missing.append("FluidModels: fluids (pybullet has no fluid model)")
     if has_deformables(scene):
         moving = [i for i, p in enumerate(scene.particles)
                   if p.mass > 0 and any(v != 0.0 for v in p.velocity)]

@@ -625,6 +625,33 @@ def read_resolved_scene(path: str | os.PathLike[str]) -> ResolvedScene:
     return parse_resolved_scene(document, source)
 
 
+def unsupported_particle_models(scene: ResolvedScene, engine: str, cloth_methods: Iterable[int],
+                                bending_methods: Iterable[int],
+                                solid_methods: Iterable[int]) -> list[str]:
+    """The particle models an engine cannot represent, each naming its JSON path and method
+    ("TriangleModels[0]: cloth method 2 (fem): ..."), given the cloth, bending and solid methods
+    it maps (docs/external-engines.md#particles); rods and fluids always."""
+    cloth, bending, solid = set(cloth_methods), set(bending_methods), set(solid_methods)
+    fraction = f"a fraction per iteration of the PBD solver, not a stiffness {engine} can take"
+    missing: list[str] = []
+    for m in scene.triangle_models:
+        if m.simulation_method not in cloth:
+            missing.append(f"{m.json_path}: cloth method {m.simulation_method} ({m.method_name}): "
+                           f"{engine} maps cloth methods {sorted(cloth)} only")
+        if m.bending_method not in bending:
+            missing.append(f"{m.json_path}: bending method {m.bending_method} "
+                           f"({m.bending_method_name}): {fraction}")
+    for t in scene.tet_models:
+        if t.simulation_method not in solid:
+            missing.append(f"{t.json_path}: solid method {t.simulation_method} ({t.method_name}): "
+                           f"{engine} maps solid methods {sorted(solid)} only")
+    if scene.line_models:
+        missing.append(f"LineModels: rods ({scene.line_models} models; {engine} has no rod model)")
+    if scene.fluid_models:
+        missing.append(f"FluidModels: fluids ({scene.fluid_models} models; {engine} has no fluid model)")
+    return missing
+
+
 # ---------------------------------------------------------------------------------------------
 # Output: the trajectory CSV and status.json
 
@@ -675,18 +702,27 @@ def state_rows(time: float, bodies: Sequence[BodyState]) -> np.ndarray:
     return rows
 
 
-def rows_divergence_reason(time: float, rows: np.ndarray) -> str | None:
-    """divergence_reason on state_rows."""
-    finite = np.isfinite(rows[:, 2:]).all(axis=1)
+def _blow_up_reason(time: float, names: Sequence[str], positions: np.ndarray,
+                    velocities: np.ndarray, state: np.ndarray) -> str | None:
+    """The runner's divergence test (validation/simulation.cpp) on the states named `names`
+    ("body 3", "particle 5"): any of `state` (every value, row per state) non-finite, or |x| or
+    |v| above DIVERGENCE_LIMIT."""
+    finite = np.isfinite(state).all(axis=1)
     if not finite.all():
-        return f"non-finite state of body {int(rows[np.argmin(finite), 1])} at t = {time:g} s"
-    x = np.linalg.norm(rows[:, 2:5], axis=1)
-    v = np.linalg.norm(rows[:, 9:12], axis=1)
+        return f"non-finite state of {names[int(np.argmin(finite))]} at t = {time:g} s"
+    x = np.linalg.norm(positions, axis=1)
+    v = np.linalg.norm(velocities, axis=1)
     bad = (x > DIVERGENCE_LIMIT) | (v > DIVERGENCE_LIMIT)
     if bad.any():
         i = int(np.argmax(bad))
-        return f"body {int(rows[i, 1])} blew up at t = {time:g} s (|x| = {x[i]:g} m, |v| = {v[i]:g} m/s)"
+        return f"{names[i]} blew up at t = {time:g} s (|x| = {x[i]:g} m, |v| = {v[i]:g} m/s)"
     return None
+
+
+def rows_divergence_reason(time: float, rows: np.ndarray) -> str | None:
+    """divergence_reason on state_rows."""
+    names = [f"body {int(i)}" for i in rows[:, 1]]
+    return _blow_up_reason(time, names, rows[:, 2:5], rows[:, 9:12], rows[:, 2:]) if len(rows) else None
 
 
 class _RowWriter:
@@ -774,16 +810,8 @@ def particle_rows(time: float, states: np.ndarray) -> np.ndarray:
 
 def particle_rows_divergence_reason(time: float, rows: np.ndarray) -> str | None:
     """The runner's divergence test on particle rows (validation/simulation.cpp)."""
-    finite = np.isfinite(rows[:, 2:]).all(axis=1)
-    if not finite.all():
-        return f"non-finite state of particle {int(np.argmin(finite))} at t = {time:g} s"
-    x = np.linalg.norm(rows[:, 2:5], axis=1)
-    v = np.linalg.norm(rows[:, 5:8], axis=1)
-    bad = (x > DIVERGENCE_LIMIT) | (v > DIVERGENCE_LIMIT)
-    if bad.any():
-        i = int(np.argmax(bad))
-        return f"particle {i} blew up at t = {time:g} s (|x| = {x[i]:g} m, |v| = {v[i]:g} m/s)"
-    return None
+    names = [f"particle {i}" for i in range(len(rows))]
+    return _blow_up_reason(time, names, rows[:, 2:5], rows[:, 5:8], rows[:, 2:]) if len(rows) else None
 
 
 class ParticleTrajectoryWriter(_RowWriter):
