@@ -89,10 +89,7 @@ ElasticEnergy::ElasticEnergy(const pbd::Scene& scene) {
   // their rest lengths, rest Darboux quaternions and moduli, as the scene defines them.
   const pbd::RodConstraints rods = pbd::rodConstraints(scene);
   for (const pbd::RodStretchShearConstraint& c : rods.stretchShear) {
-    if (!c.xpbd) {
-      hasPbdConstraints_ = true;
-      continue;
-    }
+    if (!c.xpbd) continue;
     rodStretchShear_.push_back(
         {c.particles[0], c.particles[1], c.segment, c.restLength, c.stiffness});
     need(c.particles[0]);
@@ -100,16 +97,13 @@ ElasticEnergy::ElasticEnergy(const pbd::Scene& scene) {
     segmentsNeeded_ = std::max(segmentsNeeded_, std::size_t(c.segment) + 1);
   }
   for (const pbd::RodBendTwistConstraint& c : rods.bendTwist) {
-    if (!c.xpbd) {
-      hasPbdConstraints_ = true;
-      continue;
-    }
+    if (!c.xpbd) continue;
     rodBendTwist_.push_back(
         {c.segments[0], c.segments[1], c.restDarboux, c.meanLength, c.stiffness});
     segmentsNeeded_ = std::max(segmentsNeeded_, std::size_t(c.segments[1]) + 1);
   }
   for (const pbd::LineModelDesc& model : scene.lineModels)
-    if (!model.usesModuli()) hasPbdConstraints_ = true;
+    if (!model.usesModuli()) hasPbdConstraints_ = true;  // PBD rods: fractions, no energy
 }
 
 double rodStretchShearEnergy(const Vector3& p0, const Vector3& p1, const Quaternion& q,

@@ -197,23 +197,23 @@ py::dict statesDict(const std::vector<State>& samples, std::size_t bodies) {
   // Cosserat-rod segments when the engine reads them back: rotations (T, S, 4) as (w, x, y, z),
   // angular velocities (T, S, 3).
   if (!samples.empty() && !samples.front().segments.empty()) {
-    const py::ssize_t n = py::ssize_t(samples.front().segments.size());
-    Array rotations = newArray({t, n, 4}), angularVelocities = newArray({t, n, 3});
+    const py::ssize_t segments = py::ssize_t(samples.front().segments.size());
+    Array rotations = newArray({t, segments, 4}), angularVelocities = newArray({t, segments, 3});
     auto R = rotations.mutable_unchecked<3>();
-    auto W = angularVelocities.mutable_unchecked<3>();
+    auto Omega = angularVelocities.mutable_unchecked<3>();
     for (py::ssize_t k = 0; k < t; ++k) {
       const State& s = samples[std::size_t(k)];
-      if (py::ssize_t(s.segments.size()) != n)
+      if (py::ssize_t(s.segments.size()) != segments)
         throw std::invalid_argument("sample " + std::to_string(k) + " holds " +
                                     std::to_string(s.segments.size()) + " rod segments, expected " +
-                                    std::to_string(n));
-      for (py::ssize_t i = 0; i < n; ++i) {
+                                    std::to_string(segments));
+      for (py::ssize_t i = 0; i < segments; ++i) {
         const SegmentState& g = s.segments[std::size_t(i)];
         R(k, i, 0) = double(g.rotation.w());
         R(k, i, 1) = double(g.rotation.x());
         R(k, i, 2) = double(g.rotation.y());
         R(k, i, 3) = double(g.rotation.z());
-        for (int a = 0; a < 3; ++a) W(k, i, a) = double(g.angularVelocity[a]);
+        for (int a = 0; a < 3; ++a) Omega(k, i, a) = double(g.angularVelocity[a]);
       }
     }
     d["segment_rotations"] = rotations;
@@ -297,7 +297,7 @@ std::vector<State> samplesOf(const pbd::Scene& scene, const Array& times, const 
     requireShape(r, "segment_rotations", t, count, 4);
     requireShape(w, "segment_angular_velocities", t, count, 3);
     auto R = r.unchecked<3>();
-    auto W = w.unchecked<3>();
+    auto Omega = w.unchecked<3>();
     for (py::ssize_t k = 0; k < t; ++k) {
       std::vector<SegmentState>& segments = samples[std::size_t(k)].segments;
       segments.resize(std::size_t(count));
@@ -305,7 +305,7 @@ std::vector<State> samplesOf(const pbd::Scene& scene, const Array& times, const 
         segments[std::size_t(i)].rotation =
             Quaternion(Real(R(k, i, 0)), Real(R(k, i, 1)), Real(R(k, i, 2)), Real(R(k, i, 3)));
         segments[std::size_t(i)].angularVelocity =
-            Vector3(Real(W(k, i, 0)), Real(W(k, i, 1)), Real(W(k, i, 2)));
+            Vector3(Real(Omega(k, i, 0)), Real(Omega(k, i, 1)), Real(Omega(k, i, 2)));
       }
     }
   }

@@ -23,9 +23,11 @@ SEGMENTS = 10
 
 def cantilever_scene(tmp_path: Path) -> Path:
     """A horizontal XPBD cantilever (L = 1 m, 10 segments, r = 1 cm, ρ = 1000 kg/m³,
-    E = 1 GPa, ν = 0.3) clamped at its first particle and segment, released at rest."""
+    E = 1 GPa, ν = 0.3) clamped at its first particle and segment, released at rest; the seed
+    step's Gauss–Seidel converged (200 iterations: with the physical quaternion inertia a few
+    iterations leave the rod far softer than its moduli, docs/methods.md#cosserat-rods)."""
     scene = {
-        "Simulation": {"timeStepSize": 0.002, "subSteps": 2, "maxIterations": 2},
+        "Simulation": {"timeStepSize": 0.001, "subSteps": 1, "maxIterations": 200},
         "LineModels": [{
             "points": [[0.1 * i, 0, 0] for i in range(SEGMENTS + 1)],
             "radius": 0.01, "density": 1000, "youngsModulus": 1e9, "shearModulus": 1e9 / 2.6,
@@ -78,15 +80,15 @@ def test_segments_as_csv_and_npy(tmp_path: Path) -> None:
     np.testing.assert_allclose(directors[:, 0, :, 0], np.tile([0.0, 0, 1], (41, 1)), atol=1e-15)
     assert np.array_equal(angular[:, 0], np.zeros((41, 3)))
     # d3 follows its segment: the shear strain of the stiff rod is ~ weight / (kappa G A) =
-    # 3.1 N / 1.2e5 N ~ 3e-5 (twice that while swinging); 1e-3 leaves room for the unconverged
-    # two iterations of a substep.
+    # 3.1 N / 1.2e5 N ~ 3e-5 (a few times that while swinging); 1e-3 leaves room for the
+    # Gauss–Seidel residual.
     _, x, _ = pbdval.read_particles(particles)
     tangents = np.diff(x, axis=1)
     tangents /= np.linalg.norm(tangents, axis=-1, keepdims=True)
     assert np.abs(directors[:, :, :, 2] - tangents).max() < 1e-3
-    # It bends down: the tip's segment turns about d1 = e_z (negative: the tip goes down), so the
-    # segments spin.
-    assert x[-1, -1, 1] < -0.01 and np.abs(angular).max() > 0.1
+    # It swings down to about twice its static sag q L^4/(8 EI) = 4 cm (Euler-Bernoulli), so the
+    # segments turn.
+    assert 0.06 < -x[:, -1, 1].min() < 0.1 and np.abs(angular).max() > 0.1
 
 
 @pytest.mark.parametrize("case", ["cantilever", "rod_helix"])
