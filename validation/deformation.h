@@ -73,8 +73,6 @@ class ElasticEnergy {
     pbd::Matrix3 inverseRestMatrix;
     double restVolume, mu, lambda;
   };
-  std::vector<Spring> springs_;
-  std::vector<FemTet> femTets_;
   struct RodStretchShear {
     int particle0, particle1, segment;
     Real restLength;
@@ -86,6 +84,8 @@ class ElasticEnergy {
     Real meanLength;
     Vector3 stiffness;  ///< (EI, EI, GJ), N m²
   };
+  std::vector<Spring> springs_;
+  std::vector<FemTet> femTets_;
   std::vector<Volume> volumes_;
   std::vector<Bending> bending_;
   std::vector<RodStretchShear> rodStretchShear_;
