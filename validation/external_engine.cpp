@@ -299,8 +299,6 @@ WholeRun ExternalEngine::runWhole(const pbd::Scene& scene, const Method& method,
   } catch (const std::exception& e) {
     return fail(trajectoryFile + ": " + e.what());
   }
-  if (const std::string wrong = checkSamples(run.samples, scene, plan, run.status); !wrong.empty())
-    return fail(trajectoryFile + ": " + wrong);
   // The particles: particles.csv or particles.npy, at the trajectory's samples, exactly when the
   // scene has particles.
   const bool particleCsv = fs::exists(outFolder / kParticlesFile);
@@ -312,6 +310,8 @@ WholeRun ExternalEngine::runWhole(const pbd::Scene& scene, const Method& method,
     if (particleCsv || particleNpy)
       return fail(std::string("it wrote ") + (particleNpy ? kParticlesNpyFile : kParticlesFile) +
                   " for a scene without particles");
+    if (const std::string wrong = checkSamples(run.samples, scene, plan, run.status); !wrong.empty())
+      return fail(trajectoryFile + ": " + wrong);
   } else {
     if (!particleCsv && !particleNpy)
       return fail("the scene has " + std::to_string(scene.particles.size()) +
@@ -323,6 +323,16 @@ WholeRun ExternalEngine::runWhole(const pbd::Scene& scene, const Method& method,
     } catch (const std::exception& e) {
       return fail(particleFile + ": " + e.what());
     }
+    // A scene without rigid bodies has a trajectory of zero rows per sample: its sample times
+    // are the particles'.
+    if (scene.rigidBodies.empty() && run.samples.empty())
+      for (const State& p : particles.samples) {
+        State s;
+        s.time = p.time;
+        run.samples.push_back(s);
+      }
+    if (const std::string wrong = checkSamples(run.samples, scene, plan, run.status); !wrong.empty())
+      return fail((scene.rigidBodies.empty() ? particleFile : trajectoryFile) + ": " + wrong);
     if (const std::string wrong = mergeParticles(particles.samples, scene, run.samples); !wrong.empty())
       return fail(particleFile + ": " + wrong);
   }

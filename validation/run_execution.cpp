@@ -12,6 +12,7 @@
 #include "validation/oracle/distance_oracle.h"
 #include "validation/overrides.h"
 #include "validation/references/reference.h"
+#include "validation/run_plan.h"
 #include "validation/trajectory.h"
 
 namespace pbdval {
@@ -183,6 +184,17 @@ RunRecord executeRun(const RunRequest& request, const EngineRegistry& registry) 
     if (trajectory) {
       if (npy) writeTrajectoryNpy(trajectory->stream(), samples);
       trajectory->commit();
+      // The particles beside it, in the same format, when the engine read any back.
+      if (!samples.empty() && !samples.front().particles.empty()) {
+        AtomicFileWriter particles(particlePathFor(path));
+        if (npy) {
+          writeParticleTrajectoryNpy(particles.stream(), samples);
+        } else {
+          writeParticleCsvHeader(particles.stream());
+          for (const State& s : samples) writeParticleCsvRows(particles.stream(), s);
+        }
+        particles.commit();
+      }
     }
 
     record.status = outcome.status;

@@ -44,6 +44,14 @@ std::string trajectoryPathFor(const std::string& outFolder, const std::string& c
          trajectoryFormatName(format);
 }
 
+std::string particlePathFor(const std::string& trajectoryPath) {
+  const std::size_t dot = trajectoryPath.find_last_of('.');
+  const std::size_t slash = trajectoryPath.find_last_of('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash))
+    return trajectoryPath + ".particles";
+  return trajectoryPath.substr(0, dot) + ".particles" + trajectoryPath.substr(dot);
+}
+
 RunPlan planRuns(const std::vector<std::string>& caseFiles, const PlanOptions& options,
                  const EngineRegistry& registry) {
   for (const std::string& engine : options.engines)

@@ -44,4 +44,9 @@ std::string trajectoryPathFor(const std::string& outFolder, const std::string& c
                               const std::string& engine, const std::string& method,
                               TrajectoryFormat format = TrajectoryFormat::Csv);
 
+/// Where a run's particle states go beside its trajectory (cloth, solids, rods, fluids):
+/// "DIR/trajectories/CASE/ENGINE-METHOD.particles.csv" for ".../ENGINE-METHOD.csv" (the same
+/// extension, docs/cli.md#particles).
+std::string particlePathFor(const std::string& trajectoryPath);
+
 }  // namespace pbdval

@@ -19,6 +19,7 @@
 
 #include "validation/atomic_file.h"
 #include "validation/run_execution.h"
+#include "validation/run_plan.h"
 
 namespace pbdval {
 namespace {
@@ -40,8 +41,10 @@ std::string resultFile(const std::string& folder, std::size_t index) {
 void removeLeftovers(const Child& child, const RunRequest& request, const std::string& file) {
   std::remove(file.c_str());
   if (!request.trajectoryPath.empty()) {
-    const std::string temporary = request.trajectoryPath + ".tmp-" + std::to_string(child.pid);
-    std::remove(temporary.c_str());
+    for (const std::string& target : {request.trajectoryPath, particlePathFor(request.trajectoryPath)}) {
+      const std::string temporary = target + ".tmp-" + std::to_string(child.pid);
+      std::remove(temporary.c_str());
+    }
   }
 }
 

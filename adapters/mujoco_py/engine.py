@@ -11,8 +11,12 @@ joint; ball and hinge joints form the kinematic tree (a joint whose child alread
 would close a loop: unsupported here); every contact pair of the scene is an explicit <pair>
 (contype = conaffinity = 0) with the pair's friction and a direct solref whose Kelvin-Voigt
 rebound is the pair's restitution (contact_law.py); margin and gap 0; no damping.
-Methods: mujoco-python.<integrator>.<solver>, integrator euler, rk4, implicit, implicitfast and
-solver newton, cg, pgs.
+Particles of triangle models (cloth) and tet models (solids) are MuJoCo flexes, one body with
+three slide joints per dynamic particle (flexes.py). Elastic flex forces are explicit in every
+integrator but `discrete` (implicit in position): under the others a scene step is split into
+internal steps below the stability limit of the stiffest elastic mode (parameter `substeps`).
+Methods: mujoco-python.<integrator>.<solver>, integrator euler, rk4, implicit, implicitfast,
+discrete and solver newton, cg, pgs.
 """
 
 from __future__ import annotations
@@ -20,6 +24,7 @@ from __future__ import annotations
 import math
 import os
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -28,6 +33,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from pbdval import protocol as pp  # noqa: E402
 import contact_law  # noqa: E402
+import flexes  # noqa: E402
 
 import mujoco  # noqa: E402
 
@@ -37,6 +43,7 @@ INTEGRATORS = {
     "rk4": mujoco.mjtIntegrator.mjINT_RK4,
     "implicit": mujoco.mjtIntegrator.mjINT_IMPLICIT,
     "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
+    "discrete": mujoco.mjtIntegrator.mjINT_DISCRETE,
 }
 SOLVERS = {
     "newton": mujoco.mjtSolver.mjSOL_NEWTON,
@@ -122,7 +129,14 @@ def unsupported_features(scene: pp.ResolvedScene) -> list[str]:
                 any(b.velocity) or any(b.angular_velocity)):
             missing.append(f"{b.json_path}: initial velocity of a body jointed to a moving body")
     if scene.particles or scene.triangle_models or scene.tet_models:
-        missing.append("particles (TriangleModels, TetModels, LineModels)")
+        missing += flexes.unsupported(scene)
+        parts = method_parts(scene.method.name)
+        if parts is not None and parts[0] in ("implicit", "implicitfast"):
+            missing.append(f"method {scene.method.name} with particles: MuJoCo 4 refuses flex "
+                           "elasticity under implicit and implicitfast (use discrete, euler or rk4)")
+        if parts == ("discrete", "pgs"):
+            missing.append(f"method {scene.method.name} with particles: MuJoCo's discrete "
+                           "integrator needs the Newton or CG solver for flex elasticity")
     return missing
 
 
@@ -149,7 +163,9 @@ class MujocoRun:
         assert parts is not None
         integrator, solver = parts
         h = scene.time_step_size
-        self.iterations = int(scene.parameter("iterations", 100))
+        # The catalogue's defaults: `discrete` also spends them on its iterative solve of
+        # M + h^2 K, which 100 leaves under-converged on a tet bar (engines/mujoco-python.json).
+        self.iterations = int(scene.parameter("iterations", 1000 if integrator == "discrete" else 100))
         self.tolerance = float(scene.parameter("tolerance", 1e-8))
         cone = str(scene.parameter("cone", "elliptic"))
         if cone not in CONES:
@@ -159,6 +175,9 @@ class MujocoRun:
             raise ValueError(f"parameter contactTimeconstSteps: expected >= 2 (MuJoCo raises a "
                              f"shorter time constant to 2h), got {tau_steps}")
         self.tau = tau_steps * h
+        requested_substeps = int(scene.parameter("substeps", 0))
+        if requested_substeps < 0:
+            raise ValueError(f"parameter substeps: expected >= 0 (0: automatic), got {requested_substeps}")
         self.settings: dict[str, pp.ParameterValue] = {
             "method": f"{ENGINE}.{integrator}.{solver}", "integrator": integrator, "solver": solver,
             "iterations": self.iterations, "tolerance": self.tolerance, "cone": cone,
@@ -182,12 +201,46 @@ class MujocoRun:
         self.parents, _ = tree(scene)
         self._add_bodies(spec)
         self._add_pairs(spec)
-        self.model = spec.compile()
+        bending_curvature = float(scene.parameter("clothBendingCurvature", 2.0))
+        if bending_curvature < 0:
+            raise ValueError("parameter clothBendingCurvature: expected >= 0 (0: no bending), "
+                             f"got {bending_curvature}")
+        self.layout = flexes.add_flexes(spec, scene, self._flex_contact, self.settings, bending_curvature)
+        with warnings.catch_warnings():
+            # MuJoCo 4.0.0 warns that a flex with elasticity but no edge equality "has no
+            # equality constraints or passive forces"; its elasticity is there (tested).
+            warnings.filterwarnings("ignore", message=".*has no equality constraints or passive forces")
+            self.model = spec.compile()
         self.data = mujoco.MjData(self.model)
         self._initial_velocities()
+        self.layout.resolve(self.model)
+        for i, d in zip(self.layout.dynamic, self.layout.dofs):
+            self.data.qvel[d] = scene.particles[i].velocity
         mujoco.mj_forward(self.model, self.data)
+        mismatch = flexes.state_matches(self.data, self.layout)
+        if mismatch != 0.0:
+            raise RuntimeError("flex vertices are not the scene's particles at t = 0 "
+                               f"(off by {mismatch:g} m)")
         self.body_ids = [mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, n)
                          for n in self.body_names]
+        self.substeps = self._substeps(integrator, requested_substeps)
+        self.model.opt.timestep = h / self.substeps
+        self.settings["substeps"] = self.substeps
+        self.settings["timestep"] = h / self.substeps
+
+    def _substeps(self, integrator: str, requested: int) -> int:
+        """Internal steps per scene step: as requested, else 1 without particles or under
+        `discrete` (elasticity implicit in position), else from the stiffest elastic mode."""
+        if not len(self.layout.dynamic) or integrator == "discrete":
+            return requested or 1
+        omega = flexes.highest_frequency(self.model, self.data, self.layout)
+        self.settings["elasticOmegaMax"] = omega
+        return requested or flexes.explicit_substeps(omega, self.scene.time_step_size)
+
+    def _flex_contact(self, model: pp.TriangleModel | pp.TetModel) -> tuple[list[float], list[float]]:
+        """solref, solimp of a particle model's contacts: the rigid pairs' law with its restitution."""
+        law = contact_law.contact_solref(self.tau, self.scene.time_step_size, model.restitution)
+        return [-law.stiffness, -law.damping], list(SOLIMP)
 
     def _add_geom(self, mj_body: "mujoco.MjsBody", b: pp.Body, spec: "mujoco.MjSpec") -> None:
         s = b.shape
@@ -198,7 +251,9 @@ class MujocoRun:
         pos = pp.quat_rotate(to_principal, [-c for c in b.principal_com])
         quat = to_principal
         name = f"geom{b.index}"
-        geom = mj_body.add_geom(name=name, contype=0, conaffinity=0, margin=0.0, gap=0.0)
+        # Rigid pairs are explicit <pair>s; particles (flexes) collide through the affinity bit.
+        affinity = flexes.FLEX_CONTACT_BIT if self.scene.particles else 0
+        geom = mj_body.add_geom(name=name, contype=0, conaffinity=affinity, margin=0.0, gap=0.0)
         if s.type == "sphere":
             geom.type = mujoco.mjtGeom.mjGEOM_SPHERE
             geom.size = [s.radius, 0, 0]
@@ -348,11 +403,20 @@ class MujocoRun:
                 mujoco.mj_forward(self.model, self.data)
             return self.states()
 
-        status = pp.simulate(self.scene, out_dir, lambda: mujoco.mj_step(self.model, self.data), states,
-                             failure, check)
+        def step() -> None:
+            for _ in range(self.substeps):
+                mujoco.mj_step(self.model, self.data)
+
+        particles = (lambda t: self.layout.state(self.data)) if self.scene.particles else None
+        status = pp.simulate(self.scene, out_dir, step, states, failure, check, particles=particles)
         status.engine_version = engine_version()
         status.effective_settings = self.settings
-        status.integrator_steps_per_scene_step = 1
+        inertia_warnings = self.data.warning[int(mujoco.mjtWarning.mjWARN_INERTIA)].number
+        if inertia_warnings:
+            # Under `discrete`: the iterative solve of M + h^2 K stopped at `iterations` above
+            # `tolerance` (MuJoCo's message); recorded, not a failure.
+            self.settings["inertiaWarnings"] = int(inertia_warnings)
+        status.integrator_steps_per_scene_step = self.substeps
         status.contact_margin = 0.0
         return status
 

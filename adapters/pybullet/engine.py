@@ -14,6 +14,10 @@ speculative contacts; split impulse for all penetration; one internal step per s
 (fixedTimeStep = h, numSubSteps 0). Joints through createConstraint: ball = a point-to-point
 constraint; hinge = two point-to-point constraints on the axis. Everything else is reported
 unsupported by name.
+
+Scenes with particles (cloth: TriangleModels, solids: TetModels) run in Bullet's deformable world
+(resetSimulation(RESET_USE_DEFORMABLE_WORLD)) as soft bodies: deformables.py, and the mapping
+table in docs/external-engines.md#pybullet.
 """
 
 from __future__ import annotations
@@ -21,8 +25,11 @@ from __future__ import annotations
 import math
 import os
 import sys
+import tempfile
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -34,6 +41,7 @@ import materials  # noqa: E402
 if __name__ == "__main__":
     os.dup2(2, 1)
 import pybullet as pb  # noqa: E402
+import deformables  # noqa: E402
 
 #: method name → pybullet constraintSolverType
 SOLVERS = {
@@ -52,6 +60,9 @@ HINGE_HALF_LENGTH = 1.0
 UNLIMITED_FORCE = 1e30
 #: Linear slop of resting contacts, m (as the built-in bullet engine: docs/parity-bullet.md).
 CONTACT_SLOP = 1e-5
+#: Default collision margin of soft bodies, m: a node rests this far from a rigid surface
+#: (Bullet's own default, 0.02 m, would hold cloth 2 cm off the surface).
+DEFAULT_PARTICLE_MARGIN = 1e-3
 
 
 def engine_version() -> str:
@@ -85,8 +96,11 @@ def unsupported_features(scene: pp.ResolvedScene) -> list[str]:
             missing.append(f"{b.json_path}: inverted shape (invertSDF)")
         elif b.shape.type in ("sdf", "torus") and not b.geometry_file:
             missing.append(f"{b.json_path}: shape {b.shape.type} without a geometry file")
-    if scene.particles or scene.triangle_models or scene.tet_models:
-        missing.append("particles (TriangleModels, TetModels, LineModels)")
+    missing.extend(deformables.unsupported_features(scene))
+    if deformables.has_deformables(scene) and scene.method.name not in ("", DEFAULT_METHOD):
+        missing.append(f"method {scene.method.name} with cloth or solids: the deformable world "
+                       "solves with its own btDeformableMultiBodyConstraintSolver; switching "
+                       "constraintSolverType to the MLCP solvers crashes pybullet 3.2.7")
     if material_factors(scene, "friction") is None:
         missing.append("contact friction: the pairs' values are not products of per-body values "
                        "(pybullet multiplies the bodies' lateralFriction)")
@@ -97,10 +111,27 @@ def unsupported_features(scene: pp.ResolvedScene) -> list[str]:
 
 
 def material_factors(scene: pp.ResolvedScene, which: str) -> list[float] | None:
+    """Per-body factors whose products are the pairs' values: the rigid bodies' (in scene order)
+    then, for friction, the soft bodies' kDF (in particle order): Bullet multiplies a soft body's
+    kDF by a rigid body's lateralFriction, and two soft bodies' kDF, where PBD combines the
+    model's friction with the other's by the scene's contactCombineRule."""
     index = {b.id: b.index for b in scene.bodies}
     pairs = [(index[p.bodies[0]], index[p.bodies[1]], getattr(p, which))
              for p in scene.contact_pairs]
-    factors = materials.per_body_factors(len(scene.bodies), pairs)
+    count = len(scene.bodies)
+    if which == "friction" and deformables.has_deformables(scene):
+        soft = [m for _, m in deformables.models(scene)]
+        rule = scene.contact_combine_rule
+        for i, m in enumerate(soft):
+            for b in scene.bodies:
+                if b.shape.type != "none":
+                    pairs.append((count + i, b.index,
+                                  deformables.combine(rule, m.friction, b.material.friction)))
+            for j in range(i + 1, len(soft)):
+                pairs.append((count + i, count + j,
+                              deformables.combine(rule, m.friction, soft[j].friction)))
+        count += len(soft)
+    factors = materials.per_body_factors(count, pairs)
     if factors is not None and which == "friction":
         if any(v > materials.BULLET_MAX_FRICTION for _, _, v in pairs):
             return None
@@ -133,11 +164,14 @@ def collision_shape(client: int, body: pp.Body) -> tuple[int, str]:
 
 
 class PybulletRun:
-    def __init__(self, scene: pp.ResolvedScene) -> None:
+    def __init__(self, scene: pp.ResolvedScene, folder: str | None = None) -> None:
+        """`folder`: a scratch folder for the soft bodies' mesh files (scenes with particles)."""
         self.scene = scene
         self.client = pb.connect(pb.DIRECT)
         self.ids: list[int] = []
         self.notes: list[str] = []
+        self.soft: deformables.SoftBodies | None = None
+        self.substeps = 1
         method = scene.method.name or DEFAULT_METHOD
         self.solver = SOLVERS[method]
         self.iterations = int(scene.parameter("solverIterations", 10))
@@ -152,11 +186,60 @@ class PybulletRun:
             "contactProcessingThreshold": 0.0, "bodies": "maximal coordinates (btRigidBody)",
             "materials": "per-body factors whose products are the pair values",
         }
+        if deformables.has_deformables(scene):
+            # Bullet's deformable world (btDeformableMultiBodyDynamicsWorld) replaces the
+            # discrete dynamics world; it must come before anything is added.
+            pb.resetSimulation(pb.RESET_USE_DEFORMABLE_WORLD, physicsClientId=self.client)
         self._world()
         self._bodies()
         self._joints()
+        if deformables.has_deformables(scene):
+            if folder is None:
+                raise ValueError("a scene with particles needs a scratch folder for its meshes")
+            self._soft_bodies(folder)
         if self.notes:
             self.settings["approximations"] = "; ".join(self.notes)
+
+    def _soft_bodies(self, folder: str) -> None:
+        scene = self.scene
+        requested = int(scene.parameter("deformableSubsteps", 0))
+        margin = float(scene.parameter("particleCollisionMargin", DEFAULT_PARTICLE_MARGIN))
+        bending = float(scene.parameter("bendingSpringStiffness", 0.0))
+        friction = material_factors(scene, "friction")
+        assert friction is not None  # checked by unsupported_features
+        self.soft = deformables.SoftBodies(self.client, scene, folder, margin, bending,
+                                           friction[len(scene.bodies):])
+        self.notes.extend(self.soft.notes)
+        h = scene.time_step_size
+        automatic = deformables.substep_count(h, self.soft.omega)
+        self.substeps = requested if requested > 0 else automatic
+        pb.setPhysicsEngineParameter(fixedTimeStep=h / self.substeps, physicsClientId=self.client)
+        self.settings.update({
+            "world": "deformable (btDeformableMultiBodyDynamicsWorld)",
+            "fixedTimeStep": h / self.substeps, "deformableSubsteps": self.substeps,
+            "deformableSubstepsAutomatic": automatic,
+            "omegaMaxBound": self.soft.omega,
+            "particleCollisionMargin": margin, "bendingSpringStiffness": bending,
+            "sparseSdfVoxelSize": deformables.SPARSE_SDF_VOXEL,
+            "springDampingStiffness": 0.0, "NeoHookeanDamping": 0.0,
+            "elasticForces": "explicit (Bullet's deformable world, m_implicit = false)",
+            "particleVelocities": "(x_n - x_(n-1)) / h_s over the last internal step",
+            "particleFriction": "soft body kDF x rigid lateralFriction (kDF x kDF between soft "
+                                "bodies), factors whose products are the contactCombineRule values",
+        })
+        for m in self.soft.models:
+            self.settings[f"{m.json_path}.nodeMass"] = m.node_mass
+            self.settings[f"{m.json_path}.frictionCoeff"] = m.friction
+        for kind, m in deformables.models(scene):
+            if kind == "solid":
+                young = float(m.material["stiffness"])
+                poisson = float(m.material.get("poissonRatio", 0.3))
+                mu_b, lambda_b = deformables.stable_neo_hookean(young, poisson)
+                self.settings[f"{m.json_path}.NeoHookeanMu"] = mu_b
+                self.settings[f"{m.json_path}.NeoHookeanLambda"] = lambda_b
+            else:
+                stiffness = float(m.material["stiffness"])
+                self.settings[f"{m.json_path}.springElasticStiffness"] = stiffness
 
     def _world(self) -> None:
         c = self.client
@@ -245,17 +328,62 @@ class PybulletRun:
         return out
 
     def run(self, out_dir: Path) -> pp.Status:
-        status = pp.simulate(self.scene, out_dir,
-                             lambda: pb.stepSimulation(physicsClientId=self.client), self.states)
+        if self.soft is None:
+            status = pp.simulate(self.scene, out_dir,
+                                 lambda: pb.stepSimulation(physicsClientId=self.client),
+                                 self.states)
+        else:
+            status = self._run_with_particles(out_dir)
         status.engine_version = engine_version()
         status.effective_settings = self.settings
-        status.integrator_steps_per_scene_step = 1
+        status.integrator_steps_per_scene_step = self.substeps
         return status
+
+    def _run_with_particles(self, out_dir: Path) -> pp.Status:
+        """The protocol's loop with `substeps` internal steps per scene step; at a sample the
+        positions before the last internal step give the velocities (pybullet 3.2.7 reads
+        no node velocities): v_n = (x_n − x_(n−1)) / h_s."""
+        soft = self.soft
+        assert soft is not None
+        sampled = set(self.scene.sample_steps())
+        h_s = self.scene.time_step_size / self.substeps
+        counter = [0]
+        before: list[np.ndarray] = []
+        initial = np.array([p.velocity for p in self.scene.particles], dtype=np.float64)
+
+        def step() -> None:
+            counter[0] += 1
+            for _ in range(self.substeps - 1):
+                pb.stepSimulation(physicsClientId=self.client)
+            before.clear()
+            if counter[0] in sampled:
+                before.append(soft.positions())
+            pb.stepSimulation(physicsClientId=self.client)
+
+        def particles(time: float) -> np.ndarray:
+            x = soft.positions()
+            if counter[0] == 0:
+                v = initial
+            elif before:
+                v = (x - before[0]) / h_s
+            else:  # not a sample step: the velocity was not prepared
+                v = np.full_like(x, np.nan)
+            return np.hstack([x, v])
+
+        return pp.simulate(self.scene, out_dir, step, self.states, particles=particles)
 
 
 def main(argv: list[str] | None = None) -> int:
     return pp.serve(argv, "pybullet as a pbdval external engine", unsupported_features,
-                    lambda scene, out: PybulletRun(scene).run(out), engine_version())
+                    run, engine_version())
+
+
+def run(scene: pp.ResolvedScene, out: Path) -> pp.Status:
+    if not deformables.has_deformables(scene):
+        return PybulletRun(scene).run(out)
+    # The soft bodies' meshes go to a scratch folder of our own, never into OUTDIR.
+    with tempfile.TemporaryDirectory(prefix="pbdval-pybullet-") as folder:
+        return PybulletRun(scene, folder).run(out)
 
 
 if __name__ == "__main__":

@@ -67,11 +67,22 @@ class RunResult:
         base = f"{self.engine}/{self.method}"
         return f"{base} [{','.join(self.assignments)}]" if self.assignments else base
 
+    @property
+    def particles_path(self) -> Path | None:
+        """The run's particle file beside its trajectory (ENGINE-METHOD.particles.csv/.npy,
+        docs/cli.md#run), or None when the run has none."""
+        if self.trajectory_path is None:
+            return None
+        path = self.trajectory_path.with_name(
+            self.trajectory_path.stem + ".particles" + self.trajectory_path.suffix)
+        return path if path.is_file() else None
+
     def trajectory(self) -> Trajectory:
-        """The run's trajectory (CSV or NPY), read with the suite's reader."""
+        """The run's trajectory (CSV or NPY), read with the suite's reader, with its particles
+        attached when the run wrote them."""
         if self.trajectory_path is None or not self.trajectory_path.is_file():
             raise ResultsError(f"run {self.case} {self.label}: no trajectory file ({self.trajectory_path})")
-        return Trajectory.read(self.trajectory_path)
+        return Trajectory.read(self.trajectory_path, particles=self.particles_path)
 
 
 @dataclass

@@ -491,6 +491,7 @@ TEST(BulletEngineReport, EveryCaseRunsOrNamesWhatIsUnsupported) {
       {"cloth_hanging.json", {"TriangleModels[0]"}},
       {"cloth_on_sphere.json", {"TriangleModels[0]"}},
       {"tet_bar.json", {"TetModels[0]"}},
+      {"tet_cantilever.json", {"TetModels[0]"}},
       {"solid_collision.json", {"TetModels[0]", "TetModels[1]"}},
       {"fluid_dam_break.json", {"FluidModels[0]"}},
       {"rod_helix.json", {"LineModels[0]"}},

@@ -195,15 +195,19 @@ TEST(StiffRodJoint, CorrectionsConserveMomentum) {
 
 // --- The tree solver ------------------------------------------------------------------------
 
+/// Dense matrices in the library's precision (Real: double, or float in the float build).
+using DenseMatrix = Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic>;
+using DenseVector = Eigen::Matrix<Real, Eigen::Dynamic, 1>;
+
 /// Positions after one dense solve of (J M⁻¹ Jᵀ + α̃) Δλ = −C (λ = 0), independently assembled.
 BodyStates denseOneIteration(const Scene& s, const BodyStates& start, Real h) {
   const World fresh = buildWorld(s);  // rest data captured at the scene's initial poses
   auto rest = jointsOf(s, fresh.bodies);
   const RigidBodyStates& r = start.rigid;
   const int nb = int(r.size()), nj = int(rest.size());
-  Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(6 * nj, 6 * nb);
-  Eigen::MatrixXd inverseMass = Eigen::MatrixXd::Zero(6 * nb, 6 * nb);
-  Eigen::VectorXd rhs(6 * nj), alpha(6 * nj);
+  DenseMatrix jacobian = DenseMatrix::Zero(6 * nj, 6 * nb);
+  DenseMatrix inverseMass = DenseMatrix::Zero(6 * nb, 6 * nb);
+  DenseVector rhs(6 * nj), alpha(6 * nj);
   for (int j = 0; j < nj; ++j) {
     rest[std::size_t(j)].beginSubstep(h);
     const auto rows = rest[std::size_t(j)].positionRows(start);
@@ -221,10 +225,10 @@ BodyStates denseOneIteration(const Scene& s, const BodyStates& start, Real h) {
     inverseMass.block(6 * b, 6 * b, 3, 3) = w.linear * Matrix3::Identity();
     inverseMass.block(6 * b + 3, 6 * b + 3, 3, 3) = w.angular;
   }
-  const Eigen::MatrixXd system =
-      jacobian * inverseMass * jacobian.transpose() + Eigen::MatrixXd(alpha.asDiagonal());
-  const Eigen::VectorXd lambda = system.ldlt().solve(rhs);
-  const Eigen::VectorXd dq = inverseMass * jacobian.transpose() * lambda;
+  const DenseMatrix system =
+      jacobian * inverseMass * jacobian.transpose() + DenseMatrix(alpha.asDiagonal());
+  const DenseVector lambda = system.ldlt().solve(rhs);
+  const DenseVector dq = inverseMass * jacobian.transpose() * lambda;
   BodyStates out = start;
   for (int b = 0; b < nb; ++b)
     joint_parts::applyPositionCorrection(out.rigid, b, dq.segment<3>(6 * b), dq.segment<3>(6 * b + 3));

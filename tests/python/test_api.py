@@ -265,3 +265,25 @@ def test_the_example_prints_the_energy_drift_of_three_engines() -> None:
     assert out.returncode == 0, out.stderr
     for engine in ("pbd", "pybullet", "mujoco-python"):
         assert engine in out.stdout
+
+
+def test_runs_compare_particle_by_particle(tmp_path: Path) -> None:
+    # pbdval run writes each run's particles beside its trajectory; RunResult.trajectory()
+    # attaches them, and measure against another run gives particle_trajectory_error_*.
+    results = pbdval.run([REPO / "cases" / "tet_bar.json"], engines=["pbd"], out=tmp_path / "out")
+    runs = {r.method: r for r in results.select(case="tet_bar")}
+    assert set(runs) == {"pbd", "pbd.xpbd"}
+    a, b = runs["pbd"].trajectory(), runs["pbd.xpbd"].trajectory()
+    assert a.particle_positions is not None and a.particle_positions.shape == (201, 99, 3)
+    scene = pbdval.load_scene(REPO / "cases" / "tet_bar.json")
+    # Against itself: exactly 0 (the same doubles).
+    assert pbdval.measure(scene, a, reference=a)["particle_trajectory_error_max"] == 0
+    # Against the other method: the largest particle distance over samples, computed here
+    # from the arrays alone (the same subtraction and norm: equal to round-off).
+    expected = np.linalg.norm(a.particle_positions - b.particle_positions, axis=2).max()
+    assert pbdval.measure(scene, a, reference=b)["particle_trajectory_error_max"] == pytest.approx(expected, rel=1e-12)
+    out = subprocess.run([str(VENV_PYTHON), str(REPO / "examples/deformables_across_engines.py"),
+                          str(tmp_path / "out")], capture_output=True, text=True,
+                         env={**os.environ, "PYTHONPATH": ""})
+    assert out.returncode == 0, out.stderr
+    assert "| tet_bar | pbd/pbd | pbd/pbd.xpbd |" in out.stdout

@@ -194,7 +194,9 @@ def test_sphere_drop_rebounds_to_e_squared(export_scene: Export, run_engine: Run
     (PYBULLET, "joint_slider", "pybullet.si", "SliderJoints[0]: joint slider"),
     (PYBULLET, "contact_sphere_pile", "pybullet.si", "RigidBodies[0]: shape hollowBox"),
     (MUJOCO, "joint_distance", "mujoco-python.euler.newton", "DistanceJoints[0]: joint distance"),
-    (MUJOCO, "joint_rigid_body_particle_ball", "mujoco-python.euler.newton", "particles"),
+    # Its constraint-free cloth is a flex (test_mujoco_flex.py); the particle joint is not.
+    (MUJOCO, "joint_rigid_body_particle_ball", "mujoco-python.euler.newton",
+     "RigidBodyParticleBallJoints[0]: joint rigid_body_particle_ball"),
     (PYBULLET, "projectile", "pybullet.nosuch", "method pybullet.nosuch"),
     (MUJOCO, "projectile", "mujoco-python.verlet.newton", "method mujoco-python.verlet.newton"),
 ])

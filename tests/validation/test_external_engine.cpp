@@ -348,6 +348,35 @@ TEST_F(ExternalEngineParticleTest, ABlownUpParticleIsADivergence) {
   EXPECT_TRUE(containsAll(far.reason, {"particle 1 blew up"})) << far.reason;
 }
 
+TEST_F(ExternalEngineParticleTest, ASceneWithoutBodiesTakesItsSamplesFromTheParticles) {
+  // Only the cloth: the trajectory has zero rows per sample (a header only), so the sample
+  // times are the particles' and are checked against the plan as a trajectory's would be.
+  const std::string text = R"({
+    "Simulation": {"timeStepSize": 0.01, "gravitation": [0, 0, 0], "clothSimulationMethod": 4},
+    "TriangleModels": [{"id": 0, "geometryFile": "triangle.obj", "staticParticles": [0]}]
+  })";
+  scene_ = pbd::parseScene(text, (folder_ / "scene.json").string()).scene;
+  ASSERT_TRUE(scene_.rigidBodies.empty());
+  const std::string empty = (folder_ / "empty.csv").string();
+  std::ofstream(empty) << "t,id,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n";
+  const auto engine = [&](const std::string& particles) {
+    return "cp " + empty + " \"$4/trajectory.csv\"; cp " + particles + " \"$4/particles.csv\"; " +
+           okStatus();
+  };
+  const RunOutcome ok = run(engine(restingParticles(false)));
+  ASSERT_EQ(ok.status, RunStatus::Ok) << ok.reason;
+  ASSERT_EQ(samples_.size(), 3u);
+  for (const State& s : samples_) {
+    EXPECT_TRUE(s.bodies.empty());
+    EXPECT_EQ(s.particles.size(), 3u);
+  }
+  EXPECT_EQ(samples_[2].time, 0.1);
+
+  const RunOutcome late = run(engine(restingParticles(false, [](std::vector<State>& s) { s[2].time = 0.11; })));
+  EXPECT_EQ(late.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(late.reason, {"particles.csv", "sample 2", "t = 0.11"})) << late.reason;
+}
+
 TEST_F(ExternalEngineTest, ParticlesForASceneWithoutParticlesAreAnError) {
   const std::string file = (folder_ / "stray.csv").string();
   std::ofstream(file) << "t,index,x,y,z,vx,vy,vz\n";

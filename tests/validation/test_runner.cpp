@@ -18,6 +18,7 @@
 #include "validation/run_execution.h"
 #include "validation/run_record.h"
 #include "validation/run_scheduler.h"
+#include "validation/trajectory.h"
 
 namespace pbdval {
 namespace {
@@ -141,6 +142,38 @@ TEST(Runner, UnreadableCaseBecomesAnErrorNamingTheFile) {
   ASSERT_EQ(plan.unreadable.size(), 1u);
   EXPECT_EQ(plan.unreadable[0].request.caseName, "bad");
   EXPECT_FALSE(plan.requests.empty());  // the readable case is still planned
+  fs::remove_all(folder);
+}
+
+// A run with particles writes them beside its trajectory, in its format: every sample's
+// particles, the same samples as the trajectory's (tet_bar: 99 particles, 2 s sampled every
+// 0.01 s: 201 samples).
+TEST(Runner, ParticlesAreWrittenBesideTheTrajectory) {
+  EXPECT_EQ(particlePathFor("out/trajectories/c/pbd-pbd.xpbd.csv"),
+            "out/trajectories/c/pbd-pbd.xpbd.particles.csv");
+  EXPECT_EQ(particlePathFor("out/t/e-m.npy"), "out/t/e-m.particles.npy");
+  const fs::path folder = scratch("particles");
+  for (const char* extension : {".csv", ".npy"}) {
+    RunRequest r = request("pbd", "pbd", std::string(PBDVAL_SOURCE_DIR) + "/cases/tet_bar.json");
+    r.caseName = "tet_bar";
+    r.trajectoryPath = (folder / (std::string("pbd") + extension)).string();
+    const RunRecord record = executeRun(r, testRegistry());
+    ASSERT_EQ(record.status, RunStatus::Ok) << record.reason;
+    const Trajectory bodies = readTrajectory(r.trajectoryPath);
+    const Trajectory particles = readParticleTrajectory(particlePathFor(r.trajectoryPath));
+    ASSERT_EQ(particles.samples.size(), 201u) << extension;
+    for (std::size_t k = 0; k < particles.samples.size(); ++k) {
+      EXPECT_EQ(particles.samples[k].particles.size(), 99u);
+      if (!bodies.samples.empty()) {
+        EXPECT_EQ(particles.samples[k].time, bodies.samples[k].time);
+      }
+    }
+  }
+  // A scene without particles gets no particle file.
+  RunRequest hinge = request("pbd", "pbd");
+  hinge.trajectoryPath = (folder / "hinge.csv").string();
+  ASSERT_EQ(executeRun(hinge, testRegistry()).status, RunStatus::Ok);
+  EXPECT_FALSE(fs::exists(particlePathFor(hinge.trajectoryPath)));
   fs::remove_all(folder);
 }
 

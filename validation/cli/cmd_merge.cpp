@@ -13,6 +13,7 @@
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
 #include "validation/results.h"
+#include "validation/run_plan.h"
 #include "validation/sharding.h"
 #include "validation/summary.h"
 
@@ -82,10 +83,16 @@ int mergeCommand(const Context& /*context*/, const Arguments& arguments) {
         if (!moved.emplace(r.request.trajectoryPath, target).second)
           throw std::invalid_argument(r.request.trajectoryPath + ": the trajectory of two runs");
         fs::create_directories(fs::path(target).parent_path());
-        std::error_code renamed;
-        if (move) fs::rename(r.request.trajectoryPath, target, renamed);
-        if (!move || renamed)  // another file system: copy
-          writeFileAtomically(target, fileBytes(r.request.trajectoryPath));
+        // The trajectory, and the particles beside it when the run has them.
+        const std::string particles = particlePathFor(r.request.trajectoryPath);
+        for (const auto& [from, to] : {std::pair{r.request.trajectoryPath, target},
+                                       std::pair{particles, particlePathFor(target)}}) {
+          if (from == particles && !fs::is_regular_file(from)) continue;
+          std::error_code renamed;
+          if (move) fs::rename(from, to, renamed);
+          if (!move || renamed)  // another file system: copy
+            writeFileAtomically(to, fileBytes(from));
+        }
       }
     const std::size_t copied = moved.size();
     for (RunRecord& m : merged.runs) {

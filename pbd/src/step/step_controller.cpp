@@ -27,6 +27,8 @@ void projectPositions(World& world, Real h) {
     for (Joint& joint : world.joints)
       std::visit([&](auto& j) { j.solvePosition(world.bodies, h); }, joint);
     for (StiffRodTreeSolver& tree : world.stiffRodTrees) tree.solvePosition(world.bodies);
+    solveGenericRigidConstraints(world.genericRigidConstraints, world.bodies.rigid, h,
+                                 iteration == 0);
     solveParticleDistances(world.particleDistances, world.bodies.particles, h, iteration == 0);
     solveFemTriangles(world.femTriangles, world.bodies.particles);
     solveStrainTriangles(world.strainTriangles, world.bodies.particles);

@@ -38,6 +38,8 @@ void solvePositions(World& world, Real h) {
     tree.beginSubstep(h);
     tree.solvePosition(world.bodies);
   }
+  // Generic rigid-body constraints: their own compliances, λ from zero every substep.
+  solveGenericRigidConstraints(world.genericRigidConstraints, world.bodies.rigid, h, true);
   // Cloth and solid edges, then tet volumes, as their family says (PBD or XPBD), one iteration
   // per substep.
   solveParticleDistances(world.particleDistances, world.bodies.particles, h, true);

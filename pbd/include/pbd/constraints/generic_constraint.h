@@ -1,6 +1,7 @@
 // Generic particle constraints: a user-supplied constraint C: R^{3N} → R^dim over N particles
 // (the seed's PositionBasedGenericConstraints::solve_GenericConstraint<nParticles, dim> for
-// particles; its rigid-body version is out of scope here: particles only).
+// particles). The rigid-body version — C over the poses of up to 4 rigid bodies, with
+// compliance — is generic_rigid_constraint.h.
 //
 // With Jᵢ = ∇_{xᵢ}C (dim × 3) and w the inverse masses, one PBD projection is the
 // Gauss–Newton step of the constraint's linearisation:

@@ -12,6 +12,7 @@
 #include "pbd/constraints/fem_triangle.h"
 #include "pbd/constraints/fem_tet.h"
 #include "pbd/constraints/generic_constraint.h"
+#include "pbd/constraints/generic_rigid_constraint.h"
 #include "pbd/constraints/isometric_bending.h"
 #include "pbd/constraints/particle_distance.h"
 #include "pbd/constraints/shape_matching.h"
@@ -45,6 +46,9 @@ struct World {
   /// Stiff-rod trees with the direct solver (Scene::stiffRodTrees with StiffRodSolver::Direct),
   /// solved after the joints in every position iteration; their joints are not in `joints`.
   std::vector<StiffRodTreeSolver> stiffRodTrees;
+  /// User rigid-body constraints (constraints/generic_rigid_constraint.h), added in C++ after
+  /// buildWorld (no scene key); solved after the joints and the stiff-rod trees.
+  std::vector<GenericRigidConstraint> genericRigidConstraints;
   /// Distance constraints between particles (cloth and solid edges,
   /// constraints/particle_distance.h), the triangles of cloth (FEM or strain-based), volume
   /// constraints of tets (constraints/tet_volume.h),
