@@ -37,11 +37,21 @@ struct ParticleState {
   Vector3 velocity = Vector3::Zero();
 };
 
-/// One sample of a run: bodies in Scene::rigidBodies order, particles in Scene order.
+/// A Cosserat-rod segment's orientation (pbd/constraints/cosserat_rod.h).
+struct SegmentState {
+  Quaternion rotation = Quaternion::Identity();  ///< director frame → world (d₃ along the segment)
+  Vector3 angularVelocity = Vector3::Zero();     ///< world
+};
+
+/// One sample of a run: bodies in Scene::rigidBodies order, particles in Scene order, rod
+/// segments in the order of World::bodies.segments (line models in scene order, each model's
+/// segments from its first point). Engines without rods (or that read none back) leave
+/// `segments` empty.
 struct State {
   double time = 0;
   std::vector<BodyState> bodies;
   std::vector<ParticleState> particles;
+  std::vector<SegmentState> segments;
 };
 
 /// A named solver configuration of one engine ("ode.quickstep") and its typed parameters.

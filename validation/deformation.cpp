@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "pbd/constraints/cosserat_rod.h"
 #include "pbd/constraints/dihedral_bending.h"
 #include "pbd/constraints/fem_tet.h"
 #include "pbd/constraints/fem_triangle.h"
@@ -84,14 +85,46 @@ ElasticEnergy::ElasticEnergy(const pbd::Scene& scene) {
       !pbd::femTriangleConstraints(scene).empty() || !pbd::strainTriangleConstraints(scene).empty() ||
       !pbd::strainTetConstraints(scene).empty() || !pbd::shapeMatchingConstraints(scene).empty())
     hasPbdConstraints_ = true;
-  // Cosserat rods: the PBD ones define no energy; the XPBD ones do, but their bend–twist part
-  // needs the segment orientations, which the read-back State does not carry.
-  for (const pbd::LineModelDesc& model : scene.lineModels) {
-    if (model.usesModuli())
-      hasUnmeasuredRods_ = true;
-    else
-      hasPbdConstraints_ = true;
+  // Cosserat rods: the PBD ones (fractions) define no energy; the XPBD ones' constraints, with
+  // their rest lengths, rest Darboux quaternions and moduli, as the scene defines them.
+  const pbd::RodConstraints rods = pbd::rodConstraints(scene);
+  for (const pbd::RodStretchShearConstraint& c : rods.stretchShear) {
+    if (!c.xpbd) continue;
+    rodStretchShear_.push_back(
+        {c.particles[0], c.particles[1], c.segment, c.restLength, c.stiffness});
+    need(c.particles[0]);
+    need(c.particles[1]);
+    segmentsNeeded_ = std::max(segmentsNeeded_, std::size_t(c.segment) + 1);
   }
+  for (const pbd::RodBendTwistConstraint& c : rods.bendTwist) {
+    if (!c.xpbd) continue;
+    rodBendTwist_.push_back(
+        {c.segments[0], c.segments[1], c.restDarboux, c.meanLength, c.stiffness});
+    segmentsNeeded_ = std::max(segmentsNeeded_, std::size_t(c.segments[1]) + 1);
+  }
+  for (const pbd::LineModelDesc& model : scene.lineModels)
+    if (!model.usesModuli()) hasPbdConstraints_ = true;  // PBD rods: fractions, no energy
+}
+
+double rodStretchShearEnergy(const Vector3& p0, const Vector3& p1, const Quaternion& q,
+                             Real restLength, const Vector3& stiffness) {
+  // The directors d_i are the columns of R(q); C in the director frame is Rᵀ C.
+  const pbd::Matrix3 directors = q.normalized().toRotationMatrix();
+  const Vector3 value = (p1 - p0) / restLength - directors.col(2);
+  const Vector3 local = directors.transpose() * value;
+  return 0.5 * double(restLength) * double(stiffness.dot(local.cwiseAbs2()));
+}
+
+double rodBendTwistEnergy(const Quaternion& q0, const Quaternion& q1, const Quaternion& restDarboux,
+                          Real meanLength, const Vector3& stiffness) {
+  const Quaternion darboux = q0.normalized().conjugate() * q1.normalized();
+  // q and −q are the same rotation: the rest value's sign closest to the current one.
+  const Real plus = (darboux.coeffs() - restDarboux.coeffs()).squaredNorm();
+  const Real minus = (darboux.coeffs() + restDarboux.coeffs()).squaredNorm();
+  const Vector3 value = plus <= minus ? Vector3(darboux.vec() - restDarboux.vec())
+                                      : Vector3(darboux.vec() + restDarboux.vec());
+  // ½ Σ C_i² / α_i with α_i = ℓ̄/(4 K_i).
+  return 2 / double(meanLength) * double(stiffness.dot(value.cwiseAbs2()));
 }
 
 double ElasticEnergy::of(const State& state) const {
@@ -128,6 +161,20 @@ double ElasticEnergy::of(const State& state) const {
     const double trace = strain.trace();
     energy += t.restVolume * (t.mu * strain.squaredNorm() + 0.5 * t.lambda * trace * trace);
   }
+  if (state.segments.empty()) return energy;  // no orientations read back: the rods left out
+  if (state.segments.size() < segmentsNeeded_)
+    throw std::invalid_argument("elastic energy: the state holds " +
+                                std::to_string(state.segments.size()) +
+                                " rod segments, the scene's rods need " +
+                                std::to_string(segmentsNeeded_));
+  for (const RodStretchShear& c : rodStretchShear_)
+    energy += rodStretchShearEnergy(positionOf(state, c.particle0), positionOf(state, c.particle1),
+                                    state.segments[std::size_t(c.segment)].rotation, c.restLength,
+                                    c.stiffness);
+  for (const RodBendTwist& c : rodBendTwist_)
+    energy += rodBendTwistEnergy(state.segments[std::size_t(c.segment0)].rotation,
+                                 state.segments[std::size_t(c.segment1)].rotation, c.restDarboux,
+                                 c.meanLength, c.stiffness);
   return energy;
 }
 

@@ -31,6 +31,12 @@ double springEnergy(const pbd::Scene& scene, const State& state) {
   return energy;
 }
 
+std::size_t segmentCount(const pbd::Scene& scene) {
+  std::size_t count = 0;
+  for (const pbd::LineModelDesc& model : scene.lineModels) count += model.segmentCount();
+  return count;
+}
+
 double totalMass(const pbd::Scene& scene) {
   double mass = 0;
   for (const pbd::RigidBodyDesc& body : scene.rigidBodies)
@@ -68,6 +74,9 @@ State initialState(const pbd::Scene& scene) {
   for (const pbd::ParticleDesc& particle : scene.particles)
     state.particles.push_back(
         {particle.position, particle.mass > 0 ? particle.velocity : Vector3(Vector3::Zero())});
+  // Rod segments start in their rest frames, at rest (as the PBD library builds them).
+  for (const pbd::LineModelDesc& model : scene.lineModels)
+    for (const Quaternion& frame : model.frames) state.segments.push_back({frame, Vector3::Zero()});
   return state;
 }
 
@@ -79,6 +88,9 @@ void checkStateMatchesScene(const pbd::Scene& scene, const State& state) {
   } else if (!state.particles.empty() && state.particles.size() != scene.particles.size()) {
     problem << "the state at t = " << state.time << " s has " << state.particles.size()
             << " particles, the scene " << scene.particles.size();
+  } else if (!state.segments.empty() && state.segments.size() != segmentCount(scene)) {
+    problem << "the state at t = " << state.time << " s has " << state.segments.size()
+            << " rod segments, the scene " << segmentCount(scene);
   } else {
     for (std::size_t i = 0; i < state.bodies.size(); ++i)
       if (state.bodies[i].id != scene.rigidBodies[i].id) {
@@ -111,6 +123,16 @@ EnergyTerms energyOf(const pbd::Scene& scene, const State& state, const ElasticE
     e.translational += 0.5 * m * v.squaredNorm();
     e.gravitational -= m * g.dot(x);
   });
+  // Rod segments: ½ I |ω|² with the isotropic inertia I = 1/(4 w_q) the step integrates them
+  // with (pbd/model/body_states.h SegmentStates); static segments (w_q = 0) carry none.
+  if (!state.segments.empty())
+    for (const pbd::LineModelDesc& model : scene.lineModels)
+      for (std::size_t k = 0; k < model.segmentCount(); ++k) {
+        const std::size_t s = std::size_t(model.firstSegment) + k;
+        const double wq = double(model.segmentInverseMass(k));
+        if (s < state.segments.size() && wq > 0)
+          e.rotational += 0.5 * double(state.segments[s].angularVelocity.squaredNorm()) / (4 * wq);
+      }
   e.spring = springEnergy(scene, state);
   e.elastic = elastic.of(state);
   return e;

@@ -6,7 +6,9 @@
 // body's scene frame to the world; a body's world inertia about its centre of mass is
 //   I_w = R R_p diag(I₁, I₂, I₃) R_pᵀ Rᵀ,
 // R the read-back rotation, R_p = massProperties.principalRotation (principal → scene frame).
-// Static bodies carry no energy or momentum; particles of mass 0 are static.
+// Static bodies carry no energy or momentum; particles of mass 0 are static. Rod segments
+// (State::segments, when read back) carry the rotational kinetic energy ½ |ω|²/(4 w_q) and no
+// momentum here.
 #pragma once
 
 #include "adapters/engine.h"
@@ -21,19 +23,20 @@ using pbd::Matrix3;
 Matrix3 worldInertia(const pbd::RigidBodyDesc& body, const Quaternion& sceneRotation);
 
 /// The state at t = 0 as the Scene describes it (centre of mass, scene-frame rotation and
-/// velocities of every body; particle positions and velocities).
+/// velocities of every body; particle positions and velocities; rod segments in their rest
+/// frames, at rest).
 State initialState(const pbd::Scene& scene);
 
 /// Throws std::invalid_argument unless `state` holds the Scene's bodies (count and ids, in
-/// order) and either no particles or all of them.
+/// order), either no particles or all of them, and either no rod segments or all of them.
 void checkStateMatchesScene(const pbd::Scene& scene, const State& state);
 
 struct EnergyTerms {
   double translational = 0;  ///< Σ ½ m ‖v‖² (bodies and particles), J
-  double rotational = 0;     ///< Σ ½ ωᵀ I_w ω, J
+  double rotational = 0;     ///< Σ ½ ωᵀ I_w ω (bodies) + Σ ½ |ω|²/(4 w_q) (rod segments), J
   double gravitational = 0;  ///< Σ −m g·x (bodies' centres of mass and particles), J
   double spring = 0;  ///< RigidBodySprings ½ k (ℓ − ℓ₀)², DamperJoints ½ k s², stiff rods, J
-  double elastic = 0;        ///< the XPBD particle constraints' energy (ElasticEnergy), J
+  double elastic = 0;  ///< the XPBD particle constraints' and rods' energy (ElasticEnergy), J
   double kinetic() const { return translational + rotational; }
   double total() const { return translational + rotational + gravitational + spring + elastic; }
 };

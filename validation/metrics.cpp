@@ -85,14 +85,20 @@ void addEnergyMetrics(const MetricInputs& in, MetricSet& out) {
       out.notes.push_back(
           "energy: PBD particle constraints (k a fraction per iteration) define no elastic "
           "energy; the drift includes what they store and dissipate");
-    if (elastic.hasUnmeasuredRods())
+    const bool segmentsRead = !in.samples->front().segments.empty();
+    if (elastic.hasXpbdRods())
       out.notes.push_back(
-          "energy: the XPBD Cosserat rods' elastic energy is not included (its bend-twist part "
-          "needs the segment orientations, which the read-back state does not hold)");
+          segmentsRead
+              ? "energy: includes the XPBD Cosserat rods' elastic energy (stretch-shear "
+                "½ ℓ Σ k_i (d_i·C)², bend-twist (2/ℓ̄) Σ K_i C_i²)"
+              : "energy: the XPBD Cosserat rods' elastic energy is not included (it needs the "
+                "segment orientations, which the read-back state does not hold)");
     if (!in.scene->lineModels.empty())
       out.notes.push_back(
-          "energy: the rod segments' rotational kinetic energy (½ |ω|²/(4 w_q), >= 0) is not "
-          "included (the read-back state holds no segment orientations)");
+          segmentsRead
+              ? "energy: includes the rod segments' rotational kinetic energy ½ |ω|²/(4 w_q)"
+              : "energy: the rod segments' rotational kinetic energy (½ |ω|²/(4 w_q), >= 0) is "
+                "not included (the read-back state holds no segment orientations)");
   }
 }
 

@@ -195,6 +195,17 @@ RunRecord executeRun(const RunRequest& request, const EngineRegistry& registry) 
         }
         particles.commit();
       }
+      // And the rod segments, when the engine read any back.
+      if (!samples.empty() && !samples.front().segments.empty()) {
+        AtomicFileWriter segments(segmentPathFor(path));
+        if (npy) {
+          writeSegmentTrajectoryNpy(segments.stream(), samples);
+        } else {
+          writeSegmentCsvHeader(segments.stream());
+          for (const State& s : samples) writeSegmentCsvRows(segments.stream(), s);
+        }
+        segments.commit();
+      }
     }
 
     record.status = outcome.status;

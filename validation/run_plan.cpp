@@ -44,12 +44,25 @@ std::string trajectoryPathFor(const std::string& outFolder, const std::string& c
          trajectoryFormatName(format);
 }
 
-std::string particlePathFor(const std::string& trajectoryPath) {
+namespace {
+
+/// "DIR/E-M.csv" → "DIR/E-M" + infix + ".csv".
+std::string besideTrajectory(const std::string& trajectoryPath, const char* infix) {
   const std::size_t dot = trajectoryPath.find_last_of('.');
   const std::size_t slash = trajectoryPath.find_last_of('/');
   if (dot == std::string::npos || (slash != std::string::npos && dot < slash))
-    return trajectoryPath + ".particles";
-  return trajectoryPath.substr(0, dot) + ".particles" + trajectoryPath.substr(dot);
+    return trajectoryPath + infix;
+  return trajectoryPath.substr(0, dot) + infix + trajectoryPath.substr(dot);
+}
+
+}  // namespace
+
+std::string particlePathFor(const std::string& trajectoryPath) {
+  return besideTrajectory(trajectoryPath, ".particles");
+}
+
+std::string segmentPathFor(const std::string& trajectoryPath) {
+  return besideTrajectory(trajectoryPath, ".segments");
 }
 
 RunPlan planRuns(const std::vector<std::string>& caseFiles, const PlanOptions& options,

@@ -48,5 +48,8 @@ std::string trajectoryPathFor(const std::string& outFolder, const std::string& c
 /// "DIR/trajectories/CASE/ENGINE-METHOD.particles.csv" for ".../ENGINE-METHOD.csv" (the same
 /// extension, docs/cli.md#particles).
 std::string particlePathFor(const std::string& trajectoryPath);
+/// Where a run's Cosserat-rod segment states go: ".../ENGINE-METHOD.segments.csv" (the same
+/// extension, docs/cli.md#segments).
+std::string segmentPathFor(const std::string& trajectoryPath);
 
 }  // namespace pbdval

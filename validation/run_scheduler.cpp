@@ -41,7 +41,8 @@ std::string resultFile(const std::string& folder, std::size_t index) {
 void removeLeftovers(const Child& child, const RunRequest& request, const std::string& file) {
   std::remove(file.c_str());
   if (!request.trajectoryPath.empty()) {
-    for (const std::string& target : {request.trajectoryPath, particlePathFor(request.trajectoryPath)}) {
+    for (const std::string& target : {request.trajectoryPath, particlePathFor(request.trajectoryPath),
+                                      segmentPathFor(request.trajectoryPath)}) {
       const std::string temporary = target + ".tmp-" + std::to_string(child.pid);
       std::remove(temporary.c_str());
     }

@@ -81,6 +81,14 @@ std::string divergenceReason(const State& state) {
       return reason.str();
     }
   }
+  for (std::size_t i = 0; i < state.segments.size(); ++i) {
+    const SegmentState& q = state.segments[i];
+    if (!q.rotation.coeffs().allFinite() || !q.angularVelocity.allFinite()) {
+      std::ostringstream reason;
+      reason << "non-finite state of rod segment " << i << " at t = " << state.time << " s";
+      return reason.str();
+    }
+  }
   return {};
 }
 

@@ -173,6 +173,19 @@ void appendParticleRow(Trajectory& trajectory, const double* fields, const std::
   sample.particles.push_back(p);
 }
 
+/// One segment row (t, index, qw qx qy qz, wx wy wz); the indices of a sample run 0, 1, 2, ...
+void appendSegmentRow(Trajectory& trajectory, const double* fields, const std::string& where) {
+  State& sample = sampleOfRow(trajectory, fields, where, "segment index");
+  if (fields[1] != double(sample.segments.size()))
+    throw std::runtime_error(where + ": segment " + formatNumber(fields[1]) + ", expected " +
+                             std::to_string(sample.segments.size()) +
+                             " (each sample lists every rod segment in order, from 0)");
+  SegmentState q;
+  q.rotation = Quaternion(Real(fields[2]), Real(fields[3]), Real(fields[4]), Real(fields[5]));
+  q.angularVelocity = Vector3(Real(fields[6]), Real(fields[7]), Real(fields[8]));
+  sample.segments.push_back(q);
+}
+
 std::string readWholeFile(const std::string& path, const char* what) {
   const std::string problem = pbd::inputFileProblem(path, what);
   if (!problem.empty()) throw std::runtime_error(pbd::printableText(path + ": " + problem));
@@ -225,6 +238,26 @@ Trajectory readParticleTrajectory(const std::string& path) {
   const std::string content = readWholeFile(path, "particle trajectory");
   return hasNpyExtension(path) ? parseParticleTrajectoryNpy(content, path)
                                : parseParticleTrajectoryCsv(content, path);
+}
+
+Trajectory parseSegmentTrajectoryCsv(const std::string& text, const std::string& sourceName) {
+  Trajectory trajectory;
+  parseCsvRows(text, kSegmentCsvHeader, 9, pbd::printableText(sourceName),
+               [&](const double* f, const std::string& where) { appendSegmentRow(trajectory, f, where); });
+  return trajectory;
+}
+
+Trajectory parseSegmentTrajectoryNpy(const std::string& bytes, const std::string& sourceName) {
+  Trajectory trajectory;
+  parseNpyRows(bytes, 9, pbd::printableText(sourceName),
+               [&](const double* f, const std::string& where) { appendSegmentRow(trajectory, f, where); });
+  return trajectory;
+}
+
+Trajectory readSegmentTrajectory(const std::string& path) {
+  const std::string content = readWholeFile(path, "segment trajectory");
+  return hasNpyExtension(path) ? parseSegmentTrajectoryNpy(content, path)
+                               : parseSegmentTrajectoryCsv(content, path);
 }
 
 namespace {
@@ -306,6 +339,54 @@ void writeParticleTrajectoryNpy(std::ostream& out, const std::vector<State>& sam
       const double row[8] = {s.time, double(i), double(p.position.x()), double(p.position.y()),
                              double(p.position.z()), double(p.velocity.x()),
                              double(p.velocity.y()), double(p.velocity.z())};
+      writeNpyRow(out, row);
+    }
+}
+
+void writeSegmentCsvHeader(std::ostream& out) {
+  out << kSegmentCsvHeader << '\n';
+}
+
+void writeSegmentCsvRows(std::ostream& out, const State& state) {
+  char time[pbd::kRealTextCapacity];
+  const std::size_t timeLength = std::size_t(pbd::writeReal(time, state.time) - time);
+  char row[10 * (pbd::kRealTextCapacity + 1)];  // the time, the index, 7 numbers, commas, newline
+  for (std::size_t i = 0; i < state.segments.size(); ++i) {
+    const SegmentState& s = state.segments[i];
+    const Quaternion q = s.rotation.w() < 0 ? Quaternion(-s.rotation.coeffs()) : s.rotation;
+    char* end = row;
+    std::memcpy(end, time, timeLength);
+    end += timeLength;
+    *end++ = ',';
+    end = std::to_chars(end, end + 24, i).ptr;
+    for (double v : {double(q.w()), double(q.x()), double(q.y()), double(q.z()),
+                     double(s.angularVelocity.x()), double(s.angularVelocity.y()),
+                     double(s.angularVelocity.z())}) {
+      *end++ = ',';
+      end = pbd::writeReal(end, v);
+    }
+    *end++ = '\n';
+    out.write(row, std::streamsize(end - row));
+  }
+}
+
+void writeSegmentTrajectoryNpy(std::ostream& out, const std::vector<State>& samples) {
+  std::size_t rows = 0;
+  for (const State& s : samples) rows += s.segments.size();
+  writeNpyPreamble(out, rows, 9);
+  for (const State& s : samples)
+    for (std::size_t i = 0; i < s.segments.size(); ++i) {
+      const SegmentState& g = s.segments[i];
+      const Quaternion q = g.rotation.w() < 0 ? Quaternion(-g.rotation.coeffs()) : g.rotation;
+      const double row[9] = {s.time,
+                             double(i),
+                             double(q.w()),
+                             double(q.x()),
+                             double(q.y()),
+                             double(q.z()),
+                             double(g.angularVelocity.x()),
+                             double(g.angularVelocity.y()),
+                             double(g.angularVelocity.z())};
       writeNpyRow(out, row);
     }
 }

@@ -60,6 +60,23 @@ Trajectory parseParticleTrajectoryNpy(const std::string& bytes, const std::strin
 /// By the file's extension: ".npy" as NPY, anything else as CSV.
 Trajectory readParticleTrajectory(const std::string& path);
 
+/// Rod segment trajectories (`pbdval simulate --segments FILE`): header
+/// `t,index,qw,qx,qy,qz,wx,wy,wz`, one row per Cosserat-rod segment per sample, segments in the
+/// order of State::segments (line models in scene order); q: the segment's director frame →
+/// world (w ≥ 0, as the body CSV), w: its angular velocity (world); the numbers as in the body
+/// CSV. NPY: float64, shape (rows, 9), the same columns.
+inline constexpr const char* kSegmentCsvHeader = "t,index,qw,qx,qy,qz,wx,wy,wz";
+void writeSegmentCsvHeader(std::ostream& out);
+void writeSegmentCsvRows(std::ostream& out, const State& state);
+void writeSegmentTrajectoryNpy(std::ostream& out, const std::vector<State>& samples);
+/// Reads a segment trajectory: samples with their time and segments only. Every sample must
+/// list its segments in order from index 0. Throws std::runtime_error naming the file, the line
+/// or row, and what was expected.
+Trajectory parseSegmentTrajectoryCsv(const std::string& text, const std::string& sourceName);
+Trajectory parseSegmentTrajectoryNpy(const std::string& bytes, const std::string& sourceName);
+/// By the file's extension: ".npy" as NPY, anything else as CSV.
+Trajectory readSegmentTrajectory(const std::string& path);
+
 /// Whether `path` names an NPY trajectory (ends in ".npy"); every other name is a CSV.
 bool hasNpyExtension(const std::string& path);
 

@@ -124,6 +124,10 @@ void PbdEngine::read(State& state) const {
   state.particles.resize(p.size());
   for (std::size_t i = 0; i < p.size(); ++i)
     state.particles[i] = {p.position[i], p.velocity[i]};
+  const pbd::SegmentStates& r = w.bodies.segments;
+  state.segments.resize(r.size());
+  for (std::size_t i = 0; i < r.size(); ++i)
+    state.segments[i] = {r.rotation[i], r.angularVelocity[i]};
 }
 
 RunFacts PbdEngine::runFacts() const {

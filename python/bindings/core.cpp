@@ -194,6 +194,31 @@ py::dict statesDict(const std::vector<State>& samples, std::size_t bodies) {
     d["particle_positions"] = particlePositions;
     d["particle_velocities"] = particleVelocities;
   }
+  // Cosserat-rod segments when the engine reads them back: rotations (T, S, 4) as (w, x, y, z),
+  // angular velocities (T, S, 3).
+  if (!samples.empty() && !samples.front().segments.empty()) {
+    const py::ssize_t segments = py::ssize_t(samples.front().segments.size());
+    Array rotations = newArray({t, segments, 4}), angularVelocities = newArray({t, segments, 3});
+    auto R = rotations.mutable_unchecked<3>();
+    auto Omega = angularVelocities.mutable_unchecked<3>();
+    for (py::ssize_t k = 0; k < t; ++k) {
+      const State& s = samples[std::size_t(k)];
+      if (py::ssize_t(s.segments.size()) != segments)
+        throw std::invalid_argument("sample " + std::to_string(k) + " holds " +
+                                    std::to_string(s.segments.size()) + " rod segments, expected " +
+                                    std::to_string(segments));
+      for (py::ssize_t i = 0; i < segments; ++i) {
+        const SegmentState& g = s.segments[std::size_t(i)];
+        R(k, i, 0) = double(g.rotation.w());
+        R(k, i, 1) = double(g.rotation.x());
+        R(k, i, 2) = double(g.rotation.y());
+        R(k, i, 3) = double(g.rotation.z());
+        for (int a = 0; a < 3; ++a) Omega(k, i, a) = double(g.angularVelocity[a]);
+      }
+    }
+    d["segment_rotations"] = rotations;
+    d["segment_angular_velocities"] = angularVelocities;
+  }
   return d;
 }
 
@@ -206,12 +231,15 @@ void requireShape(const Array& a, const char* name, py::ssize_t t, py::ssize_t n
 
 /// Samples from trajectory arrays (the inverse of statesDict); ids from the scene.
 /// `particlePositions` and `particleVelocities`: None (no particles) or both (T, P, 3), P the
-/// scene's particle count.
+/// scene's particle count; `segmentRotations` (T, S, 4) (w, x, y, z) and
+/// `segmentAngularVelocities` (T, S, 3): None or both, S the scene's rod segment count.
 std::vector<State> samplesOf(const pbd::Scene& scene, const Array& times, const Array& positions,
                              const Array& quaternions, const Array& velocities,
                              const Array& angularVelocities,
                              const py::object& particlePositions = py::none(),
-                             const py::object& particleVelocities = py::none()) {
+                             const py::object& particleVelocities = py::none(),
+                             const py::object& segmentRotations = py::none(),
+                             const py::object& segmentAngularVelocities = py::none()) {
   if (times.ndim() != 1) throw std::invalid_argument("times: expected a 1-D array");
   const py::ssize_t t = times.shape(0);
   const py::ssize_t n = py::ssize_t(scene.rigidBodies.size());
@@ -255,6 +283,29 @@ std::vector<State> samplesOf(const pbd::Scene& scene, const Array& times, const 
       for (py::ssize_t i = 0; i < p; ++i) {
         particles[std::size_t(i)].position = Vector3(Real(X(k, i, 0)), Real(X(k, i, 1)), Real(X(k, i, 2)));
         particles[std::size_t(i)].velocity = Vector3(Real(U(k, i, 0)), Real(U(k, i, 1)), Real(U(k, i, 2)));
+      }
+    }
+  }
+  if (segmentRotations.is_none() != segmentAngularVelocities.is_none())
+    throw std::invalid_argument(
+        "segment_rotations and segment_angular_velocities: give both ((T, S, 4) and (T, S, 3) "
+        "arrays) or neither");
+  if (!segmentRotations.is_none()) {
+    py::ssize_t count = 0;
+    for (const pbd::LineModelDesc& model : scene.lineModels) count += py::ssize_t(model.segmentCount());
+    const Array r = segmentRotations.cast<Array>(), w = segmentAngularVelocities.cast<Array>();
+    requireShape(r, "segment_rotations", t, count, 4);
+    requireShape(w, "segment_angular_velocities", t, count, 3);
+    auto R = r.unchecked<3>();
+    auto Omega = w.unchecked<3>();
+    for (py::ssize_t k = 0; k < t; ++k) {
+      std::vector<SegmentState>& segments = samples[std::size_t(k)].segments;
+      segments.resize(std::size_t(count));
+      for (py::ssize_t i = 0; i < count; ++i) {
+        segments[std::size_t(i)].rotation =
+            Quaternion(Real(R(k, i, 0)), Real(R(k, i, 1)), Real(R(k, i, 2)), Real(R(k, i, 3)));
+        segments[std::size_t(i)].angularVelocity =
+            Vector3(Real(Omega(k, i, 0)), Real(Omega(k, i, 1)), Real(Omega(k, i, 2)));
       }
     }
   }
@@ -458,13 +509,14 @@ py::tuple simulate(const Registry& registry, const SceneHandle& scene, const std
 py::dict measure(const Registry& registry, const SceneHandle& handle, const Array& times,
                  const Array& positions, const Array& quaternions, const Array& velocities,
                  const Array& angularVelocities, const py::object& particlePositions,
-                 const py::object& particleVelocities, const py::object& reference,
+                 const py::object& particleVelocities, const py::object& segmentRotations,
+                 const py::object& segmentAngularVelocities, const py::object& reference,
                  double contactMargin, double integrationStep) {
   const pbd::Scene& scene = *handle.scene;
   const CaseSpec spec = parseCaseSpec(scene, registry.engines);
-  const std::vector<State> samples = samplesOf(scene, times, positions, quaternions, velocities,
-                                               angularVelocities, particlePositions,
-                                               particleVelocities);
+  const std::vector<State> samples =
+      samplesOf(scene, times, positions, quaternions, velocities, angularVelocities,
+                particlePositions, particleVelocities, segmentRotations, segmentAngularVelocities);
   std::optional<ReferenceTrajectory> ref;
   std::vector<double> sampleTimes;
   for (const State& s : samples)
@@ -485,7 +537,12 @@ py::dict measure(const Registry& registry, const SceneHandle& handle, const Arra
                               r.contains("particle_positions") ? py::object(r["particle_positions"])
                                                                : py::object(py::none()),
                               r.contains("particle_velocities") ? py::object(r["particle_velocities"])
-                                                                : py::object(py::none()));
+                                                                : py::object(py::none()),
+                              r.contains("segment_rotations") ? py::object(r["segment_rotations"])
+                                                              : py::object(py::none()),
+                              r.contains("segment_angular_velocities")
+                                  ? py::object(r["segment_angular_velocities"])
+                                  : py::object(py::none()));
     ref = resampleReference(given, sampleTimes);
   }
   MetricSet metrics;
@@ -524,11 +581,12 @@ py::dict measure(const Registry& registry, const SceneHandle& handle, const Arra
 py::dict energy(const Registry& registry, const SceneHandle& handle, const Array& times,
                 const Array& positions, const Array& quaternions, const Array& velocities,
                 const Array& angularVelocities, const py::object& particlePositions,
-                const py::object& particleVelocities) {
+                const py::object& particleVelocities, const py::object& segmentRotations,
+                const py::object& segmentAngularVelocities) {
   const pbd::Scene& scene = *handle.scene;
-  const std::vector<State> samples = samplesOf(scene, times, positions, quaternions, velocities,
-                                               angularVelocities, particlePositions,
-                                               particleVelocities);
+  const std::vector<State> samples =
+      samplesOf(scene, times, positions, quaternions, velocities, angularVelocities,
+                particlePositions, particleVelocities, segmentRotations, segmentAngularVelocities);
   const py::ssize_t t = py::ssize_t(samples.size());
   Array translational = newArray({t}), rotational = newArray({t}), gravitational = newArray({t}),
         spring = newArray({t}), elastic = newArray({t}), total = newArray({t});

@@ -49,6 +49,7 @@ if TYPE_CHECKING:  # what the lazy __getattr__ below returns, for type checkers
         load_scene,
         measure,
         read_particles,
+        read_segments,
         simulate,
     )
     from pbdval.results import Results, RunResult, load_results, run
@@ -80,13 +81,14 @@ __all__ = [
     "load_scene",
     "measure",
     "read_particles",
+    "read_segments",
     "run",
     "simulate",
 ]
 
 _API = {"BodyStates", "Energy", "EngineInfo", "Engines", "MethodInfo", "Metrics", "Parameter",
         "RunInfo", "Scene", "Simulation", "Trajectory", "energy", "engines", "load_scene",
-        "measure", "read_particles", "simulate"}
+        "measure", "read_particles", "read_segments", "simulate"}
 _RESULTS = {"Results", "RunResult", "load_results", "run"}
 
 

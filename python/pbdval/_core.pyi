@@ -46,6 +46,8 @@ def _measure(
     angular_velocities: NDArray[np.float64],
     particle_positions: NDArray[np.float64] | None,
     particle_velocities: NDArray[np.float64] | None,
+    segment_rotations: NDArray[np.float64] | None,
+    segment_angular_velocities: NDArray[np.float64] | None,
     reference: Any,
     contact_margin: float,
     integration_step: float,
@@ -60,5 +62,7 @@ def _energy(
     angular_velocities: NDArray[np.float64],
     particle_positions: NDArray[np.float64] | None,
     particle_velocities: NDArray[np.float64] | None,
+    segment_rotations: NDArray[np.float64] | None,
+    segment_angular_velocities: NDArray[np.float64] | None,
 ) -> dict[str, Any]: ...
 def _read_trajectory(path: str) -> dict[str, Any]: ...

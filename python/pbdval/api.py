@@ -262,7 +262,9 @@ class Trajectory:
     """Samples of a run: times (T,), body ids (N,), positions (T, N, 3), quaternions (T, N, 4)
     in (w, x, y, z), velocities (T, N, 3), angular velocities (T, N, 3); and, when the engine
     reads particles back (cloth and solid vertices, in the scene's particle order), particle
-    positions and velocities (T, P, 3), else None."""
+    positions and velocities (T, P, 3), else None; when it reads Cosserat-rod segments back
+    (the PBD library), segment rotations (T, S, 4) in (w, x, y, z), director frame -> world, and
+    angular velocities (T, S, 3), world, else None."""
 
     times: FloatArray
     ids: IntArray
@@ -272,6 +274,8 @@ class Trajectory:
     angular_velocities: FloatArray
     particle_positions: FloatArray | None = None
     particle_velocities: FloatArray | None = None
+    segment_rotations: FloatArray | None = None
+    segment_angular_velocities: FloatArray | None = None
 
     @classmethod
     def _from_core(cls, d: Mapping[str, Any]) -> "Trajectory":
@@ -284,21 +288,29 @@ class Trajectory:
             angular_velocities=np.asarray(d["angular_velocities"]),
             particle_positions=np.asarray(d["particle_positions"]) if "particle_positions" in d else None,
             particle_velocities=np.asarray(d["particle_velocities"]) if "particle_velocities" in d else None,
+            segment_rotations=np.asarray(d["segment_rotations"]) if "segment_rotations" in d else None,
+            segment_angular_velocities=(
+                np.asarray(d["segment_angular_velocities"]) if "segment_angular_velocities" in d else None
+            ),
         )
 
     @classmethod
-    def read(cls, path: str | Path, *, particles: str | Path | None = None) -> "Trajectory":
+    def read(
+        cls, path: str | Path, *, particles: str | Path | None = None, segments: str | Path | None = None
+    ) -> "Trajectory":
         """Reads a trajectory file of `pbdval simulate`/`run` with the suite's own reader: NPY
         when the name ends in .npy (`pbdval run --trajectory-format npy`), else CSV. Errors name
         the file and the line or row. `particles`: the file of `pbdval simulate --particles`
-        written with it (CSV or NPY), attached as particle_positions/velocities; its sample
-        times must be the trajectory's."""
+        written with it (CSV or NPY), attached as particle_positions/velocities; `segments`: the
+        file of `pbdval simulate --segments`, attached as segment_rotations/angular_velocities;
+        their sample times must be the trajectory's."""
         trajectory = cls._from_core(_core()._read_trajectory(str(path)))
-        if particles is not None:
-            times, positions, velocities = read_particles(particles)
+
+        def attached_times(file: str | Path, times: FloatArray) -> None:
+            nonlocal trajectory
             if trajectory.ids.size == 0:
                 # A scene without rigid bodies: the body file has no rows, the times come from
-                # the particle file.
+                # the particle or segment file.
                 count = times.size
                 trajectory = replace(
                     trajectory, times=times, positions=np.zeros((count, 0, 3)),
@@ -306,11 +318,20 @@ class Trajectory:
                     angular_velocities=np.zeros((count, 0, 3)))
             if times.shape != trajectory.times.shape or not np.allclose(times, trajectory.times, rtol=0, atol=1e-9):
                 raise ValueError(
-                    f"{particles}: its {times.size} sample times are not those of {path} "
+                    f"{file}: its {times.size} sample times are not those of {path} "
                     f"({trajectory.times.size} samples)"
                 )
+
+        if particles is not None:
+            times, positions, velocities = read_particles(particles)
+            attached_times(particles, times)
             trajectory.particle_positions = positions
             trajectory.particle_velocities = velocities
+        if segments is not None:
+            times, rotations, angular = read_segments(segments)
+            attached_times(segments, times)
+            trajectory.segment_rotations = rotations
+            trajectory.segment_angular_velocities = angular
         return trajectory
 
     @classmethod
@@ -322,16 +343,18 @@ class Trajectory:
         return int(self.times.size)
 
     def _arrays(self) -> tuple[FloatArray | None, ...]:
-        """The arrays the core takes: the body arrays, then the particle arrays (or None)."""
+        """The arrays the core takes: the body arrays, then the particle arrays and the segment
+        arrays (or None)."""
         bodies = tuple(
             np.ascontiguousarray(a, dtype=np.float64)
             for a in (self.times, self.positions, self.quaternions, self.velocities, self.angular_velocities)
         )
-        particles = tuple(
+        optional = tuple(
             None if a is None else np.ascontiguousarray(a, dtype=np.float64)
-            for a in (self.particle_positions, self.particle_velocities)
+            for a in (self.particle_positions, self.particle_velocities,
+                      self.segment_rotations, self.segment_angular_velocities)
         )
-        return bodies + particles
+        return bodies + optional
 
 
 def read_particles(path: str | Path) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -363,6 +386,39 @@ def read_particles(path: str | Path) -> tuple[FloatArray, FloatArray, FloatArray
     if not np.all(samples[:, :, 0] == samples[:, :1, 0]):
         raise ValueError(f"{path}: the rows of a sample must share its time")
     return samples[:, 0, 0].copy(), samples[:, :, 2:5].copy(), samples[:, :, 5:8].copy()
+
+
+def read_segments(path: str | Path) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Reads a segment file of `pbdval simulate --segments` (CSV with the header
+    t,index,qw,qx,qy,qz,wx,wy,wz, or NPY of the same (rows, 9) table, by the extension) into
+    times (T,), rotations (T, S, 4) as (w, x, y, z) and angular velocities (T, S, 3). Errors
+    name the file."""
+    path = Path(path)
+    header = "t,index,qw,qx,qy,qz,wx,wy,wz"
+    try:
+        if path.suffix == ".npy":
+            table = np.load(path, allow_pickle=False)
+        else:
+            with path.open() as f:
+                line = f.readline().strip()
+                if line != header:
+                    raise ValueError(f"line 1: expected the header {header}, got {line!r}")
+                table = np.loadtxt(f, delimiter=",", ndmin=2)
+    except (OSError, ValueError) as error:
+        raise ValueError(f"{path}: {error}") from None
+    if table.ndim != 2 or table.shape[1] != 9:
+        raise ValueError(f"{path}: expected rows of 9 columns ({header}), got shape {table.shape}")
+    if table.shape[0] == 0:
+        raise ValueError(f"{path}: no rows")
+    count = int(np.count_nonzero(table[:, 0] == table[0, 0]))
+    if table.shape[0] % count != 0:
+        raise ValueError(f"{path}: {table.shape[0]} rows are not whole samples of {count} segments")
+    samples = table.reshape(-1, count, 9)
+    if not np.array_equal(samples[:, :, 1], np.tile(np.arange(count), (samples.shape[0], 1))):
+        raise ValueError(f"{path}: every sample must list segments 0..{count - 1} in order")
+    if not np.all(samples[:, :, 0] == samples[:, :1, 0]):
+        raise ValueError(f"{path}: the rows of a sample must share its time")
+    return samples[:, 0, 0].copy(), samples[:, :, 2:6].copy(), samples[:, :, 6:9].copy()
 
 
 # ---- stepping ------------------------------------------------------------------------------------
@@ -513,7 +569,7 @@ def measure(
     registry = engines or Engines()
     ref: Any
     if isinstance(reference, Trajectory):
-        times, positions, quaternions, velocities, angular, particle_x, particle_v = reference._arrays()
+        times, positions, quaternions, velocities, angular, particle_x, particle_v, _, _ = reference._arrays()
         ref = {
             "times": times,
             "positions": positions,
@@ -548,7 +604,9 @@ class Energy:
     spring: FloatArray
     total: FloatArray
     scale: float
-    elastic: FloatArray | None = None  # XPBD particle constraints' ½ k C² (0 without particles)
+    # XPBD particle constraints' ½ k C² and XPBD rods' ½ Cᵀ α⁻¹ C (0 without particles; the rods'
+    # only with the segments)
+    elastic: FloatArray | None = None
 
     @property
     def relative_drift(self) -> FloatArray:

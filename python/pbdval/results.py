@@ -77,12 +77,22 @@ class RunResult:
             self.trajectory_path.stem + ".particles" + self.trajectory_path.suffix)
         return path if path.is_file() else None
 
+    @property
+    def segments_path(self) -> Path | None:
+        """The run's Cosserat-rod segment file beside its trajectory
+        (ENGINE-METHOD.segments.csv/.npy, docs/cli.md#run), or None when the run has none."""
+        if self.trajectory_path is None:
+            return None
+        path = self.trajectory_path.with_name(
+            self.trajectory_path.stem + ".segments" + self.trajectory_path.suffix)
+        return path if path.is_file() else None
+
     def trajectory(self) -> Trajectory:
         """The run's trajectory (CSV or NPY), read with the suite's reader, with its particles
-        attached when the run wrote them."""
+        and rod segments attached when the run wrote them."""
         if self.trajectory_path is None or not self.trajectory_path.is_file():
             raise ResultsError(f"run {self.case} {self.label}: no trajectory file ({self.trajectory_path})")
-        return Trajectory.read(self.trajectory_path, particles=self.particles_path)
+        return Trajectory.read(self.trajectory_path, particles=self.particles_path, segments=self.segments_path)
 
 
 @dataclass

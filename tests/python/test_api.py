@@ -172,7 +172,12 @@ def test_measure_gives_exactly_the_metrics_of_pbdval_run(tmp_path: Path) -> None
     cases = [REPO / "cases/joint_hinge.json", REPO / "cases/contact_resting_box.json"]
     results = pbdval.run(cases, engines=["pbd", "bullet"], out=tmp_path / "out", jobs=1)
     assert len(results) == 6  # 2 cases x (pbd's two run methods, pbd and pbd.xpbd, + bullet.si)
-    for run in results:
+    # A rod too: the run writes its particles and segments beside the trajectory and
+    # run.trajectory() attaches them, so the segments' kinetic energy is measured alike
+    # (tests/python/test_rod_energy.py does the same for an XPBD rod's elastic energy).
+    rods = pbdval.run([REPO / "cases/rod_helix.json"], engines=["pbd"], out=tmp_path / "rods", jobs=1)
+    assert len(rods) == 2 and all(r.segments_path is not None for r in rods)
+    for run in [*results, *rods]:
         assert run.ok, (run.case, run.label, run.reason)
         scene = pbdval.load_scene(REPO / "cases" / f"{run.case}.json")
         substeps = int(run.facts["integratorStepsPerSceneStep"])

@@ -177,6 +177,31 @@ TEST(Runner, ParticlesAreWrittenBesideTheTrajectory) {
   fs::remove_all(folder);
 }
 
+// A run of a rod writes its segments beside its trajectory too (rod_helix: 49 segments, 3 s
+// sampled every 0.01 s: 301 samples, at the trajectory's times); other scenes get none.
+TEST(Runner, RodSegmentsAreWrittenBesideTheTrajectory) {
+  EXPECT_EQ(segmentPathFor("out/t/e-m.npy"), "out/t/e-m.segments.npy");
+  const fs::path folder = scratch("segments");
+  for (const char* extension : {".csv", ".npy"}) {
+    RunRequest r = request("pbd", "pbd", std::string(PBDVAL_SOURCE_DIR) + "/cases/rod_helix.json");
+    r.caseName = "rod_helix";
+    r.trajectoryPath = (folder / (std::string("pbd") + extension)).string();
+    ASSERT_EQ(executeRun(r, testRegistry()).status, RunStatus::Ok);
+    const Trajectory particles = readParticleTrajectory(particlePathFor(r.trajectoryPath));
+    const Trajectory segments = readSegmentTrajectory(segmentPathFor(r.trajectoryPath));
+    ASSERT_EQ(segments.samples.size(), 301u) << extension;
+    for (std::size_t k = 0; k < segments.samples.size(); ++k) {
+      EXPECT_EQ(segments.samples[k].segments.size(), 49u);
+      EXPECT_EQ(segments.samples[k].time, particles.samples[k].time);
+    }
+  }
+  RunRequest hinge = request("pbd", "pbd");
+  hinge.trajectoryPath = (folder / "hinge.csv").string();
+  ASSERT_EQ(executeRun(hinge, testRegistry()).status, RunStatus::Ok);
+  EXPECT_FALSE(fs::exists(segmentPathFor(hinge.trajectoryPath)));
+  fs::remove_all(folder);
+}
+
 // The penetration metric subtracts the contact margin the engine reports in its typed run
 // facts (an engine that lets resting contacts overlap by m is not penalised for m). A box
 // resting 3 mm deep in a static box, held there by selftest.ok: the FCL depth is 3 mm exactly.

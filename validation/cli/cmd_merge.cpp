@@ -83,11 +83,13 @@ int mergeCommand(const Context& /*context*/, const Arguments& arguments) {
         if (!moved.emplace(r.request.trajectoryPath, target).second)
           throw std::invalid_argument(r.request.trajectoryPath + ": the trajectory of two runs");
         fs::create_directories(fs::path(target).parent_path());
-        // The trajectory, and the particles beside it when the run has them.
-        const std::string particles = particlePathFor(r.request.trajectoryPath);
-        for (const auto& [from, to] : {std::pair{r.request.trajectoryPath, target},
-                                       std::pair{particles, particlePathFor(target)}}) {
-          if (from == particles && !fs::is_regular_file(from)) continue;
+        // The trajectory, and the particles and rod segments beside it when the run has them.
+        const std::string& trajectoryFile = r.request.trajectoryPath;
+        for (const auto& [from, to] :
+             {std::pair{trajectoryFile, target},
+              std::pair{particlePathFor(trajectoryFile), particlePathFor(target)},
+              std::pair{segmentPathFor(trajectoryFile), segmentPathFor(target)}}) {
+          if (from != trajectoryFile && !fs::is_regular_file(from)) continue;
           std::error_code renamed;
           if (move) fs::rename(from, to, renamed);
           if (!move || renamed)  // another file system: copy

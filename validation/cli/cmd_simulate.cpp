@@ -41,6 +41,10 @@ ArgParser simulateParser() {
       .option("particles", "FILE.csv",
               "also write the particles' states here, one row per particle per sample "
               "(t,index,x,y,z,vx,vy,vz; FILE.npy: as NPY)")
+      .option("segments", "FILE.csv",
+              "also write the Cosserat-rod segments' orientations here, one row per segment per "
+              "sample (t,index,qw,qx,qy,qz,wx,wy,wz: director frame -> world, angular velocity; "
+              "FILE.npy: as NPY)")
       .option("sample-interval", "S", "seconds between samples (default: every step)")
       .option("export-dir", "DIR",
               "write the surface meshes (rigid bodies, cloth, solids) into DIR at the export "
@@ -140,18 +144,23 @@ int simulateCommand(const Context& context, const Arguments& arguments) {
   std::optional<AtomicFileWriter> particleFile;
   if (args.has("particles")) particleFile.emplace(args.value("particles"));
   const bool particleNpy = particleFile && hasNpyExtension(args.value("particles"));
+  std::optional<AtomicFileWriter> segmentFile;
+  if (args.has("segments")) segmentFile.emplace(args.value("segments"));
+  const bool segmentNpy = segmentFile && hasNpyExtension(args.value("segments"));
   std::vector<State> kept;  // for the NPY files, whose headers need the row count
   if (!npy) writeCsvHeader(out);
   if (particleFile && !particleNpy) writeParticleCsvHeader(particleFile->stream());
+  if (segmentFile && !segmentNpy) writeSegmentCsvHeader(segmentFile->stream());
 
   const bool showProgress = !quiet && ::isatty(STDERR_FILENO);
   RunCallbacks callbacks;
   if (exporter) callbacks.onStep = [&](const State& state) { exporter->onState(state); };
   std::size_t samples = 0;
   callbacks.onSample = [&](const State& state) {
-    if (npy || particleNpy) kept.push_back(state);
+    if (npy || particleNpy || segmentNpy) kept.push_back(state);
     if (!npy) writeCsvRows(out, state);
     if (particleFile && !particleNpy) writeParticleCsvRows(particleFile->stream(), state);
+    if (segmentFile && !segmentNpy) writeSegmentCsvRows(segmentFile->stream(), state);
     ++samples;
   };
   if (showProgress)
@@ -168,6 +177,10 @@ int simulateCommand(const Context& context, const Arguments& arguments) {
   if (particleFile) {
     if (particleNpy) writeParticleTrajectoryNpy(particleFile->stream(), kept);
     particleFile->commit();
+  }
+  if (segmentFile) {
+    if (segmentNpy) writeSegmentTrajectoryNpy(segmentFile->stream(), kept);
+    segmentFile->commit();
   }
   if (file) {
     if (npy) writeTrajectoryNpy(out, kept);
