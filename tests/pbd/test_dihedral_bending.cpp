@@ -25,16 +25,19 @@ std::array<Vector3, 4> hinge(Real theta, Real d = Real(0.7)) {
 TEST(DihedralBending, AngleIsTheFoldAngleWithItsSign) {
   // From N_A = e × (x₂ − x₀) = d ẑ and N_B = (x₃ − x₀) × e: the sign convention is fixed by the
   // construction; what the test pins is |θ| and that opposite folds have opposite signs.
+  // Precision-aware tolerance: 1e-14 in double is 45 ε on an O(1) angle (the hinge's sin/cos
+  // and the atan2 of two cross products each round by a few ε); the same 45 ε in float.
+  const Real angleRoundOff = test::roundOffBound(1e-14);
   for (Real theta : {Real(0), Real(0.3), Real(1.2), Real(2.5), Real(-0.3), Real(-2.5)}) {
     const Real angle = dihedralAngle(hinge(theta));
-    EXPECT_NEAR(std::abs(angle), std::abs(theta), 1e-14) << theta;
-    EXPECT_NEAR(dihedralAngle(hinge(-theta)), -angle, 1e-14) << theta;
+    EXPECT_NEAR(std::abs(angle), std::abs(theta), angleRoundOff) << theta;
+    EXPECT_NEAR(dihedralAngle(hinge(-theta)), -angle, angleRoundOff) << theta;
   }
   // Independent of the radius and of where the opposite vertices stand along the edge.
   std::array<Vector3, 4> x = hinge(Real(0.8), Real(2.0));
   x[2].x() = Real(-0.5);
   x[3].x() = Real(1.7);
-  EXPECT_NEAR(std::abs(dihedralAngle(x)), Real(0.8), 1e-14);
+  EXPECT_NEAR(std::abs(dihedralAngle(x)), Real(0.8), angleRoundOff);
   // Degenerate: no angle.
   std::array<Vector3, 4> flatTriangle = hinge(Real(0.5));
   flatTriangle[2] = Vector3(Real(0.5), 0, 0);
@@ -61,7 +64,9 @@ TEST(DihedralBending, GradientMatchesCentralDifferencesAndSumsToZero) {
             << "theta " << theta << ", particle " << i << ", axis " << axis;
       }
     }
-    EXPECT_LT(sum.norm(), 1e-13);  // translation invariance; round-off of O(1) terms
+    // Translation invariance; round-off of O(1) terms. Precision-aware: 1e-13 in double is
+    // 450 ε on the four O(1) gradients, the same 450 ε in float.
+    EXPECT_LT(sum.norm(), test::roundOffBound(1e-13));
   }
 }
 
@@ -73,7 +78,9 @@ TEST(DihedralBending, RestStateAndItsRigidMotionsNeedNoCorrection) {
   for (Vector3& p : moved) p = q * p + Vector3(4, 5, 6);
   for (const auto& x : {hinge(Real(0.9)), moved}) {
     const BendingCorrection d = dihedralBendingPbd(x, {1, 1, 1, 1}, c);
-    for (const Vector3& dx : d.positions) EXPECT_LT(dx.norm(), 1e-13);
+    // Precision-aware: the residual angle is a few ε of an O(1) angle (moved: also the rotated
+    // coordinates of magnitude ≤ 10), 1e-13 = 450 ε in double and the same 450 ε in float.
+    for (const Vector3& dx : d.positions) EXPECT_LT(dx.norm(), test::roundOffBound(1e-13));
   }
 }
 
@@ -92,7 +99,9 @@ TEST(DihedralBending, CorrectionConservesMomentumAndIsExactToFirstOrder) {
       momentum += d.positions[i] / w[i];
       after[i] = x[i] + d.positions[i];
     }
-    EXPECT_LT(momentum.norm(), 1e-15);
+    // Precision-aware: Σ Δxᵢ/wᵢ cancels exactly up to round-off of corrections ≤ δ ≤ 1e-2,
+    // 1e-15 ≈ 4.5 ε·1 in double, the same multiple of ε in float.
+    EXPECT_LT(momentum.norm(), test::roundOffBound(1e-15));
     // The angle's curvature along the step is O(1) for this stencil: ≤ 10 δ².
     EXPECT_LT(std::abs(dihedralAngle(after) - c.restAngle), 10 * delta * delta) << delta;
   }

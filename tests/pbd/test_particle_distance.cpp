@@ -163,6 +163,12 @@ TEST(ParticleDistanceWorld, XpbdStretchIsMgOverKAndPbdStretchDependsOnIterations
   for (int iterations : {1, 8}) {
     const Real kept = std::pow(Real(0.5), Real(iterations));
     const Real expected = kept * g * substep * substep / (1 - kept);
+    // Double-only (the last case; everything above has run): with eight iterations the stretch
+    // is g h_s²/255 = 3.8e-8 m on a link of 1 m, a third of float's ulp at 1 m (1.2e-7 m), so
+    // |x| − 1 rounds to 0 in float.
+    if (sizeof(Real) < 8 && iterations == 8)
+      GTEST_SKIP() << "needs double precision: the 8-iteration stretch g h^2/255 = 3.8e-8 m is "
+                      "below float's ulp of 1.2e-7 m at the 1 m link length";
     World world = oscillator(mass, Real(0.5), false, iterations, 0, gravity);
     const Real stretch = meanStretch(world, 0.5, 1);
     std::printf("  PBD hanging particle, k = 0.5, %d iterations: stretch %.6g m (closed form %.6g m)\n",

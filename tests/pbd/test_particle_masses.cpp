@@ -10,6 +10,7 @@
 #include <string>
 
 #include "common/text_assertions.h"
+#include "common/tolerances.h"
 #include "pbd/io/scene_loader.h"
 #include "pbd/model/mass_properties.h"
 
@@ -82,13 +83,18 @@ TEST_F(ParticleMasses, ClothMassIsDensityTimesAreaAtEveryRefinement) {
                             .scene;
     const Real vertices = Real((n + 1) * (n + 1));
     EXPECT_EQ(totalMass(seed), vertices) << n;  // the seed's rule: mass 1 each
-    // Sums of O(n²) positive terms of relative round-off ε each.
-    EXPECT_NEAR(totalMass(dense), Real(1.8), 1e-13) << n;
+    // Sums of O(n²) positive terms of relative round-off ε each. Precision-aware: 1e-13 is
+    // 450 ε·1.8 ≥ n² ε·1.8 for n ≤ 8 in double; the same multiple of ε in float.
+    EXPECT_NEAR(totalMass(dense), Real(1.8), test::roundOffBound(1e-13)) << n;
     EXPECT_EQ(dense.triangleModels[0].density, Real(0.3));
     if (n % 2 == 0) {
       // An interior vertex is in 6 triangles of area A/(2n²) each: ρ A/n² (A = 6 m²).
       const std::size_t centre = std::size_t(n / 2 * (n + 1) + n / 2);
-      EXPECT_NEAR(dense.particles[centre].mass, Real(0.3) * 6 / (n * n), 1e-15) << n;
+      // Precision-aware: six terms and a product of a few roundings of 0.45 at most; 1e-15 is
+      // 4.5 ε in double, the same multiple of ε in float.
+      EXPECT_NEAR(dense.particles[centre].mass, Real(0.3) * 6 / (n * n),
+                  test::roundOffBound(1e-15))
+          << n;
     }
   }
 }

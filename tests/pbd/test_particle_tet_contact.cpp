@@ -336,10 +336,17 @@ TEST(ParticleTetContactWorld, HeadOnCollisionConservesMomentumAndSeparatesTheCub
         double(vB.x()));
     EXPECT_GT(contactSteps, 0u) << nameOf(s);
     // Every correction conserves momentum (FEM, contacts): only round-off accumulates, ~10³
-    // roundings per step of velocities of order 1 over 200 steps.
-    EXPECT_LT(worstMomentum, 1e5 * kEpsilon * p0.norm()) << nameOf(s);
-    // The 27 kg m/s are shared: vA + vB = 1 m/s by conservation (same round-off).
-    EXPECT_NEAR(vA.x() + vB.x(), 1, 1e5 * kEpsilon) << nameOf(s);
+    // roundings per step of velocities of order 1 over 200 steps. Double-only (the float build
+    // runs every other check of this test, then reports it skipped below): velocities are read
+    // back from positions, v = Δx/h_s, so a rounding of a position of up to 0.8 m costs
+    // ε · 0.8 m / 1 ms = 800 ε of the 1 m/s velocity; in float the free flight alone drifts by
+    // 3.5e-4 kg m/s per step and the vibrating cubes by 0.45 kg m/s (1.7 % of p₀), so a
+    // conservation bound there says nothing about the corrections.
+    if (sizeof(Real) >= 8) {
+      EXPECT_LT(worstMomentum, 1e5 * kEpsilon * p0.norm()) << nameOf(s);
+      // The 27 kg m/s are shared: vA + vB = 1 m/s by conservation (same round-off).
+      EXPECT_NEAR(vA.x() + vB.x(), 1, 1e5 * kEpsilon) << nameOf(s);
+    }
     const Real approach = 1;  // m/s
     if (s == Schedule::Seed) {
       // The seed's contacts are bilateral: once found, a contact pulls the particle back onto
@@ -362,6 +369,10 @@ TEST(ParticleTetContactWorld, HeadOnCollisionConservesMomentumAndSeparatesTheCub
       EXPECT_LT(deepest, approach * world.settings.timeStepSize / Real(substeps)) << nameOf(s);
     }
   }
+  if (sizeof(Real) < 8)
+    GTEST_SKIP() << "needs double precision for the momentum checks (the others ran): the "
+                    "velocity read-back rounds by eps x 0.8 m / h_s = 9.5e-5 m/s per position in "
+                    "float, a drift of 0.45 kg m/s (1.7 % of p0) over the run";
 }
 
 /// A cube resting with its bottom face static (y = 0) and a second cube 0.1 m above it,

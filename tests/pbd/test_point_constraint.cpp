@@ -3,6 +3,7 @@
 // with both ends dynamic, one end static, and with compliance and an accumulated multiplier.
 #include <gtest/gtest.h>
 
+#include "common/tolerances.h"
 #include "pbd/joints/joint_parts.h"
 #include "pbd/joints/point_constraint.h"
 
@@ -41,8 +42,9 @@ void expectSameProjection(bool firstDynamic, Real compliance, const Vector3& lam
   const Vector3 directMultiplier = projectPointConstraint(direct, 0, 1, a0, a1, compliance, lambda);
   const Vector3 genericMultiplier = genericProjection(generic, a0, a1, compliance, lambda);
   // Both solve the same 3×3 system (K's condition number here is below 10³) in a different
-  // order of operations: they agree to round-off, κ·ε ≈ 10⁻¹³, allowed 10⁻¹¹.
-  const Real tolerance = 1e-11;
+  // order of operations: they agree to round-off, κ·ε ≈ 10⁻¹³, allowed 10⁻¹¹ in double.
+  // Precision-aware: 10⁻¹¹ = 100 κ ε with κ ≤ 10³ (45000 ε), the same multiple of ε in float.
+  const Real tolerance = test::roundOffBound(1e-11);
   EXPECT_LT((directMultiplier - genericMultiplier).norm(), tolerance * genericMultiplier.norm());
   for (std::size_t i = 0; i < 2; ++i) {
     EXPECT_LT((direct.position[i] - generic.position[i]).norm(), tolerance) << "body " << i;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "common/text_assertions.h"
+#include "common/tolerances.h"
 #include "pbd/io/scene_loader.h"
 #include "pbd/io/scene_writer.h"
 #include "pbd/model/world.h"
@@ -65,14 +66,17 @@ TEST(StiffRodSceneKeys, JointsTakeTheTreesMaterialAndTheSegmentsShape) {
   EXPECT_EQ(a.youngsModulus, Real(2e9));
   EXPECT_EQ(a.torsionModulus, Real(8e8));
   EXPECT_EQ(a.stiffnessModifier, Vector3(1, 2, 1));
-  // Cylinders: radius 0.01, length 0.2 (exact in binary to a few ulps).
-  EXPECT_NEAR(a.averageRadius, 0.01, 1e-15);
-  EXPECT_NEAR(a.averageSegmentLength, 0.2, 1e-15);
+  // Cylinders: radius 0.01, length 0.2 (exact in binary to a few ulps). Precision-aware: 1e-15
+  // is ~5 ulps of 0.2 in double, kept as the same multiple of ε in float (the literals are
+  // rounded to Real first, so both sides carry the same representation error).
+  const Real fewUlps = test::roundOffBound(1e-15);
+  EXPECT_NEAR(a.averageRadius, Real(0.01), fewUlps);
+  EXPECT_NEAR(a.averageSegmentLength, Real(0.2), fewUlps);
   // Cylinder (2r = 0.02 wide) and box (0.03 × 0.01): r = (0.02 + 0.02 + 0.03 + 0.01)/8 = 0.01;
   // L = (0.2 + 0.4)/2 = 0.3.
   const StiffRodJointParams& b = s.joints[1].stiffRod;
-  EXPECT_NEAR(b.averageRadius, 0.01, 1e-15);
-  EXPECT_NEAR(b.averageSegmentLength, 0.3, 1e-15);
+  EXPECT_NEAR(b.averageRadius, Real(0.01), fewUlps);
+  EXPECT_NEAR(b.averageSegmentLength, Real(0.3), fewUlps);
   EXPECT_EQ(b.stiffnessModifier, Vector3::Ones());
   // The world solves them with the tree solver.
   const World world = buildWorld(s);

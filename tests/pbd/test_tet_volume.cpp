@@ -129,6 +129,12 @@ TEST(TetVolumeWorld, XpbdCompressionIsTheClosedFormAndPbdsIsSetByIterations) {
   for (int iterations : {1, 8}) {
     const Real kept = std::pow(Real(0.5), Real(iterations));
     const Real closed = kept * g * substep * substep / (1 - kept);
+    // Double-only (the last case; everything above has run): with eight iterations the
+    // compression is g h_s²/255 = 3.8e-8 m at an apex height of 1 m, a third of float's ulp
+    // there (1.2e-7 m), so 1 − y rounds to 0 in float.
+    if (sizeof(Real) < 8 && iterations == 8)
+      GTEST_SKIP() << "needs double precision: the 8-iteration compression g h^2/255 = 3.8e-8 m "
+                      "is below float's ulp of 1.2e-7 m at the 1 m apex height";
     World world = apexOnBase(false, Real(0.5), iterations);
     const Real measured = meanCompression(world, 0.5, 1);
     std::printf("  PBD tet apex, k = 0.5, %d iterations: compression %.6g m (closed form %.6g m)\n",

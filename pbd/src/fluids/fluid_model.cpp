@@ -32,7 +32,8 @@ std::array<long long, 3> fluidBlockLatticeSize(const AxisAlignedBox& block, Real
   for (int a = 0; a < 3; ++a) {
     const double cells = double(block.max(a) - block.min(a)) / double(2 * particleRadius);
     n[std::size_t(a)] =
-        cells > 0 ? (long long)(std::min(std::floor(cells * (1 + 1e-9)), 1073741824.0)) : 0;
+        cells > 0 ? (long long)(std::min(std::floor(cells * (1 + kLatticeSlack)), 1073741824.0))
+                  : 0;
   }
   return n;
 }
@@ -56,7 +57,7 @@ std::vector<Vector3> containerBoundaryParticles(const AxisAlignedBox& box, Real 
   Vector3 step;
   for (int a = 0; a < 3; ++a) {
     const Real extent = box.max(a) - box.min(a);
-    n[a] = std::max(1, int(std::ceil(double(extent / spacing) * (1 - 1e-9))));
+    n[a] = std::max(1, int(std::ceil(double(extent / spacing) * (1 - kLatticeSlack))));
     step(a) = extent / Real(n[a]);
   }
   std::vector<Vector3> points;

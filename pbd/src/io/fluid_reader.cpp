@@ -72,7 +72,7 @@ FluidModelDesc readFluidModel(const JsonValue& element, Scene& scene) {
   for (std::size_t i = 0; i < blockValues.size(); ++i) {
     const AxisAlignedBox block = readBox(blockValues[i]);
     for (int a = 0; a < 3; ++a)
-      if (block.max(a) - block.min(a) < spacing * (1 - 1e-9))
+      if (double(block.max(a) - block.min(a)) < double(spacing) * (1 - kLatticeSlack))
         blockValues[i].error(std::string("holds no particle: its extent along ") + axisName(a) +
                              " is " + formatNumber(double(block.max(a) - block.min(a))) +
                              ", less than the particle diameter 2 particleRadius = " +

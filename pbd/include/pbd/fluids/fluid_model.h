@@ -56,8 +56,8 @@ struct Fluid {
 };
 
 /// The particles filling `block` on a lattice of spacing 2r: centres min + r + 2r k for every k
-/// with centre + r ≤ max (to 1e-9 relative), x slowest, z fastest. Empty when an extent is
-/// below 2r.
+/// with centre + r ≤ max (to kLatticeSlack relative, fluid_lattice.h), x slowest, z fastest.
+/// Empty when an extent is below 2r.
 std::vector<Vector3> fluidBlockParticles(const AxisAlignedBox& block, Real particleRadius);
 
 /// Boundary particles on the six faces of `box`: the surface points of a lattice with
