@@ -357,44 +357,12 @@ class Trajectory:
         return bodies + optional
 
 
-def read_particles(path: str | Path) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Reads a particle file of `pbdval simulate --particles` (CSV with the header
-    t,index,x,y,z,vx,vy,vz, or NPY of the same (rows, 8) table, by the extension) into
-    times (T,), positions (T, P, 3) and velocities (T, P, 3). Errors name the file."""
+def _read_indexed_table(path: str | Path, header: str, what: str) -> FloatArray:
+    """A file of `pbdval simulate --particles` or `--segments`: CSV with exactly `header`, or NPY
+    of the same table by the extension, as (T, count, columns): every sample lists its `what`
+    0..count-1 in order at one time. Errors name the file."""
     path = Path(path)
-    try:
-        if path.suffix == ".npy":
-            table = np.load(path, allow_pickle=False)
-        else:
-            with path.open() as f:
-                header = f.readline().strip()
-                if header != "t,index,x,y,z,vx,vy,vz":
-                    raise ValueError(f"line 1: expected the header t,index,x,y,z,vx,vy,vz, got {header!r}")
-                table = np.loadtxt(f, delimiter=",", ndmin=2)
-    except (OSError, ValueError) as error:
-        raise ValueError(f"{path}: {error}") from None
-    if table.ndim != 2 or table.shape[1] != 8:
-        raise ValueError(f"{path}: expected rows of 8 columns (t,index,x,y,z,vx,vy,vz), got shape {table.shape}")
-    if table.shape[0] == 0:
-        raise ValueError(f"{path}: no rows")
-    count = int(np.count_nonzero(table[:, 0] == table[0, 0]))
-    if table.shape[0] % count != 0:
-        raise ValueError(f"{path}: {table.shape[0]} rows are not whole samples of {count} particles")
-    samples = table.reshape(-1, count, 8)
-    if not np.array_equal(samples[:, :, 1], np.tile(np.arange(count), (samples.shape[0], 1))):
-        raise ValueError(f"{path}: every sample must list particles 0..{count - 1} in order")
-    if not np.all(samples[:, :, 0] == samples[:, :1, 0]):
-        raise ValueError(f"{path}: the rows of a sample must share its time")
-    return samples[:, 0, 0].copy(), samples[:, :, 2:5].copy(), samples[:, :, 5:8].copy()
-
-
-def read_segments(path: str | Path) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Reads a segment file of `pbdval simulate --segments` (CSV with the header
-    t,index,qw,qx,qy,qz,wx,wy,wz, or NPY of the same (rows, 9) table, by the extension) into
-    times (T,), rotations (T, S, 4) as (w, x, y, z) and angular velocities (T, S, 3). Errors
-    name the file."""
-    path = Path(path)
-    header = "t,index,qw,qx,qy,qz,wx,wy,wz"
+    columns = len(header.split(","))
     try:
         if path.suffix == ".npy":
             table = np.load(path, allow_pickle=False)
@@ -406,18 +374,35 @@ def read_segments(path: str | Path) -> tuple[FloatArray, FloatArray, FloatArray]
                 table = np.loadtxt(f, delimiter=",", ndmin=2)
     except (OSError, ValueError) as error:
         raise ValueError(f"{path}: {error}") from None
-    if table.ndim != 2 or table.shape[1] != 9:
-        raise ValueError(f"{path}: expected rows of 9 columns ({header}), got shape {table.shape}")
+    if table.ndim != 2 or table.shape[1] != columns:
+        raise ValueError(f"{path}: expected rows of {columns} columns ({header}), got shape {table.shape}")
     if table.shape[0] == 0:
         raise ValueError(f"{path}: no rows")
     count = int(np.count_nonzero(table[:, 0] == table[0, 0]))
     if table.shape[0] % count != 0:
-        raise ValueError(f"{path}: {table.shape[0]} rows are not whole samples of {count} segments")
-    samples = table.reshape(-1, count, 9)
+        raise ValueError(f"{path}: {table.shape[0]} rows are not whole samples of {count} {what}")
+    samples = table.reshape(-1, count, columns)
     if not np.array_equal(samples[:, :, 1], np.tile(np.arange(count), (samples.shape[0], 1))):
-        raise ValueError(f"{path}: every sample must list segments 0..{count - 1} in order")
+        raise ValueError(f"{path}: every sample must list {what} 0..{count - 1} in order")
     if not np.all(samples[:, :, 0] == samples[:, :1, 0]):
         raise ValueError(f"{path}: the rows of a sample must share its time")
+    return samples
+
+
+def read_particles(path: str | Path) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Reads a particle file of `pbdval simulate --particles` (CSV with the header
+    t,index,x,y,z,vx,vy,vz, or NPY of the same (rows, 8) table, by the extension) into
+    times (T,), positions (T, P, 3) and velocities (T, P, 3). Errors name the file."""
+    samples = _read_indexed_table(path, "t,index,x,y,z,vx,vy,vz", "particles")
+    return samples[:, 0, 0].copy(), samples[:, :, 2:5].copy(), samples[:, :, 5:8].copy()
+
+
+def read_segments(path: str | Path) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Reads a segment file of `pbdval simulate --segments` (CSV with the header
+    t,index,qw,qx,qy,qz,wx,wy,wz, or NPY of the same (rows, 9) table, by the extension) into
+    times (T,), rotations (T, S, 4) as (w, x, y, z) and angular velocities (T, S, 3). Errors
+    name the file."""
+    samples = _read_indexed_table(path, "t,index,qw,qx,qy,qz,wx,wy,wz", "segments")
     return samples[:, 0, 0].copy(), samples[:, :, 2:6].copy(), samples[:, :, 6:9].copy()
 
 

@@ -246,51 +246,45 @@ class Particle:
 
 
 @dataclass(frozen=True)
-class TriangleModel:
-    """A cloth (`TriangleModels[i]`): its particles are `particles[first_particle :
-    first_particle + particle_count]`; `triangles` and `static_particles` index them locally.
-    `simulation_method`/`method_name` and `bending_method`/`bending_method_name` are the scene's
-    cloth methods (docs/methods.md), `material` the cloth settings resolved for them (the seed's
-    forced defaults applied): stiffness (N/m per edge for xpbd_distance, a fraction per
-    iteration for distance), bendingStiffness, xxStiffness, yyStiffness, xyStiffness,
-    xyPoissonRatio, yxPoissonRatio, normalizeStretch, normalizeShear."""
+class ParticleModel:
+    """What cloth and solids share: the model's particles are `particles[first_particle :
+    first_particle + particle_count]`, its elements and `static_particles` index them locally;
+    `simulation_method`/`method_name` is the scene's method (docs/methods.md), `material` its
+    settings resolved for it (the seed's forced defaults applied)."""
 
     id: int
     json_path: str
     first_particle: int
     particle_count: int
-    triangles: np.ndarray = field(repr=False)  # (n, 3) int64, local indices
     static_particles: tuple[int, ...]
-    density: float | None  # kg/m^2; None: every vertex mass 1 (the seed's)
+    density: float | None  # kg/m^2 (cloth) or kg/m^3 (solids); None: every vertex mass 1 (the seed's)
     friction: float
     restitution: float
     simulation_method: int
     method_name: str
-    bending_method: int
-    bending_method_name: str
     material: dict[str, ParameterValue]
 
 
 @dataclass(frozen=True)
-class TetModel:
-    """A solid (`TetModels[i]`), indexed like TriangleModel. `tets` are positively oriented,
-    `boundary_faces` counter-clockwise seen from outside. `material`: stiffness (Young's modulus
-    in Pa for fem_xpbd, N/m per edge for xpbd_distance_volume, else a fraction per iteration),
-    poissonRatio, volumeStiffness, normalizeStretch, normalizeShear."""
+class TriangleModel(ParticleModel):
+    """A cloth (`TriangleModels[i]`). `material`: stiffness (N/m per edge for xpbd_distance, a
+    fraction per iteration for distance), bendingStiffness, xxStiffness, yyStiffness,
+    xyStiffness, xyPoissonRatio, yxPoissonRatio, normalizeStretch, normalizeShear."""
 
-    id: int
-    json_path: str
-    first_particle: int
-    particle_count: int
-    tets: np.ndarray = field(repr=False)  # (n, 4) int64, local indices
-    boundary_faces: np.ndarray = field(repr=False)  # (m, 3) int64, local indices
-    static_particles: tuple[int, ...]
-    density: float | None  # kg/m^3; None: every vertex mass 1
-    friction: float
-    restitution: float
-    simulation_method: int
-    method_name: str
-    material: dict[str, ParameterValue]
+    triangles: np.ndarray = field(repr=False, kw_only=True)  # (n, 3) int64, local indices
+    bending_method: int = field(kw_only=True)
+    bending_method_name: str = field(kw_only=True)
+
+
+@dataclass(frozen=True)
+class TetModel(ParticleModel):
+    """A solid (`TetModels[i]`): `tets` positively oriented, `boundary_faces` counter-clockwise
+    seen from outside. `material`: stiffness (Young's modulus in Pa for fem_xpbd, N/m per edge
+    for xpbd_distance_volume, else a fraction per iteration), poissonRatio, volumeStiffness,
+    normalizeStretch, normalizeShear."""
+
+    tets: np.ndarray = field(repr=False, kw_only=True)  # (n, 4) int64, local indices
+    boundary_faces: np.ndarray = field(repr=False, kw_only=True)  # (m, 3) int64, local indices
 
 
 @dataclass(frozen=True)
