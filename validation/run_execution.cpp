@@ -184,26 +184,17 @@ RunRecord executeRun(const RunRequest& request, const EngineRegistry& registry) 
     if (trajectory) {
       if (npy) writeTrajectoryNpy(trajectory->stream(), samples);
       trajectory->commit();
-      // The particles beside it, in the same format, when the engine read any back.
+      // The particles and the rod segments beside it, in the same format, when the engine
+      // read any back.
+      const TrajectoryFormat format = npy ? TrajectoryFormat::Npy : TrajectoryFormat::Csv;
       if (!samples.empty() && !samples.front().particles.empty()) {
         AtomicFileWriter particles(particlePathFor(path));
-        if (npy) {
-          writeParticleTrajectoryNpy(particles.stream(), samples);
-        } else {
-          writeParticleCsvHeader(particles.stream());
-          for (const State& s : samples) writeParticleCsvRows(particles.stream(), s);
-        }
+        writeParticleTrajectory(particles.stream(), samples, format);
         particles.commit();
       }
-      // And the rod segments, when the engine read any back.
       if (!samples.empty() && !samples.front().segments.empty()) {
         AtomicFileWriter segments(segmentPathFor(path));
-        if (npy) {
-          writeSegmentTrajectoryNpy(segments.stream(), samples);
-        } else {
-          writeSegmentCsvHeader(segments.stream());
-          for (const State& s : samples) writeSegmentCsvRows(segments.stream(), s);
-        }
+        writeSegmentTrajectory(segments.stream(), samples, format);
         segments.commit();
       }
     }

@@ -65,6 +65,10 @@ std::string segmentPathFor(const std::string& trajectoryPath) {
   return besideTrajectory(trajectoryPath, ".segments");
 }
 
+std::vector<std::string> companionPathsFor(const std::string& trajectoryPath) {
+  return {particlePathFor(trajectoryPath), segmentPathFor(trajectoryPath)};
+}
+
 RunPlan planRuns(const std::vector<std::string>& caseFiles, const PlanOptions& options,
                  const EngineRegistry& registry) {
   for (const std::string& engine : options.engines)

@@ -51,5 +51,7 @@ std::string particlePathFor(const std::string& trajectoryPath);
 /// Where a run's Cosserat-rod segment states go: ".../ENGINE-METHOD.segments.csv" (the same
 /// extension, docs/cli.md#segments).
 std::string segmentPathFor(const std::string& trajectoryPath);
+/// Every file a run may write beside its trajectory: particlePathFor, segmentPathFor.
+std::vector<std::string> companionPathsFor(const std::string& trajectoryPath);
 
 }  // namespace pbdval

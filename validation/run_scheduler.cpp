@@ -41,8 +41,9 @@ std::string resultFile(const std::string& folder, std::size_t index) {
 void removeLeftovers(const Child& child, const RunRequest& request, const std::string& file) {
   std::remove(file.c_str());
   if (!request.trajectoryPath.empty()) {
-    for (const std::string& target : {request.trajectoryPath, particlePathFor(request.trajectoryPath),
-                                      segmentPathFor(request.trajectoryPath)}) {
+    std::vector<std::string> targets = companionPathsFor(request.trajectoryPath);
+    targets.push_back(request.trajectoryPath);
+    for (const std::string& target : targets) {
       const std::string temporary = target + ".tmp-" + std::to_string(child.pid);
       std::remove(temporary.c_str());
     }

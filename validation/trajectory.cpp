@@ -391,6 +391,20 @@ void writeSegmentTrajectoryNpy(std::ostream& out, const std::vector<State>& samp
     }
 }
 
+void writeParticleTrajectory(std::ostream& out, const std::vector<State>& samples,
+                             TrajectoryFormat format) {
+  if (format == TrajectoryFormat::Npy) return writeParticleTrajectoryNpy(out, samples);
+  writeParticleCsvHeader(out);
+  for (const State& s : samples) writeParticleCsvRows(out, s);
+}
+
+void writeSegmentTrajectory(std::ostream& out, const std::vector<State>& samples,
+                            TrajectoryFormat format) {
+  if (format == TrajectoryFormat::Npy) return writeSegmentTrajectoryNpy(out, samples);
+  writeSegmentCsvHeader(out);
+  for (const State& s : samples) writeSegmentCsvRows(out, s);
+}
+
 bool hasNpyExtension(const std::string& path) {
   return path.size() >= 4 && path.compare(path.size() - 4, 4, ".npy") == 0;
 }

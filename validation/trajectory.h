@@ -14,6 +14,9 @@
 
 namespace pbdval {
 
+/// How the runner writes trajectories (`pbdval run --trajectory-format`).
+enum class TrajectoryFormat { Csv, Npy };
+
 struct Trajectory {
   std::vector<State> samples;
 };
@@ -51,6 +54,9 @@ inline constexpr const char* kParticleCsvHeader = "t,index,x,y,z,vx,vy,vz";
 void writeParticleCsvHeader(std::ostream& out);
 void writeParticleCsvRows(std::ostream& out, const State& state);
 void writeParticleTrajectoryNpy(std::ostream& out, const std::vector<State>& samples);
+/// The particle table of `samples`: CSV (header and rows) or NPY.
+void writeParticleTrajectory(std::ostream& out, const std::vector<State>& samples,
+                             TrajectoryFormat format);
 /// Reads a particle trajectory (what `pbdval simulate --particles` and external engines write):
 /// samples with their time and particles only (no bodies). Every sample must list its particles
 /// in order from index 0. Throws std::runtime_error naming the file, the line or row, and what
@@ -69,6 +75,9 @@ inline constexpr const char* kSegmentCsvHeader = "t,index,qw,qx,qy,qz,wx,wy,wz";
 void writeSegmentCsvHeader(std::ostream& out);
 void writeSegmentCsvRows(std::ostream& out, const State& state);
 void writeSegmentTrajectoryNpy(std::ostream& out, const std::vector<State>& samples);
+/// The segment table of `samples`: CSV (header and rows) or NPY.
+void writeSegmentTrajectory(std::ostream& out, const std::vector<State>& samples,
+                            TrajectoryFormat format);
 /// Reads a segment trajectory: samples with their time and segments only. Every sample must
 /// list its segments in order from index 0. Throws std::runtime_error naming the file, the line
 /// or row, and what was expected.
@@ -83,8 +92,6 @@ bool hasNpyExtension(const std::string& path);
 /// Reads a trajectory file by its extension: ".npy" as NPY, anything else as CSV.
 Trajectory readTrajectory(const std::string& path);
 
-/// How the runner writes trajectories (`pbdval run --trajectory-format`).
-enum class TrajectoryFormat { Csv, Npy };
 /// "csv" or "npy" (the file extension).
 const char* trajectoryFormatName(TrajectoryFormat format);
 

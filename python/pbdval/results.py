@@ -67,25 +67,24 @@ class RunResult:
         base = f"{self.engine}/{self.method}"
         return f"{base} [{','.join(self.assignments)}]" if self.assignments else base
 
-    @property
-    def particles_path(self) -> Path | None:
-        """The run's particle file beside its trajectory (ENGINE-METHOD.particles.csv/.npy,
-        docs/cli.md#run), or None when the run has none."""
+    def _beside_trajectory(self, infix: str) -> Path | None:
+        """ENGINE-METHOD<infix>.csv/.npy beside the trajectory (validation/run_plan.h), or None
+        when the run wrote none."""
         if self.trajectory_path is None:
             return None
         path = self.trajectory_path.with_name(
-            self.trajectory_path.stem + ".particles" + self.trajectory_path.suffix)
+            self.trajectory_path.stem + infix + self.trajectory_path.suffix)
         return path if path.is_file() else None
 
     @property
+    def particles_path(self) -> Path | None:
+        """The run's particle file (ENGINE-METHOD.particles.csv/.npy, docs/cli.md#run)."""
+        return self._beside_trajectory(".particles")
+
+    @property
     def segments_path(self) -> Path | None:
-        """The run's Cosserat-rod segment file beside its trajectory
-        (ENGINE-METHOD.segments.csv/.npy, docs/cli.md#run), or None when the run has none."""
-        if self.trajectory_path is None:
-            return None
-        path = self.trajectory_path.with_name(
-            self.trajectory_path.stem + ".segments" + self.trajectory_path.suffix)
-        return path if path.is_file() else None
+        """The run's Cosserat-rod segment file (ENGINE-METHOD.segments.csv/.npy)."""
+        return self._beside_trajectory(".segments")
 
     def trajectory(self) -> Trajectory:
         """The run's trajectory (CSV or NPY), read with the suite's reader, with its particles

@@ -85,10 +85,12 @@ int mergeCommand(const Context& /*context*/, const Arguments& arguments) {
         fs::create_directories(fs::path(target).parent_path());
         // The trajectory, and the particles and rod segments beside it when the run has them.
         const std::string& trajectoryFile = r.request.trajectoryPath;
-        for (const auto& [from, to] :
-             {std::pair{trajectoryFile, target},
-              std::pair{particlePathFor(trajectoryFile), particlePathFor(target)},
-              std::pair{segmentPathFor(trajectoryFile), segmentPathFor(target)}}) {
+        std::vector<std::pair<std::string, std::string>> files = {{trajectoryFile, target}};
+        const std::vector<std::string> fromCompanions = companionPathsFor(trajectoryFile);
+        const std::vector<std::string> toCompanions = companionPathsFor(target);
+        for (std::size_t i = 0; i < fromCompanions.size(); ++i)
+          files.emplace_back(fromCompanions[i], toCompanions[i]);
+        for (const auto& [from, to] : files) {
           if (from != trajectoryFile && !fs::is_regular_file(from)) continue;
           std::error_code renamed;
           if (move) fs::rename(from, to, renamed);
