@@ -8,6 +8,8 @@ const char* runStatusName(RunStatus status) {
   switch (status) {
     case RunStatus::Ok:
       return "ok";
+    case RunStatus::Suspect:
+      return "suspect";
     case RunStatus::Diverged:
       return "diverged";
     case RunStatus::Timeout:
@@ -18,6 +20,19 @@ const char* runStatusName(RunStatus status) {
       return "error";
   }
   return "error";
+}
+
+std::optional<RunStatus> runStatusNamed(std::string_view name) {
+  for (RunStatus s : kRunStatuses)
+    if (name == runStatusName(s)) return s;
+  return std::nullopt;
+}
+
+std::string runStatusNameList() {
+  std::string list;
+  for (RunStatus s : kRunStatuses)
+    list += (list.empty() ? "\"" : ", \"") + std::string(runStatusName(s)) + "\"";
+  return list;
 }
 
 WholeRun Engine::runWhole(const pbd::Scene& /*scene*/, const Method& method,

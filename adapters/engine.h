@@ -107,8 +107,21 @@ struct RunLength {
   double sampleInterval = 0;  ///< 0: every step
 };
 
-enum class RunStatus { Ok, Diverged, Timeout, Unsupported, Error };
+/// A run's status. `Suspect`: the run completed, but its states break a physics sanity bound
+/// that the scene implies (energy created in a passive scene, momentum changed without an
+/// external force, a speed the scene's energy cannot reach; validation/sanity.h) or a check at
+/// the engine's boundary (initial state, unit quaternions, velocities consistent with the
+/// motion). Its metrics are kept; the gate fails it unless the baseline knows it.
+enum class RunStatus { Ok, Suspect, Diverged, Timeout, Unsupported, Error };
+/// Every status, in the order summaries list them (the one declaration the parsers use).
+inline constexpr RunStatus kRunStatuses[] = {RunStatus::Ok, RunStatus::Suspect,
+                                             RunStatus::Unsupported, RunStatus::Diverged,
+                                             RunStatus::Timeout, RunStatus::Error};
 const char* runStatusName(RunStatus status);
+/// The status named `name` ("ok", "suspect", ...), or nullopt.
+std::optional<RunStatus> runStatusNamed(std::string_view name);
+/// "\"ok\", \"suspect\", ..." for error messages.
+std::string runStatusNameList();
 
 /// A whole run as an engine in another process returns it (external engines): the samples at
 /// t = 0, every sample interval and the end, the status the engine gave, its facts and settings.

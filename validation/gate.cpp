@@ -349,14 +349,9 @@ Baseline baselineFrom(const Json& document, const std::string& path) {
     if (r.has("assignments")) record.request.assignments = r.at("assignments").strings();
     const JsonField status = r.at("status");
     const std::string statusName = status.string();
-    bool known = false;
-    for (RunStatus s : {RunStatus::Ok, RunStatus::Diverged, RunStatus::Timeout,
-                        RunStatus::Unsupported, RunStatus::Error})
-      if (statusName == runStatusName(s)) {
-        record.status = s;
-        known = true;
-      }
-    if (!known) status.fail("one of \"ok\", \"diverged\", \"timeout\", \"unsupported\", \"error\"");
+    const std::optional<RunStatus> named = runStatusNamed(statusName);
+    if (!named) status.fail("one of " + runStatusNameList());
+    record.status = *named;
     const JsonField metrics = r.at("metrics").expectObject();
     for (const std::string& name : metrics.keys())
       record.metrics.values[name] = metrics.at(name).number();  // null is not a baseline value

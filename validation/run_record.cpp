@@ -27,10 +27,9 @@ Json requestJson(const RunRequest& r) {
 }
 
 RunStatus statusFromName(const std::string& name, const std::string& where) {
-  for (RunStatus s : {RunStatus::Ok, RunStatus::Diverged, RunStatus::Timeout,
-                      RunStatus::Unsupported, RunStatus::Error})
-    if (name == runStatusName(s)) return s;
-  throw std::invalid_argument(where + ": status: unknown status '" + name + "'");
+  if (const std::optional<RunStatus> status = runStatusNamed(name)) return *status;
+  throw std::invalid_argument(where + ": status: unknown status '" + name + "' (expected one of " +
+                              runStatusNameList() + ")");
 }
 
 /// Non-finite numbers have no JSON form: they are written as null and read back as NaN.

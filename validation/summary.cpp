@@ -63,7 +63,8 @@ std::string statusCounts(const std::vector<RunRecord>& runs) {
     ++counts[runStatusName(r.status)];
   std::string text = std::to_string(runs.size()) + " runs:";
   bool first = true;
-  for (const char* status : {"ok", "unsupported", "diverged", "timeout", "error"}) {
+  for (RunStatus s : kRunStatuses) {
+    const char* status = runStatusName(s);
     if (!counts.count(status)) continue;
     text += std::string(first ? " " : ", ") + std::to_string(counts[status]) + " " + status;
     first = false;

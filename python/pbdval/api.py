@@ -459,7 +459,7 @@ class Simulation:
 
 @dataclass
 class RunInfo:
-    """How a run went: status ok/diverged/timeout/unsupported/error, and the parity record."""
+    """How a run went: status ok/suspect/diverged/timeout/unsupported/error, and the parity record."""
 
     engine: str
     method: str

@@ -41,7 +41,7 @@ THREE_FILES = {"three.min.js": "node_modules/three/build/three.min.js",
                "OrbitControls.js": "node_modules/three/examples/js/controls/OrbitControls.js",
                "three-LICENSE.txt": "node_modules/three/LICENSE"}
 
-STATUS_COLOURS = {"ok": "#d9f2d9", "unsupported": "#eeeeee", "diverged": "#ffd9b3", "timeout": "#ffe9a8",
+STATUS_COLOURS = {"ok": "#d9f2d9", "suspect": "#ffc8a0", "unsupported": "#eeeeee", "diverged": "#ffd9b3", "timeout": "#ffe9a8",
                   "error": "#f7c6c6"}
 #: Points per series in a time plot (every k-th sample beyond it: a 600-pixel-wide figure shows no
 #: more, and a 39-case report stays small).
