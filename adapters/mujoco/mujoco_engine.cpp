@@ -355,6 +355,8 @@ RunFacts MujocoEngine::runFacts() const {
   facts.engineVersion = std::string("MuJoCo ") + mj_versionString();
   facts.integratorStepsPerSceneStep = 1;  // one mj_step per step (RK4: 4 stages of one step)
   facts.contactMargin = 0;                // contact.margin 0; soft contacts are no margin
+  // Generalised coordinates: the scene's initial velocities enter projected onto the joints.
+  facts.initialVelocitiesProjected = true;
   return facts;
 }
 

@@ -418,6 +418,7 @@ class MujocoRun:
             self.settings["inertiaWarnings"] = int(inertia_warnings)
         status.integrator_steps_per_scene_step = self.substeps
         status.contact_margin = 0.0
+        status.initial_velocities_projected = True  # generalised coordinates (as MuJoCo 2.2.2)
         return status
 
 

@@ -833,6 +833,9 @@ class Status:
     effective_settings: dict[str, ParameterValue] = field(default_factory=dict)
     integrator_steps_per_scene_step: int = 1
     contact_margin: float | None = None  # m
+    #: Generalised coordinates: the scene's initial velocities are projected onto the joints'
+    #: free motions, so the runner does not compare the first sample's velocities with them.
+    initial_velocities_projected: bool = False
 
     def to_json(self) -> dict[str, Any]:
         if self.status not in STATUSES:
@@ -847,6 +850,7 @@ class Status:
             "effectiveSettings": dict(self.effective_settings),
             "integratorStepsPerSceneStep": int(self.integrator_steps_per_scene_step),
             "contactMargin": self.contact_margin,
+            "initialVelocitiesProjected": bool(self.initial_velocities_projected),
         }
 
 
