@@ -316,6 +316,20 @@ class PybulletRun:
                 a = j.axes["axis"].world
                 for sign in (-1.0, 1.0):
                     self._point_to_point(j, tuple(sign * HINGE_HALF_LENGTH * x for x in a))  # type: ignore[arg-type]
+        self._jointed_bodies_collide()
+
+    def _jointed_bodies_collide(self) -> None:
+        """Jointed bodies collide with each other, as in the seed. createConstraint keeps their
+        collisions already (Bullet's addConstraint without disableCollisionsBetweenLinkedBodies);
+        the pair filter states it, independently of that default."""
+        pairs = {p.bodies for p in self.scene.contact_pairs if self.scene.jointed(*p.bodies)}
+        for id_a, id_b in sorted(pairs):
+            a, b = self.scene.body_by_id(id_a), self.scene.body_by_id(id_b)
+            pb.setCollisionFilterPair(self.ids[a.index], self.ids[b.index], -1, -1,
+                                      enableCollision=1, physicsClientId=self.client)
+        self.settings["jointedBodiesCollide"] = (
+            f"yes (as in the seed): {len(pairs)} pairs of bodies connected by a joint "
+            "(setCollisionFilterPair enableCollision=1)")
 
     def states(self, time: float) -> list[pp.BodyState]:
         out = []
