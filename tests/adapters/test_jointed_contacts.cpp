@@ -19,8 +19,8 @@
 #include <string>
 #include <vector>
 
-#include "engines/selftest_engine.h"
 #include "adapters/engine.h"
+#include "engines/selftest_engine.h"
 #include "pbd/io/scene_loader.h"
 #include "validation/case_spec.h"
 #include "validation/simulation.h"
@@ -40,7 +40,8 @@ std::vector<std::string> allMethods() {
   std::vector<std::string> methods;
   for (const EngineEntry& entry : testRegistry().entries())
     if (entry.runByDefault)
-      for (const MethodInfo& method : entry.methods) methods.push_back(method.name);
+      for (const MethodInfo& method : entry.methods)
+        methods.push_back(method.name);
   return methods;
 }
 
@@ -88,8 +89,8 @@ double depthBelowTopFace(const Scene& s, const State& state, const LinkOnBeam& l
       beamState.position - beamState.rotation * beam.massProperties.centerOfMass;
   const Vector3 half = beam.collision.scale / 2;
   double deepest = -std::numeric_limits<double>::infinity();
-  for (const Vector3& corner : corners(s.rigidBodies[std::size_t(l.link)],
-                                       state.bodies[std::size_t(l.link)])) {
+  for (const Vector3& corner :
+       corners(s.rigidBodies[std::size_t(l.link)], state.bodies[std::size_t(l.link)])) {
     const Vector3 local = beamState.rotation.conjugate() * (corner - beamOrigin);
     if (std::abs(local.x()) > half.x() || std::abs(local.z()) > half.z()) continue;
     deepest = std::max(deepest, half.y() - local.y());
@@ -153,7 +154,8 @@ TEST_P(JointedBodies, WithoutCollisionShapesTheLinkSwingsThroughTheBeam) {
   const Scene withShapes = pbd::loadScene(kCase).scene;
   const std::vector<LinkOnBeam> links = linksOnBeams(withShapes);
   Scene s = withShapes;
-  for (RigidBodyDesc& body : s.rigidBodies) body.collision.type = pbd::CollisionObjectType::None;
+  for (RigidBodyDesc& body : s.rigidBodies)
+    body.collision.type = pbd::CollisionObjectType::None;
   RunOutcome outcome;
   const std::vector<double> deepest = deepestCorners(s, links, GetParam(), outcome);
   ASSERT_EQ(outcome.status, RunStatus::Ok) << outcome.reason;
@@ -163,7 +165,8 @@ TEST_P(JointedBodies, WithoutCollisionShapesTheLinkSwingsThroughTheBeam) {
 
 TEST_P(JointedBodies, TheRunRecordsThatJointedBodiesCollide) {
   const Method method = testRegistry().resolve(GetParam());
-  const std::unique_ptr<Engine> engine = testRegistry().make(testRegistry().method(GetParam()).engine);
+  const std::unique_ptr<Engine> engine =
+      testRegistry().make(testRegistry().method(GetParam()).engine);
   engine->load(pbd::loadScene(kCase).scene, method);
   const auto settings = engine->effectiveSettings();
   const auto found = settings.find("jointedBodiesCollide");
