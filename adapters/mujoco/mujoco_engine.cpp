@@ -317,6 +317,10 @@ std::map<std::string, std::string> MujocoEngine::effectiveSettings() const {
   s["precision"] = "double";
   s["coordinates"] = "reduced (kinematic tree; loops closed by equality constraints)";
   s["contact.pairs"] = std::to_string(mjcf_.contactPairs);
+  s["jointedBodiesCollide"] =
+      "yes (as in the seed): " + std::to_string(mjcf_.jointedContactPairs) +
+      " of the pairs join bodies connected by a joint; explicit <pair>s, which MuJoCo never "
+      "filters, and filterparent disabled";
   s["contact.condim"] = "3 (sliding friction only; 1 when the pair friction is 0)";
   s["contact.margin"] = "0";
   s["contact.gap"] = "0";

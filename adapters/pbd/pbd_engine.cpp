@@ -163,6 +163,7 @@ std::map<std::string, std::string> PbdEngine::effectiveSettings() const {
           {"contactModel", pbd::contactModelName(s.contactModel)},
           {"distanceGrid", pbd::gridInterpolationName(pbd::distanceGridFor(s))},
           {"contactCombineRule", pbd::contactCombineRuleName(s.contactCombineRule)},
+          {"jointedBodiesCollide", "yes (the seed's rule: every pair of collision objects)"},
           {"stepMethod", pbd::stepMethodName(s.stepMethod)},
           {"detectionThreads", std::to_string(s.detectionThreads)},
           {"xpbd.substeps", std::to_string(s.xpbd.substeps)},

@@ -328,6 +328,11 @@ class ResolvedScene:
                 return p
         return None
 
+    def jointed(self, id_a: int, id_b: int) -> bool:
+        """Whether a joint connects the bodies with these ids (either way round). Such bodies
+        collide with each other like any others: the seed's rule, kept by every engine."""
+        return any({j.body1, j.body2} == {id_a, id_b} for j in self.joints)
+
     def sample_steps(self) -> list[int]:
         """The step numbers after which a sample is written (0: the initial state): every
         `sample_stride`-th step and the last (validation/simulation.cpp)."""
