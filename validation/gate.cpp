@@ -215,6 +215,7 @@ void evaluateChecksOf(const std::string& suite, const CaseGateData& data,
       GateOutcome& o =
           add(report, suite, label + " " + name, f, number(v) + " (required " + bounds + ")");
       o.run = label, o.metric = check.metric, o.value = v;
+      o.allowed = check.max ? check.max : check.min;
     }
     if (!any) report.notes.push_back(suite + ": " + name + ": no ok run it applies to");
   }
@@ -686,6 +687,8 @@ void writeGateJson(std::ostream& out, const GateReport& report, const ResultsFil
     c["allowed"] = optionalNumber(o.allowed);
     checks.push_back(std::move(c));
   }
+  std::ostringstream markdown;  // for report.md: the same summary as --markdown
+  writeMarkdown(markdown, report, results);
   const Json document = {{"schema", "pbdval-gate"},
                          {"schemaVersion", kGateJsonSchemaVersion},
                          {"passed", report.passed()},
@@ -700,7 +703,8 @@ void writeGateJson(std::ostream& out, const GateReport& report, const ResultsFil
                            {"created", results.metadata.created},
                            {"compiler", results.metadata.compiler}}},
                          {"checks", checks},
-                         {"notes", report.notes}};
+                         {"notes", report.notes},
+                         {"markdown", markdown.str()}};
   out << jsonText(document) << "\n";
 }
 

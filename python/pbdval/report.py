@@ -164,20 +164,32 @@ class GateVerdicts:
 
     status: int  #: the gate's exit status: 0 passed, 1 failed, 2 could not judge
     document: dict[str, Any] | None
-    markdown: str
     error: str
 
 
 def run_gate(results_dir: Path, baseline: Path) -> GateVerdicts:
-    """Runs `pbdval gate --json --markdown` on the results against the baseline."""
+    """Runs `pbdval gate --json` on the results against the baseline."""
     with tempfile.TemporaryDirectory() as folder:
-        verdicts, summary = Path(folder) / "gate.json", Path(folder) / "gate.md"
+        verdicts = Path(folder) / "gate.json"
         done = subprocess.run([str(pbdval_binary()), "gate", "--baseline", str(baseline), "--results",
-                               str(results_dir), "--json", str(verdicts), "--markdown", str(summary), "--quiet"],
+                               str(results_dir), "--json", str(verdicts), "--quiet"],
                               capture_output=True, text=True)
         document = json.loads(verdicts.read_text(encoding="utf-8")) if verdicts.exists() else None
-        markdown = summary.read_text(encoding="utf-8") if summary.exists() else ""
-    return GateVerdicts(done.returncode, document, markdown, done.stderr.strip())
+    return GateVerdicts(done.returncode, document, done.stderr.strip())
+
+
+def read_gate_json(path: Path) -> GateVerdicts:
+    """The verdicts a `pbdval gate --json` wrote (scripts/validate: what CI gated, with its
+    options). Raises ResultsError naming the file when it is not such a file."""
+    try:
+        document = json.loads(path.read_text(encoding="utf-8"))
+        if not isinstance(document, dict) or document.get("schema") != "pbdval-gate" \
+                or document.get("schemaVersion") != 1:
+            raise ValueError('expected "schema": "pbdval-gate", "schemaVersion": 1')
+        passed = bool(document["passed"])
+    except (OSError, ValueError, KeyError) as error:
+        raise ResultsError(f"{path}: not the verdicts of pbdval gate --json ({error})") from error
+    return GateVerdicts(0 if passed else 1, document, "")
 
 
 #: How the report draws each verdict, most severe first: (label, badge class).
@@ -199,7 +211,7 @@ def gate_headline(counts: dict[str, Any]) -> str:
             f"in {plural(counts['failingCases'], 'case', 'cases')}")
 
 
-def gate_section(gate: GateVerdicts, baseline: Path) -> tuple[str, str]:
+def gate_section(gate: GateVerdicts, baseline: Path | None) -> tuple[str, str]:
     """The gate's verdict, its counts and its table of every check that is not a plain pass (HTML
     and Markdown)."""
     verdict = {0: ("passed", "pass"), 1: ("FAILED", "fail")}.get(gate.status, ("could not judge", "warn"))
@@ -210,8 +222,8 @@ def gate_section(gate: GateVerdicts, baseline: Path) -> tuple[str, str]:
         return "\n".join(html), "\n".join(md + [gate.error, ""]) + "\n"
     document = gate.document
     headline = gate_headline(document["counts"])
-    html.append(f"<p class='gate-counts'><b>{escape(headline)}</b>. {escape(document['summary'])}; baseline "
-                f"<code>{escape(str(baseline))}</code>.</p>")
+    against = f"; baseline <code>{escape(str(baseline))}</code>" if baseline else ""
+    html.append(f"<p class='gate-counts'><b>{escape(headline)}</b>. {escape(document['summary'])}{against}.</p>")
     rows = [c for kind in VERDICT_STYLE for c in document["checks"] if c["verdict"] == kind]
     if rows:
         html.append("<table class='gate'><tr><th>verdict</th><th>case</th><th>check</th><th>baseline</th>"
@@ -229,7 +241,7 @@ def gate_section(gate: GateVerdicts, baseline: Path) -> tuple[str, str]:
     if document["notes"]:
         html.append("<p><b>Notes:</b></p><ul>" + "".join(f"<li>{escape(n)}</li>" for n in document["notes"]) + "</ul>")
     # report.md is Markdown: the gate's own summary goes in as it is, under this page's heading.
-    md.append(re.sub(r"\A# [^\n]*\n+", "", gate.markdown))
+    md.append(re.sub(r"\A# [^\n]*\n+", "", document["markdown"]))
     return "\n".join(html), "\n".join(md) + "\n"
 
 
@@ -566,10 +578,12 @@ def parity_page() -> str:
 
 
 def build_report(results_dir: Path, out: Path, *, baseline: Path | None = None, sweeps: Sequence[Path] = (),
-                 quiet: bool = False) -> Path:
-    """Writes the report into `out` and returns the path of its index.html. A results folder of
-    another schema version gives a report that says so (nothing else can be read from it); a
-    folder that is not a results folder raises ResultsError."""
+                 quiet: bool = False, gate_json: Path | None = None) -> Path:
+    """Writes the report into `out` and returns the path of its index.html. With `baseline`, runs
+    the gate; with `gate_json`, shows the verdicts a `pbdval gate --json` wrote instead. A results
+    folder of another schema version gives a report that says so (nothing else can be read from
+    it); a folder that is not a results folder, or a gate_json that is not such verdicts, raises
+    ResultsError."""
     try:
         results = load_results(results_dir)
     except ResultsError as error:
@@ -590,7 +604,8 @@ def build_report(results_dir: Path, out: Path, *, baseline: Path | None = None, 
     three = copy_assets(out)
     if not three:
         progress("pbdval report: three.js is not installed (scripts/install-deps): no 3D replay", quiet)
-    gate = gate_section(run_gate(results_dir, baseline), baseline) if baseline else None
+    verdicts = read_gate_json(gate_json) if gate_json else run_gate(results_dir, baseline) if baseline else None
+    gate = gate_section(verdicts, baseline) if verdicts else None
     body, markdown = overview(results, labels, gate)
     by_case: dict[str, list[RunResult]] = {}
     for r in results:
@@ -632,12 +647,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("results", type=Path, help="a results folder (pbdval run --out)")
     parser.add_argument("--out", type=Path, default=None, help="report folder (default: RESULTS/report)")
     parser.add_argument("--baseline", type=Path, default=None, help="gate against this baseline")
+    parser.add_argument("--gate-json", type=Path, default=None,
+                        help="show these verdicts (pbdval gate --json) instead of running the gate")
     parser.add_argument("--sweeps", type=Path, nargs="*", default=[], help="sweep folders (with sweep.json)")
     parser.add_argument("--quiet", action="store_true")
     args = parser.parse_args(argv)
     try:
         index = build_report(args.results, args.out or args.results / "report", baseline=args.baseline,
-                             sweeps=args.sweeps, quiet=args.quiet)
+                             sweeps=args.sweeps, quiet=args.quiet, gate_json=args.gate_json)
     except ResultsError as error:
         print(f"pbdval report: error: {error}", file=sys.stderr)
         return 2

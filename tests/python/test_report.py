@@ -144,13 +144,23 @@ def test_gate_text_junit_markdown_and_report_count_the_same_failures(real_result
     markdown = files["md"].read_text()
     assert len(re.findall(r"^\| (regression|missing) \|", markdown, re.M)) == flagged
     assert f", {flagged} failed in 1 case (" in markdown
-    report = tmp_path / "report"
-    build_report(worse, report, baseline=baseline, quiet=True)
-    index = (report / "index.html").read_text()
-    rows = re.findall(r"<tr class='verdict-(regression|missing)'>", index)
-    assert len(rows) == flagged
-    assert f"<b>{flagged} regressions and 0 missing in 1 case</b>" in index
-    assert verdicts["summary"] in index
+    # The report, running the gate itself or showing the verdicts of the gate above.
+    for name, source in (("report", {"baseline": baseline}), ("shown", {"gate_json": files["json"]})):
+        build_report(worse, tmp_path / name, quiet=True, **source)
+        index = (tmp_path / name / "index.html").read_text()
+        rows = re.findall(r"<tr class='verdict-(regression|missing)'>", index)
+        assert len(rows) == flagged, name
+        assert f"<b>{flagged} regressions and 0 missing in 1 case</b>" in index, name
+        assert verdicts["summary"] in index, name
+        assert f"{flagged} failed in 1 case" in (tmp_path / name / "report.md").read_text(), name
+
+
+def test_a_file_that_is_not_gate_verdicts_is_a_clear_error(real_results: Path, tmp_path: Path) -> None:
+    wrong = tmp_path / "gate.json"
+    wrong.write_text(json.dumps({"schema": "pbdval-results", "schemaVersion": 1}))
+    done = pbdval("report", str(real_results), "--out", str(tmp_path / "r"), "--gate-json", str(wrong), check=False)
+    assert done.returncode == 2
+    assert f"{wrong}: not the verdicts of pbdval gate --json" in done.stderr
 
 
 def test_sweep_writes_its_convergence_page(tmp_path: Path) -> None:
