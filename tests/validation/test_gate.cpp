@@ -538,6 +538,18 @@ TEST(GateJudgesWithPinnedData, BaselineRefusesWhatTheGateWouldRefuse) {
   EXPECT_NO_THROW(refuseUnfitBaselineSource(planned({run("pbd", 0.01)}), "r.json"));
 }
 
+TEST(GateJudgesWithPinnedData, BaselineOfAnotherPrecisionIsRefused) {
+  ResultsFile then = planned({run("pbd", 0.01)});
+  then.metadata.precision = "double";
+  const Baseline base = baselineFromResults(then);
+  ResultsFile now = then;
+  EXPECT_NO_THROW(refuseOtherBuild(base, now));
+  now.metadata.precision = "float";
+  EXPECT_NE(invalidArgumentOf([&] { refuseOtherBuild(base, now); })
+                .find("the baseline was made by a double-precision build, the results by a float"),
+            std::string::npos);
+}
+
 /// A reader of case files from memory: file name → (bytes, checks).
 CaseFileReader readerOf(
     std::map<std::string, std::pair<std::string, std::vector<CheckSpec>>> files) {
