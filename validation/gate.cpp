@@ -40,16 +40,26 @@ bool matches(const std::vector<std::string>& filter, const std::string& value) {
   return filter.empty() || std::find(filter.begin(), filter.end(), value) != filter.end();
 }
 
+/// What a check is about, for the report's table: the run, the metric and the numbers.
+struct CheckSubject {
+  std::string run, metric;
+  std::optional<double> baselineValue, value, allowed;
+};
+
 /// Adds a check to the report; evaluateGate decides every verdict at the end.
-GateOutcome& add(GateReport& report, std::string suite, std::string name, CheckFinding finding,
-                 std::string message) {
+void add(GateReport& report, std::string suite, std::string name, CheckFinding finding,
+         std::string message, CheckSubject subject = {}) {
   GateOutcome o;
   o.suite = std::move(suite);
   o.name = std::move(name);
   o.finding = finding;
   o.message = std::move(message);
+  o.run = std::move(subject.run);
+  o.metric = std::move(subject.metric);
+  o.baselineValue = subject.baselineValue;
+  o.value = subject.value;
+  o.allowed = subject.allowed;
   report.outcomes.push_back(std::move(o));
-  return report.outcomes.back();
 }
 
 CheckFinding fails() {
@@ -97,9 +107,8 @@ void compareStatus(const RunRecord& base, const RunRecord& now, GateReport& repo
     f.change = is == RunStatus::Ok ? -1 : 1;
   }
   if (!f.holds && !now.reason.empty()) message += ": " + now.reason;
-  GateOutcome& o =
-      add(report, base.request.caseName, runLabel(base.request) + " status", f, message);
-  o.run = runLabel(base.request);
+  add(report, base.request.caseName, runLabel(base.request) + " status", f, message,
+      {runLabel(base.request), "", {}, {}, {}});
 }
 
 void compareWithBaseline(const RunRecord& base, const RunRecord* now, const CaseGateData* pinned,
@@ -108,8 +117,7 @@ void compareWithBaseline(const RunRecord& base, const RunRecord* now, const Case
   const std::string label = runLabel(base.request);
   if (!now) {
     add(report, suite, label + " present", absent(),
-        "run missing from the results (it is in the baseline)")
-        .run = label;
+        "run missing from the results (it is in the baseline)", {label, "", {}, {}, {}});
     return;
   }
   compareStatus(base, *now, report);
@@ -128,9 +136,9 @@ void compareWithBaseline(const RunRecord& base, const RunRecord* now, const Case
     if (!tolerance.gated) continue;
     const auto it = now->metrics.values.find(metric);
     if (it == now->metrics.values.end()) {
-      GateOutcome& o = add(report, suite, label + " " + metric, absent(),
-                           "metric missing from the results (baseline " + number(baseValue) + ")");
-      o.run = label, o.metric = metric, o.baselineValue = baseValue;
+      add(report, suite, label + " " + metric, absent(),
+          "metric missing from the results (baseline " + number(baseValue) + ")",
+          {label, metric, baseValue, {}, {}});
       continue;
     }
     const double base0 = std::abs(baseValue), value = std::abs(it->second);
@@ -147,11 +155,9 @@ void compareWithBaseline(const RunRecord& base, const RunRecord* now, const Case
       limit = "≤ " + number(allowed);
     }
     f.change = changeOf(baseValue, it->second, tolerance.higherIsBetter);
-    GateOutcome& o =
-        add(report, suite, label + " " + metric, f,
-            number(it->second) + " (baseline " + number(baseValue) + ", allowed " + limit + ")");
-    o.run = label, o.metric = metric, o.baselineValue = baseValue, o.value = it->second,
-    o.allowed = allowed;
+    add(report, suite, label + " " + metric, f,
+        number(it->second) + " (baseline " + number(baseValue) + ", allowed " + limit + ")",
+        {label, metric, baseValue, it->second, allowed});
   }
 }
 
@@ -171,23 +177,23 @@ void evaluateChecksOf(const std::string& suite, const CaseGateData& data,
       if (!better || !worse) {
         add(report, suite, name, fails(),
             "ordering " + check.better + " < " + check.worse +
-                ": both runs must be in the results with status ok")
-            .metric = check.metric;
+                ": both runs must be in the results with status ok",
+            {"", check.metric, {}, {}, {}});
         continue;
       }
       const auto b = better->metrics.values.find(check.metric),
                  w = worse->metrics.values.find(check.metric);
       if (b == better->metrics.values.end() || w == worse->metrics.values.end()) {
-        add(report, suite, name, absent(), "metric " + check.metric + " missing from a run")
-            .metric = check.metric;
+        add(report, suite, name, absent(), "metric " + check.metric + " missing from a run",
+            {"", check.metric, {}, {}, {}});
         continue;
       }
       CheckFinding f;
       f.holds = std::abs(b->second) < std::abs(w->second);
       add(report, suite, name, f,
           check.better + " " + number(b->second) + (f.holds ? " < " : " ≥ ") + check.worse + " " +
-              number(w->second))
-          .metric = check.metric;
+              number(w->second),
+          {"", check.metric, {}, {}, {}});
       continue;
     }
     bool any = false;
@@ -199,9 +205,8 @@ void evaluateChecksOf(const std::string& suite, const CaseGateData& data,
       const std::string label = runLabel(r.request);
       const auto it = r.metrics.values.find(check.metric);
       if (it == r.metrics.values.end()) {
-        GateOutcome& o =
-            add(report, suite, label + " " + name, absent(), "metric missing from the run");
-        o.run = label, o.metric = check.metric;
+        add(report, suite, label + " " + name, absent(), "metric missing from the run",
+            {label, check.metric, {}, {}, {}});
         continue;
       }
       const double v = it->second;
@@ -212,10 +217,8 @@ void evaluateChecksOf(const std::string& suite, const CaseGateData& data,
       if (check.min) bounds += "≥ " + number(*check.min);
       if (check.max)
         bounds += std::string(bounds.empty() ? "" : " and ") + "≤ " + number(*check.max);
-      GateOutcome& o =
-          add(report, suite, label + " " + name, f, number(v) + " (required " + bounds + ")");
-      o.run = label, o.metric = check.metric, o.value = v;
-      o.allowed = check.max ? check.max : check.min;
+      add(report, suite, label + " " + name, f, number(v) + " (required " + bounds + ")",
+          {label, check.metric, {}, v, check.max ? check.max : check.min});
     }
     if (!any) report.notes.push_back(suite + ": " + name + ": no ok run it applies to");
   }
@@ -406,8 +409,8 @@ GateReport evaluateGate(const Baseline& baseline, const ResultsFile& results,
       CheckFinding f;
       f.newSinceBaseline = true;
       add(report, now.request.caseName, runLabel(now.request) + " new", f,
-          std::string("not in the baseline (status ") + runStatusName(now.status) + ")")
-          .run = runLabel(now.request);
+          std::string("not in the baseline (status ") + runStatusName(now.status) + ")",
+          {runLabel(now.request), "", {}, {}, {}});
     }
   // The cases' own checks, as the baseline pins them, on the cases the results hold.
   std::map<std::string, CaseGateData> judged;

@@ -52,8 +52,8 @@ struct MethodPairing {
 };
 
 /// Keeps only the paired runs: the baseline's runs of each baseline method, relabelled as the
-/// results method and engine, and the results' runs of the results methods; drops the cases'
-/// orderings between methods that are not both kept. Throws
+/// results method and engine, and the results' runs of the results methods; drops the orderings
+/// (of the baseline's pinned case checks) between methods that are not both kept. Throws
 /// std::invalid_argument when a baseline method has no run in the baseline or a results method
 /// none in the results (a misspelt name would otherwise compare nothing and pass).
 void pairMethods(const std::vector<MethodPairing>& pairs, Baseline& baseline, ResultsFile& results);
