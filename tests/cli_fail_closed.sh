@@ -141,6 +141,13 @@ expect 2 "the runs listed are not those of the plan" -- \
 expect 2 "no run is ok (2 error)" -- \
   "$pbdval" baseline --results "$work/lost" --out "$work/refused.json"
 [[ ! -e "$work/refused.json" ]] || fail "a refused baseline was written"
+# A baseline of another plan (here: only pbd.xpbd) does not silently replace one.
+cp "$work/baseline.json" "$work/replaced.json"
+"$pbdval" run "$scene" --methods pbd.xpbd --out "$work/xpbd" --no-trajectories --quiet >/dev/null
+expect 2 "replaced.json was made from another plan" -- \
+  "$pbdval" baseline --results "$work/xpbd" --out "$work/replaced.json"
+expect 0 "pbdval baseline: 1 runs of 1 cases" -- \
+  "$pbdval" baseline --results "$work/xpbd" --out "$work/replaced.json" --new-plan
 # A case file edited since the baseline: refused by name, unless re-pinned.
 cp "$scene" "$work/pinned_case.json"
 "$pbdval" run "$work/pinned_case.json" --engines pbd --out "$work/pinned" --no-trajectories --quiet >/dev/null

@@ -777,6 +777,21 @@ void refuseOtherBuild(const Baseline& baseline, const ResultsFile& results) {
                                 "-precision one: their metrics cannot be compared");
 }
 
+void refuseAnotherPlan(const Baseline& existing, const std::string& existingPath,
+                       const ResultsFile& results) {
+  const std::string& was = existing.source.planDigest;
+  if (was.empty() || was == results.metadata.planDigest) return;
+  std::set<std::string> cases;
+  for (const RunRecord& r : existing.runs)
+    cases.insert(r.request.caseName);
+  throw std::invalid_argument(
+      existingPath + " was made from another plan (" + std::to_string(existing.runs.size()) +
+      " runs of " + std::to_string(cases.size()) + " cases, planDigest " + was +
+      ") than these results (" + std::to_string(results.runs.size()) + " runs of " +
+      std::to_string(results.cases.size()) + " cases, planDigest " + results.metadata.planDigest +
+      "); pass --new-plan to replace it with a baseline of this plan");
+}
+
 namespace {
 std::string shortHash(const std::string& hash) {
   return hash.empty() ? "(none)" : hash.substr(0, 12);

@@ -166,6 +166,11 @@ void refuseUnjudgeableResults(const ResultsFile& results, const std::string& nam
 void refuseUnfitBaselineSource(const ResultsFile& results, const std::string& name);
 /// A baseline made by another precision (float/double) than the results.
 void refuseOtherBuild(const Baseline& baseline, const ResultsFile& results);
+/// For `pbdval baseline` over an existing baseline: results of another plan than the one it was
+/// made from (other cases, engines, methods or --set assignments) would silently change what
+/// is gated, e.g. shrink the project's baseline to a partial run. `existingPath` names it.
+void refuseAnotherPlan(const Baseline& existing, const std::string& existingPath,
+                       const ResultsFile& results);
 
 /// A case file's gate data read from disk (checks, tolerances, SHA-256 of its bytes); nullopt
 /// when its bytes cannot be read. A file that is not a valid case has its hash and no checks.

@@ -545,8 +545,21 @@ TEST(GateJudgesWithPinnedData, BaselineOfAnotherPrecisionIsRefused) {
   ResultsFile now = then;
   EXPECT_NO_THROW(refuseOtherBuild(base, now));
   now.metadata.precision = "float";
-  EXPECT_NE(invalidArgumentOf([&] { refuseOtherBuild(base, now); })
-                .find("the baseline was made by a double-precision build, the results by a float"),
+  EXPECT_NE(invalidArgumentOf([&] {
+              refuseOtherBuild(base, now);
+            }).find("the baseline was made by a double-precision build, the results by a float"),
+            std::string::npos);
+}
+
+// `pbdval baseline` over a baseline of another plan (a partial run over the full baseline).
+TEST(GateJudgesWithPinnedData, BaselineOfAnotherPlanIsNotReplacedSilently) {
+  const ResultsFile full = planned({run("pbd", 0.01), run("selftest.ok", 0.02)});
+  const Baseline existing = baselineFromResults(full);
+  EXPECT_NO_THROW(refuseAnotherPlan(existing, "main.json", full));
+  const ResultsFile partial = planned({run("pbd", 0.01)});
+  EXPECT_NE(invalidArgumentOf([&] {
+              refuseAnotherPlan(existing, "main.json", partial);
+            }).find("main.json was made from another plan (2 runs of 1 cases"),
             std::string::npos);
 }
 

@@ -2,7 +2,9 @@
 // pbdval baseline --results DIR --out FILE
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "pbd/io/scene_loader.h"
@@ -158,15 +160,19 @@ int gateCommand(const Context& context, const Arguments& arguments) {
 }
 
 int baselineCommand(const Context& context, const Arguments& arguments) {
-  ArgParser parser("baseline", "--results DIR --out FILE",
-                   "Writes a baseline from a results folder, for 'pbdval gate': the statuses and\n"
-                   "metrics of every run, the case checks that fail (known failures), and each\n"
-                   "case's checks and tolerances read from its file, pinned with the file's\n"
-                   "SHA-256. Refuses results the gate would refuse, empty results, a run listed\n"
-                   "twice, and results in which no run is ok. The project's own baseline lives\n"
-                   "in reports/baselines/.");
+  ArgParser parser(
+      "baseline", "--results DIR --out FILE [--new-plan]",
+      "Writes a baseline from a results folder, for 'pbdval gate': the statuses and\n"
+      "metrics of every run, the case checks that fail (known failures), and each\n"
+      "case's checks and tolerances read from its file, pinned with the file's\n"
+      "SHA-256. Refuses results the gate would refuse, empty results, a run listed\n"
+      "twice, results in which no run is ok, and results of another plan than the\n"
+      "baseline they replace. The project's own baseline lives in reports/baselines/.");
   parser.option("results", "DIR", "a results folder (or its results.json)")
-      .option("out", "FILE", "the baseline file to write (atomically)");
+      .option("out", "FILE", "the baseline file to write (atomically)")
+      .flag("new-plan",
+            "replace an existing baseline made from another plan (other cases, engines, methods "
+            "or --set assignments); default: refuse");
   ParsedArgs args;
   if (const auto exit = parser.parseOrExit(arguments, args)) return *exit;
   if (!args.has("results") || !args.has("out"))
@@ -175,11 +181,21 @@ int baselineCommand(const Context& context, const Arguments& arguments) {
     const std::string resultsPath = resultsPathOf(args.value("results"));
     ResultsFile results = readResults(resultsPath);
     refuseUnfitBaselineSource(results, resultsPath);
+    const std::string out = args.value("out");
+    if (!args.flags.count("new-plan") && std::filesystem::exists(out)) {
+      // An existing baseline this one replaces; one that cannot be read (an old version) is
+      // replaced without comparing plans.
+      std::optional<Baseline> existing;
+      try {
+        existing = readBaseline(out);
+      } catch (const std::invalid_argument&) {
+      }
+      if (existing) refuseAnotherPlan(*existing, out, results);
+    }
     takeCaseDataFromFiles(results, caseFileReader(context.engines));
-    writeBaseline(args.value("out"), baselineFromResults(results));
+    writeBaseline(out, baselineFromResults(results));
     std::printf("pbdval baseline: %zu runs of %zu cases from %s written to %s\n",
-                results.runs.size(), results.cases.size(), resultsPath.c_str(),
-                args.value("out").c_str());
+                results.runs.size(), results.cases.size(), resultsPath.c_str(), out.c_str());
   } catch (const std::exception& e) {
     return parser.inputError(e.what());
   }
