@@ -20,6 +20,7 @@
 #include "validation/results.h"
 #include "validation/run_plan.h"
 #include "validation/run_scheduler.h"
+#include "validation/sha256.h"
 #include "validation/sharding.h"
 #include "validation/summary.h"
 
@@ -87,6 +88,7 @@ int runCommand(const Context& context, const Arguments& arguments) {
   PlanOptions options;
   RunPlan plan;
   std::optional<ShardInfo> shard;
+  std::string wholePlanDigest;
   int jobs = 1;
   double timeout = 600;
   try {
@@ -112,6 +114,7 @@ int runCommand(const Context& context, const Arguments& arguments) {
       printPlan(plan);
       return 0;
     }
+    wholePlanDigest = runsDigest(plan);
     if (args.has("shard")) {
       ShardInfo info = parseShard(args.value("shard"));
       plan = shardOf(plan, info);
@@ -130,6 +133,7 @@ int runCommand(const Context& context, const Arguments& arguments) {
   ResultsFile results;
   results.metadata = currentMetadata(command.str());
   results.metadata.shard = shard;
+  results.metadata.planDigest = wholePlanDigest;
 
   const bool terminal = !quiet && ::isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
@@ -178,14 +182,17 @@ int runCommand(const Context& context, const Arguments& arguments) {
   if (terminal) std::fprintf(stderr, "\r\033[K");
   std::filesystem::remove_all(options.outFolder + "/.scratch");
 
+  // Each case file's hash: the gate refuses results run from another version of a case than the
+  // one its baseline pins (docs/gate.md).
   for (const auto& [name, entry] : plan.cases)
     results.cases[name] = {entry.first, entry.second.description, entry.second.checks,
-                           entry.second.tolerances};
+                           entry.second.tolerances, fileSha256(entry.first).value_or("")};
   // A case that could not be read still has its entry (no checks): results.json then reads back,
   // and the gate reports the run's error instead of refusing the file.
   for (const RunRecord& u : plan.unreadable)
     results.cases.emplace(u.request.caseName,
-                          CaseGateData{u.request.caseFile, "could not be read: " + u.reason, {}, {}});
+                          CaseGateData{u.request.caseFile, "could not be read: " + u.reason, {}, {},
+                                       fileSha256(u.request.caseFile).value_or("")});
   results.runs = plan.unreadable;
   results.runs.insert(results.runs.end(), records.begin(), records.end());
   const std::string resultsPath = options.outFolder + "/results.json";
