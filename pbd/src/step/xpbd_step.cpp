@@ -16,13 +16,13 @@ namespace {
 ///
 /// The h |a| term: a point that starts the step at rest is not at rest at its end — the
 /// substeps move it by Σ_k k h_s² |a| = ½ (1 + 1/n) h² |a| ≤ h² |a| (semi-implicit Euler, n
-/// substeps). Without it a body resting on a surface with contactTolerance 0 is only seen
-/// when it has already sunk: the step where its corners sit exactly on (or a round-off above)
-/// the surface collects no contact (tolerance ≈ speculativeMargin · h · 0), the box falls
-/// freely for the whole step (by ½ (1 + 1/n) g h² = 0.13 mm at h = 5 ms), the next step collects the corners and
-/// projects them out — unevenly, because one Gauss–Seidel sweep over four corners tilts the
-/// box — and the cycle repeats: a box that never leaves the surface by more than 0.13 mm yet
-/// reports v_y ≈ −0.02 m/s and ω ≈ 0.2 rad/s at every fifth step and turns by 10° in 5 s
+/// substeps). Without it a body resting on a surface with contactTolerance 0 is only seen when
+/// it has already sunk: the step where its corners sit exactly on (or a round-off above) the
+/// surface collects no contact (tolerance ≈ speculativeMargin · h · 0), the box falls freely
+/// for the whole step (by ½ (1 + 1/n) g h² = 0.13 mm at h = 5 ms), the next step collects the
+/// corners and projects them out — unevenly, because one Gauss–Seidel sweep over four corners
+/// tilts the box — and the cycle repeats: a box that never leaves the surface by more than 0.13
+/// mm yet reports v_y ≈ −0.02 m/s and ω ≈ 0.2 rad/s at every fifth step and turns by 10° in 5 s
 /// (issue 24). With the term every point that can reach a surface during the step has its
 /// contact from the step's start, as the paper's speculative margin intends.
 Real detectionTolerance(const World& world) {
