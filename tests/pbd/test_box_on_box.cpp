@@ -56,8 +56,9 @@ std::string caseName(const testing::TestParamInfo<BoxOnBoxCase>& info) {
 }
 
 /// The small box's orientation: axis-aligned (face down); 30° about z (one edge, along z, is the
-/// lowest: the box rests on it with its centre of mass 0.1 (cos 30° − sin 30°)... to the side,
-/// so it tips); 30° about z after 20° about x (one vertex lowest, centre of mass off it).
+/// lowest: the box rests on it with its centre of mass 0.1 m (cos 30° − sin 30°) = 3.7 cm to the
+/// side, so it tips onto a face); 30° about z after 20° about x (one vertex lowest, the centre of
+/// mass off it: it tips onto an edge, then a face).
 Quaternion tiltOf(Resting resting) {
   switch (resting) {
     case Resting::Face:
