@@ -79,6 +79,10 @@ int gateCommand(const Context& context, const Arguments& arguments) {
   try {
     if (args.has("cases") && splitList(args.value("cases")).empty())
       return parser.usageError("--cases: expected a comma-separated list of case names");
+    // The reports must not replace what they report on, nor each other.
+    checkOutputsAreNotInputs({{"--junit", args.value("junit")}, {"--markdown", args.value("markdown")}},
+                             {{"the baseline", args.value("baseline")},
+                              {"the results", resultsPathOf(args.value("results"))}});
     Baseline baseline = readBaseline(args.value("baseline"));
     results = readResults(resultsPathOf(args.value("results")));
     if (args.has("cases")) restrictToCases(splitList(args.value("cases")), baseline, results);
@@ -136,6 +140,8 @@ int baselineCommand(const Context& /*context*/, const Arguments& arguments) {
   if (!args.has("results") || !args.has("out"))
     return parser.usageError("--results and --out are required");
   try {
+    checkOutputsAreNotInputs({{"--out", args.value("out")}},
+                             {{"the results", resultsPathOf(args.value("results"))}});
     const ResultsFile results = readResults(resultsPathOf(args.value("results")));
     writeBaseline(args.value("out"), baselineFromResults(results));
     std::printf("pbdval baseline: %zu runs from %s written to %s\n", results.runs.size(),

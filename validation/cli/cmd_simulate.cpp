@@ -91,7 +91,14 @@ int simulateCommand(const Context& context, const Arguments& arguments) {
     if (info.engine != engineName)
       throw UsageError("method " + methodName + " belongs to engine " + info.engine + ", not " +
                        engineName);
+    // Every --set must have an effect in this engine and method (EngineEntry::honouredSettings).
+    checkAssignments(args.values("set"), {methodName}, context.engines);
     method = resolveMethod(info, applyAssignments(args.values("set"), info, scene));
+    // No output may replace the scene or another output (`--out` and `--particles` one file).
+    checkOutputsAreNotInputs({{"--out", args.value("out")},
+                              {"--particles", args.value("particles")},
+                              {"--segments", args.value("segments")}},
+                             {{"the scene", scenePath}});
     const CaseSpec spec = parseCaseSpec(scene, context.engines);
     length.duration = args.number("duration", defaultDuration(scene, spec));
     length.sampleInterval = args.number("sample-interval", 0);

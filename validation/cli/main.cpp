@@ -90,7 +90,7 @@ int main(int argc, char** argv) {
           pbdval::standardEngines([](const char* v) { return std::getenv(v); });
       return command.run(pbdval::cli::Context{engines}, arguments);
     } catch (const pbdval::RunInterrupted& e) {
-      std::fprintf(stderr, "\npbdval %s: %s; no results were written\n", command.name, e.what());
+      std::fprintf(stderr, "\npbdval %s: %s; nothing was written (the previous results are as they were)\n", command.name, e.what());
       return 128 + e.signal();
     } catch (const std::exception& e) {
       std::fprintf(stderr, "pbdval %s: error: %s\n", command.name, e.what());
