@@ -84,14 +84,18 @@ std::string unknownSettingMessage(const std::string& key, const std::vector<std:
 void checkAssignmentValue(const std::string& key, const std::string& value,
                           const MethodInfo& method, const std::string& origin) {
   if (const ParameterSpec* spec = method.find(key)) {
-    parseParameter(*spec, value, method.name);
+    try {
+      parseParameter(*spec, value, method.name);
+    } catch (const std::invalid_argument& e) {
+      throw OptionError(origin + ": " + e.what());
+    }
     return;
   }
   pbd::SimulationSettings settings;
   try {
     pbd::applySimulationSetting(settings, key, value, origin);
   } catch (const pbd::SceneError& e) {
-    throw std::invalid_argument(e.what());
+    throw OptionError(e.what());
   }
 }
 
@@ -100,9 +104,15 @@ void checkAssignments(const std::vector<std::string>& assignments,
                       const std::string& option) {
   std::vector<std::string> seen;
   for (const std::string& assignment : assignments) {
-    const auto [key, value] = splitAssignment(assignment);
+    std::pair<std::string, std::string> split;
+    try {
+      split = splitAssignment(assignment);
+    } catch (const std::invalid_argument& e) {
+      throw OptionError(option + ": " + e.what());
+    }
+    const auto& [key, value] = split;
     if (contains(seen, key))
-      throw std::invalid_argument(option + " " + key + " is given more than once");
+      throw OptionError(option + " " + key + " is given more than once");
     seen.push_back(key);
     std::vector<std::string> applies, ignores, ignoringEngines;
     for (const std::string& name : methods) {
@@ -114,7 +124,7 @@ void checkAssignments(const std::vector<std::string>& assignments,
     }
     const std::vector<std::string> settings = pbd::simulationSettingKeys();
     if (applies.empty() && !contains(settings, key))
-      throw std::invalid_argument(option + " " + assignment + ": " +
+      throw OptionError(option + " " + assignment + ": " +
                                   unknownSettingMessage(key, methods, registry));
     if (!ignores.empty()) {
       std::string honoured;
@@ -122,7 +132,7 @@ void checkAssignments(const std::vector<std::string>& assignments,
         honoured += (honoured.empty() ? "" : "; ") + engine + " honours " +
                     pbd::nameList(registry.engine(engine).honouredSettings) +
                     " and its methods' parameters";
-      throw std::invalid_argument(
+      throw OptionError(
           option + " " + assignment + ": " + key + " has no effect in " + pbd::nameList(ignores) +
           " (" + honoured + ")" +
           (applies.empty() ? std::string("")

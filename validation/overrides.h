@@ -6,6 +6,7 @@
 #pragma once
 
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -15,6 +16,13 @@
 #include "pbd/model/scene.h"
 
 namespace pbdval {
+
+/// A command-line value that names nothing known, or that a run would ignore or reject (`--set`,
+/// sweep `--param` and `--metric`): commands report it as bad usage (exit 2).
+class OptionError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
 
 /// Splits "key=value"; throws std::invalid_argument when there is no '=' or no key.
 std::pair<std::string, std::string> splitAssignment(const std::string& text);
@@ -37,13 +45,13 @@ bool assignmentApplies(const std::string& key, const MethodInfo& method, const E
 ///    accepted keys with a "did you mean"; a key that some of the methods would ignore is an error
 ///    naming them and the methods it applies to (restrict --engines or --methods to those);
 ///  - VALUE is accepted by the parameter's declaration or by the scene loader's checks.
-/// Throws std::invalid_argument with that message; `option` names the option ("--set").
+/// Throws OptionError with that message; `option` names the option ("--set").
 void checkAssignments(const std::vector<std::string>& assignments,
                       const std::vector<std::string>& methods, const EngineRegistry& registry,
                       const std::string& option = "--set");
 
 /// Checks one value of `key` for one method: as its parameter, else as a Simulation setting
-/// (with the loader's checks). Throws std::invalid_argument naming `origin` and the range.
+/// (with the loader's checks). Throws OptionError naming `origin` and the range.
 void checkAssignmentValue(const std::string& key, const std::string& value,
                           const MethodInfo& method, const std::string& origin);
 

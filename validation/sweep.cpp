@@ -259,23 +259,23 @@ void checkSweepNames(const SweepPlan& plan, bool explicitMethods, bool declared,
                      const EngineRegistry& registry) {
   const std::vector<std::string> metrics = metric::names();
   if (std::find(metrics.begin(), metrics.end(), plan.metric) == metrics.end())
-    throw std::invalid_argument(
+    throw OptionError(
         std::string(declared ? "Validation.sweeps[0].metric" : "--metric") + ": '" + plan.metric +
         "' is not a metric (metrics: " + pbd::nameList(metrics) + ")" +
         pbd::didYouMean(plan.metric, metrics));
   for (std::size_t i = 0; i < plan.methods.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
       if (plan.methods[i] == plan.methods[j])
-        throw std::invalid_argument("method " + plan.methods[i] + " is listed twice");
+        throw OptionError("method " + plan.methods[i] + " is listed twice");
   for (std::size_t i = 0; i < plan.parameters.size(); ++i) {
     const auto& [name, values] = plan.parameters[i];
     for (std::size_t j = 0; j < i; ++j)
       if (plan.parameters[j].first == name)
-        throw std::invalid_argument("--param " + name + " is given twice");
+        throw OptionError("--param " + name + " is given twice");
     for (std::size_t a = 0; a < values.size(); ++a)
       for (std::size_t b = 0; b < a; ++b)
         if (values[a] == values[b])
-          throw std::invalid_argument("--param " + name + ": the value " + values[a] +
+          throw OptionError("--param " + name + ": the value " + values[a] +
                                       " is listed twice (the same runs again)");
     std::vector<std::string> applies, ignores;
     for (const std::string& method : plan.methods) {
@@ -285,14 +285,14 @@ void checkSweepNames(const SweepPlan& plan, bool explicitMethods, bool declared,
     }
     const std::vector<std::string> settings = pbd::simulationSettingKeys();
     if (applies.empty() && std::find(settings.begin(), settings.end(), name) == settings.end())
-      throw std::invalid_argument("--param " + name + ": " +
+      throw OptionError("--param " + name + ": " +
                                   unknownSettingMessage(name, plan.methods, registry));
     if (applies.empty())
-      throw std::invalid_argument("--param " + name + ": has no effect in any method of the sweep (" +
+      throw OptionError("--param " + name + ": has no effect in any method of the sweep (" +
                                   pbd::nameList(ignores) +
                                   "; 'pbdval methods' lists what each engine honours)");
     if (explicitMethods && !ignores.empty())
-      throw std::invalid_argument("--param " + name + ": has no effect in " +
+      throw OptionError("--param " + name + ": has no effect in " +
                                   pbd::nameList(ignores) + " (it applies to " +
                                   pbd::nameList(applies) + "): leave them out of --methods");
   }
@@ -311,8 +311,8 @@ SweepPlan planSweep(const SweepOptions& options, const EngineRegistry& registry)
   plan.metric = options.metric;
   if (plan.parameters.empty()) {
     if (spec.sweeps.empty())
-      throw std::invalid_argument(options.caseFile +
-                                  ": no --param given and the case declares no Validation.sweeps");
+      throw OptionError(options.caseFile +
+                        ": no --param given and the case declares no Validation.sweeps");
     const SweepSpec& declared = spec.sweeps.front();
     for (const auto& [name, values] : declared.parameters) plan.parameters.emplace_back(name, values);
     if (plan.methods.empty()) plan.methods = declared.methods;
@@ -336,7 +336,7 @@ SweepPlan planSweep(const SweepOptions& options, const EngineRegistry& registry)
     for (const std::string& v : values) {
       const std::optional<double> h = pbd::parseReal(v);
       if (!h || *h <= 0)
-        throw std::invalid_argument("timeStepSize: expected positive numbers, got '" + v + "'");
+        throw OptionError("timeStepSize: expected positive numbers, got '" + v + "'");
       largestStep = std::max(largestStep, *h);
       smallestStep = std::min(smallestStep, *h);
       steps.push_back(*h);

@@ -128,6 +128,8 @@ Configured configure(const Registry& registry, const SceneHandle& scene, const s
   c.scene = *scene.scene;
   const MethodInfo& info = registry.engines.method(method);
   c.engine = &registry.engines.engine(info.engine);
+  // A parameter the engine ignores (subSteps for ODE) is refused, as `--set` is.
+  checkAssignments(assignmentsOf(parameters), {info.name}, registry.engines, "parameter");
   c.method = resolveMethod(info, applyAssignments(assignmentsOf(parameters), info, c.scene));
   return c;
 }

@@ -253,3 +253,12 @@ def test_no_output_may_overwrite_an_input_of_the_same_command(tmp_path: Path) ->
     expect_usage_error(pbdval_command(*gate, "--junit", str(tmp_path / "g"), "--markdown", str(tmp_path / "g")),
                        "are the same file")
     assert results_json.read_bytes() == results_bytes and baseline.read_bytes() == baseline_bytes
+
+
+def test_a_parameter_the_engine_ignores_is_refused_from_python_too() -> None:
+    scene = pbdval.load_scene(QUICK)
+    with pytest.raises(ValueError, match="subSteps has no effect in ode/ode.quickstep"):
+        pbdval.Simulation(scene, "ode.quickstep", {"subSteps": 10})
+    with pytest.raises(ValueError, match='did you mean "iterations"'):
+        pbdval.Simulation(scene, "ode.quickstep", {"iteration": 10})
+    pbdval.Simulation(scene, "ode.quickstep", {"iterations": 10, "timeStepSize": 0.005})  # honoured

@@ -152,6 +152,8 @@ TEST(DidYouMean, SuggestsTheClosestNameWithinTheLimit) {
   EXPECT_EQ(pbd::closestName("subStep", names), "subSteps");           // one deletion
   EXPECT_EQ(pbd::closestName("maxItertaions", names), "maxIterations");  // a transposition
   EXPECT_FALSE(pbd::closestName("dt", names));  // nothing within 2 edits
+  EXPECT_EQ(pbd::closestName("maxIt", names), "maxIterations");  // cut short
+  EXPECT_FALSE(pbd::closestName("ma", names));  // too short to be a beginning
   EXPECT_EQ(pbd::didYouMean("subStep", names), "; did you mean \"subSteps\"?");
   EXPECT_EQ(pbd::didYouMean("dt", names), "");
   EXPECT_EQ(pbd::editDistance("kitten", "sitting"), 3u);  // the textbook example

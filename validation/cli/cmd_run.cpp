@@ -115,6 +115,8 @@ int runCommand(const Context& context, const Arguments& arguments) {
   try {
     options.engines = args.list("engines");
     options.methods = args.list("methods");
+    checkNames(context.engines, "--engines", options.engines);
+    checkNames(context.engines, "--methods", options.methods);
     options.assignments = args.values("set");
     options.outFolder = withoutTrailingSlashes(args.value("out", "out"));
     options.writeTrajectories = !args.flags.count("no-trajectories");
@@ -152,6 +154,8 @@ int runCommand(const Context& context, const Arguments& arguments) {
     for (const std::string& file : caseFiles) inputs.push_back({"the case", file});
     checkOutputsAreNotInputs({{"--out", options.outFolder + "/results.json"}}, inputs);
   } catch (const UsageError& e) {
+    return parser.usageError(e.what());
+  } catch (const OptionError& e) {
     return parser.usageError(e.what());
   } catch (const std::exception& e) {
     return parser.inputError(e.what());

@@ -86,7 +86,9 @@ int simulateCommand(const Context& context, const Arguments& arguments) {
   RunLength length;
   try {
     engineName = args.value("engine", "pbd");
+    checkNames(context.engines, "--engine", {engineName});
     methodName = args.value("method", context.engines.defaultMethod(engineName));
+    checkNames(context.engines, "--method", {methodName});
     const MethodInfo& info = context.engines.method(methodName);
     if (info.engine != engineName)
       throw UsageError("method " + methodName + " belongs to engine " + info.engine + ", not " +
@@ -104,6 +106,10 @@ int simulateCommand(const Context& context, const Arguments& arguments) {
     length.sampleInterval = args.number("sample-interval", 0);
     for (const std::string& note : planSteps(length, double(scene.simulation.timeStepSize)).notes)
       if (!quiet) std::fprintf(stderr, "note: %s\n", note.c_str());
+  } catch (const UsageError& e) {
+    return parser.usageError(e.what());
+  } catch (const OptionError& e) {
+    return parser.usageError(e.what());
   } catch (const std::exception& e) {
     return parser.inputError(e.what());
   }

@@ -80,8 +80,7 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
       options.parameters.emplace_back(name, values);
     }
     options.methods = args.list("methods");
-    for (const std::string& m : options.methods)
-      context.engines.method(m);
+    checkNames(context.engines, "--methods", options.methods);
     options.metric = args.value("metric");
     const std::string reference = args.value("reference", "case");
     if (reference != "fine" && reference != "case")
@@ -104,6 +103,8 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
                              {{"the case", options.caseFile}});
   } catch (const UsageError& e) {
     return parser.usageError(e.what());
+  } catch (const OptionError& e) {
+    return parser.usageError(e.what());
   } catch (const std::exception& e) {
     return parser.inputError(e.what());
   }
@@ -125,6 +126,8 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
     plan = planSweep(options, context.engines);
     runs.requests = plan.requests;
   } catch (const UsageError& e) {
+    return parser.usageError(e.what());
+  } catch (const OptionError& e) {
     return parser.usageError(e.what());
   } catch (const std::exception& e) {
     return parser.inputError(e.what());
@@ -210,6 +213,8 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
   } catch (const RunInterrupted&) {
     throw;  // exit status 128 + the signal (main); the staging folder goes with `folder`
   } catch (const UsageError& e) {
+    return parser.usageError(e.what());
+  } catch (const OptionError& e) {
     return parser.usageError(e.what());
   } catch (const std::exception& e) {
     return parser.inputError(e.what());

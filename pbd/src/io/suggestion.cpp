@@ -41,7 +41,13 @@ std::optional<std::string> closestName(const std::string& name,
       best = candidate;
     }
   }
-  return best;
+  if (best || name.size() < 3) return best;
+  // A name cut short ("energy_drift" for "energy_drift_max"): the first that it begins.
+  for (const std::string& candidate : candidates)
+    if (candidate.size() > name.size() &&
+        editDistance(name, candidate.substr(0, name.size())) == 0)
+      return candidate;
+  return std::nullopt;
 }
 
 std::string didYouMean(const std::string& name, const std::vector<std::string>& candidates) {

@@ -15,8 +15,9 @@ namespace pbd {
 std::size_t editDistance(const std::string& a, const std::string& b);
 
 /// The candidate closest to `name` within an edit distance of max(2, |name| / 3) (so short
-/// names get typo-sized suggestions and long ones a little more), the first on ties; nullopt
-/// when none is that close. A candidate equal to `name` ignoring case is the closest.
+/// names get typo-sized suggestions and long ones a little more), the first on ties; else the
+/// first candidate that begins with `name` (a name cut short, 3 characters or more); nullopt
+/// when there is none. A candidate equal to `name` ignoring case is the closest.
 std::optional<std::string> closestName(const std::string& name,
                                        const std::vector<std::string>& candidates);
 
