@@ -114,6 +114,7 @@ void checkAssignments(const std::vector<std::string>& assignments,
     if (contains(seen, key))
       throw OptionError(option + " " + key + " is given more than once");
     seen.push_back(key);
+    if (methods.empty()) continue;  // no run to apply it to (every case unreadable)
     std::vector<std::string> applies, ignores, ignoringEngines;
     for (const std::string& name : methods) {
       const MethodInfo& info = registry.method(name);

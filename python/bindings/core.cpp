@@ -22,6 +22,7 @@
 
 #include "adapters/registry.h"
 #include "pbd/io/scene_loader.h"
+#include "pbd/io/suggestion.h"
 #include "pbdval/build_info.h"
 #include "validation/case_spec.h"
 #include "validation/engines/standard_engines.h"
@@ -660,6 +661,8 @@ PYBIND11_MODULE(_core, m) {
 
   m.def("_load_scene", &loadSceneFile, py::arg("path"), py::arg("strict"));
   m.def("_scene_summary", &sceneSummary);
+  // The command line's "did you mean" (pbd/io/suggestion.h), for the Python API's messages.
+  m.def("_did_you_mean", &pbd::didYouMean, py::arg("name"), py::arg("candidates"));
   m.def("_run_length", [](const Registry& r, const SceneHandle& h) {
     const pv::RunLength length = pv::caseRunLength(*h.scene, r.engines);
     return py::make_tuple(length.duration, length.sampleInterval);

@@ -262,3 +262,11 @@ def test_a_parameter_the_engine_ignores_is_refused_from_python_too() -> None:
     with pytest.raises(ValueError, match='did you mean "iterations"'):
         pbdval.Simulation(scene, "ode.quickstep", {"iteration": 10})
     pbdval.Simulation(scene, "ode.quickstep", {"iterations": 10, "timeStepSize": 0.005})  # honoured
+
+
+def test_the_python_api_suggests_names_with_the_command_lines_helper() -> None:
+    registry = pbdval.engines()
+    with pytest.raises(ValueError, match='unknown engine \'pdb\'.*did you mean "pbd"\\?'):
+        registry.engine("pdb")
+    with pytest.raises(ValueError, match='did you mean "ode.quickstep"\\?'):
+        registry.method("ode.quickstp")
