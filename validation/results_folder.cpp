@@ -181,6 +181,9 @@ std::optional<std::string> foreignResults(const std::string& manifestPath,
     return std::string("it is not a pbdval results file (") + e.what() + ")";
   }
   std::vector<RunKey> wanted = planned;
+  // The order of the --set assignments does not change a run (each key is given once).
+  for (std::vector<RunKey>* keys : {&held, &wanted})
+    for (RunKey& key : *keys) std::sort(key.assignments.begin(), key.assignments.end());
   std::sort(held.begin(), held.end());
   std::sort(wanted.begin(), wanted.end());
   if (held == wanted) return std::nullopt;

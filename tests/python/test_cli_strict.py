@@ -126,6 +126,7 @@ def test_unknown_engines_methods_and_options_get_a_did_you_mean(tmp_path: Path) 
     expect_usage_error(pbdval_command("simulate", QUICK, "--method", "ode.quickstp"),
                        "unknown method 'ode.quickstp'", 'did you mean "ode.quickstep"?')
     expect_usage_error(pbdval_command("run", QUICK, "--engine", "pbd"), 'did you mean "--engines"?')
+    expect_usage_error(pbdval_command("sweeep", QUICK), "unknown command 'sweeep'", 'did you mean "sweep"?')
     expect_usage_error(pbdval_command("simulate", QUICK, "--engine", "ode", "--set", "iteration=5"),
                        "unknown setting 'iteration'", 'did you mean "iterations"?')
 

@@ -122,6 +122,8 @@ TEST_F(ResultsFolderTest, ForeignResultsAreThoseOfAnotherSetOfRuns) {
   EXPECT_NE(fewer->find("b ode/ode.quickstep x=1 is not in this command's plan"), std::string::npos)
       << *fewer;
   EXPECT_TRUE(foreignResults(file, {a, RunKey{"b", "ode", "ode.quickstep", {"x=2"}}}));
+  write(file, R"({"runs": [{"case": "a", "engine": "pbd", "method": "pbd", "assignments": ["x=1", "y=2"]}]})");
+  EXPECT_FALSE(foreignResults(file, {RunKey{"a", "pbd", "pbd", {"y=2", "x=1"}}}));  // --set order
   write(file, "not json");
   const auto unreadable = foreignResults(file, {a});
   ASSERT_TRUE(unreadable);

@@ -5,6 +5,7 @@
 #include <exception>
 #include <iostream>
 
+#include "pbd/io/suggestion.h"
 #include "pbd/math/types.h"
 #include "pbdval/build_info.h"
 #include "validation/cli/commands.h"
@@ -97,6 +98,9 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  std::fprintf(stderr, "pbdval: unknown command '%s' (see 'pbdval --help')\n", name.c_str());
+  std::vector<std::string> names;
+  for (const auto& command : pbdval::cli::commands()) names.push_back(command.name);
+  std::fprintf(stderr, "pbdval: unknown command '%s'%s (see 'pbdval --help')\n", name.c_str(),
+               pbd::didYouMean(name, names).c_str());
   return 2;
 }
