@@ -99,7 +99,8 @@ Method resolveMethod(const MethodInfo& info, const std::map<std::string, std::st
     const ParameterSpec* spec = info.find(key);
     if (!spec) {
       std::vector<std::string> valid;
-      for (const ParameterSpec& p : info.parameters) valid.push_back(p.name);
+      for (const ParameterSpec& p : info.parameters)
+        valid.push_back(p.name);
       throw std::invalid_argument("method " + info.name + " has no parameter '" + key +
                                   "' (parameters: " + pbd::nameList(valid) + ")" +
                                   pbd::didYouMean(key, valid));

@@ -6,10 +6,10 @@
 #include <unistd.h>
 
 #include <array>
-#include <optional>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <streambuf>
 
@@ -322,14 +322,14 @@ void checkOutputsAreNotInputs(const std::vector<NamedPath>& outputs,
       const std::optional<FileIdentity> other = identityOf(input.second);
       if (other && *other == *id)
         throw std::invalid_argument(
-            output.first + " " + output.second + " is " + input.first + " (" + input.second +
-            ")" + (output.second == input.second ? "" : " under another name") +
+            output.first + " " + output.second + " is " + input.first + " (" + input.second + ")" +
+            (output.second == input.second ? "" : " under another name") +
             ": writing it would destroy an input of this command; give another file");
     }
     for (const auto& [earlier, identity] : seen)
       if (identity == *id)
-        throw std::invalid_argument(output.first + " " + output.second + " and " +
-                                    earlier->first + " " + earlier->second +
+        throw std::invalid_argument(output.first + " " + output.second + " and " + earlier->first +
+                                    " " + earlier->second +
                                     " are the same file: one would overwrite the other; give "
                                     "two different files");
     seen.emplace_back(&output, *id);

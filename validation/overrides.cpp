@@ -38,7 +38,8 @@ std::map<std::string, std::string> applyAssignments(const std::vector<std::strin
       }
     } else {
       std::vector<std::string> known;
-      for (const ParameterSpec& p : method.parameters) known.push_back(p.name);
+      for (const ParameterSpec& p : method.parameters)
+        known.push_back(p.name);
       std::vector<std::string> candidates = known;
       candidates.insert(candidates.end(), settings.begin(), settings.end());
       throw std::invalid_argument("unknown setting '" + key + "': not a parameter of method " +
@@ -62,7 +63,8 @@ std::string unknownSettingMessage(const std::string& key, const std::vector<std:
   for (const std::string& name : methods) {
     const MethodInfo& info = registry.method(name);
     std::vector<std::string> own;
-    for (const ParameterSpec& p : info.parameters) own.push_back(p.name);
+    for (const ParameterSpec& p : info.parameters)
+      own.push_back(p.name);
     parameters += (parameters.empty() ? "" : "; ") + name + ": " + pbd::nameList(own);
     candidates.insert(candidates.end(), own.begin(), own.end());
     if (!contains(engines, info.engine)) engines.push_back(info.engine);
@@ -76,8 +78,8 @@ std::string unknownSettingMessage(const std::string& key, const std::vector<std:
   }
   for (const std::string& k : pbd::simulationSettingKeys())
     if (!contains(candidates, k)) candidates.push_back(k);
-  return "unknown setting '" + key + "' (method parameters: " +
-         (parameters.empty() ? std::string("none") : parameters) +
+  return "unknown setting '" + key +
+         "' (method parameters: " + (parameters.empty() ? std::string("none") : parameters) +
          "; Simulation settings honoured: " + honoured + ")" + pbd::didYouMean(key, candidates);
 }
 
@@ -111,8 +113,7 @@ void checkAssignments(const std::vector<std::string>& assignments,
       throw OptionError(option + ": " + e.what());
     }
     const auto& [key, value] = split;
-    if (contains(seen, key))
-      throw OptionError(option + " " + key + " is given more than once");
+    if (contains(seen, key)) throw OptionError(option + " " + key + " is given more than once");
     seen.push_back(key);
     if (methods.empty()) continue;  // no run to apply it to (every case unreadable)
     std::vector<std::string> applies, ignores, ignoringEngines;
@@ -121,24 +122,24 @@ void checkAssignments(const std::vector<std::string>& assignments,
       const EngineEntry& engine = registry.engine(info.engine);
       const bool applied = assignmentApplies(key, info, engine);
       (applied ? applies : ignores).push_back(info.engine + "/" + name);
-      if (!applied && !contains(ignoringEngines, info.engine)) ignoringEngines.push_back(info.engine);
+      if (!applied && !contains(ignoringEngines, info.engine))
+        ignoringEngines.push_back(info.engine);
     }
     const std::vector<std::string> settings = pbd::simulationSettingKeys();
     if (applies.empty() && !contains(settings, key))
       throw OptionError(option + " " + assignment + ": " +
-                                  unknownSettingMessage(key, methods, registry));
+                        unknownSettingMessage(key, methods, registry));
     if (!ignores.empty()) {
       std::string honoured;
       for (const std::string& engine : ignoringEngines)
         honoured += (honoured.empty() ? "" : "; ") + engine + " honours " +
                     pbd::nameList(registry.engine(engine).honouredSettings) +
                     " and its methods' parameters";
-      throw OptionError(
-          option + " " + assignment + ": " + key + " has no effect in " + pbd::nameList(ignores) +
-          " (" + honoured + ")" +
-          (applies.empty() ? std::string("")
-                           : "; it applies to " + pbd::nameList(applies) +
-                                 ": restrict --engines or --methods to those runs"));
+      throw OptionError(option + " " + assignment + ": " + key + " has no effect in " +
+                        pbd::nameList(ignores) + " (" + honoured + ")" +
+                        (applies.empty() ? std::string("")
+                                         : "; it applies to " + pbd::nameList(applies) +
+                                               ": restrict --engines or --methods to those runs"));
     }
     for (const std::string& name : methods)
       checkAssignmentValue(key, value, registry.method(name), option + " " + assignment);

@@ -53,7 +53,8 @@ std::string holderOf(int descriptor) {
 ResultsFolder::ResultsFolder(std::string folder, const std::string& command)
     : folder_(std::move(folder)) {
   if (folder_.empty()) fail("(empty path)", "expected a folder name");
-  while (folder_.size() > 1 && folder_.back() == '/') folder_.pop_back();
+  while (folder_.size() > 1 && folder_.back() == '/')
+    folder_.pop_back();
   // The folders this command creates, so that an aborted command removes them again.
   for (fs::path p = folder_; !p.empty() && !exists(p.string()); p = p.parent_path()) {
     created_.insert(created_.begin(), p.string());
@@ -64,7 +65,8 @@ ResultsFolder::ResultsFolder(std::string folder, const std::string& command)
   lock_ = ::open(lockPath.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
   if (lock_ < 0) {
     const std::string reason = std::strerror(errno);
-    for (auto it = created_.rbegin(); it != created_.rend(); ++it) ::rmdir(it->c_str());
+    for (auto it = created_.rbegin(); it != created_.rend(); ++it)
+      ::rmdir(it->c_str());
     fail(folder_, "cannot create files in this folder (" + reason + ")");
   }
   if (::flock(lock_, LOCK_EX | LOCK_NB) != 0) {
@@ -100,7 +102,8 @@ ResultsFolder::~ResultsFolder() {
   if (!committed_ && !created_.empty()) {
     // Nothing was written: leave no folder behind that this command made.
     ::unlink((folder_ + "/" + kLockName).c_str());
-    for (auto it = created_.rbegin(); it != created_.rend(); ++it) ::rmdir(it->c_str());
+    for (auto it = created_.rbegin(); it != created_.rend(); ++it)
+      ::rmdir(it->c_str());
   }
   if (lock_ >= 0) ::close(lock_);
 }
@@ -116,8 +119,8 @@ void ResultsFolder::commit(const std::vector<std::string>& entries, const std::s
   const std::string oldManifest = folder_ + "/" + manifest;
   // 1. The previous manifest goes first: from here on nothing in the folder gates as it.
   if (exists(oldManifest) && ::unlink(oldManifest.c_str()) != 0)
-    fail(oldManifest, std::string("cannot remove the previous results (") + std::strerror(errno) +
-                          ")");
+    fail(oldManifest,
+         std::string("cannot remove the previous results (") + std::strerror(errno) + ")");
   // 2. The other entries: the previous ones moved into the staging folder (removed with it),
   //    the staged ones into place.
   for (const std::string& entry : entries) {
@@ -127,18 +130,18 @@ void ResultsFolder::commit(const std::vector<std::string>& entries, const std::s
     if (exists(target)) {
       const std::string replaced = staging_ + "/.replaced-" + entry;
       if (::rename(target.c_str(), replaced.c_str()) != 0)
-        fail(target, std::string("cannot move the previous files aside (") +
-                         std::strerror(errno) + ")");
+        fail(target,
+             std::string("cannot move the previous files aside (") + std::strerror(errno) + ")");
     }
     if (exists(staged) && ::rename(staged.c_str(), target.c_str()) != 0)
-      fail(target, std::string("cannot move the new files into place (") + std::strerror(errno) +
-                       ")");
+      fail(target,
+           std::string("cannot move the new files into place (") + std::strerror(errno) + ")");
   }
   // 3. The new manifest last.
   const std::string stagedManifest = staging_ + "/" + manifest;
   if (::rename(stagedManifest.c_str(), oldManifest.c_str()) != 0)
-    fail(oldManifest, std::string("cannot move the new results into place (") +
-                          std::strerror(errno) + ")");
+    fail(oldManifest,
+         std::string("cannot move the new results into place (") + std::strerror(errno) + ")");
   committed_ = true;
   std::error_code error;
   fs::remove_all(staging_, error);
@@ -156,7 +159,8 @@ bool RunKey::operator<(const RunKey& other) const {
 
 std::string RunKey::text() const {
   std::string t = caseName + " " + engine + "/" + method;
-  for (const std::string& a : assignments) t += " " + a;
+  for (const std::string& a : assignments)
+    t += " " + a;
   return t;
 }
 
@@ -170,9 +174,11 @@ std::optional<std::string> foreignResults(const std::string& manifestPath,
     const nlohmann::json document = nlohmann::json::parse(in);
     std::vector<const nlohmann::json*> runs;
     if (document.contains("runs"))
-      for (const nlohmann::json& r : document.at("runs")) runs.push_back(&r);
+      for (const nlohmann::json& r : document.at("runs"))
+        runs.push_back(&r);
     else
-      for (const nlohmann::json& p : document.at("points")) runs.push_back(&p.at("run"));
+      for (const nlohmann::json& p : document.at("points"))
+        runs.push_back(&p.at("run"));
     for (const nlohmann::json* r : runs)
       held.push_back({r->at("case").get<std::string>(), r->at("engine").get<std::string>(),
                       r->at("method").get<std::string>(),
@@ -183,7 +189,8 @@ std::optional<std::string> foreignResults(const std::string& manifestPath,
   std::vector<RunKey> wanted = planned;
   // The order of the --set assignments does not change a run (each key is given once).
   for (std::vector<RunKey>* keys : {&held, &wanted})
-    for (RunKey& key : *keys) std::sort(key.assignments.begin(), key.assignments.end());
+    for (RunKey& key : *keys)
+      std::sort(key.assignments.begin(), key.assignments.end());
   std::sort(held.begin(), held.end());
   std::sort(wanted.begin(), wanted.end());
   if (held == wanted) return std::nullopt;

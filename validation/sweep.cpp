@@ -259,10 +259,9 @@ void checkSweepNames(const SweepPlan& plan, bool explicitMethods, bool declared,
                      const EngineRegistry& registry) {
   const std::vector<std::string> metrics = metric::names();
   if (std::find(metrics.begin(), metrics.end(), plan.metric) == metrics.end())
-    throw OptionError(
-        std::string(declared ? "Validation.sweeps[0].metric" : "--metric") + ": '" + plan.metric +
-        "' is not a metric (metrics: " + pbd::nameList(metrics) + ")" +
-        pbd::didYouMean(plan.metric, metrics));
+    throw OptionError(std::string(declared ? "Validation.sweeps[0].metric" : "--metric") + ": '" +
+                      plan.metric + "' is not a metric (metrics: " + pbd::nameList(metrics) + ")" +
+                      pbd::didYouMean(plan.metric, metrics));
   for (std::size_t i = 0; i < plan.methods.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
       if (plan.methods[i] == plan.methods[j])
@@ -276,7 +275,7 @@ void checkSweepNames(const SweepPlan& plan, bool explicitMethods, bool declared,
       for (std::size_t b = 0; b < a; ++b)
         if (values[a] == values[b])
           throw OptionError("--param " + name + ": the value " + values[a] +
-                                      " is listed twice (the same runs again)");
+                            " is listed twice (the same runs again)");
     std::vector<std::string> applies, ignores;
     for (const std::string& method : plan.methods) {
       const MethodInfo& info = registry.method(method);
@@ -286,15 +285,15 @@ void checkSweepNames(const SweepPlan& plan, bool explicitMethods, bool declared,
     const std::vector<std::string> settings = pbd::simulationSettingKeys();
     if (applies.empty() && std::find(settings.begin(), settings.end(), name) == settings.end())
       throw OptionError("--param " + name + ": " +
-                                  unknownSettingMessage(name, plan.methods, registry));
+                        unknownSettingMessage(name, plan.methods, registry));
     if (applies.empty())
       throw OptionError("--param " + name + ": has no effect in any method of the sweep (" +
-                                  pbd::nameList(ignores) +
-                                  "; 'pbdval methods' lists what each engine honours)");
+                        pbd::nameList(ignores) +
+                        "; 'pbdval methods' lists what each engine honours)");
     if (explicitMethods && !ignores.empty())
-      throw OptionError("--param " + name + ": has no effect in " +
-                                  pbd::nameList(ignores) + " (it applies to " +
-                                  pbd::nameList(applies) + "): leave them out of --methods");
+      throw OptionError("--param " + name + ": has no effect in " + pbd::nameList(ignores) +
+                        " (it applies to " + pbd::nameList(applies) +
+                        "): leave them out of --methods");
   }
 }
 
@@ -395,7 +394,8 @@ SweepResult collectSweep(const SweepPlan& plan, const std::vector<RunRecord>& re
     SweepPoint& p = result.points[k];
     p.record = records.at(k);
     const auto value = p.record.metrics.values.find(plan.metric);
-    const bool measured = p.record.status == RunStatus::Ok && value != p.record.metrics.values.end();
+    const bool measured =
+        p.record.status == RunStatus::Ok && value != p.record.metrics.values.end();
     p.metric = measured ? value->second : std::nan("");
     const auto wall = p.record.metrics.values.find("wall_time_s");
     p.wallTime = wall == p.record.metrics.values.end() ? 0 : wall->second;

@@ -122,7 +122,9 @@ TEST_F(ResultsFolderTest, ForeignResultsAreThoseOfAnotherSetOfRuns) {
   EXPECT_NE(fewer->find("b ode/ode.quickstep x=1 is not in this command's plan"), std::string::npos)
       << *fewer;
   EXPECT_TRUE(foreignResults(file, {a, RunKey{"b", "ode", "ode.quickstep", {"x=2"}}}));
-  write(file, R"({"runs": [{"case": "a", "engine": "pbd", "method": "pbd", "assignments": ["x=1", "y=2"]}]})");
+  write(
+      file,
+      R"({"runs": [{"case": "a", "engine": "pbd", "method": "pbd", "assignments": ["x=1", "y=2"]}]})");
   EXPECT_FALSE(foreignResults(file, {RunKey{"a", "pbd", "pbd", {"y=2", "x=1"}}}));  // --set order
   write(file, "not json");
   const auto unreadable = foreignResults(file, {a});
@@ -135,26 +137,29 @@ TEST_F(ResultsFolderTest, AnOutputIsComparedWithTheInputsByDeviceAndInode) {
   write(scene, "{}");
   ASSERT_EQ(::link(scene.c_str(), path("hard.json").c_str()), 0);
   fs::create_symlink(scene, path("soft.json"));
-  for (const std::string& name : {scene, path("hard.json"), path("soft.json"), path("./x/../scene.json")})
+  for (const std::string& name :
+       {scene, path("hard.json"), path("soft.json"), path("./x/../scene.json")})
     EXPECT_THROW(checkOutputsAreNotInputs({{"--out", name}}, {{"the scene", scene}}),
                  std::invalid_argument)
         << name;
   EXPECT_NO_THROW(checkOutputsAreNotInputs({{"--out", path("other.csv")}}, {{"the scene", scene}}));
   // Two outputs that do not exist yet but name one file.
-  EXPECT_THROW(checkOutputsAreNotInputs({{"--out", path("a.csv")}, {"--particles", path("./a.csv")}}, {}),
-               std::invalid_argument);
+  EXPECT_THROW(
+      checkOutputsAreNotInputs({{"--out", path("a.csv")}, {"--particles", path("./a.csv")}}, {}),
+      std::invalid_argument);
   // Devices are written in place, never replaced: two outputs may both be /dev/null.
-  EXPECT_NO_THROW(checkOutputsAreNotInputs({{"--out", "/dev/null"}, {"--particles", "/dev/null"}}, {}));
+  EXPECT_NO_THROW(
+      checkOutputsAreNotInputs({{"--out", "/dev/null"}, {"--particles", "/dev/null"}}, {}));
   EXPECT_NO_THROW(checkOutputsAreNotInputs({{"--out", ""}}, {{"the scene", scene}}));
 }
 
 TEST(DidYouMean, SuggestsTheClosestNameWithinTheLimit) {
   const std::vector<std::string> names = {"timeStepSize", "subSteps", "maxIterations"};
-  EXPECT_EQ(pbd::closestName("timeStepsize", names), "timeStepSize");  // case only
-  EXPECT_EQ(pbd::closestName("subStep", names), "subSteps");           // one deletion
+  EXPECT_EQ(pbd::closestName("timeStepsize", names), "timeStepSize");    // case only
+  EXPECT_EQ(pbd::closestName("subStep", names), "subSteps");             // one deletion
   EXPECT_EQ(pbd::closestName("maxItertaions", names), "maxIterations");  // a transposition
-  EXPECT_FALSE(pbd::closestName("dt", names));  // nothing within 2 edits
-  EXPECT_EQ(pbd::closestName("maxIt", names), "maxIterations");  // cut short
+  EXPECT_FALSE(pbd::closestName("dt", names));                           // nothing within 2 edits
+  EXPECT_EQ(pbd::closestName("maxIt", names), "maxIterations");          // cut short
   EXPECT_FALSE(pbd::closestName("ma", names));  // too short to be a beginning
   EXPECT_EQ(pbd::didYouMean("subStep", names), "; did you mean \"subSteps\"?");
   EXPECT_EQ(pbd::didYouMean("dt", names), "");
@@ -174,12 +179,14 @@ TEST(CheckAssignments, AKeyOnlySomeRunsHonourIsRefusedNamingThem) {
     EXPECT_NE(message.find("it applies to pbd/pbd"), std::string::npos) << message;
   }
   EXPECT_THROW(checkAssignments({"subSteps=0"}, {"pbd"}, engines), std::invalid_argument);
-  EXPECT_THROW(checkAssignments({"subSteps=2", "subSteps=3"}, {"pbd"}, engines), std::invalid_argument);
+  EXPECT_THROW(checkAssignments({"subSteps=2", "subSteps=3"}, {"pbd"}, engines),
+               std::invalid_argument);
   try {
     checkAssignments({"iteration=5"}, {"ode.quickstep"}, engines);
     FAIL() << "an unknown key accepted";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("did you mean \"iterations\"?"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("did you mean \"iterations\"?"), std::string::npos)
+        << e.what();
   }
 }
 

@@ -48,17 +48,6 @@ std::int64_t ParsedArgs::integerIn(const std::string& name, std::int64_t fallbac
   return *v;
 }
 
-double ParsedArgs::numberIn(const std::string& name, double fallback, double minimum,
-                            double maximum) const {
-  if (!options.count(name)) return fallback;
-  const std::string text = value(name);
-  const std::optional<double> v = pbd::parseReal(text);
-  if (!v || *v < minimum || *v > maximum)
-    throw UsageError("--" + name + ": expected a number from " + pbd::formatReal(minimum) +
-                     " to " + pbd::formatReal(maximum) + ", got '" + text + "'");
-  return *v;
-}
-
 std::vector<std::string> ParsedArgs::list(const std::string& name) const {
   std::vector<std::string> items;
   std::stringstream in(value(name));
@@ -128,7 +117,8 @@ ParsedArgs ArgParser::parse(const std::vector<std::string>& args) const {
       const Option* option = find(name);
       if (!option) {
         std::vector<std::string> known;
-        for (const Option& o : options_) known.push_back("--" + o.name);
+        for (const Option& o : options_)
+          known.push_back("--" + o.name);
         throw UsageError("unknown option '--" + name + "'" + pbd::didYouMean("--" + name, known));
       }
       if (option->isFlag) {

@@ -34,8 +34,6 @@ struct ParsedArgs {
   /// "--NAME: expected an integer from MIN to MAX, got 'TEXT'".
   std::int64_t integerIn(const std::string& name, std::int64_t fallback, std::int64_t minimum,
                          std::int64_t maximum) const;
-  /// A number option in [minimum, maximum]; throws UsageError naming the option and the range.
-  double numberIn(const std::string& name, double fallback, double minimum, double maximum) const;
   /// A comma-separated list option ("pbd,ode"); throws UsageError when an item is listed twice
   /// (a repeated engine or method would make the same runs twice).
   std::vector<std::string> list(const std::string& name) const;

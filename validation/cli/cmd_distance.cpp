@@ -42,7 +42,8 @@ int distanceCommand(const Context& /*context*/, const Arguments& arguments) {
       shapes = shapesOfScenes(scenes);
     }
     std::vector<NamedPath> scenes;
-    for (const std::string& path : args.positionals) scenes.push_back({"the scene", path});
+    for (const std::string& path : args.positionals)
+      scenes.push_back({"the scene", path});
     checkOutputsAreNotInputs({{"--json", args.value("json")}}, scenes);
     if (args.has("json")) checkOutputFile(args.value("json"));  // before the study
   } catch (const UsageError& e) {

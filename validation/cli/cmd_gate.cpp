@@ -80,9 +80,10 @@ int gateCommand(const Context& context, const Arguments& arguments) {
     if (args.has("cases") && splitList(args.value("cases")).empty())
       return parser.usageError("--cases: expected a comma-separated list of case names");
     // The reports must not replace what they report on, nor each other.
-    checkOutputsAreNotInputs({{"--junit", args.value("junit")}, {"--markdown", args.value("markdown")}},
-                             {{"the baseline", args.value("baseline")},
-                              {"the results", resultsPathOf(args.value("results"))}});
+    checkOutputsAreNotInputs(
+        {{"--junit", args.value("junit")}, {"--markdown", args.value("markdown")}},
+        {{"the baseline", args.value("baseline")},
+         {"the results", resultsPathOf(args.value("results"))}});
     Baseline baseline = readBaseline(args.value("baseline"));
     results = readResults(resultsPathOf(args.value("results")));
     if (args.has("cases")) restrictToCases(splitList(args.value("cases")), baseline, results);

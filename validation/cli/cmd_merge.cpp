@@ -61,7 +61,8 @@ int mergeCommand(const Context& /*context*/, const Arguments& arguments) {
   if (const auto exit = parser.parseOrExit(arguments, args)) return *exit;
   if (!args.has("out")) return parser.usageError("--out is required");
   std::string out = args.value("out");
-  while (out.size() > 1 && out.back() == '/') out.pop_back();
+  while (out.size() > 1 && out.back() == '/')
+    out.pop_back();
   std::ostringstream command;
   command << "pbdval merge";
   for (const std::string& a : arguments)
@@ -80,7 +81,8 @@ int mergeCommand(const Context& /*context*/, const Arguments& arguments) {
     ResultsFolder folder(out, "pbdval merge");
     std::vector<RunKey> planned;
     for (const RunRecord& r : merged.runs)
-      planned.push_back({r.request.caseName, r.request.engine, r.request.method, r.request.assignments});
+      planned.push_back(
+          {r.request.caseName, r.request.engine, r.request.method, r.request.assignments});
     if (const auto why = foreignResults(out + "/results.json", planned);
         why && !args.flags.count("force"))
       return parser.inputError(out + "/results.json: " + *why +

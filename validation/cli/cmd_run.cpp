@@ -90,7 +90,8 @@ std::string rebase(const std::string& path, const std::string& from, const std::
 }
 
 std::string withoutTrailingSlashes(std::string folder) {
-  while (folder.size() > 1 && folder.back() == '/') folder.pop_back();
+  while (folder.size() > 1 && folder.back() == '/')
+    folder.pop_back();
   return folder;
 }
 
@@ -125,8 +126,8 @@ int runCommand(const Context& context, const Arguments& arguments) {
       throw UsageError("--trajectory-format: expected csv or npy, got '" + format + "'");
     options.trajectoryFormat = format == "npy" ? TrajectoryFormat::Npy : TrajectoryFormat::Csv;
     options.strictScene = args.flags.count("strict") > 0;
-    jobs = int(args.integerIn("jobs", std::max(1u, std::thread::hardware_concurrency()), 1,
-                              kMaxJobs));
+    jobs =
+        int(args.integerIn("jobs", std::max(1u, std::thread::hardware_concurrency()), 1, kMaxJobs));
     timeout = args.number("timeout", 600);
     if (timeout < 0) throw UsageError("--timeout: expected seconds ≥ 0");
     const std::vector<std::string> paths =
@@ -151,7 +152,8 @@ int runCommand(const Context& context, const Arguments& arguments) {
       shard = info;
     }
     std::vector<NamedPath> inputs;
-    for (const std::string& file : caseFiles) inputs.push_back({"the case", file});
+    for (const std::string& file : caseFiles)
+      inputs.push_back({"the case", file});
     checkOutputsAreNotInputs({{"--out", options.outFolder + "/results.json"}}, inputs);
   } catch (const UsageError& e) {
     return parser.usageError(e.what());
@@ -235,7 +237,8 @@ int runCommand(const Context& context, const Arguments& arguments) {
         });
   if (terminal) std::fprintf(stderr, "\r\033[K");
   std::filesystem::remove_all(folder->staging() + "/.scratch");
-  for (RunRecord& r : records) r.request.trajectoryPath = folder->finalPath(r.request.trajectoryPath);
+  for (RunRecord& r : records)
+    r.request.trajectoryPath = folder->finalPath(r.request.trajectoryPath);
 
   for (const auto& [name, entry] : plan.cases)
     results.cases[name] = {entry.first, entry.second.description, entry.second.checks,

@@ -87,20 +87,23 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
       throw UsageError("--reference: expected fine or case, got '" + reference + "'");
     options.referenceMode = reference == "fine" ? "fine" : "";
     if (args.has("fine-divisor") && reference != "fine")
-      throw UsageError("--fine-divisor sets the step of --reference fine; without it there is no "
-                       "fine reference");
+      throw UsageError(
+          "--fine-divisor sets the step of --reference fine; without it there is no "
+          "fine reference");
     // Above 1024 the reference run costs more than a thousand of the finest swept runs, and its
     // step nears round-off.
     options.fineDivisor = int(args.integerIn("fine-divisor", 16, 2, 1024));
-    options.jobs = int(args.integerIn("jobs", std::max(1u, std::thread::hardware_concurrency()),
-                                      1, 1024));
+    options.jobs =
+        int(args.integerIn("jobs", std::max(1u, std::thread::hardware_concurrency()), 1, 1024));
     options.timeout = args.number("timeout", 600);
     if (options.timeout < 0) throw UsageError("--timeout: expected seconds ≥ 0");
     out = args.value("out", "out");
-    while (out.size() > 1 && out.back() == '/') out.pop_back();
+    while (out.size() > 1 && out.back() == '/')
+      out.pop_back();
     if (wantsDask(args)) return runOnDask("sweep", arguments);
-    checkOutputsAreNotInputs({{"--out", out + (args.has("shard") ? "/results.json" : "/sweep.json")}},
-                             {{"the case", options.caseFile}});
+    checkOutputsAreNotInputs(
+        {{"--out", out + (args.has("shard") ? "/results.json" : "/sweep.json")}},
+        {{"the case", options.caseFile}});
   } catch (const UsageError& e) {
     return parser.usageError(e.what());
   } catch (const OptionError& e) {

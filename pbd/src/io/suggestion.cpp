@@ -44,8 +44,7 @@ std::optional<std::string> closestName(const std::string& name,
   if (best || name.size() < 3) return best;
   // A name cut short ("energy_drift" for "energy_drift_max"): the first that it begins.
   for (const std::string& candidate : candidates)
-    if (candidate.size() > name.size() &&
-        editDistance(name, candidate.substr(0, name.size())) == 0)
+    if (candidate.size() > name.size() && editDistance(name, candidate.substr(0, name.size())) == 0)
       return candidate;
   return std::nullopt;
 }
