@@ -99,6 +99,19 @@ struct RunFacts {
   /// Overlap (m) the engine lets resting contacts keep by design (Bullet's linear slop); the
   /// penetration metric subtracts it. 0 when contacts are meant to close exactly.
   double contactMargin = 0;
+  /// Relative tolerance of the first sample against the Scene's initial state (the boundary
+  /// check of validation/sanity.h): 1e-9 unless the engine states why its read-back differs.
+  double initialStateTolerance = 1e-9;
+  /// The engine's generalised coordinates cannot hold a velocity that violates a joint: it
+  /// starts from the scene's velocities projected onto the joints' free motions (MuJoCo), so
+  /// the first sample's velocities are not compared with the scene's (positions still are).
+  bool initialVelocitiesProjected = false;
+  /// The largest speed (m/s) the method reports for a body that holds still, with its reason:
+  /// a velocity pass that changes velocities after the positions are set (the seed's PBD step)
+  /// leaves a body resting in contact with a velocity its positions do not show. 0: a body at
+  /// rest reports rest (validation/sanity.h, check velocity_at_rest).
+  double restVelocityAllowance = 0;
+  std::string restVelocityReason;
 };
 
 /// How long to run and how often to sample (both in seconds of simulated time).
@@ -118,6 +131,11 @@ inline constexpr RunStatus kRunStatuses[] = {RunStatus::Ok, RunStatus::Suspect,
                                              RunStatus::Unsupported, RunStatus::Diverged,
                                              RunStatus::Timeout, RunStatus::Error};
 const char* runStatusName(RunStatus status);
+/// Whether a run of this status completed and was measured (its metrics are data): ok and
+/// suspect. Summaries, sweeps and reports show the metrics of exactly these.
+inline bool isMeasured(RunStatus status) {
+  return status == RunStatus::Ok || status == RunStatus::Suspect;
+}
 /// The status named `name` ("ok", "suspect", ...), or nullopt.
 std::optional<RunStatus> runStatusNamed(std::string_view name);
 /// "\"ok\", \"suspect\", ..." for error messages.

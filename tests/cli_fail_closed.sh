@@ -107,13 +107,62 @@ json.dump(dup, open(f"{work}/duplicate.json", "w"))
 null = json.loads(json.dumps(results))
 null["runs"][0]["metrics"]["energy_drift_max"] = None
 json.dump(null, open(f"{work}/null_metric.json", "w"))
+# Issue 25: a metric 100x worse with a tolerance of 1e9 written into the results.
+tampered = json.loads(json.dumps(results))
+tampered["runs"][0]["metrics"]["energy_drift_max"] *= 100
+for case in tampered["cases"].values():
+    case["tolerances"] = {"energy_drift_max": 1e9}
+json.dump(tampered, open(f"{work}/tampered.json", "w"))
+empty = dict(results); empty["runs"] = []
+json.dump(empty, open(f"{work}/empty_results.json", "w"))
+other = json.loads(json.dumps(results)); other["metadata"]["planDigest"] = "0123456789abcdef"
+json.dump(other, open(f"{work}/other_plan.json", "w"))
+old = dict(base); old["schemaVersion"] = 1; del old["cases"]
+json.dump(old, open(f"{work}/v1_baseline.json", "w"))
 PY
 expect 2 "runs: expected a non-empty array" -- \
   "$pbdval" gate --baseline "$work/empty_baseline.json" --results "$work/run"
 expect 2 'missing required key "cases"' -- \
   "$pbdval" gate --baseline "$work/baseline.json" --results "$work/no_cases.json"
-expect 1 "appears more than once" -- \
+expect 2 "runs were lost, added, reordered or edited" -- \
   "$pbdval" gate --baseline "$work/baseline.json" --results "$work/duplicate.json"
+expect 1 "pbdval gate: FAILED" -- \
+  "$pbdval" gate --baseline "$work/baseline.json" --results "$work/tampered.json"
+expect 2 "pbdval baseline --results out --out $work/v1_baseline.json" -- \
+  "$pbdval" gate --baseline "$work/v1_baseline.json" --results "$work/run"
+# pbdval baseline refuses what the gate would refuse, and results that would pass broken.
+expect 2 "runs: no runs" -- \
+  "$pbdval" baseline --results "$work/empty_results.json" --out "$work/refused.json"
+expect 2 "runs were lost, added, reordered or edited" -- \
+  "$pbdval" baseline --results "$work/duplicate.json" --out "$work/refused.json"
+expect 2 "the runs listed are not those of the plan" -- \
+  "$pbdval" baseline --results "$work/other_plan.json" --out "$work/refused.json"
+"$pbdval" run "$scene" --engines pbd --shard 1/1 --fail-with lost --out "$work/lost" --quiet >/dev/null
+expect 2 "no run is ok (2 error)" -- \
+  "$pbdval" baseline --results "$work/lost" --out "$work/refused.json"
+[[ ! -e "$work/refused.json" ]] || fail "a refused baseline was written"
+# A baseline of another plan (here: only pbd.xpbd) does not silently replace one.
+cp "$work/baseline.json" "$work/replaced.json"
+"$pbdval" run "$scene" --methods pbd.xpbd --out "$work/xpbd" --no-trajectories --quiet >/dev/null
+expect 2 "replaced.json was made from another plan" -- \
+  "$pbdval" baseline --results "$work/xpbd" --out "$work/replaced.json"
+expect 0 "pbdval baseline: 1 runs of 1 cases" -- \
+  "$pbdval" baseline --results "$work/xpbd" --out "$work/replaced.json" --new-plan
+# A case file edited since the baseline: refused by name, unless re-pinned.
+cp "$scene" "$work/pinned_case.json"
+"$pbdval" run "$work/pinned_case.json" --engines pbd --out "$work/pinned" --no-trajectories --quiet >/dev/null
+"$pbdval" baseline --results "$work/pinned" --out "$work/pinned_baseline.json" >/dev/null ||
+  fail "pbdval baseline failed"
+echo " " >>"$work/pinned_case.json"
+expect 2 "case pinned_case: $work/pinned_case.json on disk has sha256" -- \
+  "$pbdval" gate --baseline "$work/pinned_baseline.json" --results "$work/pinned"
+expect 2 "the results were run from sha256" -- \
+  "$pbdval" gate --baseline "$work/pinned_baseline.json" --results "$work/pinned" --repin-cases
+"$pbdval" run "$work/pinned_case.json" --engines pbd --out "$work/repinned" --no-trajectories --quiet >/dev/null
+expect 2 "case pinned_case: the results were run from $work/pinned_case.json with sha256" -- \
+  "$pbdval" gate --baseline "$work/pinned_baseline.json" --results "$work/repinned"
+expect 0 "note: case pinned_case re-pinned (--repin-cases)" -- \
+  "$pbdval" gate --baseline "$work/pinned_baseline.json" --results "$work/repinned" --repin-cases
 expect 2 "metric energy_drift_max is nan" -- \
   "$pbdval" baseline --results "$work/null_metric.json" --out "$work/null_baseline.json"
 [[ ! -e "$work/null_baseline.json" ]] || fail "a baseline was written from a null metric"

@@ -157,6 +157,12 @@ void readStatus(const fs::path& file, WholeRun& run) {
       throw std::invalid_argument("integratorStepsPerSceneStep: expected an integer >= 1");
     run.facts.integratorStepsPerSceneStep = n.get<int>();
   }
+  if (j.contains("initialVelocitiesProjected")) {
+    const Json& p = j.at("initialVelocitiesProjected");
+    if (!p.is_boolean())
+      throw std::invalid_argument("initialVelocitiesProjected: expected true or false");
+    run.facts.initialVelocitiesProjected = p.get<bool>();
+  }
   if (j.contains("contactMargin") && !j.at("contactMargin").is_null()) {
     const Json& m = j.at("contactMargin");
     if (!m.is_number() || !std::isfinite(m.get<double>()))

@@ -49,6 +49,7 @@ Json metadataJson(const RunMetadata& m) {
             {"flags", m.flags},
             {"precision", m.precision}}},
           {"machine", {{"hostname", m.hostname}, {"cpu", m.cpu}, {"cores", m.cores}}}};
+  if (!m.planDigest.empty()) j["planDigest"] = m.planDigest;
   if (m.shard)
     j["shard"] = {{"index", m.shard->index},
                   {"count", m.shard->count},
@@ -77,6 +78,7 @@ RunMetadata metadataFrom(const JsonField& j) {
     m.cpu = h.stringOr("cpu", "");
     if (h.has("cores")) m.cores = static_cast<int>(h.at("cores").integer(0, 1 << 20));
   }
+  m.planDigest = j.stringOr("planDigest", "");
   if (j.has("shard")) {
     const JsonField s = j.at("shard").expectObject();
     ShardInfo shard;
@@ -117,6 +119,36 @@ CheckSpec checkFrom(const JsonField& j) {
 
 }  // namespace
 
+Json caseGateDataJson(const CaseGateData& data) {
+  Json checks = Json::array();
+  for (const CheckSpec& c : data.checks)
+    checks.push_back(checkJson(c));
+  Json j = {{"file", data.file},
+            {"description", data.description},
+            {"checks", checks},
+            {"tolerances", data.tolerances}};
+  if (!data.fileSha256.empty()) j["sha256"] = data.fileSha256;
+  return j;
+}
+
+CaseGateData caseGateDataFrom(const JsonField& entry) {
+  CaseGateData data;
+  data.file = entry.stringOr("file", "");
+  data.description = entry.stringOr("description", "");
+  data.fileSha256 = entry.stringOr("sha256", "");
+  if (entry.has("checks")) {
+    const JsonField checks = entry.at("checks").expectArray();
+    for (std::size_t i = 0; i < checks.size(); ++i)
+      data.checks.push_back(checkFrom(checks.at(i).expectObject()));
+  }
+  if (entry.has("tolerances")) {
+    const JsonField tolerances = entry.at("tolerances").expectObject();
+    for (const std::string& metric : tolerances.keys())
+      data.tolerances[metric] = tolerances.at(metric).number();
+  }
+  return data;
+}
+
 RunMetadata currentMetadata(const std::string& command) {
   RunMetadata m;
   m.created = utcNow();
@@ -145,15 +177,8 @@ void writeResults(const std::string& path, const ResultsFile& results) {
   for (const RunRecord& r : results.runs)
     runs.push_back(recordJson(r));
   Json cases = Json::object();
-  for (const auto& [name, data] : results.cases) {
-    Json checks = Json::array();
-    for (const CheckSpec& c : data.checks)
-      checks.push_back(checkJson(c));
-    cases[name] = {{"file", data.file},
-                   {"description", data.description},
-                   {"checks", checks},
-                   {"tolerances", data.tolerances}};
-  }
+  for (const auto& [name, data] : results.cases)
+    cases[name] = caseGateDataJson(data);
   const Json document = {{"schema", "pbdval-results"},
                          {"schemaVersion", results.schemaVersion},
                          {"metadata", metadataJson(results.metadata)},
@@ -191,21 +216,7 @@ ResultsFile parseResults(const nlohmann::json& document, const std::string& path
   // The cases block carries every case's checks: without it the gate would skip them silently.
   const JsonField cases = root.at("cases").expectObject();
   for (const std::string& name : cases.keys()) {
-    const JsonField entry = cases.at(name).expectObject();
-    CaseGateData data;
-    data.file = entry.stringOr("file", "");
-    data.description = entry.stringOr("description", "");
-    if (entry.has("checks")) {
-      const JsonField checks = entry.at("checks").expectArray();
-      for (std::size_t i = 0; i < checks.size(); ++i)
-        data.checks.push_back(checkFrom(checks.at(i).expectObject()));
-    }
-    if (entry.has("tolerances")) {
-      const JsonField tolerances = entry.at("tolerances").expectObject();
-      for (const std::string& metric : tolerances.keys())
-        data.tolerances[metric] = tolerances.at(metric).number();
-    }
-    results.cases[name] = data;
+    results.cases[name] = caseGateDataFrom(cases.at(name).expectObject());
   }
   const JsonField runs = root.at("runs").expectArray();
   for (std::size_t i = 0; i < runs.size(); ++i) {

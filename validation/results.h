@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "validation/json_input.h"
 #include "validation/run_record.h"
 
 namespace pbdval {
@@ -27,6 +28,9 @@ struct RunMetadata {
   std::string hostname, cpu;
   int cores = 0;
   std::optional<ShardInfo> shard;  ///< set for one shard of a plan
+  /// runsDigest (sharding.h) of the whole plan the results were made from: the gate and
+  /// `pbdval baseline` refuse results whose runs do not give it back (runs lost, added or edited).
+  std::string planDigest;
 };
 
 /// The metadata of this process (build info compiled in, machine read from the system).
@@ -35,13 +39,22 @@ RunMetadata currentMetadata(const std::string& command);
 /// The metadata as the JSON object every result file (results.json, sweep.json) stores.
 std::string metadataJsonText(const RunMetadata& metadata);
 
-/// A case's gate data, copied into the results so that the gate needs nothing else.
+/// A case's gate data: the file the runs were made from, with its SHA-256, and its
+/// Validation.checks and .tolerances. The results carry it as a record of what was run; the gate
+/// takes checks and tolerances from the baseline, which pins them with the file's hash
+/// (docs/gate.md), never from the results it judges.
 struct CaseGateData {
   std::string file;
   std::string description;
   std::vector<CheckSpec> checks;
   std::map<std::string, double> tolerances;
+  std::string fileSha256;  ///< of the case file's bytes ("" unknown: the file could not be read)
 };
+
+/// The JSON object of a case's gate data (results.json's and the baseline's "cases" entries) and
+/// back; the reader throws std::invalid_argument naming the file and the JSON path.
+nlohmann::json caseGateDataJson(const CaseGateData& data);
+CaseGateData caseGateDataFrom(const JsonField& entry);
 
 struct ResultsFile {
   int schemaVersion = kResultsSchemaVersion;

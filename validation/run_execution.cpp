@@ -13,6 +13,7 @@
 #include "validation/overrides.h"
 #include "validation/references/reference.h"
 #include "validation/run_plan.h"
+#include "validation/sanity.h"
 #include "validation/trajectory.h"
 
 namespace pbdval {
@@ -208,6 +209,7 @@ RunRecord executeRun(const RunRequest& request, const EngineRegistry& registry) 
     record.metrics.values["steps"] = double(outcome.steps);
     if (outcome.wallTime > 0)
       record.metrics.values["real_time_factor"] = outcome.simulatedTime / outcome.wallTime;
+    // (runSimulation has held the samples to the boundary checks: a violation is an error.)
     if (outcome.status != RunStatus::Ok) return record;
 
     std::vector<std::string> notes;
@@ -229,6 +231,12 @@ RunRecord executeRun(const RunRequest& request, const EngineRegistry& registry) 
                                                 record.facts.contactMargin));
     for (std::string& note : notes)
       record.metrics.notes.push_back(std::move(note));
+    // Physics sanity, whatever the case declares: an ok run that breaks a bound the scene
+    // implies is suspect (its metrics are kept).
+    if (const std::optional<CheckViolation> violation = sanityViolation(c.scene, c.spec, samples)) {
+      record.status = RunStatus::Suspect;
+      record.reason = violation->message;
+    }
   } catch (const std::exception& e) {
     record.status = RunStatus::Error;
     record.reason = e.what();

@@ -71,27 +71,59 @@ ShardInfo parseShard(const std::string& text) {
   return shard;
 }
 
-std::string planDigest(const RunPlan& plan) {
-  Digest d;
-  for (const RunRequest& r : plan.requests) {
-    d.add(r.caseName);
-    d.add(r.caseFile);
-    d.add(r.engine);
-    d.add(r.method);
-    for (const std::string& a : r.assignments)
-      d.add(a);
-    d.add("|");
-    d.add(r.referenceMode);
-    d.add(std::to_string(r.fineDivisor));
-    d.add(std::to_string(r.referenceStepSize));
-    d.add(std::to_string(r.sampleInterval));
-    d.add(r.trajectoryPath.empty() ? "no-trajectory" : "trajectory");
-  }
+namespace {
+
+/// The fields of a request that make it this run (not where its trajectory goes).
+void addRun(Digest& d, const RunRequest& r) {
+  d.add(r.caseName);
+  d.add(r.caseFile);
+  d.add(r.engine);
+  d.add(r.method);
+  for (const std::string& a : r.assignments)
+    d.add(a);
+  d.add("|");
+  d.add(r.referenceMode);
+  d.add(std::to_string(r.fineDivisor));
+  d.add(std::to_string(r.referenceStepSize));
+  d.add(std::to_string(r.sampleInterval));
+}
+
+void addUnreadable(Digest& d, const RunPlan& plan) {
   for (const RunRecord& u : plan.unreadable) {
     d.add("unreadable");
     d.add(u.request.caseFile);
   }
+}
+
+}  // namespace
+
+std::string planDigest(const RunPlan& plan) {
+  Digest d;
+  for (const RunRequest& r : plan.requests) {
+    addRun(d, r);
+    d.add(r.trajectoryPath.empty() ? "no-trajectory" : "trajectory");
+  }
+  addUnreadable(d, plan);
   return d.hex();
+}
+
+std::string runsDigest(const RunPlan& plan) {
+  Digest d;
+  for (const RunRequest& r : plan.requests)
+    addRun(d, r);
+  addUnreadable(d, plan);
+  return d.hex();
+}
+
+std::string planDigestOfRuns(const std::vector<RunRecord>& runs) {
+  RunPlan plan;
+  for (const RunRecord& r : runs) {
+    if (r.request.engine == "-")
+      plan.unreadable.push_back(r);
+    else
+      plan.requests.push_back(r.request);
+  }
+  return runsDigest(plan);
 }
 
 RunPlan shardOf(const RunPlan& plan, ShardInfo& shard) {
@@ -170,8 +202,15 @@ ResultsFile mergeShards(const std::vector<ShardResults>& shards, const std::stri
   for (std::size_t p = 0; p < requests; ++p)
     merged.runs.push_back(runs[p % byIndex.size()][p / byIndex.size()]);
   for (const ShardResults& s : shards)
-    for (const auto& [name, data] : s.results.cases)
-      merged.cases.emplace(name, data);
+    for (const auto& [name, data] : s.results.cases) {
+      const auto [it, added] = merged.cases.emplace(name, data);
+      // Shards run at different times may have read different versions of a case file.
+      if (!added && it->second.fileSha256 != data.fileSha256)
+        throw std::invalid_argument(s.folder + ": case " + name + " was run from " + data.file +
+                                    " with sha256 " + data.fileSha256 + ", another shard from " +
+                                    it->second.file + " with sha256 " + it->second.fileSha256 +
+                                    " (the case file changed between the shards)");
+    }
   return merged;
 }
 

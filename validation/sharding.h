@@ -20,6 +20,15 @@ ShardInfo parseShard(const std::string& text);
 /// shards of different plans cannot be merged.
 std::string planDigest(const RunPlan& plan);
 
+/// The digest results carry (metadata.planDigest): like planDigest, without whether trajectories
+/// are written (a run that fails writes none, and its record says so).
+std::string runsDigest(const RunPlan& plan);
+
+/// runsDigest of the plan a results file's runs imply: its runs in order, those of cases that
+/// could not be read (engine "-") as the plan's unreadable cases. Equal to the results'
+/// metadata.planDigest unless runs were lost, added, reordered or edited since `pbdval run`.
+std::string planDigestOfRuns(const std::vector<RunRecord>& runs);
+
 /// The runs of one shard: the plan's requests at positions p with p mod N = K − 1 (round robin,
 /// so every shard gets a share of every case), the unreadable cases in shard 1. `shard` gets the
 /// plan's size and digest.

@@ -5,6 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "validation/sanity.h"
+
 namespace pbdval {
 namespace {
 
@@ -107,6 +109,9 @@ void runWhole(Engine& engine, const pbd::Scene& scene, const Method& method,
   outcome.status = whole.status;
   outcome.reason = std::move(whole.reason);
   outcome.steps = whole.status == RunStatus::Ok ? plan.steps : whole.steps;
+  BoundaryChecker boundary(scene, outcome.facts.initialStateTolerance,
+                           outcome.facts.restVelocityAllowance,
+                           outcome.facts.initialVelocitiesProjected);
   for (const State& state : whole.samples) {
     outcome.simulatedTime = state.time;
     const std::string diverged = divergenceReason(state);
@@ -117,6 +122,11 @@ void runWhole(Engine& engine, const pbd::Scene& scene, const Method& method,
       outcome.reason = diverged;
       break;
     }
+    boundary.add(state);
+  }
+  if (outcome.status == RunStatus::Ok && boundary.finish()) {
+    outcome.status = RunStatus::Error;
+    outcome.reason = boundary.violation()->message;
   }
 }
 
@@ -149,10 +159,23 @@ RunOutcome runSimulation(Engine& engine, const pbd::Scene& scene, const Method& 
     outcome.settings = engine.effectiveSettings();
     outcome.facts = engine.runFacts();
 
+    // What the engine reads back is checked against the protocol's definitions at every
+    // step (validation/sanity.h): a violation ends the run as an error. Every step, not every
+    // sample: an oscillation at the step frequency would alias on a coarser sample grid.
+    BoundaryChecker boundary(scene, outcome.facts.initialStateTolerance,
+                           outcome.facts.restVelocityAllowance,
+                           outcome.facts.initialVelocitiesProjected);
+    auto boundaryFailed = [&](const State& sample) {
+      if (!boundary.add(sample)) return false;
+      outcome.status = RunStatus::Error;
+      outcome.reason = boundary.violation()->message;
+      return true;
+    };
     State state;
     engine.read(state);
     if (callbacks.onStep) callbacks.onStep(state);
     if (callbacks.onSample) callbacks.onSample(state);
+    if (boundaryFailed(state)) return outcome;
     for (long n = 1; n <= plan.steps; ++n) {
       t0 = Clock::now();
       engine.step();
@@ -162,14 +185,16 @@ RunOutcome runSimulation(Engine& engine, const pbd::Scene& scene, const Method& 
       outcome.simulatedTime = state.time;
       const std::string diverged = divergenceReason(state);
       if (diverged.empty() && callbacks.onStep) callbacks.onStep(state);
+      if (diverged.empty() && boundaryFailed(state)) break;
       if (!diverged.empty()) {
         outcome.status = RunStatus::Diverged;
         outcome.reason = diverged;
         if (callbacks.onSample) callbacks.onSample(state);
         break;
       }
-      if ((n % plan.stride == 0 || n == plan.steps) && callbacks.onSample)
-        callbacks.onSample(state);
+      if (n % plan.stride == 0 || n == plan.steps) {
+        if (callbacks.onSample) callbacks.onSample(state);
+      }
       if (wallTimeLimit > 0 && secondsSince(start) > wallTimeLimit) {
         outcome.status = RunStatus::Timeout;
         std::ostringstream reason;
@@ -185,6 +210,10 @@ RunOutcome runSimulation(Engine& engine, const pbd::Scene& scene, const Method& 
       }
     }
     outcome.wallTime = busy;
+    if (outcome.status == RunStatus::Ok && boundary.finish()) {
+      outcome.status = RunStatus::Error;
+      outcome.reason = boundary.violation()->message;
+    }
     if (auto hash = engine.stateHash()) outcome.stateHash = *hash;
   } catch (const EngineDivergence& e) {
     outcome.status = RunStatus::Diverged;

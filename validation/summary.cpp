@@ -40,7 +40,7 @@ void printSummaryTable(std::ostream& out, const std::vector<RunRecord>& runs) {
     previousCase = r.request.caseName;
     out << padded(newCase ? r.request.caseName : "", caseWidth) << "  "
         << padded(runLabel(r.request), runWidth) << "  " << padded(runStatusName(r.status), 11);
-    if (r.status == RunStatus::Ok) {
+    if (isMeasured(r.status)) {
       for (const char* name : {"energy_drift_max", "joint_error_linear_max", "penetration_max",
                                "trajectory_error_max"})
         out << padded(cell(r.metrics, name), 13);

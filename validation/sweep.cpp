@@ -394,12 +394,11 @@ SweepResult collectSweep(const SweepPlan& plan, const std::vector<RunRecord>& re
     SweepPoint& p = result.points[k];
     p.record = records.at(k);
     const auto value = p.record.metrics.values.find(plan.metric);
-    const bool measured =
-        p.record.status == RunStatus::Ok && value != p.record.metrics.values.end();
+    const bool measured = isMeasured(p.record.status) && value != p.record.metrics.values.end();
     p.metric = measured ? value->second : std::nan("");
     const auto wall = p.record.metrics.values.find("wall_time_s");
     p.wallTime = wall == p.record.metrics.values.end() ? 0 : wall->second;
-    if (p.record.status == RunStatus::Ok && !measured)
+    if (isMeasured(p.record.status) && !measured)
       result.notes.push_back(
           runLabel(p.record.request) + ": no " + plan.metric + " (" +
           (p.record.metrics.notes.empty() ? "not computed" : p.record.metrics.notes.front()) + ")");
@@ -450,7 +449,7 @@ void printSweepTable(std::ostream& out, const SweepResult& result) {
       std::string values;
       for (const auto& [name, value] : p.values)
         values += (values.empty() ? "" : " ") + name + "=" + value;
-      if (p.record.status == RunStatus::Ok)
+      if (isMeasured(p.record.status))
         std::snprintf(line, sizeof line, "  %-36s %-12.4e %9.4f s%s\n", values.c_str(), p.metric,
                       p.wallTime, p.pareto ? "  pareto" : "");
       else

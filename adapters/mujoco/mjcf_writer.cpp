@@ -122,9 +122,12 @@ class MjcfWriter {
          << num(settings_.tolerance) << "\" cone=\"" << settings_.cone
          << "\" impratio=\"1\" noslip_iterations=\"0\" density=\"0\" viscosity=\"0\" "
             "wind=\"0 0 0\" collision=\"all\" jacobian=\"auto\">\n"
+         // filterparent off: jointed bodies collide (the seed's rule). The explicit <pair>s are
+         // never filtered anyway; the flag keeps it so should automatic contacts ever be used.
          << "  <flag constraint=\"enable\" equality=\"enable\" contact=\"enable\" "
             "passive=\"enable\" gravity=\"enable\" warmstart=\"enable\" actuation=\"enable\" "
-            "refsafe=\"enable\" override=\"disable\" energy=\"disable\" multiccd=\"disable\"/>\n"
+            "refsafe=\"enable\" filterparent=\"disable\" override=\"disable\" "
+            "energy=\"disable\" multiccd=\"disable\"/>\n"
          << "</option>\n";
   }
 
@@ -376,6 +379,7 @@ class MjcfWriter {
           << " 0 0 0\" solref=\"" << num(-law.stiffness) << " " << num(-law.damping)
           << "\" solimp=\"" << solimp() << "\" margin=\"0\" gap=\"0\"/>\n";
         ++model_.contactPairs;
+        if (jointed(int(a), int(b))) ++model_.jointedContactPairs;
         model_.pairSettings.emplace_back(
             ba.jsonPath + "-" + bb.jsonPath,
             "mu=" + num(mu) + " e=" + num(double(material.restitution)) +
@@ -383,6 +387,13 @@ class MjcfWriter {
                 " damping=" + num(law.damping));
       }
     return c.tellp() > 0 ? "<contact>\n" + c.str() + "</contact>\n" : "";
+  }
+
+  /// Whether a joint connects Scene::rigidBodies[a] and [b] (either way round).
+  bool jointed(int a, int b) const {
+    return std::any_of(scene_.joints.begin(), scene_.joints.end(), [&](const JointDesc& j) {
+      return (j.body1 == a && j.body2 == b) || (j.body1 == b && j.body2 == a);
+    });
   }
 
   const pbd::Scene& scene_;

@@ -39,6 +39,8 @@ struct MjcfModel {
   std::string xml;
   std::vector<MotorBinding> motors;
   int contactPairs = 0;
+  /// Of those, the pairs of bodies connected by a joint: they collide too, as in the seed.
+  int jointedContactPairs = 0;
   /// Per contact pair: ("RigidBodies[0]-RigidBodies[1]", "mu=… e=… zeta=… stiffness=… damping=…").
   std::vector<std::pair<std::string, std::string>> pairSettings;
   int equalityConstraints = 0;

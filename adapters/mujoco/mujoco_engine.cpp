@@ -317,6 +317,10 @@ std::map<std::string, std::string> MujocoEngine::effectiveSettings() const {
   s["precision"] = "double";
   s["coordinates"] = "reduced (kinematic tree; loops closed by equality constraints)";
   s["contact.pairs"] = std::to_string(mjcf_.contactPairs);
+  s["jointedBodiesCollide"] =
+      "yes (as in the seed): " + std::to_string(mjcf_.jointedContactPairs) +
+      " of the pairs join bodies connected by a joint; explicit <pair>s, which MuJoCo never "
+      "filters, and filterparent disabled";
   s["contact.condim"] = "3 (sliding friction only; 1 when the pair friction is 0)";
   s["contact.margin"] = "0";
   s["contact.gap"] = "0";
@@ -355,6 +359,8 @@ RunFacts MujocoEngine::runFacts() const {
   facts.engineVersion = std::string("MuJoCo ") + mj_versionString();
   facts.integratorStepsPerSceneStep = 1;  // one mj_step per step (RK4: 4 stages of one step)
   facts.contactMargin = 0;                // contact.margin 0; soft contacts are no margin
+  // Generalised coordinates: the scene's initial velocities enter projected onto the joints.
+  facts.initialVelocitiesProjected = true;
   return facts;
 }
 

@@ -196,6 +196,9 @@ class MujocoRun:
         spec.option.iterations = self.iterations
         spec.option.tolerance = self.tolerance
         spec.option.cone = CONES[cone]
+        # Jointed bodies collide (the seed's rule): the rigid pairs are explicit <pair>s, which
+        # MuJoCo never filters; filterparent is disabled as well, as in the built-in adapter.
+        spec.option.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_FILTERPARENT)
         self.body_names: list[str] = [f"body{b.index}" for b in scene.bodies]
         self.geom_names: dict[int, str] = {}
         self.parents, _ = tree(scene)
@@ -315,14 +318,19 @@ class MujocoRun:
 
     def _add_pairs(self, spec: "mujoco.MjSpec") -> None:
         h = self.scene.time_step_size
+        jointed = 0
         for p in self.scene.contact_pairs:
             a, b = self.scene.body_by_id(p.bodies[0]), self.scene.body_by_id(p.bodies[1])
             if a.index not in self.geom_names or b.index not in self.geom_names:
                 continue
+            jointed += self.scene.jointed(a.id, b.id)
             law = contact_law.contact_solref(self.tau, h, p.restitution)
             spec.add_pair(geomname1=self.geom_names[a.index], geomname2=self.geom_names[b.index],
                           condim=3, friction=[p.friction, p.friction, 0.0, 0.0, 0.0],
                           solref=[-law.stiffness, -law.damping], solimp=SOLIMP, margin=0.0, gap=0.0)
+        self.settings["jointedBodiesCollide"] = (
+            f"yes (as in the seed): {jointed} of the pairs join bodies connected by a joint; "
+            "explicit <pair>s, which MuJoCo never filters, and filterparent disabled")
 
     def _initial_velocities(self) -> None:
         for b in self.scene.bodies:
@@ -418,6 +426,7 @@ class MujocoRun:
             self.settings["inertiaWarnings"] = int(inertia_warnings)
         status.integrator_steps_per_scene_step = self.substeps
         status.contact_margin = 0.0
+        status.initial_velocities_projected = True  # generalised coordinates (as MuJoCo 2.2.2)
         return status
 
 

@@ -220,6 +220,7 @@ void OdeWorld::addContacts(dGeomID a, dGeomID b) {
   dBodyID bodyA = dGeomGetBody(a);
   dBodyID bodyB = dGeomGetBody(b);
   if (bodyA == nullptr && bodyB == nullptr) return;  // static–static
+  // Bodies joined by a joint collide, as in the seed: no dAreConnected filter here.
   const int count =
       dCollide(a, b, settings_.maxContacts, &contactBuffer_[0].geom, sizeof(dContact));
   if (count == 0) return;

@@ -137,6 +137,15 @@ RunFacts PbdEngine::runFacts() const {
   facts.integratorStepsPerSceneStep =
       s.stepMethod == pbd::StepMethod::Xpbd ? s.xpbd.substeps : s.subSteps;
   facts.contactMargin = 0;  // contacts are generated within contactTolerance but pushed apart
+  if (s.stepMethod != pbd::StepMethod::Xpbd) {
+    // The seed's step sets v = (x − x_prev)/h and then applies the contact impulses at the
+    // velocity level (restitution, friction, the penetration push): a body resting in contact
+    // reports the impulse that cancels the next step's gravity, (1 + e)‖g‖h with e ≤ 1.
+    facts.restVelocityAllowance = 2 * double(s.gravitation.norm()) * double(s.timeStepSize);
+    facts.restVelocityReason =
+        "the seed's velocity pass applies contact impulses after the positions are set: up to "
+        "(1 + e) |g| h at rest";
+  }
   return facts;
 }
 
@@ -154,6 +163,7 @@ std::map<std::string, std::string> PbdEngine::effectiveSettings() const {
           {"contactModel", pbd::contactModelName(s.contactModel)},
           {"distanceGrid", pbd::gridInterpolationName(pbd::distanceGridFor(s))},
           {"contactCombineRule", pbd::contactCombineRuleName(s.contactCombineRule)},
+          {"jointedBodiesCollide", "yes (the seed's rule: every pair of collision objects)"},
           {"stepMethod", pbd::stepMethodName(s.stepMethod)},
           {"detectionThreads", std::to_string(s.detectionThreads)},
           {"xpbd.substeps", std::to_string(s.xpbd.substeps)},

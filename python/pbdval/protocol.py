@@ -328,6 +328,11 @@ class ResolvedScene:
                 return p
         return None
 
+    def jointed(self, id_a: int, id_b: int) -> bool:
+        """Whether a joint connects the bodies with these ids (either way round). Such bodies
+        collide with each other like any others: the seed's rule, kept by every engine."""
+        return any({j.body1, j.body2} == {id_a, id_b} for j in self.joints)
+
     def sample_steps(self) -> list[int]:
         """The step numbers after which a sample is written (0: the initial state): every
         `sample_stride`-th step and the last (validation/simulation.cpp)."""
@@ -833,6 +838,9 @@ class Status:
     effective_settings: dict[str, ParameterValue] = field(default_factory=dict)
     integrator_steps_per_scene_step: int = 1
     contact_margin: float | None = None  # m
+    #: Generalised coordinates: the scene's initial velocities are projected onto the joints'
+    #: free motions, so the runner does not compare the first sample's velocities with them.
+    initial_velocities_projected: bool = False
 
     def to_json(self) -> dict[str, Any]:
         if self.status not in STATUSES:
@@ -847,6 +855,7 @@ class Status:
             "effectiveSettings": dict(self.effective_settings),
             "integratorStepsPerSceneStep": int(self.integrator_steps_per_scene_step),
             "contactMargin": self.contact_margin,
+            "initialVelocitiesProjected": bool(self.initial_velocities_projected),
         }
 
 

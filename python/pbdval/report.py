@@ -1,14 +1,14 @@
 """`pbdval report RESULTS_DIR [--out DIR] [--baseline FILE] [--sweeps DIR...]` (docs/report.md).
 
 A static, self-contained, offline report of a results folder: `index.html` (the overview: the
-cases × engine/method matrix coloured by status with the key metric, the gate's verdict when a
+cases × engine/method matrix coloured by status with the key metric, the gate's verdicts when a
 baseline is given, the run's metadata), one page per case (its metrics, the energy drift over
 time of every run overlaid, each engine's effective settings), one convergence page per sweep
 (error against the swept parameter, log-log, with the fitted order, R², the local orders, the
 points left out and the flags), every figure a standalone SVG file; and `report.md`, the same
 overview for a pull request. Nothing here computes a metric: the numbers come from
-results.json, the energy series from the suite's own code (`pbdval.energy`), the verdict from
-`pbdval gate`.
+results.json, the energy series from the suite's own code (`pbdval.energy`), every verdict
+from `pbdval gate` (its --json output: the report decides none).
 """
 
 from __future__ import annotations
@@ -57,6 +57,7 @@ th { background: #f4f4f4; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
 .badge { display: inline-block; padding: 1px 6px; border-radius: 8px; font-size: 11px; margin-left: 4px; }
 .warn { background: #ffe9a8; } .fail { background: #f7c6c6; } .pass { background: #d9f2d9; }
+.known { background: #e4e4e4; } .note { background: #dbe8f7; }
 figure { margin: 12px 0; } figcaption { font-size: 12px; color: #555; }
 nav a { margin-right: 12px; }
 pre { background: #f7f7f7; padding: 8px; overflow-x: auto; font-size: 12px; }
@@ -155,90 +156,99 @@ SERIES_CAPTIONS = {
 # ---- the gate ------------------------------------------------------------------------------------
 
 
-def gate_markdown(results_dir: Path, baseline: Path) -> tuple[str, int]:
-    """`pbdval gate`'s own Markdown summary and exit status (0 passed, 1 failed, 2 unreadable)."""
+@dataclass
+class GateVerdicts:
+    """`pbdval gate`'s verdicts on a results folder (docs/gate.md#json): the report prints them
+    and decides nothing. `document` is None when the gate could not judge (exit status 2; `error`
+    says why)."""
+
+    status: int  #: the gate's exit status: 0 passed, 1 failed, 2 could not judge
+    document: dict[str, Any] | None
+    error: str
+
+
+def run_gate(results_dir: Path, baseline: Path) -> GateVerdicts:
+    """Runs `pbdval gate --json` on the results against the baseline."""
     with tempfile.TemporaryDirectory() as folder:
-        summary = Path(folder) / "gate.md"
+        verdicts = Path(folder) / "gate.json"
         done = subprocess.run([str(pbdval_binary()), "gate", "--baseline", str(baseline), "--results",
-                               str(results_dir), "--markdown", str(summary), "--quiet"],
+                               str(results_dir), "--json", str(verdicts), "--quiet"],
                               capture_output=True, text=True)
-        text = summary.read_text(encoding="utf-8") if summary.exists() else done.stderr
-    return text, done.returncode
+        document = json.loads(verdicts.read_text(encoding="utf-8")) if verdicts.exists() else None
+    return GateVerdicts(done.returncode, document, done.stderr.strip())
 
 
-#: Metrics compared with the baseline (errors and drifts: smaller |value| is better); timings
-#: and scales are not compared.
-COMPARED_METRICS = ("trajectory_error_max", "trajectory_error_rms", "rotation_error_max", "joint_error_linear_max",
-                    "joint_error_angular_max", "penetration_max", "energy_drift_max", "energy_drift_final",
-                    "momentum_linear_drift_max", "momentum_angular_drift_max", "motor_tracking_angle_max",
-                    "motor_tracking_angular_velocity_max", "motor_tracking_position_max",
-                    "motor_tracking_velocity_max")
-#: A change smaller than this (relative, or absolute below 1e-12) is not listed: round-off.
-CHANGE_THRESHOLD = 1e-9
-
-
-def baseline_changes(results: Results, baseline: Path) -> tuple[str, str]:
-    """What changed against the baseline: runs better, worse, new or missing, with the numbers
-    (HTML and Markdown). The verdict is the gate's; this lists every change, tolerated or not."""
+def read_gate_json(path: Path) -> GateVerdicts:
+    """The verdicts a `pbdval gate --json` wrote (scripts/validate: what CI gated, with its
+    options). Raises ResultsError naming the file when it is not such a file."""
     try:
-        document = json.loads(baseline.read_text(encoding="utf-8"))
-        old = {(r["case"], f"{r['engine']}/{r['method']}"): r for r in document.get("runs", [])
-               if not r.get("assignments")}
-    except (OSError, json.JSONDecodeError, KeyError, TypeError) as error:
-        note = f"the baseline {baseline} could not be read: {error}"
-        return f"<p class='badge warn'>{escape(note)}</p>", note + "\n"
-    new = {(r.case, r.label): r for r in results}
-    rows: list[tuple[str, str, str, str, float, float]] = []
-    for key in sorted(set(old) & set(new)):
-        before, after = old[key], new[key]
-        if before.get("status") != after.status:
-            rows.append(("status", *key, "status", math.nan, math.nan))
-            continue
-        for name in COMPARED_METRICS:
-            a, b = before.get("metrics", {}).get(name), after.metrics.get(name)
-            if a is None or b is None or not (math.isfinite(a) and math.isfinite(b)):
-                continue
-            if abs(b - a) <= max(1e-12, CHANGE_THRESHOLD * max(abs(a), abs(b))):
-                continue
-            rows.append(("better" if abs(b) < abs(a) else "worse", *key, name, a, b))
-    added = sorted(set(new) - set(old))
-    missing = sorted(set(old) - set(new))
-    counts = {k: sum(1 for r in rows if r[0] == k) for k in ("better", "worse", "status")}
-    summary = (f"{counts['worse']} metrics worse, {counts['better']} better, {counts['status']} status changes, "
-               f"{len(added)} new runs, {len(missing)} missing runs (changes below {CHANGE_THRESHOLD:g} relative "
-               "are round-off and not listed)")
-    html = [f"<h2>Changes against the baseline</h2><p>{escape(summary)}; baseline "
-            f"<code>{escape(str(baseline))}</code>.</p>"]
-    md = ["## Changes against the baseline", "", summary + ".", ""]
+        document = json.loads(path.read_text(encoding="utf-8"))
+        if not isinstance(document, dict) or document.get("schema") != "pbdval-gate" \
+                or document.get("schemaVersion") != 1:
+            raise ValueError('expected "schema": "pbdval-gate", "schemaVersion": 1')
+        passed = bool(document["passed"])
+    except (OSError, ValueError, KeyError) as error:
+        raise ResultsError(f"{path}: not the verdicts of pbdval gate --json ({error})") from error
+    return GateVerdicts(0 if passed else 1, document, "")
+
+
+#: How the report draws each verdict, most severe first: (label, badge class).
+VERDICT_STYLE = {"regression": ("regression", "fail"), "missing": ("missing", "fail"),
+                 "known_failure": ("known failure", "known"), "tolerated_change": ("tolerated change", "warn"),
+                 "improvement": ("improvement", "pass"), "new": ("new", "note")}
+
+
+def plural(count: int, one: str, many: str) -> str:
+    return f"{count} {one if count == 1 else many}"
+
+
+def gate_headline(counts: dict[str, Any]) -> str:
+    """"3 regressions and 1 missing in 2 cases", or "no failed check", from the gate's counts."""
+    verdicts = counts["verdicts"]
+    if not counts["failed"]:
+        return "no failed check"
+    return (f"{plural(verdicts['regression'], 'regression', 'regressions')} and {verdicts['missing']} missing "
+            f"in {plural(counts['failingCases'], 'case', 'cases')}")
+
+
+def gate_section(gate: GateVerdicts, baseline: Path | None) -> tuple[str, str]:
+    """The gate's verdict, its counts and its table of every check that is not a plain pass (HTML
+    and Markdown)."""
+    verdict = {0: ("passed", "pass"), 1: ("FAILED", "fail")}.get(gate.status, ("could not judge", "warn"))
+    html = [f"<h2>Gate <span class='badge {verdict[1]}'>{verdict[0]}</span></h2>"]
+    md = [f"## Gate: {verdict[0]}", ""]
+    if gate.document is None:
+        html.append(f"<p class='badge warn'>{escape(gate.error)}</p>")
+        return "\n".join(html), "\n".join(md + [gate.error, ""]) + "\n"
+    document = gate.document
+    headline = gate_headline(document["counts"])
+    against = f"; baseline <code>{escape(str(baseline))}</code>" if baseline else ""
+    html.append(f"<p class='gate-counts'><b>{escape(headline)}</b>. {escape(document['summary'])}{against}.</p>")
+    rows = [c for kind in VERDICT_STYLE for c in document["checks"] if c["verdict"] == kind]
     if rows:
-        html.append("<table><tr><th>change</th><th>case</th><th>engine/method</th><th>metric</th>"
-                    "<th>baseline</th><th>now</th><th>ratio</th></tr>")
-        md += ["| change | case | engine/method | metric | baseline | now |", "|---|---|---|---|---|---|"]
-        order = {"worse": 0, "status": 1, "better": 2}
-        for kind, case, label, name, a, b in sorted(rows, key=lambda r: (order[r[0]], r[1], r[2], r[3])):
-            css = {"worse": "fail", "better": "pass"}.get(kind, "warn")
-            if kind == "status":
-                a_text, b_text, ratio = str(old[(case, label)].get("status")), new[(case, label)].status, ""
-            else:
-                a_text, b_text = f"{a:.4g}", f"{b:.4g}"
-                ratio = f"{b / a:.3g}×" if a != 0 else ""
-            html.append(f"<tr><td><span class='badge {css}'>{kind}</span></td><td>{escape(case)}</td>"
-                        f"<td>{escape(label)}</td><td>{escape(name)}</td><td class='num'>{escape(a_text)}</td>"
-                        f"<td class='num'>{escape(b_text)}</td><td class='num'>{escape(ratio)}</td></tr>")
-            md.append(f"| {kind} | {case} | {label} | {name} | {a_text} | {b_text} |")
+        html.append("<table class='gate'><tr><th>verdict</th><th>case</th><th>check</th><th>baseline</th>"
+                    "<th>now</th><th>allowed</th><th>ratio</th><th>result</th></tr>")
+        for check in rows:
+            label, css = VERDICT_STYLE[check["verdict"]]
+            before, now = check.get("baseline"), check.get("now")
+            ratio = f"{now / before:.3g}×" if before not in (None, 0) and now is not None else ""
+            html.append(f"<tr class='verdict-{check['verdict']}'><td><span class='badge {css}'>{label}</span></td>"
+                        f"<td>{escape(check['case'])}</td><td>{escape(check['name'])}</td>"
+                        f"<td class='num'>{number(before)}</td><td class='num'>{number(now)}</td>"
+                        f"<td class='num'>{number(check.get('allowed'))}</td><td class='num'>{ratio}</td>"
+                        f"<td>{escape(check['message'])}</td></tr>")
         html.append("</table>")
-    for title, keys in (("New runs (not in the baseline)", added), ("Missing runs (in the baseline only)", missing)):
-        if keys:
-            html.append(f"<p><b>{title}:</b> " + escape(", ".join(f"{c} {l}" for c, l in keys)) + "</p>")
-            md += ["", f"{title}: " + ", ".join(f"{c} {l}" for c, l in keys)]
+    if document["notes"]:
+        html.append("<p><b>Notes:</b></p><ul>" + "".join(f"<li>{escape(n)}</li>" for n in document["notes"]) + "</ul>")
+    # report.md is Markdown: the gate's own summary goes in as it is, under this page's heading.
+    md.append(re.sub(r"\A# [^\n]*\n+", "", document["markdown"]))
     return "\n".join(html), "\n".join(md) + "\n"
 
 
 # ---- pages ---------------------------------------------------------------------------------------
 
 
-def overview(results: Results, labels: list[str], gate: tuple[str, int] | None,
-             changes: tuple[str, str] | None = None) -> tuple[str, str]:
+def overview(results: Results, labels: list[str], gate: tuple[str, str] | None) -> tuple[str, str]:
     """The index page's body and report.md."""
     cases = sorted({r.case for r in results})
     cell: dict[tuple[str, str], RunResult] = {}
@@ -258,13 +268,8 @@ def overview(results: Results, labels: list[str], gate: tuple[str, int] | None,
     md = ["# pbdval report", "", f"{len(results)} runs of {len(cases)} cases; commit "
           f"`{str(build.get('commit', '?'))[:12]}` ({build.get('commitState', '?')}), {build.get('compiler', '')}.", ""]
     if gate is not None:
-        text, status = gate
-        verdict = {0: ("passed", "pass"), 1: ("FAILED", "fail")}.get(status, ("could not run", "warn"))
-        html.append(f"<h2>Gate <span class='badge {verdict[1]}'>{verdict[0]}</span></h2><pre>{escape(text)}</pre>")
-        md += [f"## Gate: {verdict[0]}", "", text, ""]
-    if changes is not None:
-        html.append(changes[0])
-        md += [changes[1], ""]
+        html.append(gate[0])
+        md += [gate[1], ""]
     html.append("<h2>Runs</h2><p>Each cell: status (colour) and the case's key metric "
                 "(trajectory error, else joint error, else penetration, else energy drift; units in the "
                 "case page). Unsupported runs name what is missing on the case page.</p><table><tr><th>case</th>")
@@ -573,10 +578,12 @@ def parity_page() -> str:
 
 
 def build_report(results_dir: Path, out: Path, *, baseline: Path | None = None, sweeps: Sequence[Path] = (),
-                 quiet: bool = False) -> Path:
-    """Writes the report into `out` and returns the path of its index.html. A results folder of
-    another schema version gives a report that says so (nothing else can be read from it); a
-    folder that is not a results folder raises ResultsError."""
+                 quiet: bool = False, gate_json: Path | None = None) -> Path:
+    """Writes the report into `out` and returns the path of its index.html. With `baseline`, runs
+    the gate; with `gate_json`, shows the verdicts a `pbdval gate --json` wrote instead. A results
+    folder of another schema version gives a report that says so (nothing else can be read from
+    it); a folder that is not a results folder, or a gate_json that is not such verdicts, raises
+    ResultsError."""
     try:
         results = load_results(results_dir)
     except ResultsError as error:
@@ -597,9 +604,9 @@ def build_report(results_dir: Path, out: Path, *, baseline: Path | None = None, 
     three = copy_assets(out)
     if not three:
         progress("pbdval report: three.js is not installed (scripts/install-deps): no 3D replay", quiet)
-    gate = gate_markdown(results_dir, baseline) if baseline else None
-    changes = baseline_changes(results, baseline) if baseline else None
-    body, markdown = overview(results, labels, gate, changes)
+    verdicts = read_gate_json(gate_json) if gate_json else run_gate(results_dir, baseline) if baseline else None
+    gate = gate_section(verdicts, baseline) if verdicts else None
+    body, markdown = overview(results, labels, gate)
     by_case: dict[str, list[RunResult]] = {}
     for r in results:
         by_case.setdefault(r.case, []).append(r)
@@ -640,12 +647,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("results", type=Path, help="a results folder (pbdval run --out)")
     parser.add_argument("--out", type=Path, default=None, help="report folder (default: RESULTS/report)")
     parser.add_argument("--baseline", type=Path, default=None, help="gate against this baseline")
+    parser.add_argument("--gate-json", type=Path, default=None,
+                        help="show these verdicts (pbdval gate --json) instead of running the gate")
     parser.add_argument("--sweeps", type=Path, nargs="*", default=[], help="sweep folders (with sweep.json)")
     parser.add_argument("--quiet", action="store_true")
     args = parser.parse_args(argv)
     try:
         index = build_report(args.results, args.out or args.results / "report", baseline=args.baseline,
-                             sweeps=args.sweeps, quiet=args.quiet)
+                             sweeps=args.sweeps, quiet=args.quiet, gate_json=args.gate_json)
     except ResultsError as error:
         print(f"pbdval report: error: {error}", file=sys.stderr)
         return 2

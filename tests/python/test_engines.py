@@ -4,8 +4,10 @@ on exported cases, against closed forms; and their catalogues (engines/*.json)."
 from __future__ import annotations
 
 import csv
+import dataclasses
 import json
 import math
+import sys
 from pathlib import Path
 from typing import Any, Callable
 
@@ -135,8 +137,8 @@ def measured_period(rows: np.ndarray, pivot: np.ndarray) -> float:
 
 
 @pytest.mark.parametrize("engine,method,parameters", [
-    # 1000 iterations: the hinge's two point constraints solved to convergence (10 leave
-    # centimetres of joint error, docs/external-engines.md#pybullet)
+    # 1000 iterations: the hinge's two point constraints solved to convergence (the default 10
+    # leave 0.4 mm of joint error here, docs/external-engines.md#pybullet)
     (PYBULLET, "pybullet.si", {"solverIterations": 1000}),
     (MUJOCO, "mujoco-python.euler.newton", {}),
     (MUJOCO, "mujoco-python.implicitfast.newton", {}),
@@ -152,6 +154,62 @@ def test_hinge_pendulum_period_matches_the_elliptic_integral(
     # A first-order method at step h has a relative period error of order omega0 h
     # (2.5e-2 here); the sampling (10 ms, interpolated) adds far less.
     assert measured_period(rows, pivot) == pytest.approx(period, rel=omega0 * scene.time_step_size)
+
+
+def pybullet_engine_module() -> Any:
+    """adapters/pybullet/engine.py as a module (it is also the engine's script)."""
+    sys.path.insert(0, str(REPO / "adapters" / "pybullet"))
+    import engine  # noqa: E402
+
+    return engine
+
+
+def test_a_hinge_through_a_spheres_centre_separates_its_points_by_twice_the_radius_of_gyration(
+        export_scene: Export) -> None:
+    # A uniform sphere (I = 2/5 m R^2 about every axis) hinged at its centre: N = 1/m and
+    # D = 1/I on the plane normal to the axis, so d^2 = I/m = 2/5 R^2.
+    scene = pp.read_resolved_scene(export_scene("contact_sphere_drop"))
+    sphere = next(b for b in scene.bodies if b.dynamic)
+    radius, mass = 0.3, 2.0
+    body = dataclasses.replace(sphere, mass=mass, principal_inertia=(0.4 * mass * radius**2,) * 3)
+    engine = pybullet_engine_module()
+    for axis in ((0.0, 0.0, 1.0), (0.6, 0.0, 0.8), (1.0, 2.0, 3.0)):
+        half = engine.hinge_half_length([body], body.position, axis)
+        assert half == pytest.approx(math.sqrt(0.4) * radius, rel=1e-12)  # round-off
+    static = dataclasses.replace(sphere, dynamic=False)
+    assert engine.hinge_half_length([static], sphere.position, (0.0, 0.0, 1.0)) == engine.STATIC_HINGE_HALF_LENGTH
+
+
+def anchor_world(body: pp.Body, local: pp.Vec3, rows: np.ndarray) -> np.ndarray:
+    """A point given in the body's scene frame, in world coordinates at every sample."""
+    out = []
+    for row in rows:
+        rotation = np.array(pybullet_engine_module()._rotation_matrix(tuple(row[4:8])))
+        origin = row[1:4] - rotation @ np.array(body.principal_com)
+        out.append(origin + rotation @ np.array(local))
+    return np.array(out)
+
+
+def test_pybullet_hinges_hold_a_double_pendulum_with_the_default_ten_sweeps(
+        export_scene: Export, run_engine: Run) -> None:
+    scene_path = export_scene("double_pendulum", method="pybullet.si")
+    scene = pp.read_resolved_scene(scene_path)
+    status, out = run_engine(PYBULLET, scene_path)
+    assert_ok(status)
+    rows = trajectory(out)
+    h, dt = scene.time_step_size, scene.sample_interval
+    # The parity suite's bound (tests/adapters/parity_profiles.h): 10 h^2 a_max, the drift ten
+    # steps of the largest acceleration can cause (a_max: of the links' centres of mass, from
+    # second differences of their samples).
+    acceleration = max(
+        float(np.max(np.linalg.norm(x[2:] - 2 * x[1:-1] + x[:-2], axis=1))) / dt**2
+        for x in (rows[b.id][:, 1:4] for b in scene.bodies if b.dynamic))
+    for joint in scene.joints:
+        body1, body2 = scene.body_by_id(joint.body1), scene.body_by_id(joint.body2)  # type: ignore[arg-type]
+        a1 = anchor_world(body1, joint.points["anchor"].body1.scene, rows[body1.id])  # type: ignore[union-attr]
+        a2 = anchor_world(body2, joint.points["anchor"].body2.scene, rows[body2.id])  # type: ignore[union-attr]
+        error = float(np.max(np.linalg.norm(a1 - a2, axis=1)))
+        assert error < 10 * h * h * acceleration, (joint.json_path, error, acceleration)
 
 
 # --- the rebound of a dropped sphere -------------------------------------------------------

@@ -64,27 +64,103 @@ def test_a_real_run_renders_every_case_and_run(real_results: Path, tmp_path: Pat
     assert "| joint_hinge |" in (report / "report.md").read_text()
 
 
-def test_changes_against_the_baseline_are_listed_with_their_numbers(real_results: Path, tmp_path: Path) -> None:
+def tampered_baseline(real_results: Path, tmp_path: Path) -> Path:
+    """A baseline of the real run, edited so that against it the run shows one of each verdict:
+    joint_hinge pbd/pbd's trajectory error twice its baseline (a regression) and pbd.xpbd's 5 %
+    above it (tolerated: trajectory errors allow 10 %), joint_distance pbd's joint error 4x below
+    it (an improvement), a run the baseline lacks (new) and one of joint_distance the results lack
+    (missing)."""
     baseline = tmp_path / "baseline.json"
     pbdval("baseline", "--results", str(real_results), "--out", str(baseline))
     document = json.loads(baseline.read_text())
     runs = document["runs"]
     hinge = next(r for r in runs if r["case"] == "joint_hinge" and r["method"] == "pbd")
-    now = hinge["metrics"]["trajectory_error_max"]
-    hinge["metrics"]["trajectory_error_max"] = now / 2  # the run is now twice as far off: worse
-    distance = next(r for r in runs if r["case"] == "joint_distance" and r["method"] == "pbd.xpbd")
-    distance["metrics"]["joint_error_linear_max"] *= 4  # now four times better
-    runs.remove(next(r for r in runs if r["case"] == "joint_distance" and r["engine"] == "bullet"))  # new
-    runs.append(dict(hinge, case="joint_gone"))  # missing
+    hinge["metrics"]["trajectory_error_max"] /= 2
+    xpbd = next(r for r in runs if r["case"] == "joint_hinge" and r["method"] == "pbd.xpbd")
+    xpbd["metrics"]["trajectory_error_max"] /= 1.05
+    plain = next(r for r in runs if r["case"] == "joint_distance" and r["method"] == "pbd")
+    plain["metrics"]["joint_error_linear_max"] *= 4
+    runs.remove(next(r for r in runs if r["case"] == "joint_distance" and r["engine"] == "bullet"))
+    runs.append(dict(plain, method="pbd.gone"))
     baseline.write_text(json.dumps(document))
+    return baseline
+
+
+def gate_row(index: str, verdict: str, case: str, check: str) -> str:
+    """The report's gate-table row of a check, or "" when there is none."""
+    for row in re.findall(rf"<tr class='verdict-{verdict}'>.*?</tr>", index):
+        if f"<td>{case}</td>" in row and f"<td>{check}</td>" in row:
+            return row
+    return ""
+
+
+def test_the_gates_verdicts_are_listed_with_their_numbers(real_results: Path, tmp_path: Path) -> None:
+    baseline = tampered_baseline(real_results, tmp_path)
     report = tmp_path / "report"
     build_report(real_results, report, baseline=baseline, quiet=True)
     index = (report / "index.html").read_text()
-    assert "1 metrics worse, 1 better, 0 status changes, 1 new runs, 1 missing runs" in index
-    worse = index[index.index("<span class='badge fail'>worse</span>"):].split("</tr>")[0]
-    assert "joint_hinge" in worse and "trajectory_error_max" in worse and f"{now / 2:.4g}" in worse and "2×" in worse
-    assert "joint_distance bullet/bullet.si" in index and "joint_gone pbd/pbd" in index
-    assert "| worse | joint_hinge | pbd/pbd | trajectory_error_max |" in (report / "report.md").read_text()
+    # The counts on top: the regression and the missing run are the only failures, in two cases.
+    assert "<b>1 regression and 1 missing in 2 cases</b>" in index
+    regression = gate_row(index, "regression", "joint_hinge", "pbd/pbd trajectory_error_max")
+    assert "badge fail" in regression and "2×" in regression
+    tolerated = gate_row(index, "tolerated_change", "joint_hinge", "pbd/pbd.xpbd trajectory_error_max")
+    assert "badge warn" in tolerated and "1.05×" in tolerated
+    improvement = gate_row(index, "improvement", "joint_distance", "pbd/pbd joint_error_linear_max")
+    assert "badge pass" in improvement and "0.25×" in improvement
+    assert "badge fail" in gate_row(index, "missing", "joint_distance", "pbd/pbd.gone present")
+    assert "badge note" in gate_row(index, "new", "joint_distance", "bullet/bullet.si new")
+    # The table is HTML, not the gate's Markdown as text.
+    assert "| regression |" not in index and "<table class='gate'>" in index
+    assert "| regression | joint_hinge | pbd/pbd trajectory_error_max |" in (report / "report.md").read_text()
+
+
+def test_gate_text_junit_markdown_and_report_count_the_same_failures(real_results: Path, tmp_path: Path) -> None:
+    """A manufactured regression: every metric of one case's runs 100x worse in a copy of the
+    results. The gate's text, JUnit, Markdown and JSON and the report's counts all equal the
+    number of checks the gate's verdict function flagged (those listed as regression or missing)."""
+    baseline = tmp_path / "baseline.json"
+    pbdval("baseline", "--results", str(real_results), "--out", str(baseline))
+    worse = tmp_path / "worse"
+    worse.mkdir()
+    document = json.loads((real_results / "results.json").read_text())
+    for run in document["runs"]:
+        if run["case"] == "joint_hinge":
+            run["metrics"] = {k: (v * 100 if isinstance(v, float) else v) for k, v in run["metrics"].items()}
+    (worse / "results.json").write_text(json.dumps(document))
+    files = {kind: tmp_path / f"gate.{kind}" for kind in ("json", "xml", "md")}
+    done = pbdval("gate", "--baseline", str(baseline), "--results", str(worse), "--json", str(files["json"]),
+                  "--junit", str(files["xml"]), "--markdown", str(files["md"]), check=False)
+    assert done.returncode == 1, done.stderr
+    verdicts = json.loads(files["json"].read_text())
+    flagged = sum(1 for c in verdicts["checks"] if c["verdict"] in ("regression", "missing"))
+    assert flagged > 0 and {c["case"] for c in verdicts["checks"] if c["verdict"] == "regression"} == {"joint_hinge"}
+    assert verdicts["counts"]["failed"] == flagged
+    text = done.stdout
+    assert len(re.findall(r"^FAIL ", text, re.M)) == flagged
+    assert f", {flagged} failed in 1 case (" in text.splitlines()[-1]
+    junit = files["xml"].read_text()
+    assert re.search(r'<testsuites [^>]*failures="(\d+)"', junit).group(1) == str(flagged)
+    assert junit.count("<failure ") == flagged
+    markdown = files["md"].read_text()
+    assert len(re.findall(r"^\| (regression|missing) \|", markdown, re.M)) == flagged
+    assert f", {flagged} failed in 1 case (" in markdown
+    # The report, running the gate itself or showing the verdicts of the gate above.
+    for name, source in (("report", {"baseline": baseline}), ("shown", {"gate_json": files["json"]})):
+        build_report(worse, tmp_path / name, quiet=True, **source)
+        index = (tmp_path / name / "index.html").read_text()
+        rows = re.findall(r"<tr class='verdict-(regression|missing)'>", index)
+        assert len(rows) == flagged, name
+        assert f"<b>{flagged} regressions and 0 missing in 1 case</b>" in index, name
+        assert verdicts["summary"] in index, name
+        assert f"{flagged} failed in 1 case" in (tmp_path / name / "report.md").read_text(), name
+
+
+def test_a_file_that_is_not_gate_verdicts_is_a_clear_error(real_results: Path, tmp_path: Path) -> None:
+    wrong = tmp_path / "gate.json"
+    wrong.write_text(json.dumps({"schema": "pbdval-results", "schemaVersion": 1}))
+    done = pbdval("report", str(real_results), "--out", str(tmp_path / "r"), "--gate-json", str(wrong), check=False)
+    assert done.returncode == 2
+    assert f"{wrong}: not the verdicts of pbdval gate --json" in done.stderr
 
 
 def test_sweep_writes_its_convergence_page(tmp_path: Path) -> None:

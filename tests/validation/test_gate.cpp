@@ -1,5 +1,6 @@
 // The gate on synthetic results: pass, metric regression, status regression, missing run, the
-// cases' bounds and orderings, bad input; and the sweep's convergence fit.
+// cases' bounds and orderings, bad input; one verdict per check, printed alike by every writer;
+// checks and tolerances from the baseline only; and the sweep's convergence fit.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +11,8 @@
 
 #include "engines/selftest_engine.h"
 #include "validation/gate.h"
+#include "validation/sha256.h"
+#include "validation/sharding.h"
 #include "validation/sweep.h"
 
 namespace pbdval {
@@ -51,10 +54,10 @@ TEST(Gate, MetricWorseThanItsToleranceFails) {
   RunRecord slow = run("pbd", 0.01);
   slow.metrics.values["wall_time_s"] = 100;
   EXPECT_TRUE(evaluateGate(base, results({slow})).passed());
-  // A case's tolerance override applies (relative): 50 % allows 0.0149.
-  ResultsFile overridden = results({run("pbd", 0.0149)});
+  // A case's tolerance override, as the baseline pins it, applies (relative): 50 % allows 0.0149.
+  Baseline overridden = base;
   overridden.cases["case_a"].tolerances["energy_drift_max"] = 0.5;
-  EXPECT_TRUE(evaluateGate(base, overridden).passed());
+  EXPECT_TRUE(evaluateGate(overridden, results({run("pbd", 0.0149)})).passed());
 }
 
 TEST(Gate, StatusRegressionAndMissingRunFail) {
@@ -66,7 +69,8 @@ TEST(Gate, StatusRegressionAndMissingRunFail) {
   EXPECT_EQ(report.failures(), 1u);
   bool named = false;
   for (const GateOutcome& o : report.outcomes)
-    named = named || (!o.passed && o.message.find("missing") != std::string::npos);
+    named =
+        named || (o.verdict == Verdict::Missing && o.message.find("missing") != std::string::npos);
   EXPECT_TRUE(named);
 }
 
@@ -101,25 +105,26 @@ TEST(Gate, PairedMethodsCompareAcrossMethodNames) {
                std::invalid_argument);
 }
 
+// The checks are those the baseline pins for the case.
 TEST(Gate, CaseBoundsAndOrderingsAreChecked) {
-  ResultsFile now = results({run("pbd", 0.01), run("selftest.ok", 0.02)});
-  const Baseline base = baselineFromResults(now);
+  const ResultsFile now = results({run("pbd", 0.01), run("selftest.ok", 0.02)});
+  Baseline base = baselineFromResults(now);
   CheckSpec bound;
   bound.metric = "energy_drift_max";
   bound.max = 0.015;  // pbd 0.01 passes, selftest 0.02 fails
-  now.cases["case_a"].checks = {bound};
+  base.cases["case_a"].checks = {bound};
   EXPECT_EQ(evaluateGate(base, now).failures(), 1u);
   bound.methods = {"pbd"};  // restricted to pbd: passes
-  now.cases["case_a"].checks = {bound};
+  base.cases["case_a"].checks = {bound};
   EXPECT_TRUE(evaluateGate(base, now).passed());
   CheckSpec ordering;
   ordering.metric = "energy_drift_max";
   ordering.better = "pbd";
   ordering.worse = "selftest.ok";
-  now.cases["case_a"].checks = {ordering};
+  base.cases["case_a"].checks = {ordering};
   EXPECT_TRUE(evaluateGate(base, now).passed());
   std::swap(ordering.better, ordering.worse);
-  now.cases["case_a"].checks = {ordering};
+  base.cases["case_a"].checks = {ordering};
   EXPECT_FALSE(evaluateGate(base, now).passed());
 }
 
@@ -129,7 +134,7 @@ TEST(Gate, KnownFailuresAreReportedButOnlyNewFailuresFail) {
   ResultsFile then = results({run("pbd", 0.01), run("selftest.ok", 0.02)});
   CheckSpec bound;
   bound.metric = "energy_drift_max";
-  bound.max = 0.015;  // selftest.ok (0.02) fails it already
+  bound.max = 0.0105;  // selftest.ok (0.02) fails it already; pbd (0.01) holds
   then.cases["case_a"].checks = {bound};
   const Baseline base = baselineFromResults(then);
   ASSERT_EQ(base.knownFailures.size(), 1u);
@@ -137,17 +142,14 @@ TEST(Gate, KnownFailuresAreReportedButOnlyNewFailuresFail) {
 
   GateReport report = evaluateGate(base, then);
   EXPECT_TRUE(report.passed());
-  bool marked = false;
-  for (const GateOutcome& o : report.outcomes)
-    marked = marked || o.knownFailure;
-  EXPECT_TRUE(marked);
+  EXPECT_EQ(report.counts().verdicts.at(Verdict::KnownFailure), 1u);
 
-  ResultsFile now = results({run("pbd", 0.01), run("selftest.ok", 0.02)});
-  now.cases = then.cases;
-  now.runs[0].metrics.values["energy_drift_max"] = 0.0109;  // within its baseline tolerance
-  EXPECT_TRUE(evaluateGate(base, now).passed());
-  now.cases["case_a"].checks[0].max = 0.0105;  // now pbd (0.0109) fails a check that held
-  EXPECT_FALSE(evaluateGate(base, now).passed());
+  ResultsFile now = results({run("pbd", 0.0104), run("selftest.ok", 0.02)});
+  EXPECT_TRUE(evaluateGate(base, now).passed());            // within its tolerance and its bound
+  now.runs[0].metrics.values["energy_drift_max"] = 0.0109;  // within its tolerance (10 %) ...
+  report = evaluateGate(base, now);
+  EXPECT_EQ(report.failures(), 1u);  // ... but breaks the bound that held in the baseline
+  EXPECT_EQ(report.counts().verdicts.at(Verdict::ToleratedChange), 1u);
 
   GateOptions strict;
   strict.knownFailuresFail = true;
@@ -159,7 +161,7 @@ TEST(Gate, ReportsAreWellFormed) {
   const GateReport report = evaluateGate(base, results({run("pbd", 1.0)}));
   std::ostringstream xml, md;
   writeJUnit(xml, report);
-  EXPECT_NE(xml.str().find("<failure message="), std::string::npos);
+  EXPECT_NE(xml.str().find("<failure type=\"regression\" message="), std::string::npos);
   EXPECT_NE(xml.str().find("failures=\"1\""), std::string::npos);
   writeMarkdown(md, report, results({}));
   EXPECT_NE(md.str().find("FAILED"), std::string::npos);
@@ -193,11 +195,12 @@ std::string invalidArgumentOf(const std::function<void()>& f) {
 
 bool anyFailureSays(const GateReport& report, const std::string& text) {
   for (const GateOutcome& o : report.outcomes)
-    if (!o.passed && o.message.find(text) != std::string::npos) return true;
+    if (!o.passed() && o.message.find(text) != std::string::npos) return true;
   return false;
 }
 
-const char* kBaselineHead = R"({"schema": "pbdval-baseline", "schemaVersion": 1, "runs": )";
+const char* kBaselineHead = R"({"schema": "pbdval-baseline", "schemaVersion": 2,
+    "cases": {"c": {"file": "c.json", "sha256": ""}}, "runs": )";
 
 TEST(GateFailsClosed, EmptyBaselineIsAnError) {
   const std::string path = temporaryJson("empty", std::string(kBaselineHead) + "[]}");
@@ -312,6 +315,364 @@ TEST(GateFailsClosed, DeepJsonIsRefusedWithTheLimit) {
               readResults("/dev/null");
             }).find("/dev/null: the results is a character device, not a regular file"),
             std::string::npos);
+}
+
+// ---- one verdict per check (issue 24) -------------------------------------------------------
+
+TEST(GateVerdict, OneFunctionDecidesEachKindOfFinding) {
+  const GateOptions lenient, strict{true};
+  CheckFinding f;
+  EXPECT_EQ(decideVerdict(f, lenient), Verdict::Pass);
+  f.change = 1;
+  EXPECT_EQ(decideVerdict(f, lenient), Verdict::ToleratedChange);
+  f.change = -1;
+  EXPECT_EQ(decideVerdict(f, lenient), Verdict::Improvement);
+  f.holds = false;
+  EXPECT_EQ(decideVerdict(f, lenient), Verdict::Regression);
+  f.failedInBaseline = true;
+  EXPECT_EQ(decideVerdict(f, lenient), Verdict::KnownFailure);
+  EXPECT_EQ(decideVerdict(f, strict), Verdict::Regression);
+  f.present = false;
+  EXPECT_EQ(decideVerdict(f, lenient), Verdict::Missing);
+  f.newSinceBaseline = true;
+  EXPECT_EQ(decideVerdict(f, lenient), Verdict::New);
+  for (Verdict v : kVerdicts)
+    EXPECT_EQ(verdictFails(v), v == Verdict::Regression || v == Verdict::Missing) << verdictName(v);
+}
+
+// A metric worse than the baseline beyond round-off but within its tolerance is a tolerated
+// change, one better an improvement; both pass; a difference at round-off level is no change.
+TEST(GateVerdict, ChangesWithinToleranceAreToleratedAndImprovementsAreNamed) {
+  const Baseline base = baselineFromResults(results({run("pbd", 0.010)}));
+  const auto verdictOfDrift = [&](double drift) {
+    for (const GateOutcome& o : evaluateGate(base, results({run("pbd", drift)})).outcomes)
+      if (o.metric == "energy_drift_max") return o.verdict;
+    return Verdict::Pass;
+  };
+  EXPECT_EQ(verdictOfDrift(0.0105), Verdict::ToleratedChange);  // +5 %, allowed +10 %
+  EXPECT_EQ(verdictOfDrift(0.0050), Verdict::Improvement);
+  EXPECT_EQ(verdictOfDrift(0.010 * (1 + 1e-12)), Verdict::Pass);  // below kRoundOffRelative
+  EXPECT_EQ(verdictOfDrift(0.0111), Verdict::Regression);         // beyond 10 % + 1e-6
+}
+
+RunRecord withStatus(RunRecord r, RunStatus status) {
+  r.status = status;
+  return r;
+}
+
+Verdict statusVerdict(const GateReport& report) {
+  for (const GateOutcome& o : report.outcomes)
+    if (o.name == "pbd/pbd status") return o.verdict;
+  ADD_FAILURE() << "no status check";
+  return Verdict::Pass;
+}
+
+// A suspect run (its states break a sanity bound) fails unless the baseline has it suspect
+// too (a known failure); suspect in the baseline and ok now passes, as an improvement.
+TEST(GateVerdict, SuspectRunFailsUnlessTheBaselineRecordsItSuspect) {
+  const RunRecord ok = run("pbd", 0.01), suspect = withStatus(ok, RunStatus::Suspect);
+  const Baseline wasOk = baselineFromResults(results({ok}));
+  const Baseline wasSuspect = baselineFromResults(results({suspect}));
+  const Baseline wasDiverged = baselineFromResults(results({withStatus(ok, RunStatus::Diverged)}));
+  GateReport report = evaluateGate(wasOk, results({suspect}));
+  EXPECT_EQ(statusVerdict(report), Verdict::Regression);
+  EXPECT_FALSE(report.passed());
+  EXPECT_EQ(statusVerdict(evaluateGate(wasDiverged, results({suspect}))), Verdict::Regression);
+  report = evaluateGate(wasSuspect, results({suspect}));
+  EXPECT_EQ(statusVerdict(report), Verdict::KnownFailure);
+  EXPECT_TRUE(report.passed());
+  GateOptions strict;
+  strict.knownFailuresFail = true;
+  EXPECT_FALSE(evaluateGate(wasSuspect, results({suspect}), strict).passed());
+  report = evaluateGate(wasSuspect, results({ok}));
+  EXPECT_EQ(statusVerdict(report), Verdict::Improvement);
+  EXPECT_TRUE(report.passed());
+  // A suspect run's metrics are kept and gated: one 100x worse fails as well.
+  report = evaluateGate(wasSuspect, results({withStatus(run("pbd", 1.0), RunStatus::Suspect)}));
+  EXPECT_EQ(report.failures(), 1u);
+  // A completed run that no longer completes fails.
+  EXPECT_EQ(statusVerdict(evaluateGate(wasSuspect, results({withStatus(ok, RunStatus::Error)}))),
+            Verdict::Regression);
+}
+
+std::size_t countOf(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1))
+    ++n;
+  return n;
+}
+
+// A manufactured regression: one run of three with every metric 100x worse, another run gone.
+// The text, JUnit, Markdown and JSON writers print the same counts, equal to the checks
+// decideVerdict flagged: the scaled run's two gated metrics (energy_drift_max,
+// joint_error_linear_max; wall_time_s is not gated) and the missing run.
+TEST(GateVerdict, EveryWriterPrintsTheCountsOfTheVerdicts) {
+  ResultsFile then =
+      results({run("pbd", 0.01), run("selftest.ok", 0.02), run("selftest.crash", 0.03)});
+  const Baseline base = baselineFromResults(then);
+  ResultsFile now = then;
+  for (auto& [metric, value] : now.runs[0].metrics.values)
+    value *= 100;
+  now.runs.pop_back();
+  const GateReport report = evaluateGate(base, now);
+  std::size_t flagged = 0;
+  for (const GateOutcome& o : report.outcomes)
+    flagged += verdictFails(decideVerdict(o.finding, GateOptions{})) ? 1 : 0;
+  ASSERT_EQ(flagged, 3u);
+  ASSERT_EQ(report.failures(), flagged);
+  const std::string failed =
+      std::to_string(flagged) + " failed in 1 case (2 regressions, 1 missing)";
+
+  std::ostringstream text, xml, md, json;
+  writeText(text, report, false);
+  writeJUnit(xml, report);
+  writeMarkdown(md, report, now);
+  writeGateJson(json, report, now);
+  EXPECT_EQ(countOf(text.str(), "\nFAIL ") + (text.str().rfind("FAIL ", 0) == 0), flagged);
+  EXPECT_NE(text.str().find("pbdval gate: FAILED (" + std::to_string(report.outcomes.size()) +
+                            " checks, " + failed),
+            std::string::npos)
+      << text.str();
+  EXPECT_NE(xml.str().find("failures=\"" + std::to_string(flagged) + "\""), std::string::npos);
+  EXPECT_EQ(countOf(xml.str(), "<failure "), flagged);
+  EXPECT_EQ(countOf(md.str(), "\n| regression |") + countOf(md.str(), "\n| missing |"), flagged);
+  EXPECT_NE(md.str().find(failed), std::string::npos) << md.str();
+  const nlohmann::json document = nlohmann::json::parse(json.str());
+  EXPECT_EQ(document["counts"]["failed"].get<std::size_t>(), flagged);
+  std::size_t listed = 0;
+  for (const auto& check : document["checks"])
+    listed += check["verdict"] == "regression" || check["verdict"] == "missing" ? 1 : 0;
+  EXPECT_EQ(listed, flagged);
+  EXPECT_EQ(document["checks"].size(), report.outcomes.size());
+}
+
+// ---- the gate judges with the baseline's data, never the results' (issue 25) ----------------
+
+// The attack of issue 25: a metric 100x worse, with a tolerance of 1e9 written into the results.
+TEST(GateJudgesWithPinnedData, ToleranceWrittenIntoTheResultsIsIgnored) {
+  const Baseline base = baselineFromResults(results({run("pbd", 0.01)}));
+  ResultsFile tampered = results({run("pbd", 1.0)});
+  tampered.cases["case_a"].tolerances["energy_drift_max"] = 1e9;
+  const GateReport report = evaluateGate(base, tampered);
+  EXPECT_FALSE(report.passed());
+  EXPECT_TRUE(anyFailureSays(report, "allowed ≤ 0.011"));  // 0.01 (1 + 10 %) + 1e-6
+}
+
+// The same with a failing check deleted from the results: the baseline's check still applies.
+TEST(GateJudgesWithPinnedData, CheckDeletedFromTheResultsStillApplies) {
+  ResultsFile then = results({run("pbd", 0.01)});
+  CheckSpec bound;
+  bound.metric = "joint_error_linear_max";
+  bound.max = 1e-5;
+  then.cases["case_a"].checks = {bound};
+  const Baseline base = baselineFromResults(then);
+  ResultsFile now = results({run("pbd", 0.01)});
+  now.runs[0].metrics.values["joint_error_linear_max"] = 1e-5 * 1.2;  // within 25 %, over the bound
+  now.cases["case_a"].checks.clear();
+  EXPECT_FALSE(evaluateGate(base, now).passed());
+}
+
+ResultsFile planned(std::vector<RunRecord> runs) {
+  ResultsFile f = results(std::move(runs));
+  f.metadata.planDigest = planDigestOfRuns(f.runs);
+  f.cases["case_a"].fileSha256 = sha256Hex("case a, version 1");
+  return f;
+}
+
+TEST(GateJudgesWithPinnedData, ResultsNotOfTheirPlanAreRefusedByName) {
+  const ResultsFile good = planned({run("pbd", 0.01), run("selftest.ok", 0.02)});
+  EXPECT_NO_THROW(refuseUnjudgeableResults(good, "r.json"));
+  ResultsFile edited = good;
+  edited.runs.pop_back();  // a run removed by hand
+  EXPECT_NE(invalidArgumentOf([&] {
+              refuseUnjudgeableResults(edited, "r.json");
+            }).find("r.json: runs: the runs listed are not those of the plan"),
+            std::string::npos);
+  edited = good;
+  edited.runs[0].request.assignments = {"timeStepSize=0.02"};
+  EXPECT_NE(
+      invalidArgumentOf([&] { refuseUnjudgeableResults(edited, "r.json"); }).find("planDigest"),
+      std::string::npos);
+  ResultsFile old = good;
+  old.metadata.planDigest.clear();
+  EXPECT_NE(invalidArgumentOf([&] {
+              refuseUnjudgeableResults(old, "r.json");
+            }).find("r.json: metadata.planDigest: missing"),
+            std::string::npos);
+  ResultsFile shard = good;
+  shard.metadata.shard = ShardInfo{2, 3, 6, good.metadata.planDigest};
+  EXPECT_NE(invalidArgumentOf([&] {
+              refuseUnjudgeableResults(shard, "r.json");
+            }).find("shard 2/3 hold part of a plan"),
+            std::string::npos);
+  ResultsFile unhashed = good;
+  unhashed.cases["case_a"].fileSha256.clear();
+  EXPECT_NE(invalidArgumentOf([&] {
+              refuseUnjudgeableResults(unhashed, "r.json");
+            }).find("r.json: cases.case_a.sha256: missing"),
+            std::string::npos);
+}
+
+TEST(GateJudgesWithPinnedData, BaselineRefusesWhatTheGateWouldRefuse) {
+  EXPECT_NE(invalidArgumentOf([&] {
+              refuseUnfitBaselineSource(planned({}), "r.json");
+            }).find("r.json: runs: no runs"),
+            std::string::npos);
+  const ResultsFile twice = planned({run("pbd", 0.01), run("pbd", 0.01)});
+  EXPECT_NE(invalidArgumentOf([&] {
+              refuseUnfitBaselineSource(twice, "r.json");
+            }).find("r.json: runs[1]: run case_a pbd/pbd is listed twice"),
+            std::string::npos);
+  const ResultsFile broken = planned(
+      {run("pbd", 0.01, RunStatus::Error), run("selftest.ok", 0.01, RunStatus::Unsupported)});
+  EXPECT_NE(invalidArgumentOf([&] {
+              refuseUnfitBaselineSource(broken, "r.json");
+            }).find("no run is ok (1 unsupported, 1 error)"),
+            std::string::npos);
+  ResultsFile otherPlan = planned({run("pbd", 0.01)});
+  otherPlan.metadata.planDigest = planDigestOfRuns({run("selftest.ok", 0.01)});
+  EXPECT_NE(invalidArgumentOf([&] {
+              refuseUnfitBaselineSource(otherPlan, "r.json");
+            }).find("not those of the plan"),
+            std::string::npos);
+  EXPECT_NO_THROW(refuseUnfitBaselineSource(planned({run("pbd", 0.01)}), "r.json"));
+}
+
+TEST(GateJudgesWithPinnedData, BaselineOfAnotherPrecisionIsRefused) {
+  ResultsFile then = planned({run("pbd", 0.01)});
+  then.metadata.precision = "double";
+  const Baseline base = baselineFromResults(then);
+  ResultsFile now = then;
+  EXPECT_NO_THROW(refuseOtherBuild(base, now));
+  now.metadata.precision = "float";
+  EXPECT_NE(invalidArgumentOf([&] {
+              refuseOtherBuild(base, now);
+            }).find("the baseline was made by a double-precision build, the results by a float"),
+            std::string::npos);
+}
+
+// `pbdval baseline` over a baseline of another plan (a partial run over the full baseline).
+TEST(GateJudgesWithPinnedData, BaselineOfAnotherPlanIsNotReplacedSilently) {
+  const ResultsFile full = planned({run("pbd", 0.01), run("selftest.ok", 0.02)});
+  const Baseline existing = baselineFromResults(full);
+  EXPECT_NO_THROW(refuseAnotherPlan(existing, "main.json", full));
+  const ResultsFile partial = planned({run("pbd", 0.01)});
+  EXPECT_NE(invalidArgumentOf([&] {
+              refuseAnotherPlan(existing, "main.json", partial);
+            }).find("main.json was made from another plan (2 runs of 1 cases"),
+            std::string::npos);
+}
+
+/// A reader of case files from memory: file name → (bytes, checks).
+CaseFileReader readerOf(
+    std::map<std::string, std::pair<std::string, std::vector<CheckSpec>>> files) {
+  return [files](const std::string& file) -> std::optional<CaseGateData> {
+    const auto it = files.find(file);
+    if (it == files.end()) return std::nullopt;
+    CaseGateData data;
+    data.file = file;
+    data.fileSha256 = sha256Hex(it->second.first);
+    data.checks = it->second.second;
+    return data;
+  };
+}
+
+TEST(GateJudgesWithPinnedData, CaseFilesMustBeThosePinned) {
+  const ResultsFile then = planned({run("pbd", 0.01)});
+  CheckSpec strictBound;
+  strictBound.metric = "energy_drift_max";
+  strictBound.max = 0.001;  // pbd (0.01) fails it
+  const Baseline base = baselineFromResults(then);
+  // The same file everywhere, or no file on disk: nothing to say.
+  Baseline b = base;
+  EXPECT_TRUE(checkCaseFiles(b, then, readerOf({{"case_a.json", {"case a, version 1", {}}}}), false)
+                  .empty());
+  EXPECT_TRUE(checkCaseFiles(b, then, readerOf({}), false).empty());
+  // Results run from another version of the case: refused by name.
+  ResultsFile changed = then;
+  changed.cases["case_a"].fileSha256 = sha256Hex("case a, version 2");
+  const auto disk = readerOf({{"case_a.json", {"case a, version 2", {strictBound}}}});
+  EXPECT_NE(invalidArgumentOf([&] {
+              checkCaseFiles(b, changed, disk, false);
+            }).find("case case_a: the results were run from case_a.json with sha256 "),
+            std::string::npos);
+  // The file on disk edited since the baseline: refused by name.
+  EXPECT_NE(invalidArgumentOf([&] {
+              checkCaseFiles(b, then, disk, false);
+            }).find("case case_a: case_a.json on disk has sha256 "),
+            std::string::npos);
+  // Re-pinned on request, from the file the results were run from: its checks apply.
+  const std::vector<std::string> notes = checkCaseFiles(b, changed, disk, true);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("case case_a re-pinned"), std::string::npos);
+  ASSERT_EQ(b.cases["case_a"].checks.size(), 1u);
+  EXPECT_FALSE(evaluateGate(b, changed).passed());
+  // ... and only from that file.
+  b = base;
+  EXPECT_NE(
+      invalidArgumentOf([&] {
+        checkCaseFiles(b, changed, readerOf({{"case_a.json", {"case a, version 3", {}}}}), true);
+      }).find("the results were run from sha256"),
+      std::string::npos);
+}
+
+// `pbdval baseline` pins the checks of the case files, not the results' copy of them.
+TEST(GateJudgesWithPinnedData, BaselineTakesChecksFromTheCaseFiles) {
+  ResultsFile then = planned({run("pbd", 0.01)});
+  then.cases["case_a"].tolerances["energy_drift_max"] = 1e9;  // written into the results
+  CheckSpec bound;
+  bound.metric = "energy_drift_max";
+  bound.max = 1;
+  takeCaseDataFromFiles(then, readerOf({{"case_a.json", {"case a, version 1", {bound}}}}));
+  EXPECT_TRUE(then.cases["case_a"].tolerances.empty());
+  EXPECT_EQ(then.cases["case_a"].checks.size(), 1u);
+  ResultsFile edited = planned({run("pbd", 0.01)});
+  EXPECT_NE(invalidArgumentOf([&] {
+              takeCaseDataFromFiles(edited, readerOf({{"case_a.json", {"case a, version 2", {}}}}));
+            }).find("case case_a: case_a.json has changed since the runs"),
+            std::string::npos);
+  EXPECT_NE(invalidArgumentOf([&] {
+              takeCaseDataFromFiles(edited, readerOf({}));
+            }).find("case case_a: its file case_a.json cannot be read"),
+            std::string::npos);
+}
+
+TEST(GateJudgesWithPinnedData, BaselineOfTheFirstVersionSaysHowToRegenerateIt) {
+  const std::string path =
+      temporaryJson("v1", R"({"schema": "pbdval-baseline", "schemaVersion": 1, "runs": []})");
+  const std::string message = invalidArgumentOf([&] { readBaseline(path); });
+  EXPECT_NE(message.find("schemaVersion 1"), std::string::npos) << message;
+  EXPECT_NE(message.find("pbdval baseline --results out --out " + path), std::string::npos)
+      << message;
+  std::filesystem::remove(path);
+}
+
+TEST(GateJudgesWithPinnedData, BaselineRoundTripKeepsThePins) {
+  ResultsFile then = planned({run("pbd", 0.01)});
+  CheckSpec bound;
+  bound.metric = "energy_drift_max";
+  bound.max = 1;
+  then.cases["case_a"].checks = {bound};
+  then.cases["case_a"].tolerances["energy_drift_max"] = 0.5;
+  const std::string path = temporaryJson("roundtrip", "");
+  writeBaseline(path, baselineFromResults(then));
+  const Baseline back = readBaseline(path);
+  EXPECT_EQ(back.source.planDigest, then.metadata.planDigest);
+  EXPECT_EQ(back.cases.at("case_a").fileSha256, then.cases["case_a"].fileSha256);
+  EXPECT_EQ(back.cases.at("case_a").checks.size(), 1u);
+  EXPECT_EQ(back.cases.at("case_a").tolerances.at("energy_drift_max"), 0.5);
+  std::filesystem::remove(path);
+}
+
+// FIPS 180-2, appendix B: the digests of "abc", of a two-block message and of a million "a"s;
+// and of the empty string (well known).
+TEST(Sha256, MatchesThePublishedTestVectors) {
+  EXPECT_EQ(sha256Hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(sha256Hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(sha256Hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
+            "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+  EXPECT_EQ(sha256Hex(std::string(1000000, 'a')),
+            "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
 }
 
 // The fit recovers known orders: e = 3 h² exactly (order 2, R² = 1); e ∝ n⁻¹ for a count-like

@@ -23,6 +23,7 @@
 #include "validation/results_folder.h"
 #include "validation/run_plan.h"
 #include "validation/run_scheduler.h"
+#include "validation/sha256.h"
 #include "validation/sharding.h"
 #include "validation/summary.h"
 
@@ -111,6 +112,7 @@ int runCommand(const Context& context, const Arguments& arguments) {
   PlanOptions options;
   RunPlan plan;
   std::optional<ShardInfo> shard;
+  std::string wholePlanDigest;
   int jobs = 1;
   double timeout = 600;
   try {
@@ -146,6 +148,7 @@ int runCommand(const Context& context, const Arguments& arguments) {
       printPlan(plan);
       return 0;
     }
+    wholePlanDigest = runsDigest(plan);
     if (args.has("shard")) {
       ShardInfo info = parseShard(args.value("shard"));
       plan = shardOf(plan, info);
@@ -190,6 +193,7 @@ int runCommand(const Context& context, const Arguments& arguments) {
   ResultsFile results;
   results.metadata = currentMetadata(command.str());
   results.metadata.shard = shard;
+  results.metadata.planDigest = wholePlanDigest;
 
   const bool terminal = !quiet && ::isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
@@ -240,14 +244,17 @@ int runCommand(const Context& context, const Arguments& arguments) {
   for (RunRecord& r : records)
     r.request.trajectoryPath = folder->finalPath(r.request.trajectoryPath);
 
+  // Each case file's hash: the gate refuses results run from another version of a case than the
+  // one its baseline pins (docs/gate.md).
   for (const auto& [name, entry] : plan.cases)
     results.cases[name] = {entry.first, entry.second.description, entry.second.checks,
-                           entry.second.tolerances};
+                           entry.second.tolerances, fileSha256(entry.first).value_or("")};
   // A case that could not be read still has its entry (no checks): results.json then reads back,
   // and the gate reports the run's error instead of refusing the file.
   for (const RunRecord& u : plan.unreadable)
     results.cases.emplace(u.request.caseName,
-                          CaseGateData{u.request.caseFile, "could not be read: " + u.reason, {}, {}});
+                          CaseGateData{u.request.caseFile, "could not be read: " + u.reason, {}, {},
+                                       fileSha256(u.request.caseFile).value_or("")});
   results.runs = plan.unreadable;
   results.runs.insert(results.runs.end(), records.begin(), records.end());
   const std::string resultsPath = options.outFolder + "/results.json";

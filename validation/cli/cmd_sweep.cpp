@@ -169,7 +169,7 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
       ResultsFile results;
       results.metadata = currentMetadata(command.str());
       results.metadata.shard = shard;
-      results.cases[plan.caseName] = {options.caseFile, "sweep of " + plan.caseName, {}, {}};
+      results.cases[plan.caseName] = {options.caseFile, "sweep of " + plan.caseName, {}, {}, ""};
       if (args.has("fail-with")) {
         results.runs = failedRecords(part.requests, args.value("fail-with"));
       } else {
