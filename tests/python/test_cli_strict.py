@@ -251,6 +251,7 @@ def test_no_output_may_overwrite_an_input_of_the_same_command(tmp_path: Path) ->
     gate = ["gate", "--baseline", str(baseline), "--results", str(results)]
     expect_usage_error(pbdval_command(*gate, "--junit", str(baseline)), "--junit", "is the baseline")
     expect_usage_error(pbdval_command(*gate, "--markdown", str(results_json)), "--markdown", "is the results")
+    expect_usage_error(pbdval_command(*gate, "--json", str(baseline)), "--json", "is the baseline")
     expect_usage_error(pbdval_command(*gate, "--junit", str(tmp_path / "g"), "--markdown", str(tmp_path / "g")),
                        "are the same file")
     assert results_json.read_bytes() == results_bytes and baseline.read_bytes() == baseline_bytes
