@@ -112,6 +112,13 @@ struct RunFacts {
   /// rest reports rest (validation/sanity.h, check velocity_at_rest).
   double restVelocityAllowance = 0;
   std::string restVelocityReason;
+  /// Bodies (indices into Scene::rigidBodies) whose reported velocities the method sets apart
+  /// from their motion by design, with the reason: the PBD steps' motor joints (a position
+  /// motor's target moves once per scene step, so a driven body's velocity is its last
+  /// substep's; a velocity motor sets the velocity in the velocity pass). The velocity checks
+  /// skip them; every other check applies.
+  std::vector<int> velocityDrivenBodies;
+  std::string velocityDrivenReason;
 };
 
 /// How long to run and how often to sample (both in seconds of simulated time).

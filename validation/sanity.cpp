@@ -182,7 +182,8 @@ std::vector<IntervalMismatch> velocityMismatches(const pbd::Scene& scene, const 
                                                  const State& a, const State& b,
                                                  const State* after, std::size_t k,
                                                  double restAllowance,
-                                                 const std::vector<double>& sizes) {
+                                                 const std::vector<double>& sizes,
+                                                 const std::vector<bool>& skip) {
   std::vector<IntervalMismatch> mismatches;
   const double dt = b.time - a.time;
   if (!(dt > 0)) return mismatches;
@@ -191,7 +192,7 @@ std::vector<IntervalMismatch> velocityMismatches(const pbd::Scene& scene, const 
   const double stepCorrection =
       double(scene.simulation.gravitation.norm()) * double(scene.simulation.timeStepSize);
   for (std::size_t i = 0; i < scene.rigidBodies.size(); ++i) {
-    if (!scene.rigidBodies[i].isDynamic) continue;
+    if (!scene.rigidBodies[i].isDynamic || skip[i]) continue;
     const BodyState& ba = a.bodies[i];
     const BodyState& bb = b.bodies[i];
     const BodyState* bp = before ? &before->bodies[i] : nullptr;
@@ -389,6 +390,14 @@ BoundaryChecker::BoundaryChecker(const pbd::Scene& scene, double initialToleranc
       restVelocityAllowance_(restVelocityAllowance) {
   window_.reserve(4);
   for (const pbd::RigidBodyDesc& body : scene.rigidBodies) sizes_.push_back(bodySize(body));
+  skipVelocity_.assign(scene.rigidBodies.size(), false);
+}
+
+BoundaryChecker::BoundaryChecker(const pbd::Scene& scene, const RunFacts& facts)
+    : BoundaryChecker(scene, facts.initialStateTolerance, facts.restVelocityAllowance,
+                      facts.initialVelocitiesProjected) {
+  for (int body : facts.velocityDrivenBodies)
+    if (body >= 0 && std::size_t(body) < skipVelocity_.size()) skipVelocity_[std::size_t(body)] = true;
 }
 
 void BoundaryChecker::checkInterval(std::size_t first) {
@@ -403,7 +412,7 @@ void BoundaryChecker::checkInterval(std::size_t first) {
   std::vector<int> failing(streaks_.size(), 0);
   for (IntervalMismatch& m : velocityMismatches(scene_, before, window_[first],
                                                 window_[first + 1], after, k,
-                                                restVelocityAllowance_, sizes_)) {
+                                                restVelocityAllowance_, sizes_, skipVelocity_)) {
     const std::size_t slot = 2 * m.body + (m.angular ? 1 : 0);
     failing[slot] = 1;
     if (streaks_[slot]++ == 0) streakStart_[slot] = std::move(m.message);

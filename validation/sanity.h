@@ -44,6 +44,9 @@ class BoundaryChecker {
   /// velocities are not compared with the scene's).
   BoundaryChecker(const pbd::Scene& scene, double initialTolerance = 1e-9,
                   double restVelocityAllowance = 0, bool velocitiesProjected = false);
+  /// The checker of a run with `facts` (its tolerance, rest allowance, projected initial
+  /// velocities and velocity-driven bodies).
+  BoundaryChecker(const pbd::Scene& scene, const RunFacts& facts);
   /// The next sample (in time order). Returns the first violation once there is one.
   const std::optional<CheckViolation>& add(const State& sample);
   /// Checks the intervals still open (the last one). Returns the first violation, if any.
@@ -65,6 +68,7 @@ class BoundaryChecker {
   std::vector<std::string> streakStart_;
   double restVelocityAllowance_;
   std::vector<double> sizes_;  ///< per body, √(tr I / 2m) (m), for the angular rest allowance
+  std::vector<bool> skipVelocity_;  ///< per body: RunFacts::velocityDrivenBodies
 };
 
 /// Intervals in a row a velocity mismatch must hold to be a violation (docs/metrics.md): an

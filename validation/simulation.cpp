@@ -109,9 +109,7 @@ void runWhole(Engine& engine, const pbd::Scene& scene, const Method& method,
   outcome.status = whole.status;
   outcome.reason = std::move(whole.reason);
   outcome.steps = whole.status == RunStatus::Ok ? plan.steps : whole.steps;
-  BoundaryChecker boundary(scene, outcome.facts.initialStateTolerance,
-                           outcome.facts.restVelocityAllowance,
-                           outcome.facts.initialVelocitiesProjected);
+  BoundaryChecker boundary(scene, outcome.facts);
   for (const State& state : whole.samples) {
     outcome.simulatedTime = state.time;
     const std::string diverged = divergenceReason(state);
@@ -162,9 +160,7 @@ RunOutcome runSimulation(Engine& engine, const pbd::Scene& scene, const Method& 
     // What the engine reads back is checked against the protocol's definitions at every
     // step (validation/sanity.h): a violation ends the run as an error. Every step, not every
     // sample: an oscillation at the step frequency would alias on a coarser sample grid.
-    BoundaryChecker boundary(scene, outcome.facts.initialStateTolerance,
-                           outcome.facts.restVelocityAllowance,
-                           outcome.facts.initialVelocitiesProjected);
+    BoundaryChecker boundary(scene, outcome.facts);
     auto boundaryFailed = [&](const State& sample) {
       if (!boundary.add(sample)) return false;
       outcome.status = RunStatus::Error;

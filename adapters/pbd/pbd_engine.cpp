@@ -1,5 +1,7 @@
 #include "adapters/pbd/pbd_engine.h"
 
+#include <algorithm>
+
 #include <cstdio>
 
 #include "pbd/io/number_text.h"
@@ -106,6 +108,17 @@ void PbdEngine::load(const pbd::Scene& scene, const Method& method) {
   world_.emplace(pbd::buildWorld(configured, options_.gridCacheFolder));
   bodyIds_.clear();
   for (const pbd::RigidBodyDesc& body : scene.rigidBodies) bodyIds_.push_back(body.id);
+  motorBodies_.clear();
+  for (const pbd::JointDesc& joint : scene.joints) {
+    const bool motor = joint.type == pbd::JointType::TargetAngleMotorHinge ||
+                       joint.type == pbd::JointType::TargetVelocityMotorHinge ||
+                       joint.type == pbd::JointType::TargetPositionMotorSlider ||
+                       joint.type == pbd::JointType::TargetVelocityMotorSlider;
+    if (!motor) continue;
+    for (int body : {joint.body1, joint.body2})
+      if (body >= 0 && std::find(motorBodies_.begin(), motorBodies_.end(), body) == motorBodies_.end())
+        motorBodies_.push_back(body);
+  }
 }
 
 void PbdEngine::step() {
@@ -145,6 +158,13 @@ RunFacts PbdEngine::runFacts() const {
     facts.restVelocityReason =
         "the seed's velocity pass applies contact impulses after the positions are set: up to "
         "(1 + e) |g| h at rest";
+  }
+  if (!motorBodies_.empty()) {
+    facts.velocityDrivenBodies = motorBodies_;
+    facts.velocityDrivenReason =
+        "motor joints: a position motor's target moves once per scene step (the driven body's "
+        "velocity is its last substep's, the seed's order), and a velocity motor sets the "
+        "velocity in the velocity pass after the positions are set";
   }
   return facts;
 }

@@ -36,6 +36,7 @@ class PbdEngine final : public Engine {
   EngineOptions options_;
   std::optional<pbd::World> world_;
   std::vector<int> bodyIds_;
+  std::vector<int> motorBodies_;  ///< dynamic bodies of motor joints (RunFacts)
 };
 
 /// The simulation settings of a run: the scene's, with the step method and XPBD parameters of

@@ -81,11 +81,17 @@ TEST(ContactSceneKeys, SignedDistanceFieldOfAnOpenMeshIsAnError) {
 }
 
 TEST(ContactSceneKeys, OversizedGridIsAnError) {
-  EXPECT_EQ(errorOf(R"({"RigidBodies": [{"geometryFile": "../meshes/tet_surface.obj",
+  // One axis beyond 512 cells: the key's range (checked for every collision type).
+  EXPECT_EQ(
+      errorOf(R"({"RigidBodies": [{"geometryFile": "../meshes/tet_surface.obj",
       "collisionObjectType": 5, "resolutionSDF": [1000, 10, 10]}]})"),
+      kInline + ": RigidBodies[0].resolutionSDF[0]: expected an integer in [1, 512], got 1000");
+  // Every axis within 512 but 300³ = 2.7e7 cells beyond 256³: the grid's total.
+  EXPECT_EQ(errorOf(R"({"RigidBodies": [{"geometryFile": "../meshes/tet_surface.obj",
+      "collisionObjectType": 5, "resolutionSDF": [300, 300, 300]}]})"),
             kInline +
                 ": RigidBodies[0].resolutionSDF: expected at most 512 cells per axis and "
-                "256^3 cells in total, got [1000,10,10]");
+                "256^3 cells in total, got [300,300,300]");
 }
 
 TEST(ContactSceneKeys, SignedDistanceFieldMeshIsLoadedUnscaled) {

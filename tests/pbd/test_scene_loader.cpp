@@ -698,7 +698,7 @@ TEST(SceneLoaderErrors, OutOfRangeValues) {
       {R"({"RigidBodies": [{"collisionObjectType": 8}]})",
        "RigidBodies[0].collisionObjectType: expected an integer in [0, 7], got 8"},
       {R"({"RigidBodies": [{"collisionObjectType": 1, "resolutionSDF": [10, 0, 10]}]})",
-       "RigidBodies[0].resolutionSDF[1]: expected an integer >= 1, got 0"},
+       "RigidBodies[0].resolutionSDF[1]: expected an integer in [1, 512], got 0"},
       {R"({"RigidBodies": [{"collisionObjectType": 1, "density": 0}]})",
        "RigidBodies[0].density: expected a number > 0 for a dynamic body, got 0"},
       {R"({"RigidBodies": [{"collisionObjectType": 1, "restitution": 1.5}]})",
@@ -708,7 +708,7 @@ TEST(SceneLoaderErrors, OutOfRangeValues) {
       {R"({"RigidBodies": [{"collisionObjectType": 1, "scale": [1, -1, 1]}]})",
        "RigidBodies[0].scale: expected an array of 3 finite numbers > 0"},
       {R"({"RigidBodies": [{"collisionObjectType": 1, "mass": -1}]})",
-       "RigidBodies[0].mass: expected a number > 0, got -1"},
+       "RigidBodies[0].mass: expected a number in [1e-12, 1e+12], got -1"},
       {R"({"RigidBodies": [{"collisionObjectType": 1, "inertia": [1, 1, 3]}]})",
        "RigidBodies[0].inertia: expected principal moments [Ixx, Iyy, Izz] > 0 with Ia + Ib >= "
        "Ic"},
@@ -1046,6 +1046,66 @@ TEST(ContactMaterial, BadRuleAndPairsAreLocatedErrors) {
   const std::string unknownBody = std::string(pairs).replace(pairs.find("\"bodyID1\": 3"), 12, "\"bodyID1\": 9");
   EXPECT_NE(message(unknownBody).find("ContactPairs[0].bodyID1"), std::string::npos)
       << message(unknownBody);
+}
+
+// A NUL byte anywhere in the scene text is an error naming the file and the byte offset
+// (issue 25): before, the bytes after a NUL that followed the closing brace were accepted.
+TEST(SceneLoader, NulByteIsAnErrorNamingTheFileAndOffset) {
+  const std::string valid = R"({"Name": "nul"})";
+  for (const std::size_t offset : {valid.size(), std::size_t(3)}) {
+    std::string text = valid;
+    text.insert(offset, 1, '\0');
+    const std::string error = errorOf(text);
+    EXPECT_TRUE(containsAll(error, {kInline, "NUL byte", "byte offset " + std::to_string(offset)}))
+        << error;
+  }
+}
+
+// Physical ranges checked at load (issue 25, docs/scene-format.md#ranges): each error names the
+// file, the JSON path and the range. Every value here was accepted before (an angular velocity
+// of 1e300 ran "ok" with a zero quaternion).
+TEST(SceneLoaderRanges, OutOfRangeValuesAreErrorsNamingThePathAndTheRange) {
+  struct Case {
+    const char* json;
+    std::vector<std::string> expected;
+  };
+  const std::string body = R"({"RigidBodies": [{"collisionObjectType": 2, )";
+  const std::vector<Case> cases = {
+      {R"("angularVelocity": [0, 1e300, 0]}]})",
+       {"RigidBodies[0].angularVelocity", "[-1000000, 1000000]"}},
+      {R"("velocity": [2e6, 0, 0]}]})", {"RigidBodies[0].velocity", "[-1000000, 1000000]"}},
+      {R"("translation": [0, -1e7, 0]}]})", {"RigidBodies[0].translation", "[-1000000, 1000000]"}},
+      {R"("mass": 1e-300, "inertia": [1, 1, 1]}]})", {"RigidBodies[0].mass", "[1e-12, 1e+12]"}},
+      {R"("mass": 1e300, "inertia": [1, 1, 1]}]})", {"RigidBodies[0].mass", "[1e-12, 1e+12]"}},
+      // A 1 m box of density 1e13 kg/m³: the computed mass is out of range.
+      {R"("density": 1e13}]})", {"RigidBodies[0].density", "1e+13 kg", "[1e-12, 1e+12] kg"}},
+      {R"("resolutionSDF": [10, 100000, 10]}]})", {"RigidBodies[0].resolutionSDF", "[1, 512]"}},
+  };
+  for (const Case& c : cases) {
+    const std::string error = errorOf(body + c.json);
+    for (const std::string& part : c.expected)
+      EXPECT_NE(error.find(part), std::string::npos)
+          << c.json << ": '" << part << "' not in " << error;
+    EXPECT_NE(error.find("inline.json"), std::string::npos) << error;
+  }
+  // The bounds themselves are accepted.
+  EXPECT_NO_THROW(parse(body + R"("velocity": [1e6, -1e6, 0], "angularVelocity": [0, 0, 1e6],
+      "translation": [1e6, 0, -1e6], "mass": 1e-12, "inertia": [1, 1, 1]}]})"));
+}
+
+// A degenerate element relative to the model's size is an error naming the model, the element
+// index and the bound (issue 25: a flat tet's centre of mass drifted 4 mm in 0.5 s).
+TEST(SceneLoaderRanges, DegenerateElementsAreErrorsNamingTheModelAndElement) {
+  EXPECT_TRUE(containsAll(errorOf(R"({"TetModels": [{"nodeFile": "../meshes/flat_tet.node",
+                                 "eleFile": "../meshes/flat_tet.ele"}]})"),
+                          {"inline.json", "TetModels[0].eleFile", "tet 1 ", "1e-12 L^3"}));
+  EXPECT_TRUE(containsAll(
+      errorOf(R"({"TriangleModels": [{"geometryFile": "../meshes/degenerate_triangle.obj"}]})"),
+      {"inline.json", "TriangleModels[0].geometryFile", "triangle 1 ", "1e-12 L^2"}));
+  // The regular meshes load.
+  EXPECT_NO_THROW(parse(R"({"TetModels": [{"nodeFile": "../meshes/tet.node",
+                                          "eleFile": "../meshes/tet.ele"}],
+                           "TriangleModels": [{"geometryFile": "../meshes/plane_3x3.obj"}]})"));
 }
 
 }  // namespace

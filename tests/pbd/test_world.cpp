@@ -582,8 +582,19 @@ TEST(StiffRodWorld, StepAllocatesNothing) {
         // the bending rows' α̃ = 1/(E I L h_s²) = 5e7 stand against stretch rows of ~250, a
         // conditioning of ~2e5, which float's ε turns into a solve error of ~2 % per substep;
         // in float the XPBD Y tree flails (last segment at y = +0.29 m after 203 steps).
+        // The sag is a property of the rod solver, so it is checked without contacts: the Y
+        // tree's arms overlap at the branch and every segment touches its neighbours, ~2400
+        // contacts that make the pbd.xpbd tree flail in double too (its last segment swings
+        // between y = −0.26 and +0.34 m within 200 steps, before and after issue 24's
+        // speculative-margin change: which sign step 201 lands on is chance).
         if (sizeof(Real) >= 8 || method == StepMethod::Seed) {
-          EXPECT_LT(a.bodies.rigid.position.back().y(), 0)
+          Scene free = scene;
+          for (RigidBodyDesc& body : free.rigidBodies)
+            body.collision.type = CollisionObjectType::None;
+          World sagging = buildWorld(free);
+          for (int n = 0; n < 201; ++n)
+            sagging.step();
+          EXPECT_LT(sagging.bodies.rigid.position.back().y(), 0)
               << "solver " << int(solver) << ", method " << int(method) << ", "
               << scene.rigidBodies.size() << " segments";
         }

@@ -2,6 +2,8 @@
 // vertex (triangle models first, then tet models, in file order), of mass 1 as in the seed or,
 // with the model's `density`, lumped from the element areas or volumes; 0 when listed in
 // `staticParticles`.
+#include <cmath>
+
 #include "pbd/model/mass_properties.h"
 #include "scene_reading.h"
 
@@ -62,6 +64,61 @@ int appendParticles(const Mesh& mesh, const std::optional<Real>& density,
   return static_cast<int>(first);
 }
 
+/// The diagonal of the vertices' bounding box (the model's size L).
+Real boundingDiagonal(const std::vector<Vector3>& vertices) {
+  if (vertices.empty()) return 0;
+  Vector3 low = vertices.front(), high = vertices.front();
+  for (const Vector3& v : vertices) {
+    low = low.cwiseMin(v);
+    high = high.cwiseMax(v);
+  }
+  return (high - low).norm();
+}
+
+/// Fails at `fileKey` for the first triangle whose area is below kDegenerateElementFraction L².
+void checkTriangleAreas(const TriangleMesh& mesh, const JsonValue& fileKey) {
+  const Real size = boundingDiagonal(mesh.vertices);
+  const Real minimum = Real(kDegenerateElementFraction) * size * size;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& e = mesh.triangles[t];
+    const Vector3& a = mesh.vertices[static_cast<std::size_t>(e[0])];
+    const Real area = Real(0.5) * (mesh.vertices[static_cast<std::size_t>(e[1])] - a)
+                                      .cross(mesh.vertices[static_cast<std::size_t>(e[2])] - a)
+                                      .norm();
+    if (!(area >= minimum)) {
+      fileKey.error("triangle " + std::to_string(t) + " (vertices " + std::to_string(e[0]) + ", " +
+                    std::to_string(e[1]) + ", " + std::to_string(e[2]) + ") has area " +
+                    formatNumber(area) + " m^2; expected at least 1e-12 L^2 = " +
+                    formatNumber(minimum) + " m^2 (L = " + formatNumber(size) +
+                    " m, the model's bounding-box diagonal): a degenerate triangle has no "
+                    "normal and no strain; remove it from the mesh");
+    }
+  }
+}
+
+/// Fails at `fileKey` for the first tet whose |volume| is below kDegenerateElementFraction L³.
+void checkTetVolumes(const TetMesh& mesh, const JsonValue& fileKey) {
+  const Real size = boundingDiagonal(mesh.vertices);
+  const Real minimum = Real(kDegenerateElementFraction) * size * size * size;
+  for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t) {
+    const auto& e = mesh.tetrahedra[t];
+    const auto vertex = [&](int k) -> const Vector3& {
+      return mesh.vertices[static_cast<std::size_t>(e[static_cast<std::size_t>(k)])];
+    };
+    const Real volume =
+        (vertex(1) - vertex(0)).cross(vertex(2) - vertex(0)).dot(vertex(3) - vertex(0)) / 6;
+    if (!(std::abs(volume) >= minimum)) {
+      fileKey.error("tet " + std::to_string(t) + " (vertices " + std::to_string(e[0]) + ", " +
+                    std::to_string(e[1]) + ", " + std::to_string(e[2]) + ", " +
+                    std::to_string(e[3]) + ") has volume " + formatNumber(volume) +
+                    " m^3; expected |volume| at least 1e-12 L^3 = " + formatNumber(minimum) +
+                    " m^3 (L = " + formatNumber(size) +
+                    " m, the model's bounding-box diagonal): a flat tet has no volume gradient "
+                    "for its constraints; remove it from the mesh");
+    }
+  }
+}
+
 struct TriangleModelInput {
   TriangleModelDesc desc;
   PoseInput pose;
@@ -88,6 +145,7 @@ TriangleModelDesc readTriangleModel(const JsonValue& element, LoadContext& conte
       *context.scaledObj(model.geometryFile, Vector3::Ones(), *object.find("geometryFile"));
   for (auto& v : model.mesh.vertices)
     v = toWorld(v, model.scale, model.rotation, model.translation);
+  checkTriangleAreas(model.mesh, *object.find("geometryFile"));
   checkStaticParticles(model.staticParticles, model.mesh.vertices.size(), object);
   model.firstParticle =
       appendParticles(model.mesh, model.density, model.staticParticles, object, scene);
@@ -132,9 +190,10 @@ TetModelDesc readTetModel(const JsonValue& element, LoadContext& context, Scene&
   for (const char* key : {"collisionObjectFileName", "collisionObjectScale", "invertSDF",
                           "thicknessSDF", "resolutionSDF"})
     if (const auto value = object.find(key))
-      value->warn(std::string("ignored for a tet model: its particle-tet contacts use the tet "
-                              "mesh's own boundary, not a collision shape (only "
-                              "collisionObjectType and testMesh take effect)"));
+      value->warn(
+          std::string("ignored for a tet model: its particle-tet contacts use the tet "
+                      "mesh's own boundary, not a collision shape (only "
+                      "collisionObjectType and testMesh take effect)"));
 
   model.translation = in.pose.translation;
   model.scale = in.pose.scale;
@@ -146,6 +205,7 @@ TetModelDesc readTetModel(const JsonValue& element, LoadContext& context, Scene&
   model.mesh = context.tetGen(model.nodeFile, model.eleFile, *object.find("nodeFile"));
   for (auto& v : model.mesh.vertices)
     place(v);
+  checkTetVolumes(model.mesh, *object.find("eleFile"));
   if (!model.visFile.empty()) {
     TriangleMesh visual =
         *context.scaledObj(model.visFile, Vector3::Ones(), *object.find("visFile"));

@@ -42,8 +42,9 @@ KeyTable<RigidBodyDesc> rigidBodyKeys(const LoadContext& context) {
       numberKey("density", &B::density, nonNegative()),  // > 0 for dynamic bodies, see below
       {"geometryFile",
        [&context](const JsonValue& v, B& b) { b.geometryFile = context.existingFile(v); }},
-      vectorKey("velocity", &B::velocity),
-      vectorKey("angularVelocity", &B::angularVelocity),
+      vectorKey("velocity", &B::velocity, between(-kMaxSpeed, kMaxSpeed)),
+      vectorKey("angularVelocity", &B::angularVelocity,
+                between(-kMaxAngularSpeed, kMaxAngularSpeed)),
       numberKey("restitution", &B::restitution, between(0, 1)),
       numberKey("friction", &B::friction, nonNegative()),
       booleanKey("flatShading", &B::flatShading),
@@ -52,7 +53,8 @@ KeyTable<RigidBodyDesc> rigidBodyKeys(const LoadContext& context) {
 
 KeyTable<RigidBodyInput> massOverrideKeys() {
   return {
-      {"mass", [](const JsonValue& v, RigidBodyInput& in) { in.mass = v.number(positive()); }},
+      {"mass", [](const JsonValue& v,
+                  RigidBodyInput& in) { in.mass = v.number(between(kMinMass, kMaxMass)); }},
       {"inertia",
        [](const JsonValue& v, RigidBodyInput& in) { in.inertia = readPrincipalInertia(v); }},
   };
@@ -140,6 +142,20 @@ void applyMassOverrides(const RigidBodyInput& in, JsonObject& object, MassProper
   }
 }
 
+/// A dynamic body's mass from its density and volume must lie in [kMinMass, kMaxMass] (a given
+/// `mass` is checked where it is read).
+void checkMassRange(const RigidBodyInput& in, JsonObject& object, const MassProperties& props) {
+  if (!in.desc.isDynamic || in.mass) return;
+  if (props.mass >= kMinMass && props.mass <= kMaxMass) return;
+  const std::string message =
+      "the body's mass, density x volume = " + formatNumber(props.mass) + " kg, must lie in [" +
+      formatNumber(kMinMass) + ", " + formatNumber(kMaxMass) +
+      "] kg (results are not meaningful in double precision beyond it): change \"density\" or "
+      "the size, or give \"mass\"";
+  if (const auto density = object.find("density")) density->error(message);
+  object.error(message);
+}
+
 MassProperties massProperties(RigidBodyInput& in, JsonObject& object, LoadContext& context) {
   MassProperties props;
   if (!in.desc.geometryFile.empty()) {
@@ -152,11 +168,11 @@ MassProperties massProperties(RigidBodyInput& in, JsonObject& object, LoadContex
                    "\"inertia\" are given");
   }
   applyMassOverrides(in, object, props);
+  checkMassRange(in, object, props);
   return props;
 }
 
-/// Grids beyond this many cells per axis (or in total) would take minutes and gigabytes.
-constexpr int kMaxGridCellsPerAxis = 512;
+/// At most 256³ cells in total (kMaxGridCellsPerAxis, scene_reading.h, bounds each axis).
 constexpr long long kMaxGridCells = 256LL * 256 * 256;
 
 std::string lowerCaseExtension(const std::string& path) {

@@ -291,6 +291,15 @@ void warnUnusedModelSettings(JsonObject& root, const Scene& scene) {
 LoadedScene parseScene(const std::string& jsonText, const std::string& sourcePath,
                        const LoadOptions& options) {
   using namespace scene_io;
+  // JSON text (RFC 8259) never contains a NUL byte, not even inside strings (it must be
+  // escaped there); one means a binary or truncated-and-padded file, whose bytes after the NUL
+  // the parser would otherwise skip or misread (issue 25).
+  if (const std::size_t nul = jsonText.find('\0'); nul != std::string::npos) {
+    throw SceneError(SceneDiagnostic{
+        sourcePath, "",
+        "a NUL byte at byte offset " + std::to_string(nul) +
+            ": expected JSON text (UTF-8 without NUL bytes); the file is binary or corrupted"});
+  }
   DiagnosticSink sink(sourcePath, options.strict);
   const Json document = parseJson(jsonText, sink);
   const JsonValue rootValue(document, "", sink);

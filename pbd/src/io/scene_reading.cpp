@@ -65,7 +65,7 @@ TetMesh LoadContext::tetGen(const std::string& nodePath, const std::string& eleP
 
 KeyTable<PoseInput> poseKeys() {
   return {
-      vectorKey("translation", &PoseInput::translation),
+      vectorKey("translation", &PoseInput::translation, between(-kMaxCoordinate, kMaxCoordinate)),
       {"scale",
        [](const JsonValue& v, PoseInput& pose) {
          // Positive: a mirroring scale would turn meshes and tetrahedra inside out.
@@ -128,8 +128,10 @@ KeyTable<CollisionObjectDesc> collisionKeys(const LoadContext& context) {
       booleanKey("invertSDF", &C::invertSDF),
       numberKey("thicknessSDF", &C::thicknessSDF, nonNegative()),
       {"resolutionSDF",
-       [](const JsonValue& v, C& c) { c.resolutionSDF = v.integerVector3(atLeast(1)); }, false,
-       [](const C& c, Json& j) { writeIntegerVector(j, "resolutionSDF", c.resolutionSDF); }},
+       [](const JsonValue& v, C& c) {
+         c.resolutionSDF = v.integerVector3(between(1, kMaxGridCellsPerAxis));
+       },
+       false, [](const C& c, Json& j) { writeIntegerVector(j, "resolutionSDF", c.resolutionSDF); }},
   };
 }
 

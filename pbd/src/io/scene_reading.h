@@ -15,6 +15,36 @@
 
 namespace pbd::scene_io {
 
+// ---- physical ranges checked at load (docs/scene-format.md#ranges) --------------------------
+// Beyond them results stop being finite or meaningful in double precision; each is checked with
+// the key's JSON path.
+
+/// |x| of a position component (m): the runner counts positions beyond 10⁶ m as a blow-up
+/// (validation/simulation.h, kDivergenceLimit), and there double's spacing is 1.2·10⁻¹⁰ m, the
+/// scale of the contact sinks the methods resolve (g h_s² = 6·10⁻⁷ m at h_s = 0.25 ms).
+inline constexpr double kMaxCoordinate = 1e6;
+/// |v| of a velocity component (m/s): the runner's blow-up limit for speeds (kDivergenceLimit).
+inline constexpr double kMaxSpeed = 1e6;
+/// |ω| of an angular-velocity component (rad/s): 10⁶ rad/s turns a body by 800 revolutions per
+/// 5 ms step, and a point 1 m out moves at the blow-up speed limit; at 10³⁰⁰ the quaternion
+/// update ½ h ω ⊗ q overflows and normalises to zero.
+inline constexpr double kMaxAngularSpeed = 1e6;
+/// A dynamic rigid body's mass (kg), given or computed: 10⁻¹² kg (a 10 µm dust grain) to
+/// 10¹² kg (a mountain). Within it 1/m, m v² and m L² stay finite and well inside double's
+/// range for the speeds and sizes above; masses like 10⁻³⁰⁰ or 10³⁰⁰ overflow them.
+inline constexpr double kMinMass = 1e-12;
+inline constexpr double kMaxMass = 1e12;
+/// A tet with |volume| below this fraction of L³ (a triangle: area below this fraction of L²),
+/// L the model's bounding-box diagonal, is degenerate: its volume (area) gradient is round-off,
+/// so the volume, FEM and strain constraints divide by nothing (a flat tet's centre of mass
+/// drifted 4 mm in 0.5 s). Scale-free, far above the round-off of a regular element's volume
+/// (ε L³ ≈ 2·10⁻¹⁶ L³), far below any element a mesher makes on purpose.
+inline constexpr double kDegenerateElementFraction = 1e-12;
+
+/// SDF grids (type 5) beyond this many cells per axis (or 256³ in total) would take minutes and
+/// gigabytes to build.
+inline constexpr int kMaxGridCellsPerAxis = 512;
+
 /// State shared by the readers of one scene: the scene's folder and the meshes loaded so far.
 class LoadContext {
  public:

@@ -11,19 +11,34 @@
 namespace pbd {
 namespace {
 
-/// contactTolerance + speculativeMargin · h · (the largest speed of any point in the world).
+/// contactTolerance + speculativeMargin · h · (the largest speed of any point in the world,
+/// plus h |a| for its acceleration).
+///
+/// The h |a| term: a point that starts the step at rest is not at rest at its end — the
+/// substeps move it by Σ_k k h_s² |a| = ½ (1 + 1/n) h² |a| ≤ h² |a| (semi-implicit Euler, n
+/// substeps). Without it a body resting on a surface with contactTolerance 0 is only seen when
+/// it has already sunk: the step where its corners sit exactly on (or a round-off above) the
+/// surface collects no contact (tolerance ≈ speculativeMargin · h · 0), the box falls freely
+/// for the whole step (by ½ (1 + 1/n) g h² = 0.13 mm at h = 5 ms), the next step collects the
+/// corners and projects them out — unevenly, because one Gauss–Seidel sweep over four corners
+/// tilts the box — and the cycle repeats: a box that never leaves the surface by more than 0.13
+/// mm yet reports v_y ≈ −0.02 m/s and ω ≈ 0.2 rad/s at every fifth step and turns by 10° in 5 s
+/// (issue 24). With the term every point that can reach a surface during the step has its
+/// contact from the step's start, as the paper's speculative margin intends.
 Real detectionTolerance(const World& world) {
+  const Real h = world.settings.timeStepSize;
   const RigidBodyStates& b = world.bodies.rigid;
   Real speed = 0;
   for (std::size_t i = 0; i < b.size(); ++i)
     if (b.isDynamic(i))
       speed = std::max(speed, b.velocity[i].norm() +
-                                  b.angularVelocity[i].norm() * world.xpbd.sampleRadius[i]);
+                                  b.angularVelocity[i].norm() * world.xpbd.sampleRadius[i] +
+                                  h * b.acceleration[i].norm());
   const ParticleStates& p = world.bodies.particles;
   for (std::size_t i = 0; i < p.size(); ++i)
-    if (p.inverseMass[i] > 0) speed = std::max(speed, p.velocity[i].norm());
-  return world.settings.contactTolerance +
-         world.settings.xpbd.speculativeMargin * world.settings.timeStepSize * speed;
+    if (p.inverseMass[i] > 0)
+      speed = std::max(speed, p.velocity[i].norm() + h * p.acceleration[i].norm());
+  return world.settings.contactTolerance + world.settings.xpbd.speculativeMargin * h * speed;
 }
 
 void solvePositions(World& world, Real h) {
@@ -65,7 +80,8 @@ void solveVelocities(World& world, Real h) {
   const XpbdSettings& settings = world.settings.xpbd;
   if (settings.jointLinearDamping > 0 || settings.jointAngularDamping > 0)
     for (const JointDampingAnchor& anchor : world.xpbd.jointAnchors)
-      dampJoint(world.bodies.rigid, anchor, settings.jointLinearDamping, settings.jointAngularDamping, h);
+      dampJoint(world.bodies.rigid, anchor, settings.jointLinearDamping,
+                settings.jointAngularDamping, h);
   const Real restitutionThreshold = 2 * world.settings.gravitation.norm() * h;  // 2|g|h
   for (const XpbdContact& contact : world.xpbd.contacts.contacts)
     contact.solveVelocity(world.bodies, h, restitutionThreshold);
@@ -91,7 +107,8 @@ void prepareXpbd(World& world, const Scene& scene) {
     const JointDesc& desc = scene.joints[static_cast<std::size_t>(sceneIndex)];
     JointDampingAnchor anchor;
     if (desc.body2 >= 0) {
-      const auto i0 = static_cast<std::size_t>(desc.body1), i1 = static_cast<std::size_t>(desc.body2);
+      const auto i0 = static_cast<std::size_t>(desc.body1),
+                 i1 = static_cast<std::size_t>(desc.body2);
       Vector3 point = Real(0.5) * (rigid.position[i0] + rigid.position[i1]);
       switch (desc.type) {
         case JointType::RigidBodySpring:
@@ -106,7 +123,8 @@ void prepareXpbd(World& world, const Scene& scene) {
         default:
           point = desc.position;
       }
-      anchor = {desc.body1, desc.body2, rigid.rotation[i0].conjugate() * (point - rigid.position[i0]),
+      anchor = {desc.body1, desc.body2,
+                rigid.rotation[i0].conjugate() * (point - rigid.position[i0]),
                 rigid.rotation[i1].conjugate() * (point - rigid.position[i1])};
     }
     state.jointAnchors.push_back(anchor);
@@ -129,8 +147,7 @@ void stepWorldXpbd(World& world) {
   resetAccelerations(world);
   const Real tolerance = detectionTolerance(world);
   world.collision.detect(world.bodies, tolerance, world.contacts.geometry);
-  world.xpbd.contacts.initialise(world.contacts.geometry, world.bodies, world.materials,
-                                 tolerance);
+  world.xpbd.contacts.initialise(world.contacts.geometry, world.bodies, world.materials, tolerance);
   for (int s = 0; s < substeps; ++s) {
     const Real substepEnd = startTime + static_cast<Real>(s + 1) * hs;
     for (Joint& joint : world.joints)
@@ -142,7 +159,7 @@ void stepWorldXpbd(World& world) {
     world.collision.detectParticleTet(world.bodies.particles, world.tetContacts.geometry);
     world.tetContacts.initialise(world.bodies.particles, world.materials);
     solvePositions(world, hs);
-    solveFluids(world.fluids, world.bodies.particles);  // own neighbour search and iterations
+    solveFluids(world.fluids, world.bodies.particles);   // own neighbour search and iterations
     updateVelocities(world, hs, /*secondOrder=*/false);  // XPBD: first order (the paper)
     solveVelocities(world, hs);
     applyFluidViscosity(world.fluids, world.bodies.particles);

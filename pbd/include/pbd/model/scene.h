@@ -358,7 +358,8 @@ struct XpbdSettings {
   Real jointAngularCompliance = 0;  ///< rad/(N m): rotation rows of the joints
   Real contactCompliance = 0;       ///< m/N: contact normal rows
   /// Contacts are collected once per step for points within contactTolerance +
-  /// speculativeMargin · h · (|v| + |ω| ρ) of another body (ρ the body's sample radius).
+  /// speculativeMargin · h · (|v| + |ω| ρ + h |a|) of another body (ρ the body's sample
+  /// radius, a its acceleration).
   Real speculativeMargin = 2;
   /// Joint damping (1/s, the paper's §3.6; joints/xpbd_joint_damping.h): the relative velocity
   /// of a joint's anchors and the relative angular velocity fall by min(μ h, 1) per substep.

@@ -4,9 +4,11 @@
 // One step of size h with n = XpbdSettings::substeps substeps of h_s = h/n:
 //   1. accelerations of dynamic bodies and particles := gravitation (torques are kept);
 //   2. collision detection once, at the step's start poses, for points within
-//      contactTolerance + speculativeMargin · h · max_i(|v_i| + |ω_i| ρ_i) (ρ_i the largest
-//      distance of body i's surface samples from its centre of mass; particles: |v|) — the
-//      distance any point can travel in the step, so that no contact is missed;
+//      contactTolerance + speculativeMargin · h · max_i(|v_i| + |ω_i| ρ_i + h |a_i|) (ρ_i the
+//      largest distance of body i's surface samples from its centre of mass, a_i its
+//      acceleration; particles: |v| + h |a|) — the distance any point can travel in the step,
+//      gravity's ½ (1 + 1/n) h² |a| included, so that no contact is missed (issue 24: without
+//      the h |a| term a box resting with contactTolerance 0 fell through one step in five);
 //   3. n times:
 //      - motors take their set point for the end of the substep;
 //      - predict: v ← v + h_s a, x ← x + h_s v; ω ← ω + h_s I_w⁻¹(τ − ω × I_w ω),
