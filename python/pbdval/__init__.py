@@ -23,6 +23,7 @@ __path__ = extend_path(__path__, __name__)
 
 from pbdval.errors import (  # noqa: E402
     BuildMissingError,
+    CommandError,
     DivergenceError,
     EngineError,
     PbdvalError,
@@ -57,6 +58,7 @@ if TYPE_CHECKING:  # what the lazy __getattr__ below returns, for type checkers
 __all__ = [
     "BodyStates",
     "BuildMissingError",
+    "CommandError",
     "DivergenceError",
     "Energy",
     "EngineError",
