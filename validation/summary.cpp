@@ -48,6 +48,13 @@ void printSummaryTable(std::ostream& out, const std::vector<RunRecord>& runs) {
       char text[32];
       std::snprintf(text, sizeof text, "%.0f", rtf == r.metrics.values.end() ? 0.0 : rtf->second);
       out << text;
+      if (r.status == RunStatus::Suspect) {
+        // Why, on a line of its own under the metrics: the check, the value and the bound.
+        std::string reason = r.reason;
+        if (reason.size() > 110) reason = reason.substr(0, 107) + "...";
+        out << '\n' << padded("", caseWidth) << "  " << padded("", runWidth) << "  "
+            << padded("", 11) << reason;
+      }
     } else {
       std::string reason = r.reason;
       if (reason.size() > 90) reason = reason.substr(0, 87) + "...";
