@@ -5,6 +5,8 @@
 // bodies, a hang) becomes the run's status with a reason, never a failure of the runner.
 #pragma once
 
+#include <sys/types.h>
+
 #include <string>
 #include <vector>
 
@@ -42,6 +44,12 @@ class ExternalEngine final : public Engine {
   ExternalCommand command_;
   RunFacts facts_;
 };
+
+/// Ends what the external-engine runs of process `owner` left when `owner` was killed before
+/// it could clean up (a wall-time limit or an interrupt of `pbdval run`): kills each run's
+/// engine process group and removes its scratch folder ($TMPDIR/pbdval-engine-<owner>-*).
+/// For the process that started `owner`, after `owner` has ended.
+void removeEngineLeftovers(pid_t owner);
 
 /// The engines of a catalogue folder: one `<name>.json` per engine (docs/external-engines.md#the-catalogue),
 /// each command's "{python}" replaced by `python`, run in `workingFolder`. Throws

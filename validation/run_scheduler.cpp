@@ -12,12 +12,13 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <filesystem>
 #include <system_error>
 
 #include "validation/atomic_file.h"
+#include "validation/external_engine.h"
 #include "validation/run_execution.h"
 #include "validation/run_plan.h"
 
@@ -80,8 +81,11 @@ RunRecord collect(const Child& child, int waitStatus, const RunRequest& request,
     record.reason = "engine process exited with status " + std::to_string(WEXITSTATUS(waitStatus)) +
                     " without a result";
   }
-  // A child that died mid-write leaves its temporary trajectory file behind.
+  // A child that died mid-write leaves its temporary trajectory file behind; one that was
+  // killed, an external engine's process group and scratch folder.
   removeLeftovers(child, request, file);
+  if (child.killedForTimeout || !WIFEXITED(waitStatus) || WEXITSTATUS(waitStatus) != 0)
+    removeEngineLeftovers(child.pid);
   return record;
 }
 
@@ -151,6 +155,7 @@ std::vector<RunRecord> RunScheduler::runAll(
       int status = 0;
       ::waitpid(child.pid, &status, 0);
       removeLeftovers(child, requests[child.index], resultFile(scratchFolder_, child.index));
+      removeEngineLeftovers(child.pid);
     }
     std::error_code ignored;
     std::filesystem::remove(scratchFolder_, ignored);  // only if empty
