@@ -94,6 +94,20 @@ ENGINE_MODE=done ENGINE_PIDS=$work/run_done.pid timeout 60 "$pbdval" run "$scene
 expect_gone "run, normal finish" "$work/run_done.pid"
 expect_no_scratch "run, normal finish"
 
+# --- run stopped by SIGTERM while the engine runs: the runner ends the engine and its child
+tried=$((tried + 1))
+rm -f "$work/run_signal.pid"
+ENGINE_MODE=hang ENGINE_PIDS=$work/run_signal.pid timeout 60 "$pbdval" run "$scene" --engines probe \
+  --out "$work/run_signal" --no-trajectories --quiet >/dev/null 2>&1 &
+runner=$!
+for _ in $(seq 100); do [[ -s $work/run_signal.pid ]] && break; sleep 0.1; done
+kill -TERM "$(pgrep -P "$runner" -x pbdval || echo "$runner")"
+wait "$runner"
+status=$?
+[[ $status -eq 143 ]] || fail "run on SIGTERM: exit $status, expected 143"
+expect_gone "run, SIGTERM" "$work/run_signal.pid"
+expect_no_scratch "run, SIGTERM"
+
 # --- simulate stopped by SIGTERM, SIGINT or SIGHUP while the engine runs: engine ended,
 # scratch and temporary output removed, exit status 128 + signal
 for signal in TERM INT HUP; do

@@ -2,7 +2,10 @@
 // (docs/external-engines.md). The runner writes the resolved scene, runs the engine's command
 // with a wall-time limit, and reads back trajectory.csv and status.json; everything an engine
 // gets wrong (a missing command, a non-zero exit, a malformed or truncated file, wrong rows or
-// bodies, a hang) becomes the run's status with a reason, never a failure of the runner.
+// bodies, a hang) becomes the run's status with a reason, never a failure of the runner. The
+// engine runs in a process group of its own, killed after every run (whatever it started ends
+// with it); SIGINT, SIGTERM or SIGHUP during a run stop it and throw SignalInterrupt
+// (validation/interrupts.h), its scratch folder removed.
 #pragma once
 
 #include <sys/types.h>

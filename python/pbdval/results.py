@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import subprocess
 import sys
 import tempfile
@@ -148,6 +149,8 @@ def _number(value: Any) -> float:
 
 def load_results(folder: str | Path) -> Results:
     """Reads FOLDER/results.json. Raises ResultsError naming the path and what was expected."""
+    if not isinstance(folder, (str, os.PathLike)) or "\x00" in os.fspath(folder):
+        raise ResultsError(f"{folder!r}: expected the path of a results folder")
     folder = Path(folder)
     path = folder / "results.json"
     if not folder.is_dir():
@@ -165,6 +168,10 @@ def load_results(folder: str | Path) -> Results:
     if version not in SUPPORTED_SCHEMA_VERSIONS:
         raise ResultsError(f"{path}: schemaVersion {version!r} is not one this pbdval reads "
                            f"({', '.join(map(str, SUPPORTED_SCHEMA_VERSIONS))})")
+    for key, kind in (("runs", list), ("metadata", dict), ("cases", dict)):
+        if not isinstance(document.get(key, kind()), kind):
+            raise ResultsError(f"{path}: {key}: expected a JSON {'array' if kind is list else 'object'}, "
+                               f"got {type(document[key]).__name__}")
     runs: list[RunResult] = []
     for index, r in enumerate(document.get("runs", [])):
         try:
@@ -195,8 +202,9 @@ def load_results(folder: str | Path) -> Results:
                     assignments=list(r.get("assignments", [])),
                 )
             )
-        except (KeyError, TypeError, ValueError) as error:
-            raise ResultsError(f"{path}: runs[{index}]: expected case, engine, method and status ({error})") from error
+        except (AttributeError, KeyError, TypeError, ValueError) as error:
+            raise ResultsError(f"{path}: runs[{index}]: expected an object with case, engine, method and status "
+                               f"({error})") from error
     return Results(folder=folder, metadata=dict(document.get("metadata", {})),
                    cases=dict(document.get("cases", {})), runs=runs)
 

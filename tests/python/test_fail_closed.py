@@ -304,3 +304,18 @@ def test_ctrl_c_interrupts_a_long_step_call() -> None:
     # 10^8 steps of PBD take minutes; the interrupt is taken within ~50 ms of stepping.
     assert out.startswith("interrupted after"), (out, err)
     assert process.returncode == 0, err
+
+
+@pytest.mark.parametrize("document", [
+    {"runs": 5}, {"runs": [5]}, {"runs": [["case"]]}, {"metadata": []}, {"cases": 3},
+    {"runs": [{"case": "c", "engine": "e", "method": "m", "status": "ok", "metrics": [1]}]},
+])
+def test_malformed_results_are_results_errors_not_attribute_or_type_errors(
+        tmp_path: Path, document: dict[str, object]) -> None:
+    import json
+
+    (tmp_path / "results.json").write_text(json.dumps({"schema": "pbdval-results", "schemaVersion": 1, **document}))
+    with pytest.raises(pbdval.ResultsError, match="results.json"):
+        pbdval.load_results(tmp_path)
+    with pytest.raises(pbdval.ResultsError):
+        pbdval.load_results(f"{tmp_path}\x00junk")
