@@ -8,14 +8,16 @@ results.json), so a study scripted in Python gets exactly the numbers the suite 
 from __future__ import annotations
 
 import json
+import functools
 import math
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterable, Iterator, Mapping, Sequence
+from typing import Any, Callable, Iterable, Iterator, Mapping, Sequence, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -219,6 +221,29 @@ def _assignment(key: str, value: ParameterValue) -> str:
     return f"{key}={text}"
 
 
+_Function = TypeVar("_Function", bound=Callable[..., Any])
+
+
+def _temporary_out_removed_on_failure(function: _Function) -> _Function:
+    """Without `out`, `function` (run) gets a new temporary folder as `out`, removed again when
+    the call fails (raises): a failed run leaves no $TMPDIR/pbdval-run-* behind; a successful
+    one keeps it (it is Results.folder)."""
+
+    @functools.wraps(function)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        if kwargs.get("out") is not None:
+            return function(*args, **kwargs)
+        folder = Path(tempfile.mkdtemp(prefix="pbdval-run-"))
+        try:
+            return function(*args, **{**kwargs, "out": folder})
+        except BaseException:
+            shutil.rmtree(folder, ignore_errors=True)
+            raise
+
+    return wrapper  # type: ignore[return-value]
+
+
+@_temporary_out_removed_on_failure
 def run(
     cases: str | Path | Iterable[str | Path] | None = None,
     *,

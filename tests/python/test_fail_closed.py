@@ -319,3 +319,16 @@ def test_malformed_results_are_results_errors_not_attribute_or_type_errors(
         pbdval.load_results(tmp_path)
     with pytest.raises(pbdval.ResultsError):
         pbdval.load_results(f"{tmp_path}\x00junk")
+
+
+def test_a_failed_run_without_out_leaves_no_temporary_folder(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, pbdval_binary: Path) -> None:
+    import tempfile
+
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    monkeypatch.setenv("TMPDIR", str(tmp_path))
+    with pytest.raises(subprocess.CalledProcessError):
+        pbdval.run([str(SCENE)], engines=["no-such-engine"], timeout=60)
+    assert list(tmp_path.glob("pbdval-run-*")) == []
+    results = pbdval.run([str(SCENE)], engines=["pbd"], timeout=60)
+    assert results.folder.parent == tmp_path and (results.folder / "results.json").is_file()
