@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "pbd/io/suggestion.h"
+
 namespace pbdval {
 
 const char* runStatusName(RunStatus status) {
@@ -96,10 +98,12 @@ Method resolveMethod(const MethodInfo& info, const std::map<std::string, std::st
   for (const auto& [key, text] : overrides) {
     const ParameterSpec* spec = info.find(key);
     if (!spec) {
-      std::string valid;
-      for (const ParameterSpec& p : info.parameters) valid += (valid.empty() ? "" : ", ") + p.name;
+      std::vector<std::string> valid;
+      for (const ParameterSpec& p : info.parameters)
+        valid.push_back(p.name);
       throw std::invalid_argument("method " + info.name + " has no parameter '" + key +
-                                  "' (parameters: " + (valid.empty() ? "none" : valid) + ")");
+                                  "' (parameters: " + pbd::nameList(valid) + ")" +
+                                  pbd::didYouMean(key, valid));
     }
     resolved.values[key] = parseParameter(*spec, text, info.name);
   }

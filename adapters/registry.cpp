@@ -2,17 +2,9 @@
 
 #include <stdexcept>
 
+#include "pbd/io/suggestion.h"
+
 namespace pbdval {
-namespace {
-
-template <class Items, class Name>
-std::string nameList(const Items& items, Name name) {
-  std::string list;
-  for (const auto& item : items) list += (list.empty() ? "" : ", ") + name(item);
-  return list.empty() ? "none" : list;
-}
-
-}  // namespace
 
 EngineRegistry::EngineRegistry(EngineOptions options) : options_(std::move(options)) {}
 
@@ -63,8 +55,9 @@ std::vector<std::string> EngineRegistry::defaultEngineNames() const {
 const EngineEntry& EngineRegistry::engine(const std::string& name) const {
   for (const EngineEntry& e : entries_)
     if (e.name == name) return e;
-  throw std::invalid_argument("unknown engine '" + name + "' (known: " +
-                              nameList(entries_, [](const EngineEntry& e) { return e.name; }) + ")");
+  const std::vector<std::string> known = engineNames();
+  throw std::invalid_argument("unknown engine '" + name + "' (known: " + pbd::nameList(known) +
+                              ")" + pbd::didYouMean(name, known));
 }
 
 const MethodInfo& EngineRegistry::method(const std::string& name) const {
@@ -74,8 +67,8 @@ const MethodInfo& EngineRegistry::method(const std::string& name) const {
       if (m.name == name) return m;
       known.push_back(m.name);
     }
-  throw std::invalid_argument("unknown method '" + name + "' (known: " +
-                              nameList(known, [](const std::string& n) { return n; }) + ")");
+  throw std::invalid_argument("unknown method '" + name + "' (known: " + pbd::nameList(known) +
+                              ")" + pbd::didYouMean(name, known));
 }
 
 Method EngineRegistry::resolve(const std::string& name,

@@ -1,7 +1,7 @@
 """Cloth and solids across engines: how far each run's particles are from every other's.
 
-    pbdval run cases/tet_bar.json --engines pbd,pybullet,mujoco-python --out out
-    .venv/bin/python examples/deformables_across_engines.py out
+    pbdval run cases/tet_bar.json --engines pbd,pybullet,mujoco-python --out out/deformables
+    .venv/bin/python examples/deformables_across_engines.py out/deformables
 
 For every case of the results folder, every pair of ok runs that read back particles:
 `particle_trajectory_error_rms` and `_max` of one against the other (the runner's metric code:

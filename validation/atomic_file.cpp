@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <streambuf>
 #include <thread>
@@ -302,6 +303,68 @@ void OutputFile::commit() {
     const std::string reason = errnoText(errno);
     ::unlink(temporary_.c_str());
     fail(path_, "cannot replace (" + reason + ")");
+  }
+}
+
+namespace {
+
+/// How a path is identified for checkOutputsAreNotInputs: by (device, inode) when it exists,
+/// else by its absolute, normalised path; nullopt for what is never replaced (devices, FIFOs).
+struct FileIdentity {
+  bool exists = false;
+  dev_t device = 0;
+  ino_t inode = 0;
+  std::string path;
+  bool operator==(const FileIdentity& other) const {
+    return exists == other.exists &&
+           (exists ? device == other.device && inode == other.inode : path == other.path);
+  }
+};
+
+std::optional<FileIdentity> identityOf(const std::string& path) {
+  if (path.empty()) return std::nullopt;
+  FileIdentity id;
+  // "x/../scene.json" with no folder x: the writer creates x and writes scene.json, so the
+  // normalised path is what is written when the path as given cannot be resolved yet.
+  std::error_code error;
+  std::string normalised = fs::weakly_canonical(fs::absolute(followLinks(path)), error).string();
+  if (error) normalised = fs::absolute(path).lexically_normal().string();
+  for (const std::string& candidate : {path, normalised}) {
+    struct stat info {};
+    if (::stat(candidate.c_str(), &info) != 0) continue;
+    if (S_ISCHR(info.st_mode) || S_ISFIFO(info.st_mode)) return std::nullopt;
+    id.exists = true;
+    id.device = info.st_dev;
+    id.inode = info.st_ino;
+    return id;
+  }
+  id.path = normalised;
+  return id;
+}
+
+}  // namespace
+
+void checkOutputsAreNotInputs(const std::vector<NamedPath>& outputs,
+                              const std::vector<NamedPath>& inputs) {
+  std::vector<std::pair<const NamedPath*, FileIdentity>> seen;
+  for (const NamedPath& output : outputs) {
+    const std::optional<FileIdentity> id = identityOf(output.second);
+    if (!id) continue;
+    for (const NamedPath& input : inputs) {
+      const std::optional<FileIdentity> other = identityOf(input.second);
+      if (other && *other == *id)
+        throw std::invalid_argument(
+            output.first + " " + output.second + " is " + input.first + " (" + input.second + ")" +
+            (output.second == input.second ? "" : " under another name") +
+            ": writing it would destroy an input of this command; give another file");
+    }
+    for (const auto& [earlier, identity] : seen)
+      if (identity == *id)
+        throw std::invalid_argument(output.first + " " + output.second + " and " + earlier->first +
+                                    " " + earlier->second +
+                                    " are the same file: one would overwrite the other; give "
+                                    "two different files");
+    seen.emplace_back(&output, *id);
   }
 }
 

@@ -18,6 +18,8 @@
 #include <memory>
 #include <ostream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace pbdval {
 
@@ -58,6 +60,20 @@ using AtomicFileWriter = OutputFile;
 /// permission), without opening or creating it (but creating its folders): for commands that
 /// compute for minutes before writing. A FIFO is not opened (that would wait for a reader).
 void checkOutputFile(const std::string& path);
+
+/// A file a command names, with what it is for messages: {"--out", "scene.csv"},
+/// {"the scene", "cases/x.json"}.
+using NamedPath = std::pair<std::string, std::string>;
+
+/// Refuses (std::invalid_argument) an output that would overwrite an input of the same command
+/// or another of its outputs (`simulate --out` its scene, `--out` and `--particles` one file,
+/// `gate --junit` its baseline, ...). Files are compared by device and inode after following
+/// symbolic links, so another name of the same file (a link, "./x", "../d/x") is caught; an output
+/// that does not exist yet is compared with the other outputs by its absolute, normalised path.
+/// Character devices and FIFOs (/dev/null, /dev/stdout into a pipe) are written in place, never
+/// replaced, and are not compared. Empty paths are ignored.
+void checkOutputsAreNotInputs(const std::vector<NamedPath>& outputs,
+                              const std::vector<NamedPath>& inputs);
 
 /// Writes `content` to `path` through OutputFile (creating parent folders).
 void writeFileAtomically(const std::string& path, const std::string& content);

@@ -24,6 +24,42 @@ namespace metric {
 std::string motorTrackingMax(const std::string& quantity) {
   return "motor_tracking_" + quantity + "_max";
 }
+
+std::vector<std::string> names() {
+  std::vector<std::string> all = {kEnergyDriftMax,
+                                  kEnergyDriftFinal,
+                                  kEnergyDriftRate,
+                                  "energy_scale",
+                                  kMomentumLinearDriftMax,
+                                  "momentum_linear_scale",
+                                  kMomentumAngularDriftMax,
+                                  "momentum_angular_scale",
+                                  kJointErrorLinearMax,
+                                  kJointErrorLinearRms,
+                                  kJointErrorAngularMax,
+                                  kJointErrorAngularRms,
+                                  kPenetrationMax,
+                                  kPenetrationMean,
+                                  kTrajectoryErrorMax,
+                                  kTrajectoryErrorRms,
+                                  kRotationErrorMax,
+                                  kParticleStretchMax,
+                                  kParticleStretchRms,
+                                  kTetVolumeErrorMax,
+                                  kSolidVolumeErrorMax,
+                                  kParticlePenetrationMax,
+                                  kSolidPenetrationMax,
+                                  kFluidEscapeMax,
+                                  kParticleTrajectoryErrorMax,
+                                  kParticleTrajectoryErrorRms,
+                                  kStaticDisplacement,
+                                  kStaticDisplacementError};
+  for (const char* quantity : {"angle", "angular_velocity", "position", "velocity"})
+    all.push_back(motorTrackingMax(quantity));
+  for (const char* runner : {"wall_time_s", "steps", "real_time_factor"})
+    all.push_back(runner);
+  return all;
+}
 }  // namespace metric
 
 namespace {

@@ -72,6 +72,10 @@ inline constexpr const char* kStaticDisplacement = "static_displacement";
 inline constexpr const char* kStaticDisplacementError = "static_displacement_error";
 /// "motor_tracking_<quantity>_max", quantity "angle", "angular_velocity", "position", "velocity".
 std::string motorTrackingMax(const std::string& quantity);
+/// Every name a run's metrics may hold: the constants above, the motor-tracking names, the
+/// scales (energy_scale, momentum_*_scale) and what the runner adds (wall_time_s, steps,
+/// real_time_factor). What `pbdval sweep --metric` accepts.
+std::vector<std::string> names();
 }  // namespace metric
 
 struct MetricSet {

@@ -220,8 +220,9 @@ RunRecord executeRun(const RunRequest& request, const EngineRegistry& registry) 
     record.metrics.values["steps"] = double(outcome.steps);
     if (outcome.wallTime > 0)
       record.metrics.values["real_time_factor"] = outcome.simulatedTime / outcome.wallTime;
-    // (runSimulation has held the samples to the boundary checks: a violation is an error.)
-    if (outcome.status != RunStatus::Ok) return record;
+    // (runSimulation has held the states to the boundary checks: a violation is an error, or
+    // suspect for velocities between states several integrator steps apart.)
+    if (!isMeasured(outcome.status)) return record;
 
     std::vector<std::string> notes;
     std::optional<ReferenceTrajectory> reference;
@@ -245,8 +246,10 @@ RunRecord executeRun(const RunRequest& request, const EngineRegistry& registry) 
     // Physics sanity, whatever the case declares: an ok run that breaks a bound the scene
     // implies is suspect (its metrics are kept).
     if (const std::optional<CheckViolation> violation = sanityViolation(c.scene, c.spec, samples)) {
+      record.reason = record.status == RunStatus::Suspect
+                          ? record.reason + "; " + violation->message
+                          : violation->message;
       record.status = RunStatus::Suspect;
-      record.reason = violation->message;
     }
   } catch (const std::exception& e) {
     record.status = RunStatus::Error;

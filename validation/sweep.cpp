@@ -10,9 +10,11 @@
 
 #include "pbd/io/number_text.h"
 #include "pbd/io/scene_loader.h"
+#include "pbd/io/suggestion.h"
 #include "validation/atomic_file.h"
 #include "validation/case_library.h"
 #include "validation/json_text.h"
+#include "validation/metrics.h"
 #include "validation/overrides.h"
 #include "validation/results.h"
 #include "validation/run_scheduler.h"
@@ -246,6 +248,57 @@ void markParetoFront(std::vector<SweepPoint>& points) {
   }
 }
 
+namespace {
+
+/// The names a sweep is given, checked before anything runs (an unknown one would otherwise
+/// skip every method and write a sweep without a fit): the metric is a metric
+/// (metric::names()); no method or parameter is given twice, nor a value of one parameter;
+/// every parameter has an effect on at least one method, and on every method named explicitly
+/// (`explicitMethods`: --methods; default methods on which it has none are skipped with a note).
+void checkSweepNames(const SweepPlan& plan, bool explicitMethods, bool declared,
+                     const EngineRegistry& registry) {
+  const std::vector<std::string> metrics = metric::names();
+  if (std::find(metrics.begin(), metrics.end(), plan.metric) == metrics.end())
+    throw OptionError(std::string(declared ? "Validation.sweeps[0].metric" : "--metric") + ": '" +
+                      plan.metric + "' is not a metric (metrics: " + pbd::nameList(metrics) + ")" +
+                      pbd::didYouMean(plan.metric, metrics));
+  for (std::size_t i = 0; i < plan.methods.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (plan.methods[i] == plan.methods[j])
+        throw OptionError("method " + plan.methods[i] + " is listed twice");
+  for (std::size_t i = 0; i < plan.parameters.size(); ++i) {
+    const auto& [name, values] = plan.parameters[i];
+    for (std::size_t j = 0; j < i; ++j)
+      if (plan.parameters[j].first == name)
+        throw OptionError("--param " + name + " is given twice");
+    for (std::size_t a = 0; a < values.size(); ++a)
+      for (std::size_t b = 0; b < a; ++b)
+        if (values[a] == values[b])
+          throw OptionError("--param " + name + ": the value " + values[a] +
+                            " is listed twice (the same runs again)");
+    std::vector<std::string> applies, ignores;
+    for (const std::string& method : plan.methods) {
+      const MethodInfo& info = registry.method(method);
+      (assignmentApplies(name, info, registry.engine(info.engine)) ? applies : ignores)
+          .push_back(method);
+    }
+    const std::vector<std::string> settings = pbd::simulationSettingKeys();
+    if (applies.empty() && std::find(settings.begin(), settings.end(), name) == settings.end())
+      throw OptionError("--param " + name + ": " +
+                        unknownSettingMessage(name, plan.methods, registry));
+    if (applies.empty())
+      throw OptionError("--param " + name + ": has no effect in any method of the sweep (" +
+                        pbd::nameList(ignores) +
+                        "; 'pbdval methods' lists what each engine honours)");
+    if (explicitMethods && !ignores.empty())
+      throw OptionError("--param " + name + ": has no effect in " + pbd::nameList(ignores) +
+                        " (it applies to " + pbd::nameList(applies) +
+                        "): leave them out of --methods");
+  }
+}
+
+}  // namespace
+
 SweepPlan planSweep(const SweepOptions& options, const EngineRegistry& registry) {
   const pbd::Scene scene = pbd::loadScene(options.caseFile).scene;
   const CaseSpec spec = parseCaseSpec(scene, registry);
@@ -257,8 +310,8 @@ SweepPlan planSweep(const SweepOptions& options, const EngineRegistry& registry)
   plan.metric = options.metric;
   if (plan.parameters.empty()) {
     if (spec.sweeps.empty())
-      throw std::invalid_argument(options.caseFile +
-                                  ": no --param given and the case declares no Validation.sweeps");
+      throw OptionError(options.caseFile +
+                        ": no --param given and the case declares no Validation.sweeps");
     const SweepSpec& declared = spec.sweeps.front();
     for (const auto& [name, values] : declared.parameters) plan.parameters.emplace_back(name, values);
     if (plan.methods.empty()) plan.methods = declared.methods;
@@ -282,7 +335,7 @@ SweepPlan planSweep(const SweepOptions& options, const EngineRegistry& registry)
     for (const std::string& v : values) {
       const std::optional<double> h = pbd::parseReal(v);
       if (!h || *h <= 0)
-        throw std::invalid_argument("timeStepSize: expected positive numbers, got '" + v + "'");
+        throw OptionError("timeStepSize: expected positive numbers, got '" + v + "'");
       largestStep = std::max(largestStep, *h);
       smallestStep = std::min(smallestStep, *h);
       steps.push_back(*h);
@@ -295,6 +348,7 @@ SweepPlan planSweep(const SweepOptions& options, const EngineRegistry& registry)
     plan.notes.push_back("no sample interval is a whole number of every swept step: runs are "
                          "compared with the reference by cubic Hermite interpolation");
 
+  checkSweepNames(plan, !options.methods.empty(), options.metric.empty(), registry);
   for (const std::string& method : plan.methods) {
     const MethodInfo& info = registry.method(method);
     const EngineEntry& engine = registry.engine(info.engine);
@@ -306,6 +360,9 @@ SweepPlan planSweep(const SweepOptions& options, const EngineRegistry& registry)
       plan.notes.push_back(method + ": skipped, " + notApplicable + " has no effect on it");
       continue;
     }
+    for (const auto& [name, values] : plan.parameters)
+      for (const std::string& value : values)
+        checkAssignmentValue(name, value, info, "--param " + name + "=" + value);
     for (const auto& values : grid(plan.parameters)) {
       RunRequest r;
       r.caseName = plan.caseName;

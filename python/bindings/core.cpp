@@ -24,6 +24,7 @@
 
 #include "adapters/registry.h"
 #include "pbd/io/scene_loader.h"
+#include "pbd/io/suggestion.h"
 #include "pbdval/build_info.h"
 #include "validation/case_spec.h"
 #include "validation/engines/standard_engines.h"
@@ -137,6 +138,8 @@ Configured configure(const Registry& registry, const SceneHandle& scene, const s
   c.scene = *scene.scene;
   const MethodInfo& info = registry.engines.method(method);
   c.engine = &registry.engines.engine(info.engine);
+  // A parameter the engine ignores (subSteps for ODE) is refused, as `--set` is.
+  checkAssignments(assignmentsOf(parameters), {info.name}, registry.engines, "parameter");
   c.method = resolveMethod(info, applyAssignments(assignmentsOf(parameters), info, c.scene));
   return c;
 }
@@ -723,6 +726,8 @@ PYBIND11_MODULE(_core, m) {
 
   m.def("_load_scene", &loadSceneFile, py::arg("path"), py::arg("strict"));
   m.def("_scene_summary", &sceneSummary);
+  // The command line's "did you mean" (pbd/io/suggestion.h), for the Python API's messages.
+  m.def("_did_you_mean", &pbd::didYouMean, py::arg("name"), py::arg("candidates"));
   m.def("_run_length", [](const Registry& r, const SceneHandle& h) {
     const pv::RunLength length = pv::caseRunLength(*h.scene, r.engines);
     return py::make_tuple(length.duration, length.sampleInterval);

@@ -24,6 +24,7 @@ __path__ = extend_path(__path__, __name__)
 from pbdval.errors import (  # noqa: E402
     ArgumentError,
     BuildMissingError,
+    CommandError,
     DivergenceError,
     EngineError,
     PbdvalError,
@@ -59,6 +60,7 @@ __all__ = [
     "ArgumentError",
     "BodyStates",
     "BuildMissingError",
+    "CommandError",
     "DivergenceError",
     "Energy",
     "EngineError",

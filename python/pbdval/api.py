@@ -161,7 +161,8 @@ class Engines:
         try:
             return self._engines[name]
         except KeyError:
-            raise ValueError(f"unknown engine {name!r}; known: {', '.join(self._engines)}") from None
+            raise ValueError(f"unknown engine {name!r}; known: {', '.join(self._engines)}"
+                             + _core()._did_you_mean(name, list(self._engines))) from None
 
     def methods(self, engine: str | None = None) -> list[MethodInfo]:
         """Every method, or those of one engine."""
@@ -175,8 +176,8 @@ class Engines:
         for m in self.methods():
             if m.name == name:
                 return m
-        known = ", ".join(m.name for m in self.methods())
-        raise ValueError(f"unknown method {name!r}; known: {known}")
+        names = [m.name for m in self.methods()]
+        raise ValueError(f"unknown method {name!r}; known: {', '.join(names)}" + _core()._did_you_mean(name, names))
 
 
 def engines() -> Engines:

@@ -229,7 +229,8 @@ def run_on_cluster(client: Any, run_args: Sequence[str], out: Path, *, runs_per_
         joined = subprocess.run([binary, "sweep", *run_args, "--from-shards", ",".join(folders), "--out", str(out)],
                                 capture_output=True, text=True)
     else:
-        joined = subprocess.run([binary, "merge", *folders, "--out", str(out), "--move", "--quiet"],
+        force = ["--force"] if "--force" in run_args else []  # the run's own --force, for its --out
+        joined = subprocess.run([binary, "merge", *folders, "--out", str(out), "--move", "--quiet", *force],
                                 capture_output=True, text=True)
     if joined.returncode != 0:
         raise ClusterError(f"joining the slices failed: {joined.stderr.strip()}")

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import subprocess
+from typing import Sequence
+
 
 class PbdvalError(Exception):
     """Base class of every pbdval error."""
@@ -45,6 +48,25 @@ class UnsupportedError(PbdvalError, ValueError):
 
 class ResultsError(PbdvalError, ValueError):
     """A folder that is not a pbdval results folder, or a results.json that cannot be read."""
+
+
+class CommandError(PbdvalError, subprocess.CalledProcessError):
+    """The pbdval command itself failed (bad usage, unreadable input, an --out that another
+    pbdval command is writing or that holds another plan's results, a signal): nothing was
+    written. ``returncode``, ``cmd`` and ``stderr`` as in subprocess.CalledProcessError (it is
+    one); ``str(error)`` ends with the command's own message."""
+
+    def __init__(self, returncode: int, cmd: Sequence[str], output: str | None = None,
+                 stderr: str | None = None) -> None:
+        subprocess.CalledProcessError.__init__(self, returncode, list(cmd), output, stderr)
+
+    def __str__(self) -> str:
+        message = (self.stderr or "").strip().splitlines()
+        detail = message[-1] if message else "no message"
+        return f"{' '.join(self.cmd[:2])} exited with status {self.returncode}: {detail}"
+
+    def __reduce__(self):  # type: ignore[no-untyped-def]
+        return (CommandError, (self.returncode, self.cmd, self.output, self.stderr))
 
 
 class BuildMissingError(PbdvalError, ImportError):

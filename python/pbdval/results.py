@@ -23,7 +23,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from pbdval.api import ParameterValue, Trajectory
-from pbdval.errors import BuildMissingError, ResultsError
+from pbdval.errors import BuildMissingError, CommandError, ResultsError
 
 RESULTS_SCHEMA = "pbdval-results"
 SUPPORTED_SCHEMA_VERSIONS = (1,)
@@ -254,11 +254,15 @@ def run(
     jobs: int | None = None,
     timeout: float | None = None,
     quiet: bool = True,
+    force: bool = False,
 ) -> Results:
     """Runs cases like ``pbdval run`` (every case of cases/ when `cases` is None) and returns
-    the results. `settings` are ``--set`` assignments. Without `out`, results go to a new
-    temporary folder (kept: its path is Results.folder). Raises subprocess.CalledProcessError
-    only when the command itself fails (bad arguments); failed runs are statuses."""
+    the results of this call, never older ones. `settings` are ``--set`` assignments. Without
+    `out`, results go to a new temporary folder (kept: its path is Results.folder); an `out`
+    holding another plan's results is refused unless `force`. Raises :class:`pbdval.CommandError`
+    (a subprocess.CalledProcessError) when the command itself fails: bad arguments, an `out`
+    that another pbdval command is writing or that holds another plan's results, a signal.
+    Failed runs are statuses, not errors."""
     command: list[str] = [str(pbdval_binary()), "run"]
     if cases is not None:
         items = [cases] if isinstance(cases, (str, Path)) else list(cases)
@@ -275,9 +279,14 @@ def run(
         command += ["--jobs", str(jobs)]
     if timeout is not None:
         command += ["--timeout", repr(float(timeout))]
+    if force:
+        command += ["--force"]
     completed = subprocess.run(command, stdout=subprocess.PIPE if quiet else None,
                                stderr=subprocess.PIPE, text=True)
-    if not (folder / "results.json").is_file():
-        sys.stderr.write(completed.stderr or "")
-        raise subprocess.CalledProcessError(completed.returncode, command, completed.stdout, completed.stderr)
+    # Exit status 0 is the command's word that it wrote results.json now; any other status
+    # leaves whatever `out` held before, which is not this call's result.
+    if completed.returncode != 0:
+        if not quiet:
+            sys.stderr.write(completed.stderr or "")
+        raise CommandError(completed.returncode, command, completed.stdout, completed.stderr)
     return load_results(folder)

@@ -125,11 +125,12 @@ def test_divergence_is_found_in_the_rows() -> None:
 def test_status_json_has_exactly_the_protocol_fields(tmp_path: Path) -> None:
     pp.write_status(tmp_path, pp.Status("diverged", reason="r", diverged_at=0.25, engine_version="e 1",
                                         effective_settings={"a": 1}, integrator_steps_per_scene_step=4,
-                                        contact_margin=0.001))
+                                        contact_margin=0.001, initial_velocities_projected=True))
     status = json.loads((tmp_path / "status.json").read_text())
     assert status == {"protocol": 1, "status": "diverged", "reason": "r", "unsupported": [],
                       "divergedAt": 0.25, "engineVersion": "e 1", "effectiveSettings": {"a": 1},
-                      "integratorStepsPerSceneStep": 4, "contactMargin": 0.001}
+                      "integratorStepsPerSceneStep": 4, "contactMargin": 0.001,
+                      "initialVelocitiesProjected": True}
     with pytest.raises(ValueError, match="status"):
         pp.Status("fine").to_json()
 

@@ -368,6 +368,28 @@ TEST_F(ExternalEngineTest, WrongRowCountsTimesOrBodiesAreErrors) {
   EXPECT_TRUE(containsAll(bodies.reason, {"is body 7, expected body 3"})) << bodies.reason;
 }
 
+TEST_F(ExternalEngineTest, ProtocolMistakesAreErrorsNamingTheCheckAndTheBody) {
+  // The boundary checks (validation/sanity.h) hold an external engine's samples like a
+  // built-in engine's: each of these mistakes leaves the first sample off the scene's state.
+  const auto mistake = [&](const std::function<void(BodyState&)>& edit) {
+    return run("cp " + restingTrajectory([&](std::vector<State>& samples) {
+                 for (State& s : samples) edit(s.bodies[1]);
+               }) + " \"$4/trajectory.csv\"; " + okStatus());
+  };
+  const RunOutcome xyzw = mistake([](BodyState& b) {
+    b.rotation = Quaternion(b.rotation.x(), b.rotation.y(), b.rotation.z(), b.rotation.w());
+  });
+  EXPECT_EQ(xyzw.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(xyzw.reason, {"initial_state", "orientation", "body 7"})) << xyzw.reason;
+  const RunOutcome millimetres = mistake([](BodyState& b) { b.position *= 1000; });
+  EXPECT_EQ(millimetres.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(millimetres.reason, {"initial_state", "position", "body 7"}))
+      << millimetres.reason;
+  const RunOutcome origin = mistake([](BodyState& b) { b.position.x() -= 0.05; });
+  EXPECT_EQ(origin.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(origin.reason, {"initial_state", "position", "body 7"})) << origin.reason;
+}
+
 TEST_F(ExternalEngineTest, NaNsInTheTrajectoryAreADivergence) {
   const RunOutcome outcome = run("cp " + restingTrajectory([](std::vector<State>& s) {
                                    s[1].bodies[1].position.x() = std::nan("");

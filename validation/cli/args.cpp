@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "pbd/io/number_text.h"
+#include "pbd/io/suggestion.h"
 
 namespace pbdval::cli {
 
@@ -34,6 +35,32 @@ long ParsedArgs::integer(const std::string& name, long fallback) const {
   const std::optional<std::int64_t> v = pbd::parseInteger(text);
   if (!v) throw UsageError("--" + name + ": expected an integer, got '" + text + "'");
   return static_cast<long>(*v);
+}
+
+std::int64_t ParsedArgs::integerIn(const std::string& name, std::int64_t fallback,
+                                   std::int64_t minimum, std::int64_t maximum) const {
+  if (!options.count(name)) return fallback;
+  const std::string text = value(name);
+  const std::optional<std::int64_t> v = pbd::parseInteger(text);
+  if (!v || *v < minimum || *v > maximum)
+    throw UsageError("--" + name + ": expected an integer from " + std::to_string(minimum) +
+                     " to " + std::to_string(maximum) + ", got '" + text + "'");
+  return *v;
+}
+
+std::vector<std::string> ParsedArgs::list(const std::string& name) const {
+  std::vector<std::string> items;
+  std::stringstream in(value(name));
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    if (item.empty()) continue;
+    for (const std::string& earlier : items)
+      if (earlier == item)
+        throw UsageError("--" + name + ": '" + item +
+                         "' is listed twice (each would make the same runs again)");
+    items.push_back(item);
+  }
+  return items;
 }
 
 ArgParser::ArgParser(std::string command, std::string synopsis, std::string description)
@@ -88,7 +115,12 @@ ParsedArgs ArgParser::parse(const std::vector<std::string>& args) const {
         name = name.substr(0, name.find('='));
       }
       const Option* option = find(name);
-      if (!option) throw UsageError("unknown option '--" + name + "'");
+      if (!option) {
+        std::vector<std::string> known;
+        for (const Option& o : options_)
+          known.push_back("--" + o.name);
+        throw UsageError("unknown option '--" + name + "'" + pbd::didYouMean("--" + name, known));
+      }
       if (option->isFlag) {
         if (hasInline) throw UsageError("--" + name + " takes no value");
         parsed.flags.insert(name);

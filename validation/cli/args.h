@@ -2,6 +2,7 @@
 // flags, repeatable options, positionals, and generated --help text.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <set>
@@ -29,6 +30,13 @@ struct ParsedArgs {
   /// A number option; throws UsageError naming the option when it is not a finite number.
   double number(const std::string& name, double fallback) const;
   long integer(const std::string& name, long fallback) const;
+  /// An integer option in [minimum, maximum], read without wrap-around; throws UsageError
+  /// "--NAME: expected an integer from MIN to MAX, got 'TEXT'".
+  std::int64_t integerIn(const std::string& name, std::int64_t fallback, std::int64_t minimum,
+                         std::int64_t maximum) const;
+  /// A comma-separated list option ("pbd,ode"); throws UsageError when an item is listed twice
+  /// (a repeated engine or method would make the same runs twice).
+  std::vector<std::string> list(const std::string& name) const;
 };
 
 class ArgParser {

@@ -1,4 +1,5 @@
 // pbdval distance [SCENE...] [--samples N] [--seed S] [--json FILE]
+#include <cstdint>
 #include <cstdio>
 #include <iostream>
 
@@ -30,9 +31,8 @@ int distanceCommand(const Context& /*context*/, const Arguments& arguments) {
   std::vector<pbd::RigidBodyDesc> shapes;
   if (const auto exit = parser.parseOrExit(arguments, args)) return *exit;
   try {
-    options.samples = int(args.integer("samples", 200));
-    if (options.samples < 1) throw UsageError("--samples: expected at least 1");
-    options.seed = std::uint64_t(args.integer("seed", 1));
+    options.samples = int(args.integerIn("samples", 200, 1, 1000000));
+    options.seed = std::uint64_t(args.integerIn("seed", 1, 0, INT64_MAX));
     if (args.positionals.empty()) {
       shapes = builtInShapes(defaultCaseFolder() + "/models");
     } else {
@@ -41,6 +41,10 @@ int distanceCommand(const Context& /*context*/, const Arguments& arguments) {
         scenes.push_back(pbd::loadScene(path).scene);
       shapes = shapesOfScenes(scenes);
     }
+    std::vector<NamedPath> scenes;
+    for (const std::string& path : args.positionals)
+      scenes.push_back({"the scene", path});
+    checkOutputsAreNotInputs({{"--json", args.value("json")}}, scenes);
     if (args.has("json")) checkOutputFile(args.value("json"));  // before the study
   } catch (const UsageError& e) {
     return parser.usageError(e.what());

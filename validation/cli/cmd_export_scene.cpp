@@ -60,6 +60,7 @@ int exportSceneCommand(const Context& context, const Arguments& arguments) {
     const nlohmann::json parameters = method.empty()
                                           ? nlohmann::json::object()
                                           : methodParametersJson(context.engines.resolve(method));
+    checkOutputsAreNotInputs({{"--out", args.value("out")}}, {{"the scene", scenePath}});
     const nlohmann::json document = resolvedSceneJson(loaded->scene, method, parameters, length);
     text = jsonText(document, 1) + "\n";
   } catch (const UsageError& e) {
@@ -68,9 +69,11 @@ int exportSceneCommand(const Context& context, const Arguments& arguments) {
     return parser.inputError(e.what());
   }
   if (args.has("out")) {
-    AtomicFileWriter file(args.value("out"));
-    file.stream() << text;
-    file.commit();
+    try {
+      writeFileAtomically(args.value("out"), text);
+    } catch (const std::exception& e) {
+      return parser.inputError(e.what());
+    }
   } else {
     std::cout << text;
   }

@@ -13,6 +13,7 @@
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
 #include "validation/results.h"
+#include "validation/results_folder.h"
 #include "validation/run_plan.h"
 #include "validation/sharding.h"
 #include "validation/summary.h"
@@ -51,6 +52,7 @@ int mergeCommand(const Context& /*context*/, const Arguments& arguments) {
   parser.positionals("SHARD_DIR", "results folders of the shards", 1, -1)
       .option("out", "DIR", "the merged results folder")
       .flag("move", "move the trajectories instead of copying them (the shard folders lose them)")
+      .flag("force", "replace the results of another plan that --out holds")
       .flag("quiet", "print only the summary line")
       .epilog(
           "exit status: 0 merged, 2 bad usage or shards that do not make one plan.\n"
@@ -58,7 +60,9 @@ int mergeCommand(const Context& /*context*/, const Arguments& arguments) {
   ParsedArgs args;
   if (const auto exit = parser.parseOrExit(arguments, args)) return *exit;
   if (!args.has("out")) return parser.usageError("--out is required");
-  const std::string out = args.value("out");
+  std::string out = args.value("out");
+  while (out.size() > 1 && out.back() == '/')
+    out.pop_back();
   std::ostringstream command;
   command << "pbdval merge";
   for (const std::string& a : arguments)
@@ -73,13 +77,23 @@ int mergeCommand(const Context& /*context*/, const Arguments& arguments) {
     const bool move = args.flags.count("move") > 0;
     ResultsFile merged = mergeShards(shards, command.str());
     merged.metadata.created = currentMetadata("").created;
-    checkOutputFile(out + "/results.json");
+    // The output folder: locked, staged, and another plan's results never replaced silently.
+    ResultsFolder folder(out, "pbdval merge");
+    std::vector<RunKey> planned;
+    for (const RunRecord& r : merged.runs)
+      planned.push_back(
+          {r.request.caseName, r.request.engine, r.request.method, r.request.assignments});
+    if (const auto why = foreignResults(out + "/results.json", planned);
+        why && !args.flags.count("force"))
+      return parser.inputError(out + "/results.json: " + *why +
+                               "; merging would replace them: give another --out, or --force to "
+                               "replace them");
     std::map<std::string, std::string> moved;  // a shard's trajectory path → the merged one
     for (const ShardResults& shard : shards)
       for (const RunRecord& r : shard.results.runs) {
         if (r.request.trajectoryPath.empty() || !fs::is_regular_file(r.request.trajectoryPath))
           continue;
-        const std::string target = mergedTrajectoryPath(shard.folder, out, r);
+        const std::string target = mergedTrajectoryPath(shard.folder, folder.staging(), r);
         if (!moved.emplace(r.request.trajectoryPath, target).second)
           throw std::invalid_argument(r.request.trajectoryPath + ": the trajectory of two runs");
         fs::create_directories(fs::path(target).parent_path());
@@ -101,9 +115,10 @@ int mergeCommand(const Context& /*context*/, const Arguments& arguments) {
     const std::size_t copied = moved.size();
     for (RunRecord& m : merged.runs) {
       const auto it = moved.find(m.request.trajectoryPath);
-      if (it != moved.end()) m.request.trajectoryPath = it->second;
+      if (it != moved.end()) m.request.trajectoryPath = folder.finalPath(it->second);
     }
-    writeResults(out + "/results.json", merged);
+    writeResults(folder.staging() + "/results.json", merged);
+    folder.commit({"trajectories", "results.json"}, "results.json");
     if (!args.flags.count("quiet")) printSummaryTable(std::cout, merged.runs);
     std::printf("pbdval merge: %zu shards: %s, %zu trajectories; results in %s/results.json\n",
                 shards.size(), statusCounts(merged.runs).c_str(), copied, out.c_str());

@@ -2,6 +2,7 @@
 //            [--timeout S] [--set KEY=VALUE ...] [--no-trajectories] [--strict] [--quiet]
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -17,7 +18,9 @@
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
 #include "validation/cli/executors.h"
+#include "validation/overrides.h"
 #include "validation/results.h"
+#include "validation/results_folder.h"
 #include "validation/run_plan.h"
 #include "validation/run_scheduler.h"
 #include "validation/sha256.h"
@@ -39,10 +42,16 @@ ArgParser runParser() {
       .option("engines", "LIST", "comma-separated engines (default: all; 'pbdval methods')")
       .option("methods", "LIST",
               "comma-separated methods (default: each case's, else each engine's default)")
-      .option("out", "DIR", "output folder (default: out)")
-      .option("jobs", "N", "runs in parallel (default: the number of cores)")
+      .option("out", "DIR",
+              "output folder (default: out); written as one transaction, locked while the run "
+              "goes (docs/cli.md#results-folders)")
+      .flag("force", "replace the results of another plan that --out holds")
+      .option("jobs", "N", "runs in parallel, 1 to 1024 (default: the number of cores)")
       .option("timeout", "S", "wall-time limit per run in seconds (default: 600; 0: none)")
-      .option("set", "KEY=VALUE", "a method parameter or Simulation setting for every run", true)
+      .option("set", "KEY=VALUE",
+              "a method parameter or Simulation setting for every run; every run of the plan "
+              "must honour it",
+              true)
       .option("shard", "K/N",
               "run only the K-th of N slices of the plan (batch schedulers; join the folders "
               "with 'pbdval merge', docs/cluster.md)")
@@ -66,10 +75,25 @@ ArgParser runParser() {
       .flag("quiet", "no progress, only the summary")
       .epilog(
           "exit status: 0 when results.json was written (statuses are data; 'pbdval gate'\n"
-          "judges them), 2 on bad usage.\n"
+          "judges them), 2 on bad usage, a busy --out or one holding another plan's results,\n"
+          "128+N on signal N (the previous results stay as they were).\n"
           "example: pbdval run cases/joint_hinge.json cases/chain_10.json --engines pbd,ode --jobs "
           "2");
   return parser;
+}
+
+/// The largest --jobs: beyond it a machine runs out of processes long before it runs faster.
+constexpr std::int64_t kMaxJobs = 1024;
+
+/// `path` under `from` as the same path under `to`.
+std::string rebase(const std::string& path, const std::string& from, const std::string& to) {
+  return path.rfind(from + "/", 0) == 0 ? to + path.substr(from.size()) : path;
+}
+
+std::string withoutTrailingSlashes(std::string folder) {
+  while (folder.size() > 1 && folder.back() == '/')
+    folder.pop_back();
+  return folder;
 }
 
 std::string clock(double seconds) {
@@ -92,24 +116,34 @@ int runCommand(const Context& context, const Arguments& arguments) {
   int jobs = 1;
   double timeout = 600;
   try {
-    options.engines = splitList(args.value("engines"));
-    options.methods = splitList(args.value("methods"));
+    options.engines = args.list("engines");
+    options.methods = args.list("methods");
+    checkNames(context.engines, "--engines", options.engines);
+    checkNames(context.engines, "--methods", options.methods);
     options.assignments = args.values("set");
-    options.outFolder = args.value("out", "out");
+    options.outFolder = withoutTrailingSlashes(args.value("out", "out"));
     options.writeTrajectories = !args.flags.count("no-trajectories");
     const std::string format = args.value("trajectory-format", "csv");
     if (format != "csv" && format != "npy")
       throw UsageError("--trajectory-format: expected csv or npy, got '" + format + "'");
     options.trajectoryFormat = format == "npy" ? TrajectoryFormat::Npy : TrajectoryFormat::Csv;
     options.strictScene = args.flags.count("strict") > 0;
-    jobs = int(args.integer("jobs", long(std::max(1u, std::thread::hardware_concurrency()))));
-    if (jobs < 1) throw UsageError("--jobs: expected at least 1");
+    jobs =
+        int(args.integerIn("jobs", std::max(1u, std::thread::hardware_concurrency()), 1, kMaxJobs));
     timeout = args.number("timeout", 600);
     if (timeout < 0) throw UsageError("--timeout: expected seconds ≥ 0");
     const std::vector<std::string> paths =
         args.positionals.empty() ? std::vector<std::string>{defaultCaseFolder()} : args.positionals;
     if (wantsDask(args)) return runOnDask("run", arguments);
-    plan = planRuns(collectCaseFiles(paths), options, context.engines);
+    const std::vector<std::string> caseFiles = collectCaseFiles(paths);
+    plan = planRuns(caseFiles, options, context.engines);
+    // Every --set must mean something in every run, with a value it accepts: checked here, not
+    // found as an `error` in every run minutes later.
+    std::vector<std::string> methods;
+    for (const RunRequest& r : plan.requests)
+      if (std::find(methods.begin(), methods.end(), r.method) == methods.end())
+        methods.push_back(r.method);
+    checkAssignments(options.assignments, methods, context.engines);
     if (args.flags.count("list-plan")) {
       printPlan(plan);
       return 0;
@@ -120,11 +154,37 @@ int runCommand(const Context& context, const Arguments& arguments) {
       plan = shardOf(plan, info);
       shard = info;
     }
-    // Before the runs, not after minutes of them: an --out that cannot hold results.json.
-    checkOutputFile(options.outFolder + "/results.json");
+    std::vector<NamedPath> inputs;
+    for (const std::string& file : caseFiles)
+      inputs.push_back({"the case", file});
+    checkOutputsAreNotInputs({{"--out", options.outFolder + "/results.json"}}, inputs);
+  } catch (const UsageError& e) {
+    return parser.usageError(e.what());
+  } catch (const OptionError& e) {
+    return parser.usageError(e.what());
   } catch (const std::exception& e) {
     return parser.inputError(e.what());
   }
+
+  // The output folder: locked, staged, and another plan's results never replaced silently.
+  std::optional<ResultsFolder> folder;
+  try {
+    folder.emplace(options.outFolder, "pbdval run");
+    std::vector<RunKey> planned;
+    for (const RunRecord& u : plan.unreadable)
+      planned.push_back({u.request.caseName, u.request.engine, u.request.method, {}});
+    for (const RunRequest& r : plan.requests)
+      planned.push_back({r.caseName, r.engine, r.method, r.assignments});
+    const std::string previous = options.outFolder + "/results.json";
+    if (const auto why = foreignResults(previous, planned); why && !args.flags.count("force"))
+      return parser.inputError(previous + ": " + *why +
+                               "; running would replace them: give another --out, or --force "
+                               "to replace them");
+  } catch (const std::exception& e) {
+    return parser.inputError(e.what());
+  }
+  for (RunRequest& r : plan.requests)
+    r.trajectoryPath = rebase(r.trajectoryPath, options.outFolder, folder->staging());
 
   std::ostringstream command;
   command << "pbdval run";
@@ -153,7 +213,7 @@ int runCommand(const Context& context, const Arguments& arguments) {
     if (!quiet)
       std::fprintf(stderr, "  %s: error: %s\n", r.request.caseName.c_str(), r.reason.c_str());
 
-  RunScheduler scheduler(context.engines, jobs, timeout, options.outFolder + "/.scratch");
+  RunScheduler scheduler(context.engines, jobs, timeout, folder->staging() + "/.scratch");
   int tick = 0;
   std::vector<RunRecord> records;
   if (args.has("fail-with"))
@@ -180,7 +240,9 @@ int runCommand(const Context& context, const Arguments& arguments) {
           std::fprintf(stderr, "\r\033[K  %s running: %s", clock(elapsed()).c_str(), names.c_str());
         });
   if (terminal) std::fprintf(stderr, "\r\033[K");
-  std::filesystem::remove_all(options.outFolder + "/.scratch");
+  std::filesystem::remove_all(folder->staging() + "/.scratch");
+  for (RunRecord& r : records)
+    r.request.trajectoryPath = folder->finalPath(r.request.trajectoryPath);
 
   // Each case file's hash: the gate refuses results run from another version of a case than the
   // one its baseline pins (docs/gate.md).
@@ -197,7 +259,8 @@ int runCommand(const Context& context, const Arguments& arguments) {
   results.runs.insert(results.runs.end(), records.begin(), records.end());
   const std::string resultsPath = options.outFolder + "/results.json";
   try {
-    writeResults(resultsPath, results);
+    writeResults(folder->staging() + "/results.json", results);
+    folder->commit({"trajectories", "results.json"}, "results.json");
   } catch (const std::exception& e) {
     return parser.inputError(e.what());
   }

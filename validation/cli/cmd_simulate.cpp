@@ -93,17 +93,30 @@ int simulateCommand(const Context& context, const Arguments& arguments) {
   RunLength length;
   try {
     engineName = args.value("engine", "pbd");
+    checkNames(context.engines, "--engine", {engineName});
     methodName = args.value("method", context.engines.defaultMethod(engineName));
+    checkNames(context.engines, "--method", {methodName});
     const MethodInfo& info = context.engines.method(methodName);
     if (info.engine != engineName)
       throw UsageError("method " + methodName + " belongs to engine " + info.engine + ", not " +
                        engineName);
+    // Every --set must have an effect in this engine and method (EngineEntry::honouredSettings).
+    checkAssignments(args.values("set"), {methodName}, context.engines);
     method = resolveMethod(info, applyAssignments(args.values("set"), info, scene));
+    // No output may replace the scene or another output (`--out` and `--particles` one file).
+    checkOutputsAreNotInputs({{"--out", args.value("out")},
+                              {"--particles", args.value("particles")},
+                              {"--segments", args.value("segments")}},
+                             {{"the scene", scenePath}});
     const CaseSpec spec = parseCaseSpec(scene, context.engines);
     length.duration = args.number("duration", defaultDuration(scene, spec));
     length.sampleInterval = args.number("sample-interval", 0);
     for (const std::string& note : planSteps(length, double(scene.simulation.timeStepSize)).notes)
       if (!quiet) std::fprintf(stderr, "note: %s\n", note.c_str());
+  } catch (const UsageError& e) {
+    return parser.usageError(e.what());
+  } catch (const OptionError& e) {
+    return parser.usageError(e.what());
   } catch (const std::exception& e) {
     return parser.inputError(e.what());
   }

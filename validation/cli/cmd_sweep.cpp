@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -15,6 +16,7 @@
 #include "validation/engines/standard_engines.h"
 #include "validation/overrides.h"
 #include "validation/results.h"
+#include "validation/results_folder.h"
 #include "validation/run_scheduler.h"
 #include "validation/sharding.h"
 #include "validation/summary.h"
@@ -42,9 +44,13 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
               "fine: compare with the same method at a tiny step (consistency, Erez et al. 2015); "
               "case (default): the case's Validation.reference")
       .option("fine-divisor", "N",
-              "the fine reference step is the smallest swept step / N (default 16)")
-      .option("out", "DIR", "write DIR/sweep.json (default: out)")
-      .option("jobs", "N", "runs in parallel (default: the number of cores)")
+              "with --reference fine: the reference step is the smallest swept step / N, N from 2 "
+              "to 1024 (default 16)")
+      .option("out", "DIR",
+              "write DIR/sweep.json (default: out); locked while the sweep goes, replaced only "
+              "at the end (docs/cli.md#results-folders)")
+      .flag("force", "replace a sweep.json of another sweep that --out holds")
+      .option("jobs", "N", "runs in parallel, 1 to 1024 (default: the number of cores)")
       .option("timeout", "S", "wall-time limit per run (default 600)")
       .option("shard", "K/N", "run only the K-th of N slices of the sweep's runs (docs/cluster.md)")
       .option("from-shards", "DIR,...",
@@ -64,6 +70,7 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
   ParsedArgs args;
   SweepOptions options;
   if (const auto exit = parser.parseOrExit(arguments, args)) return *exit;
+  std::string out;
   try {
     options.caseFile = args.positionals[0];
     for (const std::string& p : args.values("param")) {
@@ -72,24 +79,34 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
       if (values.empty()) throw UsageError("--param " + name + ": no values");
       options.parameters.emplace_back(name, values);
     }
-    options.methods = splitList(args.value("methods"));
-    for (const std::string& m : options.methods)
-      context.engines.method(m);
+    options.methods = args.list("methods");
+    checkNames(context.engines, "--methods", options.methods);
     options.metric = args.value("metric");
     const std::string reference = args.value("reference", "case");
     if (reference != "fine" && reference != "case")
-      throw UsageError("--reference: expected fine or case");
+      throw UsageError("--reference: expected fine or case, got '" + reference + "'");
     options.referenceMode = reference == "fine" ? "fine" : "";
-    options.fineDivisor = int(args.integer("fine-divisor", 16));
-    if (options.fineDivisor < 2) throw UsageError("--fine-divisor: expected an integer ≥ 2");
+    if (args.has("fine-divisor") && reference != "fine")
+      throw UsageError(
+          "--fine-divisor sets the step of --reference fine; without it there is no "
+          "fine reference");
+    // Above 1024 the reference run costs more than a thousand of the finest swept runs, and its
+    // step nears round-off.
+    options.fineDivisor = int(args.integerIn("fine-divisor", 16, 2, 1024));
     options.jobs =
-        int(args.integer("jobs", long(std::max(1u, std::thread::hardware_concurrency()))));
+        int(args.integerIn("jobs", std::max(1u, std::thread::hardware_concurrency()), 1, 1024));
     options.timeout = args.number("timeout", 600);
-    options.scratchFolder = args.value("out", "out") + "/.scratch";
+    if (options.timeout < 0) throw UsageError("--timeout: expected seconds ≥ 0");
+    out = args.value("out", "out");
+    while (out.size() > 1 && out.back() == '/')
+      out.pop_back();
     if (wantsDask(args)) return runOnDask("sweep", arguments);
-    if (!args.flags.count("list-plan"))
-      checkOutputFile(args.value("out", "out") + (args.has("shard") ? "/results.json" : "/sweep.json"));
+    checkOutputsAreNotInputs(
+        {{"--out", out + (args.has("shard") ? "/results.json" : "/sweep.json")}},
+        {{"the case", options.caseFile}});
   } catch (const UsageError& e) {
+    return parser.usageError(e.what());
+  } catch (const OptionError& e) {
     return parser.usageError(e.what());
   } catch (const std::exception& e) {
     return parser.inputError(e.what());
@@ -106,19 +123,49 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
     std::fprintf(stderr, "[%3zu/%zu] %s%s %s\n", done, total, runLabel(r.request).c_str(),
                  values.c_str(), runStatusName(r.status));
   };
+  SweepPlan plan;
+  RunPlan runs;  // the sweep's runs as a run plan: what shards, --list-plan and executors use
   try {
-    const SweepPlan plan = planSweep(options, context.engines);
-    // The sweep's runs as a run plan: what shards, --list-plan and executors work on.
-    RunPlan runs;
+    plan = planSweep(options, context.engines);
     runs.requests = plan.requests;
-    if (args.flags.count("list-plan")) {
-      printPlan(runs);
-      return 0;
+  } catch (const UsageError& e) {
+    return parser.usageError(e.what());
+  } catch (const OptionError& e) {
+    return parser.usageError(e.what());
+  } catch (const std::exception& e) {
+    return parser.inputError(e.what());
+  }
+  if (args.flags.count("list-plan")) {
+    printPlan(runs);
+    return 0;
+  }
+  const bool sharded = args.has("shard");
+  const std::string manifest = sharded ? "results.json" : "sweep.json";
+  // The output folder: locked, staged, and another sweep's results never replaced silently.
+  std::optional<ResultsFolder> folder;
+  RunPlan part = runs;
+  std::optional<ShardInfo> shard;
+  try {
+    if (sharded) {
+      ShardInfo info = parseShard(args.value("shard"));
+      part = shardOf(runs, info);
+      shard = info;
     }
-    const std::string out = args.value("out", "out");
-    if (args.has("shard")) {
-      ShardInfo shard = parseShard(args.value("shard"));
-      const RunPlan part = shardOf(runs, shard);
+    folder.emplace(out, "pbdval sweep");
+    std::vector<RunKey> planned;
+    for (const RunRequest& r : part.requests)
+      planned.push_back({r.caseName, r.engine, r.method, r.assignments});
+    const std::string previous = out + "/" + manifest;
+    if (const auto why = foreignResults(previous, planned); why && !args.flags.count("force"))
+      return parser.inputError(previous + ": " + *why +
+                               "; the sweep would replace it: give another --out, or --force to "
+                               "replace it");
+  } catch (const std::exception& e) {
+    return parser.inputError(e.what());
+  }
+  const std::string scratch = folder->staging() + "/.scratch";
+  try {
+    if (shard) {
       ResultsFile results;
       results.metadata = currentMetadata(command.str());
       results.metadata.shard = shard;
@@ -126,19 +173,20 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
       if (args.has("fail-with")) {
         results.runs = failedRecords(part.requests, args.value("fail-with"));
       } else {
-        RunScheduler scheduler(context.engines, options.jobs, options.timeout, options.scratchFolder);
+        RunScheduler scheduler(context.engines, options.jobs, options.timeout, scratch);
         results.runs = scheduler.runAll(part.requests, progress);
-        std::filesystem::remove_all(options.scratchFolder);
+        std::filesystem::remove_all(scratch);
       }
-      writeResults(out + "/results.json", results);
+      writeResults(folder->staging() + "/results.json", results);
+      folder->commit({"trajectories", "results.json"}, "results.json");
       std::printf("%s; results in %s/results.json\n", statusCounts(results.runs).c_str(), out.c_str());
       return 0;
     }
     std::vector<RunRecord> records;
     if (args.has("from-shards")) {
       std::vector<ShardResults> shards;
-      for (const std::string& folder : splitList(args.value("from-shards")))
-        shards.push_back({folder, readResults(folder + "/results.json")});
+      for (const std::string& shardFolder : splitList(args.value("from-shards")))
+        shards.push_back({shardFolder, readResults(shardFolder + "/results.json")});
       const ResultsFile merged = mergeShards(shards, command.str());
       const std::string digest = planDigest(runs);
       if (shards.front().results.metadata.shard->planDigest != digest)
@@ -147,13 +195,14 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
                                     ", this one's " + digest + ")");
       records = merged.runs;
     } else {
-      RunScheduler scheduler(context.engines, options.jobs, options.timeout, options.scratchFolder);
+      RunScheduler scheduler(context.engines, options.jobs, options.timeout, scratch);
       records = scheduler.runAll(plan.requests, progress);
-      std::filesystem::remove_all(options.scratchFolder);
+      std::filesystem::remove_all(scratch);
     }
     const SweepResult result = collectSweep(plan, records);
     const std::string path = out + "/sweep.json";
-    writeSweepJson(path, result, currentMetadata(command.str()));
+    writeSweepJson(folder->staging() + "/sweep.json", result, currentMetadata(command.str()));
+    folder->commit({"sweep.json"}, "sweep.json");
     printSweepTable(std::cout, result);
     std::printf("wrote %s\n", path.c_str());
     if (args.flags.count("report")) {
@@ -161,9 +210,14 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
       std::vector<std::string> argv = {projectPython(), "-m", "pbdval.report", "--convergence", out,
                                        "--out", out + "/report"};
       if (quiet) argv.push_back("--quiet");
+      folder.reset();  // the lock is released before this process becomes the report's
       return execPython(argv);
     }
+  } catch (const RunInterrupted&) {
+    throw;  // exit status 128 + the signal (main); the staging folder goes with `folder`
   } catch (const UsageError& e) {
+    return parser.usageError(e.what());
+  } catch (const OptionError& e) {
     return parser.usageError(e.what());
   } catch (const std::exception& e) {
     return parser.inputError(e.what());

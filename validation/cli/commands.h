@@ -37,6 +37,11 @@ int reportCommand(const Context& context, const Arguments& args);
 std::optional<pbd::LoadedScene> loadCommandScene(const ArgParser& parser, const ParsedArgs& args,
                                                  const std::string& path);
 
+/// Checks that every name of `option` ("--engines", "--methods") names an engine or a method of
+/// `engines`; throws UsageError with the registry's message (known names, "did you mean").
+void checkNames(const EngineRegistry& engines, const std::string& option,
+                const std::vector<std::string>& names);
+
 struct Command {
   const char* name;
   const char* summary;

@@ -5,6 +5,7 @@
 #include <exception>
 #include <iostream>
 
+#include "pbd/io/suggestion.h"
 #include "pbd/math/types.h"
 #include "pbdval/build_info.h"
 #include "validation/cli/commands.h"
@@ -90,13 +91,19 @@ int main(int argc, char** argv) {
           pbdval::standardEngines([](const char* v) { return std::getenv(v); });
       return command.run(pbdval::cli::Context{engines}, arguments);
     } catch (const pbdval::RunInterrupted& e) {
-      std::fprintf(stderr, "\npbdval %s: %s; no results were written\n", command.name, e.what());
+      std::fprintf(stderr,
+                   "\npbdval %s: %s; nothing was written (the previous results are as they were)\n",
+                   command.name, e.what());
       return 128 + e.signal();
     } catch (const std::exception& e) {
       std::fprintf(stderr, "pbdval %s: error: %s\n", command.name, e.what());
       return 2;
     }
   }
-  std::fprintf(stderr, "pbdval: unknown command '%s' (see 'pbdval --help')\n", name.c_str());
+  std::vector<std::string> names;
+  for (const auto& command : pbdval::cli::commands())
+    names.push_back(command.name);
+  std::fprintf(stderr, "pbdval: unknown command '%s'%s (see 'pbdval --help')\n", name.c_str(),
+               pbd::didYouMean(name, names).c_str());
   return 2;
 }

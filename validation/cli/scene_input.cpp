@@ -1,6 +1,7 @@
 // The scene a command is given on its command line: loaded with --strict honoured, its
 // warnings printed unless --quiet, a bad scene reported as the command's input error.
 #include <cstdio>
+#include <stdexcept>
 
 #include "validation/cli/commands.h"
 
@@ -21,6 +22,20 @@ std::optional<pbd::LoadedScene> loadCommandScene(const ArgParser& parser, const 
     for (const auto& warning : loaded.warnings)
       std::fprintf(stderr, "warning: %s\n", warning.text().c_str());
   return loaded;
+}
+
+void checkNames(const EngineRegistry& engines, const std::string& option,
+                const std::vector<std::string>& names) {
+  for (const std::string& name : names) {
+    try {
+      if (option == "--engines" || option == "--engine")
+        engines.engine(name);
+      else
+        engines.method(name);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(option + ": " + e.what());
+    }
+  }
 }
 
 }  // namespace pbdval::cli

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "pbd/io/input_checks.h"
+#include "pbd/io/suggestion.h"
 
 namespace pbd::scene_io {
 namespace {
@@ -52,16 +53,8 @@ std::string unknownKeyMessage(const std::string& key, const std::vector<std::str
              quoted(stale.current) + "?";
     }
   }
-  const std::string* best = nullptr;
-  std::size_t bestDistance = 3;  // suggest only within an edit distance of 2
-  for (const auto& candidate : known) {
-    const std::size_t distance = editDistance(key, candidate);
-    if (distance < bestDistance) {
-      bestDistance = distance;
-      best = &candidate;
-    }
-  }
-  if (best) return "unknown key (ignored); did you mean " + quoted(*best) + "?";
+  if (const std::optional<std::string> best = closestName(key, known))
+    return "unknown key (ignored); did you mean " + quoted(*best) + "?";
   return "unknown key (ignored)";
 }
 
@@ -411,30 +404,6 @@ void JsonObject::warnUnknownKeys() const {
 }
 
 // ---------------------------------------------------------------------------------------------
-
-std::size_t editDistance(const std::string& a, const std::string& b) {
-  const auto lower = [](char c) {
-    return static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  };
-  const std::size_t n = a.size(), m = b.size();
-  // d[i][j]: distance between the first i characters of a and the first j of b.
-  std::vector<std::vector<std::size_t>> d(n + 1, std::vector<std::size_t>(m + 1));
-  for (std::size_t i = 0; i <= n; ++i)
-    d[i][0] = i;
-  for (std::size_t j = 0; j <= m; ++j)
-    d[0][j] = j;
-  for (std::size_t i = 1; i <= n; ++i) {
-    for (std::size_t j = 1; j <= m; ++j) {
-      const std::size_t cost = lower(a[i - 1]) == lower(b[j - 1]) ? 0 : 1;
-      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
-      if (i > 1 && j > 1 && lower(a[i - 1]) == lower(b[j - 2]) &&
-          lower(a[i - 2]) == lower(b[j - 1])) {
-        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
-      }
-    }
-  }
-  return d[n][m];
-}
 
 std::string formatNumber(double value) {
   char buffer[32];

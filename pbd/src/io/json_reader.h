@@ -206,10 +206,6 @@ KeyReader<Target> stringKey(std::string key, std::string Target::*member) {
           [key, member](const Target& t, Json& j) { writeString(j, key, t.*member); }};
 }
 
-/// Case-insensitive optimal-string-alignment distance (insertions, deletions, substitutions
-/// and adjacent transpositions each cost 1).
-std::size_t editDistance(const std::string& a, const std::string& b);
-
 /// Formats a vector for messages: "[0, -9.81, 0]".
 std::string formatVector(const Vector3& v);
 /// Formats a number for messages with up to 10 significant digits.
