@@ -136,8 +136,9 @@ Exit runProcess(const ExternalCommand& command, const std::vector<std::string>& 
   // cannot be reused, so killing the group afterwards reaches only what it left behind.
   const auto ended = [pid]() {
     siginfo_t info{};
-    return ::waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOHANG | WNOWAIT) == 0 &&
-           info.si_pid == pid;
+    const int result = ::waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOHANG | WNOWAIT);
+    // ECHILD: reaped already (a host process that ignores SIGCHLD reaps automatically).
+    return (result == 0 && info.si_pid == pid) || (result != 0 && errno == ECHILD);
   };
   for (;;) {
     if (ended()) break;
