@@ -108,6 +108,20 @@ status=$?
 expect_gone "run, SIGTERM" "$work/run_signal.pid"
 expect_no_scratch "run, SIGTERM"
 
+# --- run killed outright (SIGKILL): its runs and their engines die with it (PR_SET_PDEATHSIG);
+# only the engine's scratch folder and what the engine itself started can stay
+tried=$((tried + 1))
+rm -f "$work/run_kill.pid" "$work/run_kill.pid.engines"
+ENGINE_MODE=hang ENGINE_PIDS=$work/run_kill.pid "$pbdval" run "$scene" --engines probe \
+  --out "$work/run_kill" --no-trajectories --quiet >/dev/null 2>&1 &
+runner=$!
+for _ in $(seq 100); do [[ -s $work/run_kill.pid ]] && break; sleep 0.1; done
+kill -KILL "$runner"
+wait "$runner" 2>/dev/null
+expect_gone "run, SIGKILL (the engine)" "$work/run_kill.pid.engines"
+cleanup
+rm -rf "${TMPDIR:?}"/pbdval-*
+
 # --- simulate stopped by SIGTERM, SIGINT or SIGHUP while the engine runs: engine ended,
 # scratch and temporary output removed, exit status 128 + signal
 for signal in TERM INT HUP; do

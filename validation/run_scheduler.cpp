@@ -3,6 +3,7 @@
 #include "validation/run_scheduler.h"
 
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -165,12 +166,17 @@ std::vector<RunRecord> RunScheduler::runAll(
     while (static_cast<int>(running.size()) < jobs_ && next < requests.size()) {
       std::fflush(nullptr);  // nothing buffered may be written twice
       const std::string file = resultFile(scratchFolder_, next);
+      const pid_t scheduler = ::getpid();
       const pid_t pid = ::fork();
       if (pid < 0) throw std::runtime_error(std::string("fork failed: ") + std::strerror(errno));
       if (pid == 0) {
         // Its own process group, so that stopping it also stops what it started (an external
         // engine's process).
         ::setpgid(0, 0);
+        // A scheduler killed outright (SIGKILL) takes its runs with it, and they their
+        // external engines (PR_SET_PDEATHSIG there too), instead of leaving them running.
+        ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+        if (::getppid() != scheduler) ::_exit(4);  // the scheduler died before prctl
         interrupts.restoreInChild();
         const RunRecord record = executeRun(requests[next], registry_);
         try {
