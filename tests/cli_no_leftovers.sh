@@ -33,19 +33,17 @@ expect_no_scratch() {
 }
 cleanup() {
   local pid
-  for pid in $(cat "$work"/*.pid "$work"/*.pid.engines 2>/dev/null); do
-    pkill -KILL -P "$pid" 2>/dev/null
-    kill -KILL "$pid" 2>/dev/null
-  done
+  for pid in $(cat "$ENGINE_ALL" 2>/dev/null); do kill -KILL "$pid" 2>/dev/null; done
 }
 trap cleanup EXIT
 
 # The engine: a shell script that starts a child of its own (recorded in $ENGINE_PIDS), then
 # per $ENGINE_MODE hangs or finishes normally (status "unsupported", exit 0).
 cat >"$work/engine.sh" <<'SH'
-echo $$ >>"$ENGINE_PIDS.engines"  # for the test's own cleanup, whatever pbdval does
+echo $$ >>"$ENGINE_PIDS.engines"
 sleep 300 &
 echo $! >"$ENGINE_PIDS"
+echo $$ $! >>"$ENGINE_ALL"  # for the test's own cleanup, whatever pbdval does
 if [ "$ENGINE_MODE" = hang ]; then sleep 300; exit 0; fi
 printf '{"protocol": 1, "status": "unsupported", "reason": "r", "unsupported": ["everything"]}' \
   >"$4/status.json"
@@ -56,6 +54,7 @@ cat >"$work/engines/probe.json" <<JSON
  "methods": [{"name": "probe.x", "description": "a test engine"}]}
 JSON
 export PBDVAL_ENGINE_CATALOGUE=$work/engines
+export ENGINE_ALL=$work/all-engine-processes  # every process an engine started, never removed
 
 # --- an engine's child is ended after a normal finish
 tried=$((tried + 1))

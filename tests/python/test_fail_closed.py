@@ -217,9 +217,9 @@ def engine_catalogue(tmp_path: Path) -> Iterator[Path]:
     $ENGINE_PIDS), then hangs (ENGINE_MODE=hang) or ends normally with status unsupported."""
     script = tmp_path / "engine.sh"
     script.write_text(textwrap.dedent("""\
-        echo $$ >>"$ENGINE_PIDS.engines"
         sleep 300 &
         echo $! >"$ENGINE_PIDS"
+        echo $$ $! >>"$ENGINE_PIDS.all"
         if [ "$ENGINE_MODE" = hang ]; then sleep 300; exit 0; fi
         printf '{"protocol": 1, "status": "unsupported", "reason": "r", "unsupported": ["x"]}' >"$4/status.json"
         """))
@@ -230,9 +230,8 @@ def engine_catalogue(tmp_path: Path) -> Iterator[Path]:
         f'"command": ["sh", "{script}"], '
         '"methods": [{"name": "probe.x", "description": "a test engine"}]}')
     yield catalogue
-    for file in list(tmp_path.glob("*.pid")) + list(tmp_path.glob("*.pid.engines")):
+    for file in tmp_path.glob("*.pid.all"):  # every process an engine started
         for pid in file.read_text().split():
-            subprocess.run(["pkill", "-KILL", "-P", pid], check=False)
             try:
                 os.kill(int(pid), signal.SIGKILL)
             except OSError:
