@@ -218,6 +218,57 @@ TEST(BoundaryChecks, AnImpactBetweenTwoSamplesIsNotAViolation) {
   EXPECT_FALSE(v.has_value()) << v->message;
 }
 
+/// A sphere spinning about z that alternates its turn every step (+θ, −θ, …), reporting the
+/// angular velocity of each step's own turn: consistent step by step, and a constant ω at every
+/// second step's state, where the net turn is zero.
+class StepOscillationEngine : public Engine {
+ public:
+  std::string_view name() const override { return "oscillation"; }
+  std::vector<std::string> unsupported(const pbd::Scene&, const Method&) const override {
+    return {};
+  }
+  void load(const pbd::Scene& scene, const Method&) override {
+    scene_ = &scene;
+    step_ = 0;
+  }
+  void step() override { ++step_; }
+  void read(State& state) const override {
+    const double h = double(scene_->simulation.timeStepSize);
+    const pbd::RigidBodyDesc& body = scene_->rigidBodies[0];
+    const double sign = step_ % 2 == 1 ? 1.0 : -1.0;  // the last step's turn
+    const double angle = step_ % 2 == 1 ? kTurn : 0.0;
+    state.time = double(step_) * h;
+    state.bodies = {{body.id, body.initialCenterOfMass(),
+                     Quaternion(Eigen::AngleAxis<pbd::Real>(angle, Vector3::UnitZ())),
+                     Vector3::Zero(),
+                     step_ == 0 ? Vector3(Vector3::Zero()) : Vector3(0, 0, sign * kTurn / h)}};
+  }
+  RunFacts runFacts() const override {
+    RunFacts facts;
+    facts.initialVelocitiesProjected = false;
+    return facts;
+  }
+  static constexpr double kTurn = 0.05;  ///< rad per step
+
+ private:
+  const pbd::Scene* scene_ = nullptr;
+  long step_ = 0;
+};
+
+TEST(BoundaryChecks, AStepFrequencyOscillationIsConsistentPerStepAndSuspectOnACoarserSampleGrid) {
+  pbd::Scene scene = test::emptyScene(Vector3::Zero());
+  scene.rigidBodies.push_back(pbd::test::sphereBody(0, 0.1, Vector3(0, 0, 0), 1000));
+  scene.simulation.timeStepSize = pbd::Real(0.01);
+  StepOscillationEngine engine;
+  // Every step a sample: nothing aliases.
+  RunOutcome perStep = runSimulation(engine, scene, Method{}, RunLength{0.5, 0}, {});
+  EXPECT_EQ(perStep.status, RunStatus::Ok) << perStep.reason;
+  // Every second step a sample: ω = −5 rad/s at every sample, no net turn.
+  RunOutcome sampled = runSimulation(engine, scene, Method{}, RunLength{0.5, 0.02}, {});
+  EXPECT_EQ(sampled.status, RunStatus::Suspect);
+  EXPECT_NE(sampled.reason.find("2 integrator steps apart"), std::string::npos) << sampled.reason;
+}
+
 // ---- Sanity bounds ----
 
 /// A projectile integrated by semi-implicit Euler at step h: the reference problem of the
