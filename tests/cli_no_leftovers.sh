@@ -42,9 +42,13 @@ trap cleanup EXIT
 cat >"$work/engine.sh" <<'SH'
 echo $$ >>"$ENGINE_PIDS.engines"
 sleep 300 &
-echo $! >"$ENGINE_PIDS"
-echo $$ $! >>"$ENGINE_ALL"  # for the test's own cleanup, whatever pbdval does
-if [ "$ENGINE_MODE" = hang ]; then sleep 300; exit 0; fi
+child=$!
+if [ "$ENGINE_MODE" = hang ]; then sleep 300 & hang=$!; fi
+# Every process, for the test's own cleanup whatever pbdval does; before $ENGINE_PIDS, which the
+# test waits for before it signals.
+echo $$ $child ${hang:-} >>"$ENGINE_ALL"
+echo $child >"$ENGINE_PIDS"
+if [ "$ENGINE_MODE" = hang ]; then wait $hang; exit 0; fi
 printf '{"protocol": 1, "status": "unsupported", "reason": "r", "unsupported": ["everything"]}' \
   >"$4/status.json"
 SH

@@ -218,9 +218,11 @@ def engine_catalogue(tmp_path: Path) -> Iterator[Path]:
     script = tmp_path / "engine.sh"
     script.write_text(textwrap.dedent("""\
         sleep 300 &
-        echo $! >"$ENGINE_PIDS"
-        echo $$ $! >>"$ENGINE_PIDS.all"
-        if [ "$ENGINE_MODE" = hang ]; then sleep 300; exit 0; fi
+        child=$!
+        if [ "$ENGINE_MODE" = hang ]; then sleep 300 & hang=$!; fi
+        echo $$ $child ${hang:-} >>"$ENGINE_PIDS.all"
+        echo $child >"$ENGINE_PIDS"
+        if [ "$ENGINE_MODE" = hang ]; then wait $hang; exit 0; fi
         printf '{"protocol": 1, "status": "unsupported", "reason": "r", "unsupported": ["x"]}' >"$4/status.json"
         """))
     catalogue = tmp_path / "engines"
