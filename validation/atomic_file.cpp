@@ -7,11 +7,13 @@
 
 #include <array>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <optional>
 #include <stdexcept>
 #include <streambuf>
+#include <thread>
 
 namespace pbdval {
 namespace {
@@ -188,6 +190,34 @@ Plan planOutput(const std::string& path) {
   return plan;
 }
 
+/// Opens a FIFO for writing once a reader has it open, waiting at most kFifoReaderWait
+/// seconds for one: a plain open() would block for ever when nobody reads. The descriptor is
+/// blocking again once open (a reader that is slow is waited for, as with any pipe).
+int openFifoWithReader(const std::string& target, const std::string& shown) {
+  const auto start = std::chrono::steady_clock::now();
+  for (;;) {
+    const int descriptor = ::open(target.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC | O_NONBLOCK);
+    if (descriptor >= 0) {
+      const int flags = ::fcntl(descriptor, F_GETFL);
+      if (flags < 0 || ::fcntl(descriptor, F_SETFL, flags & ~O_NONBLOCK) != 0) {
+        const std::string reason = errnoText(errno);
+        ::close(descriptor);
+        fail(shown, "cannot open a FIFO for writing (" + reason + ")");
+      }
+      return descriptor;
+    }
+    if (errno != ENXIO && errno != EINTR)
+      fail(shown, "cannot open a FIFO for writing (" + errnoText(errno) + ")");
+    const double waited =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (waited >= kFifoReaderWait)
+      fail(shown, "is a FIFO that no process reads: nothing opened it for reading within " +
+                      std::to_string(static_cast<int>(kFifoReaderWait)) +
+                      " s; start the reader first (e.g. cat FIFO &)");
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+}
+
 }  // namespace
 
 void checkOutputFile(const std::string& path) {
@@ -207,7 +237,9 @@ OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
   const Plan plan = planOutput(path_);
   target_ = plan.target;
   const std::string& shown = plan.shown;
-  if (plan.direct) {
+  if (plan.direct && S_ISFIFO(plan.mode)) {
+    descriptor_ = openFifoWithReader(target_, shown);
+  } else if (plan.direct) {
     descriptor_ = ::open(target_.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC);
     if (descriptor_ < 0)
       fail(shown, "cannot open " + kindOf(plan.mode) + " for writing (" + errnoText(errno) + ")");

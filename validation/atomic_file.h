@@ -8,6 +8,8 @@
 //   - a character device (/dev/null, a terminal) or a FIFO is written directly, never
 //     replaced, and a write error (/dev/full) is reported; so is an open descriptor named by
 //     /dev/stdout, /dev/stderr, /dev/fd/N or /proc/self/fd/N, whatever it is (a pipe, a file);
+//   - a FIFO that no process opens for reading within kFifoReaderWait seconds is refused
+//     (instead of waiting for a reader for ever);
 //   - a folder, a block device, a socket, or a file of a kernel interface file system (/proc,
 //     /sys) is refused with what it is;
 //   - every error names the file and the real reason (errno text, or what the path is).
@@ -20,6 +22,9 @@
 #include <vector>
 
 namespace pbdval {
+
+/// How long OutputFile waits for a reader of a FIFO it is asked to write, in seconds.
+inline constexpr double kFifoReaderWait = 5;
 
 /// An output file being written. stream() buffers; commit() flushes, checks every write and
 /// (for regular files) renames the temporary file into place. Destroyed without commit(), a

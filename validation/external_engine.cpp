@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -17,6 +18,7 @@
 
 #include "pbd/io/number_text.h"
 #include "validation/atomic_file.h"
+#include "validation/interrupts.h"
 #include "validation/json_text.h"
 #include "validation/resolved_scene.h"
 #include "validation/simulation.h"
@@ -36,11 +38,20 @@ constexpr const char* kParticlesFile = "particles.csv";          // particle sta
 constexpr const char* kParticlesNpyFile = "particles.npy";
 constexpr const char* kStderrFile = "stderr.txt";
 
+constexpr const char* kGroupFile = "engine.pgid";  // the engine's process group, for the runner
+
+/// The prefix of the scratch folders of the runs of process `owner`: the scheduler removes what
+/// a run it had to kill could not (removeEngineLeftovers).
+std::string scratchPrefix(pid_t owner) {
+  return "pbdval-engine-" + std::to_string(static_cast<long>(owner)) + "-";
+}
+
 /// A scratch folder for one run, removed with everything in it when the run is over.
 class ScratchFolder {
  public:
   ScratchFolder() {
-    std::string pattern = (fs::temp_directory_path() / "pbdval-engine-XXXXXX").string();
+    std::string pattern =
+        (fs::temp_directory_path() / (scratchPrefix(::getpid()) + "XXXXXX")).string();
     if (!::mkdtemp(pattern.data()))
       throw EngineError(std::string("cannot create a scratch folder: ") + std::strerror(errno));
     path_ = pattern;
@@ -70,22 +81,33 @@ std::string stderrTail(const fs::path& file) {
 
 struct Exit {
   bool timedOut = false;
-  int status = 0;  ///< waitpid status
+  int interruptedBy = 0;  ///< SIGINT, SIGTERM or SIGHUP taken while it ran (it was stopped)
+  int status = 0;         ///< waitpid status
 };
 
-/// Runs argv in `folder` with stdout to /dev/null and stderr to `stderrPath`; kills it after
-/// `limit` seconds (0: none).
+/// Runs argv in `folder` with stdout to /dev/null and stderr to `stderrPath`, in a process group
+/// of its own whose id is written to `groupFile`; kills it after `limit` seconds (0: none) or
+/// when SIGINT, SIGTERM or SIGHUP arrives. Whatever way it ends, its whole process group is
+/// killed before it is reaped: a process the engine started and left running (a server, a
+/// daemonised helper) ends with it. The engine also dies with the process that started it
+/// (PR_SET_PDEATHSIG), should that one be killed outright.
 Exit runProcess(const ExternalCommand& command, const std::vector<std::string>& extraArguments,
-                const fs::path& stderrPath, double limit) {
+                const fs::path& stderrPath, const fs::path& groupFile, double limit) {
   std::vector<std::string> arguments = command.argv;
   arguments.insert(arguments.end(), extraArguments.begin(), extraArguments.end());
   std::vector<char*> argv;
   for (std::string& a : arguments) argv.push_back(a.data());
   argv.push_back(nullptr);
+  const InterruptWatch interrupts;
   std::fflush(nullptr);
+  const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) throw EngineError(std::string("fork failed: ") + std::strerror(errno));
   if (pid == 0) {
+    ::setpgid(0, 0);
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent) ::_exit(127);  // the runner died before prctl
+    interrupts.unblockInChild();
     const int err = ::open(stderrPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     const int null = ::open("/dev/null", O_RDWR);
     if (err >= 0) ::dup2(err, STDERR_FILENO);
@@ -103,19 +125,35 @@ Exit runProcess(const ExternalCommand& command, const std::vector<std::string>& 
     std::fprintf(stderr, "pbdval: cannot start %s: %s\n", argv[0], std::strerror(errno));
     ::_exit(127);
   }
+  ::setpgid(pid, pid);  // also here: whichever of the two runs first
+  {
+    std::ofstream group(groupFile);
+    group << pid << "\n";
+  }
   const Clock::time_point start = Clock::now();
   Exit exit;
+  // Waits for the engine to end without reaping it: while it is a zombie its process group id
+  // cannot be reused, so killing the group afterwards reaches only what it left behind.
+  const auto ended = [pid]() {
+    siginfo_t info{};
+    const int result = ::waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOHANG | WNOWAIT);
+    // ECHILD: reaped already (a host process that ignores SIGCHLD reaps automatically).
+    return (result == 0 && info.si_pid == pid) || (result != 0 && errno == ECHILD);
+  };
   for (;;) {
-    const pid_t done = ::waitpid(pid, &exit.status, WNOHANG);
-    if (done == pid) return exit;
+    if (ended()) break;
     if (limit > 0 && std::chrono::duration<double>(Clock::now() - start).count() > limit) {
-      ::kill(pid, SIGKILL);
-      ::waitpid(pid, &exit.status, 0);
       exit.timedOut = true;
-      return exit;
+      break;
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    if (const int signal = interrupts.wait(0.002)) {
+      exit.interruptedBy = signal;
+      break;
+    }
   }
+  ::kill(-pid, SIGKILL);
+  ::waitpid(pid, &exit.status, 0);
+  return exit;
 }
 
 RunStatus statusNamed(const std::string& name) {
@@ -264,8 +302,10 @@ WholeRun ExternalEngine::runWhole(const pbd::Scene& scene, const Method& method,
   writeFileAtomically(scenePath.string(),
                       jsonText(resolvedSceneJson(scene, method.name, parameters, length)) + "\n");
 
-  const Exit exit = runProcess(command_, {"--scene", scenePath.string(), "--out", outFolder.string()},
-                               scratch.path() / kStderrFile, wallTimeLimit);
+  const Exit exit =
+      runProcess(command_, {"--scene", scenePath.string(), "--out", outFolder.string()},
+                 scratch.path() / kStderrFile, scratch.path() / kGroupFile, wallTimeLimit);
+  if (exit.interruptedBy != 0) throw SignalInterrupt(exit.interruptedBy);  // scratch removed
   const std::string errors = stderrTail(scratch.path() / kStderrFile);
   if (exit.timedOut) {
     run.status = RunStatus::Timeout;
@@ -344,6 +384,21 @@ WholeRun ExternalEngine::runWhole(const pbd::Scene& scene, const Method& method,
   }
   run.steps = plan.steps;
   return run;
+}
+
+void removeEngineLeftovers(pid_t owner) {
+  const std::string prefix = scratchPrefix(owner);
+  std::error_code error;
+  std::vector<fs::path> folders;
+  for (const auto& item : fs::directory_iterator(fs::temp_directory_path(), error))
+    if (item.path().filename().string().rfind(prefix, 0) == 0) folders.push_back(item.path());
+  for (const fs::path& folder : folders) {
+    std::ifstream group(folder / kGroupFile);
+    long id = 0;
+    if (group >> id && id > 1) ::kill(-static_cast<pid_t>(id), SIGKILL);
+    std::error_code ignored;
+    fs::remove_all(folder, ignored);
+  }
 }
 
 // --- The catalogue ---------------------------------------------------------------------------

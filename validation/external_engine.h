@@ -2,8 +2,13 @@
 // (docs/external-engines.md). The runner writes the resolved scene, runs the engine's command
 // with a wall-time limit, and reads back trajectory.csv and status.json; everything an engine
 // gets wrong (a missing command, a non-zero exit, a malformed or truncated file, wrong rows or
-// bodies, a hang) becomes the run's status with a reason, never a failure of the runner.
+// bodies, a hang) becomes the run's status with a reason, never a failure of the runner. The
+// engine runs in a process group of its own, killed after every run (whatever it started ends
+// with it); SIGINT, SIGTERM or SIGHUP during a run stop it and throw SignalInterrupt
+// (validation/interrupts.h), its scratch folder removed.
 #pragma once
+
+#include <sys/types.h>
 
 #include <string>
 #include <vector>
@@ -42,6 +47,12 @@ class ExternalEngine final : public Engine {
   ExternalCommand command_;
   RunFacts facts_;
 };
+
+/// Ends what the external-engine runs of process `owner` left when `owner` was killed before
+/// it could clean up (a wall-time limit or an interrupt of `pbdval run`): kills each run's
+/// engine process group and removes its scratch folder ($TMPDIR/pbdval-engine-<owner>-*).
+/// For the process that started `owner`, after `owner` has ended.
+void removeEngineLeftovers(pid_t owner);
 
 /// The engines of a catalogue folder: one `<name>.json` per engine (docs/external-engines.md#the-catalogue),
 /// each command's "{python}" replaced by `python`, run in `workingFolder`. Throws

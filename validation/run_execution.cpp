@@ -4,6 +4,7 @@
 #include "validation/run_execution.h"
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 
 #include "pbd/io/scene_loader.h"
@@ -14,6 +15,7 @@
 #include "validation/references/reference.h"
 #include "validation/run_plan.h"
 #include "validation/sanity.h"
+#include "validation/simulation.h"
 #include "validation/trajectory.h"
 
 namespace pbdval {
@@ -142,6 +144,15 @@ void mergeMetrics(MetricSet& into, MetricSet&& from) {
 MetricSet measureSamples(const pbd::Scene& scene, const CaseSpec& spec,
                          const std::vector<State>& samples, const ReferenceTrajectory* reference,
                          double contactMargin, MetricSeries* series) {
+  // A diverged trajectory has no metrics (the runner measures ok runs only): its first
+  // non-finite sample is named instead of handing NaN to the energy sums and the FCL oracle.
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    std::string problem = divergenceReason(samples[k]);
+    if (problem.empty() && !std::isfinite(samples[k].time)) problem = "its time is not finite";
+    if (!problem.empty())
+      throw EngineDivergence("sample " + std::to_string(k) + ": " + problem +
+                             "; a diverged trajectory is not measured");
+  }
   std::vector<std::string> notes;
   std::optional<DistanceOracle> oracle;
   MetricInputs inputs;

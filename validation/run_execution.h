@@ -17,6 +17,8 @@ RunRecord executeRun(const RunRequest& request, const EngineRegistry& registry);
 /// binding both call it): computeMetrics with the FCL oracle's penetration depths (engine
 /// margin `contactMargin` subtracted) and `reference` (null: no trajectory metrics; it must be
 /// sampled at the samples' times: resampleReference). Notes say what could not be measured.
+/// Throws EngineDivergence naming the first sample that holds NaN or Inf (time included) or a
+/// blow-up (divergenceReason): a diverged trajectory has no metrics, as in the runner.
 // With `series`, also the per-sample values behind the metrics (the report's curves).
 MetricSet measureSamples(const pbd::Scene& scene, const CaseSpec& spec,
                          const std::vector<State>& samples, const ReferenceTrajectory* reference,

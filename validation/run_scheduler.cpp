@@ -3,6 +3,7 @@
 #include "validation/run_scheduler.h"
 
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -12,12 +13,13 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <filesystem>
 #include <system_error>
 
 #include "validation/atomic_file.h"
+#include "validation/external_engine.h"
 #include "validation/run_execution.h"
 #include "validation/run_plan.h"
 
@@ -80,8 +82,11 @@ RunRecord collect(const Child& child, int waitStatus, const RunRequest& request,
     record.reason = "engine process exited with status " + std::to_string(WEXITSTATUS(waitStatus)) +
                     " without a result";
   }
-  // A child that died mid-write leaves its temporary trajectory file behind.
+  // A child that died mid-write leaves its temporary trajectory file behind; one that was
+  // killed, an external engine's process group and scratch folder.
   removeLeftovers(child, request, file);
+  if (child.killedForTimeout || !WIFEXITED(waitStatus) || WEXITSTATUS(waitStatus) != 0)
+    removeEngineLeftovers(child.pid);
   return record;
 }
 
@@ -151,6 +156,7 @@ std::vector<RunRecord> RunScheduler::runAll(
       int status = 0;
       ::waitpid(child.pid, &status, 0);
       removeLeftovers(child, requests[child.index], resultFile(scratchFolder_, child.index));
+      removeEngineLeftovers(child.pid);
     }
     std::error_code ignored;
     std::filesystem::remove(scratchFolder_, ignored);  // only if empty
@@ -160,12 +166,17 @@ std::vector<RunRecord> RunScheduler::runAll(
     while (static_cast<int>(running.size()) < jobs_ && next < requests.size()) {
       std::fflush(nullptr);  // nothing buffered may be written twice
       const std::string file = resultFile(scratchFolder_, next);
+      const pid_t scheduler = ::getpid();
       const pid_t pid = ::fork();
       if (pid < 0) throw std::runtime_error(std::string("fork failed: ") + std::strerror(errno));
       if (pid == 0) {
         // Its own process group, so that stopping it also stops what it started (an external
         // engine's process).
         ::setpgid(0, 0);
+        // A scheduler killed outright (SIGKILL) takes its runs with it, and they their
+        // external engines (PR_SET_PDEATHSIG there too), instead of leaving them running.
+        ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+        if (::getppid() != scheduler) ::_exit(4);  // the scheduler died before prctl
         interrupts.restoreInChild();
         const RunRecord record = executeRun(requests[next], registry_);
         try {

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "validation/interrupts.h"
 #include "validation/sanity.h"
 
 namespace pbdval {
@@ -239,6 +240,8 @@ RunOutcome runSimulation(Engine& engine, const pbd::Scene& scene, const Method& 
         isVelocityCheck(sampled.violation()->check))
       applyBoundaryViolation(*sampled.violation(), plan.stride * stepsPerStep, outcome);
     if (auto hash = engine.stateHash()) outcome.stateHash = *hash;
+  } catch (const SignalInterrupt&) {
+    throw;  // not the engine's failure: the command stops (validation/interrupts.h)
   } catch (const EngineDivergence& e) {
     outcome.status = RunStatus::Diverged;
     outcome.reason = e.what();

@@ -15,6 +15,10 @@ namespace pbdval {
 /// run for days (10^8 steps of the cheapest engine take minutes; of a 100-link chain, hours).
 inline constexpr double kMaxStepsPerRun = 1e8;
 
+/// The wall-time limit of one run when none is given, in seconds: `pbdval run --timeout`,
+/// `pbdval simulate --timeout` and pbdval.simulate's wall_time_limit default to it.
+inline constexpr double kDefaultWallTimeLimit = 600;
+
 /// The number of steps and the sampling stride for a scene with step size h: steps =
 /// round(duration/h), stride = max(1, round(sampleInterval/h)). Throws std::invalid_argument
 /// for a non-positive or non-finite duration or step, a negative interval, or more than
@@ -52,7 +56,9 @@ inline constexpr double kDivergenceLimit = 1e6;
 
 /// Loads `scene` into `engine` with `method` and runs it. Never throws for engine failures:
 /// unsupported features, EngineError and other exceptions, NaN/inf or blow-ups, and
-/// `wallTimeLimit` (seconds, 0 = none) become the outcome's status and reason.
+/// `wallTimeLimit` (seconds, 0 = none) become the outcome's status and reason. Only a
+/// SignalInterrupt (validation/interrupts.h: an external engine's run or a callback took
+/// SIGINT, SIGTERM or SIGHUP) passes through: the command is being stopped.
 RunOutcome runSimulation(Engine& engine, const pbd::Scene& scene, const Method& method,
                          const RunLength& length, const RunCallbacks& callbacks,
                          double wallTimeLimit = 0);

@@ -21,6 +21,15 @@ OdeEngine::~OdeEngine() {
 
 void OdeEngine::destroyModel() noexcept {
   if (!world_) return;
+  if (!failure_.empty()) {
+    // ODE failed inside a call (its error handler threw out of it): the world may be half
+    // updated, and destroying it could fail inside ODE again, in a destructor, where an
+    // exception ends the process (std::terminate). It is left to the OS instead: a failed run
+    // leaks its one world.
+    (void)joints_.release();
+    (void)world_.release();
+    return;
+  }
   try {
     ode::OdeCall call(context_);
     joints_.reset();

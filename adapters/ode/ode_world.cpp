@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <cstdint>
+#include <exception>
+#include <utility>
 
 namespace pbdval::ode {
 namespace {
@@ -80,10 +82,18 @@ Vector3 frictionDirection(const Vector3& normal) {
 OdeWorld::OdeWorld(const pbd::Scene& scene, const OdeSettings& settings)
     : scene_(scene),
       settings_(settings),
+      threading_(dThreadingAllocateSelfThreadedImplementation()),
       world_(dWorldCreate()),
       space_(dHashSpaceCreate(nullptr)),
       contactJoints_(dJointGroupCreate(0)),
       contactBuffer_(static_cast<std::size_t>(settings.maxContacts)) {
+  if (!threading_) throw EngineError("ODE: dThreadingAllocateSelfThreadedImplementation failed");
+  // The world's own (single-threaded) step scheduler instead of ODE's process-wide default: an
+  // ODE error inside a step unwinds out of it with jobs still queued, and the queue that holds
+  // them must be this world's, dropped with it (OdeEngine::destroyModel), not the process's,
+  // whose destructor in dCloseODE would find the stale jobs and end the process.
+  dWorldSetStepThreadingImplementation(
+      world_.get(), dThreadingImplementationGetFunctions(threading_.get()), threading_.get());
   configureWorld();
   const int count = static_cast<int>(scene.rigidBodies.size());
   bodies_.assign(scene.rigidBodies.size(), nullptr);
@@ -205,15 +215,26 @@ dGeomID OdeWorld::geom(int sceneIndex) const {
 
 void OdeWorld::collide() {
   contacts_.clear();
+  callbackFailure_ = nullptr;
   dSpaceCollide(space_.get(), this, &OdeWorld::nearCallback);
+  // An error in a pair's collision (ours, or ODE's handlers' EngineError from inside dCollide)
+  // was caught in the callback, so that no exception unwinds through ODE's collision loop
+  // (C frames); it is thrown here, with ODE back in our code.
+  if (callbackFailure_) std::rethrow_exception(std::exchange(callbackFailure_, nullptr));
 }
 
 void OdeWorld::clearContacts() {
   dJointGroupEmpty(contactJoints_.get());
 }
 
-void OdeWorld::nearCallback(void* self, dGeomID a, dGeomID b) {
-  static_cast<OdeWorld*>(self)->addContacts(a, b);
+void OdeWorld::nearCallback(void* self, dGeomID a, dGeomID b) noexcept {
+  OdeWorld& world = *static_cast<OdeWorld*>(self);
+  if (world.callbackFailure_) return;  // the step fails anyway: no more pairs
+  try {
+    world.addContacts(a, b);
+  } catch (...) {
+    world.callbackFailure_ = std::current_exception();
+  }
 }
 
 void OdeWorld::addContacts(dGeomID a, dGeomID b) {

@@ -23,6 +23,7 @@
 
 #include <ode/ode.h>
 
+#include <exception>
 #include <memory>
 #include <string>
 #include <vector>
@@ -91,6 +92,9 @@ class OdeWorld {
   BodyState state(int sceneIndex) const;
 
  private:
+  struct ThreadingDeleter {
+    void operator()(dxThreadingImplementation* t) const { dThreadingFreeImplementation(t); }
+  };
   struct WorldDeleter {
     void operator()(dxWorld* w) const { dWorldDestroy(w); }
   };
@@ -106,13 +110,15 @@ class OdeWorld {
   dBodyID createBody(const pbd::RigidBodyDesc& desc);
   dGeomID createGeom(const pbd::RigidBodyDesc& desc, int sceneIndex, dBodyID body);
   dGeomID createShape(const pbd::RigidBodyDesc& desc);
-  static void nearCallback(void* self, dGeomID a, dGeomID b);
+  /// dSpaceCollide's callback: never lets an exception out into ODE (see collide()).
+  static void nearCallback(void* self, dGeomID a, dGeomID b) noexcept;
   void addContacts(dGeomID a, dGeomID b);
 
   const pbd::Scene& scene_;
   OdeSettings settings_;
-  // Destroyed in reverse order: contact joints, geoms, trimesh data, then the world (bodies and
-  // joints).
+  // Destroyed in reverse order: contact joints, geoms, trimesh data, the world (bodies and
+  // joints), then the world's step scheduler.
+  std::unique_ptr<dxThreadingImplementation, ThreadingDeleter> threading_;
   std::unique_ptr<dxWorld, WorldDeleter> world_;
   std::vector<std::unique_ptr<TriMesh>> triMeshes_;
   std::unique_ptr<dxSpace, SpaceDeleter> space_;
@@ -122,6 +128,7 @@ class OdeWorld {
   std::size_t auxiliaryBodies_ = 0;
   std::vector<dContact> contactBuffer_;
   std::vector<ContactRecord> contacts_;
+  std::exception_ptr callbackFailure_;  ///< the first error in nearCallback during collide()
 };
 
 }  // namespace pbdval::ode

@@ -12,7 +12,9 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdlib>
 #include <map>
 #include <memory>
@@ -26,6 +28,7 @@
 #include "pbdval/build_info.h"
 #include "validation/case_spec.h"
 #include "validation/engines/standard_engines.h"
+#include "validation/interrupts.h"
 #include "validation/mechanics.h"
 #include "validation/metrics.h"
 #include "validation/overrides.h"
@@ -46,6 +49,11 @@ using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
 Array newArray(std::vector<py::ssize_t> shape) {
   return Array(std::move(shape));
 }
+
+/// A trajectory file that cannot be read: pbdval.ResultsError.
+struct ResultsFileError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 /// A loaded scene and the file it came from (relative mesh paths are already resolved).
 struct SceneHandle {
@@ -105,8 +113,9 @@ std::string parameterText(const py::handle& value) {
     }
     return text;
   }
-  throw py::type_error("parameter values must be bool, int, float, str or a list of numbers, got " +
-                       py::str(py::type::of(value)).cast<std::string>());
+  throw std::invalid_argument(  // pbdval.ArgumentError
+      "parameter values must be bool, int, float, str or a list of numbers, got " +
+      py::str(py::type::of(value)).cast<std::string>());
 }
 
 std::vector<std::string> assignmentsOf(const py::dict& values) {
@@ -373,12 +382,32 @@ class Stepper {
   void step(long count) {
     if (count < 0)
       throw std::invalid_argument("step: count must be >= 0, got " + std::to_string(count));
+    if (double(count) > kMaxStepsPerRun)
+      throw std::invalid_argument("step: count must be at most " + formatNumber(kMaxStepsPerRun) +
+                                  " (the most steps of one run, validation/simulation.h), got " +
+                                  std::to_string(count));
+    bool interrupted = false;
     {
       py::gil_scoped_release release;
-      for (long i = 0; i < count; ++i)
+      // Ctrl-C: Python's signal handlers run only with the GIL, so it is taken about every
+      // 50 ms of stepping to run them (PyErr_CheckSignals); an exception they raise
+      // (KeyboardInterrupt) ends the call after the step under way.
+      using Clock = std::chrono::steady_clock;
+      Clock::time_point lastCheck = Clock::now();
+      for (long i = 0; i < count; ++i) {
         engine_->step();
+        if ((i & 15) == 15 && Clock::now() - lastCheck > std::chrono::milliseconds(50)) {
+          lastCheck = Clock::now();
+          py::gil_scoped_acquire acquire;
+          if (PyErr_CheckSignals() != 0) {
+            interrupted = true;
+            break;
+          }
+        }
+      }
     }
     engine_->read(state_);
+    if (interrupted) throw py::error_already_set();
     const std::string reason = divergenceReason(state_);
     if (!reason.empty())
       throw EngineDivergence("diverged at t = " + formatNumber(state_.time) + ": " + reason);
@@ -388,13 +417,23 @@ class Stepper {
   std::size_t bodyCount() const { return configured_.scene.rigidBodies.size(); }
 
   /// The bodies' states into `packed` (N, 14): id, x y z, qw qx qy qz, vx vy vz, wx wy wz.
-  double readInto(py::array_t<double, py::array::c_style>& packed) {
+  /// `packed` is written in place: an array that is not C-contiguous float64 and writeable
+  /// is refused (converting it would fill a copy the caller never sees).
+  double readInto(const py::array& packed) {
     engine_->read(state_);
     const py::ssize_t n = py::ssize_t(state_.bodies.size());
-    if (packed.ndim() != 2 || packed.shape(0) != n || packed.shape(1) != 14)
-      throw std::invalid_argument("expected a C-contiguous float64 array of shape (" +
-                                  std::to_string(n) + ", 14)");
-    double* out = packed.mutable_data();
+    const bool layout = py::isinstance<py::array_t<double>>(packed) &&
+                        (packed.flags() & py::array::c_style) != 0 && packed.writeable();
+    if (!layout || packed.ndim() != 2 || packed.shape(0) != n || packed.shape(1) != 14)
+      throw std::invalid_argument(
+          "read: expected a writeable C-contiguous float64 array of shape (" + std::to_string(n) +
+          ", 14), got " + py::str(packed.dtype()).cast<std::string>() + " of shape " +
+          py::str(py::tuple(py::cast(
+                      std::vector<py::ssize_t>(packed.shape(), packed.shape() + packed.ndim()))))
+              .cast<std::string>() +
+          ((packed.flags() & py::array::c_style) != 0 ? "" : ", not C-contiguous") +
+          (packed.writeable() ? "" : ", read-only"));
+    double* out = static_cast<double*>(packed.request(true).ptr);
     for (const BodyState& b : state_.bodies) {
       out[0] = double(b.id);
       out[1] = double(b.position.x());
@@ -437,6 +476,10 @@ class Stepper {
 };
 
 SceneHandle loadSceneFile(const std::string& path, bool strict) {
+  // A C path ends at the first NUL: "x.json\0junk" would load x.json.
+  if (path.find('\0') != std::string::npos)
+    throw pbd::SceneError({path.substr(0, path.find('\0')) + "\\0...", "",
+                           "a file name cannot contain a NUL character"});
   pbd::LoadOptions options;
   options.strict = strict;
   pbd::LoadedScene loaded = pbd::loadScene(path, options);
@@ -626,6 +669,18 @@ void raiseAs(const char* name, const std::exception& e) {
   PyErr_SetObject(cls.ptr(), cls(std::string(e.what())).ptr());
 }
 
+/// An external engine's run took SIGINT, SIGTERM or SIGHUP (validation/interrupts.h) and
+/// stopped the engine. SIGINT is Python's KeyboardInterrupt; the others are raised again, now
+/// that the engine is gone, so that they do what they would have done (end the interpreter,
+/// or run the handler Python code installed).
+void raiseInterrupt(const pbdval::SignalInterrupt& e) {
+  if (e.signal() != SIGINT) {
+    ::raise(e.signal());
+    if (PyErr_CheckSignals() != 0) return;  // a Python handler raised
+  }
+  PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
+}
+
 }  // namespace
 }  // namespace pbdval::python
 
@@ -634,6 +689,8 @@ PYBIND11_MODULE(_core, m) {
   namespace pv = pbdval;
   m.doc() = "pbdval's C++ core: scene loader, engines, stepping and metrics (docs/python.md)";
   m.attr("version") = PBDVAL_VERSION;
+  m.attr("default_wall_time_limit") = pv::kDefaultWallTimeLimit;
+  m.attr("max_steps_per_run") = pv::kMaxStepsPerRun;
 
   py::register_exception_translator([](std::exception_ptr p) {
     try {
@@ -646,6 +703,14 @@ PYBIND11_MODULE(_core, m) {
       raiseAs("DivergenceError", e);
     } catch (const pv::EngineError& e) {
       raiseAs("EngineError", e);
+    } catch (const ResultsFileError& e) {
+      raiseAs("ResultsError", e);
+    } catch (const pv::SignalInterrupt& e) {
+      raiseInterrupt(e);
+    } catch (const std::invalid_argument& e) {
+      // Bad arguments (parameters, run lengths, array shapes): pbdval.ArgumentError, a
+      // ValueError.
+      raiseAs("ArgumentError", e);
     }
   });
 
@@ -656,7 +721,7 @@ PYBIND11_MODULE(_core, m) {
       .def("step", &Stepper::step, py::arg("count"))
       .def("time", &Stepper::time)
       .def("body_count", &Stepper::bodyCount)
-      .def("read_into", &Stepper::readInto, py::arg("packed"))
+      .def("read_into", &Stepper::readInto, py::arg("packed").noconvert())
       .def("facts", &Stepper::facts);
 
   m.def("_load_scene", &loadSceneFile, py::arg("path"), py::arg("strict"));
@@ -696,7 +761,14 @@ PYBIND11_MODULE(_core, m) {
   m.def("_measure", &measure);
   m.def("_energy", &energy);
   m.def("_read_trajectory", [](const std::string& path) {
-    const pv::Trajectory t = pv::readTrajectory(path);  // .npy or CSV
+    if (path.find('\0') != std::string::npos)
+      throw ResultsFileError("a file name cannot contain a NUL character");
+    pv::Trajectory t;
+    try {
+      t = pv::readTrajectory(path);  // .npy or CSV
+    } catch (const std::exception& e) {
+      throw ResultsFileError(e.what());
+    }
     const std::size_t n = t.samples.empty() ? 0 : t.samples.front().bodies.size();
     return statesDict(t.samples, n);
   });

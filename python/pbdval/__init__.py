@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 __path__ = extend_path(__path__, __name__)
 
 from pbdval.errors import (  # noqa: E402
+    ArgumentError,
     BuildMissingError,
     CommandError,
     DivergenceError,
@@ -56,6 +57,7 @@ if TYPE_CHECKING:  # what the lazy __getattr__ below returns, for type checkers
     from pbdval.results import Results, RunResult, load_results, run
 
 __all__ = [
+    "ArgumentError",
     "BodyStates",
     "BuildMissingError",
     "CommandError",

@@ -11,6 +11,8 @@ body's scene frame to world; bodies in scene order; a trajectory stacks samples 
 
 from __future__ import annotations
 
+import math
+import os
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Iterator, Mapping, Sequence, Union
@@ -18,7 +20,7 @@ from typing import TYPE_CHECKING, Any, Iterator, Mapping, Sequence, Union
 import numpy as np
 from numpy.typing import NDArray
 
-from pbdval.errors import BuildMissingError
+from pbdval.errors import ArgumentError, BuildMissingError, ResultsError, SceneError
 
 if TYPE_CHECKING:  # pragma: no cover
     from types import ModuleType
@@ -38,6 +40,35 @@ def _core() -> "ModuleType":
             f"import failed with: {error}"
         ) from error
     return core
+
+
+# ---- argument checks (docs/python.md#errors) ---------------------------------------------------
+
+
+def _seconds(name: str, value: object, *, zero: bool = False) -> float:
+    """`value` as a finite number of seconds > 0 (>= 0 with `zero`), else ArgumentError."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise ArgumentError(f"{name}: expected a number of seconds, got {value!r}")
+    seconds = float(value)
+    if not math.isfinite(seconds) or seconds < 0 or (seconds == 0 and not zero):
+        expected = ">= 0" if zero else "> 0"
+        raise ArgumentError(f"{name}: expected a finite number of seconds {expected}, got {value!r}")
+    return seconds
+
+
+def _instance(name: str, value: object, kind: type) -> None:
+    if not isinstance(value, kind):
+        raise ArgumentError(f"{name}: expected a pbdval.{kind.__name__}, got {type(value).__name__}")
+
+
+def _file_name(path: object) -> str:
+    """A path argument as text; ArgumentError for what is not a path."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise ArgumentError(f"path: expected a str or os.PathLike, got {type(path).__name__}")
+    text = os.fspath(path)
+    if not isinstance(text, str):
+        raise ArgumentError(f"path: expected a text path, got {type(text).__name__}")
+    return text
 
 
 # ---- engines and methods -------------------------------------------------------------------
@@ -173,7 +204,10 @@ class Scene:
 
     def __init__(self, path: str | Path, *, strict: bool = False) -> None:
         core = _core()
-        self._handle = core._load_scene(str(path), strict)
+        file = _file_name(path)
+        if "\x00" in file:  # a C path ends at the NUL: "x.json\0junk" would load x.json
+            raise SceneError(repr(file), "", "a file name cannot contain a NUL character")
+        self._handle = core._load_scene(file, bool(strict))
         summary = core._scene_summary(self._handle)
         self.file: str = summary["file"]
         self.body_ids: IntArray = np.asarray(summary["body_ids"], dtype=np.int64)
@@ -209,8 +243,8 @@ class Scene:
             self._handle,
             _method_name(method, registry),
             _parameters(parameters),
-            duration or 0.0,
-            -1.0 if sample_interval is None else sample_interval,
+            0.0 if duration is None else _seconds("duration", duration),
+            -1.0 if sample_interval is None else _seconds("sample_interval", sample_interval, zero=True),
         )
 
     def __repr__(self) -> str:
@@ -305,7 +339,7 @@ class Trajectory:
         written with it (CSV or NPY), attached as particle_positions/velocities; `segments`: the
         file of `pbdval simulate --segments`, attached as segment_rotations/angular_velocities;
         their sample times must be the trajectory's."""
-        trajectory = cls._from_core(_core()._read_trajectory(str(path)))
+        trajectory = cls._from_core(_core()._read_trajectory(_file_name(path)))
 
         def attached_times(file: str | Path, times: FloatArray) -> None:
             nonlocal trajectory
@@ -318,7 +352,7 @@ class Trajectory:
                     quaternions=np.zeros((count, 0, 4)), velocities=np.zeros((count, 0, 3)),
                     angular_velocities=np.zeros((count, 0, 3)))
             if times.shape != trajectory.times.shape or not np.allclose(times, trajectory.times, rtol=0, atol=1e-9):
-                raise ValueError(
+                raise ResultsError(
                     f"{file}: its {times.size} sample times are not those of {path} "
                     f"({trajectory.times.size} samples)"
                 )
@@ -362,7 +396,9 @@ def _read_indexed_table(path: str | Path, header: str, what: str) -> FloatArray:
     """A file of `pbdval simulate --particles` or `--segments`: CSV with exactly `header`, or NPY
     of the same table by the extension, as (T, count, columns): every sample lists its `what`
     0..count-1 in order at one time. Errors name the file."""
-    path = Path(path)
+    path = Path(_file_name(path))
+    if "\x00" in str(path):
+        raise ResultsError(f"{path!r}: a file name cannot contain a NUL character")
     columns = len(header.split(","))
     try:
         if path.suffix == ".npy":
@@ -374,19 +410,19 @@ def _read_indexed_table(path: str | Path, header: str, what: str) -> FloatArray:
                     raise ValueError(f"line 1: expected the header {header}, got {line!r}")
                 table = np.loadtxt(f, delimiter=",", ndmin=2)
     except (OSError, ValueError) as error:
-        raise ValueError(f"{path}: {error}") from None
+        raise ResultsError(f"{path}: {error}") from None
     if table.ndim != 2 or table.shape[1] != columns:
-        raise ValueError(f"{path}: expected rows of {columns} columns ({header}), got shape {table.shape}")
+        raise ResultsError(f"{path}: expected rows of {columns} columns ({header}), got shape {table.shape}")
     if table.shape[0] == 0:
-        raise ValueError(f"{path}: no rows")
+        raise ResultsError(f"{path}: no rows")
     count = int(np.count_nonzero(table[:, 0] == table[0, 0]))
     if table.shape[0] % count != 0:
-        raise ValueError(f"{path}: {table.shape[0]} rows are not whole samples of {count} {what}")
+        raise ResultsError(f"{path}: {table.shape[0]} rows are not whole samples of {count} {what}")
     samples = table.reshape(-1, count, columns)
     if not np.array_equal(samples[:, :, 1], np.tile(np.arange(count), (samples.shape[0], 1))):
-        raise ValueError(f"{path}: every sample must list {what} 0..{count - 1} in order")
+        raise ResultsError(f"{path}: every sample must list {what} 0..{count - 1} in order")
     if not np.all(samples[:, :, 0] == samples[:, :1, 0]):
-        raise ValueError(f"{path}: the rows of a sample must share its time")
+        raise ResultsError(f"{path}: the rows of a sample must share its time")
     return samples
 
 
@@ -427,6 +463,7 @@ class Simulation:
         *,
         engines: Engines | None = None,
     ) -> None:
+        _instance("scene", scene, Scene)
         registry = engines or Engines()
         self.scene = scene
         self._stepper = _core()._Stepper(
@@ -440,17 +477,35 @@ class Simulation:
         return float(self._stepper.time())
 
     def step(self, count: int = 1) -> None:
-        """Advances `count` scene steps (the GIL is released while stepping). Raises
-        :class:`pbdval.DivergenceError` when the state becomes non-finite or blows up."""
-        self._stepper.step(count)
+        """Advances `count` scene steps, 0 <= count <= 10^8 (the most steps of one run), with the
+        GIL released; Ctrl-C interrupts it within about 50 ms (KeyboardInterrupt, the steps taken
+        kept). Raises :class:`pbdval.DivergenceError` when the state becomes non-finite or blows
+        up, :class:`pbdval.ArgumentError` for another count."""
+        if isinstance(count, bool) or not isinstance(count, (int, np.integer)):
+            raise ArgumentError(f"step: count: expected an int, got {count!r}")
+        limit = int(_core().max_steps_per_run)
+        if not 0 <= int(count) <= limit:
+            raise ArgumentError(f"step: count: expected 0 <= count <= {limit}, got {count}")
+        self._stepper.step(int(count))
 
     def state(self) -> BodyStates:
         """The bodies' states now, in new arrays."""
         return self.read(BodyStates(self._stepper.body_count()))
 
     def read(self, out: BodyStates) -> BodyStates:
-        """The bodies' states now, written into `out` (no allocation): the fast path."""
-        out.time = self._stepper.read_into(out.packed)
+        """The bodies' states now, written into `out` (no allocation): the fast path.
+        `out.packed` must be the writeable, C-contiguous float64 (N, 14) array it is made with;
+        another array raises :class:`pbdval.ArgumentError` (it would be filled as a copy)."""
+        _instance("out", out, BodyStates)
+        packed = out.packed
+        if (not isinstance(packed, np.ndarray) or packed.dtype != np.float64 or not packed.flags.c_contiguous
+                or not packed.flags.writeable or packed.shape != (self._stepper.body_count(), 14)):
+            described = (f"{packed.dtype} {packed.shape}{'' if packed.flags.c_contiguous else ' not C-contiguous'}"
+                         f"{'' if packed.flags.writeable else ' read-only'}"
+                         if isinstance(packed, np.ndarray) else type(packed).__name__)
+            raise ArgumentError(f"read: out.packed: expected a writeable C-contiguous float64 array of shape "
+                                f"({self._stepper.body_count()}, 14), got {described}")
+        out.time = self._stepper.read_into(packed)
         return out
 
     def state_hash(self) -> str | None:
@@ -487,27 +542,45 @@ def simulate(
     *,
     duration: float | None = None,
     sample_interval: float | None = None,
-    wall_time_limit: float = 0.0,
+    wall_time_limit: float | None = None,
     engines: Engines | None = None,
 ) -> tuple[RunInfo, Trajectory]:
     """Runs a scene as ``pbdval simulate`` does (the runner's stepping loop, external engines
-    through their protocol) and returns the run's status and its samples. Duration and sample
-    interval default to the scene's Validation block. Engine failures are a status, not an
-    exception."""
+    through their protocol) and returns the run's status and its samples. Duration (s, > 0)
+    and sample interval (s, >= 0; 0: every step) default to the scene's Validation block;
+    wall_time_limit (s, > 0; ``math.inf``: none) to ``pbdval run``'s 600 s. Engine failures
+    are a status, not an exception; a NaN, zero or negative value raises
+    :class:`pbdval.ArgumentError`."""
+    _instance("scene", scene, Scene)
     registry = engines or Engines()
+    limit = float(_core().default_wall_time_limit)
+    if wall_time_limit is not None:
+        limit = (0.0 if isinstance(wall_time_limit, (int, float)) and wall_time_limit == math.inf
+                 else _seconds("wall_time_limit", wall_time_limit))
     run, states = _core()._simulate(
         registry._registry,
         scene._handle,
         _method_name(method, registry),
         _parameters(parameters),
-        duration or 0.0,
-        -1.0 if sample_interval is None else sample_interval,
-        wall_time_limit,
+        0.0 if duration is None else _seconds("duration", duration),
+        -1.0 if sample_interval is None else _seconds("sample_interval", sample_interval, zero=True),
+        limit,
     )
     return RunInfo(**run), Trajectory._from_core(states)
 
 
 # ---- metrics -------------------------------------------------------------------------------------
+
+
+def _check_trajectory(name: str, trajectory: object) -> None:
+    """A Trajectory with at least one sample and finite times, else ArgumentError."""
+    _instance(name, trajectory, Trajectory)
+    assert isinstance(trajectory, Trajectory)
+    times = np.asarray(trajectory.times)
+    if times.ndim != 1 or times.size == 0:
+        raise ArgumentError(f"{name}.times: expected a 1-D array of at least one sample time, got shape {times.shape}")
+    if not np.issubdtype(times.dtype, np.number) or not np.all(np.isfinite(times.astype(np.float64))):
+        raise ArgumentError(f"{name}.times: expected finite sample times, got {times!r}")
 
 
 @dataclass
@@ -551,7 +624,24 @@ def measure(
     integrator step, e.g. h/subSteps for PBD); False: no trajectory metrics; a Trajectory: that
     run, resampled at `trajectory`'s times. contact_margin: the engine's designed overlap (m),
     subtracted from penetration depths (RunInfo.contact_margin).
+
+    Raises :class:`pbdval.ArgumentError` for an empty trajectory, a NaN or infinite time,
+    margin or integration step, or arguments of the wrong type; :class:`pbdval.DivergenceError`
+    naming the first sample that holds NaN or Inf (or a blow-up beyond 1e6 m or m/s): a
+    diverged run has no metrics, as in the runner.
     """
+    _instance("scene", scene, Scene)
+    _check_trajectory("trajectory", trajectory)
+    if isinstance(contact_margin, bool) or not isinstance(contact_margin, (int, float, np.integer, np.floating)) \
+            or not math.isfinite(float(contact_margin)):
+        raise ArgumentError(f"contact_margin: expected a finite number of metres, got {contact_margin!r}")
+    if integration_step is not None:
+        _seconds("integration_step", integration_step)
+    if not (reference is None or isinstance(reference, (bool, Trajectory))):
+        raise ArgumentError(
+            f"reference: expected None, False or a pbdval.Trajectory, got {type(reference).__name__}")
+    if isinstance(reference, Trajectory):
+        _check_trajectory("reference", reference)
     registry = engines or Engines()
     ref: Any
     if isinstance(reference, Trajectory):
@@ -569,7 +659,8 @@ def measure(
     else:
         ref = reference
     d = _core()._measure(
-        registry._registry, scene._handle, *trajectory._arrays(), ref, contact_margin, integration_step or 0.0
+        registry._registry, scene._handle, *trajectory._arrays(), ref, float(contact_margin),
+        float(integration_step or 0.0)
     )
     return Metrics(
         values={k: float(v) for k, v in d["values"].items()},
@@ -601,7 +692,10 @@ class Energy:
 
 
 def energy(scene: Scene, trajectory: Trajectory, *, engines: Engines | None = None) -> Energy:
-    """The energy of every sample (validation/mechanics.h)."""
+    """The energy of every sample (validation/mechanics.h). Raises :class:`pbdval.ArgumentError`
+    for an empty trajectory or a NaN or infinite time."""
+    _instance("scene", scene, Scene)
+    _check_trajectory("trajectory", trajectory)
     registry = engines or Engines()
     d = _core()._energy(registry._registry, scene._handle, *trajectory._arrays())
     return Energy(

@@ -10,6 +10,13 @@ class PbdvalError(Exception):
     """Base class of every pbdval error."""
 
 
+class ArgumentError(PbdvalError, ValueError):
+    """An argument outside its documented domain: a NaN, zero or negative duration, sample
+    interval or wall-time limit, a step count beyond the cap, an empty or non-finite trajectory
+    time, an array of the wrong shape, dtype or memory layout, an object of the wrong type, an
+    unknown parameter or value. The message names the argument and what was expected."""
+
+
 class SceneError(PbdvalError, ValueError):
     """A scene file that cannot be loaded: the file, the JSON path and what was expected.
 

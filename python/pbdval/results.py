@@ -8,13 +8,16 @@ results.json), so a study scripted in Python gets exactly the numbers the suite 
 from __future__ import annotations
 
 import json
+import functools
 import math
+import os
+import shutil
 import subprocess
 import sys
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterable, Iterator, Mapping, Sequence
+from typing import Any, Callable, Iterable, Iterator, Mapping, Sequence, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -148,6 +151,8 @@ def _number(value: Any) -> float:
 
 def load_results(folder: str | Path) -> Results:
     """Reads FOLDER/results.json. Raises ResultsError naming the path and what was expected."""
+    if not isinstance(folder, (str, os.PathLike)) or "\x00" in os.fspath(folder):
+        raise ResultsError(f"{folder!r}: expected the path of a results folder")
     folder = Path(folder)
     path = folder / "results.json"
     if not folder.is_dir():
@@ -165,6 +170,10 @@ def load_results(folder: str | Path) -> Results:
     if version not in SUPPORTED_SCHEMA_VERSIONS:
         raise ResultsError(f"{path}: schemaVersion {version!r} is not one this pbdval reads "
                            f"({', '.join(map(str, SUPPORTED_SCHEMA_VERSIONS))})")
+    for key, kind in (("runs", list), ("metadata", dict), ("cases", dict)):
+        if not isinstance(document.get(key, kind()), kind):
+            raise ResultsError(f"{path}: {key}: expected a JSON {'array' if kind is list else 'object'}, "
+                               f"got {type(document[key]).__name__}")
     runs: list[RunResult] = []
     for index, r in enumerate(document.get("runs", [])):
         try:
@@ -195,8 +204,9 @@ def load_results(folder: str | Path) -> Results:
                     assignments=list(r.get("assignments", [])),
                 )
             )
-        except (KeyError, TypeError, ValueError) as error:
-            raise ResultsError(f"{path}: runs[{index}]: expected case, engine, method and status ({error})") from error
+        except (AttributeError, KeyError, TypeError, ValueError) as error:
+            raise ResultsError(f"{path}: runs[{index}]: expected an object with case, engine, method and status "
+                               f"({error})") from error
     return Results(folder=folder, metadata=dict(document.get("metadata", {})),
                    cases=dict(document.get("cases", {})), runs=runs)
 
@@ -211,6 +221,29 @@ def _assignment(key: str, value: ParameterValue) -> str:
     return f"{key}={text}"
 
 
+_Function = TypeVar("_Function", bound=Callable[..., Any])
+
+
+def _temporary_out_removed_on_failure(function: _Function) -> _Function:
+    """Without `out`, `function` (run) gets a new temporary folder as `out`, removed again when
+    the call fails (raises): a failed run leaves no $TMPDIR/pbdval-run-* behind; a successful
+    one keeps it (it is Results.folder)."""
+
+    @functools.wraps(function)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        if kwargs.get("out") is not None:
+            return function(*args, **kwargs)
+        folder = Path(tempfile.mkdtemp(prefix="pbdval-run-"))
+        try:
+            return function(*args, **{**kwargs, "out": folder})
+        except BaseException:
+            shutil.rmtree(folder, ignore_errors=True)
+            raise
+
+    return wrapper  # type: ignore[return-value]
+
+
+@_temporary_out_removed_on_failure
 def run(
     cases: str | Path | Iterable[str | Path] | None = None,
     *,

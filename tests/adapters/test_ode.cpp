@@ -582,6 +582,66 @@ TEST(OdeProcess, InvalidMassRejectedByODEIsARunStatus) {
   EXPECT_EQ(runSimulation(next, chainScene(), method(), {0.1, 0}, {}).status, RunStatus::Ok);
 }
 
+// Issue 25: states the scene loader refuses (|ω| = 1e300, |x| = 1e308), handed to the engine
+// directly, in both solvers and with contacts (a box on a static box): whatever ODE makes of
+// them, and whatever error its handlers throw inside a step (collision callbacks included),
+// the run ends with a status; the engine is then destroyed without ending the process, and
+// the next engine runs. Before the fix this aborted the test binary (std::terminate).
+TEST(OdeProcess, ExtremeStatesEndAsAStatusAndTheEngineIsDestroyedSafely) {
+  auto tetrahedron = std::make_shared<pbd::TriangleMesh>();
+  tetrahedron->vertices = {Vector3(0, 0, 0), Vector3(0.2, 0, 0), Vector3(0, 0.2, 0),
+                           Vector3(0, 0, 0.2)};
+  tetrahedron->triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  for (const std::string solver : {"ode.quickstep", "ode.step"}) {
+    for (const pbd::CollisionObjectType shape :
+         {pbd::CollisionObjectType::Box, pbd::CollisionObjectType::Sphere,
+          pbd::CollisionObjectType::Torus /* its mesh, as an ODE trimesh */}) {
+      for (int variant = 0; variant < 4; ++variant) {
+        Scene s = sceneWith(0.005, Vector3(0, -9.81, 0));
+        s.rigidBodies.push_back(
+            pbd::test::boxBody(0, Vector3(2, 0.2, 2), Vector3(0, -0.1, 0), 1000, false));
+        pbd::RigidBodyDesc body =
+            shape == pbd::CollisionObjectType::Sphere
+                ? pbd::test::sphereBody(1, Real(0.1), Vector3(0, 0.1, 0), 1000)
+                : pbd::test::boxBody(1, Vector3(0.2, 0.2, 0.2), Vector3(0, 0.1, 0), 1000);
+        if (shape == pbd::CollisionObjectType::Torus) {
+          body.collision.type = shape;
+          body.mesh = tetrahedron;
+        }
+        if (variant == 0) body.angularVelocity = Vector3(1e300, 0, 0);
+        if (variant == 1) body.translation = Vector3(1e308, 0, 0);
+        if (variant == 2) body.velocity = Vector3(0, -1e300, 0);
+        if (variant == 3) body.angularVelocity = Vector3(1e300, -1e300, 1e300);
+        s.rigidBodies.push_back(body);
+        auto engine = std::make_unique<OdeEngine>();
+        const RunOutcome outcome = runSimulation(*engine, s, method(solver), {0.05, 0}, {});
+        EXPECT_NE(outcome.status, RunStatus::Ok)
+            << solver << " shape " << int(shape) << " variant " << variant;
+        EXPECT_FALSE(outcome.reason.empty());
+        engine.reset();  // must not call std::terminate (nor dCloseODE, the last reference)
+      }
+    }
+    OdeEngine next;
+    EXPECT_EQ(runSimulation(next, chainScene(), method(solver), {0.1, 0}, {}).status,
+              RunStatus::Ok);
+  }
+}
+
+// An ODE error raised in the engine and the engine kept after it (as a Python object is, to the
+// interpreter's exit): destroying it leaves ODE usable and does not end the process.
+TEST(OdeProcess, AnEngineThatFailedIsDestroyedWithoutEndingTheProcess) {
+  Scene s = chainScene();
+  s.rigidBodies[2].massProperties.principalInertia = Vector3(1, 1, -1);  // ODE refuses it
+  for (int round = 0; round < 3; ++round) {
+    auto engine = std::make_unique<OdeEngine>();
+    EXPECT_EQ(runSimulation(*engine, s, method(), {0.1, 0}, {}).status, RunStatus::Error);
+    EXPECT_THROW(engine->step(), EngineError);
+    engine.reset();
+  }
+  OdeEngine next;
+  EXPECT_EQ(runSimulation(next, chainScene(), method(), {0.1, 0}, {}).status, RunStatus::Ok);
+}
+
 TEST(OdeProcess, NothingIsWrittenToTheWorkingDirectory) {
   const fs::path previous = fs::current_path();
   const fs::path scratch = fs::temp_directory_path() / ("pbdval_ode_" + std::to_string(getpid()));

@@ -3,15 +3,19 @@
 // one-liners that misbehave on purpose; the well-behaved one copies a trajectory the test
 // computes itself (the bodies at rest at the planned sample times).
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
-#include <filesystem>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 
 #include "common/text_assertions.h"
 #include "pbd/io/scene_loader.h"
 #include "validation/external_engine.h"
+#include "validation/interrupts.h"
 #include "validation/simulation.h"
 #include "validation/trajectory.h"
 
@@ -190,6 +194,145 @@ TEST_F(ExternalEngineTest, AHangIsATimeout) {
   const RunOutcome outcome = run("sleep 30", /*limit=*/0.3);
   EXPECT_EQ(outcome.status, RunStatus::Timeout) << outcome.reason;
   EXPECT_LT(outcome.wallTime, 5.0);
+}
+
+// --- Issue 25: nothing is left behind ------------------------------------------------------
+
+/// Whether process `pid` still runs (a zombie waiting to be reaped does not), after waiting up
+/// to 5 s for it to go (a SIGKILLed process goes within milliseconds).
+bool stillRunsAfterWaiting(pid_t pid) {
+  for (int attempt = 0; attempt < 500; ++attempt) {
+    std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+    std::string text;
+    if (!std::getline(stat, text)) return false;
+    const std::size_t close = text.rfind(')');
+    if (close != std::string::npos && text.compare(close, 3, ") Z") == 0) return false;
+    ::usleep(10000);
+  }
+  return true;
+}
+
+/// The pid an engine script wrote to `file`, waiting up to 10 s for it.
+pid_t recordedPid(const fs::path& file) {
+  for (int attempt = 0; attempt < 1000; ++attempt) {
+    std::ifstream in(file);
+    long pid = 0;
+    if (in >> pid && pid > 0) return pid_t(pid);
+    ::usleep(10000);
+  }
+  return -1;
+}
+
+/// The scratch folders of the runs of process `owner` still in the temporary folder.
+std::vector<fs::path> scratchFoldersOf(pid_t owner) {
+  std::vector<fs::path> found;
+  const std::string prefix = "pbdval-engine-" + std::to_string(owner) + "-";
+  for (const auto& item : fs::directory_iterator(fs::temp_directory_path()))
+    if (item.path().filename().string().rfind(prefix, 0) == 0) found.push_back(item.path());
+  return found;
+}
+
+/// Ends `pid` if the test failed before it could: no test leaves a process behind either.
+struct KillAtExit {
+  pid_t pid;
+  ~KillAtExit() {
+    if (pid > 0) ::kill(pid, SIGKILL);
+  }
+};
+
+TEST_F(ExternalEngineTest, AProcessTheEngineLeftRunningEndsWithTheRun) {
+  const fs::path childFile = folder_ / "child.pid";
+  const RunOutcome outcome = run("sleep 300 & echo $! > " + childFile.string() + "; cp " +
+                                 restingTrajectory() + " \"$4/trajectory.csv\"; " + okStatus());
+  ASSERT_EQ(outcome.status, RunStatus::Ok) << outcome.reason;
+  const pid_t child = recordedPid(childFile);
+  const KillAtExit guard{child};
+  ASSERT_GT(child, 0);
+  EXPECT_FALSE(stillRunsAfterWaiting(child))
+      << "the engine's child " << child << " outlived the run";
+  EXPECT_TRUE(scratchFoldersOf(::getpid()).empty());
+}
+
+TEST_F(ExternalEngineTest, ATimedOutEngineLeavesNoProcessAndNoScratchFolder) {
+  const fs::path childFile = folder_ / "child.pid";
+  const RunOutcome outcome =
+      run("sleep 300 & echo $! > " + childFile.string() + "; sleep 300", /*limit=*/0.5);
+  EXPECT_EQ(outcome.status, RunStatus::Timeout) << outcome.reason;
+  const pid_t child = recordedPid(childFile);
+  const KillAtExit guard{child};
+  ASSERT_GT(child, 0);
+  EXPECT_FALSE(stillRunsAfterWaiting(child))
+      << "the engine's child " << child << " outlived the run";
+  EXPECT_TRUE(scratchFoldersOf(::getpid()).empty());
+}
+
+/// Forks a process that runs a hanging engine (which starts a child of its own, recorded in
+/// `childFile`) with no wall-time limit; in the fork, a SignalInterrupt ends it with status 10 +
+/// the signal, anything else with 99. Returns the fork's pid once the engine's child exists.
+pid_t forkHangingRun(const fs::path& folder, const pbd::Scene& scene, const RunLength& length,
+                     const fs::path& childFile) {
+  std::fflush(nullptr);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ExternalEngine engine(
+        "shell",
+        ExternalCommand{
+            {"sh", "-c", "sleep 300 & echo $! > " + childFile.string() + "; sleep 300", "engine"},
+            folder.string()});
+    Method method;
+    method.name = "shell.hang";
+    try {
+      runSimulation(engine, scene, method, length, {}, 0);
+    } catch (const SignalInterrupt& e) {
+      ::_exit(10 + e.signal());
+    } catch (...) {
+    }
+    ::_exit(99);
+  }
+  return pid;
+}
+
+/// waitpid, killing `pid` if it has not ended within 20 s (a hang must fail the test, not stall
+/// it). Returns the wait status.
+int waitBounded(pid_t pid) {
+  int status = 0;
+  for (int attempt = 0; attempt < 2000; ++attempt) {
+    if (::waitpid(pid, &status, WNOHANG) == pid) return status;
+    ::usleep(10000);
+  }
+  ::kill(pid, SIGKILL);
+  ::waitpid(pid, &status, 0);
+  return status;
+}
+
+TEST_F(ExternalEngineTest, SIGTERMStopsTheEngineRemovesItsScratchAndIsThrown) {
+  const fs::path childFile = folder_ / "child.pid";
+  const pid_t runner = forkHangingRun(folder_, scene_, length_, childFile);
+  ASSERT_GT(runner, 0);
+  const pid_t child = recordedPid(childFile);
+  const KillAtExit guard{child};
+  ASSERT_GT(child, 0);
+  ::kill(runner, SIGTERM);
+  const int status = waitBounded(runner);
+  ASSERT_TRUE(WIFEXITED(status)) << "the runner died of the signal instead of taking it";
+  EXPECT_EQ(WEXITSTATUS(status), 10 + SIGTERM);
+  EXPECT_FALSE(stillRunsAfterWaiting(child));
+  EXPECT_TRUE(scratchFoldersOf(runner).empty());
+}
+
+TEST_F(ExternalEngineTest, WhatARunKilledOutrightLeftIsRemovedByItsParent) {
+  const fs::path childFile = folder_ / "child.pid";
+  const pid_t runner = forkHangingRun(folder_, scene_, length_, childFile);
+  ASSERT_GT(runner, 0);
+  const pid_t child = recordedPid(childFile);
+  const KillAtExit guard{child};
+  ASSERT_GT(child, 0);
+  ::kill(runner, SIGKILL);  // as the scheduler stops a run over its limit
+  waitBounded(runner);
+  EXPECT_EQ(scratchFoldersOf(runner).size(), 1u);  // the killed runner could not remove it
+  removeEngineLeftovers(runner);
+  EXPECT_TRUE(scratchFoldersOf(runner).empty());
+  EXPECT_FALSE(stillRunsAfterWaiting(child));
 }
 
 TEST_F(ExternalEngineTest, AMalformedStatusIsAnError) {

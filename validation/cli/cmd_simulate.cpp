@@ -1,7 +1,9 @@
 // pbdval simulate SCENE.json [--duration T] [--out FILE.csv] [--sample-interval S]
 //                            [--engine E] [--method M] [--set key=value ...] [--strict]
+//                            [--timeout S]
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <optional>
@@ -13,6 +15,7 @@
 #include "validation/case_spec.h"
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
+#include "validation/interrupts.h"
 #include "validation/mesh_export.h"
 #include "validation/overrides.h"
 #include "validation/simulation.h"
@@ -46,6 +49,9 @@ ArgParser simulateParser() {
               "sample (t,index,qw,qx,qy,qz,wx,wy,wz: director frame -> world, angular velocity; "
               "FILE.npy: as NPY)")
       .option("sample-interval", "S", "seconds between samples (default: every step)")
+      .option("timeout", "S",
+              "wall-time limit of the run in seconds, as pbdval run's (default: 600; 0: none); "
+              "a run over it ends with the status timeout")
       .option("export-dir", "DIR",
               "write the surface meshes (rigid bodies, cloth, solids) into DIR at the export "
               "frame rate, as the seed's exportOBJ/exportPLY do (docs/cli.md#mesh-export)")
@@ -62,8 +68,9 @@ ArgParser simulateParser() {
       .flag("strict", "treat scene warnings (unknown keys, `gravity`) as errors")
       .flag("quiet", "no warnings, progress or summary on stderr")
       .epilog(
-          "exit status: 0 ok; 1 the run failed (diverged, engine error, unsupported); 2 bad\n"
-          "usage or scene.\nexample: pbdval simulate cases/joint_hinge.json --duration 2 --out "
+          "exit status: 0 ok; 1 the run failed (diverged, engine error, unsupported, timeout);\n"
+          "2 bad usage or scene; 128+N interrupted by signal N (SIGINT, SIGTERM, "
+          "SIGHUP).\nexample: pbdval simulate cases/joint_hinge.json --duration 2 --out "
           "hinge.csv");
   return parser;
 }
@@ -149,6 +156,19 @@ int simulateCommand(const Context& context, const Arguments& arguments) {
                  "DIR to write the meshes\n");
   }
 
+  double timeout = kDefaultWallTimeLimit;
+  try {
+    timeout = args.number("timeout", kDefaultWallTimeLimit);
+    if (!(timeout >= 0) || !std::isfinite(timeout))
+      throw UsageError("--timeout: expected seconds >= 0 (0: no limit), got " +
+                       args.value("timeout"));
+  } catch (const std::exception& e) {
+    return parser.usageError(e.what());
+  }
+
+  // SIGINT, SIGTERM and SIGHUP are taken between steps (and while an external engine runs):
+  // the engine is stopped, the temporary output files are removed, nothing is written.
+  const InterruptWatch interrupts;
   std::optional<AtomicFileWriter> file;
   if (args.has("out")) file.emplace(args.value("out"));
   std::ostream& out = file ? file->stream() : std::cout;
@@ -167,7 +187,14 @@ int simulateCommand(const Context& context, const Arguments& arguments) {
 
   const bool showProgress = !quiet && ::isatty(STDERR_FILENO);
   RunCallbacks callbacks;
-  if (exporter) callbacks.onStep = [&](const State& state) { exporter->onState(state); };
+  long stepsSinceCheck = 0;
+  callbacks.onStep = [&](const State& state) {
+    if (++stepsSinceCheck >= 16) {  // a system call every 16 steps, not every step
+      stepsSinceCheck = 0;
+      interrupts.throwIfInterrupted();
+    }
+    if (exporter) exporter->onState(state);
+  };
   std::size_t samples = 0;
   callbacks.onSample = [&](const State& state) {
     if (npy || particleNpy || segmentNpy) kept.push_back(state);
@@ -184,7 +211,17 @@ int simulateCommand(const Context& context, const Arguments& arguments) {
     };
 
   const std::unique_ptr<Engine> engine = context.engines.make(engineName);
-  const RunOutcome outcome = runSimulation(*engine, scene, method, length, callbacks);
+  RunOutcome outcome;
+  try {
+    outcome = runSimulation(*engine, scene, method, length, callbacks, timeout);
+    interrupts.throwIfInterrupted();
+  } catch (const SignalInterrupt& e) {
+    // The output files' destructors remove their temporary files; a FIFO or device keeps what
+    // was written to it.
+    if (showProgress) std::fprintf(stderr, "\n");
+    std::fprintf(stderr, "pbdval simulate: %s; nothing was written\n", e.what());
+    return 128 + e.signal();
+  }
   if (showProgress) std::fprintf(stderr, "\r%70s\r", "");
 
   if (particleFile) {

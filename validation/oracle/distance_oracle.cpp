@@ -177,8 +177,17 @@ struct DistanceOracle::Impl {
     return g;
   }
 
-  /// The world pose of the body's FCL geometry frame.
+  /// The world pose of the body's FCL geometry frame. Throws std::invalid_argument for a pose
+  /// FCL cannot take: a position or quaternion holding NaN or Inf, or a zero quaternion (FCL's
+  /// bounding-volume trees are not made for them; a diverged run's state reaches here only by
+  /// mistake, and must be refused, not crash the process).
   fcl::Transform3d geometryPose(int body, const BodyState& state) const {
+    if (!state.position.allFinite() || !state.rotation.coeffs().allFinite() ||
+        state.rotation.squaredNorm() == 0)
+      throw std::invalid_argument(
+          bodies[body].jsonPath + " (body " + std::to_string(bodies[body].id) +
+          "): its state holds NaN or Inf in the position or a zero, NaN or Inf quaternion; "
+          "the distance oracle measures only finite poses");
     const SceneFramePose scenePose = sceneFramePose(bodies[body], state);
     fcl::Transform3d pose = fcl::Transform3d::Identity();
     pose.linear() = scenePose.rotation.toRotationMatrix().cast<double>();

@@ -145,13 +145,15 @@ class DistanceOracle {
   const std::vector<std::string>& notes() const;
 
   /// The signed distance of bodies `bodyA` and `bodyB` (indices) in the given states. Throws
-  /// std::invalid_argument for a body without geometry, and std::runtime_error if FCL fails.
+  /// std::invalid_argument for a body without geometry or a pose holding NaN or Inf, and
+  /// std::runtime_error if FCL fails.
   PairDistance distance(int bodyA, const BodyState& stateA, int bodyB,
                         const BodyState& stateB) const;
 
   /// Every active contact of `state` (bodies in Scene order): all pairs of bodies with
   /// geometry, static–static pairs skipped, candidates from FCL's dynamic AABB tree. Throws
-  /// std::invalid_argument when the state does not match the scene.
+  /// std::invalid_argument when the state does not match the scene or a body's pose holds NaN
+  /// or Inf (or a zero quaternion): FCL is never given one.
   PenetrationReport penetrations(const State& state, const PenetrationOptions& options = {}) const;
 
  private:
