@@ -1,5 +1,7 @@
 #include "validation/cli/args.h"
 
+#include "validation/overrides.h"
+
 #include <cstdint>
 #include <cstdio>
 #include <optional>
@@ -175,6 +177,20 @@ int ArgParser::usageError(const std::string& message) const {
 int ArgParser::inputError(const std::string& message) const {
   std::fprintf(stderr, "pbdval %s: error: %s\n", command_.c_str(), message.c_str());
   return 2;
+}
+
+int ArgParser::exitForCurrentException() const {
+  try {
+    throw;
+  } catch (const UsageError& e) {
+    return usageError(e.what());
+  } catch (const OptionError& e) {
+    return usageError(e.what());
+  } catch (const std::exception& e) {
+    return inputError(e.what());
+  } catch (...) {
+    return inputError("an unknown failure");
+  }
 }
 
 std::string ArgParser::help() const {

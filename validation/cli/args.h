@@ -61,6 +61,10 @@ class ArgParser {
   int usageError(const std::string& message) const;
   /// Prints "pbdval COMMAND: error: message" and returns 2 (unreadable input).
   int inputError(const std::string& message) const;
+  /// The exit for the exception being handled; call it in a `catch (...)` block: a UsageError
+  /// or an OptionError (a bad option value) is a usage error, any other exception an input
+  /// error.
+  int exitForCurrentException() const;
 
  private:
   struct Option {

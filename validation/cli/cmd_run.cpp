@@ -16,6 +16,7 @@
 #include "validation/atomic_file.h"
 #include "validation/case_library.h"
 #include "validation/cli/args.h"
+#include "validation/simulation.h"
 #include "validation/cli/commands.h"
 #include "validation/cli/executors.h"
 #include "validation/overrides.h"
@@ -114,7 +115,7 @@ int runCommand(const Context& context, const Arguments& arguments) {
   std::optional<ShardInfo> shard;
   std::string wholePlanDigest;
   int jobs = 1;
-  double timeout = 600;
+  double timeout = kDefaultWallTimeLimit;
   try {
     options.engines = args.list("engines");
     options.methods = args.list("methods");
@@ -130,7 +131,7 @@ int runCommand(const Context& context, const Arguments& arguments) {
     options.strictScene = args.flags.count("strict") > 0;
     jobs =
         int(args.integerIn("jobs", std::max(1u, std::thread::hardware_concurrency()), 1, kMaxJobs));
-    timeout = args.number("timeout", 600);
+    timeout = args.number("timeout", kDefaultWallTimeLimit);
     if (timeout < 0) throw UsageError("--timeout: expected seconds ≥ 0");
     const std::vector<std::string> paths =
         args.positionals.empty() ? std::vector<std::string>{defaultCaseFolder()} : args.positionals;
@@ -158,12 +159,8 @@ int runCommand(const Context& context, const Arguments& arguments) {
     for (const std::string& file : caseFiles)
       inputs.push_back({"the case", file});
     checkOutputsAreNotInputs({{"--out", options.outFolder + "/results.json"}}, inputs);
-  } catch (const UsageError& e) {
-    return parser.usageError(e.what());
-  } catch (const OptionError& e) {
-    return parser.usageError(e.what());
-  } catch (const std::exception& e) {
-    return parser.inputError(e.what());
+  } catch (...) {
+    return parser.exitForCurrentException();
   }
 
   // The output folder: locked, staged, and another plan's results never replaced silently.

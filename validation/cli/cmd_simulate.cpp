@@ -113,12 +113,8 @@ int simulateCommand(const Context& context, const Arguments& arguments) {
     length.sampleInterval = args.number("sample-interval", 0);
     for (const std::string& note : planSteps(length, double(scene.simulation.timeStepSize)).notes)
       if (!quiet) std::fprintf(stderr, "note: %s\n", note.c_str());
-  } catch (const UsageError& e) {
-    return parser.usageError(e.what());
-  } catch (const OptionError& e) {
-    return parser.usageError(e.what());
-  } catch (const std::exception& e) {
-    return parser.inputError(e.what());
+  } catch (...) {
+    return parser.exitForCurrentException();
   }
 
   // Mesh export: asked for by --export-dir; the scene's exportOBJ/exportPLY/exportFPS give the

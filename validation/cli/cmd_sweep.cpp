@@ -10,6 +10,7 @@
 #include "validation/atomic_file.h"
 #include "validation/case_library.h"
 #include "validation/cli/args.h"
+#include "validation/simulation.h"
 #include "validation/cli/commands.h"
 #include "validation/cli/executors.h"
 #include "validation/cli/python_module.h"
@@ -95,7 +96,7 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
     options.fineDivisor = int(args.integerIn("fine-divisor", 16, 2, 1024));
     options.jobs =
         int(args.integerIn("jobs", std::max(1u, std::thread::hardware_concurrency()), 1, 1024));
-    options.timeout = args.number("timeout", 600);
+    options.timeout = args.number("timeout", kDefaultWallTimeLimit);
     if (options.timeout < 0) throw UsageError("--timeout: expected seconds ≥ 0");
     out = args.value("out", "out");
     while (out.size() > 1 && out.back() == '/')
@@ -104,12 +105,8 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
     checkOutputsAreNotInputs(
         {{"--out", out + (args.has("shard") ? "/results.json" : "/sweep.json")}},
         {{"the case", options.caseFile}});
-  } catch (const UsageError& e) {
-    return parser.usageError(e.what());
-  } catch (const OptionError& e) {
-    return parser.usageError(e.what());
-  } catch (const std::exception& e) {
-    return parser.inputError(e.what());
+  } catch (...) {
+    return parser.exitForCurrentException();
   }
   std::ostringstream command;
   command << "pbdval sweep";
@@ -128,12 +125,8 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
   try {
     plan = planSweep(options, context.engines);
     runs.requests = plan.requests;
-  } catch (const UsageError& e) {
-    return parser.usageError(e.what());
-  } catch (const OptionError& e) {
-    return parser.usageError(e.what());
-  } catch (const std::exception& e) {
-    return parser.inputError(e.what());
+  } catch (...) {
+    return parser.exitForCurrentException();
   }
   if (args.flags.count("list-plan")) {
     printPlan(runs);
@@ -215,12 +208,8 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
     }
   } catch (const RunInterrupted&) {
     throw;  // exit status 128 + the signal (main); the staging folder goes with `folder`
-  } catch (const UsageError& e) {
-    return parser.usageError(e.what());
-  } catch (const OptionError& e) {
-    return parser.usageError(e.what());
-  } catch (const std::exception& e) {
-    return parser.inputError(e.what());
+  } catch (...) {
+    return parser.exitForCurrentException();
   }
   return 0;
 }
