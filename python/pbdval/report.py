@@ -287,8 +287,11 @@ def overview(results: Results, labels: list[str], gate: tuple[str, str] | None) 
                 continue
             name, value = key_metric(run)
             colour = STATUS_COLOURS.get(run.status, "#ffffff")
-            text = number(value) if run.ok else run.status
-            html.append(f"<td class='num' style='background:{colour}' title='{escape(name or run.reason)}'>{escape(text)}</td>")
+            text = number(value) if run.measured else run.status
+            if run.status == "suspect":
+                text += " (suspect)"
+            tooltip = run.reason if run.status == "suspect" else (name or run.reason)
+            html.append(f"<td class='num' style='background:{colour}' title='{escape(tooltip)}'>{escape(text)}</td>")
             row.append(text)
         html.append("</tr>")
         md.append("| " + " | ".join(row) + " |")
@@ -331,7 +334,7 @@ def case_page(case: str, runs: list[RunResult], results: Results, colours: Colou
         notes.append(f"the scene could not be loaded for the plots: {error}")
     replayed = []
     for r in runs:
-        if not r.ok or scene is None:
+        if not r.measured or scene is None:
             continue
         try:
             trajectory = r.trajectory()
@@ -389,7 +392,13 @@ def case_page(case: str, runs: list[RunResult], results: Results, colours: Colou
                     f"{escape(r.status)}</td>"
                     + "".join(f"<td class='num'>{number(r.metrics.get(m))}</td>" for m in metrics) + "</tr>")
     body.append("</table>")
-    failed = [r for r in runs if not r.ok]
+    suspect = [r for r in runs if r.status == "suspect"]
+    if suspect:
+        body.append("<h2>Runs held suspect</h2><p>They completed and were measured, but broke a "
+                    "sanity bound or a velocity check (docs/metrics.md).</p><ul>"
+                    + "".join(f"<li><b>{escape(r.label)}</b>: {escape(r.reason)}</li>" for r in suspect)
+                    + "</ul>")
+    failed = [r for r in runs if not r.measured]
     if failed:
         body.append("<h2>Runs that did not complete</h2><ul>"
                     + "".join(f"<li><b>{escape(r.label)}</b> {escape(r.status)}: {escape(r.reason)}</li>" for r in failed)

@@ -41,6 +41,10 @@ def pbdval_binary() -> Path:
     return binary
 
 
+#: The statuses of runs that completed and were measured (adapters/engine.h isMeasured).
+MEASURED_STATUSES = ("ok", "suspect")
+
+
 @dataclass
 class RunResult:
     """One run of results.json (docs/results.md): case × engine × method."""
@@ -63,6 +67,12 @@ class RunResult:
     @property
     def ok(self) -> bool:
         return self.status == "ok"
+
+    @property
+    def measured(self) -> bool:
+        """Completed and measured: ok, or suspect (its metrics are kept; `reason` says which
+        sanity bound it broke)."""
+        return self.status in MEASURED_STATUSES
 
     @property
     def label(self) -> str:
@@ -140,7 +150,7 @@ class Results:
         col = {m: j for j, m in enumerate(labels)}
         for r in self.runs:
             v = r.metrics.get(metric)
-            if r.ok and v is not None:
+            if r.measured and v is not None:
                 values[row[r.case], col[r.label]] = v
         return case_names, labels, values
 

@@ -219,3 +219,19 @@ def test_a_folder_that_is_not_a_results_folder_is_a_clear_error(tmp_path: Path) 
     assert done.returncode == 2
     assert f"{tmp_path}: expected a results folder" in done.stderr
     assert not (tmp_path / "r").exists()
+
+
+def test_a_suspect_run_shows_its_metric_and_its_reason(tmp_path: Path) -> None:
+    """A suspect run completed and was measured: the overview shows its value marked suspect
+    (its reason as the tooltip), and its case page lists it under the runs held suspect, apart
+    from the runs that did not complete."""
+    runs = [run_record("a", "pbd", "pbd", "ok", {"energy_drift_max": 0.01}),
+            run_record("a", "bullet", "bullet.si", "suspect", {"energy_drift_max": 17.6}),
+            run_record("a", "ode", "ode.quickstep", "diverged", {})]
+    folder = synthetic(tmp_path / "results", runs, case_file=str(tmp_path / "no-such-scene.json"))
+    index = build_report(folder, tmp_path / "report", quiet=True).read_text()
+    assert ">17.6 (suspect)<" in index and "title='synthetic suspect'" in index
+    page = (tmp_path / "report/cases/a.html").read_text()
+    held = page[page.index("Runs held suspect"):]
+    assert "bullet/bullet.si" in held.split("Runs that did not complete")[0]
+    assert "ode/ode.quickstep" in page[page.index("Runs that did not complete"):]
