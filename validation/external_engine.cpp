@@ -68,15 +68,43 @@ class ScratchFolder {
   fs::path path_;
 };
 
-/// The last lines of the engine's standard error, for reasons.
+/// The first line of `text` that names an error the way runtimes print one: an identifier
+/// ending in Error or Exception followed by ':' ("TypeError: x is not a function" under a
+/// Node.js stack, "ValueError: ..." in Python), or "error:"/"terminate called"; empty if none.
+std::string firstErrorLine(const std::string& text) {
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    const std::size_t start = line.find_first_not_of(" \t");
+    if (start == std::string::npos) continue;
+    const std::string trimmed = line.substr(start);
+    const std::size_t colon = trimmed.find(':');
+    const std::string head = colon == std::string::npos ? "" : trimmed.substr(0, colon);
+    const bool named =
+        !head.empty() && head.find(' ') == std::string::npos &&
+        ((head.size() >= 5 && head.compare(head.size() - 5, 5, "Error") == 0) ||
+         (head.size() >= 9 && head.compare(head.size() - 9, 9, "Exception") == 0));
+    if (named || trimmed.rfind("error:", 0) == 0 || trimmed.rfind("terminate called", 0) == 0)
+      return trimmed.size() > 300 ? trimmed.substr(0, 297) + "..." : trimmed;
+  }
+  return "";
+}
+
+/// The engine's standard error for reasons: the first line that names an error (a message a
+/// stack trace would push out of the tail) and the last 400 bytes.
 std::string stderrTail(const fs::path& file) {
   std::ifstream in(file);
   std::stringstream text;
   text << in.rdbuf();
   std::string s = text.str();
   while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
-  if (s.size() > 400) s = "..." + s.substr(s.size() - 400);
-  return s.empty() ? "" : "; its standard error ends: " + s;
+  if (s.empty()) return "";
+  const std::string first = firstErrorLine(s);
+  const bool cut = s.size() > 400;
+  if (cut) s = "..." + s.substr(s.size() - 400);
+  const bool firstShown = first.empty() || s.find(first) != std::string::npos;
+  return (firstShown ? "" : "; its standard error says: " + first) +
+         "; its standard error ends: " + s;
 }
 
 struct Exit {

@@ -109,7 +109,8 @@ class EngineInfo:
 
 class Engines:
     """The engines the pbdval command sees: built in, and the external engines of the catalogue
-    (``engines/*.json`` or ``$PBDVAL_ENGINE_CATALOGUE``), read when this object is created."""
+    (``engines/*.json``, then the folders of ``$PBDVAL_ENGINE_CATALOGUE``, which add to them), read when
+    this object is created."""
 
     def __init__(self) -> None:
         core = _core()

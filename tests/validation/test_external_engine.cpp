@@ -8,12 +8,14 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 
 #include "common/text_assertions.h"
 #include "pbd/io/scene_loader.h"
+#include "validation/engines/standard_engines.h"
 #include "validation/external_engine.h"
 #include "validation/interrupts.h"
 #include "validation/simulation.h"
@@ -188,6 +190,19 @@ TEST_F(ExternalEngineTest, ANonZeroExitIsAnErrorWithItsStandardError) {
   const RunOutcome outcome = run("echo 'Traceback: boom' >&2; exit 3");
   EXPECT_EQ(outcome.status, RunStatus::Error);
   EXPECT_TRUE(containsAll(outcome.reason, {"exited with status 3", "status.json", "boom"})) << outcome.reason;
+}
+
+TEST_F(ExternalEngineTest, AnErrorMessageAboveALongStackIsKept) {
+  // Node.js prints the error's message above its stack: the tail alone would show frames only.
+  const RunOutcome outcome = run(
+      "{ echo '/e/engine.js:3'; echo '  throw new TypeError(message)'; echo;"
+      " echo 'TypeError: the resolved scene has no bodies'; i=0;"
+      " while [ $i -lt 40 ]; do echo \"    at step (/e/engine.js:$i:7)\"; i=$((i+1)); done; } >&2;"
+      " exit 1");
+  EXPECT_EQ(outcome.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(outcome.reason, {"TypeError: the resolved scene has no bodies",
+                                           "at step (/e/engine.js:39:7)"}))
+      << outcome.reason;
 }
 
 TEST_F(ExternalEngineTest, AHangIsATimeout) {
@@ -575,6 +590,41 @@ TEST(EngineCatalogue, EntriesAreTypedAndBadFilesNameTheirPath) {
   } catch (const std::invalid_argument& e) {
     EXPECT_TRUE(containsAll(e.what(), {"zbad.json", "methods[0].parameters[0].kind",
                                        "real, integer, bool, choice"})) << e.what();
+  }
+  fs::remove_all(folder);
+}
+
+TEST(EngineCatalogue, TheVariableAddsEnginesToTheShippedOnes) {
+  const fs::path folder =
+      fs::temp_directory_path() / ("pbdval-catalogue-add-" + std::to_string(::getpid()));
+  fs::remove_all(folder);
+  fs::create_directories(folder / "a");
+  fs::create_directories(folder / "b");
+  const auto write = [](const fs::path& file, const std::string& name) {
+    std::ofstream(file) << R"({"protocol": 1, "name": ")" << name
+                        << R"(", "command": ["{python}", "engine.py"], "defaultMethod": ")" << name
+                        << R"(.a", "methods": [{"name": ")" << name
+                        << R"(.a", "description": "d", "parameters": []}]})";
+  };
+  write(folder / "a" / "first.json", "user-first");
+  write(folder / "b" / "second.json", "user-second");
+  const std::string list = (folder / "a").string() + ":" + (folder / "b").string();
+  const EngineRegistry engines = standardEngines([&](const char* name) -> const char* {
+    return std::string(name) == "PBDVAL_ENGINE_CATALOGUE" ? list.c_str() : nullptr;
+  });
+  const std::vector<std::string> names = engines.engineNames();
+  for (const char* expected : {"pbd", "pybullet", "mujoco-python", "user-first", "user-second"})
+    EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
+  // A user's engine named like a shipped one is an error naming both folders, not a replacement.
+  write(folder / "b" / "third.json", "pybullet");
+  try {
+    standardEngines([&](const char* name) -> const char* {
+      return std::string(name) == "PBDVAL_ENGINE_CATALOGUE" ? list.c_str() : nullptr;
+    });
+    FAIL() << "a user's engine replaced a shipped one";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_TRUE(containsAll(e.what(), {"'pybullet'", "PBDVAL_ENGINE_CATALOGUE", "another name"}))
+        << e.what();
   }
   fs::remove_all(folder);
 }

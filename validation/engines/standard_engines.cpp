@@ -1,6 +1,9 @@
 #include "validation/engines/standard_engines.h"
 
+#include <algorithm>
+#include <stdexcept>
 #include <string>
+#include <vector>
 #include <utility>
 
 #include "adapters/built_in_engines.h"
@@ -18,10 +21,31 @@ EngineRegistry standardEngines(const EnvironmentLookup& environment) {
   options.gridCacheFolder = sdfCacheFolder(environment);
   EngineRegistry engines = builtInEngines(options);
   const std::string root = PBDVAL_SOURCE_DIR;
-  const char* catalogue = environment("PBDVAL_ENGINE_CATALOGUE");
-  for (EngineEntry& entry : readEngineCatalogue(catalogue ? catalogue : root + "/engines",
-                                                projectPython(), root))
-    engines.add(std::move(entry));
+  // The shipped catalogue, then each folder of $PBDVAL_ENGINE_CATALOGUE (a ':'-separated list)
+  // in order: a user's engines add to the shipped ones, they never replace them.
+  std::vector<std::string> folders = {root + "/engines"};
+  if (const char* extra = environment("PBDVAL_ENGINE_CATALOGUE")) {
+    std::string list = extra;
+    std::size_t start = 0;
+    while (start <= list.size()) {
+      const std::size_t end = std::min(list.find(':', start), list.size());
+      if (end > start) folders.push_back(list.substr(start, end - start));
+      start = end + 1;
+    }
+  }
+  for (const std::string& folder : folders)
+    for (EngineEntry& entry : readEngineCatalogue(folder, projectPython(), root)) {
+      const std::string name = entry.name;
+      try {
+        engines.add(std::move(entry));
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument("engine catalogue " + folder + ": " + e.what() +
+                                    (folder == folders.front()
+                                         ? std::string()
+                                         : " (PBDVAL_ENGINE_CATALOGUE adds engines to the shipped "
+                                           "ones in " + folders.front() + "; give yours another name)"));
+      }
+    }
   return engines;
 }
 

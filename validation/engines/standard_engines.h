@@ -10,9 +10,10 @@
 namespace pbdval {
 
 /// The built-in engines (grid SDF cache from sdfCacheFolder(environment)) and the catalogue's
-/// external engines: $PBDVAL_ENGINE_CATALOGUE when set, else <source>/engines, run with the
-/// project's virtual environment (<source>/.venv/bin/python). Throws std::runtime_error for a
-/// malformed catalogue (the message names the file).
+/// external engines: <source>/engines, then each folder of $PBDVAL_ENGINE_CATALOGUE (a
+/// ':'-separated list) added to them, run with the project's virtual environment
+/// (<source>/.venv/bin/python). Throws std::invalid_argument for a malformed catalogue or an
+/// engine named like one already registered (the message names the file or folder).
 EngineRegistry standardEngines(const EnvironmentLookup& environment);
 
 /// The project's Python, by path (<source>/.venv/bin/python, made by scripts/install-deps): the
