@@ -131,10 +131,10 @@ TEST(GenericConstraintWorld, StepAllocatesNothing) {
     scene.particles.push_back({Vector3(0, 1, 1), Vector3::Zero(), 2});
     scene.particles.push_back({Vector3(2, 0, 0.5), Vector3::Zero(), 1});
     World world = buildWorld(scene);
-    world.genericConstraints.emplace_back(std::vector<int>{0, 1}, 1, distanceValue,
-                                          distanceGradient);
-    world.genericConstraints.emplace_back(std::vector<int>{2, 3}, 1, distanceValue);
-    world.genericConstraints.emplace_back(std::vector<int>{4}, 2, onVerticalLine);
+    world.constraints.genericConstraints.emplace_back(std::vector<int>{0, 1}, 1, distanceValue,
+                                                      distanceGradient);
+    world.constraints.genericConstraints.emplace_back(std::vector<int>{2, 3}, 1, distanceValue);
+    world.constraints.genericConstraints.emplace_back(std::vector<int>{4}, 2, onVerticalLine);
     world.step();
     const long before = gAllocations.load();
     for (int n = 0; n < 200; ++n) world.step();
@@ -185,11 +185,11 @@ TEST(GenericRigidConstraintWorld, StepAllocatesNothing) {
     scene.rigidBodies.push_back(
         test::boxBody(2, Vector3(0.1, 0.4, 0.1), Vector3(0.35, 0.9, 0), 100));
     World world = buildWorld(scene);
-    world.genericRigidConstraints.emplace_back(std::vector<int>{0, 1}, 3, ballValue,
-                                               ballGradient);
-    world.genericRigidConstraints.emplace_back(std::vector<int>{1, 2}, 1, distanceValue,
-                                               GenericRigidGradientFunction(), 1, Real(1e-4));
-    world.genericRigidConstraints.emplace_back(std::vector<int>{1}, 1, heightPin);
+    world.constraints.genericRigidConstraints.emplace_back(std::vector<int>{0, 1}, 3, ballValue,
+                                                           ballGradient);
+    world.constraints.genericRigidConstraints.emplace_back(
+        std::vector<int>{1, 2}, 1, distanceValue, GenericRigidGradientFunction(), 1, Real(1e-4));
+    world.constraints.genericRigidConstraints.emplace_back(std::vector<int>{1}, 1, heightPin);
     world.step();
     const long before = gAllocations.load();
     for (int n = 0; n < 200; ++n) world.step();
@@ -247,9 +247,9 @@ TEST(World, FemSolidStepAllocatesNothing) {
       scene.simulation.stepMethod = stepMethod;
       World a = withInvertedTet(scene);
       World b = withInvertedTet(scene);
-      ASSERT_EQ(a.femTets.size(), 5u);
+      ASSERT_EQ(a.constraints.femTets.size(), 5u);
       int inverted = 0;
-      for (const FemTetConstraint& c : a.femTets) {
+      for (const FemTetConstraint& c : a.constraints.femTets) {
         std::array<Vector3, 4> x;
         for (std::size_t i = 0; i < 4; ++i)
           x[i] = a.bodies.particles.position[std::size_t(c.particles[i])];
@@ -271,7 +271,7 @@ TEST(World, StrainTetAndShapeMatchingStepAllocatesNothing) {
       scene.simulation.stepMethod = stepMethod;
       World a = withInvertedTet(scene);
       World b = withInvertedTet(scene);
-      ASSERT_EQ(a.strainTets.size() + a.shapeMatching.size(), 5u);
+      ASSERT_EQ(a.constraints.strainTets.size() + a.constraints.shapeMatching.size(), 5u);
       expectStepsAllocateNothingAndAgree(a, b, method);
     }
 }
