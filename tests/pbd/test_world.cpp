@@ -200,6 +200,55 @@ TEST(GenericRigidConstraintWorld, StepAllocatesNothing) {
   }
 }
 
+// The families are swept once per position iteration, in their list order
+// (constraints/constraint_families.h), by both step methods: a generic rigid-body constraint
+// (first in the list) and a generic particle constraint (after every scene family) log each
+// evaluation of their C, so the log is one run of rigid evaluations followed by one run of
+// particle ones per iteration — maxIterations × subSteps pairs in the seed's step, one per
+// substep in the XPBD step. Both constraints have analytic gradients and move their body or
+// particle (gravity pulls them off the constraint), so every sweep evaluates each at least once.
+TEST(ConstraintFamilies, BothStepsSweepTheFamiliesOncePerIterationInListOrder) {
+  for (StepMethod stepMethod : {StepMethod::Seed, StepMethod::Xpbd}) {
+    Scene scene;
+    scene.simulation.stepMethod = stepMethod;
+    scene.simulation.subSteps = 2;
+    scene.simulation.maxIterations = 3;
+    scene.simulation.xpbd.substeps = 4;
+    scene.rigidBodies.push_back(test::boxBody(0, Vector3(0.2, 0.2, 0.2), Vector3(0, 2, 0), 1));
+    scene.particles.push_back({Vector3(5, 2, 0), Vector3::Zero(), 1});
+    World world = buildWorld(scene);
+    std::string log;
+    log.reserve(1000);
+    std::string* record = &log;
+    world.constraints.genericRigidConstraints.emplace_back(
+        std::vector<int>{0}, 1,
+        [record](const GenericRigidPoses& p, GenericRigidValue& c) {
+          record->push_back('R');
+          c(0) = p.position[0].y() - 2;
+        },
+        [](const GenericRigidPoses&, GenericRigidJacobian& j) { j(0, 1) = 1; });
+    world.constraints.genericConstraints.emplace_back(
+        std::vector<int>{0}, 1,
+        [record](const GenericPositions& x, GenericValue& c) {
+          record->push_back('P');
+          c(0) = x(1, 0) - 2;
+        },
+        [](const GenericPositions&, GenericJacobian& j) { j(0, 1) = 1; });
+    world.step();
+    ASSERT_FALSE(log.empty());
+    EXPECT_EQ(log.front(), 'R') << log;
+    EXPECT_EQ(log.back(), 'P') << log;
+    int rigidToParticle = 0, particleToRigid = 0;
+    for (std::size_t k = 1; k < log.size(); ++k) {
+      rigidToParticle += log[k - 1] == 'R' && log[k] == 'P';
+      particleToRigid += log[k - 1] == 'P' && log[k] == 'R';
+    }
+    const int sweeps = stepMethod == StepMethod::Seed ? 3 * 2 : 4;
+    EXPECT_EQ(rigidToParticle, sweeps) << log;
+    EXPECT_EQ(particleToRigid, sweeps - 1) << log;
+  }
+}
+
 // A unit cube of five tets whose bottom (y = 0) particles are static, for the solid methods
 // allocation tests below.
 Scene cubeOfFiveTets() {
