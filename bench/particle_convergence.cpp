@@ -54,7 +54,7 @@ Real oscillatorError(int substeps, int iterations) {
   c.restLength = 1;
   c.xpbd = true;
   c.stiffness = stiffness;
-  world.particleDistances.push_back(c);
+  world.constraints.particleDistances.push_back(c);
   const Real omega = std::sqrt(stiffness / mass);
   Real worst = 0;
   while (world.time < 2) {
@@ -83,7 +83,7 @@ Real chainError(bool xpbd, int substeps, int iterations) {
     c.restLength = spacing;
     c.xpbd = xpbd;
     c.stiffness = xpbd ? stiffness : Real(1);
-    world.particleDistances.push_back(c);
+    world.constraints.particleDistances.push_back(c);
   }
   const Real decay = std::exp(-Real(20) * scene.simulation.timeStepSize);
   while (world.time < 3) {

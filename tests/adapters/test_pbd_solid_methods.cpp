@@ -41,11 +41,11 @@ TEST(PbdSolidMethods, SeedSolidMethodsRunAndUnknownOnesAreReported) {
     }
   }
   engine.load(oneTetScene(3), method);
-  EXPECT_EQ(engine.world().femTets.size(), 1u);
+  EXPECT_EQ(engine.world().constraints.femTets.size(), 1u);
   engine.load(oneTetScene(4), method);
-  EXPECT_EQ(engine.world().strainTets.size(), 1u);
+  EXPECT_EQ(engine.world().constraints.strainTets.size(), 1u);
   engine.load(oneTetScene(5), method);
-  EXPECT_EQ(engine.world().shapeMatching.size(), 1u);
+  EXPECT_EQ(engine.world().constraints.shapeMatching.size(), 1u);
 }
 
 TEST(PbdSolidMethods, FemPoissonRatioOutsideTheSeedsRangeIsReported) {

@@ -128,19 +128,19 @@ TEST(DihedralBending, ClothGetsOneConstraintPerInteriorEdgeWithItsRestAngle) {
   for (int bending : {0, 1, 2, 3}) {
     scene.simulation.clothBendingMethod = bending;
     const World world = buildWorld(scene);
-    ASSERT_EQ(world.clothDihedrals.size(), bending == 1 ? 3u : 0u) << bending;
+    ASSERT_EQ(world.constraints.clothDihedrals.size(), bending == 1 ? 3u : 0u) << bending;
   }
   scene.simulation.clothBendingMethod = 1;
   // Every cloth method that models stretch (1–4) gets bending, as in the seed; 0 gets none.
   for (int method : {0, 1, 2, 3, 4}) {
     scene.simulation.clothSimulationMethod = method;
-    EXPECT_EQ(buildWorld(scene).clothDihedrals.size(), method == 0 ? 0u : 3u) << method;
+    EXPECT_EQ(buildWorld(scene).constraints.clothDihedrals.size(), method == 0 ? 0u : 3u) << method;
   }
   scene.simulation.clothSimulationMethod = 1;
   const World world = buildWorld(scene);
   // The diagonals (1–2 and 3–4) are flat; the crease 2–3 is folded by π/4.
   std::vector<Real> angles;
-  for (const DihedralBendingConstraint& c : world.clothDihedrals) {
+  for (const DihedralBendingConstraint& c : world.constraints.clothDihedrals) {
     angles.push_back(std::abs(c.restAngle));
     EXPECT_EQ(c.stiffness, Real(0.01));  // the seed's default cloth_bendingStiffness
   }

@@ -292,7 +292,7 @@ TEST(FemTetWorld, XpbdApexSettlesAtTheStVKStretch) {
     e -= ((1 + e) * (e + e * e / 2) - r) / ((e + e * e / 2) + (1 + e) * (1 + e));
   for (int iterations : {1, 4}) {
     World world = hangingApex(3, youngs, iterations, length, mass);
-    ASSERT_EQ(world.femTets.size(), 1u);
+    ASSERT_EQ(world.constraints.femTets.size(), 1u);
     const Real measured = meanStretch(world, 5, 6, length);
     std::printf("  XPBD FEM apex, %d iterations: stretch %.6g (StVK %.6g, linear %.6g)\n",
                 iterations, double(measured), double(e), double(r));
@@ -336,9 +336,9 @@ TEST(FemTetWorld, SolidsGetFemConstraintsFromMethodsTwoAndThree) {
     scene.simulation.solidSimulationMethod = method;
     const World world = buildWorld(scene);
     const bool made = method == 2 || method == 3;
-    ASSERT_EQ(world.femTets.size(), made ? 5u : 0u) << method;
+    ASSERT_EQ(world.constraints.femTets.size(), made ? 5u : 0u) << method;
     Real volume = 0;
-    for (const FemTetConstraint& c : world.femTets) {
+    for (const FemTetConstraint& c : world.constraints.femTets) {
       EXPECT_EQ(c.xpbd, method == 3);
       EXPECT_EQ(c.youngsModulus, method == 3 ? Real(1e6) : Real(1));  // the seed's forced E
       EXPECT_EQ(c.poissonRatio, Real(0.3));
@@ -353,12 +353,12 @@ TEST(FemTetWorld, SolidsGetFemConstraintsFromMethodsTwoAndThree) {
   // ν outside [0, 0.49]: no constraint (the seed's solve rejects it).
   scene.simulation.solidSimulationMethod = 3;
   scene.simulation.solid_poissonRatio = Real(0.5);
-  EXPECT_TRUE(buildWorld(scene).femTets.empty());
+  EXPECT_TRUE(buildWorld(scene).constraints.femTets.empty());
   scene.simulation.solid_poissonRatio = Real(0.3);
   // Tets of four static particles are left out: with 0, 1, 2, 4 static, tet {0, 1, 2, 4} is.
   for (int i : {0, 1, 2, 4})
     scene.particles[std::size_t(i)].mass = 0;
-  EXPECT_EQ(buildWorld(scene).femTets.size(), 4u);
+  EXPECT_EQ(buildWorld(scene).constraints.femTets.size(), 4u);
 }
 
 TEST(FemTetWorld, XpbdCubeKeepsItsShapeUnderItsOwnWeight) {
@@ -380,7 +380,7 @@ TEST(FemTetWorld, XpbdCubeKeepsItsShapeUnderItsOwnWeight) {
   while (world.time < 1) {
     world.step();
     Real volume = 0;
-    for (const FemTetConstraint& c : world.femTets) {
+    for (const FemTetConstraint& c : world.constraints.femTets) {
       std::array<Vector3, 4> p;
       for (std::size_t i = 0; i < 4; ++i)
         p[i] = world.bodies.particles.position[std::size_t(c.particles[i])];

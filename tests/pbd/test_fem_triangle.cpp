@@ -226,7 +226,7 @@ TEST(FemTriangleWorld, ClothGetsOneConstraintPerTriangleForMethodTwoOnly) {
   for (int method : {0, 1, 2, 3, 4}) {
     scene.simulation.clothSimulationMethod = method;
     const World world = buildWorld(scene);
-    EXPECT_EQ(world.femTriangles.size(), method == 2 ? 8u : 0u) << method;
+    EXPECT_EQ(world.constraints.femTriangles.size(), method == 2 ? 8u : 0u) << method;
   }
   scene.simulation.clothSimulationMethod = 2;
   scene.simulation.cloth_xxStiffness = 3;
@@ -235,7 +235,7 @@ TEST(FemTriangleWorld, ClothGetsOneConstraintPerTriangleForMethodTwoOnly) {
   scene.simulation.cloth_xyPoissonRatio = Real(0.2);
   scene.simulation.cloth_yxPoissonRatio = Real(0.1);
   // Each modulus from its own key (the seed's setters write xx into yy and xy: §5.3 #4).
-  const OrthotropicStiffness k = buildWorld(scene).femTriangles[0].stiffness;
+  const OrthotropicStiffness k = buildWorld(scene).constraints.femTriangles[0].stiffness;
   const OrthotropicStiffness expected =
       orthotropicStiffness(3, 2, Real(0.25), Real(0.2), Real(0.1));
   EXPECT_EQ(k.xx, expected.xx);
@@ -245,7 +245,7 @@ TEST(FemTriangleWorld, ClothGetsOneConstraintPerTriangleForMethodTwoOnly) {
   // A triangle of static particles gets none: make vertices 0, 1, 3, 4 static (triangles
   // (0, 3, 4) and (0, 4, 1) of the first cell).
   for (int i : {0, 1, 3, 4}) scene.particles[std::size_t(i)].mass = 0;
-  EXPECT_EQ(buildWorld(scene).femTriangles.size(), 6u);
+  EXPECT_EQ(buildWorld(scene).constraints.femTriangles.size(), 6u);
 }
 
 TEST(FemTriangleWorld, PinnedClothStaysBoundedAndStretchesLessWithMoreIterations) {
@@ -259,7 +259,7 @@ TEST(FemTriangleWorld, PinnedClothStaysBoundedAndStretchesLessWithMoreIterations
     scene.simulation.maxIterations = iterations;
     for (int i = 0; i < 6; ++i) scene.particles[std::size_t(i)].mass = 0;
     World world = buildWorld(scene);
-    ASSERT_EQ(world.femTriangles.size(), 50u);
+    ASSERT_EQ(world.constraints.femTriangles.size(), 50u);
     Real worst = 0;
     while (world.time < 1) {
       world.step();

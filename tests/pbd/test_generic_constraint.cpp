@@ -246,11 +246,11 @@ TEST(GenericConstraint, WorldPendulumMatchesTheBuiltInDistanceConstraint) {
     rod.particle1 = 0;
     rod.particle2 = 1;
     rod.restLength = 1;
-    builtIn.particleDistances.push_back(rod);
+    builtIn.constraints.particleDistances.push_back(rod);
     World exact = buildWorld(pendulumScene(stepMethod));
-    exact.genericConstraints.push_back(distanceConstraint(0, 1, 1, true));
+    exact.constraints.genericConstraints.push_back(distanceConstraint(0, 1, 1, true));
     World approximate = buildWorld(pendulumScene(stepMethod));
-    approximate.genericConstraints.push_back(distanceConstraint(0, 1, 1, false));
+    approximate.constraints.genericConstraints.push_back(distanceConstraint(0, 1, 1, false));
     Real largestDeviation = 0;
     for (int n = 0; n < steps; ++n) {
       builtIn.step();

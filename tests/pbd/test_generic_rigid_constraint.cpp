@@ -546,8 +546,9 @@ TEST(GenericRigidConstraintWorld, BallJointPendulumHasTheCompoundPeriodAndFollow
     World reference = buildWorld(pendulumScene(stepMethod, theta0, true));
     World exact = buildWorld(pendulumScene(stepMethod, theta0, false));
     World approximate = buildWorld(pendulumScene(stepMethod, theta0, false));
-    exact.genericRigidConstraints.push_back(genericBall(exact, kPivot, true));
-    approximate.genericRigidConstraints.push_back(genericBall(approximate, kPivot, false));
+    exact.constraints.genericRigidConstraints.push_back(genericBall(exact, kPivot, true));
+    approximate.constraints.genericRigidConstraints.push_back(
+        genericBall(approximate, kPivot, false));
     const auto& b = exact.bodies.rigid;
     const Real m = b.mass[1], d = (b.position[1] - kPivot).norm();
     const Real inertiaPivot = b.inertiaWorld(1)(2, 2) + m * d * d;
@@ -555,9 +556,10 @@ TEST(GenericRigidConstraintWorld, BallJointPendulumHasTheCompoundPeriodAndFollow
     ASSERT_NEAR(m, 0.4, 1e-12);
     ASSERT_NEAR(d, 1, 1e-12);
 
-    const SwingRecord exactSwing = swing(exact, steps, exact.genericRigidConstraints[0]);
+    const SwingRecord exactSwing =
+        swing(exact, steps, exact.constraints.genericRigidConstraints[0]);
     const SwingRecord approximateSwing =
-        swing(approximate, steps, approximate.genericRigidConstraints[0]);
+        swing(approximate, steps, approximate.constraints.genericRigidConstraints[0]);
     for (int n = 0; n < steps; ++n) reference.step();
     const char* name = stepMethod == StepMethod::Seed ? "seed" : "xpbd";
     const Real exactDeviation = (b.position[1] - reference.bodies.rigid.position[1]).norm();
@@ -614,7 +616,8 @@ TEST(GenericRigidConstraintWorld, CompliantConstraintIsASpringAndItsMultiplierAc
   auto gradient = [](const GenericRigidPoses&, GenericRigidJacobian& j) { j(0, 0) = 1; };
   World xpbd = buildWorld(freeBoxScene(StepMethod::Xpbd, 1));
   ASSERT_NEAR(xpbd.bodies.rigid.mass[0], mass, 1e-12);
-  xpbd.genericRigidConstraints.emplace_back(std::vector<int>{0}, 1, value, gradient, 1, alpha);
+  xpbd.constraints.genericRigidConstraints.emplace_back(std::vector<int>{0}, 1, value, gradient, 1,
+                                                        alpha);
   const Real hs = Real(0.005) / 20;
   std::vector<Real> crossings;
   Real previous = 0, worstForceError = 0;
@@ -625,7 +628,7 @@ TEST(GenericRigidConstraintWorld, CompliantConstraintIsASpringAndItsMultiplierAc
     if (n > 0 && (previous > 0) != (c > 0))
       crossings.push_back(t0 + (xpbd.time - t0) * previous / (previous - c));
     previous = c;
-    const Real force = xpbd.genericRigidConstraints[0].multiplier()(0) / (hs * hs);
+    const Real force = xpbd.constraints.genericRigidConstraints[0].multiplier()(0) / (hs * hs);
     worstForceError = std::max(worstForceError, std::abs(force + c / alpha));
   }
   ASSERT_GE(crossings.size(), 3u);
@@ -648,9 +651,10 @@ TEST(GenericRigidConstraintWorld, CompliantConstraintIsASpringAndItsMultiplierAc
   // them, linearly: 4·10⁵ · 16 ε).
   World once = buildWorld(freeBoxScene(StepMethod::Seed, 1));
   World fourTimes = buildWorld(freeBoxScene(StepMethod::Seed, 4));
-  once.genericRigidConstraints.emplace_back(std::vector<int>{0}, 1, value, gradient, 1, alpha);
-  fourTimes.genericRigidConstraints.emplace_back(std::vector<int>{0}, 1, value, gradient, 1,
-                                                 alpha);
+  once.constraints.genericRigidConstraints.emplace_back(std::vector<int>{0}, 1, value, gradient, 1,
+                                                        alpha);
+  fourTimes.constraints.genericRigidConstraints.emplace_back(std::vector<int>{0}, 1, value,
+                                                             gradient, 1, alpha);
   Real deviation = 0;  // the largest, over the run (at 2 s a 4× stiffer spring is back in phase)
   for (int n = 0; n < 400; ++n) {
     once.step();

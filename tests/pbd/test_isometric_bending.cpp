@@ -129,8 +129,8 @@ TEST(IsometricBending, ClothGetsOneConstraintPerInteriorEdge) {
     scene.simulation.clothBendingMethod = bending;
     const World world = buildWorld(scene);
     const bool made = bending == 2 || bending == 3;
-    ASSERT_EQ(world.clothBending.size(), made ? 8u : 0u) << bending;
-    for (const IsometricBendingConstraint& c : world.clothBending) {
+    ASSERT_EQ(world.constraints.clothBending.size(), made ? 8u : 0u) << bending;
+    for (const IsometricBendingConstraint& c : world.constraints.clothBending) {
       EXPECT_EQ(c.xpbd, bending == 3);
       EXPECT_EQ(c.stiffness, bending == 3 ? Real(100) : Real(0.01));  // the seed's forced values
     }
@@ -140,7 +140,7 @@ TEST(IsometricBending, ClothGetsOneConstraintPerInteriorEdge) {
   scene.simulation.clothBendingMethod = 2;
   for (int method : {0, 1, 2, 3, 4}) {
     scene.simulation.clothSimulationMethod = method;
-    EXPECT_EQ(buildWorld(scene).clothBending.size(), method == 0 ? 0u : 8u) << method;
+    EXPECT_EQ(buildWorld(scene).constraints.clothBending.size(), method == 0 ? 0u : 8u) << method;
   }
 }
 
@@ -192,7 +192,7 @@ TEST(IsometricBendingWorld, XpbdHingeSwingsWithTheClosedFormPeriodAndKeepsItsEne
   scene.triangleModels.push_back(cloth);
   for (std::size_t i = 0; i < 4; ++i) scene.particles.push_back({flat[i], Vector3::Zero(), i < 2 ? Real(0) : mass});
   World world = buildWorld(scene);
-  ASSERT_EQ(world.clothBending.size(), 1u);
+  ASSERT_EQ(world.constraints.clothBending.size(), 1u);
   const std::array<Vector3, 4> folded = fold(2 * theta0, d);
   for (std::size_t i = 0; i < 4; ++i) world.bodies.particles.position[i] = folded[i];
 

@@ -94,7 +94,7 @@ World oscillator(Real mass, Real stiffness, bool xpbd, int iterations, Real stre
   c.restLength = 1;
   c.xpbd = xpbd;
   c.stiffness = stiffness;
-  world.particleDistances.push_back(c);
+  world.constraints.particleDistances.push_back(c);
   return world;
 }
 
@@ -198,7 +198,7 @@ TEST(ParticleDistanceWorld, HangingChainTensionAtTheTopIsTheWeightBelow) {
     c.restLength = spacing;
     c.xpbd = true;
     c.stiffness = 1e4;
-    world.particleDistances.push_back(c);
+    world.constraints.particleDistances.push_back(c);
   }
   const Real substep = world.settings.timeStepSize / Real(world.settings.subSteps);
   std::vector<Real> sums(std::size_t(count), 0);
@@ -207,8 +207,8 @@ TEST(ParticleDistanceWorld, HangingChainTensionAtTheTopIsTheWeightBelow) {
     world.step();
     if (world.time > 0.5) {
       for (int i = 0; i < count; ++i)
-        sums[std::size_t(i)] +=
-            particleDistanceTension(world.particleDistances[std::size_t(i)].multiplier, substep);
+        sums[std::size_t(i)] += particleDistanceTension(
+            world.constraints.particleDistances[std::size_t(i)].multiplier, substep);
       ++samples;
     }
   }
@@ -244,7 +244,7 @@ Real chainStretch(bool xpbd, int iterations) {
     c.restLength = Real(0.05);
     c.xpbd = xpbd;
     c.stiffness = xpbd ? Real(1e4) : Real(1);
-    world.particleDistances.push_back(c);
+    world.constraints.particleDistances.push_back(c);
   }
   Real sum = 0;
   int samples = 0;
@@ -295,14 +295,15 @@ TEST(ParticleDistanceWorld, ClothEdgesComeFromTheTriangleModels) {
         {cloth.mesh.vertices[std::size_t(i)], Vector3::Zero(), i < 2 ? Real(0) : Real(1)});
   scene.simulation.clothSimulationMethod = 4;
   // Unset, the stiffness is the seed's forced default: 10⁵ N/m for XPBD distance constraints.
-  EXPECT_EQ(buildWorld(scene).particleDistances.front().stiffness, Real(1e5));
+  EXPECT_EQ(buildWorld(scene).constraints.particleDistances.front().stiffness, Real(1e5));
   scene.simulation.cloth_stiffness = 300;
   for (int method : {0, 1, 2, 3, 4}) {
     scene.simulation.clothSimulationMethod = method;
     const World world = buildWorld(scene);
     const std::size_t expected = method == 1 || method == 4 ? 4u : 0u;
-    ASSERT_EQ(world.particleDistances.size(), expected) << "clothSimulationMethod " << method;
-    for (const ParticleDistanceConstraint& c : world.particleDistances) {
+    ASSERT_EQ(world.constraints.particleDistances.size(), expected)
+        << "clothSimulationMethod " << method;
+    for (const ParticleDistanceConstraint& c : world.constraints.particleDistances) {
       EXPECT_EQ(c.xpbd, method == 4);
       EXPECT_EQ(c.stiffness, 300);
       EXPECT_EQ(c.restLength, (cloth.mesh.vertices[std::size_t(c.particle1)] -

@@ -191,10 +191,10 @@ TEST(ShapeMatchingWorld, SolidsGetOneClusterPerTetFromMethodFiveOnly) {
   Scene scene = test::tetBlock(2, 2, 2, 5);
   for (int method : {0, 1, 2, 3, 4, 5, 6}) {
     scene.simulation.solidSimulationMethod = method;
-    EXPECT_EQ(buildWorld(scene).shapeMatching.size(), method == 5 ? 5u : 0u) << method;
+    EXPECT_EQ(buildWorld(scene).constraints.shapeMatching.size(), method == 5 ? 5u : 0u) << method;
   }
   scene.simulation.solidSimulationMethod = 5;
-  std::vector<ShapeMatchingConstraint> clusters = buildWorld(scene).shapeMatching;
+  std::vector<ShapeMatchingConstraint> clusters = buildWorld(scene).constraints.shapeMatching;
   // The count of a vertex is the number of tets listing it.
   std::vector<int> tetsOf(8, 0);
   for (const auto& t : scene.tetModels[0].mesh.tetrahedra)
@@ -207,17 +207,17 @@ TEST(ShapeMatchingWorld, SolidsGetOneClusterPerTetFromMethodFiveOnly) {
               kRoundOff);  // equal masses: offsets from the centroid
   }
   scene.simulation.solid_stiffness = Real(0.4);
-  EXPECT_EQ(buildWorld(scene).shapeMatching[0].stiffness, Real(0.4));
+  EXPECT_EQ(buildWorld(scene).constraints.shapeMatching[0].stiffness, Real(0.4));
   // Tets of four static particles are left out: with 0, 1, 2, 4 static, tet {0, 1, 2, 4} is.
   for (int i : {0, 1, 2, 4}) scene.particles[std::size_t(i)].mass = 0;
-  EXPECT_EQ(buildWorld(scene).shapeMatching.size(), 4u);
+  EXPECT_EQ(buildWorld(scene).constraints.shapeMatching.size(), 4u);
 }
 
 TEST(ShapeMatchingWorld, HangingBlockStaysBoundedAndStretchesLessWithMoreIterations) {
   // A 0.25 × 1 × 0.25 m column of 2 × 5 × 2 vertices (1 kg each, 20 tets) hangs from its static
   // top face under gravity for 1 s, staying finite and within 2 m of the top (else −1). More
   // iterations, less stretch: PBD's stiffness is its iteration count.
-  ASSERT_EQ(buildWorld(test::tetBlock(2, 5, 2, 5)).shapeMatching.size(), 20u);
+  ASSERT_EQ(buildWorld(test::tetBlock(2, 5, 2, 5)).constraints.shapeMatching.size(), 20u);
   const Real one = test::hangingColumnStretch(5, 1), four = test::hangingColumnStretch(5, 4);
   std::printf("  shape matching: largest edge stretch in 1 s: %.3e (1 iteration), %.3e (4)\n",
               double(one), double(four));

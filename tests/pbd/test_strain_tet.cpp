@@ -212,11 +212,11 @@ TEST(StrainTetWorld, SolidsGetStrainConstraintsFromMethodFourOnly) {
   Scene scene = test::tetBlock(2, 2, 2, 4);
   for (int method : {0, 1, 2, 3, 4, 5, 6}) {
     scene.simulation.solidSimulationMethod = method;
-    EXPECT_EQ(buildWorld(scene).strainTets.size(), method == 4 ? 5u : 0u) << method;
+    EXPECT_EQ(buildWorld(scene).constraints.strainTets.size(), method == 4 ? 5u : 0u) << method;
   }
   scene.simulation.solidSimulationMethod = 4;
   {
-    const StrainTetConstraint c = buildWorld(scene).strainTets[0];
+    const StrainTetConstraint c = buildWorld(scene).constraints.strainTets[0];
     EXPECT_EQ(c.stretchStiffness, Real(1));  // the seed's forced solid_stiffness
     EXPECT_EQ(c.shearStiffness, Real(1));
     EXPECT_FALSE(c.normalizeStretch);
@@ -225,7 +225,7 @@ TEST(StrainTetWorld, SolidsGetStrainConstraintsFromMethodFourOnly) {
   scene.simulation.solid_stiffness = Real(0.6);
   scene.simulation.solid_normalizeShear = true;
   {
-    const StrainTetConstraint c = buildWorld(scene).strainTets[0];
+    const StrainTetConstraint c = buildWorld(scene).constraints.strainTets[0];
     EXPECT_EQ(c.stretchStiffness, Real(0.6));
     EXPECT_EQ(c.shearStiffness, Real(0.6));
     // Each flag from its own key (the seed passes normalizeStretch for both: §5.3 #5).
@@ -234,14 +234,14 @@ TEST(StrainTetWorld, SolidsGetStrainConstraintsFromMethodFourOnly) {
   }
   // Tets of four static particles are left out: with 0, 1, 2, 4 static, tet {0, 1, 2, 4} is.
   for (int i : {0, 1, 2, 4}) scene.particles[std::size_t(i)].mass = 0;
-  EXPECT_EQ(buildWorld(scene).strainTets.size(), 4u);
+  EXPECT_EQ(buildWorld(scene).constraints.strainTets.size(), 4u);
 }
 
 TEST(StrainTetWorld, HangingBlockStaysBoundedAndStretchesLessWithMoreIterations) {
   // A 0.25 × 1 × 0.25 m column of 2 × 5 × 2 vertices (1 kg each, 20 tets) hangs from its static
   // top face under gravity for 1 s, staying finite and within 2 m of the top (else −1). More
   // iterations, less stretch: PBD's stiffness is its iteration count.
-  ASSERT_EQ(buildWorld(test::tetBlock(2, 5, 2, 4)).strainTets.size(), 20u);
+  ASSERT_EQ(buildWorld(test::tetBlock(2, 5, 2, 4)).constraints.strainTets.size(), 20u);
   const Real one = test::hangingColumnStretch(4, 1), four = test::hangingColumnStretch(4, 4);
   std::printf("  strain-based tets: largest edge stretch in 1 s: %.3e (1 iteration), %.3e (4)\n",
               double(one), double(four));

@@ -217,14 +217,15 @@ TEST(StrainTriangleWorld, ClothGetsOneConstraintPerTriangleForMethodThreeOnly) {
   Scene scene = verticalCloth(3, 3);
   for (int method : {0, 1, 2, 3, 4}) {
     scene.simulation.clothSimulationMethod = method;
-    EXPECT_EQ(buildWorld(scene).strainTriangles.size(), method == 3 ? 8u : 0u) << method;
+    EXPECT_EQ(buildWorld(scene).constraints.strainTriangles.size(), method == 3 ? 8u : 0u)
+        << method;
   }
   scene.simulation.clothSimulationMethod = 3;
   scene.simulation.cloth_xxStiffness = Real(0.9);
   scene.simulation.cloth_yyStiffness = Real(0.8);
   scene.simulation.cloth_xyStiffness = Real(0.7);
   scene.simulation.cloth_normalizeShear = true;
-  const StrainTriangleConstraint c = buildWorld(scene).strainTriangles[0];
+  const StrainTriangleConstraint c = buildWorld(scene).constraints.strainTriangles[0];
   // Each from its own key (the seed's setters write xx into yy and xy: §5.3 #4).
   EXPECT_EQ(c.xxStiffness, Real(0.9));
   EXPECT_EQ(c.yyStiffness, Real(0.8));
@@ -233,7 +234,7 @@ TEST(StrainTriangleWorld, ClothGetsOneConstraintPerTriangleForMethodThreeOnly) {
   EXPECT_TRUE(c.normalizeShear);
   // The triangles (0, 3, 4) and (0, 4, 1) of static particles get none.
   for (int i : {0, 1, 3, 4}) scene.particles[std::size_t(i)].mass = 0;
-  EXPECT_EQ(buildWorld(scene).strainTriangles.size(), 6u);
+  EXPECT_EQ(buildWorld(scene).constraints.strainTriangles.size(), 6u);
 }
 
 TEST(StrainTriangleWorld, HangingVerticalClothStaysBoundedAndStretchesLessWithMoreIterations) {
@@ -247,7 +248,7 @@ TEST(StrainTriangleWorld, HangingVerticalClothStaysBoundedAndStretchesLessWithMo
     scene.simulation.maxIterations = iterations;
     for (int i = 0; i < 6; ++i) scene.particles[std::size_t(i)].mass = 0;
     World world = buildWorld(scene);
-    ASSERT_EQ(world.strainTriangles.size(), 50u);
+    ASSERT_EQ(world.constraints.strainTriangles.size(), 50u);
     Real worst = 0;
     while (world.time < 1) {
       world.step();

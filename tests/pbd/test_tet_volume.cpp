@@ -93,7 +93,7 @@ World apexOnBase(bool xpbd, Real stiffness, int iterations) {
                                   scene.particles[2].position, scene.particles[3].position});
   c.xpbd = xpbd;
   c.stiffness = stiffness;
-  world.tetVolumes.push_back(c);
+  world.constraints.tetVolumes.push_back(c);
   return world;
 }
 
@@ -156,10 +156,10 @@ TEST(TetVolumeWorld, SolidsGetEdgeAndVolumeConstraintsFromTheirMethod) {
     scene.simulation.solidSimulationMethod = method;
     const World world = buildWorld(scene);
     const bool made = method == 1 || method == 6;
-    ASSERT_EQ(world.particleDistances.size(), made ? 18u : 0u) << method;
-    ASSERT_EQ(world.tetVolumes.size(), made ? 5u : 0u) << method;
+    ASSERT_EQ(world.constraints.particleDistances.size(), made ? 18u : 0u) << method;
+    ASSERT_EQ(world.constraints.tetVolumes.size(), made ? 5u : 0u) << method;
     Real volume = 0;
-    for (const TetVolumeConstraint& c : world.tetVolumes) {
+    for (const TetVolumeConstraint& c : world.constraints.tetVolumes) {
       EXPECT_EQ(c.xpbd, method == 6);
       EXPECT_EQ(c.stiffness, method == 6 ? Real(1e5) : Real(1));  // the seed's forced values
       volume += std::abs(c.restVolume);
@@ -167,7 +167,7 @@ TEST(TetVolumeWorld, SolidsGetEdgeAndVolumeConstraintsFromTheirMethod) {
     if (made) {
       EXPECT_NEAR(volume, 1, 10 * kEpsilon);  // the five tets fill the unit cube
     }
-    for (const ParticleDistanceConstraint& c : world.particleDistances)
+    for (const ParticleDistanceConstraint& c : world.constraints.particleDistances)
       EXPECT_EQ(c.stiffness, method == 6 ? Real(1e5) : Real(1));
   }
   // The cube stands on its own static bottom face: a step keeps its volume (no load but
@@ -180,7 +180,7 @@ TEST(TetVolumeWorld, SolidsGetEdgeAndVolumeConstraintsFromTheirMethod) {
   while (world.time < 1) {
     world.step();
     Real volume = 0;
-    for (const TetVolumeConstraint& c : world.tetVolumes) {
+    for (const TetVolumeConstraint& c : world.constraints.tetVolumes) {
       std::array<Vector3, 4> p;
       for (std::size_t i = 0; i < 4; ++i)
         p[i] = world.bodies.particles.position[std::size_t(c.particles[i])];

@@ -131,10 +131,10 @@ TEST(GenericConstraintWorld, StepAllocatesNothing) {
     scene.particles.push_back({Vector3(0, 1, 1), Vector3::Zero(), 2});
     scene.particles.push_back({Vector3(2, 0, 0.5), Vector3::Zero(), 1});
     World world = buildWorld(scene);
-    world.genericConstraints.emplace_back(std::vector<int>{0, 1}, 1, distanceValue,
-                                          distanceGradient);
-    world.genericConstraints.emplace_back(std::vector<int>{2, 3}, 1, distanceValue);
-    world.genericConstraints.emplace_back(std::vector<int>{4}, 2, onVerticalLine);
+    world.constraints.genericConstraints.emplace_back(std::vector<int>{0, 1}, 1, distanceValue,
+                                                      distanceGradient);
+    world.constraints.genericConstraints.emplace_back(std::vector<int>{2, 3}, 1, distanceValue);
+    world.constraints.genericConstraints.emplace_back(std::vector<int>{4}, 2, onVerticalLine);
     world.step();
     const long before = gAllocations.load();
     for (int n = 0; n < 200; ++n) world.step();
@@ -185,11 +185,11 @@ TEST(GenericRigidConstraintWorld, StepAllocatesNothing) {
     scene.rigidBodies.push_back(
         test::boxBody(2, Vector3(0.1, 0.4, 0.1), Vector3(0.35, 0.9, 0), 100));
     World world = buildWorld(scene);
-    world.genericRigidConstraints.emplace_back(std::vector<int>{0, 1}, 3, ballValue,
-                                               ballGradient);
-    world.genericRigidConstraints.emplace_back(std::vector<int>{1, 2}, 1, distanceValue,
-                                               GenericRigidGradientFunction(), 1, Real(1e-4));
-    world.genericRigidConstraints.emplace_back(std::vector<int>{1}, 1, heightPin);
+    world.constraints.genericRigidConstraints.emplace_back(std::vector<int>{0, 1}, 3, ballValue,
+                                                           ballGradient);
+    world.constraints.genericRigidConstraints.emplace_back(
+        std::vector<int>{1, 2}, 1, distanceValue, GenericRigidGradientFunction(), 1, Real(1e-4));
+    world.constraints.genericRigidConstraints.emplace_back(std::vector<int>{1}, 1, heightPin);
     world.step();
     const long before = gAllocations.load();
     for (int n = 0; n < 200; ++n) world.step();
@@ -197,6 +197,55 @@ TEST(GenericRigidConstraintWorld, StepAllocatesNothing) {
     // The boxes swung (gravity acts), and the pin (linear, solved last) held to round-off.
     EXPECT_GT((world.bodies.rigid.position[2] - Vector3(0.35, 0.9, 0)).norm(), 0.01);
     EXPECT_NEAR(world.bodies.rigid.position[1].z(), 0, 16 * kEpsilon);
+  }
+}
+
+// The families are swept once per position iteration, in their list order
+// (constraints/constraint_families.h), by both step methods: a generic rigid-body constraint
+// (first in the list) and a generic particle constraint (after every scene family) log each
+// evaluation of their C, so the log is one run of rigid evaluations followed by one run of
+// particle ones per iteration — maxIterations × subSteps pairs in the seed's step, one per
+// substep in the XPBD step. Both constraints have analytic gradients and move their body or
+// particle (gravity pulls them off the constraint), so every sweep evaluates each at least once.
+TEST(ConstraintFamilies, BothStepsSweepTheFamiliesOncePerIterationInListOrder) {
+  for (StepMethod stepMethod : {StepMethod::Seed, StepMethod::Xpbd}) {
+    Scene scene;
+    scene.simulation.stepMethod = stepMethod;
+    scene.simulation.subSteps = 2;
+    scene.simulation.maxIterations = 3;
+    scene.simulation.xpbd.substeps = 4;
+    scene.rigidBodies.push_back(test::boxBody(0, Vector3(0.2, 0.2, 0.2), Vector3(0, 2, 0), 1));
+    scene.particles.push_back({Vector3(5, 2, 0), Vector3::Zero(), 1});
+    World world = buildWorld(scene);
+    std::string log;
+    log.reserve(1000);
+    std::string* record = &log;
+    world.constraints.genericRigidConstraints.emplace_back(
+        std::vector<int>{0}, 1,
+        [record](const GenericRigidPoses& p, GenericRigidValue& c) {
+          record->push_back('R');
+          c(0) = p.position[0].y() - 2;
+        },
+        [](const GenericRigidPoses&, GenericRigidJacobian& j) { j(0, 1) = 1; });
+    world.constraints.genericConstraints.emplace_back(
+        std::vector<int>{0}, 1,
+        [record](const GenericPositions& x, GenericValue& c) {
+          record->push_back('P');
+          c(0) = x(1, 0) - 2;
+        },
+        [](const GenericPositions&, GenericJacobian& j) { j(0, 1) = 1; });
+    world.step();
+    ASSERT_FALSE(log.empty());
+    EXPECT_EQ(log.front(), 'R') << log;
+    EXPECT_EQ(log.back(), 'P') << log;
+    int rigidToParticle = 0, particleToRigid = 0;
+    for (std::size_t k = 1; k < log.size(); ++k) {
+      rigidToParticle += log[k - 1] == 'R' && log[k] == 'P';
+      particleToRigid += log[k - 1] == 'P' && log[k] == 'R';
+    }
+    const int sweeps = stepMethod == StepMethod::Seed ? 3 * 2 : 4;
+    EXPECT_EQ(rigidToParticle, sweeps) << log;
+    EXPECT_EQ(particleToRigid, sweeps - 1) << log;
   }
 }
 
@@ -247,9 +296,9 @@ TEST(World, FemSolidStepAllocatesNothing) {
       scene.simulation.stepMethod = stepMethod;
       World a = withInvertedTet(scene);
       World b = withInvertedTet(scene);
-      ASSERT_EQ(a.femTets.size(), 5u);
+      ASSERT_EQ(a.constraints.femTets.size(), 5u);
       int inverted = 0;
-      for (const FemTetConstraint& c : a.femTets) {
+      for (const FemTetConstraint& c : a.constraints.femTets) {
         std::array<Vector3, 4> x;
         for (std::size_t i = 0; i < 4; ++i)
           x[i] = a.bodies.particles.position[std::size_t(c.particles[i])];
@@ -271,7 +320,7 @@ TEST(World, StrainTetAndShapeMatchingStepAllocatesNothing) {
       scene.simulation.stepMethod = stepMethod;
       World a = withInvertedTet(scene);
       World b = withInvertedTet(scene);
-      ASSERT_EQ(a.strainTets.size() + a.shapeMatching.size(), 5u);
+      ASSERT_EQ(a.constraints.strainTets.size() + a.constraints.shapeMatching.size(), 5u);
       expectStepsAllocateNothingAndAgree(a, b, method);
     }
 }

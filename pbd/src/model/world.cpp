@@ -161,16 +161,7 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
     for (int j : tree.joints) treeJoints.push_back(scene.joints[static_cast<std::size_t>(j)]);
     world.stiffRodTrees.emplace_back(world.bodies, treeJoints, tree.jsonPath);
   }
-  world.particleDistances = deformableDistanceConstraints(scene);
-  world.femTriangles = femTriangleConstraints(scene);
-  world.strainTriangles = strainTriangleConstraints(scene);
-  world.tetVolumes = solidVolumeConstraints(scene);
-  world.femTets = solidFemConstraints(scene);
-  world.strainTets = strainTetConstraints(scene);
-  world.shapeMatching = shapeMatchingConstraints(scene);
-  world.clothBending = clothBendingConstraints(scene);
-  world.clothDihedrals = clothDihedralConstraints(scene);
-  world.rods = rodConstraints(scene);
+  world.constraints = ConstraintFamilies::fromScene(scene);
   world.fluids = buildFluids(scene);
   world.collision = CollisionDetector(scene, options);
   world.materials = ContactMaterials(scene);

@@ -27,19 +27,7 @@ void projectPositions(World& world, Real h) {
     for (Joint& joint : world.joints)
       std::visit([&](auto& j) { j.solvePosition(world.bodies, h); }, joint);
     for (StiffRodTreeSolver& tree : world.stiffRodTrees) tree.solvePosition(world.bodies);
-    solveGenericRigidConstraints(world.genericRigidConstraints, world.bodies.rigid, h,
-                                 iteration == 0);
-    solveParticleDistances(world.particleDistances, world.bodies.particles, h, iteration == 0);
-    solveFemTriangles(world.femTriangles, world.bodies.particles);
-    solveStrainTriangles(world.strainTriangles, world.bodies.particles);
-    solveTetVolumes(world.tetVolumes, world.bodies.particles, h, iteration == 0);
-    solveFemTets(world.femTets, world.bodies.particles, h, iteration == 0);
-    solveStrainTets(world.strainTets, world.bodies.particles);
-    solveShapeMatching(world.shapeMatching, world.bodies.particles);
-    solveIsometricBending(world.clothBending, world.bodies.particles, h, iteration == 0);
-    solveDihedralBending(world.clothDihedrals, world.bodies.particles);
-    solveGenericConstraints(world.genericConstraints, world.bodies.particles);
-    solveRods(world.rods, world.bodies.particles, world.bodies.segments, h, iteration == 0);
+    world.constraints.solvePositions(world.bodies, h, iteration == 0);
     // Then, serially, the particle–tet contacts (the seed's place for them).
     world.tetContacts.solvePositions(world.bodies.particles, tetSchedule(world), 0);
   }

@@ -53,21 +53,9 @@ void solvePositions(World& world, Real h) {
     tree.beginSubstep(h);
     tree.solvePosition(world.bodies);
   }
-  // Generic rigid-body constraints: their own compliances, λ from zero every substep.
-  solveGenericRigidConstraints(world.genericRigidConstraints, world.bodies.rigid, h, true);
-  // Cloth and solid edges, then tet volumes, as their family says (PBD or XPBD), one iteration
-  // per substep.
-  solveParticleDistances(world.particleDistances, world.bodies.particles, h, true);
-  solveFemTriangles(world.femTriangles, world.bodies.particles);
-  solveStrainTriangles(world.strainTriangles, world.bodies.particles);
-  solveTetVolumes(world.tetVolumes, world.bodies.particles, h, true);
-  solveFemTets(world.femTets, world.bodies.particles, h, true);
-  solveStrainTets(world.strainTets, world.bodies.particles);
-  solveShapeMatching(world.shapeMatching, world.bodies.particles);
-  solveIsometricBending(world.clothBending, world.bodies.particles, h, true);
-  solveDihedralBending(world.clothDihedrals, world.bodies.particles);
-  solveGenericConstraints(world.genericConstraints, world.bodies.particles);
-  solveRods(world.rods, world.bodies.particles, world.bodies.segments, h, true);
+  // The constraint families (constraints/constraint_families.h), each PBD or XPBD as it says:
+  // one iteration per substep, so every sweep is its substep's first (λ from zero).
+  world.constraints.solvePositions(world.bodies, h, /*firstIteration=*/true);
   for (XpbdContact& contact : world.xpbd.contacts.contacts)
     contact.solvePosition(world.bodies, h, settings.contactCompliance);
   world.tetContacts.solvePositions(world.bodies.particles, ParticleTetSchedule::Current,

@@ -35,7 +35,7 @@
 // ∂C/∂(xᵢ)_c (the rest is ignored). The callbacks must not allocate if the step is to allocate
 // nothing, and must be deterministic functions of the positions.
 //
-// In a World (model/world.h), add constraints to World::genericConstraints in C++ after
+// In a World (model/world.h), add constraints to World::constraints.genericConstraints in C++ after
 // buildWorld (scenes have no key for them); they are solved after every other particle
 // constraint, once per position iteration in the seed's step and once per substep in the XPBD
 // step (as PBD constraints there: k is per projection, not a compliance).

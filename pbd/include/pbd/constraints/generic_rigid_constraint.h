@@ -43,11 +43,11 @@
 // ∂C/∂xᵢ and 6i+3..6i+5 ∂C/∂θᵢ (the rest is ignored). They must be deterministic and must not
 // allocate if the step is to allocate nothing.
 //
-// In a World (model/world.h), add constraints to World::genericRigidConstraints in C++ after
-// buildWorld (scenes have no key for them: a C is code). They are solved right after the joints
-// (and the stiff-rod trees), in every position iteration of the seed's step and once per substep
-// in the XPBD step, as XPBD constraints in both: λ is reset at the start of every substep and
-// accumulates over its iterations (with α = 0 and k = 1 a hard Gauss–Newton projection, as the
+// In a World (model/world.h), add constraints to World::constraints.genericRigidConstraints in C++
+// after buildWorld (scenes have no key for them: a C is code). They are solved right after the
+// joints (and the stiff-rod trees), in every position iteration of the seed's step and once per
+// substep in the XPBD step, as XPBD constraints in both: λ is reset at the start of every substep
+// and accumulates over its iterations (with α = 0 and k = 1 a hard Gauss–Newton projection, as the
 // seed's joints).
 #pragma once
 

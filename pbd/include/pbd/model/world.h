@@ -7,21 +7,10 @@
 #include <vector>
 
 #include "pbd/collision/collision_detection.h"
-#include "pbd/constraints/cosserat_rod.h"
-#include "pbd/constraints/dihedral_bending.h"
-#include "pbd/constraints/fem_triangle.h"
-#include "pbd/constraints/fem_tet.h"
-#include "pbd/constraints/generic_constraint.h"
-#include "pbd/constraints/generic_rigid_constraint.h"
-#include "pbd/constraints/isometric_bending.h"
-#include "pbd/constraints/particle_distance.h"
-#include "pbd/constraints/shape_matching.h"
-#include "pbd/constraints/strain_tet.h"
-#include "pbd/constraints/strain_triangle.h"
-#include "pbd/constraints/tet_volume.h"
+#include "pbd/constraints/constraint_families.h"
 #include "pbd/contacts/contact_set.h"
-#include "pbd/fluids/fluid_model.h"
 #include "pbd/contacts/particle_tet_contact.h"
+#include "pbd/fluids/fluid_model.h"
 #include "pbd/joints/joint.h"
 #include "pbd/joints/stiff_rod_tree_solver.h"
 #include "pbd/model/body_states.h"
@@ -46,30 +35,11 @@ struct World {
   /// Stiff-rod trees with the direct solver (Scene::stiffRodTrees with StiffRodSolver::Direct),
   /// solved after the joints in every position iteration; their joints are not in `joints`.
   std::vector<StiffRodTreeSolver> stiffRodTrees;
-  /// User rigid-body constraints (constraints/generic_rigid_constraint.h), added in C++ after
-  /// buildWorld (no scene key); solved after the joints and the stiff-rod trees.
-  std::vector<GenericRigidConstraint> genericRigidConstraints;
-  /// Distance constraints between particles (cloth and solid edges,
-  /// constraints/particle_distance.h), the triangles of cloth (FEM or strain-based), volume
-  /// constraints of tets (constraints/tet_volume.h),
-  /// and the bending of cloth, isometric (constraints/isometric_bending.h) or dihedral
-  /// (constraints/dihedral_bending.h), solved in this order after the joints in every position
-  /// iteration.
-  std::vector<ParticleDistanceConstraint> particleDistances;
-  std::vector<FemTriangleConstraint> femTriangles;  ///< cloth method 2 (fem_triangle.h)
-  std::vector<StrainTriangleConstraint> strainTriangles;  ///< cloth method 3 (strain_triangle.h)
-  std::vector<TetVolumeConstraint> tetVolumes;
-  std::vector<FemTetConstraint> femTets;  ///< FEM tets (constraints/fem_tet.h), after the volumes
-  std::vector<StrainTetConstraint> strainTets;  ///< solid method 4 (strain_tet.h)
-  std::vector<ShapeMatchingConstraint> shapeMatching;  ///< solid method 5 (shape_matching.h)
-  std::vector<IsometricBendingConstraint> clothBending;
-  std::vector<DihedralBendingConstraint> clothDihedrals;
-  /// User constraints (constraints/generic_constraint.h), added in C++ after buildWorld (no
-  /// scene key); solved after every other particle constraint.
-  std::vector<GenericParticleConstraint> genericConstraints;
-  /// Cosserat rods of the scene's line models (constraints/cosserat_rod.h), on the particles
-  /// and bodies.segments; solved after the generic constraints.
-  RodConstraints rods;
+  /// The constraint families (constraints/constraint_families.h): particle distances, cloth
+  /// triangles and bending, tet volumes and elements, shape matching, Cosserat rods and the
+  /// user's generic constraints (rigid and particle; added in C++ after buildWorld), swept in the
+  /// list's order after the joints and the stiff-rod trees in every position iteration.
+  ConstraintFamilies constraints;
   /// Position-based fluids (fluids/fluid_model.h), one per scene FluidModel: solved in every
   /// substep after the other particle constraints, XSPH after the velocity update.
   std::vector<Fluid> fluids;
