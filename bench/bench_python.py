@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import argparse
 import datetime as dt
-import importlib.util
+import importlib
 import json
 import os
 import platform
@@ -46,16 +46,11 @@ from pbdval import protocol as pp  # noqa: E402
 
 DURATION = 5.0  # s of simulated time (the "5 s case")
 CASES = ["joint_hinge", "chain_10", "contact_bouncing_balls", "contact_stack_5"]
-ENGINES = {"pybullet.si": "adapters/pybullet/engine.py", "mujoco-python.euler.newton": "adapters/mujoco_py/engine.py"}
+ENGINES = {"pybullet.si": "pbdval.engines.pybullet.engine", "mujoco-python.euler.newton": "pbdval.engines.mujoco.engine"}
 
 
-def load_adapter(relative: str) -> Any:
-    path = REPO / relative
-    spec = importlib.util.spec_from_file_location(path.parent.name + "_engine", path)
-    assert spec and spec.loader
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+def load_adapter(module: str) -> Any:
+    return importlib.import_module(module)
 
 
 def best(repeat: int, run: Callable[[], float]) -> float:

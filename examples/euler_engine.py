@@ -23,8 +23,9 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python"))
-from pbdval import protocol as pp  # noqa: E402
+# The runner puts the source tree's python/ first on PYTHONPATH for a "{python}" command
+# (docs/external-engines.md#the-catalogue): pbdval imports as an installed package would.
+from pbdval import protocol as pp
 
 ENGINE_VERSION = "example-euler 1"
 METHOD = "example-euler.symplectic"

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -126,6 +127,10 @@ Exit runProcess(const ExternalCommand& command, const std::vector<std::string>& 
   std::vector<char*> argv;
   for (std::string& a : arguments) argv.push_back(a.data());
   argv.push_back(nullptr);
+  // Composed before the fork: the package folder first, then whatever PYTHONPATH was.
+  std::string pythonPath = command.pythonPackageFolder;
+  const char* inherited = std::getenv("PYTHONPATH");
+  if (!pythonPath.empty() && inherited && *inherited) pythonPath += std::string(":") + inherited;
   const InterruptWatch interrupts;
   std::fflush(nullptr);
   const pid_t parent = ::getpid();
@@ -144,6 +149,7 @@ Exit runProcess(const ExternalCommand& command, const std::vector<std::string>& 
       ::dup2(null, STDOUT_FILENO);
     }
     ::setenv("PBDVAL_PROTOCOL", "1", 1);
+    if (!pythonPath.empty()) ::setenv("PYTHONPATH", pythonPath.c_str(), 1);
     if (!command.workingFolder.empty() && ::chdir(command.workingFolder.c_str()) != 0) {
       std::fprintf(stderr, "pbdval: cannot enter %s: %s\n", command.workingFolder.c_str(),
                    std::strerror(errno));
@@ -500,7 +506,7 @@ ParameterSpec catalogueParameter(const CatalogueNode& node, const std::string& m
   return p;
 }
 
-EngineEntry catalogueEntry(const std::string& file, const std::string& python,
+EngineEntry catalogueEntry(const std::string& file, const ProjectPython& python,
                            const std::string& workingFolder) {
   std::ifstream in(file);
   std::stringstream text;
@@ -518,7 +524,10 @@ EngineEntry catalogueEntry(const std::string& file, const std::string& python,
   if (argv.array().empty()) argv.fail("a non-empty array of strings");
   for (std::size_t i = 0; i < argv.json.size(); ++i) {
     std::string word = argv.at(i).text();
-    if (word == "{python}") word = python;
+    if (word == "{python}") {
+      word = python.interpreter;
+      command.pythonPackageFolder = python.packageFolder;
+    }
     command.argv.push_back(word);
   }
   entry.defaultMethod = root.at("defaultMethod").text();
@@ -549,7 +558,7 @@ EngineEntry catalogueEntry(const std::string& file, const std::string& python,
 
 }  // namespace
 
-std::vector<EngineEntry> readEngineCatalogue(const std::string& folder, const std::string& python,
+std::vector<EngineEntry> readEngineCatalogue(const std::string& folder, const ProjectPython& python,
                                              const std::string& workingFolder) {
   std::vector<std::string> files;
   std::error_code error;

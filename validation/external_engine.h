@@ -19,11 +19,22 @@ namespace pbdval {
 
 inline constexpr int kExternalProtocolVersion = 1;
 
-/// How to start one external engine: its command (argv, "{python}" already replaced) and the
-/// folder it runs in (the repository root).
+/// How to start one external engine: its command (argv, "{python}" already replaced), the
+/// folder it runs in (the repository root) and, for a command that names "{python}", the folder
+/// put first on the engine's PYTHONPATH (where the package pbdval is; empty: PYTHONPATH as
+/// inherited).
 struct ExternalCommand {
   std::vector<std::string> argv;
   std::string workingFolder;
+  std::string pythonPackageFolder;
+};
+
+/// The Python that runs the catalogue commands naming "{python}": the interpreter, by path, and
+/// the folder put first on those engines' PYTHONPATH, so that `python -m pbdval.engines.<name>`
+/// imports pbdval from this source tree whatever the interpreter's own path says.
+struct ProjectPython {
+  std::string interpreter;
+  std::string packageFolder;
 };
 
 class ExternalEngine final : public Engine {
@@ -55,10 +66,11 @@ class ExternalEngine final : public Engine {
 void removeEngineLeftovers(pid_t owner);
 
 /// The engines of a catalogue folder: one `<name>.json` per engine (docs/external-engines.md#the-catalogue),
-/// each command's "{python}" replaced by `python`, run in `workingFolder`. Throws
+/// each command's "{python}" replaced by `python.interpreter` (and such a command run with
+/// `python.packageFolder` first on its PYTHONPATH), run in `workingFolder`. Throws
 /// std::invalid_argument naming the file and JSON path of anything malformed. A missing folder
 /// has no engines.
-std::vector<EngineEntry> readEngineCatalogue(const std::string& folder, const std::string& python,
+std::vector<EngineEntry> readEngineCatalogue(const std::string& folder, const ProjectPython& python,
                                              const std::string& workingFolder);
 
 }  // namespace pbdval

@@ -68,22 +68,36 @@ def export_scene(pbdval_binary: Path, tmp_path_factory: pytest.TempPathFactory) 
     return export
 
 
+def engine_command(name: str) -> list[str]:
+    """The command of catalogue entry engines/<name>.json as the runner runs it: "{python}"
+    replaced by the venv's interpreter (validation/external_engine.cpp)."""
+    command = json.loads((REPO / "engines" / f"{name}.json").read_text())["command"]
+    return [str(VENV_PYTHON) if word == "{python}" else word for word in command]
+
+
+def engine_environment() -> dict[str, str]:
+    """The environment the runner gives a "{python}" engine: PBDVAL_PROTOCOL=1 and this source
+    tree's python/ first on PYTHONPATH (validation/engines/standard_engines.cpp)."""
+    inherited = os.environ.get("PYTHONPATH", "")
+    path = str(REPO / "python") + (os.pathsep + inherited if inherited else "")
+    return dict(os.environ, PBDVAL_PROTOCOL="1", PYTHONPATH=path)
+
+
 @pytest.fixture
 def run_engine(tmp_path: Path) -> Callable[[str, Path], tuple[dict[str, Any], Path]]:
-    """run_engine("adapters/pybullet/engine.py", scene) → (status.json, OUTDIR), run as the
-    runner does: venv interpreter by path, repository root as working directory, PBDVAL_PROTOCOL=1."""
+    """run_engine("pybullet", scene) → (status.json, OUTDIR): the catalogue entry's command run as
+    the runner does (engine_command, engine_environment), repository root as working directory."""
     counter = [0]
 
-    def run(script: str, scene: Path) -> tuple[dict[str, Any], Path]:
+    def run(engine: str, scene: Path) -> tuple[dict[str, Any], Path]:
         counter[0] += 1
         out = tmp_path / f"out{counter[0]}"
         out.mkdir()
-        env = dict(os.environ, PBDVAL_PROTOCOL="1")
-        result = subprocess.run([str(VENV_PYTHON), str(REPO / script), "--scene", str(scene),
-                                 "--out", str(out)], capture_output=True, text=True, cwd=REPO,
-                                env=env, check=False, timeout=600)
-        assert result.returncode == 0, f"{script} exited {result.returncode}: {result.stderr}"
-        assert result.stdout == "", f"{script} wrote to standard output: {result.stdout[:200]}"
+        result = subprocess.run(engine_command(engine) + ["--scene", str(scene), "--out", str(out)],
+                                capture_output=True, text=True, cwd=REPO, env=engine_environment(),
+                                check=False, timeout=600)
+        assert result.returncode == 0, f"{engine} exited {result.returncode}: {result.stderr}"
+        assert result.stdout == "", f"{engine} wrote to standard output: {result.stdout[:200]}"
         status = json.loads((out / "status.json").read_text())
         return status, out
 

@@ -1,4 +1,4 @@
-"""mujoco-python's particles as MuJoCo flexes (adapters/mujoco_py/flexes.py): the model is the
+"""mujoco-python's particles as MuJoCo flexes (pbdval.engines.mujoco.flexes): the model is the
 scene's (vertices, order, masses, elements), its elastic laws are the ones documented (closed
 forms of homogeneous strains), internal forces leave the centre of mass on the integrator's own
 parabola, pinned particles stay, a cantilever sags as an independent static FEM solve says, and
@@ -6,40 +6,26 @@ the runner accepts the particles file."""
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import math
 import subprocess
-import sys
 from pathlib import Path
 from typing import Any, Callable
 
+import mujoco
 import numpy as np
 import pytest
 
 import linear_fem
 from conftest import REPO
 from pbdval import protocol as pp
+from pbdval.engines.mujoco import engine, flexes
 
-MUJOCO = "adapters/mujoco_py/engine.py"
+MUJOCO = "mujoco-python"  # the catalogue entry run_engine runs
 Export = Callable[..., Path]
 Run = Callable[[str, Path], tuple[dict[str, Any], Path]]
 
 
-def _load_engine() -> Any:
-    """adapters/mujoco_py/engine.py under its own module name (another adapter's engine.py may
-    be loaded in the same session)."""
-    folder = REPO / "adapters" / "mujoco_py"
-    sys.path.insert(0, str(folder))
-    spec = importlib.util.spec_from_file_location("mujoco_py_engine", folder / "engine.py")
-    module = importlib.util.module_from_spec(spec)  # type: ignore[arg-type]
-    spec.loader.exec_module(module)  # type: ignore[union-attr]
-    return module
-
-
-engine = _load_engine()
-flexes = sys.modules["flexes"]
-mujoco = engine.mujoco
 
 
 def scene_of(export_scene: Export, case: str, method: str, edit: Callable[[dict], None] | None = None,

@@ -1,4 +1,4 @@
-"""pybullet's cloth and solids (adapters/pybullet/deformables.py, docs/external-engines.md#pybullet):
+"""pybullet's cloth and solids (pbdval.engines.pybullet.deformables, docs/external-engines.md#pybullet):
 the mapping's pieces against closed forms, and whole runs as the runner makes them."""
 
 from __future__ import annotations
@@ -6,7 +6,6 @@ from __future__ import annotations
 import json
 import math
 import subprocess
-import sys
 from pathlib import Path
 from typing import Any, Callable
 
@@ -16,11 +15,9 @@ import pytest
 from conftest import REPO
 from pbdval import protocol as pp
 
-sys.path.insert(0, str(REPO / "adapters" / "pybullet"))
-import deformables  # noqa: E402
-import engine  # noqa: E402
+from pbdval.engines.pybullet import deformables, engine
 
-PYBULLET = "adapters/pybullet/engine.py"
+PYBULLET = "pybullet"  # the catalogue entry run_engine runs
 CLOTH = str(REPO / "cases" / "models" / "cloth.obj")
 
 Export = Callable[..., Path]

@@ -99,7 +99,7 @@ class ExternalEngineTest : public ::testing::Test {
 
   /// Runs the shell `script` as an engine ($4 is the output folder).
   RunOutcome run(const std::string& script, double limit = 10) {
-    ExternalEngine engine("shell", ExternalCommand{{"sh", "-c", script, "engine"}, folder_.string()});
+    ExternalEngine engine("shell", ExternalCommand{{"sh", "-c", script, "engine"}, folder_.string(), ""});
     Method method;
     method.name = "shell.test";
     std::vector<State> seen;
@@ -178,7 +178,7 @@ TEST_F(ExternalEngineTest, BadBinaryTrajectoriesAreErrorsNamingWhatWasExpected) 
 }
 
 TEST_F(ExternalEngineTest, AMissingCommandIsAnError) {
-  ExternalEngine engine("missing", ExternalCommand{{"/no/such/engine"}, folder_.string()});
+  ExternalEngine engine("missing", ExternalCommand{{"/no/such/engine"}, folder_.string(), ""});
   Method method;
   method.name = "missing.x";
   const RunOutcome outcome = runSimulation(engine, scene_, method, length_, {});
@@ -294,7 +294,7 @@ pid_t forkHangingRun(const fs::path& folder, const pbd::Scene& scene, const RunL
         "shell",
         ExternalCommand{
             {"sh", "-c", "sleep 300 & echo $! > " + childFile.string() + "; sleep 300", "engine"},
-            folder.string()});
+            folder.string(), ""});
     Method method;
     method.name = "shell.hang";
     try {
@@ -567,6 +567,19 @@ TEST_F(ExternalEngineTest, ParticlesForASceneWithoutParticlesAreAnError) {
   EXPECT_TRUE(containsAll(outcome.reason, {"particles.csv", "without particles"})) << outcome.reason;
 }
 
+TEST_F(ExternalEngineTest, APythonCommandGetsThePackageFolderFirstOnItsPythonPath) {
+  // The engine fails unless PYTHONPATH starts with the package folder: the run's status says which.
+  const std::string script =
+      "case \"$PYTHONPATH\" in /src/python|/src/python:*) ;; *) exit 3;; esac; " +
+      std::string("cp ") + restingTrajectory() + " \"$4/trajectory.csv\"; " + okStatus();
+  const ExternalCommand command{{"sh", "-c", script, "engine"}, folder_.string(), "/src/python"};
+  ExternalEngine engine("shell", command);
+  Method method;
+  method.name = "shell.test";
+  const RunOutcome outcome = runSimulation(engine, scene_, method, length_, {}, 10);
+  EXPECT_EQ(outcome.status, RunStatus::Ok) << outcome.reason;
+}
+
 TEST(EngineCatalogue, EntriesAreTypedAndBadFilesNameTheirPath) {
   const fs::path folder =
       fs::temp_directory_path() / ("pbdval-catalogue-" + std::to_string(::getpid()));
@@ -577,7 +590,7 @@ TEST(EngineCatalogue, EntriesAreTypedAndBadFilesNameTheirPath) {
     "methods": [{"name": "good.a", "description": "d", "parameters": [
       {"name": "iterations", "kind": "integer", "default": 10, "min": 1, "max": 100,
        "description": "sweeps"}]}]})";
-  const std::vector<EngineEntry> entries = readEngineCatalogue(folder.string(), "/venv/python", "/root");
+  const std::vector<EngineEntry> entries = readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"}, "/root");
   ASSERT_EQ(entries.size(), 1u);
   EXPECT_EQ(entries[0].methods[0].parameters[0].kind, ParameterKind::Integer);
   EXPECT_THROW(parseParameter(entries[0].methods[0].parameters[0], "0", "good.a"), std::invalid_argument);
@@ -586,7 +599,7 @@ TEST(EngineCatalogue, EntriesAreTypedAndBadFilesNameTheirPath) {
     "defaultMethod": "bad.a", "methods": [{"name": "bad.a", "parameters": [
       {"name": "p", "kind": "float", "default": 1}]}]})";
   try {
-    readEngineCatalogue(folder.string(), "/venv/python", "/root");
+    readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"}, "/root");
     FAIL() << "a bad kind was accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_TRUE(containsAll(e.what(), {"zbad.json", "methods[0].parameters[0].kind",

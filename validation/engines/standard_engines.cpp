@@ -33,8 +33,11 @@ EngineRegistry standardEngines(const EnvironmentLookup& environment) {
       start = end + 1;
     }
   }
+  // The Python engines (python/pbdval/engines) import pbdval from this source tree: the one
+  // place their module path is set (the venv's own .pth may name another checkout).
+  const ProjectPython python{projectPython(), root + "/python"};
   for (const std::string& folder : folders)
-    for (EngineEntry& entry : readEngineCatalogue(folder, projectPython(), root)) {
+    for (EngineEntry& entry : readEngineCatalogue(folder, python, root)) {
       const std::string name = entry.name;
       try {
         engines.add(std::move(entry));

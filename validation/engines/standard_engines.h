@@ -12,7 +12,7 @@ namespace pbdval {
 /// The built-in engines (grid SDF cache from sdfCacheFolder(environment)) and the catalogue's
 /// external engines: <source>/engines, then each folder of $PBDVAL_ENGINE_CATALOGUE (a
 /// ':'-separated list) added to them, run with the project's virtual environment
-/// (<source>/.venv/bin/python). Throws std::invalid_argument for a malformed catalogue or an
+/// (<source>/.venv/bin/python) with <source>/python first on their PYTHONPATH. Throws std::invalid_argument for a malformed catalogue or an
 /// engine named like one already registered (the message names the file or folder).
 EngineRegistry standardEngines(const EnvironmentLookup& environment);
 

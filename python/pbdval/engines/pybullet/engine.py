@@ -1,8 +1,7 @@
-#!/usr/bin/env python3
 """pybullet as an external engine (protocol 1, docs/external-engines.md; parity rules:
 docs/external-engines.md#pybullet).
 
-    .venv/bin/python adapters/pybullet/engine.py --scene RESOLVED.json --out OUTDIR
+    .venv/bin/python -m pbdval.engines.pybullet --scene RESOLVED.json --out OUTDIR
 
 The scene is built through pybullet's API in DIRECT mode, with the same parity rules as the
 built-in `bullet` engine (adapters/bullet/): every body a maximal-coordinate btRigidBody whose
@@ -23,25 +22,16 @@ table in docs/external-engines.md#pybullet.
 from __future__ import annotations
 
 import math
-import os
-import sys
 import tempfile
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from pbdval import protocol as pp  # noqa: E402
-import materials  # noqa: E402
+import pybullet as pb
 
-# pybullet's C code prints a "pybullet build time" banner to file descriptor 1: an engine keeps
-# standard output free of anything but data, so the banner goes to standard error.
-if __name__ == "__main__":
-    os.dup2(2, 1)
-import pybullet as pb  # noqa: E402
-import deformables  # noqa: E402
+from pbdval import protocol as pp
+from pbdval.engines.pybullet import deformables, materials
 
 #: method name → pybullet constraintSolverType
 SOLVERS = {
@@ -440,7 +430,3 @@ def run(scene: pp.ResolvedScene, out: Path) -> pp.Status:
     # The soft bodies' meshes go to a scratch folder of our own, never into OUTDIR.
     with tempfile.TemporaryDirectory(prefix="pbdval-pybullet-") as folder:
         return PybulletRun(scene, folder).run(out)
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -1,8 +1,7 @@
-#!/usr/bin/env python3
 """MuJoCo (the Python package, 4.x) as an external engine (protocol 1,
 docs/external-engines.md; parity rules: docs/external-engines.md#mujoco-python).
 
-    .venv/bin/python adapters/mujoco_py/engine.py --scene RESOLVED.json --out OUTDIR
+    .venv/bin/python -m pbdval.engines.mujoco --scene RESOLVED.json --out OUTDIR
 
 The model is built with mujoco.MjSpec (no MJCF text), with the parity rules of the built-in
 `mujoco` engine (adapters/mujoco/, MuJoCo 2.2.2): every body's frame is its principal frame at
@@ -22,20 +21,15 @@ discrete and solver newton, cg, pgs.
 from __future__ import annotations
 
 import math
-import os
-import sys
 import warnings
 from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from pbdval import protocol as pp  # noqa: E402
-import contact_law  # noqa: E402
-import flexes  # noqa: E402
+import mujoco
 
-import mujoco  # noqa: E402
+from pbdval import protocol as pp
+from pbdval.engines.mujoco import contact_law, flexes
 
 ENGINE = "mujoco-python"
 INTEGRATORS = {
@@ -433,7 +427,3 @@ class MujocoRun:
 def main(argv: list[str] | None = None) -> int:
     return pp.serve(argv, "MuJoCo (Python) as a pbdval external engine", unsupported_features,
                     lambda scene, out: MujocoRun(scene).run(out), engine_version())
-
-
-if __name__ == "__main__":
-    sys.exit(main())
