@@ -1,4 +1,4 @@
-"""The external engines run as the runner runs them (`.venv/bin/python ENGINE --scene X --out D`)
+"""The external engines run as the runner runs them (the catalogue command, `--scene X --out D`)
 on exported cases, against closed forms; and their catalogues (engines/*.json)."""
 
 from __future__ import annotations
@@ -8,13 +8,14 @@ import dataclasses
 import importlib.util
 import json
 import math
+import subprocess
 from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
 import pytest
 
-from conftest import REPO
+from conftest import REPO, VENV_PYTHON
 from pbdval import protocol as pp
 
 # The engines by catalogue name (run_engine runs engines/<name>.json's command).
@@ -365,3 +366,30 @@ def test_no_engine_fails_on_any_case(export_scene: Export, run_engine: Run, case
         status, out = run_engine(engine, export_scene(case, method=method, duration=0.02))
         assert status["status"] in ("ok", "unsupported"), (engine, status["reason"])
         assert (status["status"] == "ok") == trajectory_written(out)
+
+
+# --- mujoco-python's catalogue, generated from pbdval.engines.mujoco.catalogue ------------------
+
+def test_the_shipped_mujoco_python_catalogue_is_the_one_the_module_generates() -> None:
+    from conftest import engine_environment
+
+    result = subprocess.run([str(VENV_PYTHON), "-m", "pbdval.engines.mujoco", "--catalogue"],
+                            capture_output=True, text=True, cwd=REPO, env=engine_environment(),
+                            check=False, timeout=60)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout == (REPO / "engines" / "mujoco-python.json").read_text(), (
+        "engines/mujoco-python.json is stale: regenerate it with "
+        ".venv/bin/python -m pbdval.engines.mujoco --catalogue > engines/mujoco-python.json")
+
+
+def test_the_mujoco_catalogue_declares_exactly_the_integrators_and_solvers_the_engine_maps() -> None:
+    import mujoco
+
+    from pbdval.engines.mujoco import catalogue, engine
+
+    assert list(catalogue.INTEGRATORS) == list(engine.INTEGRATORS)
+    assert list(catalogue.SOLVERS) == list(engine.SOLVERS)
+    assert catalogue.MUJOCO_VERSION == mujoco.__version__
+    methods = catalogue.catalogue()["methods"]
+    assert len(methods) == len(engine.INTEGRATORS) * len(engine.SOLVERS)
+    assert all(engine.method_parts(m["name"]) is not None for m in methods)

@@ -1,8 +1,15 @@
 """`python -m pbdval.engines.mujoco --scene RESOLVED.json --out OUTDIR`: the engine's process
-(protocol 1, docs/external-engines.md), as the catalogue entry engines/mujoco-python.json runs it."""
+(protocol 1, docs/external-engines.md), as the catalogue entry engines/mujoco-python.json runs it.
+`python -m pbdval.engines.mujoco --catalogue` prints that catalogue entry (catalogue.py)."""
 
 import sys
 
-from pbdval.engines.mujoco.engine import main
+if sys.argv[1:] == ["--catalogue"]:
+    from pbdval.engines.mujoco.catalogue import catalogue_text
+
+    sys.stdout.write(catalogue_text())
+    sys.exit(0)
+
+from pbdval.engines.mujoco.engine import main  # noqa: E402
 
 sys.exit(main())

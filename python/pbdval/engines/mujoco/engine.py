@@ -29,9 +29,9 @@ import numpy as np
 import mujoco
 
 from pbdval import protocol as pp
-from pbdval.engines.mujoco import contact_law, flexes
+from pbdval.engines.mujoco import catalogue, contact_law, flexes
+from pbdval.engines.mujoco.catalogue import DEFAULT_METHOD, ENGINE
 
-ENGINE = "mujoco-python"
 INTEGRATORS = {
     "euler": mujoco.mjtIntegrator.mjINT_EULER,
     "rk4": mujoco.mjtIntegrator.mjINT_RK4,
@@ -45,7 +45,6 @@ SOLVERS = {
     "pgs": mujoco.mjtSolver.mjSOL_PGS,
 }
 CONES = {"elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC, "pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL}
-DEFAULT_METHOD = f"{ENGINE}.euler.newton"
 SUPPORTED_JOINTS = ("ball", "hinge")
 SUPPORTED_SHAPES = ("none", "sphere", "box", "cylinder", "sdf")
 #: Constant impedance of contacts (solimp d0 = d_width), as the built-in engine.
@@ -157,19 +156,21 @@ class MujocoRun:
         assert parts is not None
         integrator, solver = parts
         h = scene.time_step_size
-        # The catalogue's defaults: `discrete` also spends them on its iterative solve of
-        # M + h^2 K, which 100 leaves under-converged on a tet bar (engines/mujoco-python.json).
-        self.iterations = int(scene.parameter("iterations", 1000 if integrator == "discrete" else 100))
-        self.tolerance = float(scene.parameter("tolerance", 1e-8))
-        cone = str(scene.parameter("cone", "elliptic"))
+        # The catalogue's defaults (catalogue.py; `discrete` has more iterations).
+        def parameter(name: str) -> pp.ParameterValue:
+            return scene.parameter(name, catalogue.default(integrator, name))
+
+        self.iterations = int(parameter("iterations"))
+        self.tolerance = float(parameter("tolerance"))
+        cone = str(parameter("cone"))
         if cone not in CONES:
             raise ValueError(f"parameter cone: expected one of {', '.join(CONES)}, got {cone!r}")
-        tau_steps = float(scene.parameter("contactTimeconstSteps", 4.0))
+        tau_steps = float(parameter("contactTimeconstSteps"))
         if tau_steps < 2:
             raise ValueError(f"parameter contactTimeconstSteps: expected >= 2 (MuJoCo raises a "
                              f"shorter time constant to 2h), got {tau_steps}")
         self.tau = tau_steps * h
-        requested_substeps = int(scene.parameter("substeps", 0))
+        requested_substeps = int(parameter("substeps"))
         if requested_substeps < 0:
             raise ValueError(f"parameter substeps: expected >= 0 (0: automatic), got {requested_substeps}")
         self.settings: dict[str, pp.ParameterValue] = {
@@ -198,7 +199,7 @@ class MujocoRun:
         self.parents, _ = tree(scene)
         self._add_bodies(spec)
         self._add_pairs(spec)
-        bending_curvature = float(scene.parameter("clothBendingCurvature", 2.0))
+        bending_curvature = float(parameter("clothBendingCurvature"))
         if bending_curvature < 0:
             raise ValueError("parameter clothBendingCurvature: expected >= 0 (0: no bending), "
                              f"got {bending_curvature}")
