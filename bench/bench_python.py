@@ -46,7 +46,7 @@ from pbdval import protocol as pp  # noqa: E402
 
 DURATION = 5.0  # s of simulated time (the "5 s case")
 CASES = ["joint_hinge", "chain_10", "contact_bouncing_balls", "contact_stack_5"]
-ENGINES = {"pybullet.si": "pbdval.engines.pybullet.engine", "mujoco-python.euler.newton": "pbdval.engines.mujoco.engine"}
+ENGINES = {"pybullet.si": "pbdval.external.pybullet.engine", "mujoco-python.euler.newton": "pbdval.external.mujoco.engine"}
 
 
 def load_adapter(module: str) -> Any:

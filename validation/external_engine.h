@@ -30,7 +30,7 @@ struct ExternalCommand {
 };
 
 /// The Python that runs the catalogue commands naming "{python}": the interpreter, by path, and
-/// the folder put first on those engines' PYTHONPATH, so that `python -m pbdval.engines.<name>`
+/// the folder put first on those engines' PYTHONPATH, so that `python -m pbdval.external.<name>`
 /// imports pbdval from this source tree whatever the interpreter's own path says.
 struct ProjectPython {
   std::string interpreter;

@@ -159,8 +159,8 @@ def test_hinge_pendulum_period_matches_the_elliptic_integral(
 
 
 def pybullet_engine_module() -> Any:
-    """pbdval.engines.pybullet.engine, imported here (pybullet loads with it)."""
-    from pbdval.engines.pybullet import engine
+    """pbdval.external.pybullet.engine, imported here (pybullet loads with it)."""
+    from pbdval.external.pybullet import engine
 
     return engine
 
@@ -368,24 +368,24 @@ def test_no_engine_fails_on_any_case(export_scene: Export, run_engine: Run, case
         assert (status["status"] == "ok") == trajectory_written(out)
 
 
-# --- mujoco-python's catalogue, generated from pbdval.engines.mujoco.catalogue ------------------
+# --- mujoco-python's catalogue, generated from pbdval.external.mujoco.catalogue ------------------
 
 def test_the_shipped_mujoco_python_catalogue_is_the_one_the_module_generates() -> None:
     from conftest import engine_environment
 
-    result = subprocess.run([str(VENV_PYTHON), "-m", "pbdval.engines.mujoco", "--catalogue"],
+    result = subprocess.run([str(VENV_PYTHON), "-m", "pbdval.external.mujoco", "--catalogue"],
                             capture_output=True, text=True, cwd=REPO, env=engine_environment(),
                             check=False, timeout=60)
     assert result.returncode == 0, result.stderr
     assert result.stdout == (REPO / "engines" / "mujoco-python.json").read_text(), (
         "engines/mujoco-python.json is stale: regenerate it with "
-        ".venv/bin/python -m pbdval.engines.mujoco --catalogue > engines/mujoco-python.json")
+        ".venv/bin/python -m pbdval.external.mujoco --catalogue > engines/mujoco-python.json")
 
 
 def test_the_mujoco_catalogue_declares_exactly_the_integrators_and_solvers_the_engine_maps() -> None:
     import mujoco
 
-    from pbdval.engines.mujoco import catalogue, engine
+    from pbdval.external.mujoco import catalogue, engine
 
     assert list(catalogue.INTEGRATORS) == list(engine.INTEGRATORS)
     assert list(catalogue.SOLVERS) == list(engine.SOLVERS)

@@ -1,4 +1,4 @@
-"""mujoco-python's particles as MuJoCo flexes (pbdval.engines.mujoco.flexes): the model is the
+"""mujoco-python's particles as MuJoCo flexes (pbdval.external.mujoco.flexes): the model is the
 scene's (vertices, order, masses, elements), its elastic laws are the ones documented (closed
 forms of homogeneous strains), internal forces leave the centre of mass on the integrator's own
 parabola, pinned particles stay, a cantilever sags as an independent static FEM solve says, and
@@ -19,7 +19,7 @@ import pytest
 import linear_fem
 from conftest import REPO
 from pbdval import protocol as pp
-from pbdval.engines.mujoco import engine, flexes
+from pbdval.external.mujoco import engine, flexes
 
 MUJOCO = "mujoco-python"  # the catalogue entry run_engine runs
 Export = Callable[..., Path]

@@ -55,7 +55,7 @@ def test_package_discovery_finds_every_package_folder_of_pbdval() -> None:
     on_disk = {".".join(p.parent.relative_to(PYTHON).parts)
                for p in (PYTHON / "pbdval").rglob("__init__.py") if "node_modules" not in p.parts}
     assert set(discovered) == on_disk
-    assert {"pbdval", "pbdval.engines", "pbdval.engines.pybullet", "pbdval.engines.mujoco"} <= on_disk
+    assert {"pbdval", "pbdval.external", "pbdval.external.pybullet", "pbdval.external.mujoco"} <= on_disk
 
 
 def test_no_module_of_the_package_edits_the_import_path() -> None:
@@ -65,8 +65,16 @@ def test_no_module_of_the_package_edits_the_import_path() -> None:
 
 
 def test_the_engines_siblings_import_as_modules_of_the_package() -> None:
-    from pbdval.engines.mujoco import contact_law, engine as mujoco_engine, flexes
-    from pbdval.engines.pybullet import deformables, engine as pybullet_engine, materials
+    from pbdval.external.mujoco import contact_law, engine as mujoco_engine, flexes
+    from pbdval.external.pybullet import deformables, engine as pybullet_engine, materials
 
     assert pybullet_engine.materials is materials and pybullet_engine.deformables is deformables
     assert mujoco_engine.flexes is flexes and mujoco_engine.contact_law is contact_law
+
+
+def test_importing_the_python_engines_leaves_the_api_function_engines_callable() -> None:
+    import pbdval
+    import pbdval.external.mujoco.engine  # noqa: F401
+    import pbdval.external.pybullet.engine  # noqa: F401
+
+    assert callable(pbdval.engines)

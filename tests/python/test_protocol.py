@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from pbdval import protocol as pp
-from pbdval.engines.mujoco import contact_law
-from pbdval.engines.pybullet import materials
+from pbdval.external.mujoco import contact_law
+from pbdval.external.pybullet import materials
 
 
 def minimal_document() -> dict:
@@ -170,7 +170,7 @@ def test_divergence_uses_the_runner_limits() -> None:
     assert "non-finite state of body 2" in (pp.divergence_reason(1.0, [nan]) or "")
 
 
-# --- pybullet's per-body material factors (pbdval.engines.pybullet.materials)
+# --- pybullet's per-body material factors (pbdval.external.pybullet.materials)
 
 def test_material_factors_reproduce_a_star_of_pairs() -> None:
     # ground 0 touching bodies 1..3 with different values: always a product (ground 1 · value)
@@ -196,7 +196,7 @@ def test_material_factors_handle_all_zero_bodies() -> None:
     assert f is not None and f[0] == 0.0 and f[1] * f[2] == pytest.approx(0.49, rel=1e-12)
 
 
-# --- the MuJoCo contact law (pbdval.engines.mujoco.contact_law)
+# --- the MuJoCo contact law (pbdval.external.mujoco.contact_law)
 
 def test_contact_law_inverts_the_kelvin_voigt_restitution() -> None:
     assert contact_law.restitution_of_damping_ratio(0.0) == 1.0

@@ -1,4 +1,4 @@
-"""pybullet's cloth and solids (pbdval.engines.pybullet.deformables, docs/external-engines.md#pybullet):
+"""pybullet's cloth and solids (pbdval.external.pybullet.deformables, docs/external-engines.md#pybullet):
 the mapping's pieces against closed forms, and whole runs as the runner makes them."""
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import pytest
 from conftest import REPO
 from pbdval import protocol as pp
 
-from pbdval.engines.pybullet import deformables, engine
+from pbdval.external.pybullet import deformables, engine
 
 PYBULLET = "pybullet"  # the catalogue entry run_engine runs
 CLOTH = str(REPO / "cases" / "models" / "cloth.obj")

@@ -33,7 +33,7 @@ EngineRegistry standardEngines(const EnvironmentLookup& environment) {
       start = end + 1;
     }
   }
-  // The Python engines (python/pbdval/engines) import pbdval from this source tree: the one
+  // The Python engines (python/pbdval/external) import pbdval from this source tree: the one
   // place their module path is set (the venv's own .pth may name another checkout).
   const ProjectPython python{projectPython(), root + "/python"};
   for (const std::string& folder : folders)

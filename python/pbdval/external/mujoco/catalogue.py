@@ -2,7 +2,7 @@
 solver with one parameter list (the discrete integrator's `iterations` differ), and
 engines/mujoco-python.json is generated from here:
 
-    .venv/bin/python -m pbdval.engines.mujoco --catalogue > engines/mujoco-python.json
+    .venv/bin/python -m pbdval.external.mujoco --catalogue > engines/mujoco-python.json
 
 (tests/python/test_engines.py checks that the shipped file is current). The engine takes its
 parameter defaults from here too (`default`). Imports nothing but the standard library, so the
@@ -86,11 +86,11 @@ def catalogue() -> dict[str, Any]:
         "protocol": 1,
         "name": ENGINE,
         "description": f"MuJoCo {MUJOCO_VERSION} through its Python package, model built with MjSpec "
-                       "(python/pbdval/engines/mujoco/, run as python -m pbdval.engines.mujoco; "
-                       "particles as flexes, python/pbdval/engines/mujoco/flexes.py; "
+                       "(python/pbdval/external/mujoco/, run as python -m pbdval.external.mujoco; "
+                       "particles as flexes, python/pbdval/external/mujoco/flexes.py; "
                        "docs/external-engines.md#mujoco-python). Not the built-in 'mujoco' engine "
                        "(MuJoCo 2.2.2, C++).",
-        "command": ["{python}", "-m", "pbdval.engines.mujoco"],
+        "command": ["{python}", "-m", "pbdval.external.mujoco"],
         "defaultMethod": DEFAULT_METHOD,
         "version": f"mujoco {MUJOCO_VERSION}",
         "methods": methods,

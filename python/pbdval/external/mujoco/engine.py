@@ -1,7 +1,7 @@
 """MuJoCo (the Python package, 4.x) as an external engine (protocol 1,
 docs/external-engines.md; parity rules: docs/external-engines.md#mujoco-python).
 
-    .venv/bin/python -m pbdval.engines.mujoco --scene RESOLVED.json --out OUTDIR
+    .venv/bin/python -m pbdval.external.mujoco --scene RESOLVED.json --out OUTDIR
 
 The model is built with mujoco.MjSpec (no MJCF text), with the parity rules of the built-in
 `mujoco` engine (adapters/mujoco/, MuJoCo 2.2.2): every body's frame is its principal frame at
@@ -29,8 +29,8 @@ import numpy as np
 import mujoco
 
 from pbdval import protocol as pp
-from pbdval.engines.mujoco import catalogue, contact_law, flexes
-from pbdval.engines.mujoco.catalogue import DEFAULT_METHOD, ENGINE
+from pbdval.external.mujoco import catalogue, contact_law, flexes
+from pbdval.external.mujoco.catalogue import DEFAULT_METHOD, ENGINE
 
 INTEGRATORS = {
     "euler": mujoco.mjtIntegrator.mjINT_EULER,

@@ -1,7 +1,7 @@
 """pybullet as an external engine (protocol 1, docs/external-engines.md; parity rules:
 docs/external-engines.md#pybullet).
 
-    .venv/bin/python -m pbdval.engines.pybullet --scene RESOLVED.json --out OUTDIR
+    .venv/bin/python -m pbdval.external.pybullet --scene RESOLVED.json --out OUTDIR
 
 The scene is built through pybullet's API in DIRECT mode, with the same parity rules as the
 built-in `bullet` engine (adapters/bullet/): every body a maximal-coordinate btRigidBody whose
@@ -31,7 +31,7 @@ import numpy as np
 import pybullet as pb
 
 from pbdval import protocol as pp
-from pbdval.engines.pybullet import deformables, materials
+from pbdval.external.pybullet import deformables, materials
 
 #: method name → pybullet constraintSolverType
 SOLVERS = {

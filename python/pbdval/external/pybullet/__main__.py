@@ -1,4 +1,4 @@
-"""`python -m pbdval.engines.pybullet --scene RESOLVED.json --out OUTDIR`: the engine's process
+"""`python -m pbdval.external.pybullet --scene RESOLVED.json --out OUTDIR`: the engine's process
 (protocol 1, docs/external-engines.md), as the catalogue entry engines/pybullet.json runs it."""
 
 import os
@@ -9,6 +9,6 @@ import sys
 # descriptor 1 is standard error (before the import below loads pybullet).
 os.dup2(2, 1)
 
-from pbdval.engines.pybullet.engine import main  # noqa: E402
+from pbdval.external.pybullet.engine import main  # noqa: E402
 
 sys.exit(main())
