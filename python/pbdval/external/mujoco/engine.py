@@ -21,6 +21,7 @@ discrete and solver newton, cg, pgs.
 from __future__ import annotations
 
 import math
+import sys
 import warnings
 from pathlib import Path
 
@@ -425,6 +426,14 @@ class MujocoRun:
         return status
 
 
+def _warn_on_stderr(message: str) -> None:
+    """MuJoCo's warnings go to standard error (the runner keeps its tail), not to a
+    MUJOCO_LOG.TXT in the working folder, which is the repository (data.warning still counts
+    them: the instability is reported as a divergence)."""
+    print(f"MuJoCo warning: {message}", file=sys.stderr)
+
+
 def main(argv: list[str] | None = None) -> int:
+    mujoco.set_mju_user_warning(_warn_on_stderr)
     return pp.serve(argv, "MuJoCo (Python) as a pbdval external engine", unsupported_features,
                     lambda scene, out: MujocoRun(scene).run(out), engine_version())
