@@ -150,14 +150,6 @@ std::optional<CheckViolation> unitQuaternionViolation(const pbd::Scene& scene, c
   return std::nullopt;
 }
 
-/// A sample interval in which a body's reported (angular) velocity misses the finite
-/// difference of its positions (orientations).
-struct IntervalMismatch {
-  std::size_t body;
-  bool angular;
-  std::string message;
-};
-
 /// The allowance for what happens between two samples that the samples cannot show: ¼ of the
 /// largest second difference (twice the Δ²/8 · |v̈| by which a smooth velocity's chord misses
 /// its mean), ½ |v_{k+1} − v_k| (the spread of the velocity inside the interval when it does
@@ -229,7 +221,7 @@ std::vector<IntervalMismatch> velocityMismatches(const pbd::Scene& scene, const 
         << " rad) yet reports v = " << fmt(bb.velocity) << " m/s and ω = "
         << fmt(bb.angularVelocity) << " rad/s, more than the method's rest allowance "
         << fmt(restLinear) << " m/s, " << fmt(restAngular) << " rad/s";
-      mismatches.push_back({i, false, m.str()});
+      mismatches.push_back({i, false, "velocity_at_rest", m.str()});
       continue;
     }
     const double deviation = distanceToSegment(fd, ba.velocity, bb.velocity);
@@ -246,7 +238,7 @@ std::vector<IntervalMismatch> velocityMismatches(const pbd::Scene& scene, const 
         << " m/s (finite difference), its reported velocities are " << fmt(ba.velocity) << " and "
         << fmt(bb.velocity) << " m/s: " << fmt(deviation) << " m/s off, more than the bound "
         << fmt(bound) << " m/s from the sample interval, the accelerations and the speed";
-      mismatches.push_back({i, false, m.str()});
+      mismatches.push_back({i, false, "velocity_consistency", m.str()});
     }
     // Angular: the rotation vector of q_{k+1} q_k⁻¹ over Δ must lie on the chord
     // [ω_k, ω_{k+1}] up to the allowance and the Magnus term Δ/12 |(ω_{k+1} − ω_k) × ω_k|.
@@ -270,7 +262,7 @@ std::vector<IntervalMismatch> velocityMismatches(const pbd::Scene& scene, const 
         << fmt(wa) << " and " << fmt(wb) << " rad/s: " << fmt(deviationW)
         << " rad/s off, more than the bound " << fmt(boundW)
         << " rad/s from the sample interval, the accelerations and the speed";
-      mismatches.push_back({i, true, m.str()});
+      mismatches.push_back({i, true, "angular_velocity_consistency", m.str()});
     }
   }
   return mismatches;
@@ -343,8 +335,7 @@ SanityBounds sanityBounds(const pbd::Scene& scene) {
       b.notIsolated = body.jsonPath + " is static and can be touched";
   for (const pbd::JointDesc& joint : scene.joints)
     if (b.notIsolated.empty() &&
-        (bodyMass(scene, joint.body1) == 0 || (joint.body2 >= 0 && bodyMass(scene, joint.body2) == 0) ||
-         joint.body2 < 0))
+        (bodyMass(scene, joint.body1) == 0 || bodyMass(scene, joint.body2) == 0))
       b.notIsolated = joint.jsonPath + " holds a body to a static body or a particle";
   if (b.notIsolated.empty() && (!scene.particles.empty() || !scene.lineModels.empty() ||
                                 !scene.fluidModels.empty()))
@@ -430,13 +421,13 @@ void BoundaryChecker::checkInterval(std::size_t first) {
                                                 restVelocityAllowance_, sizes_, skipVelocity_)) {
     const std::size_t slot = 2 * m.body + (m.angular ? 1 : 0);
     failing[slot] = 1;
-    if (streaks_[slot]++ == 0) streakStart_[slot] = std::move(m.message);
+    if (streaks_[slot]++ == 0) streakStart_[slot] = std::move(m);
     if (streaks_[slot] >= kPersistentIntervals && !violation_)
-      violation_ = CheckViolation{
-          streakStart_[slot].substr(0, streakStart_[slot].find(':')),
-          streakStart_[slot] + ", and again in each of the next " +
-              std::to_string(kPersistentIntervals - 1) +
-              " intervals (a persistent mismatch, not a transient)"};
+      violation_ = CheckViolation{streakStart_[slot].check,
+                                  streakStart_[slot].message + ", and again in each of the next " +
+                                      std::to_string(kPersistentIntervals - 1) +
+                                      " intervals (a persistent mismatch, not a transient)",
+                                  /*aboutVelocities=*/true};
   }
   for (std::size_t slot = 0; slot < streaks_.size(); ++slot)
     if (!failing[slot]) streaks_[slot] = 0;

@@ -29,6 +29,18 @@ namespace pbdval {
 struct CheckViolation {
   std::string check;
   std::string message;
+  /// One of the velocity checks (velocity_at_rest, velocity_consistency,
+  /// angular_velocity_consistency), which states several integrator steps apart can break by
+  /// aliasing an oscillation (runSimulation then makes the run suspect, not an error).
+  bool aboutVelocities = false;
+};
+
+/// A pair of states in which a body's reported (angular) velocity misses the motion.
+struct IntervalMismatch {
+  std::size_t body = 0;
+  bool angular = false;  ///< ω against the orientations (else v against the positions)
+  std::string check;     ///< velocity_at_rest, velocity_consistency or angular_velocity_consistency
+  std::string message;
 };
 
 /// The boundary checks over a run's samples as they come (runSimulation feeds it every sample,
@@ -65,7 +77,7 @@ class BoundaryChecker {
   /// Per body, linear then angular: consecutive intervals with a mismatch, and the first one's
   /// message.
   std::vector<int> streaks_;
-  std::vector<std::string> streakStart_;
+  std::vector<IntervalMismatch> streakStart_;
   double restVelocityAllowance_;
   std::vector<double> sizes_;  ///< per body, √(tr I / 2m) (m), for the angular rest allowance
   std::vector<bool> skipVelocity_;  ///< per body: RunFacts::velocityDrivenBodies

@@ -98,18 +98,13 @@ std::string divergenceReason(const State& state) {
 
 namespace {
 
-bool isVelocityCheck(const std::string& check) {
-  return check == "velocity_consistency" || check == "angular_velocity_consistency" ||
-         check == "velocity_at_rest";
-}
-
 /// The status a boundary violation gives a completed run (docs/metrics.md §Boundary checks):
 /// a velocity mismatch between states `integratorSteps` integrator steps apart may be an
 /// oscillation faster than that interval which the states alias, not a wrong velocity, so it
 /// makes the run suspect; over one integrator step, and for every other check, it is an error.
 void applyBoundaryViolation(const CheckViolation& violation, long integratorSteps,
                             RunOutcome& outcome) {
-  if (isVelocityCheck(violation.check) && integratorSteps > 1) {
+  if (violation.aboutVelocities && integratorSteps > 1) {
     outcome.status = RunStatus::Suspect;
     outcome.reason = violation.message + " (the states are " + std::to_string(integratorSteps) +
                      " integrator steps apart: an oscillation faster than that aliases like this)";
@@ -237,7 +232,7 @@ RunOutcome runSimulation(Engine& engine, const pbd::Scene& scene, const Method& 
     if (outcome.status == RunStatus::Ok && boundary.finish())
       applyBoundaryViolation(*boundary.violation(), stepsPerStep, outcome);
     if (outcome.status == RunStatus::Ok && plan.stride > 1 && sampled.finish() &&
-        isVelocityCheck(sampled.violation()->check))
+        sampled.violation()->aboutVelocities)
       applyBoundaryViolation(*sampled.violation(), plan.stride * stepsPerStep, outcome);
     if (auto hash = engine.stateHash()) outcome.stateHash = *hash;
   } catch (const SignalInterrupt&) {
