@@ -169,5 +169,43 @@ expect 2 "metric energy_drift_max is nan" -- \
 expect 2 "is a folder, not a file" -- \
   "$pbdval" gate --baseline "$work/baseline.json" --results "$work/run" --junit "$work/folder"
 
+# --- merge touches only what its shards own (issue 25): a shard whose results.json was edited to
+# point outside it, or to relabel or reorder its runs, is refused before anything is moved
+"$pbdval" run "$scene" --engines pbd,ode --shard 1/1 --out "$work/shard" --quiet >/dev/null ||
+  fail "the shard run failed"
+cp "$work/shard/results.json" "$work/shard.json"
+echo "not the shard's" >"$work/outside.csv"
+tamper() {  # tamper PYTHON-EXPRESSION-ON-runs: writes the shard's results.json edited
+  python3 - "$work/shard.json" "$work/shard/results.json" "$1" "$work" <<'PY'
+import json, sys
+results = json.load(open(sys.argv[1]))
+runs, work = results["runs"], sys.argv[4]
+exec(sys.argv[3])
+json.dump(results, open(sys.argv[2], "w"))
+PY
+}
+tamper 'runs[0]["trajectory"] = work + "/outside.csv"'
+expect 2 "expected OUT/trajectories/contact_sphere_drop/pbd-pbd.csv or .npy" -- \
+  "$pbdval" merge "$work/shard" --out "$work/merged" --move
+[[ -f $work/outside.csv && ! -e $work/merged ]] || fail "merge --move touched a file outside the shard"
+tamper 'runs[0]["trajectory"] = runs[0]["trajectory"].replace("pbd-pbd.csv", "../../../outside.csv")'
+expect 2 "or .npy, the path 'pbdval run' writes" -- "$pbdval" merge "$work/shard" --out "$work/merged" --move
+mv "$work/shard/trajectories/contact_sphere_drop/pbd-pbd.csv" "$work/moved-away.csv"
+ln -s "$work/outside.csv" "$work/shard/trajectories/contact_sphere_drop/pbd-pbd.csv"
+tamper 'pass'
+expect 2 "pbd-pbd.csv is a symbolic link" -- "$pbdval" merge "$work/shard" --out "$work/merged" --move
+[[ -f $work/outside.csv && ! -e $work/merged ]] || fail "merge --move followed a link out of the shard"
+rm "$work/shard/trajectories/contact_sphere_drop/pbd-pbd.csv"
+expect 2 "pbd-pbd.csv does not exist; a run with status ok has its trajectory" -- \
+  "$pbdval" merge "$work/shard" --out "$work/merged"
+mv "$work/moved-away.csv" "$work/shard/trajectories/contact_sphere_drop/pbd-pbd.csv"
+tamper 'runs[1]["engine"] = "mujoco"'
+expect 2 "not the plan they were run from" -- "$pbdval" merge "$work/shard" --out "$work/merged"
+tamper 'runs.reverse()'
+expect 2 "not the plan they were run from" -- "$pbdval" merge "$work/shard" --out "$work/merged"
+tamper 'pass'
+expect 0 "3 runs: 3 ok, 3 trajectories" -- "$pbdval" merge "$work/shard" --out "$work/merged" --move --quiet
+[[ -f $work/merged/trajectories/contact_sphere_drop/pbd-pbd.csv ]] || fail "the untampered shard was not merged"
+
 echo "cli_fail_closed: $tried bad or special inputs tried, $failures failures"
 [[ $failures -eq 0 ]]

@@ -38,9 +38,15 @@ cleanup() {
 trap cleanup EXIT
 
 # The engine: a shell script that starts a child of its own (recorded in $ENGINE_PIDS), then
-# per $ENGINE_MODE hangs or finishes normally (status "unsupported", exit 0).
+# per $ENGINE_MODE hangs or finishes normally (status "unsupported", exit 0). With
+# $ENGINE_SETSID (a file name) it also starts a process that leaves its process group with
+# setsid() and records its pid there.
 cat >"$work/engine.sh" <<'SH'
 echo $$ >>"$ENGINE_PIDS.engines"
+if [ -n "${ENGINE_SETSID:-}" ]; then
+  setsid sh -c 'echo $$ >>"$1"; echo $$ >"$0"; exec sleep 300' "$ENGINE_SETSID" "$ENGINE_ALL" &
+  while [ ! -s "$ENGINE_SETSID" ]; do sleep 0.01; done
+fi
 sleep 300 &
 child=$!
 if [ "$ENGINE_MODE" = hang ]; then sleep 300 & hang=$!; fi
@@ -66,6 +72,42 @@ ENGINE_MODE=done ENGINE_PIDS=$work/done.pid timeout 60 "$pbdval" simulate "$scen
   --duration 0.05 --quiet >/dev/null 2>&1
 expect_gone "simulate, normal finish" "$work/done.pid"
 expect_no_scratch "simulate, normal finish"
+
+# --- a process that left the engine's process group (setsid) ends with the run too
+tried=$((tried + 1))
+rm -f "$work/setsid_simulate.pid"
+ENGINE_MODE=done ENGINE_PIDS=$work/setsid_simulate.child ENGINE_SETSID=$work/setsid_simulate.pid \
+  timeout 60 "$pbdval" simulate "$scene" --engine probe --duration 0.05 --quiet >/dev/null 2>&1
+expect_gone "simulate, a setsid() child after a normal finish" "$work/setsid_simulate.pid"
+expect_no_scratch "simulate, setsid child"
+tried=$((tried + 1))
+rm -f "$work/setsid_run.pid"
+ENGINE_MODE=done ENGINE_PIDS=$work/setsid_run.child ENGINE_SETSID=$work/setsid_run.pid \
+  timeout 60 "$pbdval" run "$scene" --engines probe --out "$work/setsid_run" --no-trajectories \
+  --quiet >/dev/null 2>&1
+expect_gone "run, a setsid() child after a normal finish" "$work/setsid_run.pid"
+expect_no_scratch "run, setsid child"
+
+# --- run: the worker that runs the engine killed outright (SIGKILL, as the OOM killer does):
+# the scheduler records the run as an error, ends the engine's processes (those that left its
+# process group too) and removes the scratch folder the worker could not
+tried=$((tried + 1))
+rm -f "$work/worker_kill.pid" "$work/worker_kill.pid.engines" "$work/worker_kill.setsid"
+ENGINE_MODE=hang ENGINE_PIDS=$work/worker_kill.pid ENGINE_SETSID=$work/worker_kill.setsid \
+  timeout 60 "$pbdval" run "$scene" --engines probe --out "$work/worker_kill" --no-trajectories \
+  --quiet >/dev/null 2>&1 &
+runner=$!
+for _ in $(seq 100); do [[ -s $work/worker_kill.pid ]] && break; sleep 0.1; done
+worker=$(ps -o ppid= -p "$(head -1 "$work/worker_kill.pid.engines")" | tr -d ' ')
+[[ -n $(find "$TMPDIR" -maxdepth 1 -name 'pbdval-engine-*') ]] ||
+  fail "run, worker SIGKILL: no scratch folder while the engine runs (the probe is void)"
+kill -KILL "$worker"
+wait "$runner"
+grep -q 'engine process crashed with signal 9' "$work/worker_kill/results.json" 2>/dev/null ||
+  fail "run, worker SIGKILL: the run is not recorded as crashed"
+expect_gone "run, worker SIGKILL (the engine's child)" "$work/worker_kill.pid"
+expect_gone "run, worker SIGKILL (the setsid() child)" "$work/worker_kill.setsid"
+expect_no_scratch "run, worker SIGKILL"
 
 # --- simulate has run's wall-time limit, and a timeout leaves nothing
 tried=$((tried + 1))

@@ -28,8 +28,20 @@ struct Node {
     throw std::invalid_argument(
         pbd::printableText(file + ": " + path + ": expected " + expected + ", got " + got));
   }
-  Node at(const std::string& key) const { return {json.at(key), path + "." + key, file}; }
-  Node at(std::size_t i) const { return {json.at(i), path + "[" + std::to_string(i) + "]", file}; }
+  // A required key or element that is missing is a located error, not nlohmann's out_of_range
+  // (a check without "metric" ended the process: found by the case_spec fuzz target).
+  Node at(const std::string& key) const {
+    if (!json.is_object() || !json.contains(key))
+      throw std::invalid_argument(pbd::printableText(file + ": " + path + "." + key) +
+                                  ": missing (required)");
+    return {json.at(key), path + "." + key, file};
+  }
+  Node at(std::size_t i) const {
+    if (!json.is_array() || i >= json.size())
+      throw std::invalid_argument(pbd::printableText(file + ": " + path + "[" + std::to_string(i) + "]") +
+                                  ": missing (required)");
+    return {json.at(i), path + "[" + std::to_string(i) + "]", file};
+  }
 
   void requireObject(const std::set<std::string>& allowed) const {
     if (!json.is_object()) fail("an object");

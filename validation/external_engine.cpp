@@ -20,6 +20,7 @@
 #include "pbd/io/number_text.h"
 #include "validation/atomic_file.h"
 #include "validation/interrupts.h"
+#include "validation/process_reaper.h"
 #include "validation/json_text.h"
 #include "validation/resolved_scene.h"
 #include "validation/simulation.h"
@@ -117,8 +118,8 @@ struct Exit {
 /// Runs argv in `folder` with stdout to /dev/null and stderr to `stderrPath`, in a process group
 /// of its own whose id is written to `groupFile`; kills it after `limit` seconds (0: none) or
 /// when SIGINT, SIGTERM or SIGHUP arrives. Whatever way it ends, its whole process group is
-/// killed before it is reaped: a process the engine started and left running (a server, a
-/// daemonised helper) ends with it. The engine also dies with the process that started it
+/// killed before it is reaped, and every process it started elsewhere (a setsid() child, a
+/// daemon: ProcessReaper): a process the engine started and left running ends with it. The engine also dies with the process that started it
 /// (PR_SET_PDEATHSIG), should that one be killed outright.
 Exit runProcess(const ExternalCommand& command, const std::vector<std::string>& extraArguments,
                 const fs::path& stderrPath, const fs::path& groupFile, double limit) {
@@ -132,6 +133,7 @@ Exit runProcess(const ExternalCommand& command, const std::vector<std::string>& 
   const char* inherited = std::getenv("PYTHONPATH");
   if (!pythonPath.empty() && inherited && *inherited) pythonPath += std::string(":") + inherited;
   const InterruptWatch interrupts;
+  const ProcessReaper reaper;  // what the engine starts outside its process group, too
   std::fflush(nullptr);
   const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
@@ -149,6 +151,7 @@ Exit runProcess(const ExternalCommand& command, const std::vector<std::string>& 
       ::dup2(null, STDOUT_FILENO);
     }
     ::setenv("PBDVAL_PROTOCOL", "1", 1);
+    reaper.mark();
     if (!pythonPath.empty()) ::setenv("PYTHONPATH", pythonPath.c_str(), 1);
     if (!command.workingFolder.empty() && ::chdir(command.workingFolder.c_str()) != 0) {
       std::fprintf(stderr, "pbdval: cannot enter %s: %s\n", command.workingFolder.c_str(),
@@ -162,7 +165,7 @@ Exit runProcess(const ExternalCommand& command, const std::vector<std::string>& 
   ::setpgid(pid, pid);  // also here: whichever of the two runs first
   {
     std::ofstream group(groupFile);
-    group << pid << "\n";
+    group << pid << "\n" << reaper.value() << "\n";  // and the mark: removeEngineLeftovers
   }
   const Clock::time_point start = Clock::now();
   Exit exit;
@@ -185,6 +188,7 @@ Exit runProcess(const ExternalCommand& command, const std::vector<std::string>& 
       break;
     }
   }
+  reaper.killRemaining(pid);  // e.g. a child that called setsid() (validation/process_reaper.h)
   ::kill(-pid, SIGKILL);
   ::waitpid(pid, &exit.status, 0);
   return exit;
@@ -429,7 +433,9 @@ void removeEngineLeftovers(pid_t owner) {
   for (const fs::path& folder : folders) {
     std::ifstream group(folder / kGroupFile);
     long id = 0;
+    std::string mark;  // what the engine started outside its group (process_reaper.h)
     if (group >> id && id > 1) ::kill(-static_cast<pid_t>(id), SIGKILL);
+    if (group >> mark) killProcessesMarked(mark);
     std::error_code ignored;
     fs::remove_all(folder, ignored);
   }

@@ -141,9 +141,18 @@ void mergeMetrics(MetricSet& into, MetricSet&& from) {
 
 }  // namespace
 
+void checkContactMargin(double margin) {
+  if (!(std::abs(margin) <= kMaxContactMargin))
+    throw std::invalid_argument("contact_margin: expected a number of metres in [-" +
+                                formatNumber(kMaxContactMargin) + ", " +
+                                formatNumber(kMaxContactMargin) + "] (an engine's contact margin), got " +
+                                formatNumber(margin));
+}
+
 MetricSet measureSamples(const pbd::Scene& scene, const CaseSpec& spec,
                          const std::vector<State>& samples, const ReferenceTrajectory* reference,
                          double contactMargin, MetricSeries* series) {
+  checkContactMargin(contactMargin);
   // A diverged trajectory has no metrics (the runner measures ok runs only): its first
   // non-finite sample is named instead of handing NaN to the energy sums and the FCL oracle.
   for (std::size_t k = 0; k < samples.size(); ++k) {

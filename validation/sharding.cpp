@@ -201,6 +201,24 @@ ResultsFile mergeShards(const std::vector<ShardResults>& shards, const std::stri
   merged.runs = unreadable;
   for (std::size_t p = 0; p < requests; ++p)
     merged.runs.push_back(runs[p % byIndex.size()][p / byIndex.size()]);
+  // The runs must be the plan's, in its order: `pbdval run --shard` records the whole plan's
+  // runsDigest in every shard (metadata.planDigest); a run relabelled (another engine, method,
+  // case or assignments), swapped with another or edited out of order changes the digest of the
+  // merged runs. (Shards of `pbdval sweep` record none: the sweep compares its own plan.)
+  const std::string& recorded = first.results.metadata.planDigest;
+  for (const ShardResults& s : shards)
+    if (s.results.metadata.planDigest != recorded)
+      throw std::invalid_argument(s.folder + ": metadata.planDigest " +
+                                  s.results.metadata.planDigest + " differs from " + first.folder +
+                                  "'s " + recorded + " (shards of different plans)");
+  if (!recorded.empty()) {
+    const std::string fromRuns = planDigestOfRuns(merged.runs);
+    if (fromRuns != recorded)
+      throw std::invalid_argument(
+          "the shards' runs, merged in plan order, are not the plan they were run from "
+          "(metadata.planDigest " + recorded + ", the runs give " + fromRuns +
+          "): a run was relabelled, reordered or edited in a shard's results.json");
+  }
   for (const ShardResults& s : shards)
     for (const auto& [name, data] : s.results.cases) {
       const auto [it, added] = merged.cases.emplace(name, data);

@@ -42,8 +42,10 @@ struct ShardResults {
 
 /// The results of the whole plan from its shards: runs in plan order, the cases' gate data
 /// joined. Throws std::invalid_argument naming the folders for results that are not shards,
-/// shards of different plans or builds, a shard given twice (overlap), a missing shard (gap), or
-/// a shard with another number of runs than its slice of the plan.
+/// shards of different plans or builds, a shard given twice (overlap), a missing shard (gap),
+/// a shard with another number of runs than its slice of the plan, or runs that are not the
+/// plan's in its order (metadata.planDigest, when the shards record it). The shards' files are
+/// verified by verifiedShardFiles (shard_files.h).
 ResultsFile mergeShards(const std::vector<ShardResults>& shards, const std::string& command);
 
 }  // namespace pbdval

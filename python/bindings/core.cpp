@@ -30,6 +30,7 @@
 #include "validation/engines/standard_engines.h"
 #include "validation/interrupts.h"
 #include "validation/mechanics.h"
+#include "validation/measure_trajectory.h"
 #include "validation/metrics.h"
 #include "validation/overrides.h"
 #include "validation/references/reference.h"
@@ -563,18 +564,13 @@ py::dict measure(const Registry& registry, const SceneHandle& handle, const Arra
   const std::vector<State> samples =
       samplesOf(scene, times, positions, quaternions, velocities, angularVelocities,
                 particlePositions, particleVelocities, segmentRotations, segmentAngularVelocities);
-  std::optional<ReferenceTrajectory> ref;
-  std::vector<double> sampleTimes;
-  for (const State& s : samples)
-    sampleTimes.push_back(s.time);
-  if (reference.is_none()) {
-    if (spec.reference.kind == ReferenceSpec::Kind::Analytic)
-      ref = buildAnalyticReference(
-          scene, spec.reference, sampleTimes,
-          integrationStep > 0 ? integrationStep : double(scene.simulation.timeStepSize));
-  } else if (!(py::isinstance<py::bool_>(reference) && !reference.cast<bool>())) {
+  ReferenceChoice choice = ReferenceChoice::CaseDefault;
+  ReferenceTrajectory given;
+  if (py::isinstance<py::bool_>(reference) && !reference.cast<bool>()) {
+    choice = ReferenceChoice::None;
+  } else if (!reference.is_none()) {
+    choice = ReferenceChoice::Given;
     const py::dict r = reference.cast<py::dict>();
-    ReferenceTrajectory given;
     given.description = r.contains("description") ? r["description"].cast<std::string>()
                                                   : std::string("reference trajectory");
     given.samples = samplesOf(scene, r["times"].cast<Array>(), r["positions"].cast<Array>(),
@@ -589,16 +585,17 @@ py::dict measure(const Registry& registry, const SceneHandle& handle, const Arra
                               r.contains("segment_angular_velocities")
                                   ? py::object(r["segment_angular_velocities"])
                                   : py::object(py::none()));
-    ref = resampleReference(given, sampleTimes);
   }
-  MetricSet metrics;
+  MeasuredTrajectory measured;
   MetricSeries series;
   {
     py::gil_scoped_release release;
-    metrics = measureSamples(scene, spec, samples, ref ? &*ref : nullptr, contactMargin, &series);
+    // The same checks and measurement path as the `measure` fuzz target (tests/fuzz).
+    measured = measureTrajectory(scene, spec, samples, choice, &given, contactMargin,
+                                 integrationStep, &series);
   }
-  py::dict d = metricsDict(metrics);
-  d["reference"] = ref ? ref->description : std::string();
+  py::dict d = metricsDict(measured.metrics);
+  d["reference"] = measured.referenceDescription;
   // The series behind the metrics, by name: "energy_drift", "joint_error_linear/<type>",
   // "joint_error_angular/<type>", "motor_tracking/<quantity>", "penetration",
   // "trajectory_error", "rotation_error" (absent when the metric is).

@@ -63,6 +63,9 @@ const std::vector<NamedTarget>& allTargets() {  // the library targets first
       {"baseline", &baselineTarget},
       {"trajectory", &trajectoryTarget},
       {"trajectory_npy", &trajectoryNpyTarget},
+      {"measure", &measureTarget},
+      {"simulate", &simulateTarget},
+      {"merge_shard", &mergeShardTarget},
   };
   return targets;
 }

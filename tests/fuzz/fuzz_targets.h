@@ -24,6 +24,9 @@ void resultsTarget(const std::uint8_t* data, std::size_t size);     ///< parseRe
 void baselineTarget(const std::uint8_t* data, std::size_t size);    ///< parseBaselineText
 void trajectoryTarget(const std::uint8_t* data, std::size_t size);  ///< parseTrajectoryCsv
 void trajectoryNpyTarget(const std::uint8_t* data, std::size_t size);  ///< parseTrajectoryNpy
+void measureTarget(const std::uint8_t* data, std::size_t size);     ///< measureTrajectory
+void simulateTarget(const std::uint8_t* data, std::size_t size);    ///< load + runSimulation, every engine
+void mergeShardTarget(const std::uint8_t* data, std::size_t size);  ///< a shard's results.json, merged
 
 struct NamedTarget {
   const char* name;  ///< also the folder of its corpus: tests/fuzz/corpus/<name>/

@@ -4,17 +4,16 @@
 // writes (docs/cluster.md): results.json in plan order and every trajectory.
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <sstream>
 
-#include "validation/atomic_file.h"
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
 #include "validation/results.h"
 #include "validation/results_folder.h"
 #include "validation/run_plan.h"
+#include "validation/shard_files.h"
 #include "validation/sharding.h"
 #include "validation/summary.h"
 
@@ -22,25 +21,6 @@ namespace pbdval::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string fileBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path + ": cannot be read");
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
-/// Where a shard's trajectory goes under `out`: its path relative to the shard folder when it
-/// lies inside it, else trajectories/CASE/<its name>.
-std::string mergedTrajectoryPath(const std::string& shardFolder, const std::string& out,
-                                 const RunRecord& r) {
-  const fs::path relative = fs::path(r.request.trajectoryPath).lexically_relative(shardFolder);
-  if (!relative.empty() && *relative.begin() != "..") return (fs::path(out) / relative).string();
-  return (fs::path(out) / "trajectories" / r.request.caseName /
-          fs::path(r.request.trajectoryPath).filename())
-      .string();
-}
 
 }  // namespace
 
@@ -77,6 +57,18 @@ int mergeCommand(const Context& /*context*/, const Arguments& arguments) {
     const bool move = args.flags.count("move") > 0;
     ResultsFile merged = mergeShards(shards, command.str());
     merged.metadata.created = currentMetadata("").created;
+    // Every shard's files verified (inside its folder, no symbolic link, the trajectories of
+    // its measured runs present) before anything is copied or moved.
+    std::vector<ShardFile> files;
+    std::map<std::string, std::string> owner;  // merged relative path → the shard holding it
+    for (const ShardResults& shard : shards)
+      for (ShardFile& file : verifiedShardFiles(shard)) {
+        const auto [it, added] = owner.emplace(file.relative, shard.folder);
+        if (!added)
+          throw std::invalid_argument(file.relative + ": in two shards, " + it->second + " and " +
+                                      shard.folder);
+        files.push_back(std::move(file));
+      }
     // The output folder: locked, staged, and another plan's results never replaced silently.
     ResultsFolder folder(out, "pbdval merge");
     std::vector<RunKey> planned;
@@ -88,34 +80,18 @@ int mergeCommand(const Context& /*context*/, const Arguments& arguments) {
       return parser.inputError(out + "/results.json: " + *why +
                                "; merging would replace them: give another --out, or --force to "
                                "replace them");
-    std::map<std::string, std::string> moved;  // a shard's trajectory path → the merged one
-    for (const ShardResults& shard : shards)
-      for (const RunRecord& r : shard.results.runs) {
-        if (r.request.trajectoryPath.empty() || !fs::is_regular_file(r.request.trajectoryPath))
-          continue;
-        const std::string target = mergedTrajectoryPath(shard.folder, folder.staging(), r);
-        if (!moved.emplace(r.request.trajectoryPath, target).second)
-          throw std::invalid_argument(r.request.trajectoryPath + ": the trajectory of two runs");
-        fs::create_directories(fs::path(target).parent_path());
-        // The trajectory, and the particles and rod segments beside it when the run has them.
-        const std::string& trajectoryFile = r.request.trajectoryPath;
-        std::vector<std::pair<std::string, std::string>> files = {{trajectoryFile, target}};
-        const std::vector<std::string> fromCompanions = companionPathsFor(trajectoryFile);
-        const std::vector<std::string> toCompanions = companionPathsFor(target);
-        for (std::size_t i = 0; i < fromCompanions.size(); ++i)
-          files.emplace_back(fromCompanions[i], toCompanions[i]);
-        for (const auto& [from, to] : files) {
-          if (from != trajectoryFile && !fs::is_regular_file(from)) continue;
-          std::error_code renamed;
-          if (move) fs::rename(from, to, renamed);
-          if (!move || renamed)  // another file system: copy
-            writeFileAtomically(to, fileBytes(from));
-        }
-      }
-    const std::size_t copied = moved.size();
+    carryShardFiles(files, folder.staging(), move);
+    std::size_t copied = 0;
+    for (const ShardFile& file : files)
+      copied += file.companion ? 0 : 1;
+    // Each run's trajectory path: its place in the merged folder, as one run of the whole plan
+    // records it (a failed run's too, whose file may not exist). verifiedShardFiles has checked
+    // that the recorded name is ENGINE-METHOD.EXT.
     for (RunRecord& m : merged.runs) {
-      const auto it = moved.find(m.request.trajectoryPath);
-      if (it != moved.end()) m.request.trajectoryPath = folder.finalPath(it->second);
+      if (m.request.trajectoryPath.empty()) continue;
+      const std::string name = fs::path(m.request.trajectoryPath).filename().string();
+      m.request.trajectoryPath =
+          folder.finalPath(folder.staging() + "/trajectories/" + m.request.caseName + "/" + name);
     }
     writeResults(folder.staging() + "/results.json", merged);
     folder.commit({"trajectories", "results.json"}, "results.json");

@@ -1,0 +1,72 @@
+#include "validation/measure_trajectory.h"
+
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+
+#include "validation/mechanics.h"
+#include "validation/references/reference.h"
+#include "validation/run_execution.h"
+#include "validation/trajectory.h"
+
+namespace pbdval {
+namespace {
+
+/// At least one sample, finite non-decreasing times. The analytic references integrate from
+/// t = 0 to each sample time in turn, so a NaN, an infinite or a decreasing time would make
+/// them loop or read outside their tables; resampling needs ordered times too.
+void checkSampleTimes(const std::vector<State>& samples, const std::string& name) {
+  if (samples.empty())
+    throw std::invalid_argument(name + ": expected at least one sample, got none");
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    const double t = samples[k].time;
+    if (!std::isfinite(t))
+      throw std::invalid_argument(name + "[" + std::to_string(k) + "]: expected a finite time, got " +
+                                  formatNumber(t));
+    if (k > 0 && t < samples[k - 1].time)
+      throw std::invalid_argument(name + "[" + std::to_string(k) + "]: " + formatNumber(t) +
+                                  " s is before the previous sample's " +
+                                  formatNumber(samples[k - 1].time) +
+                                  " s: expected non-decreasing times");
+  }
+}
+
+}  // namespace
+
+MeasuredTrajectory measureTrajectory(const pbd::Scene& scene, const CaseSpec& spec,
+                                     const std::vector<State>& samples, ReferenceChoice choice,
+                                     const ReferenceTrajectory* given, double contactMargin,
+                                     double integrationStep, MetricSeries* series) {
+  checkSampleTimes(samples, "times");
+  for (const State& s : samples)
+    checkStateMatchesScene(scene, s);
+  checkContactMargin(contactMargin);
+  if (!std::isfinite(integrationStep) || integrationStep < 0)
+    throw std::invalid_argument("integration_step: expected a positive number of seconds, got " +
+                                formatNumber(integrationStep));
+  std::optional<ReferenceTrajectory> reference;
+  std::vector<double> times;
+  times.reserve(samples.size());
+  for (const State& s : samples)
+    times.push_back(s.time);
+  if (choice == ReferenceChoice::CaseDefault && spec.reference.kind == ReferenceSpec::Kind::Analytic) {
+    // (the reference depends on the scene and the times only: a diverged sample is named by
+    // measureSamples below)
+    reference = buildAnalyticReference(
+        scene, spec.reference, times,
+        integrationStep > 0 ? integrationStep : double(scene.simulation.timeStepSize));
+  } else if (choice == ReferenceChoice::Given) {
+    if (!given) throw std::invalid_argument("reference: none given");
+    checkSampleTimes(given->samples, "reference.times");
+    for (const State& s : given->samples)
+      checkStateMatchesScene(scene, s);
+    reference = resampleReference(*given, times);
+  }
+  MeasuredTrajectory measured;
+  measured.metrics =
+      measureSamples(scene, spec, samples, reference ? &*reference : nullptr, contactMargin, series);
+  measured.referenceDescription = reference ? reference->description : std::string();
+  return measured;
+}
+
+}  // namespace pbdval
