@@ -203,6 +203,8 @@ tamper 'runs[1]["engine"] = "mujoco"'
 expect 2 "not the plan they were run from" -- "$pbdval" merge "$work/shard" --out "$work/merged"
 tamper 'runs.reverse()'
 expect 2 "not the plan they were run from" -- "$pbdval" merge "$work/shard" --out "$work/merged"
+tamper 'del results["metadata"]["planDigest"]'
+expect 2 "metadata.planDigest: missing" -- "$pbdval" merge "$work/shard" --out "$work/merged"
 tamper 'pass'
 expect 0 "3 runs: 3 ok, 3 trajectories" -- "$pbdval" merge "$work/shard" --out "$work/merged" --move --quiet
 [[ -f $work/merged/trajectories/contact_sphere_drop/pbd-pbd.csv ]] || fail "the untampered shard was not merged"
