@@ -44,13 +44,13 @@ void readGravityAlias(JsonObject& object, SimulationSettings& settings) {
   const auto gravity = object.find("gravity");
   if (!gravity) return;
   if (object.has("gravitation")) {
-    gravity->vector3();  // still a value that was given: it must be well-formed
+    gravity->vector3(between(-kMaxGravitation, kMaxGravitation));  // still given: well-formed
     gravity->warn(
         "ignored: \"gravitation\" is also given (PositionBasedDynamics ignores "
         "\"gravity\" always)");
     return;
   }
-  settings.gravitation = gravity->vector3();
+  settings.gravitation = gravity->vector3(between(-kMaxGravitation, kMaxGravitation));
   gravity->warn("used as \"gravitation\" " + formatVector(settings.gravitation) +
                 ", but PositionBasedDynamics ignores \"gravity\" and would simulate with "
                 "[0, -9.81, 0]; rename the key to \"gravitation\"");
@@ -134,7 +134,7 @@ KeyTable<SimulationSettings> simulationKeys() {
       // is no physical time step, and 10^4 substeps or iterations per step already cost
       // 10^4 times the default; the runner also refuses runs of more than 10^8 steps.
       numberKey("timeStepSize", &S::timeStepSize, between(1e-7, 10)),
-      vectorKey("gravitation", &S::gravitation),
+      vectorKey("gravitation", &S::gravitation, between(-kMaxGravitation, kMaxGravitation)),
       integerKey("subSteps", &S::subSteps, between(1, kMaxSubSteps)),
       integerKey("maxIterations", &S::maxIterations, between(1, kMaxIterations)),
       integerKey("maxIterationsV", &S::maxIterationsV, between(0, kMaxIterations)),

@@ -29,6 +29,10 @@ inline constexpr double kMaxSpeed = 1e6;
 /// 5 ms step, and a point 1 m out moves at the blow-up speed limit; at 10³⁰⁰ the quaternion
 /// update ½ h ω ⊗ q overflows and normalises to zero.
 inline constexpr double kMaxAngularSpeed = 1e6;
+/// |g| of a gravitation component (m/s²): 10⁶ m/s² (10⁵ g) takes a body from rest to the
+/// blow-up speed (kMaxSpeed) in 1 s. At 10³⁰⁸ ODE's quaternion normalisation failed inside the
+/// first step (found by the `simulate` fuzz target; docs/fuzzing.md).
+inline constexpr double kMaxGravitation = 1e6;
 /// A dynamic rigid body's mass (kg), given or computed: 10⁻¹² kg (a 10 µm dust grain) to
 /// 10¹² kg (a mountain). Within it 1/m, m v² and m L² stay finite and well inside double's
 /// range for the speeds and sizes above; masses like 10⁻³⁰⁰ or 10³⁰⁰ overflow them.
