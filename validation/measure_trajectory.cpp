@@ -21,8 +21,8 @@ void checkSampleTimes(const std::vector<State>& samples, const std::string& name
   for (std::size_t k = 0; k < samples.size(); ++k) {
     const double t = samples[k].time;
     if (!std::isfinite(t))
-      throw std::invalid_argument(name + "[" + std::to_string(k) + "]: expected a finite time, got " +
-                                  formatNumber(t));
+      throw std::invalid_argument(name + "[" + std::to_string(k) +
+                                  "]: expected a finite time, got " + formatNumber(t));
     if (k > 0 && t < samples[k - 1].time)
       throw std::invalid_argument(name + "[" + std::to_string(k) + "]: " + formatNumber(t) +
                                   " s is before the previous sample's " +
@@ -49,7 +49,8 @@ MeasuredTrajectory measureTrajectory(const pbd::Scene& scene, const CaseSpec& sp
   times.reserve(samples.size());
   for (const State& s : samples)
     times.push_back(s.time);
-  if (choice == ReferenceChoice::CaseDefault && spec.reference.kind == ReferenceSpec::Kind::Analytic) {
+  if (choice == ReferenceChoice::CaseDefault &&
+      spec.reference.kind == ReferenceSpec::Kind::Analytic) {
     // (the reference depends on the scene and the times only: a diverged sample is named by
     // measureSamples below)
     reference = buildAnalyticReference(
@@ -63,8 +64,8 @@ MeasuredTrajectory measureTrajectory(const pbd::Scene& scene, const CaseSpec& sp
     reference = resampleReference(*given, times);
   }
   MeasuredTrajectory measured;
-  measured.metrics =
-      measureSamples(scene, spec, samples, reference ? &*reference : nullptr, contactMargin, series);
+  measured.metrics = measureSamples(scene, spec, samples, reference ? &*reference : nullptr,
+                                    contactMargin, series);
   measured.referenceDescription = reference ? reference->description : std::string();
   return measured;
 }

@@ -13,9 +13,9 @@ namespace pbdval {
 
 /// Which reference a given trajectory is compared with.
 enum class ReferenceChoice {
-  None,        ///< no trajectory metrics
-  CaseDefault, ///< the case's analytic reference when its Validation block declares one, else none
-  Given,       ///< the given reference trajectory, resampled at the samples' times
+  None,         ///< no trajectory metrics
+  CaseDefault,  ///< the case's analytic reference when its Validation block declares one, else none
+  Given,        ///< the given reference trajectory, resampled at the samples' times
 };
 
 struct MeasuredTrajectory {

@@ -126,8 +126,9 @@ int ProcessReaper::killRemaining(pid_t engine) const {
       const pid_t result = ::waitpid(*it, nullptr, WNOHANG);
       // ECHILD: not this process's child, or not yet (its parent is still exiting): done once
       // the process is gone (init or its parent reaped it).
-      const bool gone = result == *it || (result < 0 && errno == ECHILD &&
-                                          ::access(("/proc/" + std::to_string(*it)).c_str(), F_OK) != 0);
+      const bool gone =
+          result == *it || (result < 0 && errno == ECHILD &&
+                            ::access(("/proc/" + std::to_string(*it)).c_str(), F_OK) != 0);
       if (gone)
         it = waiting.erase(it);
       else

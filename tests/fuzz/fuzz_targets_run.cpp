@@ -212,8 +212,8 @@ void measureTarget(const std::uint8_t* data, std::size_t size) {
   }
   try {
     MetricSeries series;
-    const MeasuredTrajectory measured =
-        measureTrajectory(c.scene, c.spec, samples, choice, &given, margin, integrationStep, &series);
+    const MeasuredTrajectory measured = measureTrajectory(c.scene, c.spec, samples, choice, &given,
+                                                          margin, integrationStep, &series);
     // Measured means the samples were finite (measureSamples names any that is not): a metric
     // may be NaN only where docs/metrics.md says it can be (e.g. a series' missing sample), so
     // only the messages are checked here.
@@ -249,17 +249,33 @@ const char* const kSimulateScene = R"({"Name": "fuzz_simulate",
 
 /// The numbers the bytes may overwrite (JSON pointers into kSimulateScene).
 const char* const kSimulateFields[] = {
-    "/Simulation/timeStepSize", "/Simulation/subSteps", "/Simulation/maxIterations",
-    "/Simulation/maxIterationsV", "/Simulation/gravitation/1",
-    "/RigidBodies/0/translation/1", "/RigidBodies/0/collisionObjectScale/0",
-    "/RigidBodies/1/density", "/RigidBodies/1/translation/0", "/RigidBodies/1/translation/1",
-    "/RigidBodies/1/velocity/1", "/RigidBodies/1/angularVelocity/2",
-    "/RigidBodies/1/collisionObjectScale/0", "/RigidBodies/1/restitution",
-    "/RigidBodies/1/friction", "/RigidBodies/2/mass", "/RigidBodies/2/translation/0",
-    "/RigidBodies/2/translation/1", "/RigidBodies/2/velocity/0", "/RigidBodies/2/angularVelocity/0",
-    "/RigidBodies/2/angularVelocity/1", "/RigidBodies/2/collisionObjectScale/2",
-    "/HingeJoints/0/position/0", "/HingeJoints/0/axis/2", "/HingeJoints/0/axis/0",
-    "/RigidBodySprings/0/stiffness", "/RigidBodySprings/0/position2/1",
+    "/Simulation/timeStepSize",
+    "/Simulation/subSteps",
+    "/Simulation/maxIterations",
+    "/Simulation/maxIterationsV",
+    "/Simulation/gravitation/1",
+    "/RigidBodies/0/translation/1",
+    "/RigidBodies/0/collisionObjectScale/0",
+    "/RigidBodies/1/density",
+    "/RigidBodies/1/translation/0",
+    "/RigidBodies/1/translation/1",
+    "/RigidBodies/1/velocity/1",
+    "/RigidBodies/1/angularVelocity/2",
+    "/RigidBodies/1/collisionObjectScale/0",
+    "/RigidBodies/1/restitution",
+    "/RigidBodies/1/friction",
+    "/RigidBodies/2/mass",
+    "/RigidBodies/2/translation/0",
+    "/RigidBodies/2/translation/1",
+    "/RigidBodies/2/velocity/0",
+    "/RigidBodies/2/angularVelocity/0",
+    "/RigidBodies/2/angularVelocity/1",
+    "/RigidBodies/2/collisionObjectScale/2",
+    "/HingeJoints/0/position/0",
+    "/HingeJoints/0/axis/2",
+    "/HingeJoints/0/axis/0",
+    "/RigidBodySprings/0/stiffness",
+    "/RigidBodySprings/0/position2/1",
 };
 
 /// Steps per run: enough for contacts, joints and the spring to act on the fuzzed values.
@@ -278,13 +294,15 @@ void simulateTarget(const std::uint8_t* data, std::size_t size) {
   // The engine: one per input, chosen by the first byte, so that the fuzzer's coverage guidance
   // explores each (every engine once per input: 151 executions in 23 s under the sanitizers,
   // below the 10/s a fuzzer needs).
-  const std::string methods[] = {engines.defaultMethod("pbd"), "pbd.xpbd", engines.defaultMethod("bullet"),
-                                 engines.defaultMethod("ode"), engines.defaultMethod("mujoco")};
+  const std::string methods[] = {engines.defaultMethod("pbd"), "pbd.xpbd",
+                                 engines.defaultMethod("bullet"), engines.defaultMethod("ode"),
+                                 engines.defaultMethod("mujoco")};
   const std::string& methodName = methods[in.byte() % 5];
   nlohmann::json scene = seed;
   const std::size_t edits = in.byte() % 8;
   for (std::size_t e = 0; e < edits && !in.empty(); ++e) {
-    const char* field = kSimulateFields[in.byte() % (sizeof kSimulateFields / sizeof kSimulateFields[0])];
+    const char* field =
+        kSimulateFields[in.byte() % (sizeof kSimulateFields / sizeof kSimulateFields[0])];
     const std::uint8_t kind = in.byte();
     nlohmann::json& value = scene[nlohmann::json::json_pointer(field)];
     if (kind < 32)
@@ -312,7 +330,8 @@ void simulateTarget(const std::uint8_t* data, std::size_t size) {
     RunCallbacks callbacks;
     callbacks.onSample = [&samples](const State& s) { samples.push_back(s); };
     try {
-      outcome = runSimulation(*engine, loaded.scene, engines.resolve(methodName), length, callbacks);
+      outcome =
+          runSimulation(*engine, loaded.scene, engines.resolve(methodName), length, callbacks);
     } catch (const std::invalid_argument& e) {  // the run cannot be planned (planSteps)
       expectPrintable(e.what());
       return;
@@ -328,8 +347,8 @@ void simulateTarget(const std::uint8_t* data, std::size_t size) {
       for (const BodyState& b : s.bodies)
         if (!(std::abs(double(b.rotation.norm()) - 1.0) < 1e-3))
           fail("simulate", methodName + ": status ok with a quaternion of norm " +
-                               std::to_string(double(b.rotation.norm())) + " at t = " +
-                               std::to_string(s.time));
+                               std::to_string(double(b.rotation.norm())) +
+                               " at t = " + std::to_string(s.time));
     }
   }
 }
@@ -425,7 +444,8 @@ void mergeShardTarget(const std::uint8_t* data, std::size_t size) {
     bool leaves = file.relative.empty() || file.relative.front() == '/';
     for (const fs::path& part : fs::path(file.relative))
       leaves = leaves || part == ".." || part == ".";
-    if (leaves) fail("merge_shard", "a merged path that leaves the merged folder: " + file.relative);
+    if (leaves)
+      fail("merge_shard", "a merged path that leaves the merged folder: " + file.relative);
   }
   const std::string out = fixture.base + "/merged";
   carryShardFiles(files, out, /*move=*/false);

@@ -37,7 +37,8 @@ class MeasureTrajectory : public ::testing::Test {
   void SetUp() override {
     // Two bodies with collision shapes (the FCL oracle measures them) and an analytic
     // reference (bouncing_ball), as pbdval.measure gets them.
-    scene_ = pbd::loadScene(std::string(PBDVAL_SOURCE_DIR) + "/cases/contact_sphere_drop.json").scene;
+    scene_ =
+        pbd::loadScene(std::string(PBDVAL_SOURCE_DIR) + "/cases/contact_sphere_drop.json").scene;
     spec_ = parseCaseSpec(scene_, engines_);
   }
   /// `count` samples of the initial state at t = k·h.
@@ -86,7 +87,8 @@ TEST_F(MeasureTrajectory, AnEmptyTrajectoryIsAnArgumentErrorNamingTheTimes) {
       measure({}, 0, choice, &given);
       ADD_FAILURE() << "an empty trajectory was measured";
     } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find("times: expected at least one sample"), std::string::npos)
+      EXPECT_NE(std::string(e.what()).find("times: expected at least one sample"),
+                std::string::npos)
           << e.what();
     }
   }
@@ -171,8 +173,10 @@ TEST(CaseSpecFields, ARequiredKeyThatIsMissingIsALocatedErrorNotAJsonException) 
           "collisionObjectScale": [0.1, 0.1, 0.1]}], "Validation": {"schema": 1, )";
   for (const auto& [validation, where] : std::vector<std::pair<std::string, std::string>>{
            {R"("checks": [{"max": 1}]})", "Validation.checks[0].metric: missing (required)"},
-           {R"("reference": {"type": "analytic"}})", "Validation.reference.model: missing (required)"},
-           {R"("reference": {"type": "engine"}})", "Validation.reference.method: missing (required)"}}) {
+           {R"("reference": {"type": "analytic"}})",
+            "Validation.reference.model: missing (required)"},
+           {R"("reference": {"type": "engine"}})",
+            "Validation.reference.method: missing (required)"}}) {
     const pbd::Scene scene = pbd::parseScene(head + validation + "}", "c.json").scene;
     try {
       (void)parseCaseSpec(scene, engines);
@@ -234,9 +238,11 @@ TEST_F(ShardFiles, TheRunsTrajectoryIsTakenFromInsideTheShardWhateverFolderTheRu
 
 TEST_F(ShardFiles, PathsOfAnotherFormAreRefusedNeverFollowed) {
   for (const std::string& path :
-       {(root_ / "outside/secret.csv").string(), shard_.folder + "/trajectories/c/../../../outside/secret.csv",
-        std::string("/etc/passwd"), shard_.folder + "/trajectories/c/pbd-pbd.csv/..",
-        shard_.folder + "/trajectories/other/pbd-pbd.csv", shard_.folder + "/trajectories/c/ode-ode.csv"}) {
+       {(root_ / "outside/secret.csv").string(),
+        shard_.folder + "/trajectories/c/../../../outside/secret.csv", std::string("/etc/passwd"),
+        shard_.folder + "/trajectories/c/pbd-pbd.csv/..",
+        shard_.folder + "/trajectories/other/pbd-pbd.csv",
+        shard_.folder + "/trajectories/c/ode-ode.csv"}) {
     shard_.results.runs.clear();
     addRun("pbd", "pbd", path);
     EXPECT_NE(refusal().find("expected OUT/trajectories/c/pbd-pbd.csv or .npy"), std::string::npos)
@@ -245,12 +251,14 @@ TEST_F(ShardFiles, PathsOfAnotherFormAreRefusedNeverFollowed) {
 }
 
 TEST_F(ShardFiles, ASymbolicLinkOnTheWayIsRefused) {
-  fs::create_symlink(root_ / "outside/secret.csv", root_ / "shard/trajectories/c/ode-ode.quickstep.csv");
+  fs::create_symlink(root_ / "outside/secret.csv",
+                     root_ / "shard/trajectories/c/ode-ode.quickstep.csv");
   addRun("ode", "ode.quickstep", "out/trajectories/c/ode-ode.quickstep.csv");
   EXPECT_NE(refusal().find("is a symbolic link"), std::string::npos) << refusal();
   // A linked case folder leads outside as well.
   shard_.results.runs.clear();
-  fs::create_directory_symlink(root_ / "outside/trajectories/c", root_ / "shard/trajectories/linked");
+  fs::create_directory_symlink(root_ / "outside/trajectories/c",
+                               root_ / "shard/trajectories/linked");
   addRun("ode", "ode.quickstep", "out/trajectories/linked/ode-ode.quickstep.csv");
   shard_.results.runs.back().request.caseName = "linked";
   EXPECT_NE(refusal().find("is a symbolic link"), std::string::npos) << refusal();
@@ -281,7 +289,8 @@ TEST_F(ShardFiles, OnlyVerifiedFilesAreCarriedAndACompanionLinkIsRefused) {
   EXPECT_TRUE(fs::exists(root_ / "outside/secret.csv"));
   write(root_ / "shard/trajectories/c/pbd-pbd.csv", "inside\n");
   fs::remove(root_ / "shard/trajectories/c/pbd-pbd.particles.csv");
-  fs::create_symlink(root_ / "outside/secret.csv", root_ / "shard/trajectories/c/pbd-pbd.particles.csv");
+  fs::create_symlink(root_ / "outside/secret.csv",
+                     root_ / "shard/trajectories/c/pbd-pbd.particles.csv");
   EXPECT_NE(refusal().find("a symbolic link"), std::string::npos) << refusal();
 }
 
@@ -376,7 +385,8 @@ TEST(ProcessReaper, AProcessThatLeftTheEnginesSessionIsKilledAndReaped) {
     ASSERT_EQ(::read(pipeEnds[0], &escaped, sizeof escaped), ssize_t(sizeof escaped));
     int status = 0;
     ASSERT_EQ(::waitpid(engine, &status, 0), engine);
-    ASSERT_TRUE(running(escaped)) << "the grandchild must outlive the engine for the test to mean anything";
+    ASSERT_TRUE(running(escaped))
+        << "the grandchild must outlive the engine for the test to mean anything";
     for (int k = 0; k < 500; ++k) {  // until it has exec'd sleep (5 s at most)
       std::ifstream comm("/proc/" + std::to_string(escaped) + "/comm");
       std::string name;
