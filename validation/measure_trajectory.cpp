@@ -31,6 +31,24 @@ void checkSampleTimes(const std::vector<State>& samples, const std::string& name
   }
 }
 
+/// How far a body's quaternion norm may be from 1: every engine renormalises its orientations
+/// each step (round-off ~1e-15) and the trajectory files keep every digit; a zero or scaled
+/// quaternion (|1 − norm| of order 1) is no rotation, e.g. an angular velocity that overflowed.
+constexpr double kUnitQuaternionTolerance = 1e-3;
+
+/// The first finite quaternion of `samples` that is not a unit one, as "sample k: ...", or empty.
+/// (Non-finite ones are measureSamples' divergences.)
+std::string nonUnitQuaternion(const std::vector<State>& samples) {
+  for (std::size_t k = 0; k < samples.size(); ++k)
+    for (const BodyState& b : samples[k].bodies) {
+      const double norm = double(b.rotation.norm());
+      if (std::isfinite(norm) && !(std::abs(norm - 1) <= kUnitQuaternionTolerance))
+        return "sample " + std::to_string(k) + ": the rotation of body " + std::to_string(b.id) +
+               " is not a unit quaternion (norm " + formatNumber(norm) + ")";
+    }
+  return "";
+}
+
 }  // namespace
 
 MeasuredTrajectory measureTrajectory(const pbd::Scene& scene, const CaseSpec& spec,
@@ -41,6 +59,8 @@ MeasuredTrajectory measureTrajectory(const pbd::Scene& scene, const CaseSpec& sp
   for (const State& s : samples)
     checkStateMatchesScene(scene, s);
   checkContactMargin(contactMargin);
+  if (const std::string problem = nonUnitQuaternion(samples); !problem.empty())
+    throw EngineDivergence(problem + "; a diverged trajectory is not measured");
   if (!std::isfinite(integrationStep) || integrationStep < 0)
     throw std::invalid_argument("integration_step: expected a positive number of seconds, got " +
                                 formatNumber(integrationStep));
@@ -61,6 +81,8 @@ MeasuredTrajectory measureTrajectory(const pbd::Scene& scene, const CaseSpec& sp
     checkSampleTimes(given->samples, "reference.times");
     for (const State& s : given->samples)
       checkStateMatchesScene(scene, s);
+    if (const std::string problem = nonUnitQuaternion(given->samples); !problem.empty())
+      throw std::invalid_argument("reference: " + problem);
     reference = resampleReference(*given, times);
   }
   MeasuredTrajectory measured;

@@ -29,7 +29,10 @@ struct MeasuredTrajectory {
 /// penetration depths. Throws std::invalid_argument naming the argument ("times",
 /// "reference.times", "contact_margin", "integration_step") for no samples, a time that is
 /// not finite or is before its predecessor, a sample that does not hold the scene's bodies, or
-/// a non-finite margin or step; EngineDivergence naming the first non-finite or blown-up sample
+/// a margin beyond ±kMaxContactMargin or a non-finite step (a reference's quaternion that is
+/// not a unit one too);
+/// EngineDivergence naming the first sample with a finite quaternion that is not a unit one
+/// (|1 − norm| > 1e-3: a zero quaternion is no rotation), or a non-finite or blown-up sample
 /// (measureSamples).
 MeasuredTrajectory measureTrajectory(const pbd::Scene& scene, const CaseSpec& spec,
                                      const std::vector<State>& samples, ReferenceChoice choice,

@@ -67,7 +67,7 @@ def test_simulate_refuses_run_lengths_and_limits_outside_their_domain(
 
 
 def test_simulate_runs_with_the_run_commands_wall_time_limit_or_none(scene: pbdval.Scene) -> None:
-    assert pbdval._core.default_wall_time_limit == 600  # pbdval run --timeout's default
+    assert pbdval._core.default_wall_time_limit == 600  # type: ignore[attr-defined]  # pbdval run --timeout's default
     for limit in (None, math.inf, 30.0):
         info, trajectory = pbdval.simulate(scene, "pbd", duration=0.05, wall_time_limit=limit)
         assert info.ok, info.reason
@@ -75,7 +75,7 @@ def test_simulate_runs_with_the_run_commands_wall_time_limit_or_none(scene: pbdv
 
 
 def test_step_counts_beyond_the_run_cap_or_not_whole_are_refused(scene: pbdval.Scene) -> None:
-    cap = int(pbdval._core.max_steps_per_run)
+    cap = int(pbdval._core.max_steps_per_run)  # type: ignore[attr-defined]
     assert cap == 10**8  # kMaxStepsPerRun
     # In a child process with a time limit: without the cap, step(10**9) runs for a quarter hour.
     program = textwrap.dedent(f"""\
@@ -163,6 +163,16 @@ def test_measure_names_a_non_finite_sample_of_a_scene_with_collision_shapes(
     with pytest.raises(pbdval.DivergenceError, match=f"sample {index[0]}: non-finite state"):
         pbdval.measure(scene, broken)
     assert pbdval.measure(scene, trajectory).values  # the finite run is measured
+
+
+def test_measure_says_a_zero_quaternion_is_no_rotation() -> None:
+    scene = pbdval.load_scene(CONTACT_SCENE)
+    info, trajectory = pbdval.simulate(scene, "pbd", duration=0.02, sample_interval=0.002)
+    assert info.ok, info.reason
+    broken = dataclasses.replace(trajectory, quaternions=trajectory.quaternions.copy())
+    broken.quaternions[4, 1] = 0.0
+    with pytest.raises(pbdval.DivergenceError, match="sample 4: the rotation of body 1 is not a unit quaternion"):
+        pbdval.measure(scene, broken)
 
 
 def test_measure_refuses_a_margin_that_overflowed_the_penetration_oracle() -> None:

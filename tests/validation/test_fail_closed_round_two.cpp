@@ -139,6 +139,27 @@ TEST_F(MeasureTrajectory, ANonFiniteOrZeroQuaternionIsADivergenceNamingTheSample
   }
 }
 
+TEST_F(MeasureTrajectory, AQuaternionThatIsNoRotationIsADivergenceNamingTheSampleAndBody) {
+  // A zero quaternion (what an overflowed angular velocity normalises to) was measured as a
+  // rotation before; 1e-3 is the tolerance, far above any engine's round-off.
+  for (const double scale : {0.0, 2.0, 1.0 + 2e-3}) {
+    std::vector<State> samples = restingSamples(4);
+    samples[3].bodies[1].rotation.coeffs() *= scale;
+    try {
+      measure(samples);
+      ADD_FAILURE() << "a quaternion of norm " << scale << " was measured";
+    } catch (const EngineDivergence& e) {
+      EXPECT_NE(
+          std::string(e.what()).find("sample 3: the rotation of body 1 is not a unit quaternion"),
+          std::string::npos)
+          << e.what();
+    }
+  }
+  std::vector<State> samples = restingSamples(4);
+  samples[3].bodies[1].rotation.coeffs() *= 1.0 + 1e-9;  // round-off is fine
+  EXPECT_NO_THROW(measure(samples));
+}
+
 TEST_F(MeasureTrajectory, ASampleWithoutTheScenesBodiesIsAnArgumentError) {
   std::vector<State> samples = restingSamples(3);
   samples[1].bodies.pop_back();
