@@ -14,6 +14,7 @@ from `pbdval gate` (its --json output: the report decides none).
 from __future__ import annotations
 
 import argparse
+import difflib
 import json
 import math
 import os
@@ -167,12 +168,14 @@ class GateVerdicts:
     error: str
 
 
-def run_gate(results_dir: Path, baseline: Path) -> GateVerdicts:
-    """Runs `pbdval gate --json` on the results against the baseline."""
+def run_gate(results_dir: Path, baseline: Path, cases: Sequence[str] | None = None) -> GateVerdicts:
+    """Runs `pbdval gate --json` on the results against the baseline (on `cases` only, when
+    given: the gate's own --cases, so the other cases' runs are not "missing")."""
     with tempfile.TemporaryDirectory() as folder:
         verdicts = Path(folder) / "gate.json"
+        only = ["--cases", ",".join(cases)] if cases else []
         done = subprocess.run([str(pbdval_binary()), "gate", "--baseline", str(baseline), "--results",
-                               str(results_dir), "--json", str(verdicts), "--quiet"],
+                               str(results_dir), "--json", str(verdicts), "--quiet", *only],
                               capture_output=True, text=True)
         document = json.loads(verdicts.read_text(encoding="utf-8")) if verdicts.exists() else None
     return GateVerdicts(done.returncode, document, done.stderr.strip())
@@ -587,12 +590,14 @@ def parity_page() -> str:
 
 
 def build_report(results_dir: Path, out: Path, *, baseline: Path | None = None, sweeps: Sequence[Path] = (),
-                 quiet: bool = False, gate_json: Path | None = None) -> Path:
+                 quiet: bool = False, gate_json: Path | None = None,
+                 cases: Sequence[str] | None = None) -> Path:
     """Writes the report into `out` and returns the path of its index.html. With `baseline`, runs
     the gate; with `gate_json`, shows the verdicts a `pbdval gate --json` wrote instead. A results
     folder of another schema version gives a report that says so (nothing else can be read from
     it); a folder that is not a results folder, or a gate_json that is not such verdicts, raises
-    ResultsError."""
+    ResultsError. With `cases`, the report (and the gate it runs) covers those cases only; a name
+    the results do not hold raises ResultsError naming the cases they do hold."""
     try:
         results = load_results(results_dir)
     except ResultsError as error:
@@ -604,6 +609,8 @@ def build_report(results_dir: Path, out: Path, *, baseline: Path | None = None, 
         write(out / "report.md", f"# pbdval report\n\n{error}\n")
         progress(f"pbdval report: {error}", quiet)
         return out / "index.html"
+    if cases:
+        results = only_cases(results, cases)
     progress(f"pbdval report: {len(results)} runs of {len(results.cases)} cases from {results_dir}", quiet)
     colours = Colours([])
     labels = sorted({r.label for r in results}, key=lambda l: (l.split("/")[0] != "pbd", l))
@@ -613,7 +620,8 @@ def build_report(results_dir: Path, out: Path, *, baseline: Path | None = None, 
     three = copy_assets(out)
     if not three:
         progress("pbdval report: three.js is not installed (scripts/install-deps): no 3D replay", quiet)
-    verdicts = read_gate_json(gate_json) if gate_json else run_gate(results_dir, baseline) if baseline else None
+    verdicts = (read_gate_json(gate_json) if gate_json
+                else run_gate(results_dir, baseline, cases) if baseline else None)
     gate = gate_section(verdicts, baseline) if verdicts else None
     body, markdown = overview(results, labels, gate)
     by_case: dict[str, list[RunResult]] = {}
@@ -628,6 +636,21 @@ def build_report(results_dir: Path, out: Path, *, baseline: Path | None = None, 
     write(out / "report.md", markdown)
     progress(f"pbdval report: wrote {out / 'index.html'}", quiet)
     return out / "index.html"
+
+
+def only_cases(results: Results, cases: Sequence[str]) -> Results:
+    """The runs and case entries of `cases` alone; raises ResultsError for a name the results do
+    not hold (with the closest known names)."""
+    unknown = [c for c in cases if c not in results.cases]
+    if unknown:
+        known = sorted(results.cases)
+        hints = "; ".join(f"{c!r}" + (f" (did you mean {', '.join(difflib.get_close_matches(c, known, 3))}?)"
+                                      if difflib.get_close_matches(c, known, 3) else "") for c in unknown)
+        raise ResultsError(f"{results.folder}: no case {hints} in these results; they hold {len(known)} "
+                           f"cases: {', '.join(known)}")
+    wanted = set(cases)
+    return Results(results.folder, results.metadata, {c: v for c, v in results.cases.items() if c in wanted},
+                   [r for r in results.runs if r.case in wanted])
 
 
 def build_convergence_report(sweeps: Sequence[Path], out: Path, *, quiet: bool = False) -> Path:
@@ -659,11 +682,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--gate-json", type=Path, default=None,
                         help="show these verdicts (pbdval gate --json) instead of running the gate")
     parser.add_argument("--sweeps", type=Path, nargs="*", default=[], help="sweep folders (with sweep.json)")
+    parser.add_argument("--cases", type=str, default=None,
+                        help="report only these cases (comma-separated; the gate too); default: all")
     parser.add_argument("--quiet", action="store_true")
     args = parser.parse_args(argv)
+    cases = [c for c in args.cases.split(",") if c] if args.cases is not None else None
+    if cases is not None and not cases:
+        parser.error("--cases: expected a comma-separated list of case names")
     try:
         index = build_report(args.results, args.out or args.results / "report", baseline=args.baseline,
-                             sweeps=args.sweeps, quiet=args.quiet, gate_json=args.gate_json)
+                             sweeps=args.sweeps, quiet=args.quiet, gate_json=args.gate_json, cases=cases)
     except ResultsError as error:
         print(f"pbdval report: error: {error}", file=sys.stderr)
         return 2

@@ -235,3 +235,27 @@ def test_a_suspect_run_shows_its_metric_and_its_reason(tmp_path: Path) -> None:
     held = page[page.index("Runs held suspect"):]
     assert "bullet/bullet.si" in held.split("Runs that did not complete")[0]
     assert "ode/ode.quickstep" in page[page.index("Runs that did not complete"):]
+
+
+def test_report_cases_covers_those_cases_and_gates_only_them(real_results: Path, tmp_path: Path) -> None:
+    """`report --cases joint_hinge`: the other case of the results has no page and no row, and the
+    gate (against the full library's baseline) lists none of the baseline's other 51 cases as
+    missing runs — only this case's runs of engines the results lack (pbd and bullet ran, so the
+    baseline's mujoco/ode/... runs of joint_hinge are missing, and nothing of joint_distance)."""
+    report = tmp_path / "report"
+    pbdval("report", str(real_results), "--out", str(report), "--cases", "joint_hinge", "--baseline",
+           str(REPO / "reports/baselines/main.json"))
+    index = (report / "index.html").read_text()
+    assert "cases/joint_hinge.html" in index and (report / "cases/joint_hinge.html").is_file()
+    # (the run's command line in the metadata still names both cases' files)
+    assert "cases/joint_distance.html" not in index and not (report / "cases/joint_distance.html").exists()
+    assert " in 1 case</b>" in index
+    gate_rows = re.findall(r"<tr class='verdict-[a-z_]+'><td><span class='badge [a-z]+'>[^<]*</span></td><td>([a-z0-9_]+)</td>", index)
+    assert gate_rows and set(gate_rows) == {"joint_hinge"}
+
+
+def test_report_cases_with_an_unknown_name_is_a_clear_error(real_results: Path, tmp_path: Path) -> None:
+    done = pbdval("report", str(real_results), "--out", str(tmp_path / "r"), "--cases", "joint_hinje", check=False)
+    assert done.returncode == 2
+    assert "no case 'joint_hinje'" in done.stderr and "did you mean joint_hinge" in done.stderr
+    assert not (tmp_path / "r").exists()
