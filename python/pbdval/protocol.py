@@ -22,9 +22,10 @@ import json
 import math
 import os
 import tempfile
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, BinaryIO, Callable, Iterable, Mapping, Sequence
+from typing import Any, BinaryIO, Self
 
 import numpy as np
 
@@ -571,16 +572,16 @@ def _model_common(r: _Reader, m: Mapping[str, Any], path: str,
     for key, value in material.items():
         if not isinstance(value, (bool, int, float)):
             raise r.fail(f"{path}.material.{key}", "a number or true/false", value)
-    return dict(
-        id=r.integer(r.get(m, "id", path), f"{path}.id"),
-        json_path=r.string(m.get("jsonPath", ""), f"{path}.jsonPath"),
-        first_particle=first, particle_count=count, static_particles=statics,
-        density=None if density is None else r.num(density, f"{path}.density"),
-        friction=r.num(r.get(m, "friction", path), f"{path}.friction"),
-        restitution=r.num(r.get(m, "restitution", path), f"{path}.restitution"),
-        simulation_method=r.integer(r.get(m, "simulationMethod", path), f"{path}.simulationMethod"),
-        method_name=r.string(r.get(m, "methodName", path), f"{path}.methodName"),
-        material=dict(material))
+    return {
+        "id": r.integer(r.get(m, "id", path), f"{path}.id"),
+        "json_path": r.string(m.get("jsonPath", ""), f"{path}.jsonPath"),
+        "first_particle": first, "particle_count": count, "static_particles": statics,
+        "density": None if density is None else r.num(density, f"{path}.density"),
+        "friction": r.num(r.get(m, "friction", path), f"{path}.friction"),
+        "restitution": r.num(r.get(m, "restitution", path), f"{path}.restitution"),
+        "simulation_method": r.integer(r.get(m, "simulationMethod", path), f"{path}.simulationMethod"),
+        "method_name": r.string(r.get(m, "methodName", path), f"{path}.methodName"),
+        "material": dict(material)}
 
 
 def _triangle_model(r: _Reader, m: Mapping[str, Any], path: str, particle_count: int) -> TriangleModel:
@@ -659,14 +660,13 @@ def format_number(value: float) -> str:
     """The shortest decimal text that reads back to `value` exactly, as validation/trajectory.cpp
     writes it (integral values without ".0", so 2.0 is "2")."""
     text = repr(float(value))
-    if text.endswith(".0"):
-        text = text[:-2]
+    text = text.removesuffix(".0")
     return text
 
 
 def format_time(time: float) -> str:
     """Sample times to 12 significant digits, so that 0.3 is 0.3 (validation/trajectory.cpp)."""
-    return "%.12g" % time
+    return f"{time:.12g}"
 
 
 @dataclass(frozen=True)
@@ -773,7 +773,7 @@ class _RowWriter:
             self._file.close()
         self._temporary.unlink(missing_ok=True)
 
-    def __enter__(self) -> "_RowWriter":
+    def __enter__(self) -> Self:
         return self
 
     def __exit__(self, *exc: object) -> None:
@@ -991,7 +991,7 @@ def serve(argv: Sequence[str] | None, description: str,
                             engine_version=engine_version)
         else:
             status = run(scene, args.out)
-    except Exception as e:  # every failure becomes status "error" with its message
+    except Exception as e:  # noqa: BLE001  (every failure becomes status "error" with its message)
         status = Status("error", reason=f"{type(e).__name__}: {e}", engine_version=engine_version)
     write_status(args.out, status)
     return 0
