@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import Any, BinaryIO, Self
 
 import numpy as np
+from numpy.typing import NDArray
 
 PROTOCOL_VERSION = 1
 RESOLVED_SCENE_FORMAT = "pbdval.resolved-scene"
@@ -51,6 +52,8 @@ DIVERGENCE_LIMIT = 1e6
 
 Vec3 = tuple[float, float, float]
 Quat = tuple[float, float, float, float]  # w, x, y, z
+# A vector or quaternion as the engines hold it: a tuple or list of floats, or a numpy array.
+FloatVector = Sequence[float] | NDArray[np.floating[Any]]
 ParameterValue = bool | int | float | str
 
 
@@ -675,10 +678,10 @@ class BodyState:
     frame → world (w, x, y, z); velocity of the centre of mass and angular velocity (world)."""
 
     id: int
-    position: Sequence[float]
-    rotation: Sequence[float]
-    velocity: Sequence[float]
-    angular_velocity: Sequence[float]
+    position: FloatVector
+    rotation: FloatVector
+    velocity: FloatVector
+    angular_velocity: FloatVector
 
 
 def divergence_reason(time: float, bodies: Iterable[BodyState]) -> str | None:
@@ -1001,7 +1004,7 @@ def serve(argv: Sequence[str] | None, description: str,
 # Quaternion helpers (w, x, y, z)
 
 
-def quat_multiply(a: Sequence[float], b: Sequence[float]) -> Quat:
+def quat_multiply(a: FloatVector, b: FloatVector) -> Quat:
     aw, ax, ay, az = a
     bw, bx, by, bz = b
     return (aw * bw - ax * bx - ay * by - az * bz,
@@ -1010,16 +1013,16 @@ def quat_multiply(a: Sequence[float], b: Sequence[float]) -> Quat:
             aw * bz + ax * by - ay * bx + az * bw)
 
 
-def quat_conjugate(q: Sequence[float]) -> Quat:
+def quat_conjugate(q: FloatVector) -> Quat:
     return (q[0], -q[1], -q[2], -q[3])
 
 
-def quat_rotate(q: Sequence[float], v: Sequence[float]) -> Vec3:
+def quat_rotate(q: FloatVector, v: FloatVector) -> Vec3:
     """q v q*: the vector v rotated by the unit quaternion q."""
     r = quat_multiply(quat_multiply(q, (0.0, v[0], v[1], v[2])), quat_conjugate(q))
     return (r[1], r[2], r[3])
 
 
-def quat_normalized(q: Sequence[float]) -> Quat:
+def quat_normalized(q: FloatVector) -> Quat:
     n = math.sqrt(sum(c * c for c in q))
     return (q[0] / n, q[1] / n, q[2] / n, q[3] / n)

@@ -347,7 +347,7 @@ def test_mujoco_projects_a_jointed_initial_velocity_keeping_the_pivot_momentum(
     v, w = first[8:11], first[11:14]
     r = np.array(bob.position) - np.array(scene.joints[0].points["anchor"].world)
     q = bob.world_principal_rotation
-    rotation = np.array([pp.quat_rotate(q, list(e)) for e in np.eye(3)]).T
+    rotation = np.array([pp.quat_rotate(q, e) for e in np.eye(3)]).T
     inertia = rotation @ np.diag(bob.principal_inertia) @ rotation.T
     def pivot_momentum(v: np.ndarray, w: np.ndarray) -> np.ndarray:
         return inertia @ w + bob.mass * np.cross(r, v)
