@@ -21,7 +21,7 @@
 // it is ½ G' γ² with the engineering shear γ = 2 E_xy and G' = G/2.
 //
 // PBD projection, as the seed's solve_FEMTriangleConstraint: s = C / Σ w_i |∇_iC|²,
-// Δx_i = −s w_i ∇_iC, with NO stiffness factor (research/pbd.md §3.4). Scaling E_x, E_y and G
+// Δx_i = −s w_i ∇_iC, with NO stiffness factor (docs/seed.md#stiffness). Scaling E_x, E_y and G
 // together scales C and ∇C alike, so the correction does not depend on the moduli's absolute
 // scale (research §5.3 #7, tested): only their ratios and the Poisson ratios matter; stiffness
 // comes from the iteration and substep counts. Near rest C ∝ δ² (δ the strain), so a step to the

@@ -21,7 +21,7 @@
 //
 // Deliberate difference from the seed: solid_normalizeStretch normalizes the stretches and
 // solid_normalizeShear the shears; the seed passes normalizeStretch for both flags, so
-// solid_normalizeShear is ignored there (research/pbd.md §5.3 #5).
+// solid_normalizeShear is ignored there (docs/seed.md#sbd-tet-flags).
 // Pure functions (positions in, corrections out); nothing allocates.
 #pragma once
 
