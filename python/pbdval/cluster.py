@@ -143,7 +143,7 @@ def plan_of(binary: str, run_args: Sequence[str], command: str = "run") -> dict[
 
 
 def connect(args: argparse.Namespace) -> Any:
-    from distributed import Client
+    from distributed import Client  # imported only by the Dask executor
 
     address = args.scheduler or args.scheduler_file
     try:

@@ -318,7 +318,7 @@ def copy_assets(out: Path) -> bool:
 
 def case_page(case: str, runs: list[RunResult], results: Results, colours: Colours, figures: Path,
               quiet: bool, out: Path | None = None, three: bool = False) -> str:
-    from pbdval.api import load_scene, measure
+    from pbdval.api import load_scene, measure  # the C++ core, imported only here
 
     info = results.cases.get(case, {})
     body = [nav("../"),

@@ -20,7 +20,7 @@ import pytest
 REPO = Path(__file__).resolve().parents[2]
 VENV_PYTHON = REPO / ".venv" / "bin" / "python"
 
-import pbdval
+import pbdval  # conftest puts python/ on the path; the .pth adds the build
 
 NON_MEASURED = {"wall_time_s", "steps", "real_time_factor"}  # timings, not metrics of states
 
