@@ -142,7 +142,7 @@ class Reach:
                 "a higher layer)")
 
 
-INCLUDE = re.compile(r'^\s*#\s*include\s*"([^"]+)"', re.MULTILINE)
+INCLUDE = re.compile(r'^\s*#\s*include\s*["<]([^">]+)[">]', re.MULTILINE)
 # Where a quoted include is looked up, after the including file's folder: the repository root
 # (target_include_directories(... ${PROJECT_SOURCE_DIR})) and the PBD library's public headers.
 INCLUDE_ROOTS = ("", "pbd/include")
@@ -241,11 +241,12 @@ def upward_imports(files: dict[str, str]) -> list[Reach]:
 
 
 def test_the_layer_rules_find_an_upward_include_link_and_import() -> None:
-    headers = {"pbd/include/pbd/model/world.h": '#include "validation/metrics.h"\n#include "pbd/core.h"\n',
+    headers = {"pbd/include/pbd/model/world.h": '#include <vector>\n#include "pbd/core.h"\n'
+                                                '#include <validation/metrics.h>\n',
                "pbd/include/pbd/core.h": "", "validation/metrics.h": '#include "adapters/engine.h"\n',
                "adapters/engine.h": '#include "pbdval/build_info.h"\n'}  # generated: not a file here
     assert [str(r) for r in upward_includes(headers)] == [
-        'pbd/include/pbd/model/world.h:1: #include "validation/metrics.h" (pbd uses validation, a higher layer)']
+        'pbd/include/pbd/model/world.h:3: #include "validation/metrics.h" (pbd uses validation, a higher layer)']
     cmake = {"adapters/CMakeLists.txt": "add_library(engine STATIC e.cpp)\n"
                                         "target_link_libraries(engine PUBLIC pbd  # the library\n  checks)\n",
              "pbd/CMakeLists.txt": "add_library(pbd STATIC x.cpp)\ntarget_link_libraries(pbd PUBLIC Eigen3::Eigen)\n",
