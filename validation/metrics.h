@@ -1,16 +1,29 @@
 // Metrics: computed once, here, for every engine alike, from the states read back and the
 // Scene — never from an engine's own counters. Formulas: docs/metrics.md.
 //
-// Stable names (results.json, baselines and gates depend on them):
-//   energy_drift_max, energy_drift_final, energy_drift_rate          (relative to E_ref; rate /s)
-//   momentum_linear_drift_max, momentum_angular_drift_max             (only when declared
-//   conserved) joint_error_linear_max, joint_error_linear_rms (m), joint_error_angular_max,
-//     joint_error_angular_rms (rad) and per joint type under joint_error_by_type
-//   motor_tracking_angle_max (rad), motor_tracking_angular_velocity_max (rad/s),
-//     motor_tracking_position_max (m), motor_tracking_velocity_max (m/s)   (when motors exist)
-//   penetration_max, penetration_mean (m)                             (FCL oracle, margins
-//   subtracted) trajectory_error_max, trajectory_error_rms (m), rotation_error_max (rad)   (against
-//   a reference)
+// Stable names (results.json, baselines and gates depend on them), declared in namespace
+// metric below; when each is present: docs/metrics.md.
+// clang-format off
+//   energy_drift_max, energy_drift_final                     1 (of E_ref)
+//   energy_drift_rate                                        1/s
+//   momentum_linear_drift_max, momentum_angular_drift_max    1 (of their scales)
+//   joint_error_linear_max, joint_error_linear_rms           m
+//   joint_error_angular_max, joint_error_angular_rms         rad
+//     (the four also per joint type, under joint_error_by_type)
+//   motor_tracking_angle_max                                 rad
+//   motor_tracking_angular_velocity_max                      rad/s
+//   motor_tracking_position_max                              m
+//   motor_tracking_velocity_max                              m/s
+//   penetration_max, penetration_mean                        m (FCL oracle, margins subtracted)
+//   trajectory_error_max, trajectory_error_rms               m
+//   rotation_error_max                                       rad
+//   particle_stretch_max, particle_stretch_rms               1 (strain)
+//   tet_volume_error_max, solid_volume_error_max             1
+//   particle_penetration_max, solid_penetration_max          m
+//   particle_trajectory_error_max, particle_trajectory_error_rms   m
+//   fluid_escape_max                                         m
+//   static_displacement, static_displacement_error           m, 1
+// clang-format on
 // The runner adds wall_time_s, steps, real_time_factor and, for PBD, state_hash.
 //
 // The building blocks (energy and momenta of a state: validation/mechanics.h; per-joint error:

@@ -93,7 +93,7 @@ std::vector<std::string> PbdEngine::unsupported(const pbd::Scene& scene,
                         "3 (FEM, XPBD), 4 (strain-based, PBD), 5 (shape matching, PBD) and 6 "
                         "(distance and volume, XPBD) are, 0 leaves free particles");
     } else if (fem && !(poissonRatio >= 0 && poissonRatio <= pbd::Real(0.49))) {
-      // The seed's FEM solve returns false for such a ν (research/pbd.md §4.1).
+      // The seed's FEM solve returns false for such a ν (docs/seed.md#defaults).
       missing.push_back(model.jsonPath + ": FEM solids (solidSimulationMethod " +
                         std::to_string(solid) + ") with solid_poissonRatio " +
                         pbd::formatReal(double(poissonRatio)) + " outside [0, 0.49]");

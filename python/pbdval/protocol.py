@@ -22,11 +22,13 @@ import json
 import math
 import os
 import tempfile
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, BinaryIO, Callable, Iterable, Mapping, Sequence
+from typing import Any, BinaryIO, Self
 
 import numpy as np
+from numpy.typing import NDArray
 
 PROTOCOL_VERSION = 1
 RESOLVED_SCENE_FORMAT = "pbdval.resolved-scene"
@@ -50,6 +52,8 @@ DIVERGENCE_LIMIT = 1e6
 
 Vec3 = tuple[float, float, float]
 Quat = tuple[float, float, float, float]  # w, x, y, z
+# A vector or quaternion as the engines hold it: a tuple or list of floats, or a numpy array.
+FloatVector = Sequence[float] | NDArray[np.floating[Any]]
 ParameterValue = bool | int | float | str
 
 
@@ -571,16 +575,16 @@ def _model_common(r: _Reader, m: Mapping[str, Any], path: str,
     for key, value in material.items():
         if not isinstance(value, (bool, int, float)):
             raise r.fail(f"{path}.material.{key}", "a number or true/false", value)
-    return dict(
-        id=r.integer(r.get(m, "id", path), f"{path}.id"),
-        json_path=r.string(m.get("jsonPath", ""), f"{path}.jsonPath"),
-        first_particle=first, particle_count=count, static_particles=statics,
-        density=None if density is None else r.num(density, f"{path}.density"),
-        friction=r.num(r.get(m, "friction", path), f"{path}.friction"),
-        restitution=r.num(r.get(m, "restitution", path), f"{path}.restitution"),
-        simulation_method=r.integer(r.get(m, "simulationMethod", path), f"{path}.simulationMethod"),
-        method_name=r.string(r.get(m, "methodName", path), f"{path}.methodName"),
-        material=dict(material))
+    return {
+        "id": r.integer(r.get(m, "id", path), f"{path}.id"),
+        "json_path": r.string(m.get("jsonPath", ""), f"{path}.jsonPath"),
+        "first_particle": first, "particle_count": count, "static_particles": statics,
+        "density": None if density is None else r.num(density, f"{path}.density"),
+        "friction": r.num(r.get(m, "friction", path), f"{path}.friction"),
+        "restitution": r.num(r.get(m, "restitution", path), f"{path}.restitution"),
+        "simulation_method": r.integer(r.get(m, "simulationMethod", path), f"{path}.simulationMethod"),
+        "method_name": r.string(r.get(m, "methodName", path), f"{path}.methodName"),
+        "material": dict(material)}
 
 
 def _triangle_model(r: _Reader, m: Mapping[str, Any], path: str, particle_count: int) -> TriangleModel:
@@ -659,14 +663,13 @@ def format_number(value: float) -> str:
     """The shortest decimal text that reads back to `value` exactly, as validation/trajectory.cpp
     writes it (integral values without ".0", so 2.0 is "2")."""
     text = repr(float(value))
-    if text.endswith(".0"):
-        text = text[:-2]
+    text = text.removesuffix(".0")
     return text
 
 
 def format_time(time: float) -> str:
     """Sample times to 12 significant digits, so that 0.3 is 0.3 (validation/trajectory.cpp)."""
-    return "%.12g" % time
+    return f"{time:.12g}"
 
 
 @dataclass(frozen=True)
@@ -675,10 +678,10 @@ class BodyState:
     frame → world (w, x, y, z); velocity of the centre of mass and angular velocity (world)."""
 
     id: int
-    position: Sequence[float]
-    rotation: Sequence[float]
-    velocity: Sequence[float]
-    angular_velocity: Sequence[float]
+    position: FloatVector
+    rotation: FloatVector
+    velocity: FloatVector
+    angular_velocity: FloatVector
 
 
 def divergence_reason(time: float, bodies: Iterable[BodyState]) -> str | None:
@@ -773,7 +776,7 @@ class _RowWriter:
             self._file.close()
         self._temporary.unlink(missing_ok=True)
 
-    def __enter__(self) -> "_RowWriter":
+    def __enter__(self) -> Self:
         return self
 
     def __exit__(self, *exc: object) -> None:
@@ -991,7 +994,7 @@ def serve(argv: Sequence[str] | None, description: str,
                             engine_version=engine_version)
         else:
             status = run(scene, args.out)
-    except Exception as e:  # every failure becomes status "error" with its message
+    except Exception as e:  # noqa: BLE001  (every failure becomes status "error" with its message)
         status = Status("error", reason=f"{type(e).__name__}: {e}", engine_version=engine_version)
     write_status(args.out, status)
     return 0
@@ -1001,7 +1004,7 @@ def serve(argv: Sequence[str] | None, description: str,
 # Quaternion helpers (w, x, y, z)
 
 
-def quat_multiply(a: Sequence[float], b: Sequence[float]) -> Quat:
+def quat_multiply(a: FloatVector, b: FloatVector) -> Quat:
     aw, ax, ay, az = a
     bw, bx, by, bz = b
     return (aw * bw - ax * bx - ay * by - az * bz,
@@ -1010,16 +1013,16 @@ def quat_multiply(a: Sequence[float], b: Sequence[float]) -> Quat:
             aw * bz + ax * by - ay * bx + az * bw)
 
 
-def quat_conjugate(q: Sequence[float]) -> Quat:
+def quat_conjugate(q: FloatVector) -> Quat:
     return (q[0], -q[1], -q[2], -q[3])
 
 
-def quat_rotate(q: Sequence[float], v: Sequence[float]) -> Vec3:
+def quat_rotate(q: FloatVector, v: FloatVector) -> Vec3:
     """q v q*: the vector v rotated by the unit quaternion q."""
     r = quat_multiply(quat_multiply(q, (0.0, v[0], v[1], v[2])), quat_conjugate(q))
     return (r[1], r[2], r[3])
 
 
-def quat_normalized(q: Sequence[float]) -> Quat:
+def quat_normalized(q: FloatVector) -> Quat:
     n = math.sqrt(sum(c * c for c in q))
     return (q[0] / n, q[1] / n, q[2] / n, q[3] / n)

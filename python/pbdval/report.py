@@ -23,10 +23,11 @@ import shutil
 import subprocess
 import sys
 import tempfile
+from collections.abc import Sequence
 from dataclasses import dataclass
 from html import escape
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -42,8 +43,8 @@ THREE_FILES = {"three.min.js": "node_modules/three/build/three.min.js",
                "OrbitControls.js": "node_modules/three/examples/js/controls/OrbitControls.js",
                "three-LICENSE.txt": "node_modules/three/LICENSE"}
 
-STATUS_COLOURS = {"ok": "#d9f2d9", "suspect": "#ffc8a0", "unsupported": "#eeeeee", "diverged": "#ffd9b3", "timeout": "#ffe9a8",
-                  "error": "#f7c6c6"}
+STATUS_COLOURS = {"ok": "#d9f2d9", "suspect": "#ffc8a0", "unsupported": "#eeeeee", "diverged": "#ffd9b3",
+                  "timeout": "#ffe9a8", "error": "#f7c6c6"}
 #: Points per series in a time plot (every k-th sample beyond it: a 600-pixel-wide figure shows no
 #: more, and a 39-case report stays small).
 MAX_PLOT_POINTS = 400
@@ -176,7 +177,7 @@ def run_gate(results_dir: Path, baseline: Path, cases: Sequence[str] | None = No
         only = ["--cases", ",".join(cases)] if cases else []
         done = subprocess.run([str(pbdval_binary()), "gate", "--baseline", str(baseline), "--results",
                                str(results_dir), "--json", str(verdicts), "--quiet", *only],
-                              capture_output=True, text=True)
+                              capture_output=True, text=True, check=False)
         document = json.loads(verdicts.read_text(encoding="utf-8")) if verdicts.exists() else None
     return GateVerdicts(done.returncode, document, done.stderr.strip())
 
@@ -261,15 +262,17 @@ def overview(results: Results, labels: list[str], gate: tuple[str, str] | None) 
     build = meta.get("pbdval", {})
     machine = meta.get("machine", {})
     html = [f"<h1>pbdval report</h1>{nav()}",
-            f"<p>{len(results)} runs of {len(cases)} cases. Results: <code>{escape(str(results.folder))}</code>, "
+            (f"<p>{len(results)} runs of {len(cases)} cases. Results: <code>{escape(str(results.folder))}</code>, "
             f"created {escape(str(meta.get('created', '?')))} by <code>{escape(str(meta.get('command', '?')))}</code>; "
             f"pbdval {escape(str(build.get('version', '?')))}, commit {escape(str(build.get('commit', '?'))[:12])} "
             f"({escape(str(build.get('commitState', '?')))}), {escape(str(build.get('buildType', '')))}, "
             f"{escape(str(build.get('compiler', '')))}, <code>{escape(str(build.get('flags', '')))}</code>, "
             f"{escape(str(build.get('precision', '')))}; machine {escape(str(machine.get('hostname', '?')))} "
-            f"({escape(str(machine.get('cpu', '')))}, {escape(str(machine.get('cores', '')))} cores).</p>"]
-    md = ["# pbdval report", "", f"{len(results)} runs of {len(cases)} cases; commit "
-          f"`{str(build.get('commit', '?'))[:12]}` ({build.get('commitState', '?')}), {build.get('compiler', '')}.", ""]
+            f"({escape(str(machine.get('cpu', '')))}, {escape(str(machine.get('cores', '')))} cores).</p>")]
+    md = ["# pbdval report", "",
+          (f"{len(results)} runs of {len(cases)} cases; commit `{str(build.get('commit', '?'))[:12]}` "
+           f"({build.get('commitState', '?')}), {build.get('compiler', '')}."),
+          ""]
     if gate is not None:
         html.append(gate[0])
         md += [gate[1], ""]
@@ -318,7 +321,7 @@ def copy_assets(out: Path) -> bool:
 
 def case_page(case: str, runs: list[RunResult], results: Results, colours: Colours, figures: Path,
               quiet: bool, out: Path | None = None, three: bool = False) -> str:
-    from pbdval.api import load_scene, measure  # noqa: PLC0415  (the C++ core)
+    from pbdval.api import load_scene, measure  # the C++ core, imported only here
 
     info = results.cases.get(case, {})
     body = [nav("../"),
@@ -404,12 +407,14 @@ def case_page(case: str, runs: list[RunResult], results: Results, colours: Colou
     failed = [r for r in runs if not r.measured]
     if failed:
         body.append("<h2>Runs that did not complete</h2><ul>"
-                    + "".join(f"<li><b>{escape(r.label)}</b> {escape(r.status)}: {escape(r.reason)}</li>" for r in failed)
+                    + "".join(f"<li><b>{escape(r.label)}</b> {escape(r.status)}: {escape(r.reason)}</li>"
+                              for r in failed)
                     + "</ul>")
     # Parity record.
     body.append("<h2>Effective settings (the parity record)</h2>")
     for r in runs:
-        settings = "".join(f"<tr><td>{escape(k)}</td><td>{escape(str(v))}</td></tr>" for k, v in sorted(r.settings.items()))
+        settings = "".join(f"<tr><td>{escape(k)}</td><td>{escape(str(v))}</td></tr>"
+                           for k, v in sorted(r.settings.items()))
         parameters = ", ".join(f"{k} = {v}" for k, v in sorted(r.parameters.items()))
         body.append(f"<details><summary>{escape(r.label)} — {escape(str(r.facts.get('engineVersion', '')))}"
                     f"{'; ' + escape(parameters) if parameters else ''}</summary><table>{settings}</table></details>")
@@ -419,10 +424,10 @@ def case_page(case: str, runs: list[RunResult], results: Results, colours: Colou
 
 def convergence_page(sweeps: Sequence[Path], colours: Colours, figures: Path, *, standalone: bool = False) -> str:
     body = ["" if standalone else nav(),
-            "<h1>Convergence</h1><p>Error against the swept parameter, log-log, per method: filled points are "
+            ("<h1>Convergence</h1><p>Error against the swept parameter, log-log, per method: filled points are "
             "fitted, hollow ones were left out (on a floor); dashed lines are reference slopes 1, 2 and 4 "
             "through the coarsest point of the first method. The legend gives the fitted order and R². Under it, "
-            "the error against the wall time of each run, with the Pareto front.</p>"]
+            "the error against the wall time of each run, with the Pareto front.</p>")]
     if not sweeps:
         body.append("<p class='badge warn'>no sweep given (pbdval report --sweeps DIR...)</p>")
     for path in sweeps:
@@ -559,12 +564,12 @@ def parity_status(rows: list[tuple[str, str]], pattern: str, feature: str) -> st
 
 def parity_page() -> str:
     body = [nav(),
-            "<h1>Parity</h1><p>How each engine maps the scene's features: <b>native</b> (its own feature with the "
+            ("<h1>Parity</h1><p>How each engine maps the scene's features: <b>native</b> (its own feature with the "
             "scene's meaning), <b>approximated</b> (the closest feature; the difference is documented and recorded "
             "in each run's effective settings) or <b>unsupported</b> (the run is reported unsupported, naming the "
             "feature). From the parity pages in <code>docs/</code> (parity-bullet.md, parity-ode.md, "
             "parity-mujoco.md, external-engines.md), where every row says how. The <code>pbd</code> engine "
-            "implements the seed's scene format: every feature is its own.</p>"]
+            "implements the seed's scene format: every feature is its own.</p>")]
     tables: dict[str, list[tuple[str, str]]] = {}
     for engine, file, start in PARITY_SOURCES:
         try:
@@ -576,8 +581,8 @@ def parity_page() -> str:
     body.append("<table><tr><th>scene feature</th>" + "".join(f"<th>{escape(e)}</th>" for e in engines) + "</tr>")
     for feature, pattern in PARITY_FEATURES:
         cells = [f"<td style='background:{PARITY_COLOURS['native']}'>native</td>"]
-        for engine in tables:
-            status = parity_status(tables[engine], pattern, feature)
+        for table in tables.values():
+            status = parity_status(table, pattern, feature)
             word = status.split(" ")[0].strip("*,;:").lower() if status else ""
             colour = PARITY_COLOURS.get(word, "#ffffff")
             cells.append(f"<td style='background:{colour}' title='{escape(status)}'>{escape(status or '–')}</td>")

@@ -5,9 +5,9 @@ reference slopes. Every figure is a standalone SVG document (downloadable as suc
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from html import escape
-from typing import Sequence
 
 #: One colour per engine/method across the whole report (Okabe–Ito, readable in print and by
 #: colour-blind readers), then a few more.
@@ -31,12 +31,12 @@ def _ticks(lo: float, hi: float, log: bool) -> list[float]:
         a, b = math.floor(math.log10(lo)), math.ceil(math.log10(hi))
         if b - a <= 2:  # a narrow range: 1, 2, 5 in every decade
             return [m * 10.0 ** e for e in range(a, b + 1) for m in (1, 2, 5)]
-        step = max(1, (b - a) // 6)
-        return [10.0 ** e for e in range(a, b + 1, step)]
+        decades = max(1, (b - a) // 6)
+        return [10.0 ** e for e in range(a, b + 1, decades)]
     if hi == lo:
         return [lo]
     raw = (hi - lo) / 5
-    magnitude = 10 ** math.floor(math.log10(raw))
+    magnitude = 10.0 ** math.floor(math.log10(raw))
     step = min((m * magnitude for m in (1, 2, 2.5, 5, 10) if m * magnitude >= raw), default=raw)
     first = math.ceil(lo / step) * step
     return [first + k * step for k in range(int((hi - first) / step) + 1)]
@@ -62,8 +62,8 @@ def line_plot(series: Sequence[Series], *, title: str, xlabel: str, ylabel: str,
 
     xs = [x for s in series for x, y in zip(s.x, s.y) if usable(x, logx) and usable(y, logy)]
     ys = [y for s in series for x, y in zip(s.x, s.y) if usable(x, logx) and usable(y, logy)]
-    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
-           f'viewBox="0 0 {width} {height}" font-family="Helvetica, Arial, sans-serif" font-size="12">',
+    out = [(f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
+           f'viewBox="0 0 {width} {height}" font-family="Helvetica, Arial, sans-serif" font-size="12">'),
            f'<rect width="{width}" height="{height}" fill="white"/>',
            f'<text x="{left}" y="20" font-size="14" font-weight="bold">{escape(title)}</text>']
     if not xs:

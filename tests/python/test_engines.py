@@ -9,8 +9,9 @@ import importlib.util
 import json
 import math
 import subprocess
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 import pytest

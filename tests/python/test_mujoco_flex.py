@@ -9,8 +9,9 @@ from __future__ import annotations
 import json
 import math
 import subprocess
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -75,10 +76,10 @@ def test_flex_vertices_masses_and_elements_are_the_scenes(export_scene: Export, 
     # Total mass: fsum rounds the exact sum once, so equal multisets of masses give equal totals.
     assert math.fsum(model.body_mass[1:]) == math.fsum(masses)
     assert np.array_equal(run.layout.state(data)[:, :3], positions)
-    models = (*scene.triangle_models, *scene.tet_models)
+    models: tuple[pp.TriangleModel | pp.TetModel, ...] = (*scene.triangle_models, *scene.tet_models)
     assert model.nflex == len(models)
     for f, m in enumerate(models):
-        elements = np.asarray(m.triangles if hasattr(m, "triangles") else m.tets) + m.first_particle
+        elements = np.asarray(m.triangles if isinstance(m, pp.TriangleModel) else m.tets) + m.first_particle
         dim = elements.shape[1] - 1
         assert model.flex_dim[f] == dim and model.flex_vertadr[f] == m.first_particle
         first = model.flex_elemdataadr[f]
@@ -113,7 +114,7 @@ def test_cloth_membrane_under_uniaxial_strain_pulls_like_the_spring_network(expo
     scene = scene_of(export_scene, "cloth_on_sphere", "mujoco-python.euler.newton", without_bodies)
     run = engine.MujocoRun(scene)
     x0 = run.layout.positions0
-    eps, k, width = 1e-6, scene.triangle_models[0].material["stiffness"], np.ptp(x0[:, 2])
+    eps, k, width = 1e-6, float(scene.triangle_models[0].material["stiffness"]), np.ptp(x0[:, 2])
     stretched = x0.copy()
     stretched[:, 0] = x0[:, 0].min() + (x0[:, 0] - x0[:, 0].min()) * (1 + eps)
     forces = elastic_forces(run, stretched)
@@ -133,7 +134,7 @@ def test_tets_under_uniaxial_strain_pull_with_lambda_plus_two_mu(export_scene: E
     run = engine.MujocoRun(scene)
     x0 = run.layout.positions0
     material = scene.tet_models[0].material
-    E, nu = material["stiffness"], material["poissonRatio"]
+    E, nu = float(material["stiffness"]), float(material["poissonRatio"])
     lam, mu = E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
     eps, area = 1e-6, np.ptp(x0[:, 1]) * np.ptp(x0[:, 2])
     stretched = x0.copy()
@@ -229,7 +230,7 @@ def test_explicit_integrators_substep_below_the_stability_limit(export_scene: Ex
     # by central differences of the membrane force on that particle alone.
     scene = scene_of(export_scene, "cloth_hanging", "mujoco-python.euler.newton")
     run = engine.MujocoRun(scene)
-    omega = run.settings["elasticOmegaMax"]
+    omega = float(run.settings["elasticOmegaMax"])
     h = scene.time_step_size
     assert run.substeps == math.ceil(omega * h) and run.substeps > 1
     assert run.model.opt.timestep == pytest.approx(h / run.substeps, rel=1e-15)
@@ -348,8 +349,8 @@ def test_cantilever_settles_at_the_linear_fem_deflection(export_scene: Export) -
     masses = np.array([p.mass for p in scene.particles])
     assert len(scene.tet_models) == 1 and model.first_particle == 0  # local indices are global
     expected = linear_fem.static_displacement(x0, model.tets, masses, np.array(model.static_particles),
-                                              np.array(scene.gravity), model.material["stiffness"],
-                                              model.material["poissonRatio"])
+                                              np.array(scene.gravity), float(model.material["stiffness"]),
+                                              float(model.material["poissonRatio"]))
     tip = np.flatnonzero(np.isclose(x0[:, 0], x0[:, 0].max()))
     sags = []
     for n in range(1, scene.steps + 1):

@@ -32,7 +32,8 @@ def real_results(tmp_path_factory: pytest.TempPathFactory) -> Path:
 def test_a_real_run_renders_every_case_and_run(real_results: Path, tmp_path: Path) -> None:
     report = tmp_path / "report"
     done = pbdval("report", str(real_results), "--out", str(report), "--baseline",
-                  str(REPO / "reports/baselines/main.json"), "--sweeps", str(REPO / "reports/sweeps/joint_hinge-timestep"))
+                  str(REPO / "reports/baselines/main.json"),
+                  "--sweeps", str(REPO / "reports/sweeps/joint_hinge-timestep"))
     assert done.stdout.strip() == str(report / "index.html")
     index = (report / "index.html").read_text()
     for case in ("joint_hinge", "joint_distance"):
@@ -136,17 +137,18 @@ def test_gate_text_junit_markdown_and_report_count_the_same_failures(real_result
     assert flagged > 0 and {c["case"] for c in verdicts["checks"] if c["verdict"] == "regression"} == {"joint_hinge"}
     assert verdicts["counts"]["failed"] == flagged
     text = done.stdout
-    assert len(re.findall(r"^FAIL ", text, re.M)) == flagged
+    assert len(re.findall(r"^FAIL ", text, re.MULTILINE)) == flagged
     assert f", {flagged} failed in 1 case (" in text.splitlines()[-1]
     junit = files["xml"].read_text()
-    assert re.search(r'<testsuites [^>]*failures="(\d+)"', junit).group(1) == str(flagged)
+    failures = re.search(r'<testsuites [^>]*failures="(\d+)"', junit)
+    assert failures is not None and failures.group(1) == str(flagged)
     assert junit.count("<failure ") == flagged
     markdown = files["md"].read_text()
-    assert len(re.findall(r"^\| (regression|missing) \|", markdown, re.M)) == flagged
+    assert len(re.findall(r"^\| (regression|missing) \|", markdown, re.MULTILINE)) == flagged
     assert f", {flagged} failed in 1 case (" in markdown
     # The report, running the gate itself or showing the verdicts of the gate above.
-    for name, source in (("report", {"baseline": baseline}), ("shown", {"gate_json": files["json"]})):
-        build_report(worse, tmp_path / name, quiet=True, **source)
+    for name, gate_baseline, gate_json in (("report", baseline, None), ("shown", None, files["json"])):
+        build_report(worse, tmp_path / name, quiet=True, baseline=gate_baseline, gate_json=gate_json)
         index = (tmp_path / name / "index.html").read_text()
         rows = re.findall(r"<tr class='verdict-(regression|missing)'>", index)
         assert len(rows) == flagged, name
@@ -250,7 +252,8 @@ def test_report_cases_covers_those_cases_and_gates_only_them(real_results: Path,
     # (the run's command line in the metadata still names both cases' files)
     assert "cases/joint_distance.html" not in index and not (report / "cases/joint_distance.html").exists()
     assert " in 1 case</b>" in index
-    gate_rows = re.findall(r"<tr class='verdict-[a-z_]+'><td><span class='badge [a-z]+'>[^<]*</span></td><td>([a-z0-9_]+)</td>", index)
+    gate_rows = re.findall(r"<tr class='verdict-[a-z_]+'><td><span class='badge [a-z]+'>[^<]*</span></td>"
+                           r"<td>([a-z0-9_]+)</td>", index)
     assert gate_rows and set(gate_rows) == {"joint_hinge"}
 
 
