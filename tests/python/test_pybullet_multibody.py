@@ -5,7 +5,9 @@ own definitions (docs/metrics.md#joints)."""
 
 from __future__ import annotations
 
+import json
 import math
+import subprocess
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -17,6 +19,7 @@ from pbdval import protocol as pp
 from test_engines import (
     PYBULLET,
     assert_ok,
+    complete_elliptic_k,
     measured_period,
     pendulum_period,
     trajectory,
@@ -230,13 +233,97 @@ def test_a_chain_beyond_pybullets_state_is_cut_at_ball_joints_into_multibodies(
         export_scene: Export, run_engine: Run) -> None:
     # 100 ball joints need 7 + 4 x 100 position coordinates; pybullet 3.2.7 transfers 128 (more
     # corrupt the state it reads: a link read at the origin, the base moving at (0, 0, 1)).
+    # 7 + 4 x 30 <= 128: the fixed-base multibody takes 30 links, each cut one a free base and
+    # 30 links, so 100 links need cuts after links 30, 61 and 92.
     scene, status, rows = run_case(export_scene, run_engine, "chain_100", duration=0.02)
     settings = status["effectiveSettings"]
     cuts = [k for k, v in settings.items() if k.endswith(".links") and "loop closure" in v]
-    assert len(cuts) == math.ceil(100 / 30) - 1  # 30 spherical joints per multibody
+    assert cuts == [f"BallJoints[{i}].links" for i in (30, 61, 92)]
     for b in scene.bodies:
         if b.dynamic:
             assert np.allclose(rows[b.id][0, 1:4], b.position, rtol=0, atol=1e-12), b.json_path
+
+
+def four_bar(folder: Path) -> Path:
+    """A parallelogram four-bar: two 0.5 m cranks hinged 1 m apart on a static body, a 1 m
+    coupler hinged to both; released 30 degrees off vertical. Its four hinges form a loop."""
+    s, c = math.sin(math.radians(30)), math.cos(math.radians(30))
+    a, d = [0.0, 2.0, 0.0], [1.0, 2.0, 0.0]
+    b, e = [0.5 * s, 2 - 0.5 * c, 0.0], [1 + 0.5 * s, 2 - 0.5 * c, 0.0]
+
+    def box(i: int, at: list[float], scale: list[float], angle: float = 0.0) -> dict[str, Any]:
+        body: dict[str, Any] = {"id": i, "geometryFile": str(REPO / "cases/models/cube.obj"),
+                                "translation": at, "scale": scale, "collisionObjectType": 0,
+                                "isDynamic": i != 0}
+        if i != 0:
+            body["density"] = 1000
+        if angle:
+            body.update(rotationAxis=[0, 0, 1], rotationAngle=angle)
+        return body
+
+    crank = math.radians(30)
+    document = {
+        "Name": "four_bar",
+        "Simulation": {"timeStepSize": 0.005, "gravitation": [0, -9.81, 0]},
+        "RigidBodies": [
+            box(0, [0.5, 2.0, 0.0], [0.1, 0.1, 0.1]),
+            box(1, [(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, 0.0], [0.05, 0.5, 0.05], crank),
+            box(2, [(b[0] + e[0]) / 2, b[1], 0.0], [1.0, 0.05, 0.05]),
+            box(3, [(d[0] + e[0]) / 2, (d[1] + e[1]) / 2, 0.0], [0.05, 0.5, 0.05], crank)],
+        "HingeJoints": [{"bodyID1": i, "bodyID2": j, "position": p, "axis": [0, 0, 1]}
+                        for i, j, p in ((0, 1, a), (1, 2, b), (2, 3, e), (0, 3, d))],
+        "Validation": {"schema": 1, "duration": 3.0, "sampleInterval": 0.01},
+    }
+    path = folder / "four_bar.json"
+    path.write_text(json.dumps(document))
+    return path
+
+
+def test_a_four_bar_loop_closed_by_a_hinge_swings_with_the_parallelogram_period(
+        pbdval_binary: Path, run_engine: Run, tmp_path: Path) -> None:
+    exported = subprocess.run([str(pbdval_binary), "export-scene", str(four_bar(tmp_path)),
+                               "--quiet"], capture_output=True, text=True, check=True)
+    document = json.loads(exported.stdout)
+    document["method"] = {"name": METHOD, "parameters": {}}
+    scene_path = tmp_path / "resolved.json"
+    scene_path.write_text(json.dumps(document))
+    scene = pp.read_resolved_scene(scene_path)
+    status, out = run_engine(PYBULLET, scene_path)
+    assert_ok(status)
+    rows = trajectory(out)
+    loop = scene.joints[3]  # the last hinge finds its bodies already connected
+    assert "loop closure" in status["effectiveSettings"][f"{loop.json_path}.links"]
+    for joint in scene.joints[:3]:
+        _, _, p1, p2 = joint_geometry(scene, rows, joint)
+        assert np.max(np.linalg.norm(p1 - p2, axis=1)) <= ROUND_OFF, joint.json_path
+    # The loop's two point-to-point rows are solved by the 10 sweeps: the parity suite's bound,
+    # 10 h^2 a_max (as test_engines holds pybullet.si's hinges; a_max from the samples).
+    dt, h = scene.sample_interval, scene.time_step_size
+    acceleration = max(
+        float(np.max(np.linalg.norm(x[2:] - 2 * x[1:-1] + x[:-2], axis=1))) / dt**2
+        for x in (rows[b.id][:, 1:4] for b in scene.bodies if b.dynamic))
+    _, _, p1, p2 = joint_geometry(scene, rows, loop)
+    assert np.max(np.linalg.norm(p1 - p2, axis=1)) <= 10 * h * h * acceleration
+    # The coupler translates on a circle of the crank's length L: one coordinate theta with
+    # inertia I = sum over cranks of (I_z + m r^2) + m_coupler L^2 and gravity moment
+    # g (sum of m r + m_coupler L) sin(theta): a physical pendulum.
+    pivots = [np.array(scene.joints[k].points["anchor"].world) for k in (0, 3)]
+    length = float(np.linalg.norm(np.array(scene.joints[1].points["anchor"].world) - pivots[0]))
+    inertia = moment = 0.0
+    for crank, pivot, joint in zip((scene.bodies[1], scene.bodies[3]), pivots,
+                                   (scene.joints[0], scene.joints[3])):
+        axis = np.array(joint.axes["axis"].body2.principal)  # type: ignore[union-attr]
+        r = float(np.linalg.norm(np.array(crank.position) - pivot))
+        inertia += float(np.sum(np.array(crank.principal_inertia) * axis**2)) + crank.mass * r * r
+        moment += crank.mass * r
+    coupler = scene.bodies[2]
+    inertia += coupler.mass * length**2
+    moment += coupler.mass * length
+    omega0 = math.sqrt(float(np.linalg.norm(scene.gravity)) * moment / inertia)
+    period = 4 * complete_elliptic_k(math.sin(math.radians(30) / 2)) / omega0
+    measured = measured_period(rows[1], pivots[0])
+    # As the single pendulum's: twice semi-implicit Euler's (omega0 h)^2 / 24.
+    assert abs(measured / period - 1) <= (omega0 * h) ** 2 / 12, (measured, period)
 
 
 CASES = sorted(p.stem for p in (REPO / "cases").glob("*.json"))
