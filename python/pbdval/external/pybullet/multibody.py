@@ -62,17 +62,19 @@ UNLIMITED_JOINT_SPEED = 1e30
 HINGES = ("hinge", "target_angle_motor_hinge", "target_velocity_motor_hinge")
 SLIDERS = ("slider", "damper", "target_position_motor_slider", "target_velocity_motor_slider")
 #: Joint types that only link joints express here (no createConstraint closes their loop).
-TREE_ONLY = (*SLIDERS, "universal", "ball_on_line", "target_angle_motor_hinge",
+TREE_ONLY = (*SLIDERS, "universal", "ball_on_line", "distance", "target_angle_motor_hinge",
              "target_velocity_motor_hinge")
 #: Joint types that can close a loop (point-to-point rows).
 CLOSES_LOOPS = ("ball", "hinge")
 #: Force elements, not joints: applied as forces before each step.
 FORCES = ("rigid_body_spring",)
+#: A distance joint's rod (a massless link between two spherical joints) may spin about its own
+#: axis, a motion nothing resists or drives: with no inertia at all it makes the articulated-body
+#: solve singular. It gets this fraction of m L^2 (the far body's mass, the rod's length) about
+#: its axis and nothing else: no joint transmits a torque about the rod, so its spin stays zero
+#: but for round-off (measured: 4e-8 rad/s after 5 s), adding neither energy nor force.
+ROD_SPIN_INERTIA = 1e-9
 UNSUPPORTED_JOINTS = {
-    "distance": "a distance joint as a chain needs a massless rod whose spin about its own axis "
-                "has no inertia (two spherical joints: a singular articulated-body solve) or a "
-                "universal joint at one end (a gimbal singularity 90 degrees from the start); "
-                "pybullet's createConstraint has no distance row",
     "rigid_body_particle_ball": "the multibody family has rigid bodies only",
     "stiff_rod": "pybullet has no stiff-rod (Cosserat) joint",
 }
@@ -230,6 +232,7 @@ class LinkJoint:
     axis: tuple[float, float, float]  # world, t = 0 (unused for spherical joints)
     origin: tuple[float, float, float]  # the joint's point: the link frame's origin
     name: str
+    rod: tuple[float, float, float] | None = None  # a distance joint's rod (world, t = 0)
 
 
 def link_chain(scene: pp.ResolvedScene, j: pp.Joint, child: int,
@@ -244,6 +247,14 @@ def link_chain(scene: pp.ResolvedScene, j: pp.Joint, child: int,
         # Any origin gives the same translation; the child's centre of mass is the joint's point
         # (docs/metrics.md: slider-type joints anchor at body 2's initial centre of mass).
         return [LinkJoint(pb.JOINT_PRISMATIC, axis, scene.bodies[child].position, "prismatic")]  # type: ignore[arg-type]
+    if j.type == "distance":
+        # A massless rod from the parent's point to the child's, spherical at both ends: the
+        # two points keep their distance, everything else is free (5 degrees of freedom).
+        near, far = ("anchor2", "anchor1") if reversed_ else ("anchor1", "anchor2")
+        start, end = j.points[near].world, j.points[far].world
+        rod = (end[0] - start[0], end[1] - start[1], end[2] - start[2])
+        return [LinkJoint(pb.JOINT_SPHERICAL, zero, start, "spherical", rod=rod),
+                LinkJoint(pb.JOINT_SPHERICAL, zero, end, "spherical")]
     anchor = j.points["anchor"].world
     if j.type == "ball":
         return [LinkJoint(pb.JOINT_SPHERICAL, zero, anchor, "spherical")]
@@ -264,6 +275,19 @@ def link_chain(scene: pp.ResolvedScene, j: pp.Joint, child: int,
         slide = LinkJoint(pb.JOINT_PRISMATIC, axis, anchor, "prismatic")
         return [ball, slide] if reversed_ else [slide, ball]
     raise ValueError(f"{j.json_path}: joint {j.type} is no tree joint")
+
+
+def rod_rotation(rod: Sequence[float], frame: pp.Quat) -> pp.Quat:
+    """The rotation (w, x, y, z) of a link frame turned as `frame` onto a frame whose x axis
+    runs along `rod` (world): the rod link's inertial frame, in which its one inertia is Ixx."""
+    direction = _matrix(frame).T @ np.array(rod)
+    direction /= np.linalg.norm(direction)
+    half = np.array([1.0, 0.0, 0.0]) + direction  # the half-way vector: q = (1 + x.d, x cross d)
+    if np.linalg.norm(half) < 1e-12:  # the rod runs along -x: half a turn about z
+        return (0.0, 0.0, 0.0, 1.0)
+    w = 1.0 + float(direction[0])
+    axis = np.cross([1.0, 0.0, 0.0], direction)
+    return pp.quat_normalized((w, float(axis[0]), float(axis[1]), float(axis[2])))
 
 
 def unsupported_features(scene: pp.ResolvedScene) -> list[str]:
@@ -373,6 +397,7 @@ class MultibodyRun(engine.PybulletRun):
             "linkOrientations", "linkInertialFramePositions", "linkInertialFrameOrientations",
             "linkParentIndices", "linkJointTypes", "linkJointAxis")}
         chains: list[tuple[int, pp.Joint, list[LinkJoint], int]] = []  # body, joint, chain, first link
+        rods: list[tuple[int, float]] = []  # rod link, its inertia about its axis
         for b_index in self.plan.tree_of(root)[1:]:
             body = scene.bodies[b_index]
             joint = scene.joints[self.plan.parent_joint[b_index]]
@@ -408,7 +433,13 @@ class MultibodyRun(engine.PybulletRun):
                     links["linkMasses"].append(0.0)
                     links["linkCollisionShapeIndices"].append(-1)
                     links["linkInertialFramePositions"].append([0.0, 0.0, 0.0])
-                    links["linkInertialFrameOrientations"].append([0.0, 0.0, 0.0, 1.0])
+                    links["linkInertialFrameOrientations"].append(
+                        engine.xyzw(rod_rotation(element.rod, rotation)) if element.rod
+                        else [0.0, 0.0, 0.0, 1.0])
+                    if element.rod:
+                        length_squared = float(np.dot(element.rod, element.rod))
+                        rods.append((len(links["linkMasses"]) - 1,
+                                     ROD_SPIN_INERTIA * body.mass * length_squared))
                 parent_link = len(links["linkMasses"]) - 1
                 parent_origin, parent_rotation = origin, rotation
             frames[b_index] = (parent_origin, rotation)
@@ -445,6 +476,9 @@ class MultibodyRun(engine.PybulletRun):
                 pb.setJointMotorControl2(mb, link, pb.VELOCITY_CONTROL, force=0,
                                          physicsClientId=c)
         pb.changeDynamics(mb, -1, linearDamping=0.0, angularDamping=0.0, physicsClientId=c)
+        for link, spin_inertia in rods:
+            pb.changeDynamics(mb, link, mass=0.0, localInertiaDiagonal=[spin_inertia, 0.0, 0.0],
+                              physicsClientId=c)
         for b_index, joint, chain, first in chains:
             handle = _Link(mb, first + len(chain) - 1)
             if joint.type.startswith("target_"):
@@ -531,8 +565,12 @@ class MultibodyRun(engine.PybulletRun):
                     # btMultiBody's spherical joint velocity is the angular velocity relative to
                     # the parent link in the child link's inertial frame: the body's principal
                     # frame for its own link, turned as its scene frame for a massless one.
-                    frame = _matrix(body.world_principal_rotation if element is chain[-1]
-                                    else body.rotation)
+                    inertial = (body.world_principal_rotation if element is chain[-1]
+                                else pp.quat_multiply(body.rotation,
+                                                      rod_rotation(element.rod, body.rotation))
+                                if element.rod
+                                else body.rotation)
+                    frame = _matrix(inertial)
                     for e in frame.T:
                         add(subtree, e, x, None)
                     owners.append((link, element.kind, frame))
