@@ -59,3 +59,20 @@ def test_pybullet_hinge_is_not_bullets_hinge() -> None:
     # pybullet has no hinge between maximal-coordinate bodies: the adapter uses two
     # point-to-point constraints, the C++ adapter btHingeConstraint (6 cm apart over 3 s).
     assert position_difference("joint_hinge", "bullet.si", "pybullet.si") > 1e-3
+
+
+# Reduced coordinates: pybullet's btMultiBody integrates the same joint trees with the same
+# joint-space semi-implicit Euler as MuJoCo 2.2.2 (docs/external-engines.md#pybullet-in-reduced-
+# coordinates): chains of massless links, spherical joints and the chaotic double pendulum included.
+@pytest.mark.parametrize("case", ["joint_hinge", "joint_ball", "joint_universal", "joint_ball_on_line",
+                                  "joint_slider", "joint_damper", "joint_rigid_body_spring",
+                                  "xpbd_pendulum_hinge", "chain_10", "double_pendulum"])
+def test_pybullet_in_reduced_coordinates_reproduces_mujoco_2_2_2(case: str) -> None:
+    assert position_difference(case, "mujoco.euler", "pybullet.multibody.si") <= ROUND_OFF
+
+
+# Motors: the C++ adapter's set points on a joint both hold exactly (MuJoCo's are servos).
+@pytest.mark.parametrize("case", ["joint_target_position_motor_slider",
+                                  "joint_target_velocity_motor_slider"])
+def test_pybullet_in_reduced_coordinates_drives_slider_motors_as_the_cpp_bullet_adapter(case: str) -> None:
+    assert position_difference(case, "bullet.si", "pybullet.multibody.si") <= ROUND_OFF

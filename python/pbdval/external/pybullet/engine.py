@@ -14,6 +14,9 @@ speculative contacts; split impulse for all penetration; one internal step per s
 constraint; hinge = two point-to-point constraints on the axis (hinge_half_length). Everything else is reported
 unsupported by name.
 
+The methods pybullet.multibody.* (multibody.py) build the joints' trees as btMultiBodies in
+reduced coordinates instead; `run` and `unsupported_features` hand them over.
+
 Scenes with particles (cloth: TriangleModels, solids: TetModels) run in Bullet's deformable world
 (resetSimulation(RESET_USE_DEFORMABLE_WORLD)) as soft bodies: deformables.py, and the mapping
 table in docs/external-engines.md#pybullet.

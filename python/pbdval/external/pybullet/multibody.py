@@ -14,7 +14,8 @@ contacts are the same; materials and contact settings are that family's.
 What pybullet 3.2.7 does, measured (tests/python/test_pybullet_multibody.py):
 - link masses may be 0: a link without mass and collision shape gets inertia 0, and the
   articulated-body algorithm stays regular as long as the bodies beyond it give every joint of
-  the chain inertia (true of the chains here); massless links add no energy and no error;
+  the chain inertia (true of the chains here, but for a distance joint's rod: ROD_SPIN_INERTIA);
+  massless links add no energy and no error;
 - `changeDynamics(mass, localInertiaDiagonal)` must be a call of its own: with damping or
   maxJointVelocity in the same call the first step gives NaN;
 - every revolute, prismatic and spherical joint gets a velocity motor holding it at rest
@@ -25,7 +26,11 @@ What pybullet 3.2.7 does, measured (tests/python/test_pybullet_multibody.py):
   round-off; its link frame (values 5, 6) carries ~1e-7 errors and is not used; with
   computeLinkVelocity and computeForwardKinematics, its velocities are those of the centre of
   mass and the angular velocity, both in world, at the current state;
-- a multibody has at most 127 links (createMultiBody silently builds none beyond).
+- a spherical joint's velocity is the child's angular velocity relative to its parent, in the
+  child link's inertial frame;
+- links are numbered depth first, whatever order createMultiBody got them in;
+- a multibody's state crosses the client-server boundary in arrays of 128 position
+  coordinates (MAX_COORDINATES), overrun silently beyond; a multibody has at most 127 links.
 """
 
 from __future__ import annotations
