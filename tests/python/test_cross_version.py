@@ -15,9 +15,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pytest
-
 import pbdval
+import pytest
 
 REPO = Path(__file__).resolve().parents[2]
 ROUND_OFF = 1e-9  # m; see the module docstring
