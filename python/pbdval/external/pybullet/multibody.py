@@ -731,6 +731,18 @@ class MultibodyRun(engine.PybulletRun):
 
     def states(self, time: float) -> list[pp.BodyState]:
         c = self.client
+        # Every multibody's links in one call (getLinkStates): the inertial (principal) frame
+        # and its velocities, world (module docstring).
+        links: dict[int, list[int]] = {}
+        for h in self.handles:
+            if h.link >= 0:
+                links.setdefault(h.body, []).append(h.link)
+        read = {}
+        for body, indices in links.items():
+            for link, s in zip(indices, pb.getLinkStates(
+                    body, indices, computeLinkVelocity=1, computeForwardKinematics=1,
+                    physicsClientId=c)):
+                read[(body, link)] = (s[0], s[1], s[6], s[7])
         out = []
         for b in self.scene.bodies:
             h = self.handles[b.index]
@@ -738,10 +750,7 @@ class MultibodyRun(engine.PybulletRun):
                 position, orientation = pb.getBasePositionAndOrientation(h.body, physicsClientId=c)
                 velocity, angular = pb.getBaseVelocity(h.body, physicsClientId=c)
             else:
-                # The inertial (principal) frame and its velocities, world (module docstring).
-                s = pb.getLinkState(h.body, h.link, computeLinkVelocity=1,
-                                    computeForwardKinematics=1, physicsClientId=c)
-                position, orientation, velocity, angular = s[0], s[1], s[6], s[7]
+                position, orientation, velocity, angular = read[(h.body, h.link)]
             q_scene = pp.quat_multiply(engine.wxyz(orientation),
                                        pp.quat_conjugate(b.principal_rotation))
             out.append(pp.BodyState(b.id, position, q_scene, velocity, angular))
