@@ -443,8 +443,9 @@ class MultibodyRun(engine.PybulletRun):
                         else [0.0, 0.0, 0.0, 1.0])
                     if element.rod:
                         length_squared = float(np.dot(element.rod, element.rod))
-                        rods.append((len(links["linkMasses"]) - 1,
-                                     ROD_SPIN_INERTIA * body.mass * length_squared))
+                        spin_inertia = ROD_SPIN_INERTIA * body.mass * length_squared
+                        rods.append((len(links["linkMasses"]) - 1, spin_inertia))
+                        self.settings[f"{joint.json_path}.rodSpinInertia"] = spin_inertia
                 parent_link = len(links["linkMasses"]) - 1
                 parent_origin, parent_rotation = origin, rotation
             frames[b_index] = (parent_origin, rotation)
