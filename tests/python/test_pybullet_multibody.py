@@ -14,8 +14,6 @@ from typing import Any
 
 import numpy as np
 import pytest
-from conftest import REPO
-from pbdval import protocol as pp
 from test_engines import (
     PYBULLET,
     assert_ok,
@@ -25,6 +23,9 @@ from test_engines import (
     trajectory,
     trajectory_written,
 )
+
+from conftest import REPO
+from pbdval import protocol as pp
 
 Export = Callable[..., Path]
 Run = Callable[[str, Path], tuple[dict[str, Any], Path]]

@@ -42,7 +42,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import pybullet as pb  # type: ignore[import-not-found]  # (no type stubs)
+import pybullet as pb
 
 from pbdval import protocol as pp
 from pbdval.external.pybullet import engine
