@@ -29,7 +29,7 @@ std::string motorTrackingMax(const std::string& quantity) {
 std::vector<Declared> declared() {
   std::vector<Declared> all = {{kEnergyDriftMax, "1 (of E_ref)"},
                                {kEnergyDriftFinal, "1 (of E_ref)"},
-                               {kEnergyDriftRate, "1/s (of E_ref)"},
+                               {kEnergyDriftRate, "1/s"},
                                {"energy_scale", "J"},
                                {kMomentumLinearDriftMax, "1 (of its scale)"},
                                {"momentum_linear_scale", "kg m/s"},

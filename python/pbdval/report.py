@@ -288,11 +288,12 @@ def gate_section(gate: GateVerdicts, baseline: Path | None, results: Results) ->
                 what = check.get("metric") or check["name"].removeprefix(f"{run} ")
                 allowed = f", allowed {number(check['allowed'])}" if check.get("allowed") is not None else ""
                 name, badge = VERDICT_STYLE[check["verdict"]]
-                lines.append(f"<span class='badge {badge}'>{escape(name)}</span> <b>{escape(what)}</b>: "
+                lines.append(f"<div class='change verdict-{check['verdict']}'><span class='badge {badge}'>"
+                             f"{escape(name)}</span> <b>{escape(what)}</b>: "
                              + (f"{number(now)} (baseline {number(before)}{ratio}{allowed})" if now is not None
-                                else escape(check["message"])))
+                                else escape(check["message"])) + "</div>")
             html.append(f"<tr class='verdict-{worst}'><td><span class='badge {css}'>{label}</span></td>"
-                        f"<td>{escape(case)}</td><td>{escape(run)}</td><td>{'<br>'.join(lines)}</td></tr>")
+                        f"<td>{escape(case)}</td><td>{escape(run)}</td><td>{''.join(lines)}</td></tr>")
         html.append("</table></div>")
     if document["notes"]:
         html.append("<p><b>Notes:</b></p><ul>" + "".join(f"<li>{escape(n)}</li>" for n in document["notes"]) + "</ul>")
@@ -380,7 +381,7 @@ def settings_changes(results: Results, baseline: Path | None) -> tuple[str, list
 
 
 def overview(results: Results, labels: list[str], gate: tuple[str, str] | None, checks: list[dict[str, Any]],
-             verdicts: dict[tuple[str, str], str]) -> tuple[str, str]:
+             verdicts: dict[tuple[str, str], str], checks_note: str = "") -> tuple[str, str]:
     """The index page's body and report.md."""
     cases = sorted({r.case for r in results})
     cell: dict[tuple[str, str], RunResult] = {}
@@ -402,6 +403,8 @@ def overview(results: Results, labels: list[str], gate: tuple[str, str] | None, 
            f"({build.get('commitState', '?')}), {build.get('compiler', '')}."),
           ""]
     table_html, table_md = ranking(results, labels, checks, verdicts)
+    if checks_note:
+        table_html = f"<p class='badge warn'>{escape(checks_note)}</p>" + table_html
     if gate is not None:  # the headline on top, the details under the ranking
         headline = gate[0].split("</p>", 1)
         html.append(headline[0] + ("</p>" if len(headline) > 1 else ""))
@@ -437,21 +440,22 @@ BOUND_TEXT = {"within": "within the case's bounds", "near": f"within {NEAR_FRACT
               "beyond": "beyond a bound", "unbounded": "no bound on this metric"}
 
 
-def case_checks(results: Results, gate: GateVerdicts | None) -> list[dict[str, Any]]:
+def case_checks(results: Results, gate: GateVerdicts | None) -> tuple[list[dict[str, Any]], str]:
     """The case checks (Validation.checks) judged on these results: the gate's (as the baseline
     pins them) when it ran, else the gate's own function on the results' checks (pbdval._core
     _case_checks, validation/gate.h evaluateCaseChecks). Each: case, run, metric, holds, now,
-    allowed, message."""
+    allowed, message. With a note when they cannot be judged (results the gate's reader refuses:
+    the report then colours no bound, and says why)."""
     if gate is not None and gate.document is not None:
         return [{**c, "holds": c["verdict"] not in ("regression", "known_failure", "missing")}
-                for c in gate.document["checks"] if c.get("caseCheck")]
+                for c in gate.document["checks"] if c.get("caseCheck")], ""
     from pbdval import _core  # the C++ core, imported only here
 
     try:
         checks = _core._case_checks(str(results.folder / "results.json"))
     except PbdvalError as error:
-        raise ResultsError(f"{results.folder / 'results.json'}: its case checks cannot be judged: {error}") from error
-    return [c for c in checks if c["case"] in results.cases]
+        return [], f"the cases' bounds could not be judged on these results: {error}"
+    return [c for c in checks if c["case"] in results.cases], ""
 
 
 def run_verdicts(gate: GateVerdicts | None) -> dict[tuple[str, str], str]:
@@ -802,7 +806,7 @@ def convergence_page(sweeps: Sequence[Path], colours: Colours, figures: Path, *,
             mine = sorted((p for p in timed if p.get("method") == method), key=lambda p: float(p["wall_time_s"]))
             cost.append(colours.series(method, [float(p["wall_time_s"]) for p in mine],
                                        [float(p["metric"]) for p in mine], markers=True,
-                                       point_labels=[f"{name}={p['parameters'][name]}" for p in mine]))
+                                       point_labels=[str(p["parameters"][name]) for p in mine]))
         front = sorted((p for p in timed if p.get("pareto")), key=lambda p: float(p["wall_time_s"]))
         if front:
             cost.append(Series("Pareto front", [float(p["wall_time_s"]) for p in front],
@@ -941,7 +945,10 @@ def build_report(results_dir: Path, out: Path, *, baseline: Path | None = None, 
     verdicts = (read_gate_json(gate_json) if gate_json
                 else run_gate(results_dir, baseline, cases) if baseline else None)
     gate = gate_section(verdicts, baseline, results) if verdicts else None
-    body, markdown = overview(results, labels, gate, case_checks(results, verdicts), run_verdicts(verdicts))
+    checks, checks_note = case_checks(results, verdicts)
+    if checks_note:
+        progress(f"pbdval report: {checks_note}", quiet)
+    body, markdown = overview(results, labels, gate, checks, run_verdicts(verdicts), checks_note)
     by_case: dict[str, list[RunResult]] = {}
     for r in results:
         by_case.setdefault(r.case, []).append(r)
