@@ -39,8 +39,8 @@ from pbdval.api import Scene, Trajectory
 MAX_FRAMES = 240
 #: frames × dynamic bodies × runs per case at most: about 1.1 MB of data per case.
 MAX_BODY_FRAMES = 30_000
-#: frames × particles × runs per case at most: about 3.6 MB of particle data per case.
-MAX_PARTICLE_FRAMES = 300_000
+#: frames × particles × runs per case at most: about 2.4 MB of particle data per case.
+MAX_PARTICLE_FRAMES = 150_000
 #: Triangles of one mesh at most (the case library's largest, sphere.obj, has 1280).
 MAX_TRIANGLES = 20_000
 
