@@ -682,8 +682,9 @@ TEST(GateJudgesWithPinnedData, BaselineRoundTripKeepsEachRunsSettingsAndTheBuild
   std::ofstream(path) << kBaselineHead
                       << R"([{"case": "c", "engine": "pbd", "method": "pbd", "status": "ok",
                               "metrics": {}, "settings": {"subSteps": 5}}]})";
-  EXPECT_NE(invalidArgumentOf([&] { readBaseline(path); })
-                .find("runs[0].settings.subSteps: expected a string, got 5"),
+  EXPECT_NE(invalidArgumentOf([&] {
+              readBaseline(path);
+            }).find("runs[0].settings.subSteps: expected a string, got 5"),
             std::string::npos);
   std::filesystem::remove(path);
 }
