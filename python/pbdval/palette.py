@@ -19,8 +19,8 @@ from dataclasses import dataclass
 
 #: Engine colours, in the order of the registry's engines (Okabe–Ito first: readable in print
 #: and by colour-blind readers).
-ENGINE_COLOURS = ("#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000", "#8C564B",
-                  "#7F7F7F", "#17BECF", "#BCBD22", "#F0E442")
+ENGINE_COLOURS = ("#0072B2", "#D55E00", "#009E73", "#CC79A7", "#999933", "#E69F00", "#000000", "#56B4E9",
+                  "#8C564B", "#17BECF", "#BCBD22", "#F0E442")
 #: Method dashes (SVG stroke-dasharray; "" solid), in the order of the engine's methods.
 DASHES = ("", "7,3", "2,2", "9,3,2,3", "4,4", "12,3,3,3,3,3")
 #: Engine markers, in the same order as the colours: curves that coincide stay told apart.

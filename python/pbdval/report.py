@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 
 from pbdval.errors import PbdvalError, ResultsError
-from pbdval.palette import style_of_label
+from pbdval.palette import declared_engines, style_of_label
 from pbdval.replay import replay_data, replay_script
 from pbdval.results import Results, RunResult, load_results, pbdval_binary
 from pbdval.svg import Series, line_plot
@@ -72,6 +72,7 @@ figure svg { max-width: 100%; height: auto; }
 td.within { background: #d9f2d9; } td.near { background: #ffe9a8; } td.beyond { background: #f7c6c6; }
 td.unbounded { background: #ffffff; } .best { font-weight: bold; color: #0b5d1e; }
 th .unit { font-weight: normal; color: #555; }
+table.ranking .v { white-space: nowrap; } table.ranking .badge { margin: 1px 0 1px 4px; } table.ranking th.metric { max-width: 13em; font-size: 11px; }
 """
 
 
@@ -581,7 +582,7 @@ def ranking(results: Results, labels: list[str], checks: list[dict[str, Any]],
             tooltip = "; ".join(x for x in (BOUND_TEXT[where] if run.measured else "", messages, run.reason) if x)
             background = "" if run.measured else f" style='background:{STATUS_COLOURS.get(run.status, '#fff')}'"
             html.append(f"<td class='num {where if run.measured else ''}'{background} title='{escape(tooltip)}'>"
-                        f"{escape(text)}{star}{''.join(badges)}</td>")
+                        f"<span class='v'>{escape(text)}{star}</span>{''.join(badges)}</td>")
             row.append((f"**{text}** ★" if is_best else text) + (f" [{where}]" if run.measured and where != "unbounded"
                                                                  else "") + ("" if run.ok else f" ({run.status})"))
         html.append("</tr>")
@@ -604,6 +605,16 @@ def ranking(results: Results, labels: list[str], checks: list[dict[str, Any]],
         md.append(f"| {label} | " + " | ".join(str(counts[c]) for c in columns) + " |")
     html.append("</table></div>")
     return "\n".join(html), md
+
+
+def declared_order(label: str) -> tuple[int, int, str]:
+    """Sort key of a run label: the registry's order of engines, then of their methods."""
+    base = label.split(" [", 1)[0]
+    engine, _, method = base.partition("/")
+    for index, (name, methods) in enumerate(declared_engines()):
+        if name == engine:
+            return index, methods.index(method) if method in methods else len(methods), label
+    return len(declared_engines()), 0, label
 
 
 def swatch(label: str) -> str:
@@ -937,7 +948,7 @@ def build_report(results_dir: Path, out: Path, *, baseline: Path | None = None, 
         results = only_cases(results, cases)
     progress(f"pbdval report: {len(results)} runs of {len(results.cases)} cases from {results_dir}", quiet)
     colours = Colours()
-    labels = sorted({r.label for r in results}, key=lambda l: (l.split("/")[0] != "pbd", l))
+    labels = sorted({r.label for r in results}, key=declared_order)
     figures = out / "figures"
     three = copy_assets(out)
     if not three:

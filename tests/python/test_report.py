@@ -322,7 +322,7 @@ def test_a_suspect_run_shows_its_metric_and_its_reason(tmp_path: Path) -> None:
             run_record("a", "ode", "ode.quickstep", "diverged", {})]
     folder = synthetic(tmp_path / "results", runs, case_file=str(tmp_path / "no-such-scene.json"))
     index = build_report(folder, tmp_path / "report", quiet=True).read_text()
-    cell = re.search(r"<td class='num [a-z]+' title='([^']*)'>17.6(.*?)</td>", index)
+    cell = re.search(r"<td class='num [a-z]+' title='([^']*)'><span class='v'>17.6(.*?)</td>", index)
     assert cell is not None and "synthetic suspect" in cell[1] and "badge warn'>suspect<" in cell[2]
     page = (tmp_path / "report/cases/a.html").read_text()
     held = page[page.index("Runs held suspect"):]
