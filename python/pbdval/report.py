@@ -72,7 +72,8 @@ figure svg { max-width: 100%; height: auto; }
 td.within { background: #d9f2d9; } td.near { background: #ffe9a8; } td.beyond { background: #f7c6c6; }
 td.unbounded { background: #ffffff; } .best { font-weight: bold; color: #0b5d1e; }
 th .unit { font-weight: normal; color: #555; }
-table.ranking .v { white-space: nowrap; } table.ranking .badge { margin: 1px 0 1px 4px; } table.ranking th.metric { max-width: 13em; font-size: 11px; }
+table.ranking .v { white-space: nowrap; } table.ranking .badge { margin: 1px 0 1px 4px; }
+table.ranking th.metric { max-width: 13em; font-size: 11px; }
 """
 
 
