@@ -34,6 +34,8 @@ SHADES = (0.0, -0.4, 0.45, -0.65, 0.7, -0.2)
 def shade(colour: str, amount: float) -> str:
     """`colour` (#rrggbb) moved towards white (amount > 0) or black (amount < 0)."""
     channels = [int(colour[i:i + 2], 16) for i in (1, 3, 5)]
+    if amount < 0 and max(channels) < 64:  # black has no darker shade: lighten it instead
+        amount = -amount
     target = 255 if amount > 0 else 0
     return "#" + "".join(f"{round(c + abs(amount) * (target - c)):02x}" for c in channels)
 
@@ -62,7 +64,10 @@ def style_of(engine: str, method: str) -> Style:
     for index, (name, methods) in enumerate(declared_engines()):
         if name == engine:
             position = methods.index(method) if method in methods else len(DASHES) - 1
-            colour = shade(ENGINE_COLOURS[index % len(ENGINE_COLOURS)], SHADES[position % len(SHADES)])
+            # (dash, shade) differ between any two of an engine's first 36 methods: the dash
+            # cycles with the position, the shade with the position plus the number of cycles.
+            tint = SHADES[(position + position // len(DASHES)) % len(SHADES)]
+            colour = shade(ENGINE_COLOURS[index % len(ENGINE_COLOURS)], tint)
             return Style(colour, DASHES[position % len(DASHES)], MARKERS[index % len(MARKERS)])
     return Style(UNDECLARED_COLOUR, DASHES[_hash(engine + "/" + method) % len(DASHES)], "cross")
 

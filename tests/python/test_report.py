@@ -353,3 +353,19 @@ def test_report_cases_with_an_unknown_name_is_a_clear_error(real_results: Path, 
     assert done.returncode == 2
     assert "no case 'joint_hinje'" in done.stderr and "did you mean joint_hinge" in done.stderr
     assert not (tmp_path / "r").exists()
+
+
+def test_every_declared_method_has_a_style_of_its_own_fixed_by_the_registry() -> None:
+    """The palette is a function of the registry's declaration: every (engine, method) pair the
+    registry declares gets a distinct (colour, dash); a label with assignments keeps its method's
+    style; a sweep's bare method name gets its engine/method's style; asking in another order
+    gives the same answers."""
+    from pbdval.palette import declared_engines, style_of_label
+
+    pairs = [(engine, method) for engine, methods in declared_engines() for method in methods]
+    styles = [style_of_label(f"{engine}/{method}") for engine, method in pairs]
+    assert len({(s.colour, s.dash) for s in styles}) == len(pairs)
+    assert [style_of_label(f"{e}/{m}") for e, m in reversed(pairs)] == list(reversed(styles))
+    assert style_of_label("pbd/pbd.xpbd [timeStepSize=0.01]") == style_of_label("pbd/pbd.xpbd")
+    assert style_of_label("ode.quickstep") == style_of_label("ode/ode.quickstep")
+    assert style_of_label("gone/gone.euler").colour == "#999999"  # an engine the registry does not declare
