@@ -106,11 +106,12 @@ class Colours:
         return style_of_label(label).colour
 
     def series(self, label: str, x: Sequence[float], y: Sequence[float], *, style_label: str | None = None,
-               markers: bool = False, hollow: Sequence[bool] = (), point_labels: Sequence[str] = ()) -> Series:
+               markers: bool = False, hollow: Sequence[bool] = (), point_labels: Sequence[str] = (),
+               x_spread: Sequence[tuple[float, float]] = ()) -> Series:
         """A plot series of `label` in its palette style (`style_label`'s, when given)."""
         style = style_of_label(style_label or label)
         return Series(label, x, y, style.colour, markers=markers, hollow=list(hollow), dash=style.dash,
-                      marker=style.marker, point_labels=list(point_labels))
+                      marker=style.marker, point_labels=list(point_labels), x_spread=list(x_spread))
 
 
 @functools.lru_cache(maxsize=1)
@@ -119,6 +120,13 @@ def metric_units() -> dict[str, str]:
     from pbdval import _core  # the C++ core, imported only here
 
     return {str(k): str(v) for k, v in _core._metric_units().items()}
+
+
+def wall_time_range(point: dict[str, Any]) -> tuple[float, float]:
+    """The range of a sweep point's wall times over its passes (`pbdval sweep --repeat`; a sweep
+    of one pass: its one wall time)."""
+    times = [float(t) for t in point.get("wall_times_s") or [point["wall_time_s"]]]
+    return min(times), max(times)
 
 
 def metric_label(metric: str) -> str:
@@ -818,7 +826,8 @@ def convergence_page(sweeps: Sequence[Path], colours: Colours, figures: Path, *,
             mine = sorted((p for p in timed if p.get("method") == method), key=lambda p: float(p["wall_time_s"]))
             cost.append(colours.series(method, [float(p["wall_time_s"]) for p in mine],
                                        [float(p["metric"]) for p in mine], markers=True,
-                                       point_labels=[str(p["parameters"][name]) for p in mine]))
+                                       point_labels=[str(p["parameters"][name]) for p in mine],
+                                       x_spread=[wall_time_range(p) for p in mine]))
         front = sorted((p for p in timed if p.get("pareto")), key=lambda p: float(p["wall_time_s"]))
         if front:
             cost.append(Series("Pareto front", [float(p["wall_time_s"]) for p in front],
@@ -827,9 +836,12 @@ def convergence_page(sweeps: Sequence[Path], colours: Colours, figures: Path, *,
                         logx=True, logy=True, width=900, height=400, legend_width=330)
         file = f"sweep-{slug(path.name)}-cost.svg"
         write(figures / file, svg)
+        passes = max((len(p.get("wall_times_s") or [0]) for p in timed), default=1)
+        timing = (f"each point's wall time is the median of its {passes} passes, the bar through it their range"
+                  if passes > 1 else "wall times are single runs (a sweep before pbdval sweep --repeat)")
         body.append(f"<figure>{svg}<figcaption>Error against wall time per run, every method, each point "
-                    f"labelled with its {escape(name)}; the black line joins the Pareto front ({len(front)} points: "
-                    f"none is beaten in both by another). Wall times are single runs on the machine of the sweep "
+                    f"labelled with its {escape(name)}; {timing}; the black line joins the Pareto front "
+                    f"({len(front)} points: none is beaten in both by another) "
                     f"(<a href='figures/{file}' download>SVG</a>)</figcaption></figure>")
     return page("pbdval report: convergence", "\n".join(body))
 

@@ -35,6 +35,7 @@ class Series:
     dash: str = ""  # stroke-dasharray of the palette ("" solid)
     marker: str = ""  # the palette's marker shape ("" none)
     point_labels: Sequence[str] = field(default_factory=list)  # per point: text beside it
+    x_spread: Sequence[tuple[float, float]] = field(default_factory=list)  # per point: a bar from..to in x
 
 
 def marker_svg(shape: str, x: float, y: float, colour: str, fill: str, size: float = 3.8) -> str:
@@ -142,6 +143,11 @@ def line_plot(series: Sequence[Series], *, title: str, xlabel: str, ylabel: str,
         points = [(tx(x), ty(y), (s.hollow[i] if i < len(s.hollow) else False),
                    (s.point_labels[i] if i < len(s.point_labels) else ""))
                   for i, (x, y) in enumerate(zip(s.x, s.y)) if usable(x, logx) and usable(y, logy)]
+        for i, (x, y) in enumerate(zip(s.x, s.y)):
+            if i < len(s.x_spread) and usable(y, logy) and all(usable(v, logx) for v in s.x_spread[i]):
+                lo, hi = s.x_spread[i]
+                out.append(f'<line class="spread" x1="{tx(lo):.1f}" y1="{ty(y):.1f}" x2="{tx(hi):.1f}" '
+                           f'y2="{ty(y):.1f}" stroke="{s.color}" stroke-width="1.2"/>')
         # Widest first, each next series thinner: a curve under another still shows at its edges.
         stroke_width = 1.4 + 1.8 * (count - 1 - k) / max(1, count - 1)
         dash = s.dash or ("5,4" if s.dashed else "")

@@ -262,6 +262,15 @@ def test_sweep_writes_its_convergence_page(tmp_path: Path) -> None:
     page = (out / "report/convergence.html").read_text()
     assert "projectile" in page and "p = " in page and "Pareto front" in page
     assert "href='index.html'" not in page  # on its own: no links to pages that do not exist
+    # Each point's wall time is the median of three passes (the default --repeat), each kept.
+    for point in json.loads((out / "sweep.json").read_text())["points"]:
+        times = sorted(point["wall_times_s"])
+        assert len(times) == 3 and point["wall_time_s"] == times[1]
+    assert "the median of its 3 passes" in page and 'class="spread"' in page
+    assert "trajectory_error_max (m)" in page and "timeStepSize (s)" in page  # both axes with units
+    done = pbdval("sweep", str(REPO / "cases/projectile.json"), "--param", "timeStepSize=0.01", "--methods", "pbd",
+                  "--out", str(tmp_path / "none"), "--repeat", "0", check=False)
+    assert done.returncode == 2 and "--repeat" in done.stderr
 
 
 def synthetic(folder: Path, runs: list[dict[str, Any]], schema_version: int = 1, case_file: str = "") -> Path:
