@@ -1,14 +1,18 @@
 """`pbdval report RESULTS_DIR [--out DIR] [--baseline FILE] [--sweeps DIR...]` (docs/report.md).
 
 A static, self-contained, offline report of a results folder: `index.html` (the overview: the
-cases × engine/method matrix coloured by status with the key metric, the gate's verdicts when a
-baseline is given, the run's metadata), one page per case (its metrics, the energy drift over
-time of every run overlaid, each engine's effective settings), one convergence page per sweep
-(error against the swept parameter, log-log, with the fitted order, R², the local orders, the
-points left out and the flags), every figure a standalone SVG file; and `report.md`, the same
-overview for a pull request. Nothing here computes a metric: the numbers come from
-results.json, the energy series from the suite's own code (`pbdval.energy`), every verdict
-from `pbdval gate` (its --json output: the report decides none).
+ranking of cases × engine/method by each case's deciding metric with its unit, the best marked,
+coloured by the case's own bounds, with status and verdict badges, and a summary per engine;
+the gate's changes by run and the settings that differ from the baseline when one is given;
+the run's metadata), one page per case (its metrics, every metric over time of every run
+overlaid, the 3D replay of every model kind, each engine's effective settings), one
+convergence page per sweep (error against the swept parameter, log-log, with the fitted order,
+R², the local orders, the points left out and the flags; error against wall time with the
+Pareto front), every figure a standalone SVG file in one palette (python/pbdval/palette.py);
+and `report.md`, the same overview for a pull request. Nothing here computes a metric or
+decides a check: the numbers come from results.json, the series from the suite's own code
+(`pbdval.measure`), the units from validation/metrics.h, every verdict and every bound from the
+gate's functions (`pbdval gate --json`, or `evaluateCaseChecks` through pbdval._core).
 """
 
 from __future__ import annotations
@@ -50,8 +54,6 @@ STATUS_COLOURS = {"ok": "#d9f2d9", "suspect": "#ffc8a0", "unsupported": "#eeeeee
 #: Points per series in a time plot (every k-th sample beyond it: a 600-pixel-wide figure shows no
 #: more, and a 39-case report stays small).
 MAX_PLOT_POINTS = 400
-#: The metric shown in a cell of the overview, in order of preference.
-KEY_METRICS = ("trajectory_error_max", "joint_error_linear_max", "penetration_max", "energy_drift_max")
 
 CSS = """
 body { font-family: Helvetica, Arial, sans-serif; margin: 24px; color: #222; }
@@ -149,13 +151,6 @@ def parameter_label(name: str, methods: Sequence[str]) -> str:
                     if parameter.name == name and parameter.unit:
                         return f"{name} ({parameter.unit})"
     return f"{name} (count)" if name.lower().endswith(("steps", "iterations", "substeps")) else name
-
-
-def key_metric(run: RunResult) -> tuple[str, float | None]:
-    for name in KEY_METRICS:
-        if name in run.metrics and math.isfinite(run.metrics[name]):
-            return name, run.metrics[name]
-    return "", None
 
 
 def thin(times: Any, values: Any) -> tuple[list[float], list[float]]:
