@@ -274,6 +274,7 @@ def gate_section(gate: GateVerdicts, baseline: Path | None, results: Results) ->
     headline = gate_headline(document["counts"])
     against = f"; baseline <code>{escape(str(baseline))}</code>" if baseline else ""
     html.append(f"<p class='gate-counts'><b>{escape(headline)}</b>. {escape(document['summary'])}{against}.</p>")
+    md += [f"**{headline}**", ""]
     by_run: dict[tuple[str, str], list[dict[str, Any]]] = {}
     for check in document["checks"]:
         if check["verdict"] != "pass" and check["case"] in results.cases:
