@@ -37,7 +37,7 @@ from typing import Any
 import numpy as np
 
 from pbdval.errors import PbdvalError, ResultsError
-from pbdval.palette import declared_engines, style_of_label
+from pbdval.palette import declared_engines, engine_of_method, style_of_label
 from pbdval.replay import replay_data, replay_script
 from pbdval.results import Results, RunResult, load_results, pbdval_binary
 from pbdval.svg import Series, line_plot
@@ -818,7 +818,8 @@ def convergence_page(sweeps: Sequence[Path], colours: Colours, figures: Path, *,
         # both, marked by `pbdval sweep` in sweep.json) drawn as a line.
         cost: list[Series] = []
         timed = [p for p in points if p.get("metric") is not None and p.get("wall_time_s") is not None]
-        for method in sorted({str(p.get("method", "?")) for p in points}):
+        for method in sorted({str(p.get("method", "?")) for p in points},
+                             key=lambda m: declared_order(f"{engine_of_method(m)}/{m}")):
             mine = sorted((p for p in timed if p.get("method") == method), key=lambda p: float(p["wall_time_s"]))
             cost.append(colours.series(method, [float(p["wall_time_s"]) for p in mine],
                                        [float(p["metric"]) for p in mine], markers=True,
