@@ -28,12 +28,14 @@
 #include "pbdval/build_info.h"
 #include "validation/case_spec.h"
 #include "validation/engines/standard_engines.h"
+#include "validation/gate.h"
 #include "validation/interrupts.h"
 #include "validation/mechanics.h"
 #include "validation/metrics.h"
 #include "validation/overrides.h"
 #include "validation/references/reference.h"
 #include "validation/resolved_scene.h"
+#include "validation/results.h"
 #include "validation/run_execution.h"
 #include "validation/simulation.h"
 #include "validation/trajectory.h"
@@ -760,6 +762,43 @@ PYBIND11_MODULE(_core, m) {
   m.def("_simulate", &simulate);
   m.def("_measure", &measure);
   m.def("_energy", &energy);
+  // Every metric's unit (validation/metrics.h, metric::declared()): the report's headers.
+  m.def("_metric_units", [] {
+    py::dict units;
+    for (const pv::metric::Declared& d : pv::metric::declared())
+      units[py::str(d.name)] = d.unit;
+    return units;
+  });
+  // The cases' own checks (Validation.checks) on a results.json, judged without a baseline by
+  // the gate's own function (validation/gate.h evaluateCaseChecks): the report's bounds.
+  m.def("_case_checks", [](const std::string& path) {
+    if (path.find('\0') != std::string::npos)
+      throw ResultsFileError("a file name cannot contain a NUL character");
+    pv::ResultsFile results;
+    try {
+      results = pv::readResults(path);
+    } catch (const std::exception& e) {
+      throw ResultsFileError(e.what());
+    }
+    auto optional = [](const std::optional<double>& v) -> py::object {
+      return v ? py::object(py::float_(*v)) : py::object(py::none());
+    };
+    py::list checks;
+    for (const pv::GateOutcome& o : pv::evaluateCaseChecks(results.cases, results)) {
+      py::dict d;
+      d["case"] = o.suite;
+      d["name"] = o.name;
+      d["run"] = o.run;
+      d["metric"] = o.metric;
+      d["present"] = o.finding.present;
+      d["holds"] = o.finding.holds;
+      d["message"] = o.message;
+      d["now"] = optional(o.value);
+      d["allowed"] = optional(o.allowed);
+      checks.append(d);
+    }
+    return checks;
+  });
   m.def("_read_trajectory", [](const std::string& path) {
     if (path.find('\0') != std::string::npos)
       throw ResultsFileError("a file name cannot contain a NUL character");
