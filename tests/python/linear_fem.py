@@ -135,4 +135,5 @@ def membrane_static_displacement(positions: np.ndarray, triangles: np.ndarray, m
     free = (2 * free_nodes[:, None] + np.arange(2)[None, :]).reshape(-1)
     u = np.zeros(2 * n)
     u[free] = np.linalg.solve(k[np.ix_(free, free)], f[free])
-    return u.reshape(-1, 2) @ basis
+    displacement: np.ndarray = u.reshape(-1, 2) @ basis
+    return displacement

@@ -130,7 +130,7 @@ def test_cloth_membrane_under_uniaxial_strain_pulls_like_the_spring_network(expo
 FEM_STRETCH, FEM_POISSON = 4000.0 / 3.0, 0.3
 
 
-def fem_cloth(document: dict, young_y: float = FEM_STRETCH, shear: float = FEM_STRETCH / 1.3,
+def fem_cloth(document: dict[str, Any], young_y: float = FEM_STRETCH, shear: float = FEM_STRETCH / 1.3,
               bending: int = 0) -> None:
     """The document's first cloth as the seed's FEM cloth (method 2) with the moduli given."""
     document["triangleModels"][0].update(
@@ -147,8 +147,11 @@ def test_fem_cloth_is_the_isotropic_membrane_of_its_moduli(export_scene: Export)
     # shear G: MuJoCo's membrane with E t = E_s, poisson nu is it exactly when G = E_s/(1 + nu).
     # Stretched along x by eps with y and z held (uniaxial strain), the column x = max of the
     # free sheet pulls E_s/(1 - nu^2) eps L, times St. Venant-Kirchhoff's (1 + eps)(1 + eps/2).
-    scene = scene_of(export_scene, "cloth_on_sphere", "mujoco-python.euler.newton",
-                     lambda d: (without_bodies(d), fem_cloth(d)))
+    def free_fem_cloth(document: dict[str, Any]) -> None:
+        without_bodies(document)
+        fem_cloth(document)
+
+    scene = scene_of(export_scene, "cloth_on_sphere", "mujoco-python.euler.newton", free_fem_cloth)
     membrane = flexes.fem_membrane(scene.triangle_models[0].material)
     assert (membrane.stretch, membrane.poisson) == (FEM_STRETCH, FEM_POISSON)
     assert membrane.shear_ratio == pytest.approx(1.0, rel=1e-15)  # E/(E/1.3 x 1.3): round-off
@@ -182,7 +185,7 @@ def test_a_fem_curtain_settles_at_the_linear_membrane_fem_sag(export_scene: Expo
     # released sheet, the time-mean sag of the bottom edge over the second half of 4 s is that
     # solution's to St. Venant-Kirchhoff's geometric nonlinearity, of the order of the strain
     # (largest 3e-3): bound 5e-3 (measured 2.2e-3).
-    def upright(document: dict) -> None:
+    def upright(document: dict[str, Any]) -> None:
         fem_cloth(document)
         for p in document["particles"]:
             x, y, z = p["position"]

@@ -96,7 +96,7 @@ def resolved(export_scene: Callable[..., Path], case: str) -> pp.ResolvedScene:
 
 
 def writer_model(scene: pp.ResolvedScene) -> dict[str, Any]:
-    settings = engine._writer_settings("euler", "newton", engine._parameter_reader(scene, "euler"),
+    settings = engine.writer_settings("euler", "newton", engine.parameter_reader(scene, "euler"),
                                        scene.time_step_size)
     return engine.rigid_model(scene, settings)
 

@@ -107,7 +107,7 @@ def method_parts(name: str) -> tuple[str, str] | None:
     return parts[1], parts[2]
 
 
-def _writer_settings(integrator: str, solver: str, parameter: Any, h: float) -> dict[str, Any]:
+def writer_settings(integrator: str, solver: str, parameter: Any, h: float) -> dict[str, Any]:
     """The C++ writer's MujocoSettings (adapters/mujoco/mujoco_settings.h) from this engine's
     method and parameters; time constants are given in steps of h."""
     cone = str(parameter("cone"))
@@ -129,7 +129,7 @@ def _writer_settings(integrator: str, solver: str, parameter: Any, h: float) -> 
             "solimp": list(SOLIMP), "servo_time_constant": steps["servoTimeconstSteps"] * h}
 
 
-def _parameter_reader(scene: pp.ResolvedScene, integrator: str) -> Any:
+def parameter_reader(scene: pp.ResolvedScene, integrator: str) -> Any:
     """name → the run's value of that parameter, else the catalogue's default (catalogue.py;
     `discrete` has more iterations)."""
     return lambda name: scene.parameter(name, catalogue.default(integrator, name))
@@ -140,7 +140,7 @@ def unsupported_features(scene: pp.ResolvedScene) -> list[str]:
     if parts is None:
         return [f"method {scene.method.name}"]
     missing: list[str] = []
-    settings = _writer_settings(*parts, _parameter_reader(scene, parts[0]), scene.time_step_size)
+    settings = writer_settings(*parts, parameter_reader(scene, parts[0]), scene.time_step_size)
     missing += rigid_model(scene, settings)["unsupported"]
     if scene.particles or scene.triangle_models or scene.tet_models:
         missing += flexes.unsupported(scene)
@@ -179,8 +179,8 @@ class MujocoRun:
         assert parts is not None
         integrator, solver = parts
         h = scene.time_step_size
-        parameter = _parameter_reader(scene, integrator)
-        writer = _writer_settings(integrator, solver, parameter, h)
+        parameter = parameter_reader(scene, integrator)
+        writer = writer_settings(integrator, solver, parameter, h)
         self.tau = float(writer["contact_time_constant"])
         self.servo_tau = float(writer["servo_time_constant"])
         requested_substeps = int(parameter("substeps"))
