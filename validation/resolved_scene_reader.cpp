@@ -32,8 +32,7 @@ double number(const json& node, const std::string& path, const char* key) {
 
 Vector3 vec3(const json& node, const std::string& path, const char* key) {
   const json& v = at(node, path, key);
-  if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() ||
-      !v[2].is_number())
+  if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
     fail(path + "/" + key, "3 numbers");
   return Vector3(Real(v[0].get<double>()), Real(v[1].get<double>()), Real(v[2].get<double>()));
 }
@@ -64,7 +63,8 @@ pbd::CollisionObjectDesc collision(const json& shape, const std::string& path) {
       c.scale = 2 * vec3(shape, path, "halfExtents");  // exact: the writer halved it
       break;
     case pbd::CollisionObjectType::Cylinder:
-      c.scale = Vector3(Real(number(shape, path, "radius")), Real(number(shape, path, "height")), 1);
+      c.scale =
+          Vector3(Real(number(shape, path, "radius")), Real(number(shape, path, "height")), 1);
       break;
     case pbd::CollisionObjectType::Torus:
       c.scale = Vector3(Real(number(shape, path, "majorRadius")),
@@ -147,9 +147,12 @@ pbd::Scene rigidSceneFromResolvedJson(const json& resolved) {
     joint.bodyId2 = joint.body2 < 0 ? -1 : scene.rigidBodies[std::size_t(joint.body2)].id;
     const json& points = at(j, path, "points");
     const json& axes = at(j, path, "axes");
-    if (points.contains("anchor")) joint.position = vec3(points.at("anchor"), path + "/points/anchor", "world");
-    if (points.contains("anchor1")) joint.position1 = vec3(points.at("anchor1"), path + "/points/anchor1", "world");
-    if (points.contains("anchor2")) joint.position2 = vec3(points.at("anchor2"), path + "/points/anchor2", "world");
+    if (points.contains("anchor"))
+      joint.position = vec3(points.at("anchor"), path + "/points/anchor", "world");
+    if (points.contains("anchor1"))
+      joint.position1 = vec3(points.at("anchor1"), path + "/points/anchor1", "world");
+    if (points.contains("anchor2"))
+      joint.position2 = vec3(points.at("anchor2"), path + "/points/anchor2", "world");
     if (axes.contains("axis")) joint.axis = vec3(axes.at("axis"), path + "/axes/axis", "world");
     if (axes.contains("axis1")) joint.axis1 = vec3(axes.at("axis1"), path + "/axes/axis1", "world");
     if (axes.contains("axis2")) joint.axis2 = vec3(axes.at("axis2"), path + "/axes/axis2", "world");

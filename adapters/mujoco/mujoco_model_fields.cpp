@@ -75,8 +75,8 @@ std::vector<ModelField> compiledModelFields(const std::string& xml) {
   MJMODEL_POINTERS_PREAMBLE(m)
   (void)nq, (void)nv, (void)na, (void)nu, (void)nmocap;  // the rows are read from m below
   // Character buffers (names, paths, text) are not numbers: left out.
-#define X(type, name, rows, cols)                                              \
-  if constexpr (!std::is_same_v<type, char>)                                   \
+#define X(type, name, rows, cols)            \
+  if constexpr (!std::is_same_v<type, char>) \
     fields.push_back(field(#name, m->name, int(m->rows), int(cols)));
   MJMODEL_POINTERS
 #undef X
