@@ -233,3 +233,13 @@ def test_the_model_is_the_documents_even_when_it_is_not_its_source_files(
         writer_model(pp.read_resolved_scene(path))["xml"])).compile()
     body = mujoco.mj_name2id(original, mujoco.mjtObj.mjOBJ_BODY, f"b{moving}")  # the writer's name
     assert edited.body_mass[body] == 2 * original.body_mass[body]
+
+
+def test_a_core_module_of_another_build_is_named_not_a_bare_attribute_error(
+        export_scene: Callable[..., Path], monkeypatch: pytest.MonkeyPatch) -> None:
+    # The engine needs this build's pbdval._core; one from another checkout (the venv's path
+    # file may name one) lacks the writer's entry point: the run's error says so.
+    scene = resolved(export_scene, "joint_hinge")
+    monkeypatch.delattr(_core, "_mujoco_mjcf")
+    with pytest.raises(RuntimeError, match="another build's pbdval._core"):
+        writer_model(scene)

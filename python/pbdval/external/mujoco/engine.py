@@ -91,9 +91,19 @@ def mjcf_for_mujoco_4(xml: str) -> str:
 def rigid_model(scene: pp.ResolvedScene, settings: dict[str, Any]) -> dict[str, Any]:
     """The C++ writer's model of the scene's rigid part (pbdval._core._mujoco_mjcf): `xml`,
     `motors`, `body_names`, ..., or only `unsupported` when it cannot be written."""
-    from pbdval import _core  # the C++ extension of the build that runs this engine
-
-    return _core._mujoco_mjcf(json.dumps(scene.document), settings)
+    try:
+        from pbdval import _core  # the C++ extension of the build that runs this engine
+    except ImportError as e:
+        raise RuntimeError("mujoco-python writes its model with pbdval._core, the C++ part of "
+                           "pbdval: build it (cmake --build --preset release --target "
+                           "pbdval_python_core) and put <build>/python on PYTHONPATH, as the "
+                           f"runner does ({e})") from e
+    write = getattr(_core, "_mujoco_mjcf", None)
+    if write is None:  # another checkout's build, older than the one description
+        raise RuntimeError(f"{_core.__file__} has no _mujoco_mjcf: it is another build's pbdval._core; "
+                           "put this build's <build>/python first on PYTHONPATH, as the runner does")
+    model: dict[str, Any] = write(json.dumps(scene.document), settings)
+    return model
 
 
 def engine_version() -> str:
