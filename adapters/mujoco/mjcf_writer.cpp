@@ -436,6 +436,20 @@ std::optional<std::string> unsupportedShape(const RigidBodyDesc& body) {
   return prefix + "unknown";
 }
 
+std::vector<std::string> unsupportedRigidFeatures(const pbd::Scene& scene) {
+  std::vector<std::string> missing;
+  for (const JointDesc& joint : scene.joints)
+    if (joint.type == JointType::StiffRod)
+      missing.push_back(joint.jsonPath +
+                        ": stiff-rod joints (CosseratJoints, elastic bending and twisting "
+                        "between rod segments) are not mapped by the MuJoCo adapter");
+  for (const RigidBodyDesc& body : scene.rigidBodies)
+    if (auto problem = unsupportedShape(body)) missing.push_back(*problem);
+  for (std::string& problem : planKinematicTree(scene).unsupported)
+    missing.push_back(std::move(problem));
+  return missing;
+}
+
 MjcfModel writeMjcf(const pbd::Scene& scene, const MujocoSettings& settings,
                     const KinematicTree& tree) {
   return MjcfWriter(scene, settings, tree).write();

@@ -3,26 +3,15 @@
 
 #include <mujoco/mujoco.h>
 
-#include <cstring>
 #include <sstream>
 
 #include "adapters/mujoco/mujoco_errors.h"
+#include "adapters/mujoco/mujoco_model_fields.h"
 
 namespace pbdval {
 namespace {
 
 using mujoco::guarded;
-
-constexpr const char* kModelFile = "pbdval.xml";
-
-/// MuJoCo's in-memory file system (about 2 MB in 2.2.2: kept off the stack).
-struct VirtualFiles {
-  std::unique_ptr<mjVFS> vfs = std::make_unique<mjVFS>();
-  VirtualFiles() { mj_defaultVFS(vfs.get()); }
-  ~VirtualFiles() { mj_deleteVFS(vfs.get()); }  // never mj_deleteFileVFS: it hangs in 2.2.2
-  VirtualFiles(const VirtualFiles&) = delete;
-  VirtualFiles& operator=(const VirtualFiles&) = delete;
-};
 
 /// Warnings that mean the run cannot continue: MuJoCo resets mjData after a bad number
 /// (the state would jump back to t = 0) and drops contacts or constraints when its buffers
@@ -83,16 +72,9 @@ std::vector<std::string> MujocoEngine::unsupported(const pbd::Scene& scene,
     missing.push_back(m.jsonPath + ": MuJoCo has no particles in this adapter (deformable solid)");
   for (const pbd::LineModelDesc& m : scene.lineModels)
     missing.push_back(m.jsonPath + ": MuJoCo has no particles in this adapter (Cosserat rod)");
-  for (const pbd::JointDesc& joint : scene.joints)
-    if (joint.type == pbd::JointType::StiffRod)
-      missing.push_back(joint.jsonPath +
-                        ": stiff-rod joints (CosseratJoints, elastic bending and twisting "
-                        "between rod segments) are not mapped by the MuJoCo adapter");
   for (const pbd::FluidModelDesc& m : scene.fluidModels)
     missing.push_back(m.jsonPath + ": MuJoCo has no particles in this adapter (FluidModels: fluid)");
-  for (const pbd::RigidBodyDesc& body : scene.rigidBodies)
-    if (auto problem = mujoco::unsupportedShape(body)) missing.push_back(*problem);
-  for (std::string& problem : mujoco::planKinematicTree(scene).unsupported)
+  for (std::string& problem : mujoco::unsupportedRigidFeatures(scene))
     missing.push_back(std::move(problem));
   return missing;
 }
@@ -131,22 +113,7 @@ void MujocoEngine::indexBodies(const pbd::Scene& scene) {
 }
 
 void MujocoEngine::compile() {
-  VirtualFiles files;
-  const std::string& xml = mjcf_.xml;
-  char error[1024] = "";
-  mjModel* model = nullptr;
-  guarded("mj_loadXML", warnings_, [&] {
-    if (mj_makeEmptyFileVFS(files.vfs.get(), kModelFile, int(xml.size())) != 0) return;
-    std::memcpy(files.vfs->filedata[mj_findFileVFS(files.vfs.get(), kModelFile)], xml.data(),
-                xml.size());
-    model = mj_loadXML(kModelFile, files.vfs.get(), error, sizeof error);
-    mj_freeLastXML();  // MuJoCo keeps the parsed XML in a global; nothing here needs it
-  });
-  if (model == nullptr)
-    throw EngineError(std::string("MuJoCo rejected the model: ") +
-                      (error[0] != 0 ? error : "the VFS could not hold it"));
-  model_.reset(model);
-  if (error[0] != 0) warnings_.push_back(std::string("MuJoCo compiler: ") + error);
+  model_.reset(mujoco::compileMjcf(mjcf_.xml, warnings_));
   mjData* data = nullptr;
   guarded("mj_makeData", warnings_, [&] { data = mj_makeData(model_.get()); });
   if (data == nullptr) throw EngineError("MuJoCo could not allocate mjData");

@@ -26,6 +26,7 @@
 #include "pbd/io/scene_loader.h"
 #include "pbd/io/suggestion.h"
 #include "pbdval/build_info.h"
+#include "python/bindings/mujoco_model.h"
 #include "validation/case_spec.h"
 #include "validation/engines/standard_engines.h"
 #include "validation/gate.h"
@@ -726,6 +727,7 @@ PYBIND11_MODULE(_core, m) {
       .def("read_into", &Stepper::readInto, py::arg("packed").noconvert())
       .def("facts", &Stepper::facts);
 
+  bindMujocoModel(m);
   m.def("_load_scene", &loadSceneFile, py::arg("path"), py::arg("strict"));
   m.def("_scene_summary", &sceneSummary);
   // The command line's "did you mean" (pbd/io/suggestion.h), for the Python API's messages.

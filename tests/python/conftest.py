@@ -17,7 +17,11 @@ from typing import Any
 import pytest
 
 REPO = Path(__file__).resolve().parents[2]
+#: The build under test: its pbdval._core (the folder python/) comes before any other checkout's
+#: the venv's .pth may name, as the runner sets it for its Python engines.
+BUILD = Path(os.environ.get("PBDVAL_BUILD_DIR", REPO / "build" / "release"))
 sys.path.insert(0, str(REPO / "python"))
+sys.path.insert(1, str(BUILD / "python"))
 VENV_PYTHON = REPO / ".venv" / "bin" / "python"
 
 
@@ -37,8 +41,7 @@ def repo() -> Path:
 
 @pytest.fixture(scope="session")
 def pbdval_binary() -> Path:
-    build = Path(os.environ.get("PBDVAL_BUILD_DIR", REPO / "build" / "release"))
-    binary = build / "bin" / "pbdval"
+    binary = BUILD / "bin" / "pbdval"
     if not binary.is_file():
         pytest.fail(f"{binary} is missing: build it (cmake --build --preset release --target pbdval) "
                     "or set PBDVAL_BUILD_DIR")
@@ -78,9 +81,10 @@ def engine_command(name: str) -> list[str]:
 
 def engine_environment() -> dict[str, str]:
     """The environment the runner gives a "{python}" engine: PBDVAL_PROTOCOL=1 and this source
-    tree's python/ first on PYTHONPATH (validation/engines/standard_engines.cpp)."""
+    tree's python/ and the build's first on PYTHONPATH (validation/engines/standard_engines.cpp)."""
     inherited = os.environ.get("PYTHONPATH", "")
-    path = str(REPO / "python") + (os.pathsep + inherited if inherited else "")
+    path = os.pathsep.join([str(REPO / "python"), str(BUILD / "python")]) + (
+        os.pathsep + inherited if inherited else "")
     return dict(os.environ, PBDVAL_PROTOCOL="1", PYTHONPATH=path)
 
 

@@ -10,6 +10,6 @@ if sys.argv[1:] == ["--catalogue"]:
     sys.stdout.write(catalogue_text())
     sys.exit(0)
 
-from pbdval.external.mujoco.engine import main  # noqa: E402
+from pbdval.external.mujoco.engine import main
 
 sys.exit(main())
