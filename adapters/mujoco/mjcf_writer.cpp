@@ -410,32 +410,6 @@ std::string bodyName(std::size_t index) {
   return "b" + std::to_string(index);
 }
 
-std::optional<std::string> unsupportedShape(const RigidBodyDesc& body) {
-  const std::string prefix = body.jsonPath + ": collisionObjectType ";
-  switch (body.collision.type) {
-    case CollisionObjectType::None:
-    case CollisionObjectType::Sphere:
-    case CollisionObjectType::Box:
-    case CollisionObjectType::Cylinder:
-      return std::nullopt;
-    case CollisionObjectType::Torus:
-      return prefix +
-             "4 (torus): MuJoCo has no torus, and a mesh collides as its convex hull, "
-             "which fills the hole";
-    case CollisionObjectType::HollowSphere:
-    case CollisionObjectType::HollowBox:
-      return prefix + std::to_string(int(body.collision.type)) +
-             " (hollow shape): MuJoCo collides meshes as convex hulls, which are solid";
-    case CollisionObjectType::SignedDistanceField:
-      if (body.collision.invertSDF)
-        return prefix + "5 with invertSDF: MuJoCo has no inside-out collision shapes";
-      if (!body.mesh)
-        return prefix + "5 without geometryFile: MuJoCo needs the mesh (it cannot read SDF files)";
-      return std::nullopt;
-  }
-  return prefix + "unknown";
-}
-
 MjcfModel writeMjcf(const pbd::Scene& scene, const MujocoSettings& settings,
                     const KinematicTree& tree) {
   return MjcfWriter(scene, settings, tree).write();

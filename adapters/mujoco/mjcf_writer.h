@@ -48,9 +48,6 @@ struct MjcfModel {
   std::vector<std::string> approximations;
 };
 
-/// Why MuJoCo cannot represent this body's collision shape, if it cannot.
-std::optional<std::string> unsupportedShape(const pbd::RigidBodyDesc& body);
-
 /// MuJoCo body name of Scene::rigidBodies[index].
 std::string bodyName(std::size_t index);
 

@@ -75,25 +75,24 @@ MujocoEngine::MujocoEngine() = default;
 MujocoEngine::~MujocoEngine() = default;
 
 std::vector<std::string> MujocoEngine::unsupported(const pbd::Scene& scene,
-                                                   const Method& /*method*/) const {
+                                                   const Method& method) const {
+  // Which joints close kinematic loops depends on the spanning forest this adapter builds
+  // (kinematic_tree.h): those uses are added to the scene's own.
+  std::vector<FeatureUse> uses = sceneFeatureUses(scene);
+  const mujoco::KinematicTree tree = mujoco::planKinematicTree(scene);
+  for (std::size_t k = 0; k < scene.joints.size(); ++k) {
+    const pbd::JointDesc& joint = scene.joints[k];
+    if (tree.roles[k] == mujoco::JointRole::LoopClosure)
+      uses.push_back({"joint.closingLoop.ballOrHinge", joint.jsonPath, ""});
+    else if (tree.roles[k] == mujoco::JointRole::Unsupported &&
+             joint.type != pbd::JointType::RigidBodyParticleBall &&
+             joint.type != pbd::JointType::StiffRod)
+      uses.push_back({"joint.closingLoop.other", joint.jsonPath,
+                      std::string("a ") + pbd::jointTypeName(joint.type) + " joint"});
+  }
   std::vector<std::string> missing;
-  for (const pbd::TriangleModelDesc& m : scene.triangleModels)
-    missing.push_back(m.jsonPath + ": MuJoCo has no particles in this adapter (cloth)");
-  for (const pbd::TetModelDesc& m : scene.tetModels)
-    missing.push_back(m.jsonPath + ": MuJoCo has no particles in this adapter (deformable solid)");
-  for (const pbd::LineModelDesc& m : scene.lineModels)
-    missing.push_back(m.jsonPath + ": MuJoCo has no particles in this adapter (Cosserat rod)");
-  for (const pbd::JointDesc& joint : scene.joints)
-    if (joint.type == pbd::JointType::StiffRod)
-      missing.push_back(joint.jsonPath +
-                        ": stiff-rod joints (CosseratJoints, elastic bending and twisting "
-                        "between rod segments) are not mapped by the MuJoCo adapter");
-  for (const pbd::FluidModelDesc& m : scene.fluidModels)
-    missing.push_back(m.jsonPath + ": MuJoCo has no particles in this adapter (FluidModels: fluid)");
-  for (const pbd::RigidBodyDesc& body : scene.rigidBodies)
-    if (auto problem = mujoco::unsupportedShape(body)) missing.push_back(*problem);
-  for (std::string& problem : mujoco::planKinematicTree(scene).unsupported)
-    missing.push_back(std::move(problem));
+  for (UnsupportedUse& use : unsupportedUses(mujocoFeatures(), uses, method.name))
+    missing.push_back(std::move(use.message));
   return missing;
 }
 
@@ -370,6 +369,7 @@ EngineEntry mujocoEngineEntry() {
   entry.defaultMethod = "mujoco.euler";
   entry.methods = mujoco::mujocoMethods();
   entry.honouredSettings = {"timeStepSize", "gravitation"};
+  entry.features = mujocoFeatures();
   entry.make = [](const EngineOptions&) { return std::unique_ptr<Engine>(new MujocoEngine()); };
   return entry;
 }

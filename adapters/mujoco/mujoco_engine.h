@@ -80,6 +80,8 @@ class MujocoEngine final : public Engine {
   double stepEndTime_ = 0;  ///< time at the end of the step being taken (for messages)
 };
 
+/// How the engine maps every scene feature (mujoco_features.cpp; adapters/features.h).
+FeatureTable mujocoFeatures();
 EngineEntry mujocoEngineEntry();
 
 }  // namespace pbdval

@@ -57,9 +57,6 @@ struct ContactRecord {
   double depth = 0;
 };
 
-/// The features of `body`'s collision shape that ODE cannot represent, by JSON path.
-std::vector<std::string> unsupportedShapeFeatures(const pbd::RigidBodyDesc& body);
-
 /// The friction pyramid's first direction for a contact normal (see the file comment).
 Vector3 frictionDirection(const Vector3& normal);
 

@@ -22,10 +22,11 @@ import shutil
 import subprocess
 import sys
 import tempfile
+from collections.abc import Sequence
 from dataclasses import dataclass
 from html import escape
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -173,7 +174,7 @@ def run_gate(results_dir: Path, baseline: Path) -> GateVerdicts:
         verdicts = Path(folder) / "gate.json"
         done = subprocess.run([str(pbdval_binary()), "gate", "--baseline", str(baseline), "--results",
                                str(results_dir), "--json", str(verdicts), "--quiet"],
-                              capture_output=True, text=True)
+                              capture_output=True, text=True, check=False)
         document = json.loads(verdicts.read_text(encoding="utf-8")) if verdicts.exists() else None
     return GateVerdicts(done.returncode, document, done.stderr.strip())
 
@@ -258,15 +259,15 @@ def overview(results: Results, labels: list[str], gate: tuple[str, str] | None) 
     build = meta.get("pbdval", {})
     machine = meta.get("machine", {})
     html = [f"<h1>pbdval report</h1>{nav()}",
-            f"<p>{len(results)} runs of {len(cases)} cases. Results: <code>{escape(str(results.folder))}</code>, "
+            (f"<p>{len(results)} runs of {len(cases)} cases. Results: <code>{escape(str(results.folder))}</code>, "
             f"created {escape(str(meta.get('created', '?')))} by <code>{escape(str(meta.get('command', '?')))}</code>; "
             f"pbdval {escape(str(build.get('version', '?')))}, commit {escape(str(build.get('commit', '?'))[:12])} "
             f"({escape(str(build.get('commitState', '?')))}), {escape(str(build.get('buildType', '')))}, "
             f"{escape(str(build.get('compiler', '')))}, <code>{escape(str(build.get('flags', '')))}</code>, "
             f"{escape(str(build.get('precision', '')))}; machine {escape(str(machine.get('hostname', '?')))} "
-            f"({escape(str(machine.get('cpu', '')))}, {escape(str(machine.get('cores', '')))} cores).</p>"]
-    md = ["# pbdval report", "", f"{len(results)} runs of {len(cases)} cases; commit "
-          f"`{str(build.get('commit', '?'))[:12]}` ({build.get('commitState', '?')}), {build.get('compiler', '')}.", ""]
+            f"({escape(str(machine.get('cpu', '')))}, {escape(str(machine.get('cores', '')))} cores).</p>")]
+    md = ["# pbdval report", "", (f"{len(results)} runs of {len(cases)} cases; commit "
+          f"`{str(build.get('commit', '?'))[:12]}` ({build.get('commitState', '?')}), {build.get('compiler', '')}."), ""]
     if gate is not None:
         html.append(gate[0])
         md += [gate[1], ""]
@@ -315,7 +316,7 @@ def copy_assets(out: Path) -> bool:
 
 def case_page(case: str, runs: list[RunResult], results: Results, colours: Colours, figures: Path,
               quiet: bool, out: Path | None = None, three: bool = False) -> str:
-    from pbdval.api import load_scene, measure  # noqa: PLC0415  (the C++ core)
+    from pbdval.api import load_scene, measure
 
     info = results.cases.get(case, {})
     body = [nav("../"),
@@ -416,10 +417,10 @@ def case_page(case: str, runs: list[RunResult], results: Results, colours: Colou
 
 def convergence_page(sweeps: Sequence[Path], colours: Colours, figures: Path, *, standalone: bool = False) -> str:
     body = ["" if standalone else nav(),
-            "<h1>Convergence</h1><p>Error against the swept parameter, log-log, per method: filled points are "
+            ("<h1>Convergence</h1><p>Error against the swept parameter, log-log, per method: filled points are "
             "fitted, hollow ones were left out (on a floor); dashed lines are reference slopes 1, 2 and 4 "
             "through the coarsest point of the first method. The legend gives the fitted order and R². Under it, "
-            "the error against the wall time of each run, with the Pareto front.</p>"]
+            "the error against the wall time of each run, with the Pareto front.</p>")]
     if not sweeps:
         body.append("<p class='badge warn'>no sweep given (pbdval report --sweeps DIR...)</p>")
     for path in sweeps:
@@ -497,89 +498,21 @@ def convergence_page(sweeps: Sequence[Path], colours: Colours, figures: Path, *,
 
 # ---- parity ------------------------------------------------------------------------------------
 
-#: The documented mappings (docs/parity-*.md, docs/external-engines.md): one table per engine
-#: whose rows are "| scene feature | how | status |".
-DOCS = Path(__file__).resolve().parents[2] / "docs"
-PARITY_SOURCES = (("bullet", "parity-bullet.md", None), ("ode", "parity-ode.md", None),
-                  ("mujoco", "parity-mujoco.md", None), ("pybullet", "external-engines.md", "| item | pybullet |"),
-                  ("mujoco-python", "external-engines.md", "| item | MuJoCo |"))
-#: Scene features (rows of the parity page) and how each engine's table names them.
-PARITY_FEATURES: tuple[tuple[str, str], ...] = (
-    ("sphere (type 1)", r"(?<!hollow )\bsphere\b"), ("box (type 2)", r"(?<!hollow )\bbox\b"),
-    ("cylinder (type 3)", r"\bcylinder"), ("torus (type 4)", r"\btorus"),
-    ("mesh SDF (type 5)", r"\bSDF\b|\bsdf\b|signed distance field"), ("hollow sphere (type 6)", r"hollow sphere"),
-    ("hollow box (type 7)", r"hollow box"), ("invertSDF", r"invertSDF"),
-    ("particles (cloth, tets)", r"particles|TriangleModels"),
-    ("BallJoints", r"`BallJoints`|\bball joint|^ball, hinge"), ("BallOnLineJoints", r"`BallOnLineJoints`"),
-    ("HingeJoints", r"`HingeJoints`|^hinge\b|ball, hinge joints"), ("UniversalJoints", r"`UniversalJoints`"),
-    ("SliderJoints", r"`SliderJoints`"), ("DistanceJoints", r"`DistanceJoints`"),
-    ("DamperJoints", r"`DamperJoints`"), ("RigidBodySprings", r"`RigidBodySprings`"),
-    ("TargetAngleMotorHingeJoints", r"`TargetAngleMotorHingeJoints`"),
-    ("TargetVelocityMotorHingeJoints", r"`TargetVelocityMotorHingeJoints`"),
-    ("TargetPositionMotorSliderJoints", r"`TargetPositionMotorSliderJoints`"),
-    ("TargetVelocityMotorSliderJoints", r"`TargetVelocityMotorSliderJoints`"),
-    ("RigidBodyParticleBallJoints", r"`RigidBodyParticleBallJoints`"),
-    ("pair friction", r"friction coefficient|pair friction"), ("restitution", r"restitution"),
-)
-PARITY_COLOURS = {"native": "#d9f2d9", "approximated": "#ffe9a8", "unsupported": "#f7c6c6"}
-
-
-def parity_table(text: str, start: str | None) -> list[tuple[str, str]]:
-    """(feature, status) rows of the first three-column table (after the line starting with
-    `start`, when given)."""
-    lines = text.splitlines()
-    if start is not None:
-        begin = next((i for i, line in enumerate(lines) if line.startswith(start)), len(lines))
-        lines = lines[begin:]
-        end = next((i for i, line in enumerate(lines) if not line.startswith("|")), len(lines))
-        lines = lines[:end]
-    rows = []
-    for line in lines:
-        cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if len(cells) >= 3 and not set(cells[0]) <= set("-: ") and cells[0].lower() not in ("scene", "feature", "item"):
-            # The status column: the second in parity-ode.md and parity-mujoco.md, the last elsewhere.
-            second = cells[1].split(" ")[0].strip("*,;:").lower()
-            rows.append((cells[0], cells[1] if second in PARITY_COLOURS else cells[-1]))
-    return rows
-
-
-def parity_status(rows: list[tuple[str, str]], pattern: str, feature: str) -> str:
-    for name, status in rows:
-        if re.search(pattern, name):
-            return status
-    if feature.endswith("Joints") or feature == "RigidBodySprings":
-        for name, status in rows:
-            if re.search(r"other joints", name):
-                return status
-    return ""
-
-
 def parity_page() -> str:
+    """The parity page: the engines' feature tables side by side (pbdval.parity renders them; the
+    same tables generate docs/parity*.md)."""
     body = [nav(),
-            "<h1>Parity</h1><p>How each engine maps the scene's features: <b>native</b> (its own feature with the "
-            "scene's meaning), <b>approximated</b> (the closest feature; the difference is documented and recorded "
-            "in each run's effective settings) or <b>unsupported</b> (the run is reported unsupported, naming the "
-            "feature). From the parity pages in <code>docs/</code> (parity-bullet.md, parity-ode.md, "
-            "parity-mujoco.md, external-engines.md), where every row says how. The <code>pbd</code> engine "
-            "implements the seed's scene format: every feature is its own.</p>"]
-    tables: dict[str, list[tuple[str, str]]] = {}
-    for engine, file, start in PARITY_SOURCES:
-        try:
-            tables[engine] = parity_table((DOCS / file).read_text(encoding="utf-8"), start)
-        except OSError as error:
-            body.append(f"<p class='badge warn'>{escape(file)}: {escape(str(error))}</p>")
-            tables[engine] = []
-    engines = ["pbd"] + list(tables)
-    body.append("<table><tr><th>scene feature</th>" + "".join(f"<th>{escape(e)}</th>" for e in engines) + "</tr>")
-    for feature, pattern in PARITY_FEATURES:
-        cells = [f"<td style='background:{PARITY_COLOURS['native']}'>native</td>"]
-        for engine in tables:
-            status = parity_status(tables[engine], pattern, feature)
-            word = status.split(" ")[0].strip("*,;:").lower() if status else ""
-            colour = PARITY_COLOURS.get(word, "#ffffff")
-            cells.append(f"<td style='background:{colour}' title='{escape(status)}'>{escape(status or '–')}</td>")
-        body.append(f"<tr><td>{escape(feature)}</td>{''.join(cells)}</tr>")
-    body.append("</table>")
+            ("<h1>Parity</h1><p>How each engine maps the scene's features: <b>native</b> (its own feature with the "
+            "scene's meaning), <b>approximated</b> (the closest feature; the tooltip says how it differs) or "
+            "<b>unsupported</b> (the run is reported unsupported, naming the feature by its JSON path). Each engine "
+            "declares this once, in its feature table (docs/engines.md#features): the built-in engines in code, the "
+            "external ones in their catalogue entry. A cell that differs between an engine's methods names them.</p>")]
+    try:
+        from pbdval.parity import html_table
+
+        body.append(html_table())
+    except (ImportError, OSError, ValueError) as error:
+        body.append(f"<p class='badge warn'>the feature tables could not be read: {escape(str(error))}</p>")
     return page("pbdval report: parity", "\n".join(body))
 
 
