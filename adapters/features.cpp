@@ -33,35 +33,54 @@ constexpr const char* kJointKeys[pbd::kJointTypeCount] = {
 
 const char* clothMethodKey(int method) {
   switch (method) {
-    case 0: return "cloth.method.none";
-    case 1: return "cloth.method.distance";
-    case 2: return "cloth.method.fem";
-    case 3: return "cloth.method.strainBased";
-    case 4: return "cloth.method.xpbdDistance";
-    default: return "cloth.method.other";
+    case 0:
+      return "cloth.method.none";
+    case 1:
+      return "cloth.method.distance";
+    case 2:
+      return "cloth.method.fem";
+    case 3:
+      return "cloth.method.strainBased";
+    case 4:
+      return "cloth.method.xpbdDistance";
+    default:
+      return "cloth.method.other";
   }
 }
 
 const char* bendingMethodKey(int method) {
   switch (method) {
-    case 0: return "cloth.bending.none";
-    case 1: return "cloth.bending.dihedral";
-    case 2: return "cloth.bending.isometric";
-    case 3: return "cloth.bending.isometricXpbd";
-    default: return "cloth.bending.other";
+    case 0:
+      return "cloth.bending.none";
+    case 1:
+      return "cloth.bending.dihedral";
+    case 2:
+      return "cloth.bending.isometric";
+    case 3:
+      return "cloth.bending.isometricXpbd";
+    default:
+      return "cloth.bending.other";
   }
 }
 
 const char* solidMethodKey(int method) {
   switch (method) {
-    case 0: return "solid.method.none";
-    case 1: return "solid.method.distanceVolume";
-    case 2: return "solid.method.fem";
-    case 3: return "solid.method.femXpbd";
-    case 4: return "solid.method.strainBased";
-    case 5: return "solid.method.shapeMatching";
-    case 6: return "solid.method.distanceVolumeXpbd";
-    default: return "solid.method.other";
+    case 0:
+      return "solid.method.none";
+    case 1:
+      return "solid.method.distanceVolume";
+    case 2:
+      return "solid.method.fem";
+    case 3:
+      return "solid.method.femXpbd";
+    case 4:
+      return "solid.method.strainBased";
+    case 5:
+      return "solid.method.shapeMatching";
+    case 6:
+      return "solid.method.distanceVolumeXpbd";
+    default:
+      return "solid.method.other";
   }
 }
 
@@ -69,15 +88,22 @@ const char* solidMethodKey(int method) {
 const char* shapeKey(const pbd::RigidBodyDesc& body) {
   const bool mesh = body.mesh != nullptr;
   switch (body.collision.type) {
-    case CollisionObjectType::None: return "shape.none";
-    case CollisionObjectType::Sphere: return "shape.sphere";
-    case CollisionObjectType::Box: return "shape.box";
-    case CollisionObjectType::Cylinder: return "shape.cylinder";
-    case CollisionObjectType::Torus: return mesh ? "shape.torus.mesh" : "shape.torus.analytic";
+    case CollisionObjectType::None:
+      return "shape.none";
+    case CollisionObjectType::Sphere:
+      return "shape.sphere";
+    case CollisionObjectType::Box:
+      return "shape.box";
+    case CollisionObjectType::Cylinder:
+      return "shape.cylinder";
+    case CollisionObjectType::Torus:
+      return mesh ? "shape.torus.mesh" : "shape.torus.analytic";
     case CollisionObjectType::SignedDistanceField:
       return mesh ? "shape.sdf.mesh" : "shape.sdf.fileOnly";
-    case CollisionObjectType::HollowSphere: return "shape.hollowSphere";
-    case CollisionObjectType::HollowBox: return "shape.hollowBox";
+    case CollisionObjectType::HollowSphere:
+      return "shape.hollowSphere";
+    case CollisionObjectType::HollowBox:
+      return "shape.hollowBox";
   }
   return "shape.none";
 }
@@ -99,9 +125,12 @@ bool forMethod(const FeatureSupport& entry, std::string_view method) {
 
 const char* supportName(Support support) {
   switch (support) {
-    case Support::Native: return "native";
-    case Support::Approximated: return "approximated";
-    case Support::Unsupported: return "unsupported";
+    case Support::Native:
+      return "native";
+    case Support::Approximated:
+      return "approximated";
+    case Support::Unsupported:
+      return "unsupported";
   }
   return "unsupported";
 }
@@ -109,8 +138,9 @@ const char* supportName(Support support) {
 Support supportNamed(std::string_view name) {
   for (Support s : {Support::Native, Support::Approximated, Support::Unsupported})
     if (name == supportName(s)) return s;
-  throw std::invalid_argument("expected one of \"native\", \"approximated\", \"unsupported\", got \"" +
-                              std::string(name) + "\"");
+  throw std::invalid_argument(
+      "expected one of \"native\", \"approximated\", \"unsupported\", got \"" + std::string(name) +
+      "\"");
 }
 
 const std::vector<FeatureInfo>& sceneFeatures() {
@@ -121,9 +151,12 @@ const std::vector<FeatureInfo>& sceneFeatures() {
       {"shape.box", "box (collisionObjectType 2)"},
       {"shape.cylinder", "cylinder, axis y (collisionObjectType 3)"},
       {"shape.torus.mesh", "torus with a geometryFile mesh (collisionObjectType 4)"},
-      {"shape.torus.analytic", "torus without a geometryFile: the analytic (R, r) only (collisionObjectType 4)"},
-      {"shape.sdf.mesh", "signed distance field of the body's geometryFile mesh (collisionObjectType 5)"},
-      {"shape.sdf.fileOnly", "signed distance field without a geometryFile mesh (collisionObjectType 5)"},
+      {"shape.torus.analytic",
+       "torus without a geometryFile: the analytic (R, r) only (collisionObjectType 4)"},
+      {"shape.sdf.mesh",
+       "signed distance field of the body's geometryFile mesh (collisionObjectType 5)"},
+      {"shape.sdf.fileOnly",
+       "signed distance field without a geometryFile mesh (collisionObjectType 5)"},
       {"shape.sdf.precomputedFile", "a precomputed SDF file (collisionObjectFileName of type 5)"},
       {"shape.hollowSphere", "hollow sphere (collisionObjectType 6)"},
       {"shape.hollowBox", "hollow box (collisionObjectType 7)"},
@@ -134,20 +167,28 @@ const std::vector<FeatureInfo>& sceneFeatures() {
       {"joint.hinge", "hinge joint (HingeJoints)"},
       {"joint.universal", "universal joint (UniversalJoints)"},
       {"joint.slider", "slider joint (SliderJoints)"},
-      {"joint.rigidBodyParticleBall", "rigid body–particle ball joint (RigidBodyParticleBallJoints)"},
+      {"joint.rigidBodyParticleBall",
+       "rigid body–particle ball joint (RigidBodyParticleBallJoints)"},
       {"joint.rigidBodySpring", "spring between two rigid bodies (RigidBodySprings)"},
       {"joint.distance", "distance joint (DistanceJoints)"},
       {"joint.damper", "axial spring on a slider (DamperJoints)"},
       {"joint.targetAngleMotorHinge", "angle motor on a hinge (TargetAngleMotorHingeJoints)"},
-      {"joint.targetVelocityMotorHinge", "velocity motor on a hinge (TargetVelocityMotorHingeJoints)"},
-      {"joint.targetPositionMotorSlider", "position motor on a slider (TargetPositionMotorSliderJoints)"},
-      {"joint.targetVelocityMotorSlider", "velocity motor on a slider (TargetVelocityMotorSliderJoints)"},
-      {"joint.stiffRod", "stiff-rod joint: elastic bending and twisting between rod segments (CosseratJoints, TreeModels)"},
+      {"joint.targetVelocityMotorHinge",
+       "velocity motor on a hinge (TargetVelocityMotorHingeJoints)"},
+      {"joint.targetPositionMotorSlider",
+       "position motor on a slider (TargetPositionMotorSliderJoints)"},
+      {"joint.targetVelocityMotorSlider",
+       "velocity motor on a slider (TargetVelocityMotorSliderJoints)"},
+      {"joint.stiffRod",
+       "stiff-rod joint: elastic bending and twisting between rod segments (CosseratJoints, "
+       "TreeModels)"},
       {"joint.closingLoop.ballOrHinge",
-       "a ball or hinge joint that closes a kinematic loop (reduced-coordinate engines: which joints close loops depends on the spanning tree the engine builds)",
+       "a ball or hinge joint that closes a kinematic loop (reduced-coordinate engines: which "
+       "joints close loops depends on the spanning tree the engine builds)",
        false},
       {"joint.closingLoop.other",
-       "any other joint that closes a kinematic loop (reduced-coordinate engines, as above)", false},
+       "any other joint that closes a kinematic loop (reduced-coordinate engines, as above)",
+       false},
       {"body.initialVelocityOfJointedBody",
        "an initial velocity of a dynamic body jointed to another dynamic body"},
       // Contacts.
@@ -155,7 +196,8 @@ const std::vector<FeatureInfo>& sceneFeatures() {
        "contacts between rigid bodies (two collision shapes, not both static), each pair with "
        "Scene::pairMaterial's friction and restitution (ContactPairs or the contactCombineRule)"},
       {"contact.nonSeparableMaterials",
-       "pair friction or restitution that are not products of per-body values (checked by the engines that need such products, when they run)",
+       "pair friction or restitution that are not products of per-body values (checked by the "
+       "engines that need such products, when they run)",
        false},
       {"particle.initialVelocity", "an initial velocity of a dynamic particle of a cloth or solid"},
       // Particles: cloth (TriangleModels).
@@ -163,7 +205,8 @@ const std::vector<FeatureInfo>& sceneFeatures() {
       {"cloth.method.distance", "cloth, PBD distance constraints (clothSimulationMethod 1)"},
       {"cloth.method.fem", "cloth, PBD FEM triangles (clothSimulationMethod 2)"},
       {"cloth.method.strainBased", "cloth, PBD strain-based triangles (clothSimulationMethod 3)"},
-      {"cloth.method.xpbdDistance", "cloth, XPBD distance constraints, k in N/m (clothSimulationMethod 4)"},
+      {"cloth.method.xpbdDistance",
+       "cloth, XPBD distance constraints, k in N/m (clothSimulationMethod 4)"},
       {"cloth.method.other", "cloth with a clothSimulationMethod outside 0–4"},
       {"cloth.bending.none", "cloth without bending (clothBendingMethod 0)"},
       {"cloth.bending.dihedral", "cloth, PBD dihedral bending (clothBendingMethod 1)"},
@@ -172,14 +215,18 @@ const std::vector<FeatureInfo>& sceneFeatures() {
       {"cloth.bending.other", "cloth with a clothBendingMethod outside 0–3"},
       // Particles: solids (TetModels).
       {"solid.method.none", "solid without constraints: free particles (solidSimulationMethod 0)"},
-      {"solid.method.distanceVolume", "solid, PBD distance and volume constraints (solidSimulationMethod 1)"},
+      {"solid.method.distanceVolume",
+       "solid, PBD distance and volume constraints (solidSimulationMethod 1)"},
       {"solid.method.fem", "solid, PBD FEM tets (solidSimulationMethod 2)"},
-      {"solid.method.femXpbd", "solid, XPBD FEM tets: linear elasticity (E, ν) (solidSimulationMethod 3)"},
+      {"solid.method.femXpbd",
+       "solid, XPBD FEM tets: linear elasticity (E, ν) (solidSimulationMethod 3)"},
       {"solid.method.strainBased", "solid, PBD strain-based tets (solidSimulationMethod 4)"},
       {"solid.method.shapeMatching", "solid, PBD shape matching (solidSimulationMethod 5)"},
-      {"solid.method.distanceVolumeXpbd", "solid, XPBD distance and volume constraints (solidSimulationMethod 6)"},
+      {"solid.method.distanceVolumeXpbd",
+       "solid, XPBD distance and volume constraints (solidSimulationMethod 6)"},
       {"solid.method.other", "solid with a solidSimulationMethod outside 0–6"},
-      {"solid.femPoissonOutOfRange", "FEM solid (solidSimulationMethod 2 or 3) with solid_poissonRatio outside [0, 0.49]"},
+      {"solid.femPoissonOutOfRange",
+       "FEM solid (solidSimulationMethod 2 or 3) with solid_poissonRatio outside [0, 0.49]"},
       // Rods and fluids.
       {"rod.cosserat", "Cosserat rod (LineModels)"},
       {"fluid.pbf", "position-based fluid (FluidModels)"},
@@ -225,13 +272,13 @@ std::vector<std::string> checkFeatureTable(const FeatureTable& table,
                          "\" is neither a scene feature nor a group of features "
                          "(docs/engines.md#features lists them)");
     if (e.support != Support::Native && e.text.empty())
-      problems.push_back(where + ".text: an " + supportName(e.support) +
-                         " feature says " +
+      problems.push_back(where + ".text: an " + supportName(e.support) + " feature says " +
                          (e.support == Support::Unsupported ? "why" : "how it differs"));
     for (const std::string& m : e.methods)
       if (std::find(methods.begin(), methods.end(), m) == methods.end())
         problems.push_back(where + ".methods: \"" + m + "\" is not a method of the engine");
-    const std::vector<std::string> scopes = e.methods.empty() ? std::vector<std::string>{""} : e.methods;
+    const std::vector<std::string> scopes =
+        e.methods.empty() ? std::vector<std::string>{""} : e.methods;
     for (const std::string& scope : scopes)
       if (!seen.insert({e.key, scope}).second)
         problems.push_back(where + ": a second entry for \"" + e.key + "\"" +
@@ -315,8 +362,9 @@ std::vector<FeatureUse> sceneFeatureUses(const pbd::Scene& scene) {
                       "solid_poissonRatio " + pbd::formatReal(double(s.solid_poissonRatio))});
   }
   for (const pbd::LineModelDesc& model : scene.lineModels)
-    uses.push_back({"rod.cosserat", model.jsonPath,
-                    model.usesModuli() ? "XPBD, youngsModulus and shearModulus" : "PBD, rod_* fractions"});
+    uses.push_back(
+        {"rod.cosserat", model.jsonPath,
+         model.usesModuli() ? "XPBD, youngsModulus and shearModulus" : "PBD, rod_* fractions"});
   for (const pbd::FluidModelDesc& model : scene.fluidModels)
     uses.push_back({"fluid.pbf", model.jsonPath, ""});
   return uses;
@@ -333,11 +381,13 @@ std::vector<UnsupportedUse> unsupportedUses(const FeatureTable& table,
     if (!reported.insert({use.jsonPath, entry}).second) continue;
     const FeatureInfo* info = findFeature(use.key);
     std::string message = use.jsonPath + ": " + (info ? info->description : use.key);
-    if (!use.detail.empty() && (info == nullptr || std::string_view(info->description).find(use.detail) == std::string_view::npos))
+    if (!use.detail.empty() &&
+        (info == nullptr ||
+         std::string_view(info->description).find(use.detail) == std::string_view::npos))
       message += " [" + use.detail + "]";
-    message += ": " + (entry != nullptr ? entry->text
-                                        : "not declared in the engine's feature table (" +
-                                              use.key + ")");
+    message +=
+        ": " + (entry != nullptr ? entry->text
+                                 : "not declared in the engine's feature table (" + use.key + ")");
     found.push_back({use.key, use.jsonPath, std::move(message)});
   }
   return found;

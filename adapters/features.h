@@ -54,7 +54,10 @@ struct FeatureSupport {
   FeatureSupport() = default;
   FeatureSupport(std::string key_, Support support_, std::string text_ = {},
                  std::vector<std::string> methods_ = {})
-      : key(std::move(key_)), support(support_), text(std::move(text_)), methods(std::move(methods_)) {}
+      : key(std::move(key_)),
+        support(support_),
+        text(std::move(text_)),
+        methods(std::move(methods_)) {}
 
   std::string key;  ///< a feature or a group
   Support support = Support::Native;

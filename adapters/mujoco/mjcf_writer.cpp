@@ -261,7 +261,7 @@ class MjcfWriter {
         shape = "type=\"mesh\" mesh=\"m" + std::to_string(index) + "\"";
         break;
       default:
-        return;  // unsupported shapes are rejected before (unsupportedShape)
+        return;  // unsupported shapes are rejected before (mujocoFeatures())
     }
     out_ << indent << "<geom name=\"" << geomName(std::size_t(index)) << "\" " << shape << " "
          << poseAttributes(pose) << " contype=\"0\" conaffinity=\"0\" margin=\"0\" gap=\"0\"/>\n";

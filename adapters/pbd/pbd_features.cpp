@@ -17,7 +17,8 @@ FeatureTable pbdFeatures() {
        "not implemented; 1 (distance, PBD), 2 (FEM triangles, PBD), 3 (strain-based triangles, "
        "PBD) and 4 (distance, XPBD) are, 0 leaves free particles"},
       {"cloth.bending.other", U,
-       "not implemented; 1 (dihedral), 2 (isometric, PBD) and 3 (isometric, XPBD) are, 0 bends freely"},
+       "not implemented; 1 (dihedral), 2 (isometric, PBD) and 3 (isometric, XPBD) are, 0 bends "
+       "freely"},
       {"solid", N, "the seed's constraints for the method"},
       {"solid.method.other", U,
        "not implemented; 1 (distance and volume, PBD), 2 (FEM, PBD), 3 (FEM, XPBD), 4 "

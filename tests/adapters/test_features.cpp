@@ -19,7 +19,8 @@ using pbd::Vector3;
 
 std::vector<std::string> methodNames(const EngineEntry& entry) {
   std::vector<std::string> names;
-  for (const MethodInfo& m : entry.methods) names.push_back(m.name);
+  for (const MethodInfo& m : entry.methods)
+    names.push_back(m.name);
   return names;
 }
 
@@ -34,7 +35,8 @@ TEST(FeatureTables, EveryBuiltInEngineDeclaresEveryFeatureForEveryMethod) {
 
 TEST(FeatureTables, TheVocabularyHasUniqueKeysAndEveryJointTypeAndShape) {
   std::vector<std::string> keys;
-  for (const FeatureInfo& f : sceneFeatures()) keys.push_back(f.key);
+  for (const FeatureInfo& f : sceneFeatures())
+    keys.push_back(f.key);
   std::vector<std::string> sorted = keys;
   std::sort(sorted.begin(), sorted.end());
   EXPECT_EQ(std::adjacent_find(sorted.begin(), sorted.end()), sorted.end());
@@ -51,7 +53,8 @@ TEST(FeatureTables, TheVocabularyHasUniqueKeysAndEveryJointTypeAndShape) {
   std::sort(jointKeys.begin(), jointKeys.end());
   EXPECT_EQ(std::unique(jointKeys.begin(), jointKeys.end()) - jointKeys.begin(),
             pbd::kJointTypeCount);
-  for (const std::string& k : jointKeys) EXPECT_NE(findFeature(k), nullptr) << k;
+  for (const std::string& k : jointKeys)
+    EXPECT_NE(findFeature(k), nullptr) << k;
 }
 
 TEST(FeatureTables, AnEntryForTheMethodWinsThenTheMostSpecificKey) {
@@ -114,8 +117,7 @@ TEST(FeatureTables, EachUnsupportedUseIsNamedOnceByItsPathWithTheTablesReason) {
   const std::vector<std::string> missing = unsupportedFeatures(table, s, "e.a");
   ASSERT_EQ(missing.size(), 3u);
   EXPECT_EQ(missing[0], "RigidBodies[1]: hollow sphere (collisionObjectType 6): no hollow shapes");
-  EXPECT_EQ(missing[1],
-            "DistanceJoints[0]: distance joint (DistanceJoints): no distance rows");
+  EXPECT_EQ(missing[1], "DistanceJoints[0]: distance joint (DistanceJoints): no distance rows");
   // The cloth uses a method and a bending feature, both decided by "cloth": reported once.
   EXPECT_EQ(missing[2].rfind("TriangleModels[0]: cloth", 0), 0u) << missing[2];
   EXPECT_NE(missing[2].find(": no particles"), std::string::npos) << missing[2];

@@ -463,7 +463,11 @@ TEST(OdeJoints, BallOnLineIsARailCarriageInTheDirectSolverOnly) {
   OdeEngine engine;
   const std::vector<std::string> quick = engine.unsupported(s, method("ode.quickstep"));
   ASSERT_EQ(quick.size(), 1u);
-  EXPECT_EQ(quick[0].rfind("BallOnLineJoints[0]: ODE has no ball-on-line joint", 0), 0u);
+  EXPECT_EQ(quick[0].rfind("BallOnLineJoints[0]: ball-on-line joint (BallOnLineJoints): ODE has no "
+                          "ball-on-line joint",
+                          0),
+            0u)
+      << quick[0];
   ASSERT_TRUE(engine.unsupported(s, method("ode.step")).empty());
 
   engine.load(s, method("ode.step"));

@@ -669,7 +669,8 @@ TEST(EngineCatalogue, AFeatureTableIsCheckedAndDecidesUnsupportedRunsBeforeTheEn
       readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"}, "/root");
       ADD_FAILURE() << "accepted: " << features;
     } catch (const std::invalid_argument& e) {
-      EXPECT_TRUE(containsAll(e.what(), expected)) << e.what();
+      for (const std::string& part : expected)
+        EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << part << " in " << e.what();
     }
   }
   fs::remove_all(folder);
