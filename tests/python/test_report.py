@@ -8,9 +8,9 @@ import json
 import re
 import subprocess
 from pathlib import Path
+from typing import Any
 
 import pytest
-
 from pbdval.report import build_report
 from pbdval.results import pbdval_binary
 
@@ -91,7 +91,7 @@ def gate_row(index: str, verdict: str, case: str, check: str) -> str:
     """The report's gate-table row of a check, or "" when there is none."""
     for row in re.findall(rf"<tr class='verdict-{verdict}'>.*?</tr>", index):
         if f"<td>{case}</td>" in row and f"<td>{check}</td>" in row:
-            return row
+            return str(row)
     return ""
 
 
@@ -137,17 +137,18 @@ def test_gate_text_junit_markdown_and_report_count_the_same_failures(real_result
     assert flagged > 0 and {c["case"] for c in verdicts["checks"] if c["verdict"] == "regression"} == {"joint_hinge"}
     assert verdicts["counts"]["failed"] == flagged
     text = done.stdout
-    assert len(re.findall(r"^FAIL ", text, re.M)) == flagged
+    assert len(re.findall(r"^FAIL ", text, re.MULTILINE)) == flagged
     assert f", {flagged} failed in 1 case (" in text.splitlines()[-1]
     junit = files["xml"].read_text()
-    assert re.search(r'<testsuites [^>]*failures="(\d+)"', junit).group(1) == str(flagged)
+    failures = re.search(r'<testsuites [^>]*failures="(\d+)"', junit)
+    assert failures is not None and failures.group(1) == str(flagged)
     assert junit.count("<failure ") == flagged
     markdown = files["md"].read_text()
-    assert len(re.findall(r"^\| (regression|missing) \|", markdown, re.M)) == flagged
+    assert len(re.findall(r"^\| (regression|missing) \|", markdown, re.MULTILINE)) == flagged
     assert f", {flagged} failed in 1 case (" in markdown
     # The report, running the gate itself or showing the verdicts of the gate above.
     for name, source in (("report", {"baseline": baseline}), ("shown", {"gate_json": files["json"]})):
-        build_report(worse, tmp_path / name, quiet=True, **source)
+        build_report(worse, tmp_path / name, quiet=True, **source)  # type: ignore[arg-type]
         index = (tmp_path / name / "index.html").read_text()
         rows = re.findall(r"<tr class='verdict-(regression|missing)'>", index)
         assert len(rows) == flagged, name
@@ -174,7 +175,7 @@ def test_sweep_writes_its_convergence_page(tmp_path: Path) -> None:
     assert "href='index.html'" not in page  # on its own: no links to pages that do not exist
 
 
-def synthetic(folder: Path, runs: list[dict], schema_version: int = 1, case_file: str = "") -> Path:
+def synthetic(folder: Path, runs: list[dict[str, Any]], schema_version: int = 1, case_file: str = "") -> Path:
     folder.mkdir(parents=True)
     cases = {r["case"]: {"file": case_file, "description": "synthetic", "checks": [], "tolerances": {}}
              for r in runs}
@@ -183,7 +184,8 @@ def synthetic(folder: Path, runs: list[dict], schema_version: int = 1, case_file
     return folder
 
 
-def run_record(case: str, engine: str, method: str, status: str, metrics: dict, trajectory: str = "") -> dict:
+def run_record(case: str, engine: str, method: str, status: str, metrics: dict[str, float | None],
+               trajectory: str = "") -> dict[str, Any]:
     return {"case": case, "caseFile": "", "engine": engine, "method": method, "status": status,
             "reason": "" if status == "ok" else f"synthetic {status}", "metrics": metrics,
             "trajectory": trajectory, "parameters": {}, "settings": {"solver": "x"}, "facts": {}}
