@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "adapters/features.h"
 #include "adapters/parameters.h"
 #include "pbd/model/scene.h"
 
@@ -225,6 +226,9 @@ struct EngineEntry {
   /// Keys of the scene's Simulation block this engine uses (timeStepSize, gravitation, and for
   /// the PBD library its solver settings); `--set` of another key has no effect in it.
   std::vector<std::string> honouredSettings;
+  /// How the engine maps every scene feature (adapters/features.h): declared once, used by its
+  /// unsupported() and by the parity pages.
+  FeatureTable features;
   std::function<std::unique_ptr<Engine>(const EngineOptions&)> make;
   /// Run when no engine is named (`pbdval run` without --engines); false for example engines,
   /// which run only by name.

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
@@ -306,8 +307,14 @@ std::string mergeParticles(std::vector<State>& particles, const pbd::Scene& scen
 
 }  // namespace
 
-ExternalEngine::ExternalEngine(std::string name, ExternalCommand command)
-    : name_(std::move(name)), command_(std::move(command)) {}
+ExternalEngine::ExternalEngine(std::string name, ExternalCommand command, FeatureTable features)
+    : name_(std::move(name)), command_(std::move(command)), features_(std::move(features)) {}
+
+std::vector<std::string> ExternalEngine::unsupported(const pbd::Scene& scene,
+                                                     const Method& method) const {
+  if (features_.entries.empty()) return {};
+  return unsupportedFeatures(features_, scene, method.name);
+}
 
 void ExternalEngine::load(const pbd::Scene&, const Method& method) {
   throw EngineError("external engine " + name_ + " (method " + method.name +
@@ -470,7 +477,23 @@ struct CatalogueNode {
   }
 };
 
+/// Refuses a key outside `allowed` (docs/schemas/catalogue.schema.json: no other keys), naming
+/// its JSON path and the keys that are allowed.
+void onlyKeys(const CatalogueNode& node, std::initializer_list<const char*> allowed) {
+  if (!node.json.is_object()) node.fail("a JSON object");
+  for (const auto& item : node.json.items()) {
+    bool known = false;
+    std::string list;
+    for (const char* key : allowed) {
+      known = known || item.key() == key;
+      list += (list.empty() ? "" : ", ") + std::string(key);
+    }
+    if (!known) node.at(item.key()).fail("no such key (allowed: " + list + ")");
+  }
+}
+
 ParameterSpec catalogueParameter(const CatalogueNode& node, const std::string& method) {
+  onlyKeys(node, {"name", "kind", "default", "min", "max", "choices", "unit", "description"});
   ParameterSpec p;
   p.name = node.at("name").text();
   const std::string kind = node.at("kind").text();
@@ -506,6 +529,44 @@ ParameterSpec catalogueParameter(const CatalogueNode& node, const std::string& m
   return p;
 }
 
+/// The catalogue's feature table (adapters/features.h; docs/external-engines.md#features):
+/// every entry checked, then the table as a whole (each problem named by its JSON path).
+FeatureTable catalogueFeatures(const CatalogueNode& node, const std::vector<std::string>& methods) {
+  FeatureTable table;
+  for (std::size_t i = 0; i < node.array().size(); ++i) {
+    const CatalogueNode e = node.at(i);
+    onlyKeys(e, {"feature", "support", "text", "methods"});
+    FeatureSupport support;
+    support.key = e.at("feature").text();
+    const std::string level = e.at("support").text();
+    try {
+      support.support = supportNamed(level);
+    } catch (const std::invalid_argument&) {
+      e.at("support").fail("one of native, approximated, unsupported");
+    }
+    if (e.has("text")) {
+      if (!e.at("text").json.is_string()) e.at("text").fail("a string");
+      support.text = e.at("text").json.get<std::string>();
+    }
+    if (e.has("methods")) {
+      const CatalogueNode list = e.at("methods");
+      if (list.array().empty()) list.fail("a non-empty array of method names (leave it out for every method)");
+      for (std::size_t k = 0; k < list.json.size(); ++k) support.methods.push_back(list.at(k).text());
+    }
+    table.entries.push_back(std::move(support));
+  }
+  const std::vector<std::string> problems = checkFeatureTable(table, methods);
+  if (!problems.empty()) {
+    std::string text = problems.front();
+    // checkFeatureTable names entries "features[3]..." and the table "features: ...".
+    throw std::invalid_argument(node.file + ": " + text +
+                                (problems.size() > 1 ? " (and " + std::to_string(problems.size() - 1) +
+                                                           " more)"
+                                                     : std::string()));
+  }
+  return table;
+}
+
 EngineEntry catalogueEntry(const std::string& file, const ProjectPython& python,
                            const std::string& workingFolder) {
   std::ifstream in(file);
@@ -516,6 +577,8 @@ EngineEntry catalogueEntry(const std::string& file, const ProjectPython& python,
   if (document.is_discarded()) throw std::invalid_argument(file + ": not valid JSON");
   if (!document.is_object()) root.fail("a JSON object");
   if (root.at("protocol").json != kExternalProtocolVersion) root.at("protocol").fail("1");
+  onlyKeys(root, {"protocol", "name", "description", "example", "command", "defaultMethod",
+                  "version", "methods", "features"});
   EngineEntry entry;
   entry.name = root.at("name").text();
   ExternalCommand command;
@@ -534,6 +597,7 @@ EngineEntry catalogueEntry(const std::string& file, const ProjectPython& python,
   const CatalogueNode methods = root.at("methods");
   for (std::size_t i = 0; i < methods.array().size(); ++i) {
     const CatalogueNode m = methods.at(i);
+    onlyKeys(m, {"name", "description", "parameters"});
     MethodInfo info;
     info.name = m.at("name").text();
     if (info.name.rfind(entry.name + ".", 0) != 0)
@@ -548,10 +612,16 @@ EngineEntry catalogueEntry(const std::string& file, const ProjectPython& python,
     entry.methods.push_back(std::move(info));
   }
   entry.honouredSettings = {"timeStepSize", "gravitation"};
+  if (root.has("features")) {
+    std::vector<std::string> methodNames;
+    for (const MethodInfo& info : entry.methods) methodNames.push_back(info.name);
+    entry.features = catalogueFeatures(root.at("features"), methodNames);
+  }
   entry.runByDefault = !(root.has("example") && root.at("example").json == true);
   const std::string name = entry.name;
-  entry.make = [name, command](const EngineOptions&) {
-    return std::unique_ptr<Engine>(new ExternalEngine(name, command));
+  const FeatureTable features = entry.features;
+  entry.make = [name, command, features](const EngineOptions&) {
+    return std::unique_ptr<Engine>(new ExternalEngine(name, command, features));
   };
   return entry;
 }

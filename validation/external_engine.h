@@ -39,11 +39,14 @@ struct ProjectPython {
 
 class ExternalEngine final : public Engine {
  public:
-  ExternalEngine(std::string name, ExternalCommand command);
+  /// `features`: the catalogue's feature table; empty when the catalogue declares none.
+  ExternalEngine(std::string name, ExternalCommand command, FeatureTable features = {});
 
   std::string_view name() const override { return name_; }
-  /// An external engine says what it lacks in its status; nothing is known before it runs.
-  std::vector<std::string> unsupported(const pbd::Scene&, const Method&) const override { return {}; }
+  /// What the catalogue's feature table declares unsupported (nothing without a table): such a
+  /// run is reported without starting the engine. The engine still says in its status what it
+  /// lacks beyond the table (conditions only a run finds).
+  std::vector<std::string> unsupported(const pbd::Scene& scene, const Method& method) const override;
   void load(const pbd::Scene& scene, const Method& method) override;
   void step() override;
   void read(State& state) const override;
@@ -56,6 +59,7 @@ class ExternalEngine final : public Engine {
  private:
   std::string name_;
   ExternalCommand command_;
+  FeatureTable features_;
   RunFacts facts_;
 };
 

@@ -65,6 +65,8 @@ class BulletEngine final : public Engine {
   std::unique_ptr<Model> model_;
 };
 
+/// How the engine maps every scene feature (bullet_features.cpp; adapters/features.h).
+FeatureTable bulletFeatures();
 EngineEntry bulletEngineEntry();
 
 }  // namespace pbdval

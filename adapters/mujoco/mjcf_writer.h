@@ -48,18 +48,10 @@ struct MjcfModel {
   std::vector<std::string> approximations;
 };
 
-/// Why MuJoCo cannot represent this body's collision shape, if it cannot.
-std::optional<std::string> unsupportedShape(const pbd::RigidBodyDesc& body);
-
-/// Everything of the scene's rigid part MuJoCo cannot represent here: unsupported shapes,
-/// stiff-rod joints, and the joints planKinematicTree cannot place ("RigidBodies[2]: ...").
-/// The built-in engine adds its particle models; mujoco-python maps those as flexes.
-std::vector<std::string> unsupportedRigidFeatures(const pbd::Scene& scene);
-
 /// MuJoCo body name of Scene::rigidBodies[index].
 std::string bodyName(std::size_t index);
 
-/// Requires a scene without unsupported features (planKinematicTree and unsupportedShape).
+/// Requires a scene without unsupported features (MujocoEngine::unsupported, from mujocoFeatures()).
 MjcfModel writeMjcf(const pbd::Scene& scene, const MujocoSettings& settings,
                     const KinematicTree& tree);
 

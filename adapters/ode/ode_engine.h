@@ -63,6 +63,8 @@ class OdeEngine final : public Engine {
   std::string failure_;  ///< the ODE error that made the world unusable; empty when fine
 };
 
+/// How the engine maps every scene feature (ode_features.cpp; adapters/features.h).
+FeatureTable odeFeatures();
 EngineEntry odeEngineEntry();
 
 }  // namespace pbdval

@@ -757,9 +757,63 @@ PYBIND11_MODULE(_core, m) {
       for (const pv::MethodInfo& info : e.methods)
         methods.append(methodDict(info, e));
       d["methods"] = methods;
+      py::list features;
+      for (const pv::FeatureSupport& f : e.features.entries) {
+        py::dict entry;
+        entry["feature"] = f.key;
+        entry["support"] = pv::supportName(f.support);
+        entry["text"] = f.text;
+        entry["methods"] = f.methods;
+        features.append(entry);
+      }
+      d["features"] = features;
       engines.append(d);
     }
     return engines;
+  });
+  m.def("_scene_features", []() {
+    py::list features;
+    for (const pv::FeatureInfo& f : pv::sceneFeatures()) {
+      py::dict d;
+      d["key"] = f.key;
+      d["description"] = f.description;
+      d["from_scene"] = f.fromScene;
+      features.append(d);
+    }
+    return features;
+  });
+  // What decides a run `unsupported` before it starts, without running it: the features the
+  // scene uses, those the engine's table declares unsupported for the method (the generic
+  // function), and what the engine's unsupported() returns (the table's verdict, plus the uses
+  // only the engine can see, such as MuJoCo's loop closures).
+  m.def("_feature_support", [](const Registry& r, const SceneHandle& h, const std::string& method) {
+    const pv::MethodInfo& info = r.engines.method(method);
+    const pv::EngineEntry& entry = r.engines.engine(info.engine);
+    const pv::Method resolved = pv::resolveMethod(info);
+    const std::vector<pv::FeatureUse> uses = pv::sceneFeatureUses(*h.scene);
+    py::dict d;
+    py::list used;
+    for (const pv::FeatureUse& u : uses) {
+      py::dict item;
+      item["feature"] = u.key;
+      item["json_path"] = u.jsonPath;
+      const pv::FeatureSupport* decided = entry.features.resolve(u.key, info.name);
+      item["support"] = decided ? pv::supportName(decided->support) : "undeclared";
+      used.append(item);
+    }
+    d["uses"] = used;
+    py::list unsupported;
+    for (const pv::UnsupportedUse& u : pv::unsupportedUses(entry.features, uses, info.name)) {
+      py::dict item;
+      item["feature"] = u.key;
+      item["json_path"] = u.jsonPath;
+      item["message"] = u.message;
+      unsupported.append(item);
+    }
+    d["table_unsupported"] = unsupported;
+    d["engine_unsupported"] = r.engines.make(info.engine)->unsupported(*h.scene, resolved);
+    d["declares_features"] = !entry.features.entries.empty();
+    return d;
   });
   m.def("_simulate", &simulate);
   m.def("_measure", &measure);

@@ -17,6 +17,7 @@
 
 #include "adapters/mujoco/kinematic_tree.h"
 #include "adapters/mujoco/mjcf_writer.h"
+#include "adapters/mujoco/mujoco_engine.h"
 #include "adapters/mujoco/mujoco_model_fields.h"
 #include "adapters/mujoco/mujoco_settings.h"
 #include "validation/resolved_scene_reader.h"

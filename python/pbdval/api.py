@@ -16,7 +16,7 @@ import os
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -100,12 +100,25 @@ class MethodInfo:
 
 
 @dataclass(frozen=True)
+class FeatureSupport:
+    """One entry of an engine's feature table (docs/engines.md#features): how the engine maps a
+    scene feature or a group of features (a dotted prefix), for some or every method."""
+
+    feature: str
+    support: str  # native | approximated | unsupported
+    text: str
+    methods: tuple[str, ...] = ()  # empty: every method
+
+
+@dataclass(frozen=True)
 class EngineInfo:
     name: str
     default_method: str
     run_by_default: bool
     honoured_settings: tuple[str, ...]
     methods: tuple[MethodInfo, ...]
+    #: The engine's feature table (empty for a catalogue entry that declares none).
+    features: tuple[FeatureSupport, ...] = ()
 
 
 class Engines:
@@ -148,6 +161,8 @@ class Engines:
                     run_by_default=e["run_by_default"],
                     honoured_settings=tuple(e["honoured_settings"]),
                     methods=methods,
+                    features=tuple(FeatureSupport(feature=f["feature"], support=f["support"], text=f["text"],
+                                                  methods=tuple(f["methods"])) for f in e["features"]),
                 )
             )
         self._engines = {info.name: info for info in infos}
@@ -426,7 +441,7 @@ def _read_indexed_table(path: str | Path, header: str, what: str) -> FloatArray:
         raise ResultsError(f"{path}: every sample must list {what} 0..{count - 1} in order")
     if not np.all(samples[:, :, 0] == samples[:, :1, 0]):
         raise ResultsError(f"{path}: the rows of a sample must share its time")
-    return samples
+    return cast("FloatArray", samples)
 
 
 def read_particles(path: str | Path) -> tuple[FloatArray, FloatArray, FloatArray]:

@@ -845,89 +845,21 @@ def convergence_page(sweeps: Sequence[Path], colours: Colours, figures: Path, *,
 
 # ---- parity ------------------------------------------------------------------------------------
 
-#: The documented mappings (docs/parity-*.md, docs/external-engines.md): one table per engine
-#: whose rows are "| scene feature | how | status |".
-DOCS = Path(__file__).resolve().parents[2] / "docs"
-PARITY_SOURCES = (("bullet", "parity-bullet.md", None), ("ode", "parity-ode.md", None),
-                  ("mujoco", "parity-mujoco.md", None), ("pybullet", "external-engines.md", "| item | pybullet |"),
-                  ("mujoco-python", "external-engines.md", "| item | MuJoCo |"))
-#: Scene features (rows of the parity page) and how each engine's table names them.
-PARITY_FEATURES: tuple[tuple[str, str], ...] = (
-    ("sphere (type 1)", r"(?<!hollow )\bsphere\b"), ("box (type 2)", r"(?<!hollow )\bbox\b"),
-    ("cylinder (type 3)", r"\bcylinder"), ("torus (type 4)", r"\btorus"),
-    ("mesh SDF (type 5)", r"\bSDF\b|\bsdf\b|signed distance field"), ("hollow sphere (type 6)", r"hollow sphere"),
-    ("hollow box (type 7)", r"hollow box"), ("invertSDF", r"invertSDF"),
-    ("particles (cloth, tets)", r"particles|TriangleModels"),
-    ("BallJoints", r"`BallJoints`|\bball joint|^ball, hinge"), ("BallOnLineJoints", r"`BallOnLineJoints`"),
-    ("HingeJoints", r"`HingeJoints`|^hinge\b|ball, hinge joints"), ("UniversalJoints", r"`UniversalJoints`"),
-    ("SliderJoints", r"`SliderJoints`"), ("DistanceJoints", r"`DistanceJoints`"),
-    ("DamperJoints", r"`DamperJoints`"), ("RigidBodySprings", r"`RigidBodySprings`"),
-    ("TargetAngleMotorHingeJoints", r"`TargetAngleMotorHingeJoints`"),
-    ("TargetVelocityMotorHingeJoints", r"`TargetVelocityMotorHingeJoints`"),
-    ("TargetPositionMotorSliderJoints", r"`TargetPositionMotorSliderJoints`"),
-    ("TargetVelocityMotorSliderJoints", r"`TargetVelocityMotorSliderJoints`"),
-    ("RigidBodyParticleBallJoints", r"`RigidBodyParticleBallJoints`"),
-    ("pair friction", r"friction coefficient|pair friction"), ("restitution", r"restitution"),
-)
-PARITY_COLOURS = {"native": "#d9f2d9", "approximated": "#ffe9a8", "unsupported": "#f7c6c6"}
-
-
-def parity_table(text: str, start: str | None) -> list[tuple[str, str]]:
-    """(feature, status) rows of the first three-column table (after the line starting with
-    `start`, when given)."""
-    lines = text.splitlines()
-    if start is not None:
-        begin = next((i for i, line in enumerate(lines) if line.startswith(start)), len(lines))
-        lines = lines[begin:]
-        end = next((i for i, line in enumerate(lines) if not line.startswith("|")), len(lines))
-        lines = lines[:end]
-    rows = []
-    for line in lines:
-        cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if len(cells) >= 3 and not set(cells[0]) <= set("-: ") and cells[0].lower() not in ("scene", "feature", "item"):
-            # The status column: the second in parity-ode.md and parity-mujoco.md, the last elsewhere.
-            second = cells[1].split(" ")[0].strip("*,;:").lower()
-            rows.append((cells[0], cells[1] if second in PARITY_COLOURS else cells[-1]))
-    return rows
-
-
-def parity_status(rows: list[tuple[str, str]], pattern: str, feature: str) -> str:
-    for name, status in rows:
-        if re.search(pattern, name):
-            return status
-    if feature.endswith("Joints") or feature == "RigidBodySprings":
-        for name, status in rows:
-            if re.search(r"other joints", name):
-                return status
-    return ""
-
-
 def parity_page() -> str:
+    """The parity page: the engines' feature tables side by side (pbdval.parity renders them; the
+    same tables generate docs/parity*.md)."""
     body = [nav(),
             ("<h1>Parity</h1><p>How each engine maps the scene's features: <b>native</b> (its own feature with the "
-            "scene's meaning), <b>approximated</b> (the closest feature; the difference is documented and recorded "
-            "in each run's effective settings) or <b>unsupported</b> (the run is reported unsupported, naming the "
-            "feature). From the parity pages in <code>docs/</code> (parity-bullet.md, parity-ode.md, "
-            "parity-mujoco.md, external-engines.md), where every row says how. The <code>pbd</code> engine "
-            "implements the seed's scene format: every feature is its own.</p>")]
-    tables: dict[str, list[tuple[str, str]]] = {}
-    for engine, file, start in PARITY_SOURCES:
-        try:
-            tables[engine] = parity_table((DOCS / file).read_text(encoding="utf-8"), start)
-        except OSError as error:
-            body.append(f"<p class='badge warn'>{escape(file)}: {escape(str(error))}</p>")
-            tables[engine] = []
-    engines = ["pbd"] + list(tables)
-    body.append("<table><tr><th>scene feature</th>" + "".join(f"<th>{escape(e)}</th>" for e in engines) + "</tr>")
-    for feature, pattern in PARITY_FEATURES:
-        cells = [f"<td style='background:{PARITY_COLOURS['native']}'>native</td>"]
-        for table in tables.values():
-            status = parity_status(table, pattern, feature)
-            word = status.split(" ")[0].strip("*,;:").lower() if status else ""
-            colour = PARITY_COLOURS.get(word, "#ffffff")
-            cells.append(f"<td style='background:{colour}' title='{escape(status)}'>{escape(status or '–')}</td>")
-        body.append(f"<tr><td>{escape(feature)}</td>{''.join(cells)}</tr>")
-    body.append("</table>")
+            "scene's meaning), <b>approximated</b> (the closest feature; the tooltip says how it differs) or "
+            "<b>unsupported</b> (the run is reported unsupported, naming the feature by its JSON path). Each engine "
+            "declares this once, in its feature table (docs/engines.md#features): the built-in engines in code, the "
+            "external ones in their catalogue entry. A cell that differs between an engine's methods names them.</p>")]
+    try:
+        from pbdval.parity import html_table
+
+        body.append(html_table())
+    except (ImportError, OSError, ValueError) as error:
+        body.append(f"<p class='badge warn'>the feature tables could not be read: {escape(str(error))}</p>")
     return page("pbdval report: parity", "\n".join(body))
 
 

@@ -11,7 +11,6 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-
 from pbdval.report import build_report
 from pbdval.results import pbdval_binary
 
@@ -56,12 +55,13 @@ def test_a_real_run_renders_every_case_and_run(real_results: Path, tmp_path: Pat
     assert "p = " in convergence and "slope 4" in convergence
     # Error against wall time with the sweep's Pareto front (marked by pbdval sweep).
     assert "Pareto front" in convergence and (report / "figures/sweep-joint_hinge-timestep-cost.svg").is_file()
-    # The parity matrix from docs/parity-*.md: Bullet lacks distance joints, MuJoCo universal joints.
+    # The parity matrix from the engines' feature tables: Bullet, pybullet and MuJoCo 4 lack
+    # distance joints (ODE and pbd have them); pybullet and MuJoCo 4 universal joints.
     parity = (report / "parity.html").read_text()
-    distance_row = parity[parity.index("<td>DistanceJoints</td>"):].split("</tr>")[0]
-    assert distance_row.count("unsupported") >= 3 and "native" in distance_row
-    universal_row = parity[parity.index("<td>UniversalJoints</td>"):].split("</tr>")[0]
-    assert "unsupported" in universal_row
+    distance_row = parity[parity.index("<td title='joint.distance'>"):].split("</tr>")[0]
+    assert distance_row.count(">unsupported<") == 3 and ">native<" in distance_row
+    universal_row = parity[parity.index("<td title='joint.universal'>"):].split("</tr>")[0]
+    assert universal_row.count(">unsupported<") == 2
     assert (report / "figures/joint_hinge-energy.svg").read_text().startswith("<svg")
     assert "| joint_hinge |" in (report / "report.md").read_text()
 

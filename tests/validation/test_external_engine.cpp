@@ -608,6 +608,74 @@ TEST(EngineCatalogue, EntriesAreTypedAndBadFilesNameTheirPath) {
   fs::remove_all(folder);
 }
 
+TEST(EngineCatalogue, AFeatureTableIsCheckedAndDecidesUnsupportedRunsBeforeTheEngineStarts) {
+  const fs::path folder =
+      fs::temp_directory_path() / ("pbdval-catalogue-features-" + std::to_string(::getpid()));
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  const auto write = [&](const std::string& features) {
+    std::ofstream(folder / "probe.json") << R"({"protocol": 1, "name": "probe",
+      "command": ["/bin/false"], "defaultMethod": "probe.a",
+      "methods": [{"name": "probe.a"}, {"name": "probe.b"}], "features": [)"
+                                         << features << "]}";
+  };
+  const std::string everything =
+      R"({"feature": "shape", "support": "native"}, {"feature": "body", "support": "native"},
+         {"feature": "contact", "support": "native"}, {"feature": "particle", "support": "native"},
+         {"feature": "cloth", "support": "native"}, {"feature": "solid", "support": "native"},
+         {"feature": "rod", "support": "native"}, {"feature": "fluid", "support": "native"})";
+  write(everything + R"(, {"feature": "joint", "support": "native"},
+    {"feature": "joint.distance", "support": "unsupported", "text": "no rods", "methods": ["probe.b"]})");
+  const std::vector<EngineEntry> entries = readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"}, "/root");
+  ASSERT_EQ(entries.size(), 1u);
+  const EngineEntry& entry = entries[0];
+  ASSERT_EQ(entry.features.entries.size(), 10u);
+  EXPECT_EQ(entry.features.resolve("joint.distance", "probe.b")->support, Support::Unsupported);
+  // The engine (its command would fail) is never started for a run its table refuses.
+  pbd::Scene scene;
+  scene.rigidBodies = {pbd::RigidBodyDesc{}, pbd::RigidBodyDesc{}};
+  scene.rigidBodies[1].id = 1;
+  pbd::JointDesc joint;
+  joint.type = pbd::JointType::Distance;
+  joint.jsonPath = "DistanceJoints[0]";
+  joint.body1 = 0;
+  joint.body2 = 1;
+  scene.joints = {joint};
+  const std::unique_ptr<Engine> engine = entry.make({});
+  const std::vector<std::string> refused = engine->unsupported(scene, resolveMethod(entry.methods[1]));
+  ASSERT_EQ(refused.size(), 1u);
+  EXPECT_TRUE(containsAll(refused[0], {"DistanceJoints[0]", "no rods"})) << refused[0];
+  EXPECT_TRUE(engine->unsupported(scene, resolveMethod(entry.methods[0])).empty());
+  const RunOutcome outcome = runSimulation(*engine, scene, resolveMethod(entry.methods[1]), {0.1, 0}, {});
+  EXPECT_EQ(outcome.status, RunStatus::Unsupported);
+  EXPECT_TRUE(containsAll(outcome.reason, {"DistanceJoints[0]", "no rods"})) << outcome.reason;
+
+  // Each fault of a table is refused with the file and the JSON path.
+  const std::vector<std::pair<std::string, std::vector<std::string>>> faults = {
+      {everything + R"(, {"feature": "joint", "support": "native"}, {"feature": "joints.x", "support": "native"})",
+       {"probe.json", "features[9].feature", "joints.x"}},
+      {everything, {"probe.json", "no entry covers \"joint.ball\""}},
+      {everything + R"(, {"feature": "joint", "support": "approximated"})", {"features[8].text"}},
+      {everything + R"(, {"feature": "joint", "support": "partly", "text": "t"})",
+       {"features[8].support", "native, approximated, unsupported"}},
+      {everything + R"(, {"feature": "joint", "support": "native", "method": ["probe.a"]})",
+       {"features[8].method", "no such key"}},
+      {everything + R"(, {"feature": "joint", "support": "native", "methods": ["probe.c"]})",
+       {"features[8].methods", "probe.c"}},
+  };
+  for (const auto& [features, expected] : faults) {
+    write(features);
+    try {
+      readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"}, "/root");
+      ADD_FAILURE() << "accepted: " << features;
+    } catch (const std::invalid_argument& e) {
+      for (const std::string& part : expected)
+        EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << part << " in " << e.what();
+    }
+  }
+  fs::remove_all(folder);
+}
+
 TEST(EngineCatalogue, TheVariableAddsEnginesToTheShippedOnes) {
   const fs::path folder =
       fs::temp_directory_path() / ("pbdval-catalogue-add-" + std::to_string(::getpid()));

@@ -11,6 +11,7 @@
 
 #include "adapters/mujoco/kinematic_tree.h"
 #include "adapters/mujoco/mjcf_writer.h"
+#include "adapters/mujoco/mujoco_engine.h"
 #include "adapters/mujoco/mujoco_settings.h"
 #include "pbd/io/scene_loader.h"
 #include "validation/resolved_scene.h"

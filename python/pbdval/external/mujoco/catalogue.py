@@ -14,6 +14,8 @@ from __future__ import annotations
 import json
 from typing import Any
 
+from pbdval.external.mujoco.features import FEATURES
+
 ENGINE = "mujoco-python"
 #: The MuJoCo release the catalogue announces (the test compares it with mujoco.__version__).
 MUJOCO_VERSION = "4.0.0"
@@ -104,9 +106,10 @@ def catalogue() -> dict[str, Any]:
         "defaultMethod": DEFAULT_METHOD,
         "version": f"mujoco {MUJOCO_VERSION}",
         "methods": methods,
+        "features": FEATURES,
     }
 
 
 def catalogue_text() -> str:
     """The catalogue file's text, as shipped (two-space indentation, a final newline)."""
-    return json.dumps(catalogue(), indent=2) + "\n"
+    return json.dumps(catalogue(), indent=2, ensure_ascii=False) + "\n"
