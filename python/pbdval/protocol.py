@@ -4,7 +4,7 @@ An engine is run as
 
     <command...> --scene RESOLVED.json --out OUTDIR
 
-with the repository root as working directory and PBDVAL_PROTOCOL=1 in its environment. It
+with its catalogue's folder as working directory and PBDVAL_PROTOCOL=1 in its environment. It
 reads the resolved scene (`pbdval export-scene`, schema docs/schemas/resolved-scene.schema.json),
 writes its trajectory, OUTDIR/trajectory.csv (the CSV of `pbdval simulate`) or the same rows as
 OUTDIR/trajectory.npy (binary; what TrajectoryWriter writes), and OUTDIR/status.json, and exits 0
@@ -12,19 +12,26 @@ whenever status.json was written, whatever the status.
 
 This module holds everything an engine shares: typed dataclasses for the resolved scene and a
 reader that checks it (errors name the file and the JSON path), the step plan, a trajectory
-writer, the status writer (atomic), and the command-line parser.
+writer, the status writer (atomic), and the command-line parser; and `serve_runs`, the loop of
+a persistent engine process (serve protocol 1: imports paid once, each run a forked child).
 """
 
 from __future__ import annotations
 
 import argparse
+import ctypes
 import json
 import math
 import os
+import signal
+import socket
+import sys
 import tempfile
+import traceback
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, BinaryIO, Callable, Iterable, Mapping, Sequence
+from typing import Any, BinaryIO, Self
 
 import numpy as np
 
@@ -571,16 +578,16 @@ def _model_common(r: _Reader, m: Mapping[str, Any], path: str,
     for key, value in material.items():
         if not isinstance(value, (bool, int, float)):
             raise r.fail(f"{path}.material.{key}", "a number or true/false", value)
-    return dict(
-        id=r.integer(r.get(m, "id", path), f"{path}.id"),
-        json_path=r.string(m.get("jsonPath", ""), f"{path}.jsonPath"),
-        first_particle=first, particle_count=count, static_particles=statics,
-        density=None if density is None else r.num(density, f"{path}.density"),
-        friction=r.num(r.get(m, "friction", path), f"{path}.friction"),
-        restitution=r.num(r.get(m, "restitution", path), f"{path}.restitution"),
-        simulation_method=r.integer(r.get(m, "simulationMethod", path), f"{path}.simulationMethod"),
-        method_name=r.string(r.get(m, "methodName", path), f"{path}.methodName"),
-        material=dict(material))
+    return {
+        "id": r.integer(r.get(m, "id", path), f"{path}.id"),
+        "json_path": r.string(m.get("jsonPath", ""), f"{path}.jsonPath"),
+        "first_particle": first, "particle_count": count, "static_particles": statics,
+        "density": None if density is None else r.num(density, f"{path}.density"),
+        "friction": r.num(r.get(m, "friction", path), f"{path}.friction"),
+        "restitution": r.num(r.get(m, "restitution", path), f"{path}.restitution"),
+        "simulation_method": r.integer(r.get(m, "simulationMethod", path), f"{path}.simulationMethod"),
+        "method_name": r.string(r.get(m, "methodName", path), f"{path}.methodName"),
+        "material": dict(material)}
 
 
 def _triangle_model(r: _Reader, m: Mapping[str, Any], path: str, particle_count: int) -> TriangleModel:
@@ -658,15 +665,12 @@ def unsupported_particle_models(scene: ResolvedScene, engine: str, cloth_methods
 def format_number(value: float) -> str:
     """The shortest decimal text that reads back to `value` exactly, as validation/trajectory.cpp
     writes it (integral values without ".0", so 2.0 is "2")."""
-    text = repr(float(value))
-    if text.endswith(".0"):
-        text = text[:-2]
-    return text
+    return repr(float(value)).removesuffix(".0")
 
 
 def format_time(time: float) -> str:
     """Sample times to 12 significant digits, so that 0.3 is 0.3 (validation/trajectory.cpp)."""
-    return "%.12g" % time
+    return f"{time:.12g}"
 
 
 @dataclass(frozen=True)
@@ -773,7 +777,7 @@ class _RowWriter:
             self._file.close()
         self._temporary.unlink(missing_ok=True)
 
-    def __enter__(self) -> "_RowWriter":
+    def __enter__(self) -> Self:
         return self
 
     def __exit__(self, *exc: object) -> None:
@@ -991,10 +995,166 @@ def serve(argv: Sequence[str] | None, description: str,
                             engine_version=engine_version)
         else:
             status = run(scene, args.out)
-    except Exception as e:  # every failure becomes status "error" with its message
+    except Exception as e:  # noqa: BLE001 -- every failure becomes status "error" with its message
         status = Status("error", reason=f"{type(e).__name__}: {e}", engine_version=engine_version)
     write_status(args.out, status)
     return 0
+
+
+# ---------------------------------------------------------------------------------------------
+# A persistent engine process: serve protocol 1 (docs/external-engines.md#persistent-engines)
+
+SERVE_PROTOCOL_VERSION = 1
+_PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
+_MAX_REQUEST_BYTES = 1 << 16
+
+
+def _die_with_parent() -> None:
+    """SIGKILL when the process that forked this one dies (Linux prctl PR_SET_PDEATHSIG)."""
+    libc = ctypes.CDLL(None, use_errno=True)
+    libc.prctl(_PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
+
+
+def _read_request(connection: socket.socket) -> bytes:
+    """The request line (without its newline); empty for a connection closed without one (the
+    runner's probe that the server listens)."""
+    data = b""
+    while b"\n" not in data and len(data) < _MAX_REQUEST_BYTES:
+        chunk = connection.recv(4096)
+        if not chunk:
+            break
+        data += chunk
+    return data.split(b"\n", 1)[0]
+
+
+def _send(connection: socket.socket, reply: Mapping[str, Any]) -> None:
+    """One reply line; a runner that went away (its run was stopped) is no error."""
+    try:
+        connection.sendall((json.dumps(reply) + "\n").encode())
+    except OSError:
+        pass
+
+
+def _request_fields(line: bytes) -> tuple[str, str, str]:
+    """scene, out and stderr of a request; ValueError naming what is wrong."""
+    try:
+        request = json.loads(line)
+    except (ValueError, UnicodeDecodeError) as e:
+        raise ValueError(f"the request is not JSON ({e})") from None
+    if not isinstance(request, dict):
+        raise TypeError("the request is not a JSON object")
+    if request.get("protocol") != SERVE_PROTOCOL_VERSION:
+        raise ValueError(f"protocol: expected {SERVE_PROTOCOL_VERSION}, got {request.get('protocol')!r}")
+    fields = []
+    for key in ("scene", "out", "stderr"):
+        value = request.get(key)
+        if not isinstance(value, str) or not value:
+            raise ValueError(f"{key}: expected a path, got {value!r}")
+        fields.append(value)
+    return fields[0], fields[1], fields[2]
+
+
+def _run_child(main: Callable[[list[str]], int], scene: str, out: str, stderr_path: str,
+               stdout_to_stderr: bool, server: int) -> int:
+    """In the forked child: the single-shot run, exactly as `<command> --scene S --out O` makes
+    it, with the child's standard error in `stderr_path`. Returns its exit status."""
+    try:
+        os.setpgid(0, 0)
+        _die_with_parent()
+        if os.getppid() != server:
+            return 127  # the server died before prctl
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        error = os.open(stderr_path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
+        null = os.open(os.devnull, os.O_RDWR)
+        os.dup2(error, 2)
+        os.dup2(null, 0)
+        os.dup2(error if stdout_to_stderr else null, 1)
+        os.close(error)
+        os.close(null)
+        return int(main(["--scene", scene, "--out", out]) or 0)
+    except SystemExit as e:  # argparse's usage error (2), an engine's sys.exit
+        if e.code is None or isinstance(e.code, int):
+            return int(e.code or 0)
+        print(e.code, file=sys.stderr)
+        return 1
+    except BaseException:  # noqa: BLE001 -- as an uncaught exception ends the single-shot interpreter
+        traceback.print_exc()
+        return 1
+
+
+def _serve_one(listener: socket.socket, connection: socket.socket,
+               main: Callable[[list[str]], int], stdout_to_stderr: bool) -> None:
+    line = _read_request(connection)
+    if not line:
+        return
+    try:
+        scene, out, stderr_path = _request_fields(line)
+    except (ValueError, TypeError) as e:
+        _send(connection, {"error": str(e)})
+        return
+    sys.stdout.flush()
+    sys.stderr.flush()
+    server = os.getpid()
+    pid = os.fork()
+    if pid == 0:
+        code = 1
+        try:
+            listener.close()
+            connection.close()
+            code = _run_child(main, scene, out, stderr_path, stdout_to_stderr, server)
+        finally:
+            try:
+                sys.stdout.flush()
+                sys.stderr.flush()
+            finally:
+                os._exit(code & 0xFF)
+    try:
+        os.setpgid(pid, pid)  # also here: whichever of the two runs first
+    except OSError:
+        pass  # the child has exec'd or ended already; it set its group itself
+    _send(connection, {"started": pid})
+    # Wait for the end without reaping: while the child is a zombie its process group id
+    # cannot be reused, so killing the group reaches only what the run left running.
+    os.waitid(os.P_PID, pid, os.WEXITED | os.WNOWAIT)
+    try:
+        os.killpg(pid, signal.SIGKILL)
+    except OSError:
+        pass
+    _, status = os.waitpid(pid, 0)
+    if os.WIFSIGNALED(status):
+        _send(connection, {"signaled": os.WTERMSIG(status)})
+    else:
+        _send(connection, {"exited": os.waitstatus_to_exitcode(status)})
+
+
+def serve_runs(argv: Sequence[str] | None, main: Callable[[list[str]], int], description: str,
+               *, stdout_to_stderr: bool = False) -> int:
+    """A persistent engine process: the whole serve loop of a catalogue's `serve` command.
+
+    Listens on the Unix socket `--socket PATH` and serves one connection at a time: the runner
+    sends one line, {"protocol": 1, "scene": S, "out": O, "stderr": E}; the server forks a child
+    that runs `main(["--scene", S, "--out", O])` exactly as the single-shot command would (in a
+    process group of its own, standard error to E, standard input and output /dev/null, or
+    output to E with `stdout_to_stderr`), replies {"started": pid}, waits for the child, kills
+    its process group, reaps it and replies {"exited": code} or {"signaled": signal}. A bad
+    request gets {"error": reason}. Everything the engine imports before calling this is paid
+    once; nothing a run does (a crash, a leak, a hang the runner kills) reaches the next run.
+    Returns only on an error (bad usage exits 2)."""
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--socket", required=True, help="the Unix socket to listen on")
+    args = parser.parse_args(argv)
+    _die_with_parent()
+    listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    listener.bind(args.socket)
+    listener.listen(4)
+    while True:
+        connection, _ = listener.accept()
+        with connection:
+            try:
+                _serve_one(listener, connection, main, stdout_to_stderr)
+            except OSError as e:  # a connection that broke: the runner is gone, serve the next
+                print(f"pbdval serve: {e}", file=sys.stderr)
 
 
 # ---------------------------------------------------------------------------------------------

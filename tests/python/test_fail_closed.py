@@ -223,7 +223,7 @@ def engine_catalogue(tmp_path: Path) -> Iterator[Path]:
         echo $$ $child ${hang:-} >>"$ENGINE_PIDS.all"
         echo $child >"$ENGINE_PIDS"
         if [ "$ENGINE_MODE" = hang ]; then wait $hang; exit 0; fi
-        printf '{"protocol": 1, "status": "unsupported", "reason": "r", "unsupported": ["x"]}' >"$4/status.json"
+        printf '{"protocol": 1, "status": "unsupported", "reason": "r", "divergedAt": null, "engineVersion": "e 1", "effectiveSettings": {}, "integratorStepsPerSceneStep": 1, "contactMargin": null, "unsupported": ["x"]}' >"$4/status.json"
         """))
     catalogue = tmp_path / "engines"
     catalogue.mkdir()

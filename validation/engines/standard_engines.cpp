@@ -37,7 +37,7 @@ EngineRegistry standardEngines(const EnvironmentLookup& environment) {
   // place their module path is set (the venv's own .pth may name another checkout).
   const ProjectPython python{projectPython(), root + "/python"};
   for (const std::string& folder : folders)
-    for (EngineEntry& entry : readEngineCatalogue(folder, python, root)) {
+    for (EngineEntry& entry : readEngineCatalogue(folder, python)) {
       const std::string name = entry.name;
       try {
         engines.add(std::move(entry));
