@@ -14,13 +14,12 @@ import subprocess
 import sys
 import textwrap
 import time
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Iterator
 
 import numpy as np
-import pytest
-
 import pbdval
+import pytest
 
 REPO = Path(__file__).resolve().parents[2]
 SCENE = REPO / "cases" / "free_tumbling_box.json"
@@ -67,7 +66,7 @@ def test_simulate_refuses_run_lengths_and_limits_outside_their_domain(
 
 
 def test_simulate_runs_with_the_run_commands_wall_time_limit_or_none(scene: pbdval.Scene) -> None:
-    assert pbdval._core.default_wall_time_limit == 600  # pbdval run --timeout's default
+    assert pbdval._core.default_wall_time_limit == 600  # type: ignore[attr-defined]  # pbdval run --timeout's default
     for limit in (None, math.inf, 30.0):
         info, trajectory = pbdval.simulate(scene, "pbd", duration=0.05, wall_time_limit=limit)
         assert info.ok, info.reason
@@ -75,7 +74,7 @@ def test_simulate_runs_with_the_run_commands_wall_time_limit_or_none(scene: pbdv
 
 
 def test_step_counts_beyond_the_run_cap_or_not_whole_are_refused(scene: pbdval.Scene) -> None:
-    cap = int(pbdval._core.max_steps_per_run)
+    cap = int(pbdval._core.max_steps_per_run)  # type: ignore[attr-defined]
     assert cap == 10**8  # kMaxStepsPerRun
     # In a child process with a time limit: without the cap, step(10**9) runs for a quarter hour.
     program = textwrap.dedent(f"""\
@@ -92,7 +91,7 @@ def test_step_counts_beyond_the_run_cap_or_not_whole_are_refused(scene: pbdval.S
         print("done")
         """)
     result = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True, timeout=60,
-                            env=_python_environment({}))
+                            env=_python_environment({}), check=False)
     assert result.stdout == "done\n", (result.stdout, result.stderr)
 
 
