@@ -106,6 +106,29 @@ def test_a_bad_request_is_answered_with_an_error_and_the_server_serves_on(
     assert "not an existing directory" in (tmp_path / "stderr2").read_text()
 
 
+def children(pid: int) -> list[int]:
+    """The processes `pid` started (Linux /proc)."""
+    return [int(c) for c in Path(f"/proc/{pid}/task/{pid}/children").read_text().split()]
+
+
+def test_the_child_waiting_for_the_next_run_is_replaced_when_it_dies(
+        server: Callable[[str], Path], export_scene: Callable[..., Path], tmp_path: Path) -> None:
+    socket_path = server("pybullet")
+    server_pid = next(int(p.name) for p in Path("/proc").iterdir() if p.name.isdigit()
+                      and str(socket_path) in (p / "cmdline").read_bytes().decode(errors="replace"))
+    waiting = children(server_pid)
+    assert len(waiting) == 1  # the next run's child, forked ahead
+    os.kill(waiting[0], 9)
+    scene = export_scene("projectile", method="pybullet.si", duration=0.1)
+    out = tmp_path / "out"
+    out.mkdir()
+    replies = request(socket_path, {"protocol": 1, "scene": str(scene), "out": str(out),
+                                    "stderr": str(tmp_path / "stderr")})
+    assert replies[0]["started"] != waiting[0]
+    assert replies[-1] == {"exited": 0}, (tmp_path / "stderr").read_text()
+    assert json.loads((out / "status.json").read_text())["status"] == "ok"
+
+
 def test_pbdval_run_hands_its_runs_to_servers_and_leaves_nothing_behind(
         pbdval_binary: Path, tmp_path: Path) -> None:
     scratch = tmp_path / "tmp"
