@@ -116,7 +116,9 @@ def test_the_child_waiting_for_the_next_run_is_replaced_when_it_dies(
     socket_path = server("pybullet")
     server_pid = next(int(p.name) for p in Path("/proc").iterdir() if p.name.isdigit()
                       and str(socket_path) in (p / "cmdline").read_bytes().decode(errors="replace"))
-    waiting = children(server_pid)
+    deadline = time.monotonic() + 10  # the server forks it just after it starts listening
+    while not (waiting := children(server_pid)) and time.monotonic() < deadline:
+        time.sleep(0.01)
     assert len(waiting) == 1  # the next run's child, forked ahead
     os.kill(waiting[0], 9)
     scene = export_scene("projectile", method="pybullet.si", duration=0.1)
@@ -144,3 +146,68 @@ def test_pbdval_run_hands_its_runs_to_servers_and_leaves_nothing_behind(
     assert all(run["status"] == "ok" for run in runs), [(r["case"], r["engine"], r["reason"]) for r in runs]
     # The servers' sockets and logs, the runs' scratch folders: all gone with the command.
     assert list(scratch.iterdir()) == []
+
+
+TOY_ENGINE = """\
+import os, signal, sys, time
+sys.path.insert(0, {examples!r})
+from euler_engine import run as euler_run  # the template engine's integrator
+from pbdval import protocol as pp
+
+def main(argv=None):
+    def run(scene, out):
+        if "hang" in scene.name:
+            time.sleep(300)
+        if "crash" in scene.name:
+            os.kill(os.getpid(), signal.SIGSEGV)
+        return euler_run(scene, out)
+    return pp.serve(argv, "toy", lambda scene: [], run, "toy 1")
+
+if sys.argv[1:2] == ["--serve"]:
+    sys.exit(pp.serve_runs(sys.argv[2:], main, "toy, persistent"))
+sys.exit(main())
+"""
+
+
+def test_a_hang_and_a_crash_in_pbdval_run_do_not_reach_the_next_runs_of_the_server(
+        pbdval_binary: Path, tmp_path: Path) -> None:
+    catalogue = tmp_path / "catalogue"
+    catalogue.mkdir()
+    (catalogue / "toy.py").write_text(TOY_ENGINE.format(examples=str(REPO / "examples")))
+    (catalogue / "toy.json").write_text(json.dumps({
+        "protocol": 1, "name": "toy", "command": ["{python}", "toy.py"],
+        "serve": {"protocol": 1, "command": ["{python}", "toy.py", "--serve"]},
+        "defaultMethod": "toy.a", "methods": [{"name": "toy.a", "parameters": []}]}))
+    cases = tmp_path / "cases"
+    cases.mkdir()
+    (cases / "models").symlink_to(REPO / "cases" / "models")  # the meshes the case names
+    projectile = (REPO / "cases" / "projectile.json").read_text()
+    order = ["a_first", "b_hang", "c_next", "d_crash", "e_last"]
+    for name in order:
+        (cases / f"{name}.json").write_text(projectile.replace('"Name": "projectile"', f'"Name": "{name}"'))
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    result = subprocess.run([str(pbdval_binary), "run", *[str(cases / f"{n}.json") for n in order],
+                             "--engines", "toy", "--jobs", "1", "--timeout", "3",
+                             "--out", str(tmp_path / "out")],
+                            capture_output=True, text=True, cwd=tmp_path, check=False, timeout=600,
+                            env=dict(os.environ, TMPDIR=str(scratch),
+                                     PBDVAL_ENGINE_CATALOGUE=str(catalogue)))
+    assert result.returncode == 0, result.stderr
+    runs = {r["case"]: r for r in json.loads((tmp_path / "out" / "results.json").read_text())["runs"]}
+    assert runs["b_hang"]["status"] == "timeout", runs["b_hang"]
+    assert runs["d_crash"]["status"] == "error" and "signal 11" in runs["d_crash"]["reason"], runs["d_crash"]
+    for name in ("a_first", "c_next", "e_last"):
+        assert runs[name]["status"] == "ok", runs[name]
+    # Nothing left: no scratch folder, no socket, no process of the engine.
+    assert list(scratch.iterdir()) == []
+    still = [p.name for p in Path("/proc").iterdir() if p.name.isdigit()
+             and str(catalogue) in _cmdline(p)]
+    assert still == []
+
+
+def _cmdline(process: Path) -> str:
+    try:
+        return (process / "cmdline").read_bytes().decode(errors="replace")
+    except OSError:  # it ended meanwhile
+        return ""
