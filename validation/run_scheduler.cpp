@@ -102,6 +102,8 @@ RunRecord collect(const Child& child, int waitStatus, const RunRequest& request,
 /// their own under $TMPDIR (a Unix socket path has at most 107 bytes).
 class ServerPool {
  public:
+  static constexpr std::size_t kMaxSocketPath = 108;  ///< sizeof(sockaddr_un::sun_path) on Linux
+
   explicit ServerPool(std::size_t workers) : servers_(workers) {
     std::string pattern = (std::filesystem::temp_directory_path() /
                            ("pbdval-serve-" + std::to_string(::getpid()) + "-XXXXXX"))
@@ -123,6 +125,8 @@ class ServerPool {
   std::string prepare(std::size_t worker, const EngineEntry& engine) {
     if (!engine.startServer || folder_.empty()) return "";
     const std::string folder = folder_ + "/" + std::to_string(worker);
+    // A socket path longer than a sockaddr_un holds (a long engine name): single-shot runs.
+    if (serverSocketPath(folder, engine.name).size() >= kMaxSocketPath) return "";
     std::unique_ptr<EngineServer>& server = servers_[worker][engine.name];
     if (!server || !server->running()) {
       server.reset();
