@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import ctypes
+import gc
 import json
 import math
 import os
@@ -1104,8 +1105,9 @@ def _read_all(fd: int) -> bytes:
 class _Standby:
     """The next run's child, forked ahead from the pristine server: in a process group of its
     own, SIGKILL when the server dies, `prepare()` done (what every run does first whatever its
-    scene), waiting on a pipe for its request. Forking and preparing are then off the run's
-    critical path; the child is as fresh as one forked at the request. When its run is over it
+    scene), waiting on a pipe for its request. Forking, the copies of the pages its run would
+    write first, and preparing are then off the run's critical path; the child is as fresh as
+    one forked at the request. When its run is over it
     reports its exit status on a second pipe before it exits, so that the reply need not wait
     for the kernel to tear down a large process (milliseconds)."""
 
@@ -1129,6 +1131,13 @@ class _Standby:
                 _die_with_parent()
                 if os.getppid() == server:  # else the server died before prctl
                     failure = None
+                    # Copy-on-write ahead: a run's first writes are the reference counts of the
+                    # interpreter's objects, each copying a page shared with the server. Touching
+                    # every tracked object now copies them while the child waits (measured,
+                    # mujoco-python projectile in a fresh child: median 42 -> 30 ms, min 35 ->
+                    # 16 ms, for about 10 ms spent here).
+                    for _ in gc.get_objects():
+                        pass
                     try:
                         if prepare is not None:
                             prepare()
