@@ -427,7 +427,9 @@ class ExternalServer final : public EngineServer {
     }
     stop();
   }
-  ~ExternalServer() override { stop(); }
+  ~ExternalServer() override {
+    if (::getpid() == owner_) stop();  // a forked copy leaves the server to its owner
+  }
 
   bool running() const override {
     if (pid_ <= 0) return false;
@@ -448,6 +450,7 @@ class ExternalServer final : public EngineServer {
   }
 
   std::string socket_;
+  pid_t owner_ = ::getpid();  ///< the process that started the server
   pid_t pid_ = -1;
   bool listening_ = false;
 };

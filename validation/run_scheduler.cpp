@@ -111,6 +111,7 @@ class ServerPool {
     if (pattern.size() < 60 && ::mkdtemp(pattern.data())) folder_ = pattern;
   }
   ~ServerPool() {
+    if (::getpid() != owner_) return;  // a forked copy: the servers are the scheduler's
     for (auto& worker : servers_) worker.clear();
     if (!folder_.empty()) {
       std::error_code ignored;
@@ -138,6 +139,7 @@ class ServerPool {
   void restart(std::size_t worker) { servers_[worker].clear(); }
 
  private:
+  pid_t owner_ = ::getpid();
   std::string folder_;
   std::vector<std::map<std::string, std::unique_ptr<EngineServer>>> servers_;
 };
@@ -241,10 +243,12 @@ std::vector<RunRecord> RunScheduler::runAll(
         ::prctl(PR_SET_PDEATHSIG, SIGKILL);
         if (::getppid() != scheduler) ::_exit(4);  // the scheduler died before prctl
         interrupts.restoreInChild();
-        EngineOptions options = registry_.options();
-        options.serverFolder = serverFolder;
-        const RunRecord record = executeRun(requests[next], registry_.withOptions(options));
+        // Nothing may unwind out of here: the scheduler's objects (its servers) are not this
+        // process's to destroy.
         try {
+          EngineOptions options = registry_.options();
+          options.serverFolder = serverFolder;
+          const RunRecord record = executeRun(requests[next], registry_.withOptions(options));
           writeFileAtomically(file, toJsonText(record));
         } catch (...) {
           ::_exit(3);
