@@ -39,7 +39,7 @@ void stepScene(benchmark::State& state, const pbdval::EngineRegistry& engines,
     overrides[assignment.substr(0, equals)] = assignment.substr(equals + 1);
   }
   const pbdval::Method resolved = engines.resolve(name, overrides);
-  std::unique_ptr<pbdval::Engine> engine = engines.make(engines.method(name).engine);
+  std::unique_ptr<pbdval::SteppingEngine> engine = engines.makeStepping(engines.method(name).engine);
   const std::vector<std::string> missing = engine->unsupported(scene, resolved);
   if (!missing.empty()) {
     std::string reason = "unsupported:";

@@ -40,7 +40,7 @@ struct BulletSettings {
 /// The method's parameters, validated; throws std::invalid_argument naming a bad one.
 BulletSettings bulletSettingsFor(const Method& method);
 
-class BulletEngine final : public Engine {
+class BulletEngine final : public SteppingEngine {
  public:
   BulletEngine();
   ~BulletEngine() override;

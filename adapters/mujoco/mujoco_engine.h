@@ -19,7 +19,7 @@ struct mjData_;
 
 namespace pbdval {
 
-class MujocoEngine final : public Engine {
+class MujocoEngine final : public SteppingEngine {
  public:
   MujocoEngine();
   ~MujocoEngine() override;

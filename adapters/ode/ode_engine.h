@@ -21,7 +21,7 @@
 
 namespace pbdval {
 
-class OdeEngine final : public Engine {
+class OdeEngine final : public SteppingEngine {
  public:
   OdeEngine() = default;
   ~OdeEngine() override;

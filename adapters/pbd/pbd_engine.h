@@ -16,7 +16,7 @@
 
 namespace pbdval {
 
-class PbdEngine final : public Engine {
+class PbdEngine final : public SteppingEngine {
  public:
   explicit PbdEngine(EngineOptions options = {}) : options_(std::move(options)) {}
 

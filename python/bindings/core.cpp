@@ -361,11 +361,7 @@ class Stepper {
   Stepper(const Registry& registry, const SceneHandle& scene, const std::string& method,
           const py::dict& parameters)
       : configured_(configure(registry, scene, method, parameters)) {
-    engine_ = configured_.engine->make(registry.engines.options());
-    if (engine_->runsWhole())
-      throw std::invalid_argument("engine " + configured_.engine->name +
-                                  " runs in another process and cannot be stepped from Python: "
-                                  "run it with pbdval.simulate or pbdval.run");
+    engine_ = registry.engines.makeStepping(configured_.engine->name);
     const std::vector<std::string> missing =
         engine_->unsupported(configured_.scene, configured_.method);
     if (!missing.empty()) {
@@ -474,7 +470,7 @@ class Stepper {
 
  private:
   Configured configured_;
-  std::unique_ptr<Engine> engine_;
+  std::unique_ptr<SteppingEngine> engine_;
   State state_;
 };
 
@@ -525,17 +521,7 @@ py::tuple simulate(const Registry& registry, const SceneHandle& scene, const std
     py::gil_scoped_release release;
     RunCallbacks callbacks;
     callbacks.onSample = [&samples](const State& s) { samples.push_back(s); };
-    if (engine->runsWhole()) {
-      const WholeRun whole = engine->runWhole(c.scene, c.method, length, wallTimeLimit);
-      samples = whole.samples;
-      outcome.status = whole.status;
-      outcome.reason = whole.reason;
-      outcome.steps = whole.steps;
-      outcome.facts = whole.facts;
-      outcome.settings = whole.settings;
-    } else {
-      outcome = runSimulation(*engine, c.scene, c.method, length, callbacks, wallTimeLimit);
-    }
+    outcome = runSimulation(*engine, c.scene, c.method, length, callbacks, wallTimeLimit);
   }
   py::dict run;
   run["engine"] = c.engine->name;

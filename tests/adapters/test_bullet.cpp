@@ -56,7 +56,7 @@ std::vector<State> trajectory(const Scene& scene, double duration, const std::st
   return samples;
 }
 
-State readState(const Engine& engine) {
+State readState(const SteppingEngine& engine) {
   State s;
   engine.read(s);
   return s;

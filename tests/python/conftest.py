@@ -91,7 +91,8 @@ def engine_environment() -> dict[str, str]:
 @pytest.fixture
 def run_engine(tmp_path: Path) -> Callable[[str, Path], tuple[dict[str, Any], Path]]:
     """run_engine("pybullet", scene) → (status.json, OUTDIR): the catalogue entry's command run as
-    the runner does (engine_command, engine_environment), repository root as working directory."""
+    the runner does (engine_command, engine_environment), in the catalogue's folder (engines/),
+    where its relative paths lead."""
     counter = [0]
 
     def run(engine: str, scene: Path) -> tuple[dict[str, Any], Path]:
@@ -99,8 +100,8 @@ def run_engine(tmp_path: Path) -> Callable[[str, Path], tuple[dict[str, Any], Pa
         out = tmp_path / f"out{counter[0]}"
         out.mkdir()
         result = subprocess.run(engine_command(engine) + ["--scene", str(scene), "--out", str(out)],
-                                capture_output=True, text=True, cwd=REPO, env=engine_environment(),
-                                check=False, timeout=600)
+                                capture_output=True, text=True, cwd=REPO / "engines",
+                                env=engine_environment(), check=False, timeout=600)
         assert result.returncode == 0, f"{engine} exited {result.returncode}: {result.stderr}"
         assert result.stdout == "", f"{engine} wrote to standard output: {result.stdout[:200]}"
         status = json.loads((out / "status.json").read_text())

@@ -18,9 +18,8 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
-import pytest
-
 import pbdval
+import pytest
 
 REPO = Path(__file__).resolve().parents[2]
 SCENE = REPO / "cases" / "free_tumbling_box.json"
@@ -67,7 +66,7 @@ def test_simulate_refuses_run_lengths_and_limits_outside_their_domain(
 
 
 def test_simulate_runs_with_the_run_commands_wall_time_limit_or_none(scene: pbdval.Scene) -> None:
-    assert pbdval._core.default_wall_time_limit == 600  # pbdval run --timeout's default
+    assert pbdval._core.default_wall_time_limit == 600  # type: ignore[attr-defined]  # pbdval run --timeout's default
     for limit in (None, math.inf, 30.0):
         info, trajectory = pbdval.simulate(scene, "pbd", duration=0.05, wall_time_limit=limit)
         assert info.ok, info.reason
@@ -75,7 +74,7 @@ def test_simulate_runs_with_the_run_commands_wall_time_limit_or_none(scene: pbdv
 
 
 def test_step_counts_beyond_the_run_cap_or_not_whole_are_refused(scene: pbdval.Scene) -> None:
-    cap = int(pbdval._core.max_steps_per_run)
+    cap = int(pbdval._core.max_steps_per_run)  # type: ignore[attr-defined]
     assert cap == 10**8  # kMaxStepsPerRun
     # In a child process with a time limit: without the cap, step(10**9) runs for a quarter hour.
     program = textwrap.dedent(f"""\
@@ -223,7 +222,7 @@ def engine_catalogue(tmp_path: Path) -> Iterator[Path]:
         echo $$ $child ${hang:-} >>"$ENGINE_PIDS.all"
         echo $child >"$ENGINE_PIDS"
         if [ "$ENGINE_MODE" = hang ]; then wait $hang; exit 0; fi
-        printf '{"protocol": 1, "status": "unsupported", "reason": "r", "unsupported": ["x"]}' >"$4/status.json"
+        printf '{"protocol": 1, "status": "unsupported", "reason": "r", "divergedAt": null, "engineVersion": "e 1", "effectiveSettings": {}, "integratorStepsPerSceneStep": 1, "contactMargin": null, "unsupported": ["x"]}' >"$4/status.json"
         """))
     catalogue = tmp_path / "engines"
     catalogue.mkdir()

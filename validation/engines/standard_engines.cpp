@@ -39,7 +39,7 @@ EngineRegistry standardEngines(const EnvironmentLookup& environment) {
   const ProjectPython python{projectPython(),
                              root + "/python:" + std::string(PBDVAL_BINARY_DIR) + "/python"};
   for (const std::string& folder : folders)
-    for (EngineEntry& entry : readEngineCatalogue(folder, python, root)) {
+    for (EngineEntry& entry : readEngineCatalogue(folder, python)) {
       const std::string name = entry.name;
       try {
         engines.add(std::move(entry));

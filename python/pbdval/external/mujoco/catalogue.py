@@ -103,6 +103,7 @@ def catalogue() -> dict[str, Any]:
                        "docs/external-engines.md#mujoco-python). Not the built-in 'mujoco' engine "
                        "(MuJoCo 2.2.2, C++).",
         "command": ["{python}", "-m", "pbdval.external.mujoco"],
+        "serve": {"protocol": 1, "command": ["{python}", "-m", "pbdval.external.mujoco", "--serve"]},
         "defaultMethod": DEFAULT_METHOD,
         "version": f"mujoco {MUJOCO_VERSION}",
         "methods": methods,
