@@ -16,7 +16,7 @@ import os
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, cast
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -441,7 +441,7 @@ def _read_indexed_table(path: str | Path, header: str, what: str) -> FloatArray:
         raise ResultsError(f"{path}: every sample must list {what} 0..{count - 1} in order")
     if not np.all(samples[:, :, 0] == samples[:, :1, 0]):
         raise ResultsError(f"{path}: the rows of a sample must share its time")
-    return cast("FloatArray", samples)
+    return samples
 
 
 def read_particles(path: str | Path) -> tuple[FloatArray, FloatArray, FloatArray]:

@@ -15,8 +15,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pbdval
 import pytest
+
+import pbdval
 
 REPO = Path(__file__).resolve().parents[2]
 ROUND_OFF = 1e-9  # m; see the module docstring

@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+
 from conftest import REPO, VENV_PYTHON
 from pbdval import protocol as pp
 
@@ -390,6 +391,7 @@ def test_the_shipped_mujoco_python_catalogue_is_the_one_the_module_generates() -
 
 def test_the_mujoco_catalogue_declares_exactly_the_integrators_and_solvers_the_engine_maps() -> None:
     import mujoco
+
     from pbdval.external.mujoco import catalogue, engine
 
     assert list(catalogue.INTEGRATORS) == list(engine.INTEGRATORS)

@@ -18,8 +18,9 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
-import pbdval
 import pytest
+
+import pbdval
 
 REPO = Path(__file__).resolve().parents[2]
 SCENE = REPO / "cases" / "free_tumbling_box.json"
@@ -222,7 +223,9 @@ def engine_catalogue(tmp_path: Path) -> Iterator[Path]:
         echo $$ $child ${hang:-} >>"$ENGINE_PIDS.all"
         echo $child >"$ENGINE_PIDS"
         if [ "$ENGINE_MODE" = hang ]; then wait $hang; exit 0; fi
-        printf '{"protocol": 1, "status": "unsupported", "reason": "r", "divergedAt": null, "engineVersion": "e 1", "effectiveSettings": {}, "integratorStepsPerSceneStep": 1, "contactMargin": null, "unsupported": ["x"]}' >"$4/status.json"
+        printf '{"protocol": 1, "status": "unsupported", "reason": "r", "divergedAt": null, ' >"$4/status.json"
+        printf '"engineVersion": "e 1", "effectiveSettings": {}, "integratorStepsPerSceneStep": 1, ' >>"$4/status.json"
+        printf '"contactMargin": null, "unsupported": ["x"]}' >>"$4/status.json"
         """))
     catalogue = tmp_path / "engines"
     catalogue.mkdir()

@@ -10,8 +10,9 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
-import jsonschema  # type: ignore[import-untyped]
+import jsonschema
 import pytest
+
 from pbdval import protocol as pp
 from pbdval.api import _core
 from pbdval.parity import REGENERATE, stale_pages

@@ -13,10 +13,11 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-import linear_fem
 import mujoco
 import numpy as np
 import pytest
+
+import linear_fem
 from conftest import REPO
 from pbdval import protocol as pp
 from pbdval.external.mujoco import engine, flexes

@@ -16,9 +16,10 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-import mujoco  # type: ignore[import-untyped]
+import mujoco
 import numpy as np
 import pytest
+
 from conftest import REPO
 from pbdval import _core
 from pbdval import protocol as pp

@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+
 from pbdval import protocol as pp
 from pbdval.external.mujoco import contact_law
 from pbdval.external.pybullet import materials

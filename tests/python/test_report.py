@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+
 from pbdval.report import build_report
 from pbdval.results import pbdval_binary
 

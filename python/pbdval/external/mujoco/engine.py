@@ -30,7 +30,7 @@ import warnings
 from pathlib import Path
 from typing import Any
 
-import mujoco  # type: ignore[import-untyped]
+import mujoco
 import numpy as np
 
 from pbdval import protocol as pp

@@ -66,7 +66,7 @@ import warnings
 from dataclasses import dataclass
 from typing import Any
 
-import mujoco  # type: ignore[import-untyped]
+import mujoco
 import numpy as np
 
 from pbdval import protocol as pp

@@ -12,7 +12,7 @@ from typing import Any
 # descriptor 1 is standard error (before the import below loads pybullet).
 os.dup2(2, 1)
 
-import pybullet as pb  # type: ignore[import-not-found]
+import pybullet as pb
 
 from pbdval.external.pybullet.engine import main
 
