@@ -904,7 +904,7 @@ EngineEntry catalogueEntry(const std::string& file, const ProjectPython& python)
   if (!document.is_object()) root.fail("a JSON object");
   if (root.at("protocol").json != kExternalProtocolVersion) root.at("protocol").fail("1");
   onlyKeys(root, {"protocol", "name", "description", "example", "command", "serve",
-                  "defaultMethod", "version", "methods", "features"});
+                  "defaultMethod", "runMethods", "version", "methods", "features"});
   EngineEntry entry;
   entry.name = root.at("name").text();
   const std::string folder = fs::absolute(fs::path(file)).parent_path().lexically_normal().string();
@@ -937,6 +937,20 @@ EngineEntry catalogueEntry(const std::string& file, const ProjectPython& python)
     entry.methods.push_back(std::move(info));
   }
   entry.honouredSettings = {"timeStepSize", "gravitation"};
+  // The methods `pbdval run` uses when none is named (default: defaultMethod alone).
+  if (root.has("runMethods")) {
+    const CatalogueNode list = root.at("runMethods");
+    if (list.array().empty()) list.fail("a non-empty array of method names");
+    for (std::size_t k = 0; k < list.json.size(); ++k) {
+      const std::string method = list.at(k).text();
+      const bool known = std::any_of(entry.methods.begin(), entry.methods.end(),
+                                     [&](const MethodInfo& info) { return info.name == method; });
+      if (!known) list.at(k).fail("one of this entry's methods");
+      if (std::find(entry.runMethods.begin(), entry.runMethods.end(), method) != entry.runMethods.end())
+        list.at(k).fail("a method not already listed");
+      entry.runMethods.push_back(method);
+    }
+  }
   if (root.has("features")) {
     std::vector<std::string> methodNames;
     for (const MethodInfo& info : entry.methods) methodNames.push_back(info.name);
