@@ -1,5 +1,7 @@
 #include "adapters/engine.h"
 
+#include <chrono>
+#include <sstream>
 #include <stdexcept>
 
 #include "pbd/io/suggestion.h"
@@ -37,10 +39,40 @@ std::string runStatusNameList() {
   return list;
 }
 
-WholeRun Engine::runWhole(const pbd::Scene& /*scene*/, const Method& method,
-                          const RunLength& /*length*/, double /*wallTimeLimit*/) {
-  throw EngineError("engine " + std::string(name()) + " (method " + method.name +
-                    ") steps in this process; it does not run whole runs");
+EngineRunResult SteppingEngine::run(const pbd::Scene& scene, const Method& method,
+                                    const RunLength& /*length*/, const StepPlan& plan,
+                                    double wallTimeLimit, RunObserver& observer) {
+  using Clock = std::chrono::steady_clock;
+  const auto secondsSince = [](Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+  };
+  EngineRunResult result;
+  const Clock::time_point start = Clock::now();
+  Clock::time_point t0 = Clock::now();
+  load(scene, method);
+  result.busySeconds += secondsSince(t0);
+  observer.begin(runFacts(), effectiveSettings(), StateCadence::EveryStep);
+  State state;
+  read(state);
+  if (!observer.state(state, 0)) return result;
+  for (long n = 1; n <= plan.steps; ++n) {
+    t0 = Clock::now();
+    step();
+    result.busySeconds += secondsSince(t0);
+    result.steps = n;
+    read(state);
+    if (!observer.state(state, n)) break;
+    if (wallTimeLimit > 0 && secondsSince(start) > wallTimeLimit) {
+      result.status = RunStatus::Timeout;
+      std::ostringstream reason;
+      reason << "stopped after " << wallTimeLimit << " s of wall time at t = " << state.time
+             << " s (" << n << " of " << plan.steps << " steps)";
+      result.reason = reason.str();
+      break;
+    }
+  }
+  result.stateHash = stateHash();
+  return result;
 }
 
 const ParameterSpec* MethodInfo::find(const std::string& parameter) const {

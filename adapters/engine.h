@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "adapters/features.h"
 #include "adapters/parameters.h"
 #include "pbd/model/scene.h"
 
@@ -148,16 +149,41 @@ std::optional<RunStatus> runStatusNamed(std::string_view name);
 /// "\"ok\", \"suspect\", ..." for error messages.
 std::string runStatusNameList();
 
-/// A whole run as an engine in another process returns it (external engines): the samples at
-/// t = 0, every sample interval and the end, the status the engine gave, its facts and settings.
-/// The runner checks the samples (divergence, bodies, times) like those of a stepped run.
-struct WholeRun {
-  RunStatus status = RunStatus::Error;
+/// The steps of one run and when it is sampled: `steps` scene steps, a sample at step 0, every
+/// `stride`-th step and the last (validation/simulation.h planSteps derives it from a RunLength).
+struct StepPlan {
+  long steps = 0;
+  long stride = 1;
+  std::vector<std::string> notes;  ///< e.g. "sample interval 0.0123 s rounded to 0.0125 s"
+};
+
+/// Which of its states an engine's run reports.
+enum class StateCadence {
+  EveryStep,   ///< every step's state (an engine stepped in this process)
+  SamplesOnly  ///< the plan's samples only (an engine in another process)
+};
+
+/// Receives a run's states as the engine produces them: the runner's checks and outputs
+/// (validation/simulation.h). An engine never judges its own states.
+class RunObserver {
+ public:
+  virtual ~RunObserver() = default;
+  /// The run's facts and settings, before its first state: after the model is built (stepped
+  /// engines) or once the run has ended (engines in another process).
+  virtual void begin(const RunFacts& facts, const std::map<std::string, std::string>& settings,
+                     StateCadence cadence) = 0;
+  /// The state after `step` scene steps (0: the initial state). Returns false to end the run
+  /// (the observer found a divergence or a failed check, and keeps the reason).
+  virtual bool state(const State& state, long step) = 0;
+};
+
+/// How a run ended as far as the engine can tell (the observer adds what it found).
+struct EngineRunResult {
+  RunStatus status = RunStatus::Ok;
   std::string reason;
-  std::vector<State> samples;
-  long steps = 0;  ///< steps the engine took
-  RunFacts facts;
-  std::map<std::string, std::string> settings;
+  long steps = 0;                         ///< scene steps taken
+  double busySeconds = 0;                 ///< wall time of the engine's own work
+  std::optional<std::string> stateHash;   ///< of the final state, for deterministic engines
 };
 
 /// An engine failure with a message (an engine's error callback, a rejected model, ...). The
@@ -174,15 +200,32 @@ class EngineDivergence : public EngineError {
   using EngineError::EngineError;
 };
 
+/// Every engine: what it cannot represent, and a whole run. The runner calls run() for every
+/// engine alike; how the states come about (stepping in this process, another process) is the
+/// engine's business.
 class Engine {
  public:
   virtual ~Engine() = default;
   virtual std::string_view name() const = 0;
   /// Features of the scene this engine cannot represent with this method, by name
   /// ("joint TargetVelocityMotorSliderJoints[0]: no native equivalent"). Empty when all is
-  /// supported; the runner then reports the run `unsupported`.
+  /// supported (or when, as for external engines, the engine itself says so during the run);
+  /// the runner then reports the run `unsupported`.
   virtual std::vector<std::string> unsupported(const pbd::Scene& scene,
                                                const Method& method) const = 0;
+  /// Runs `scene` with `method` for `plan`, handing every state to `observer` (facts first).
+  /// `wallTimeLimit` (s, 0 = none) bounds the run: past it the result is `timeout`. Throws
+  /// EngineError (EngineDivergence for an instability the engine detects itself).
+  virtual EngineRunResult run(const pbd::Scene& scene, const Method& method,
+                              const RunLength& length, const StepPlan& plan, double wallTimeLimit,
+                              RunObserver& observer) = 0;
+};
+
+/// An engine stepped in this process (the built-in ones): run() loads the scene, reads the
+/// initial state, then steps and reads `plan.steps` times, every state to the observer; also
+/// steppable one step at a time (pbdval.Simulation, the adapter tests).
+class SteppingEngine : public Engine {
+ public:
   /// Builds the engine's model. Throws EngineError.
   virtual void load(const pbd::Scene& scene, const Method& method) = 0;
   /// Advances by one Scene timeStepSize. Throws EngineError.
@@ -199,18 +242,27 @@ class Engine {
   /// (the PBD library); empty otherwise.
   virtual std::optional<std::string> stateHash() const { return std::nullopt; }
 
-  /// Engines that run in another process (external engines) run a whole run at once: they
-  /// return true here and implement runWhole(), which the runner then calls instead of
-  /// load/step/read. `wallTimeLimit` (s, 0 = none) bounds the engine's process.
-  virtual bool runsWhole() const { return false; }
-  virtual WholeRun runWhole(const pbd::Scene& scene, const Method& method, const RunLength& length,
-                            double wallTimeLimit);
+  EngineRunResult run(const pbd::Scene& scene, const Method& method, const RunLength& length,
+                      const StepPlan& plan, double wallTimeLimit, RunObserver& observer) final;
+};
+
+/// A process an engine keeps for many runs (an external engine's server,
+/// docs/external-engines.md#persistent-engines), started by a worker of `pbdval run` and ended
+/// (its process group killed and reaped) when this is destroyed.
+class EngineServer {
+ public:
+  virtual ~EngineServer() = default;
+  /// False once the process has ended (or never started listening).
+  virtual bool running() const = 0;
 };
 
 /// What an engine is given when it is created (chosen by the command, never read from the
 /// environment by an engine).
 struct EngineOptions {
   std::string gridCacheFolder;  ///< the PBD library's grid SDF cache; empty: none
+  /// The folder where the servers of this worker listen (EngineEntry::startServer); empty:
+  /// every run of an external engine starts its own process.
+  std::string serverFolder;
 };
 
 /// One engine of a registry: its methods with their parameters, the Simulation settings of the
@@ -225,7 +277,15 @@ struct EngineEntry {
   /// Keys of the scene's Simulation block this engine uses (timeStepSize, gravitation, and for
   /// the PBD library its solver settings); `--set` of another key has no effect in it.
   std::vector<std::string> honouredSettings;
+  /// How the engine maps every scene feature (adapters/features.h): declared once, used by its
+  /// unsupported() and by the parity pages.
+  FeatureTable features;
   std::function<std::unique_ptr<Engine>(const EngineOptions&)> make;
+  /// For an engine that can serve many runs from one process (an external engine with a
+  /// `serve` command): starts that process listening in `serverFolder` (EngineOptions) and
+  /// returns once it listens, or has failed (then running() is false and the runs say why).
+  /// Empty for the others.
+  std::function<std::unique_ptr<EngineServer>(const std::string& serverFolder)> startServer;
   /// Run when no engine is named (`pbdval run` without --engines); false for example engines,
   /// which run only by name.
   bool runByDefault = true;

@@ -80,4 +80,21 @@ std::unique_ptr<Engine> EngineRegistry::make(const std::string& name) const {
   return engine(name).make(options_);
 }
 
+std::unique_ptr<SteppingEngine> EngineRegistry::makeStepping(const std::string& name) const {
+  std::unique_ptr<Engine> made = make(name);
+  if (auto* stepping = dynamic_cast<SteppingEngine*>(made.get())) {
+    made.release();
+    return std::unique_ptr<SteppingEngine>(stepping);
+  }
+  throw std::invalid_argument("engine " + name +
+                              " runs in another process and cannot be stepped one step at a time: "
+                              "run it whole (pbdval simulate, pbdval.simulate, pbdval run)");
+}
+
+EngineRegistry EngineRegistry::withOptions(EngineOptions options) const {
+  EngineRegistry copy = *this;
+  copy.options_ = std::move(options);
+  return copy;
+}
+
 }  // namespace pbdval

@@ -40,8 +40,13 @@ class EngineRegistry {
 
   /// A new instance of `engine`, created with this registry's options.
   std::unique_ptr<Engine> make(const std::string& engine) const;
+  /// A new instance of `engine` to step one step at a time (pbdval.Simulation, tests); throws
+  /// std::invalid_argument for an engine that runs in another process.
+  std::unique_ptr<SteppingEngine> makeStepping(const std::string& engine) const;
 
   const EngineOptions& options() const { return options_; }
+  /// The same engines, created with `options` (a worker's server folder, for one).
+  EngineRegistry withOptions(EngineOptions options) const;
 
  private:
   EngineOptions options_;

@@ -1,9 +1,11 @@
-#!/usr/bin/env python3
 """Cluster benchmarks (docs/cluster.md#measured): the case library run locally with 2 processes
 against a Dask cluster of 2 workers (one thread each) on the same machine, in one sitting; and
 the planner's and the merger's cost for plans of growing size (about 1,000 to 10,000 runs).
 
-    .venv/bin/python bench/bench_cluster.py [--out FILE.json] [--skip-throughput]
+    scripts/bench cluster [--out FILE.json] [--skip-throughput]
+
+scripts/bench runs it with .venv/bin/python and PYTHONPATH=python:build/release/python (this
+checkout's package and extension; no edit of sys.path here).
 
 Records bench/results/<host>/cluster-<UTC stamp>.json with the machine and the build.
 """
@@ -17,16 +19,14 @@ import os
 import signal
 import socket
 import subprocess
-import sys
 import tempfile
 import time
 from pathlib import Path
 from typing import Any
 
-REPO = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(REPO / "python"))
+from pbdval.results import load_results, pbdval_binary
 
-from pbdval.results import load_results, pbdval_binary  # noqa: E402
+REPO = Path(__file__).resolve().parents[1]
 
 VENV = REPO / ".venv" / "bin"
 
@@ -122,9 +122,10 @@ def main() -> int:
     parser.add_argument("--out", type=Path, default=None)
     parser.add_argument("--skip-throughput", action="store_true")
     args = parser.parse_args()
-    version = subprocess.run([str(pbdval_binary()), "--version"], capture_output=True, text=True).stdout.strip()
+    version = subprocess.run([str(pbdval_binary()), "--version"], capture_output=True, text=True,
+                             check=True).stdout.strip()
     document: dict[str, Any] = {"context": {
-        "created": dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"), "host": socket.gethostname(),
+        "created": dt.datetime.now(dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"), "host": socket.gethostname(),
         "cores": os.cpu_count(), "load_average": os.getloadavg(), "pbdval": version}}
     with tempfile.TemporaryDirectory(prefix="pbdval-bench-cluster-") as tmp:
         folder = Path(tmp)
@@ -134,7 +135,7 @@ def main() -> int:
         document["record_bytes"] = len(json.dumps(typical, indent=1))
         document["plan_and_merge"] = [plan_and_merge(folder, copies, typical) for copies in (4, 16, 42)]
     out = args.out or REPO / "bench" / "results" / socket.gethostname() / (
-        "cluster-" + dt.datetime.now(dt.timezone.utc).strftime("%Y%m%dT%H%M%SZ") + ".json")
+        "cluster-" + dt.datetime.now(dt.UTC).strftime("%Y%m%dT%H%M%SZ") + ".json")
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(document, indent=1) + "\n")
     print(f"wrote {out}")

@@ -1,9 +1,11 @@
-#!/usr/bin/env python3
 """Benchmarks of the Python side (docs/benchmarks.md#python): what the external-engine protocol
 costs over an engine's own stepping, and what `import pbdval` costs to read states into numpy.
 Speed is measured here, never asserted in tests.
 
-    .venv/bin/python bench/bench_python.py [--repeat N] [--out FILE.json]
+    scripts/bench python [--repeat N] [--out FILE.json]
+
+scripts/bench runs it with .venv/bin/python and PYTHONPATH=python:build/release/python, so
+`import pbdval` is this checkout's package and extension (no edit of sys.path here).
 
 1. Protocol overhead, per external engine and case (5 s of simulated time):
    step_s      the engine's own stepping cost, in this process: the resolved scene built with the
@@ -24,29 +26,30 @@ from __future__ import annotations
 
 import argparse
 import datetime as dt
+import functools
 import importlib
 import json
 import os
 import platform
 import socket
 import statistics
-import sys
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
-REPO = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(REPO / "python"))
+import pbdval
+from pbdval import protocol as pp
 
-import pbdval  # noqa: E402
-from pbdval import protocol as pp  # noqa: E402
+REPO = Path(__file__).resolve().parents[1]
 
 DURATION = 5.0  # s of simulated time (the issue's "5 s case")
 CASES = ["joint_hinge", "chain_10", "contact_bouncing_balls", "contact_stack_5"]
-ENGINES = {"pybullet.si": "pbdval.external.pybullet.engine", "mujoco-python.euler.newton": "pbdval.external.mujoco.engine"}
+ENGINES = {"pybullet.si": "pbdval.external.pybullet.engine",
+           "mujoco-python.euler.newton": "pbdval.external.mujoco.engine"}
 
 
 def load_adapter(module: str) -> Any:
@@ -85,14 +88,14 @@ def through_protocol(method: str, scene: pbdval.Scene, duration: float) -> float
 
 
 def protocol_overhead(repeat: int) -> list[dict[str, Any]]:
-    rows = []
+    rows: list[dict[str, Any]] = []
     for case in CASES:
         scene = pbdval.load_scene(REPO / "cases" / f"{case}.json")
         for method in ENGINES:
             try:
-                step_s = best(repeat, lambda: in_process_stepping(method, scene))
-                protocol_s = best(repeat, lambda: through_protocol(method, scene, DURATION))
-                startup_s = best(repeat, lambda: through_protocol(method, scene, scene.time_step))
+                step_s = best(repeat, functools.partial(in_process_stepping, method, scene))
+                protocol_s = best(repeat, functools.partial(through_protocol, method, scene, DURATION))
+                startup_s = best(repeat, functools.partial(through_protocol, method, scene, scene.time_step))
             except RuntimeError as error:
                 rows.append({"case": case, "method": method, "error": str(error)})
                 continue
@@ -143,16 +146,17 @@ def read_states(count: int, calls: int) -> dict[str, Any]:
 
 
 def metadata() -> dict[str, Any]:
-    import mujoco  # noqa: PLC0415
-    import pybullet  # noqa: F401,PLC0415
+    import mujoco
+    import pybullet  # noqa: F401
 
     cpu = ""
     try:
-        cpu = next(line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name"))
+        with open("/proc/cpuinfo", encoding="utf-8") as cpuinfo:
+            cpu = next(line.split(":", 1)[1].strip() for line in cpuinfo if line.startswith("model name"))
     except (OSError, StopIteration):
         pass
     return {
-        "created": dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
+        "created": dt.datetime.now(dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
         "host": socket.gethostname(), "cpu": cpu, "cores": os.cpu_count(),
         "load_average": os.getloadavg(), "python": platform.python_version(), "numpy": np.__version__,
         "mujoco": mujoco.__version__, "pbdval": importlib.import_module("pbdval._core").version,
@@ -172,7 +176,7 @@ def main() -> int:
     document = {"context": metadata(), "protocol": protocol_overhead(args.repeat),
                 "read_states": [read_states(n, 2000) for n in (10, 100, 1000)]}
     out = args.out or REPO / "bench" / "results" / socket.gethostname() / (
-        "python-" + dt.datetime.now(dt.timezone.utc).strftime("%Y%m%dT%H%M%SZ") + ".json")
+        "python-" + dt.datetime.now(dt.UTC).strftime("%Y%m%dT%H%M%SZ") + ".json")
     out.parent.mkdir(parents=True, exist_ok=True)
     pp.write_json_atomically(out, document)
     print(f"wrote {out}")

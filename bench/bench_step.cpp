@@ -39,7 +39,7 @@ void stepScene(benchmark::State& state, const pbdval::EngineRegistry& engines,
     overrides[assignment.substr(0, equals)] = assignment.substr(equals + 1);
   }
   const pbdval::Method resolved = engines.resolve(name, overrides);
-  std::unique_ptr<pbdval::Engine> engine = engines.make(engines.method(name).engine);
+  std::unique_ptr<pbdval::SteppingEngine> engine = engines.makeStepping(engines.method(name).engine);
   const std::vector<std::string> missing = engine->unsupported(scene, resolved);
   if (!missing.empty()) {
     std::string reason = "unsupported:";
@@ -123,12 +123,14 @@ int main(int argc, char** argv) {
       "contact_pile", "car"};
   const std::vector<std::string> methods = {"pbd",      "pbd.xpbd",     "bullet.si",    "ode.quickstep",
                                             "ode.step", "mujoco.euler", "mujoco.rk4"};
-  const pbdval::EngineRegistry engines = pbdval::builtInEngines();  // no grid cache: built in memory
+  // No grid cache: built in memory.
+  const pbdval::EngineRegistry engines = pbdval::builtInEngines();
   for (const std::string& c : cases)
-    for (const std::string& m : methods)
-      benchmark::RegisterBenchmark(("step/" + c + "/" + m).c_str(),
-                                   [&engines, c, m](benchmark::State& s) { stepCase(s, engines, c, m); })
+    for (const std::string& m : methods) {
+      const auto run = [&engines, c, m](benchmark::State& s) { stepCase(s, engines, c, m); };
+      benchmark::RegisterBenchmark(("step/" + c + "/" + m).c_str(), run)
           ->Unit(benchmark::kMicrosecond);
+    }
   // Scaling families: 10 to 10,000 bodies, the PBD methods and the two reference engines whose
   // cost is linear in the body count (MuJoCo's dense factorisation of a 10,000-link tree is not
   // a fair member of this family). Fitted by bench/fit_scaling.py.

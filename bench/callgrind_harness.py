@@ -36,7 +36,10 @@ FUNCTIONS = {"step": r"pbd::World::step\(\)", "csv": r"pbdval::writeCsvRows\(",
 def inclusive(profile: Path) -> dict[str, int]:
     text = subprocess.run(["callgrind_annotate", "--inclusive=yes", str(profile)], capture_output=True,
                           text=True, check=True).stdout
-    counts = {"total": int(re.search(r"([\d,]+)\s+\(100\.0%\)\s+PROGRAM TOTALS", text).group(1).replace(",", ""))}
+    totals = re.search(r"([\d,]+)\s+\(100\.0%\)\s+PROGRAM TOTALS", text)
+    if totals is None:
+        raise RuntimeError(f"callgrind_annotate printed no PROGRAM TOTALS for {profile}")
+    counts = {"total": int(totals.group(1).replace(",", ""))}
     for name, pattern in FUNCTIONS.items():
         match = re.search(r"^\s*([\d,]+) \([\d. ]+%\)\s+\?\?\?:" + pattern, text, re.MULTILINE)
         counts[name] = int(match.group(1).replace(",", "")) if match else 0
@@ -85,11 +88,13 @@ def main() -> int:
               "run_npy_outside_step_share": 1 - run_npy["step"] / run_npy["total"],
               "simulate_npy_outside_step_share": 1 - simulate_npy["step"] / simulate_npy["total"],
               "simulate_npy_loop_outside_step_share": 1 - simulate_npy["step"] / simulate_npy["simulation"],
-              "version": subprocess.run([str(PBDVAL), "--version"], capture_output=True, text=True).stdout.strip()}
+              "version": subprocess.run([str(PBDVAL), "--version"], capture_output=True, text=True,
+                                         check=True).stdout.strip()}
     for label, counts in (("simulate (CSV every step)", simulate), ("simulate (NPY every step)", simulate_npy),
                           ("run (the case's sampling, CSV)", run), ("run (the case's sampling, NPY)", run_npy)):
         print(f"{label}: {counts['total']:,} instructions; step {counts['step'] / counts['total']:.1%}, "
-              f"CSV {counts['csv'] / counts['total']:.1%}, NPY {counts['npy'] / counts['total']:.1%}, metrics {counts['metrics'] / counts['total']:.1%}, "
+              f"CSV {counts['csv'] / counts['total']:.1%}, NPY {counts['npy'] / counts['total']:.1%}, "
+              f"metrics {counts['metrics'] / counts['total']:.1%}, "
               f"outside the step {1 - counts['step'] / counts['total']:.1%}")
     print(f"simulate, the stepping loop only (no start-up): outside the step "
           f"{report['simulate_loop_outside_step_share']:.1%} (CSV), "

@@ -15,6 +15,7 @@ A method that failed at some N (the benchmark's error message) is reported with 
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 import math
 import sys
@@ -52,7 +53,7 @@ def fit(points: dict[int, float], smallest: int) -> float | None:
 
 def local_exponents(points: dict[int, float]) -> list[tuple[int, int, float]]:
     sizes = sorted(points)
-    return [(a, b, math.log(points[b] / points[a]) / math.log(b / a)) for a, b in zip(sizes, sizes[1:])]
+    return [(a, b, math.log(points[b] / points[a]) / math.log(b / a)) for a, b in itertools.pairwise(sizes)]
 
 
 def main() -> int:
@@ -78,7 +79,8 @@ def main() -> int:
                          "fit_from": args.smallest, "local_exponents": [], "error": message})
     sizes = sorted({int(n) for r in rows for n in r["wall_time_us"]})
     if args.markdown:
-        print(f"| family | method | " + " | ".join(f"N = {n}" for n in sizes) + f" | exponent (N ≥ {args.smallest}) | local exponents |")
+        print("| family | method | " + " | ".join(f"N = {n}" for n in sizes)
+              + f" | exponent (N ≥ {args.smallest}) | local exponents |")
         print("|---|---|" + "---|" * len(sizes) + "---|---|")
         for r in rows:
             cells = [f"{r['wall_time_us'][str(n)]:.4g}" if str(n) in r["wall_time_us"] else "—" for n in sizes]
@@ -92,7 +94,8 @@ def main() -> int:
             print(f"{r['family']:8} {r['method']:14} exponent {exponent}  local {local}"
                   + (f"  ({r['error']})" if r["error"] else ""))
     if args.json:
-        args.json.write_text(json.dumps({"source": str(args.results), "context": context, "fits": rows}, indent=1) + "\n")
+        document = {"source": str(args.results), "context": context, "fits": rows}
+        args.json.write_text(json.dumps(document, indent=1) + "\n")
     return 0
 
 

@@ -1,5 +1,6 @@
 # The reference engines and the distance oracle, all double precision, all from Debian.
-# Tested snippets and the traps they avoid: ../shared/research/deps.md §3 and §8.
+# Why each is found this way, and the traps the obvious ways fall into:
+# docs/build.md#how-cmake-finds-the-engines.
 
 find_package(PkgConfig REQUIRED)
 # Bullet: Debian ships a double-precision build; its CMake config is broken (relative include

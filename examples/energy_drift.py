@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """One case in three engines from Python: the PBD library stepped in this process, pybullet and
 MuJoCo (current, from PyPI) through the external-engine protocol; the energy drift of each,
 measured by the suite's own metric code (docs/python.md).

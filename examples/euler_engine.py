@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """A minimal external engine: semi-implicit (symplectic) Euler for free rigid bodies.
 
 The template to copy for a new engine (docs/external-engines.md). Run by the runner as

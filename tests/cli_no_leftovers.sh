@@ -55,7 +55,7 @@ if [ "$ENGINE_MODE" = hang ]; then sleep 300 & hang=$!; fi
 echo $$ $child ${hang:-} >>"$ENGINE_ALL"
 echo $child >"$ENGINE_PIDS"
 if [ "$ENGINE_MODE" = hang ]; then wait $hang; exit 0; fi
-printf '{"protocol": 1, "status": "unsupported", "reason": "r", "unsupported": ["everything"]}' \
+printf '{"protocol": 1, "status": "unsupported", "reason": "r", "divergedAt": null, "engineVersion": "e 1", "effectiveSettings": {}, "integratorStepsPerSceneStep": 1, "contactMargin": null, "unsupported": ["everything"]}' \
   >"$4/status.json"
 SH
 cat >"$work/engines/probe.json" <<JSON

@@ -2,7 +2,10 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <poll.h>
 #include <sys/prctl.h>
+#include <sys/socket.h>
+#include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -13,20 +16,35 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
+#include <map>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
 
 #include "pbd/io/number_text.h"
-#include "validation/atomic_file.h"
 #include "validation/interrupts.h"
-#include "validation/process_reaper.h"
+#include "validation/json_schema.h"
 #include "validation/json_text.h"
+#include "validation/process_reaper.h"
+#include "pbdval/build_info.h"
 #include "validation/resolved_scene.h"
 #include "validation/simulation.h"
 #include "validation/trajectory.h"
 
 namespace pbdval {
+
+/// A whole run as the engine's files give it: its status, samples, facts and settings.
+struct WholeRun {
+  RunStatus status = RunStatus::Error;
+  std::string reason;
+  std::vector<State> samples;
+  long steps = 0;  ///< steps the engine took
+  RunFacts facts;
+  std::map<std::string, std::string> settings;
+};
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -109,18 +127,61 @@ std::string stderrTail(const fs::path& file) {
          "; its standard error ends: " + s;
 }
 
+/// How a run's process ended.
 struct Exit {
   bool timedOut = false;
   int interruptedBy = 0;  ///< SIGINT, SIGTERM or SIGHUP taken while it ran (it was stopped)
-  int status = 0;         ///< waitpid status
+  int signal = 0;         ///< the signal that ended it, or 0
+  int code = 0;           ///< its exit status, when it exited
+  std::string failure;    ///< a server that could not run it: why (the run is an error)
 };
+
+/// The environment of an engine's process (the server's or a single-shot run's): after fork,
+/// before exec. Its own process group, SIGKILL when its parent dies, the interrupts unblocked,
+/// standard error to `stderrPath`, input and output /dev/null, PBDVAL_PROTOCOL, PYTHONPATH,
+/// the working folder. Returns false (having said why on standard error) when the working
+/// folder cannot be entered.
+bool prepareEngineChild(const ExternalCommand& command, const std::string& pythonPath,
+                        const fs::path& stderrPath, pid_t parent) {
+  ::setpgid(0, 0);
+  ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (::getppid() != parent) ::_exit(127);  // the runner died before prctl
+  sigset_t none;
+  sigemptyset(&none);
+  ::sigprocmask(SIG_SETMASK, &none, nullptr);
+  const int err = ::open(stderrPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  const int null = ::open("/dev/null", O_RDWR);
+  if (err >= 0) ::dup2(err, STDERR_FILENO);
+  if (null >= 0) {
+    ::dup2(null, STDIN_FILENO);
+    ::dup2(null, STDOUT_FILENO);
+  }
+  ::setenv("PBDVAL_PROTOCOL", "1", 1);
+  if (!pythonPath.empty()) ::setenv("PYTHONPATH", pythonPath.c_str(), 1);
+  if (!command.workingFolder.empty() && ::chdir(command.workingFolder.c_str()) != 0) {
+    std::fprintf(stderr, "pbdval: cannot enter %s: %s\n", command.workingFolder.c_str(),
+                 std::strerror(errno));
+    return false;
+  }
+  return true;
+}
+
+/// PYTHONPATH for `command`: its package folder first, then whatever PYTHONPATH was; empty for
+/// a command that does not name "{python}".
+std::string pythonPathFor(const ExternalCommand& command) {
+  std::string pythonPath = command.pythonPackageFolder;
+  const char* inherited = std::getenv("PYTHONPATH");
+  if (!pythonPath.empty() && inherited && *inherited) pythonPath += std::string(":") + inherited;
+  return pythonPath;
+}
 
 /// Runs argv in `folder` with stdout to /dev/null and stderr to `stderrPath`, in a process group
 /// of its own whose id is written to `groupFile`; kills it after `limit` seconds (0: none) or
 /// when SIGINT, SIGTERM or SIGHUP arrives. Whatever way it ends, its whole process group is
 /// killed before it is reaped, and every process it started elsewhere (a setsid() child, a
-/// daemon: ProcessReaper): a process the engine started and left running ends with it. The engine also dies with the process that started it
-/// (PR_SET_PDEATHSIG), should that one be killed outright.
+/// daemon: ProcessReaper): a process the engine started and left running ends with it. The
+/// engine also dies with the process that started it (PR_SET_PDEATHSIG), should that one be
+/// killed outright.
 Exit runProcess(const ExternalCommand& command, const std::vector<std::string>& extraArguments,
                 const fs::path& stderrPath, const fs::path& groupFile, double limit) {
   std::vector<std::string> arguments = command.argv;
@@ -128,10 +189,7 @@ Exit runProcess(const ExternalCommand& command, const std::vector<std::string>& 
   std::vector<char*> argv;
   for (std::string& a : arguments) argv.push_back(a.data());
   argv.push_back(nullptr);
-  // Composed before the fork: the package folder first, then whatever PYTHONPATH was.
-  std::string pythonPath = command.pythonPackageFolder;
-  const char* inherited = std::getenv("PYTHONPATH");
-  if (!pythonPath.empty() && inherited && *inherited) pythonPath += std::string(":") + inherited;
+  const std::string pythonPath = pythonPathFor(command);  // composed before the fork
   const InterruptWatch interrupts;
   const ProcessReaper reaper;  // what the engine starts outside its process group, too
   std::fflush(nullptr);
@@ -139,25 +197,8 @@ Exit runProcess(const ExternalCommand& command, const std::vector<std::string>& 
   const pid_t pid = ::fork();
   if (pid < 0) throw EngineError(std::string("fork failed: ") + std::strerror(errno));
   if (pid == 0) {
-    ::setpgid(0, 0);
-    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
-    if (::getppid() != parent) ::_exit(127);  // the runner died before prctl
-    interrupts.unblockInChild();
-    const int err = ::open(stderrPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int null = ::open("/dev/null", O_RDWR);
-    if (err >= 0) ::dup2(err, STDERR_FILENO);
-    if (null >= 0) {
-      ::dup2(null, STDIN_FILENO);
-      ::dup2(null, STDOUT_FILENO);
-    }
-    ::setenv("PBDVAL_PROTOCOL", "1", 1);
+    if (!prepareEngineChild(command, pythonPath, stderrPath, parent)) ::_exit(127);
     reaper.mark();
-    if (!pythonPath.empty()) ::setenv("PYTHONPATH", pythonPath.c_str(), 1);
-    if (!command.workingFolder.empty() && ::chdir(command.workingFolder.c_str()) != 0) {
-      std::fprintf(stderr, "pbdval: cannot enter %s: %s\n", command.workingFolder.c_str(),
-                   std::strerror(errno));
-      ::_exit(127);
-    }
     ::execvp(argv[0], argv.data());
     std::fprintf(stderr, "pbdval: cannot start %s: %s\n", argv[0], std::strerror(errno));
     ::_exit(127);
@@ -190,9 +231,235 @@ Exit runProcess(const ExternalCommand& command, const std::vector<std::string>& 
   }
   reaper.killRemaining(pid);  // e.g. a child that called setsid() (validation/process_reaper.h)
   ::kill(-pid, SIGKILL);
-  ::waitpid(pid, &exit.status, 0);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  if (WIFSIGNALED(status)) exit.signal = WTERMSIG(status);
+  if (WIFEXITED(status)) exit.code = WEXITSTATUS(status);
   return exit;
 }
+
+// --- Runs through a server -------------------------------------------------------------------
+
+/// A file descriptor closed when it goes.
+class Descriptor {
+ public:
+  explicit Descriptor(int fd = -1) : fd_(fd) {}
+  ~Descriptor() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  Descriptor(const Descriptor&) = delete;
+  Descriptor& operator=(const Descriptor&) = delete;
+  int get() const { return fd_; }
+
+ private:
+  int fd_;
+};
+
+/// A connection to the Unix socket `path`, or -1 with errno set.
+int connectToSocket(const std::string& path) {
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  if (path.size() >= sizeof(address.sun_path)) {
+    errno = ENAMETOOLONG;
+    return -1;
+  }
+  std::memcpy(address.sun_path, path.c_str(), path.size() + 1);
+  const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  if (fd < 0) return -1;
+  if (::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof(address)) != 0) {
+    const int error = errno;
+    ::close(fd);
+    errno = error;
+    return -1;
+  }
+  return fd;
+}
+
+/// Reads a server's replies, one JSON object per line.
+class ReplyReader {
+ public:
+  enum class Result { Line, Ended, TimedOut, Interrupted };
+
+  ReplyReader(int fd, const InterruptWatch& interrupts) : fd_(fd), interrupts_(interrupts) {}
+
+  /// Waits for the next line until `deadline` (none when it is max()), watching for interrupts.
+  Result next(Clock::time_point deadline, Json& reply) {
+    for (;;) {
+      const std::size_t end = buffer_.find('\n');
+      if (end != std::string::npos) {
+        reply = Json::parse(buffer_.substr(0, end), nullptr, false);
+        buffer_.erase(0, end + 1);
+        if (reply.is_discarded() || !reply.is_object()) reply = Json::object();
+        return Result::Line;
+      }
+      if (ended_) return Result::Ended;
+      if (Clock::now() > deadline) return Result::TimedOut;
+      if (const int caught = interrupts_.pending()) {
+        signal_ = caught;
+        return Result::Interrupted;
+      }
+      pollfd item{fd_, POLLIN, 0};
+      if (::poll(&item, 1, 2) <= 0) continue;
+      char chunk[512];
+      const ssize_t n = ::read(fd_, chunk, sizeof(chunk));
+      if (n > 0) buffer_.append(chunk, std::size_t(n));
+      else if (n == 0 || (errno != EINTR && errno != EAGAIN)) ended_ = true;
+    }
+  }
+  int signal() const { return signal_; }
+
+ private:
+  int fd_;
+  const InterruptWatch& interrupts_;
+  std::string buffer_;
+  bool ended_ = false;
+  int signal_ = 0;
+};
+
+/// One run through the server listening at `socket` (docs/external-engines.md#persistent-engines):
+/// the request, the forked child's process group (written to `groupFile` as soon as known, for
+/// removeEngineLeftovers), its end. Past `limit` seconds (0: none) or on SIGINT, SIGTERM or
+/// SIGHUP the child's group is killed; the server reaps it and reports.
+Exit runServed(const std::string& socketPath, const std::string& serverLog,
+               const std::vector<std::string>& extraArguments, const fs::path& stderrPath,
+               const fs::path& groupFile, double limit) {
+  Exit exit;
+  const auto serverSays = [&]() { return stderrTail(serverLog); };
+  if (!fs::exists(socketPath)) {
+    exit.failure = "its server did not start (no socket at " + socketPath + ")" + serverSays();
+    return exit;
+  }
+  const Descriptor connection(connectToSocket(socketPath));
+  if (connection.get() < 0) {
+    exit.failure = "its server does not accept runs (" + socketPath + ": " + std::strerror(errno) +
+                   ")" + serverSays();
+    return exit;
+  }
+  Json request = {{"protocol", kExternalProtocolVersion}, {"stderr", stderrPath.string()}};
+  for (std::size_t i = 0; i + 1 < extraArguments.size(); i += 2)
+    request[extraArguments[i].substr(2)] = extraArguments[i + 1];  // --scene, --out
+  const std::string line = request.dump() + "\n";
+  if (::send(connection.get(), line.data(), line.size(), MSG_NOSIGNAL) != ssize_t(line.size())) {
+    exit.failure = std::string("its server did not take the run (") + std::strerror(errno) + ")" +
+                   serverSays();
+    return exit;
+  }
+  const InterruptWatch interrupts;
+  ReplyReader replies(connection.get(), interrupts);
+  const Clock::time_point start = Clock::now();
+  const Clock::time_point none = Clock::time_point::max();
+  const Clock::time_point deadline =
+      limit > 0 ? start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(limit))
+                : none;
+  Json reply;
+  ReplyReader::Result got = replies.next(deadline, reply);
+  long child = 0;
+  if (got == ReplyReader::Result::Line && reply.contains("started") &&
+      reply.at("started").is_number_integer())
+    child = reply.at("started").get<long>();
+  if (child > 1) {
+    std::ofstream group(groupFile);
+    group << child << "\n";
+    got = replies.next(deadline, reply);
+  }
+  if (got == ReplyReader::Result::TimedOut || got == ReplyReader::Result::Interrupted) {
+    if (child > 1) ::kill(-pid_t(child), SIGKILL);
+    exit.timedOut = got == ReplyReader::Result::TimedOut;
+    exit.interruptedBy = replies.signal();
+    // The server reaps the child and says so; the next run waits for that anyway.
+    if (child > 1) replies.next(Clock::now() + std::chrono::seconds(10), reply);
+    return exit;
+  }
+  if (got == ReplyReader::Result::Ended) {
+    if (child > 1) ::kill(-pid_t(child), SIGKILL);
+    exit.failure = "its server ended during the run" + serverSays();
+    return exit;
+  }
+  if (reply.contains("exited") && reply.at("exited").is_number_integer()) {
+    exit.code = reply.at("exited").get<int>();
+  } else if (reply.contains("signaled") && reply.at("signaled").is_number_integer()) {
+    exit.signal = reply.at("signaled").get<int>();
+  } else {
+    if (child > 1) ::kill(-pid_t(child), SIGKILL);
+    exit.failure = "its server replied " + reply.dump() +
+                   (reply.contains("error") ? "" : " (expected {\"exited\": code} or {\"signaled\": signal})") +
+                   serverSays();
+  }
+  return exit;
+}
+
+/// A server process (EngineEntry::startServer): started listening, stopped when it goes.
+class ExternalServer final : public EngineServer {
+ public:
+  ExternalServer(const std::string& name, const ExternalCommand& serve,
+                 const std::string& folder, double startLimit)
+      : socket_(serverSocketPath(folder, name)) {
+    std::error_code ignored;
+    fs::create_directories(folder, ignored);
+    fs::remove(socket_, ignored);  // a socket an earlier server left
+    std::vector<std::string> arguments = serve.argv;
+    arguments.push_back("--socket");
+    arguments.push_back(socket_);
+    std::vector<char*> argv;
+    for (std::string& a : arguments) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    const std::string pythonPath = pythonPathFor(serve);
+    const std::string logPath = serverLogPath(folder, name);
+    std::fflush(nullptr);
+    const pid_t parent = ::getpid();
+    pid_ = ::fork();
+    if (pid_ < 0) return;
+    if (pid_ == 0) {
+      if (!prepareEngineChild(serve, pythonPath, logPath, parent)) ::_exit(127);
+      ::execvp(argv[0], argv.data());
+      std::fprintf(stderr, "pbdval: cannot start %s: %s\n", argv[0], std::strerror(errno));
+      ::_exit(127);
+    }
+    ::setpgid(pid_, pid_);
+    const Clock::time_point start = Clock::now();
+    while (running()) {
+      const int probe = connectToSocket(socket_);
+      if (probe >= 0) {
+        ::close(probe);  // an empty connection: the server reads no request and goes on
+        listening_ = true;
+        return;
+      }
+      if (std::chrono::duration<double>(Clock::now() - start).count() > startLimit) {
+        std::ofstream(logPath, std::ios::app)
+            << "pbdval: the server did not listen within " << startLimit << " s; stopped\n";
+        break;
+      }
+      ::usleep(2000);
+    }
+    stop();
+  }
+  ~ExternalServer() override {
+    if (::getpid() == owner_) stop();  // a forked copy leaves the server to its owner
+  }
+
+  bool running() const override {
+    if (pid_ <= 0) return false;
+    siginfo_t info{};
+    const int result = ::waitid(P_PID, id_t(pid_), &info, WEXITED | WNOHANG | WNOWAIT);
+    return result == 0 && info.si_pid == 0;
+  }
+
+ private:
+  void stop() {
+    if (pid_ > 0) {
+      ::kill(-pid_, SIGKILL);
+      ::waitpid(pid_, nullptr, 0);
+      pid_ = -1;
+    }
+    std::error_code ignored;
+    if (listening_) fs::remove(socket_, ignored);
+  }
+
+  std::string socket_;
+  pid_t owner_ = ::getpid();  ///< the process that started the server
+  pid_t pid_ = -1;
+  bool listening_ = false;
+};
 
 RunStatus statusNamed(const std::string& name) {
   for (RunStatus s : {RunStatus::Ok, RunStatus::Unsupported, RunStatus::Diverged, RunStatus::Error})
@@ -201,54 +468,52 @@ RunStatus statusNamed(const std::string& name) {
                               name + "\"");
 }
 
-/// Reads status.json into `run`; throws std::invalid_argument naming the field.
+/// The schema of status.json (docs/schemas/status.schema.json), read from the source tree.
+Json statusSchema() {
+  const std::string path = std::string(PBDVAL_SOURCE_DIR) + "/docs/schemas/status.schema.json";
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  const Json schema = Json::parse(text.str(), nullptr, false);
+  if (!in || schema.is_discarded() || !schema.is_object())
+    throw EngineError("cannot read the status schema " + path);
+  return schema;
+}
+
+/// Reads status.json into `run`, validated against its schema; throws std::invalid_argument
+/// naming the JSON path of each violation.
 void readStatus(const fs::path& file, WholeRun& run) {
   std::ifstream in(file);
   std::stringstream text;
   text << in.rdbuf();
   const Json j = Json::parse(text.str(), nullptr, false);
   if (j.is_discarded() || !j.is_object()) throw std::invalid_argument("not a JSON object");
-  const auto field = [&](const char* key) -> const Json& {
-    if (!j.contains(key)) throw std::invalid_argument(std::string(key) + ": missing");
-    return j.at(key);
-  };
-  if (field("protocol") != kExternalProtocolVersion)
-    throw std::invalid_argument("protocol: expected 1, got " + field("protocol").dump());
-  if (!field("status").is_string()) throw std::invalid_argument("status: expected a string");
-  run.status = statusNamed(field("status").get<std::string>());
-  if (j.contains("reason") && j.at("reason").is_string()) run.reason = j.at("reason").get<std::string>();
-  if (run.status == RunStatus::Unsupported && j.contains("unsupported") && j.at("unsupported").is_array()) {
+  const std::vector<std::string> violations = schemaViolations(statusSchema(), j);
+  if (!violations.empty()) {
+    std::string message;
+    for (const std::string& v : violations) message += (message.empty() ? "" : "; ") + v;
+    throw std::invalid_argument(message + " (docs/schemas/status.schema.json)");
+  }
+  // The types and the rules between fields are the schema's; what follows only reads.
+  run.status = statusNamed(j.at("status").get<std::string>());
+  run.reason = j.at("reason").get<std::string>();
+  if (run.status == RunStatus::Unsupported) {
     std::string features;
-    for (const Json& f : j.at("unsupported"))
-      if (f.is_string()) features += (features.empty() ? "" : "; ") + f.get<std::string>();
-    if (!features.empty()) run.reason = features;
+    for (const Json& f : j.at("unsupported")) features += (features.empty() ? "" : "; ") + f.get<std::string>();
+    run.reason = features;
   }
-  if (run.status != RunStatus::Ok && run.reason.empty())
-    throw std::invalid_argument("reason: a non-ok status needs a reason");
-  if (j.contains("engineVersion") && j.at("engineVersion").is_string())
-    run.facts.engineVersion = j.at("engineVersion").get<std::string>();
-  if (j.contains("integratorStepsPerSceneStep")) {
-    const Json& n = j.at("integratorStepsPerSceneStep");
-    if (!n.is_number_integer() || n.get<std::int64_t>() < 1)
-      throw std::invalid_argument("integratorStepsPerSceneStep: expected an integer >= 1");
-    run.facts.integratorStepsPerSceneStep = n.get<int>();
+  run.facts.engineVersion = j.at("engineVersion").get<std::string>();
+  run.facts.integratorStepsPerSceneStep = j.at("integratorStepsPerSceneStep").get<int>();
+  run.facts.initialVelocitiesProjected = j.value("initialVelocitiesProjected", false);
+  const Json& margin = j.at("contactMargin");
+  if (!margin.is_null()) {
+    if (!std::isfinite(margin.get<double>()))
+      throw std::invalid_argument("contactMargin: expected a finite number of metres or null");
+    run.facts.contactMargin = margin.get<double>();
   }
-  if (j.contains("initialVelocitiesProjected")) {
-    const Json& p = j.at("initialVelocitiesProjected");
-    if (!p.is_boolean())
-      throw std::invalid_argument("initialVelocitiesProjected: expected true or false");
-    run.facts.initialVelocitiesProjected = p.get<bool>();
-  }
-  if (j.contains("contactMargin") && !j.at("contactMargin").is_null()) {
-    const Json& m = j.at("contactMargin");
-    if (!m.is_number() || !std::isfinite(m.get<double>()))
-      throw std::invalid_argument("contactMargin: expected a number of metres or null");
-    run.facts.contactMargin = m.get<double>();
-  }
-  if (j.contains("effectiveSettings") && j.at("effectiveSettings").is_object())
-    for (const auto& item : j.at("effectiveSettings").items())
-      run.settings[item.key()] = item.value().is_string() ? item.value().get<std::string>()
-                                                          : jsonText(item.value(), -1);
+  for (const auto& item : j.at("effectiveSettings").items())
+    run.settings[item.key()] = item.value().is_string() ? item.value().get<std::string>()
+                                                        : jsonText(item.value(), -1);
 }
 
 /// Checks the samples against what the run asked for: every sample holds every body of the
@@ -310,51 +575,104 @@ std::string mergeParticles(std::vector<State>& particles, const pbd::Scene& scen
 
 }  // namespace
 
-ExternalEngine::ExternalEngine(std::string name, ExternalCommand command)
-    : name_(std::move(name)), command_(std::move(command)) {}
+ExternalEngine::ExternalEngine(std::string name, ExternalCommand command, FeatureTable features)
+    : name_(std::move(name)), command_(std::move(command)), features_(std::move(features)) {}
 
-void ExternalEngine::load(const pbd::Scene&, const Method& method) {
-  throw EngineError("external engine " + name_ + " (method " + method.name +
-                    ") runs whole runs in its own process; it cannot be stepped");
-}
-void ExternalEngine::step() { throw EngineError("external engine " + name_ + ": cannot be stepped"); }
-void ExternalEngine::read(State&) const {
-  throw EngineError("external engine " + name_ + ": cannot be stepped");
+std::vector<std::string> ExternalEngine::unsupported(const pbd::Scene& scene,
+                                                     const Method& method) const {
+  if (features_.entries.empty()) return {};
+  return unsupportedFeatures(features_, scene, method.name);
 }
 
-WholeRun ExternalEngine::runWhole(const pbd::Scene& scene, const Method& method,
-                                  const RunLength& length, double wallTimeLimit) {
+ExternalEngine::ExternalEngine(std::string name, ExternalCommand command, FeatureTable features,
+                               std::string serverFolder)
+    : name_(std::move(name)),
+      command_(std::move(command)),
+      features_(std::move(features)),
+      serverFolder_(std::move(serverFolder)) {}
+
+std::string serverSocketPath(const std::string& serverFolder, const std::string& name) {
+  return (fs::path(serverFolder) / (name + ".socket")).string();
+}
+
+std::string serverLogPath(const std::string& serverFolder, const std::string& name) {
+  return (fs::path(serverFolder) / (name + ".stderr")).string();
+}
+
+std::unique_ptr<EngineServer> startExternalServer(const std::string& name,
+                                                  const ExternalCommand& serve,
+                                                  const std::string& serverFolder,
+                                                  double startLimit) {
+  return std::make_unique<ExternalServer>(name, serve, serverFolder, startLimit);
+}
+
+EngineRunResult ExternalEngine::run(const pbd::Scene& scene, const Method& method,
+                                    const RunLength& length, const StepPlan& plan,
+                                    double wallTimeLimit, RunObserver& observer) {
+  const Clock::time_point started = Clock::now();
   WholeRun run;
+  const EngineRunResult result = runWhole(scene, method, length, plan, wallTimeLimit, run);
+  // The samples, checked by the observer like a stepped run's states.
+  observer.begin(run.facts, run.settings, StateCadence::SamplesOnly);
+  for (std::size_t k = 0; k < run.samples.size(); ++k)
+    if (!observer.state(run.samples[k], k == 0 ? 0 : std::min(plan.steps, long(k) * plan.stride))) break;
+  EngineRunResult done = result;
+  done.busySeconds = std::chrono::duration<double>(Clock::now() - started).count();
+  return done;
+}
+
+EngineRunResult ExternalEngine::runWhole(const pbd::Scene& scene, const Method& method,
+                                         const RunLength& length, const StepPlan& plan,
+                                         double wallTimeLimit, WholeRun& run) {
+  const auto finish = [&]() {
+    EngineRunResult result;
+    result.status = run.status;
+    result.reason = run.reason;
+    result.steps = run.status == RunStatus::Ok ? plan.steps : run.steps;
+    return result;
+  };
   const auto fail = [&](const std::string& reason) {
     run.status = RunStatus::Error;
     run.reason = "external engine " + name_ + ": " + reason;
     run.samples.clear();
-    return run;
+    return finish();
   };
-  const StepPlan plan = planSteps(length, double(scene.simulation.timeStepSize));
   const ScratchFolder scratch;
   const Json parameters = methodParametersJson(method);
   const fs::path scenePath = scratch.path() / "resolved-scene.json";
   const fs::path outFolder = scratch.path() / "out";
   fs::create_directory(outFolder);
-  writeFileAtomically(scenePath.string(),
-                      jsonText(resolvedSceneJson(scene, method.name, parameters, length)) + "\n");
+  {
+    // Written whole before the engine starts, into a folder only this run uses, and removed
+    // with it: no rename or fsync needed (an fsync costs milliseconds per run).
+    std::ofstream file(scenePath);
+    file << jsonText(resolvedSceneJson(scene, method.name, parameters, length)) << "\n";
+    file.close();
+    if (!file) throw EngineError("cannot write the resolved scene " + scenePath.string());
+  }
 
+  const std::vector<std::string> arguments = {"--scene", scenePath.string(), "--out",
+                                              outFolder.string()};
   const Exit exit =
-      runProcess(command_, {"--scene", scenePath.string(), "--out", outFolder.string()},
-                 scratch.path() / kStderrFile, scratch.path() / kGroupFile, wallTimeLimit);
+      serverFolder_.empty()
+          ? runProcess(command_, arguments, scratch.path() / kStderrFile,
+                       scratch.path() / kGroupFile, wallTimeLimit)
+          : runServed(serverSocketPath(serverFolder_, name_), serverLogPath(serverFolder_, name_),
+                      arguments, scratch.path() / kStderrFile, scratch.path() / kGroupFile,
+                      wallTimeLimit);
   if (exit.interruptedBy != 0) throw SignalInterrupt(exit.interruptedBy);  // scratch removed
   const std::string errors = stderrTail(scratch.path() / kStderrFile);
   if (exit.timedOut) {
     run.status = RunStatus::Timeout;
     run.reason = "external engine " + name_ + " exceeded the wall-time limit of " +
                  pbd::formatReal(wallTimeLimit) + " s and was stopped";
-    return run;
+    return finish();
   }
-  if (WIFSIGNALED(exit.status))
-    return fail("its process died with signal " + std::to_string(WTERMSIG(exit.status)) + " (" +
-                ::strsignal(WTERMSIG(exit.status)) + ")" + errors);
-  const int code = WEXITSTATUS(exit.status);
+  if (!exit.failure.empty()) return fail(exit.failure);
+  if (exit.signal != 0)
+    return fail("its process died with signal " + std::to_string(exit.signal) + " (" +
+                ::strsignal(exit.signal) + ")" + errors);
+  const int code = exit.code;
   if (code == 127 && !fs::exists(outFolder / kStatusFile))
     return fail("its command could not be started (" + command_.argv.front() + ")" + errors);
   if (!fs::exists(outFolder / kStatusFile))
@@ -368,8 +686,7 @@ WholeRun ExternalEngine::runWhole(const pbd::Scene& scene, const Method& method,
   } catch (const std::exception& e) {
     return fail(std::string(kStatusFile) + ": " + e.what());
   }
-  facts_ = run.facts;
-  if (run.status != RunStatus::Ok && run.status != RunStatus::Diverged) return run;
+  if (run.status != RunStatus::Ok && run.status != RunStatus::Diverged) return finish();
   // The trajectory: trajectory.csv, or its binary form trajectory.npy; never both.
   const bool csv = fs::exists(outFolder / kTrajectoryFile);
   const bool npy = fs::exists(outFolder / kTrajectoryNpyFile);
@@ -421,7 +738,7 @@ WholeRun ExternalEngine::runWhole(const pbd::Scene& scene, const Method& method,
       return fail(particleFile + ": " + wrong);
   }
   run.steps = plan.steps;
-  return run;
+  return finish();
 }
 
 void removeEngineLeftovers(pid_t owner) {
@@ -476,7 +793,23 @@ struct CatalogueNode {
   }
 };
 
+/// Refuses a key outside `allowed` (docs/schemas/catalogue.schema.json: no other keys), naming
+/// its JSON path and the keys that are allowed.
+void onlyKeys(const CatalogueNode& node, std::initializer_list<const char*> allowed) {
+  if (!node.json.is_object()) node.fail("a JSON object");
+  for (const auto& item : node.json.items()) {
+    bool known = false;
+    std::string list;
+    for (const char* key : allowed) {
+      known = known || item.key() == key;
+      list += (list.empty() ? "" : ", ") + std::string(key);
+    }
+    if (!known) node.at(item.key()).fail("no such key (allowed: " + list + ")");
+  }
+}
+
 ParameterSpec catalogueParameter(const CatalogueNode& node, const std::string& method) {
+  onlyKeys(node, {"name", "kind", "default", "min", "max", "choices", "unit", "description"});
   ParameterSpec p;
   p.name = node.at("name").text();
   const std::string kind = node.at("kind").text();
@@ -512,21 +845,50 @@ ParameterSpec catalogueParameter(const CatalogueNode& node, const std::string& m
   return p;
 }
 
-EngineEntry catalogueEntry(const std::string& file, const ProjectPython& python,
-                           const std::string& workingFolder) {
-  std::ifstream in(file);
-  std::stringstream text;
-  text << in.rdbuf();
-  const Json document = Json::parse(text.str(), nullptr, false);
-  const CatalogueNode root{document, "", file};
-  if (document.is_discarded()) throw std::invalid_argument(file + ": not valid JSON");
-  if (!document.is_object()) root.fail("a JSON object");
-  if (root.at("protocol").json != kExternalProtocolVersion) root.at("protocol").fail("1");
-  EngineEntry entry;
-  entry.name = root.at("name").text();
+/// The catalogue's feature table (adapters/features.h; docs/external-engines.md#features):
+/// every entry checked, then the table as a whole (each problem named by its JSON path).
+FeatureTable catalogueFeatures(const CatalogueNode& node, const std::vector<std::string>& methods) {
+  FeatureTable table;
+  for (std::size_t i = 0; i < node.array().size(); ++i) {
+    const CatalogueNode e = node.at(i);
+    onlyKeys(e, {"feature", "support", "text", "methods"});
+    FeatureSupport support;
+    support.key = e.at("feature").text();
+    const std::string level = e.at("support").text();
+    try {
+      support.support = supportNamed(level);
+    } catch (const std::invalid_argument&) {
+      e.at("support").fail("one of native, approximated, unsupported");
+    }
+    if (e.has("text")) {
+      if (!e.at("text").json.is_string()) e.at("text").fail("a string");
+      support.text = e.at("text").json.get<std::string>();
+    }
+    if (e.has("methods")) {
+      const CatalogueNode list = e.at("methods");
+      if (list.array().empty()) list.fail("a non-empty array of method names (leave it out for every method)");
+      for (std::size_t k = 0; k < list.json.size(); ++k) support.methods.push_back(list.at(k).text());
+    }
+    table.entries.push_back(std::move(support));
+  }
+  const std::vector<std::string> problems = checkFeatureTable(table, methods);
+  if (!problems.empty()) {
+    std::string text = problems.front();
+    // checkFeatureTable names entries "features[3]..." and the table "features: ...".
+    throw std::invalid_argument(node.file + ": " + text +
+                                (problems.size() > 1 ? " (and " + std::to_string(problems.size() - 1) +
+                                                           " more)"
+                                                     : std::string()));
+  }
+  return table;
+}
+
+/// A catalogue command (`command`, `serve.command`): "{python}" replaced, run in the catalogue's
+/// folder (relative paths in it are relative to the catalogue file).
+ExternalCommand catalogueCommand(const CatalogueNode& argv, const ProjectPython& python,
+                                 const std::string& folder) {
   ExternalCommand command;
-  command.workingFolder = workingFolder;
-  const CatalogueNode argv = root.at("command");
+  command.workingFolder = folder;
   if (argv.array().empty()) argv.fail("a non-empty array of strings");
   for (std::size_t i = 0; i < argv.json.size(); ++i) {
     std::string word = argv.at(i).text();
@@ -536,10 +898,38 @@ EngineEntry catalogueEntry(const std::string& file, const ProjectPython& python,
     }
     command.argv.push_back(word);
   }
+  return command;
+}
+
+EngineEntry catalogueEntry(const std::string& file, const ProjectPython& python) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  const Json document = Json::parse(text.str(), nullptr, false);
+  const CatalogueNode root{document, "", file};
+  if (document.is_discarded()) throw std::invalid_argument(file + ": not valid JSON");
+  if (!document.is_object()) root.fail("a JSON object");
+  if (root.at("protocol").json != kExternalProtocolVersion) root.at("protocol").fail("1");
+  onlyKeys(root, {"protocol", "name", "description", "example", "command", "serve",
+                  "defaultMethod", "runMethods", "version", "methods", "features"});
+  EngineEntry entry;
+  entry.name = root.at("name").text();
+  const std::string folder = fs::absolute(fs::path(file)).parent_path().lexically_normal().string();
+  const ExternalCommand command = catalogueCommand(root.at("command"), python, folder);
+  // A persistent process that serves many runs (docs/external-engines.md#persistent-engines).
+  std::optional<ExternalCommand> serve;
+  if (root.has("serve")) {
+    const CatalogueNode node = root.at("serve");
+    if (!node.json.is_object()) node.fail("an object {\"protocol\": 1, \"command\": [...]}");
+    if (node.at("protocol").json != kExternalServeProtocolVersion)
+      node.at("protocol").fail(std::to_string(kExternalServeProtocolVersion));
+    serve = catalogueCommand(node.at("command"), python, folder);
+  }
   entry.defaultMethod = root.at("defaultMethod").text();
   const CatalogueNode methods = root.at("methods");
   for (std::size_t i = 0; i < methods.array().size(); ++i) {
     const CatalogueNode m = methods.at(i);
+    onlyKeys(m, {"name", "description", "parameters"});
     MethodInfo info;
     info.name = m.at("name").text();
     if (info.name.rfind(entry.name + ".", 0) != 0)
@@ -554,25 +944,49 @@ EngineEntry catalogueEntry(const std::string& file, const ProjectPython& python,
     entry.methods.push_back(std::move(info));
   }
   entry.honouredSettings = {"timeStepSize", "gravitation"};
+  // The methods `pbdval run` uses when none is named (default: defaultMethod alone).
+  if (root.has("runMethods")) {
+    const CatalogueNode list = root.at("runMethods");
+    if (list.array().empty()) list.fail("a non-empty array of method names");
+    for (std::size_t k = 0; k < list.json.size(); ++k) {
+      const std::string method = list.at(k).text();
+      const bool known = std::any_of(entry.methods.begin(), entry.methods.end(),
+                                     [&](const MethodInfo& info) { return info.name == method; });
+      if (!known) list.at(k).fail("one of this entry's methods");
+      if (std::find(entry.runMethods.begin(), entry.runMethods.end(), method) != entry.runMethods.end())
+        list.at(k).fail("a method not already listed");
+      entry.runMethods.push_back(method);
+    }
+  }
+  if (root.has("features")) {
+    std::vector<std::string> methodNames;
+    for (const MethodInfo& info : entry.methods) methodNames.push_back(info.name);
+    entry.features = catalogueFeatures(root.at("features"), methodNames);
+  }
   entry.runByDefault = !(root.has("example") && root.at("example").json == true);
   const std::string name = entry.name;
-  entry.make = [name, command](const EngineOptions&) {
-    return std::unique_ptr<Engine>(new ExternalEngine(name, command));
+  const FeatureTable features = entry.features;
+  entry.make = [name, command, serve, features](const EngineOptions& options) {
+    return std::unique_ptr<Engine>(new ExternalEngine(
+        name, command, features, serve ? options.serverFolder : std::string()));
   };
+  if (serve)
+    entry.startServer = [name, serve](const std::string& serverFolder) {
+      return startExternalServer(name, *serve, serverFolder);
+    };
   return entry;
 }
 
 }  // namespace
 
-std::vector<EngineEntry> readEngineCatalogue(const std::string& folder, const ProjectPython& python,
-                                             const std::string& workingFolder) {
+std::vector<EngineEntry> readEngineCatalogue(const std::string& folder, const ProjectPython& python) {
   std::vector<std::string> files;
   std::error_code error;
   for (const auto& item : fs::directory_iterator(folder, error))
     if (item.path().extension() == ".json") files.push_back(item.path().string());
   std::sort(files.begin(), files.end());
   std::vector<EngineEntry> entries;
-  for (const std::string& file : files) entries.push_back(catalogueEntry(file, python, workingFolder));
+  for (const std::string& file : files) entries.push_back(catalogueEntry(file, python));
   return entries;
 }
 

@@ -10,6 +10,7 @@
 
 #include <sys/types.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -18,9 +19,12 @@
 namespace pbdval {
 
 inline constexpr int kExternalProtocolVersion = 1;
+/// The version of the serve protocol (a catalogue's `serve.protocol`): how the runner hands a
+/// persistent engine process its runs.
+inline constexpr int kExternalServeProtocolVersion = 1;
 
 /// How to start one external engine: its command (argv, "{python}" already replaced), the
-/// folder it runs in (the repository root) and, for a command that names "{python}", the folder
+/// folder it runs in (its catalogue's) and, for a command that names "{python}", the folder
 /// put first on the engine's PYTHONPATH (where the package pbdval is; empty: PYTHONPATH as
 /// inherited).
 struct ExternalCommand {
@@ -37,27 +41,54 @@ struct ProjectPython {
   std::string packageFolder;
 };
 
+/// An external engine. Each run is a fresh process: the engine's command started for it
+/// (single-shot), or, when the engine declares a `serve` command and `serverFolder` holds this
+/// worker's server for it (EngineEntry::startServer), a child the server forks for it
+/// (docs/external-engines.md#persistent-engines). Either way the run is checked the same way.
+struct WholeRun;
+
 class ExternalEngine final : public Engine {
  public:
-  ExternalEngine(std::string name, ExternalCommand command);
+  /// `features`: the catalogue's feature table; empty when the catalogue declares none.
+  ExternalEngine(std::string name, ExternalCommand command, FeatureTable features = {});
+  /// With a server: runs go to the server listening in `serverFolder` (serverSocketPath), when
+  /// that folder is given; else each starts `command`.
+  ExternalEngine(std::string name, ExternalCommand command, FeatureTable features,
+                 std::string serverFolder);
 
   std::string_view name() const override { return name_; }
-  /// An external engine says what it lacks in its status; nothing is known before it runs.
-  std::vector<std::string> unsupported(const pbd::Scene&, const Method&) const override { return {}; }
-  void load(const pbd::Scene& scene, const Method& method) override;
-  void step() override;
-  void read(State& state) const override;
-  RunFacts runFacts() const override { return facts_; }
-
-  bool runsWhole() const override { return true; }
-  WholeRun runWhole(const pbd::Scene& scene, const Method& method, const RunLength& length,
-                    double wallTimeLimit) override;
+  /// What the catalogue's feature table declares unsupported (nothing without a table): such a
+  /// run is reported without starting the engine. The engine still says in its status what it
+  /// lacks beyond the table (conditions only a run finds).
+  std::vector<std::string> unsupported(const pbd::Scene& scene, const Method& method) const override;
+  EngineRunResult run(const pbd::Scene& scene, const Method& method, const RunLength& length,
+                      const StepPlan& plan, double wallTimeLimit, RunObserver& observer) override;
 
  private:
+  /// The engine's process (or the server's child) run, its files read back and checked.
+  EngineRunResult runWhole(const pbd::Scene& scene, const Method& method, const RunLength& length,
+                           const StepPlan& plan, double wallTimeLimit, WholeRun& run);
+
   std::string name_;
   ExternalCommand command_;
-  RunFacts facts_;
+  FeatureTable features_;
+  std::string serverFolder_;
 };
+
+/// Where the server of engine `name` listens in a worker's `serverFolder` (a Unix socket), and
+/// where its own standard error goes.
+std::string serverSocketPath(const std::string& serverFolder, const std::string& name);
+std::string serverLogPath(const std::string& serverFolder, const std::string& name);
+
+/// Starts engine `name`'s server: `serve` with `--socket <serverSocketPath>` appended, in a
+/// process group of its own (killed when the returned object goes, or when this process dies),
+/// and waits up to `startLimit` seconds for it to accept a connection. A server that ends or
+/// does not listen in time is stopped; running() is then false, and the runs sent to it are
+/// errors quoting its standard error.
+std::unique_ptr<EngineServer> startExternalServer(const std::string& name,
+                                                  const ExternalCommand& serve,
+                                                  const std::string& serverFolder,
+                                                  double startLimit = 60);
 
 /// Ends what the external-engine runs of process `owner` left when `owner` was killed before
 /// it could clean up (a wall-time limit or an interrupt of `pbdval run`): kills each run's
@@ -67,10 +98,11 @@ void removeEngineLeftovers(pid_t owner);
 
 /// The engines of a catalogue folder: one `<name>.json` per engine (docs/external-engines.md#the-catalogue),
 /// each command's "{python}" replaced by `python.interpreter` (and such a command run with
-/// `python.packageFolder` first on its PYTHONPATH), run in `workingFolder`. Throws
+/// `python.packageFolder` first on its PYTHONPATH). Every command runs in the catalogue's folder,
+/// so that relative paths in it (a program, a script) are relative to the catalogue file. An
+/// entry with `serve` (its protocol and command) gets EngineEntry::startServer. Throws
 /// std::invalid_argument naming the file and JSON path of anything malformed. A missing folder
 /// has no engines.
-std::vector<EngineEntry> readEngineCatalogue(const std::string& folder, const ProjectPython& python,
-                                             const std::string& workingFolder);
+std::vector<EngineEntry> readEngineCatalogue(const std::string& folder, const ProjectPython& python);
 
 }  // namespace pbdval

@@ -463,12 +463,17 @@ void writeBaseline(const std::string& path, const Baseline& baseline) {
                                     " (not finite) in an ok run; a baseline cannot gate it");
       }
     }
-    runs.push_back({{"case", r.request.caseName},
-                    {"engine", r.request.engine},
-                    {"method", r.request.method},
-                    {"assignments", r.request.assignments},
-                    {"status", runStatusName(r.status)},
-                    {"metrics", metrics}});
+    Json run = {{"case", r.request.caseName},
+                {"engine", r.request.engine},
+                {"method", r.request.method},
+                {"assignments", r.request.assignments},
+                {"status", runStatusName(r.status)},
+                {"metrics", metrics}};
+    // The run's effective settings, for the record: what the report compares a later run's
+    // settings with (the gate judges none of them). Optional: older baselines lack them.
+    if (!r.settings.empty()) run["settings"] = r.settings;
+    if (!r.methodParameters.empty()) run["parameters"] = r.methodParameters;
+    runs.push_back(run);
   }
   Json cases = Json::object();
   for (const auto& [name, data] : baseline.cases) {
@@ -481,6 +486,8 @@ void writeBaseline(const std::string& path, const Baseline& baseline) {
                           {{"created", baseline.source.created},
                            {"commit", baseline.source.commit},
                            {"compiler", baseline.source.compiler},
+                           {"buildType", baseline.source.buildType},
+                           {"flags", baseline.source.flags},
                            {"precision", baseline.source.precision},
                            {"machine", baseline.source.cpu},
                            {"planDigest", baseline.source.planDigest}}},
@@ -525,6 +532,8 @@ Baseline baselineFrom(const Json& document, const std::string& path) {
     b.source.created = source.stringOr("created", "");
     b.source.commit = source.stringOr("commit", "");
     b.source.compiler = source.stringOr("compiler", "");
+    b.source.buildType = source.stringOr("buildType", "");
+    b.source.flags = source.stringOr("flags", "");
     b.source.precision = source.stringOr("precision", "");
     b.source.cpu = source.stringOr("machine", "");
     b.source.planDigest = source.stringOr("planDigest", "");
@@ -555,6 +564,16 @@ Baseline baselineFrom(const Json& document, const std::string& path) {
     const JsonField metrics = r.at("metrics").expectObject();
     for (const std::string& name : metrics.keys())
       record.metrics.values[name] = metrics.at(name).number();  // null is not a baseline value
+    if (r.has("settings")) {  // optional (baselines made before they were recorded lack them)
+      const JsonField settings = r.at("settings").expectObject();
+      for (const std::string& name : settings.keys())
+        record.settings[name] = settings.at(name).string();
+    }
+    if (r.has("parameters")) {
+      const JsonField parameters = r.at("parameters").expectObject();
+      for (const std::string& name : parameters.keys())
+        record.methodParameters[name] = parameters.at(name).string();
+    }
     if (findRun(b.runs, record.request))
       throw std::invalid_argument(path + ": " + r.path() + ": duplicate run " +
                                   key(record.request) + " (a baseline lists every run once)");

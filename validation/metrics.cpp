@@ -9,6 +9,7 @@
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "pbd/collision/collision_shape.h"
 #include "pbd/collision/mesh_distance.h"
@@ -25,39 +26,51 @@ std::string motorTrackingMax(const std::string& quantity) {
   return "motor_tracking_" + quantity + "_max";
 }
 
+std::vector<Declared> declared() {
+  std::vector<Declared> all = {{kEnergyDriftMax, "1 (of E_ref)"},
+                               {kEnergyDriftFinal, "1 (of E_ref)"},
+                               {kEnergyDriftRate, "1/s"},
+                               {"energy_scale", "J"},
+                               {kMomentumLinearDriftMax, "1 (of its scale)"},
+                               {"momentum_linear_scale", "kg m/s"},
+                               {kMomentumAngularDriftMax, "1 (of its scale)"},
+                               {"momentum_angular_scale", "kg m^2/s"},
+                               {kJointErrorLinearMax, "m"},
+                               {kJointErrorLinearRms, "m"},
+                               {kJointErrorAngularMax, "rad"},
+                               {kJointErrorAngularRms, "rad"},
+                               {kPenetrationMax, "m"},
+                               {kPenetrationMean, "m"},
+                               {kTrajectoryErrorMax, "m"},
+                               {kTrajectoryErrorRms, "m"},
+                               {kRotationErrorMax, "rad"},
+                               {kParticleStretchMax, "1 (strain)"},
+                               {kParticleStretchRms, "1 (strain)"},
+                               {kTetVolumeErrorMax, "1 (of the rest volume)"},
+                               {kSolidVolumeErrorMax, "1 (of the rest volume)"},
+                               {kParticlePenetrationMax, "m"},
+                               {kSolidPenetrationMax, "m"},
+                               {kFluidEscapeMax, "m"},
+                               {kParticleTrajectoryErrorMax, "m"},
+                               {kParticleTrajectoryErrorRms, "m"},
+                               {kStaticDisplacement, "m"},
+                               {kStaticDisplacementError, "1 (of the expected displacement)"}};
+  // Each motor quantity in its own unit (JointErrorSummary::trackingQuantity).
+  for (const auto& [quantity, unit] : {std::pair<const char*, const char*>{"angle", "rad"},
+                                       {"angular_velocity", "rad/s"},
+                                       {"position", "m"},
+                                       {"velocity", "m/s"}})
+    all.push_back({motorTrackingMax(quantity), unit});
+  all.push_back({"wall_time_s", "s"});
+  all.push_back({"steps", "1 (steps)"});
+  all.push_back({"real_time_factor", "1 (simulated / wall time)"});
+  return all;
+}
+
 std::vector<std::string> names() {
-  std::vector<std::string> all = {kEnergyDriftMax,
-                                  kEnergyDriftFinal,
-                                  kEnergyDriftRate,
-                                  "energy_scale",
-                                  kMomentumLinearDriftMax,
-                                  "momentum_linear_scale",
-                                  kMomentumAngularDriftMax,
-                                  "momentum_angular_scale",
-                                  kJointErrorLinearMax,
-                                  kJointErrorLinearRms,
-                                  kJointErrorAngularMax,
-                                  kJointErrorAngularRms,
-                                  kPenetrationMax,
-                                  kPenetrationMean,
-                                  kTrajectoryErrorMax,
-                                  kTrajectoryErrorRms,
-                                  kRotationErrorMax,
-                                  kParticleStretchMax,
-                                  kParticleStretchRms,
-                                  kTetVolumeErrorMax,
-                                  kSolidVolumeErrorMax,
-                                  kParticlePenetrationMax,
-                                  kSolidPenetrationMax,
-                                  kFluidEscapeMax,
-                                  kParticleTrajectoryErrorMax,
-                                  kParticleTrajectoryErrorRms,
-                                  kStaticDisplacement,
-                                  kStaticDisplacementError};
-  for (const char* quantity : {"angle", "angular_velocity", "position", "velocity"})
-    all.push_back(motorTrackingMax(quantity));
-  for (const char* runner : {"wall_time_s", "steps", "real_time_factor"})
-    all.push_back(runner);
+  std::vector<std::string> all;
+  for (const Declared& d : declared())
+    all.push_back(d.name);
   return all;
 }
 }  // namespace metric

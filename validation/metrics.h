@@ -1,16 +1,9 @@
 // Metrics: computed once, here, for every engine alike, from the states read back and the
 // Scene — never from an engine's own counters. Formulas: docs/metrics.md.
 //
-// Stable names (results.json, baselines and gates depend on them):
-//   energy_drift_max, energy_drift_final, energy_drift_rate          (relative to E_ref; rate /s)
-//   momentum_linear_drift_max, momentum_angular_drift_max             (only when declared
-//   conserved) joint_error_linear_max, joint_error_linear_rms (m), joint_error_angular_max,
-//     joint_error_angular_rms (rad) and per joint type under joint_error_by_type
-//   motor_tracking_angle_max (rad), motor_tracking_angular_velocity_max (rad/s),
-//     motor_tracking_position_max (m), motor_tracking_velocity_max (m/s)   (when motors exist)
-//   penetration_max, penetration_mean (m)                             (FCL oracle, margins
-//   subtracted) trajectory_error_max, trajectory_error_rms (m), rotation_error_max (rad)   (against
-//   a reference)
+// Stable names (results.json, baselines and gates depend on them), declared in namespace
+// metric below with their units (metric::declared(): the one list the units of the report and
+// `pbdval sweep --metric` come from); when each is present: docs/metrics.md.
 // The runner adds wall_time_s, steps, real_time_factor and, for PBD, state_hash.
 //
 // The building blocks (energy and momenta of a state: validation/mechanics.h; per-joint error:
@@ -72,9 +65,17 @@ inline constexpr const char* kStaticDisplacement = "static_displacement";
 inline constexpr const char* kStaticDisplacementError = "static_displacement_error";
 /// "motor_tracking_<quantity>_max", quantity "angle", "angular_velocity", "position", "velocity".
 std::string motorTrackingMax(const std::string& quantity);
-/// Every name a run's metrics may hold: the constants above, the motor-tracking names, the
-/// scales (energy_scale, momentum_*_scale) and what the runner adds (wall_time_s, steps,
-/// real_time_factor). What `pbdval sweep --metric` accepts.
+/// A metric name with its unit: "m", "rad", "1/s", or "1 (of E_ref)" for a dimensionless ratio
+/// (what it is a ratio of in parentheses).
+struct Declared {
+  std::string name;
+  std::string unit;
+};
+/// Every name a run's metrics may hold, with its unit, in the order of docs/metrics.md: the
+/// constants above, the motor-tracking names, the scales (energy_scale, momentum_*_scale) and
+/// what the runner adds (wall_time_s, steps, real_time_factor).
+std::vector<Declared> declared();
+/// The names of declared(): what `pbdval sweep --metric` accepts.
 std::vector<std::string> names();
 }  // namespace metric
 

@@ -15,6 +15,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <memory>
 #include <sstream>
 #include <system_error>
 
@@ -31,6 +33,7 @@ using Clock = std::chrono::steady_clock;
 struct Child {
   pid_t pid = -1;
   std::size_t index = 0;
+  std::size_t worker = 0;  ///< which of the `jobs` workers runs it (its engine servers)
   Clock::time_point start;
   bool killedForTimeout = false;  ///< over the wall-time limit (stopped, or ended past it)
 };
@@ -92,6 +95,55 @@ RunRecord collect(const Child& child, int waitStatus, const RunRequest& request,
 
 }  // namespace
 
+/// The engine servers of each worker (EngineEntry::startServer, docs/external-engines.md#persistent-engines):
+/// started when a worker first runs such an engine, kept for its next runs, restarted when one
+/// ended or a run of the worker ended abnormally (killed, crashed: its server may be busy
+/// with what that run left), all stopped with the pool. Their sockets are in a folder of
+/// their own under $TMPDIR (a Unix socket path has at most 107 bytes).
+class ServerPool {
+ public:
+  static constexpr std::size_t kMaxSocketPath = 108;  ///< sizeof(sockaddr_un::sun_path) on Linux
+
+  explicit ServerPool(std::size_t workers) : servers_(workers) {
+    std::string pattern = (std::filesystem::temp_directory_path() /
+                           ("pbdval-serve-" + std::to_string(::getpid()) + "-XXXXXX"))
+                              .string();
+    if (pattern.size() < 60 && ::mkdtemp(pattern.data())) folder_ = pattern;
+  }
+  ~ServerPool() {
+    if (::getpid() != owner_) return;  // a forked copy: the servers are the scheduler's
+    for (auto& worker : servers_) worker.clear();
+    if (!folder_.empty()) {
+      std::error_code ignored;
+      std::filesystem::remove_all(folder_, ignored);
+    }
+  }
+  ServerPool(const ServerPool&) = delete;
+  ServerPool& operator=(const ServerPool&) = delete;
+
+  /// The server folder of `worker` for a run of `engine`, its server started when needed;
+  /// empty when the engine has no server (or the pool has no folder: single-shot runs).
+  std::string prepare(std::size_t worker, const EngineEntry& engine) {
+    if (!engine.startServer || folder_.empty()) return "";
+    const std::string folder = folder_ + "/" + std::to_string(worker);
+    // A socket path longer than a sockaddr_un holds (a long engine name): single-shot runs.
+    if (serverSocketPath(folder, engine.name).size() >= kMaxSocketPath) return "";
+    std::unique_ptr<EngineServer>& server = servers_[worker][engine.name];
+    if (!server || !server->running()) {
+      server.reset();
+      server = engine.startServer(folder);
+    }
+    return folder;
+  }
+  /// After a run of `worker` that ended abnormally.
+  void restart(std::size_t worker) { servers_[worker].clear(); }
+
+ private:
+  pid_t owner_ = ::getpid();
+  std::string folder_;
+  std::vector<std::map<std::string, std::unique_ptr<EngineServer>>> servers_;
+};
+
 RunScheduler::RunScheduler(const EngineRegistry& registry, int jobs, double timeout,
                            std::string scratchFolder)
     : registry_(registry),
@@ -149,6 +201,12 @@ std::vector<RunRecord> RunScheduler::runAll(
   createFolders(scratchFolder_);
   std::vector<RunRecord> records(requests.size());
   std::vector<Child> running;
+  ServerPool servers{std::size_t(jobs_)};
+  const auto freeWorker = [&]() {
+    for (std::size_t w = 0;; ++w)
+      if (std::none_of(running.begin(), running.end(), [w](const Child& c) { return c.worker == w; }))
+        return w;
+  };
   std::size_t next = 0, done = 0;
   const auto stopAll = [&](int signal) {
     for (const Child& child : running) ::kill(-child.pid, SIGKILL);
@@ -164,6 +222,13 @@ std::vector<RunRecord> RunScheduler::runAll(
   };
   while (done < requests.size()) {
     while (static_cast<int>(running.size()) < jobs_ && next < requests.size()) {
+      const std::size_t worker = freeWorker();
+      std::string serverFolder;
+      try {
+        serverFolder = servers.prepare(worker, registry_.engine(requests[next].engine));
+      } catch (const std::invalid_argument&) {
+        // an unknown engine: the run says so
+      }
       std::fflush(nullptr);  // nothing buffered may be written twice
       const std::string file = resultFile(scratchFolder_, next);
       const pid_t scheduler = ::getpid();
@@ -178,8 +243,12 @@ std::vector<RunRecord> RunScheduler::runAll(
         ::prctl(PR_SET_PDEATHSIG, SIGKILL);
         if (::getppid() != scheduler) ::_exit(4);  // the scheduler died before prctl
         interrupts.restoreInChild();
-        const RunRecord record = executeRun(requests[next], registry_);
+        // Nothing may unwind out of here: the scheduler's objects (its servers) are not this
+        // process's to destroy.
         try {
+          EngineOptions options = registry_.options();
+          options.serverFolder = serverFolder;
+          const RunRecord record = executeRun(requests[next], registry_.withOptions(options));
           writeFileAtomically(file, toJsonText(record));
         } catch (...) {
           ::_exit(3);
@@ -187,27 +256,29 @@ std::vector<RunRecord> RunScheduler::runAll(
         ::_exit(0);
       }
       ::setpgid(pid, pid);  // also here: whichever of the two runs first
-      running.push_back({pid, next, Clock::now(), false});
+      running.push_back({pid, next, worker, Clock::now(), false});
       ++next;
     }
     if (const int signal = interrupts.wait(0)) stopAll(signal);
+    // Each run's child by its pid: the workers' engine servers are children too, reaped by
+    // the pool alone.
     int status = 0;
-    const pid_t finished = ::waitpid(-1, &status, WNOHANG);
-    if (finished > 0) {
-      for (std::size_t k = 0; k < running.size(); ++k) {
-        if (running[k].pid != finished) continue;
-        Child child = running[k];
-        running.erase(running.begin() + static_cast<long>(k));
-        // A run that ended after its limit but before the next check is over the limit all
-        // the same: the limit holds to the scheduler's granularity, not 20 ms beyond it.
-        const double elapsed = std::chrono::duration<double>(Clock::now() - child.start).count();
-        if (timeout_ > 0 && elapsed > timeout_) child.killedForTimeout = true;
-        records[child.index] = collect(child, status, requests[child.index],
-                                       resultFile(scratchFolder_, child.index), timeout_);
-        ++done;
-        if (onFinished) onFinished(records[child.index], done, requests.size());
-        break;
-      }
+    std::size_t finished = running.size();
+    for (std::size_t k = 0; k < running.size() && finished == running.size(); ++k)
+      if (::waitpid(running[k].pid, &status, WNOHANG) == running[k].pid) finished = k;
+    if (finished < running.size()) {
+      Child child = running[finished];
+      running.erase(running.begin() + static_cast<long>(finished));
+      // A run that ended after its limit but before the next check is over the limit all
+      // the same: the limit holds to the scheduler's granularity, not 20 ms beyond it.
+      const double elapsed = std::chrono::duration<double>(Clock::now() - child.start).count();
+      if (timeout_ > 0 && elapsed > timeout_) child.killedForTimeout = true;
+      records[child.index] = collect(child, status, requests[child.index],
+                                     resultFile(scratchFolder_, child.index), timeout_);
+      if (child.killedForTimeout || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        servers.restart(child.worker);
+      ++done;
+      if (onFinished) onFinished(records[child.index], done, requests.size());
       continue;
     }
     for (Child& child : running) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -114,37 +116,108 @@ void applyBoundaryViolation(const CheckViolation& violation, long integratorStep
   }
 }
 
-/// A whole run from an engine in another process, checked like a stepped run: its samples go
-/// through the same divergence test and callbacks.
-void runWhole(Engine& engine, const pbd::Scene& scene, const Method& method,
-              const RunLength& length, const StepPlan& plan, const RunCallbacks& callbacks,
-              double wallTimeLimit, RunOutcome& outcome) {
-  const Clock::time_point start = Clock::now();
-  WholeRun whole = engine.runWhole(scene, method, length, wallTimeLimit);
-  outcome.wallTime = secondsSince(start);
-  outcome.settings = std::move(whole.settings);
-  outcome.facts = std::move(whole.facts);
-  outcome.status = whole.status;
-  outcome.reason = std::move(whole.reason);
-  outcome.steps = whole.status == RunStatus::Ok ? plan.steps : whole.steps;
-  BoundaryChecker boundary(scene, outcome.facts);
-  for (const State& state : whole.samples) {
-    outcome.simulatedTime = state.time;
-    const std::string diverged = divergenceReason(state);
-    if (callbacks.onStep) callbacks.onStep(state);
-    if (callbacks.onSample) callbacks.onSample(state);
-    if (!diverged.empty()) {
-      outcome.status = RunStatus::Diverged;
-      outcome.reason = diverged;
-      break;
-    }
-    boundary.add(state);
+/// The runner's side of a run: every state the engine reports is checked for divergence and
+/// against the boundary checks, and handed to the callbacks.
+///
+/// States of every step (EveryStep): a boundary violation ends the run as an error at once (a
+/// velocity mismatch across internal substeps: suspect, and the run goes on); when the samples
+/// are several steps apart they are checked again, for velocities that do not describe the
+/// sampled motion (an oscillation at the step frequency the samples alias): suspect.
+/// Samples only (SamplesOnly, an engine in another process): the samples are checked once the
+/// run is complete, a velocity mismatch over `stride` steps making it suspect.
+class RunChecks final : public RunObserver {
+ public:
+  RunChecks(const pbd::Scene& scene, const StepPlan& plan, const RunCallbacks& callbacks,
+            RunOutcome& outcome)
+      : scene_(scene), plan_(plan), callbacks_(callbacks), outcome_(outcome) {}
+
+  void begin(const RunFacts& facts, const std::map<std::string, std::string>& settings,
+             StateCadence cadence) override {
+    outcome_.facts = facts;
+    outcome_.settings = settings;
+    cadence_ = cadence;
+    boundary_.emplace(scene_, outcome_.facts);
+    sampled_.emplace(scene_, outcome_.facts);
+    stepsPerStep_ = std::max(1, outcome_.facts.integratorStepsPerSceneStep);
   }
-  if (outcome.status == RunStatus::Ok && boundary.finish())
-    applyBoundaryViolation(*boundary.violation(),
-                           plan.stride * std::max(1, outcome.facts.integratorStepsPerSceneStep),
-                           outcome);
-}
+
+  bool state(const State& state, long step) override {
+    if (!boundary_) throw EngineError("the engine reported a state before its facts");
+    outcome_.simulatedTime = state.time;
+    if (cadence_ == StateCadence::SamplesOnly) return sampleOnly(state);
+    if (step == 0) {
+      if (callbacks_.onStep) callbacks_.onStep(state);
+      if (callbacks_.onSample) callbacks_.onSample(state);
+      if (boundaryFailed(state)) return false;
+      if (plan_.stride > 1) sampled_->add(state);
+      return true;
+    }
+    const std::string diverged = divergenceReason(state);
+    if (diverged.empty() && callbacks_.onStep) callbacks_.onStep(state);
+    if (diverged.empty() && outcome_.status == RunStatus::Ok && boundaryFailed(state)) return false;
+    if (!diverged.empty()) {
+      outcome_.status = RunStatus::Diverged;
+      outcome_.reason = diverged;
+      if (callbacks_.onSample) callbacks_.onSample(state);
+      return false;
+    }
+    if (step % plan_.stride == 0 || step == plan_.steps) {
+      if (callbacks_.onSample) callbacks_.onSample(state);
+      if (plan_.stride > 1) sampled_->add(state);
+    }
+    if (callbacks_.onProgress &&
+        std::chrono::duration<double>(Clock::now() - lastProgress_).count() > 0.2) {
+      lastProgress_ = Clock::now();
+      callbacks_.onProgress(double(step) / double(plan_.steps), secondsSince(start_));
+    }
+    return true;
+  }
+
+  /// After the engine's run: the checks that need the whole run.
+  void finish() {
+    if (!boundary_ || outcome_.status != RunStatus::Ok) return;
+    if (cadence_ == StateCadence::SamplesOnly) {
+      if (boundary_->finish())
+        applyBoundaryViolation(*boundary_->violation(), plan_.stride * stepsPerStep_, outcome_);
+      return;
+    }
+    if (boundary_->finish()) applyBoundaryViolation(*boundary_->violation(), stepsPerStep_, outcome_);
+    if (outcome_.status == RunStatus::Ok && plan_.stride > 1 && sampled_->finish() &&
+        sampled_->violation()->aboutVelocities)
+      applyBoundaryViolation(*sampled_->violation(), plan_.stride * stepsPerStep_, outcome_);
+  }
+
+ private:
+  bool boundaryFailed(const State& state) {
+    if (!boundary_->add(state)) return false;
+    applyBoundaryViolation(*boundary_->violation(), stepsPerStep_, outcome_);
+    return outcome_.status == RunStatus::Error;
+  }
+
+  bool sampleOnly(const State& state) {
+    const std::string diverged = divergenceReason(state);
+    if (callbacks_.onStep) callbacks_.onStep(state);
+    if (callbacks_.onSample) callbacks_.onSample(state);
+    if (!diverged.empty()) {
+      outcome_.status = RunStatus::Diverged;
+      outcome_.reason = diverged;
+      return false;
+    }
+    boundary_->add(state);
+    return true;
+  }
+
+  const pbd::Scene& scene_;
+  const StepPlan& plan_;
+  const RunCallbacks& callbacks_;
+  RunOutcome& outcome_;
+  StateCadence cadence_ = StateCadence::EveryStep;
+  std::optional<BoundaryChecker> boundary_;  ///< every state reported
+  std::optional<BoundaryChecker> sampled_;   ///< the samples, when they are several steps apart
+  long stepsPerStep_ = 1;
+  Clock::time_point start_ = Clock::now();
+  Clock::time_point lastProgress_ = start_;
+};
 
 }  // namespace
 
@@ -161,80 +234,18 @@ RunOutcome runSimulation(Engine& engine, const pbd::Scene& scene, const Method& 
       return outcome;
     }
     const StepPlan plan = planSteps(length, double(scene.simulation.timeStepSize));
-    if (engine.runsWhole()) {
-      runWhole(engine, scene, method, length, plan, callbacks, wallTimeLimit, outcome);
-      return outcome;
+    RunChecks checks(scene, plan, callbacks, outcome);
+    const EngineRunResult result = engine.run(scene, method, length, plan, wallTimeLimit, checks);
+    outcome.wallTime = result.busySeconds;
+    outcome.steps = result.steps;
+    // What the checks found (a divergence, a failed boundary check) stands; otherwise the
+    // engine's own word (its status, a timeout).
+    if (outcome.status == RunStatus::Ok && result.status != RunStatus::Ok) {
+      outcome.status = result.status;
+      outcome.reason = result.reason;
     }
-    double busy = 0;  // wall time in load + step, without sampling
-    const Clock::time_point start = Clock::now();
-    Clock::time_point lastProgress = start;
-
-    Clock::time_point t0 = Clock::now();
-    engine.load(scene, method);
-    busy += secondsSince(t0);
-    outcome.settings = engine.effectiveSettings();
-    outcome.facts = engine.runFacts();
-
-    // What the engine reads back is checked against the protocol's definitions at every
-    // step (validation/sanity.h): a violation ends the run as an error (a velocity mismatch
-    // across internal substeps: suspect). The samples are checked too when they are several
-    // steps apart: velocities that do not describe the sampled motion (an oscillation at the
-    // step frequency that the samples alias) make a completed run suspect.
-    BoundaryChecker boundary(scene, outcome.facts);
-    BoundaryChecker sampled(scene, outcome.facts);
-    const long stepsPerStep = std::max(1, outcome.facts.integratorStepsPerSceneStep);
-    auto boundaryFailed = [&](const State& sample) {
-      if (!boundary.add(sample)) return false;
-      applyBoundaryViolation(*boundary.violation(), stepsPerStep, outcome);
-      return outcome.status == RunStatus::Error;
-    };
-    State state;
-    engine.read(state);
-    if (callbacks.onStep) callbacks.onStep(state);
-    if (callbacks.onSample) callbacks.onSample(state);
-    if (boundaryFailed(state)) return outcome;
-    if (plan.stride > 1) sampled.add(state);
-    for (long n = 1; n <= plan.steps; ++n) {
-      t0 = Clock::now();
-      engine.step();
-      busy += secondsSince(t0);
-      outcome.steps = n;
-      engine.read(state);
-      outcome.simulatedTime = state.time;
-      const std::string diverged = divergenceReason(state);
-      if (diverged.empty() && callbacks.onStep) callbacks.onStep(state);
-      if (diverged.empty() && outcome.status == RunStatus::Ok && boundaryFailed(state)) break;
-      if (!diverged.empty()) {
-        outcome.status = RunStatus::Diverged;
-        outcome.reason = diverged;
-        if (callbacks.onSample) callbacks.onSample(state);
-        break;
-      }
-      if (n % plan.stride == 0 || n == plan.steps) {
-        if (callbacks.onSample) callbacks.onSample(state);
-        if (plan.stride > 1) sampled.add(state);
-      }
-      if (wallTimeLimit > 0 && secondsSince(start) > wallTimeLimit) {
-        outcome.status = RunStatus::Timeout;
-        std::ostringstream reason;
-        reason << "stopped after " << wallTimeLimit << " s of wall time at t = " << state.time
-               << " s (" << n << " of " << plan.steps << " steps)";
-        outcome.reason = reason.str();
-        break;
-      }
-      if (callbacks.onProgress &&
-          std::chrono::duration<double>(Clock::now() - lastProgress).count() > 0.2) {
-        lastProgress = Clock::now();
-        callbacks.onProgress(double(n) / double(plan.steps), secondsSince(start));
-      }
-    }
-    outcome.wallTime = busy;
-    if (outcome.status == RunStatus::Ok && boundary.finish())
-      applyBoundaryViolation(*boundary.violation(), stepsPerStep, outcome);
-    if (outcome.status == RunStatus::Ok && plan.stride > 1 && sampled.finish() &&
-        sampled.violation()->aboutVelocities)
-      applyBoundaryViolation(*sampled.violation(), plan.stride * stepsPerStep, outcome);
-    if (auto hash = engine.stateHash()) outcome.stateHash = *hash;
+    checks.finish();
+    if (result.stateHash) outcome.stateHash = *result.stateHash;
   } catch (const SignalInterrupt&) {
     throw;  // not the engine's failure: the command stops (validation/interrupts.h)
   } catch (const EngineDivergence& e) {

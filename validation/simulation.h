@@ -19,15 +19,10 @@ inline constexpr double kMaxStepsPerRun = 1e8;
 /// `pbdval simulate --timeout` and pbdval.simulate's wall_time_limit default to it.
 inline constexpr double kDefaultWallTimeLimit = 600;
 
-/// The number of steps and the sampling stride for a scene with step size h: steps =
-/// round(duration/h), stride = max(1, round(sampleInterval/h)). Throws std::invalid_argument
-/// for a non-positive or non-finite duration or step, a negative interval, or more than
-/// kMaxStepsPerRun steps (naming the count and how to reduce it).
-struct StepPlan {
-  long steps = 0;
-  long stride = 1;
-  std::vector<std::string> notes;  ///< e.g. "sample interval 0.0123 s rounded to 0.0125 s"
-};
+/// The number of steps and the sampling stride (StepPlan, adapters/engine.h) for a scene with
+/// step size h: steps = round(duration/h), stride = max(1, round(sampleInterval/h)). Throws
+/// std::invalid_argument for a non-positive or non-finite duration or step, a negative
+/// interval, or more than kMaxStepsPerRun steps (naming the count and how to reduce it).
 StepPlan planSteps(const RunLength& length, double stepSize);
 
 struct RunOutcome {
@@ -44,8 +39,9 @@ struct RunOutcome {
 struct RunCallbacks {
   /// Every sample (t = 0 included); may throw to abort.
   std::function<void(const State&)> onSample;
-  /// Every state read, t = 0 and after every step, before the sample test (engines that run
-  /// whole in another process: their samples); for outputs with their own rate (mesh export).
+  /// Every state the engine reports, t = 0 and after every step, before the sample test
+  /// (engines in another process report their samples only); for outputs with their own rate
+  /// (mesh export).
   std::function<void(const State&)> onStep;
   /// Called about every 0.2 s of wall time with the fraction done.
   std::function<void(double fraction, double elapsedSeconds)> onProgress;
@@ -54,7 +50,8 @@ struct RunCallbacks {
 /// Positions beyond this many metres, or speeds beyond this many m/s, count as a blow-up.
 inline constexpr double kDivergenceLimit = 1e6;
 
-/// Loads `scene` into `engine` with `method` and runs it. Never throws for engine failures:
+/// Runs `scene` in `engine` with `method` (Engine::run, the same for every engine), checking
+/// every state it reports: divergence, the boundary checks (validation/sanity.h). Never throws for engine failures:
 /// unsupported features, EngineError and other exceptions, NaN/inf or blow-ups, and
 /// `wallTimeLimit` (seconds, 0 = none) become the outcome's status and reason. Only a
 /// SignalInterrupt (validation/interrupts.h: an external engine's run or a callback took

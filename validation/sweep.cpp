@@ -384,7 +384,28 @@ SweepPlan planSweep(const SweepOptions& options, const EngineRegistry& registry)
   return plan;
 }
 
-SweepResult collectSweep(const SweepPlan& plan, const std::vector<RunRecord>& records) {
+namespace {
+double wallTimeOf(const RunRecord& record) {
+  const auto wall = record.metrics.values.find("wall_time_s");
+  return wall == record.metrics.values.end() ? 0 : wall->second;
+}
+
+/// The median (the mean of the two middle values of an even count); 0 for none.
+double median(std::vector<double> values) {
+  if (values.empty()) return 0;
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+}  // namespace
+
+SweepResult collectSweep(const SweepPlan& plan, const std::vector<RunRecord>& records,
+                         const std::vector<std::vector<RunRecord>>& repeats) {
+  for (const std::vector<RunRecord>& pass : repeats)
+    if (pass.size() != records.size())
+      throw std::invalid_argument("collectSweep: a repeated pass holds " +
+                                  std::to_string(pass.size()) + " runs, the first " +
+                                  std::to_string(records.size()));
   SweepResult result;
   result.caseName = plan.caseName;
   result.metric = plan.metric;
@@ -396,8 +417,10 @@ SweepResult collectSweep(const SweepPlan& plan, const std::vector<RunRecord>& re
     const auto value = p.record.metrics.values.find(plan.metric);
     const bool measured = isMeasured(p.record.status) && value != p.record.metrics.values.end();
     p.metric = measured ? value->second : std::nan("");
-    const auto wall = p.record.metrics.values.find("wall_time_s");
-    p.wallTime = wall == p.record.metrics.values.end() ? 0 : wall->second;
+    p.wallTimes = {wallTimeOf(p.record)};
+    for (const std::vector<RunRecord>& pass : repeats)
+      p.wallTimes.push_back(wallTimeOf(pass.at(k)));
+    p.wallTime = median(p.wallTimes);
     if (isMeasured(p.record.status) && !measured)
       result.notes.push_back(
           runLabel(p.record.request) + ": no " + plan.metric + " (" +
@@ -436,7 +459,11 @@ SweepResult runSweep(
     const std::function<void(const RunRecord&, std::size_t, std::size_t)>& onFinished) {
   const SweepPlan plan = planSweep(options, registry);
   RunScheduler scheduler(registry, options.jobs, options.timeout, options.scratchFolder);
-  return collectSweep(plan, scheduler.runAll(plan.requests, onFinished));
+  const std::vector<RunRecord> records = scheduler.runAll(plan.requests, onFinished);
+  std::vector<std::vector<RunRecord>> repeats;
+  for (int pass = 1; pass < options.repetitions; ++pass)
+    repeats.push_back(scheduler.runAll(plan.requests, onFinished));
+  return collectSweep(plan, records, repeats);
 }
 
 void printSweepTable(std::ostream& out, const SweepResult& result) {
@@ -496,6 +523,7 @@ void writeSweepJson(const std::string& path, const SweepResult& result,
                       {"reason", p.record.reason},
                       {"metric", std::isfinite(p.metric) ? Json(p.metric) : Json(nullptr)},
                       {"wall_time_s", p.wallTime},
+                      {"wall_times_s", p.wallTimes},
                       {"pareto", p.pareto},
                       {"run", Json::parse(toJsonText(p.record))}});
   }

@@ -24,6 +24,9 @@
 
 namespace pbdval {
 
+/// The default passes of a sweep (`pbdval sweep --repeat`).
+inline constexpr int kSweepRepetitions = 3;
+
 struct SweepOptions {
   std::string caseFile;
   std::vector<std::pair<std::string, std::vector<std::string>>> parameters;  ///< name → values
@@ -34,6 +37,9 @@ struct SweepOptions {
   int jobs = 1;
   double timeout = 600;
   std::string scratchFolder = "out/.scratch";
+  /// Passes over the sweep's runs: a point's wall time is the median of its passes (one wall
+  /// time is one noisy sample: a Pareto front on single samples moves between sweeps).
+  int repetitions = kSweepRepetitions;
 };
 
 struct SweepPoint {
@@ -41,7 +47,8 @@ struct SweepPoint {
   std::vector<std::pair<std::string, std::string>> values;
   RunRecord record;
   double metric = 0;    ///< NaN when the run failed or lacks the metric
-  double wallTime = 0;  ///< s
+  double wallTime = 0;  ///< s, the median of wallTimes
+  std::vector<double> wallTimes;  ///< s, of every pass over the run (the first: its record's)
   bool pareto = false;  ///< on the error/wall-time Pareto front (over all methods)
 };
 
@@ -101,8 +108,11 @@ struct SweepPlan {
 SweepPlan planSweep(const SweepOptions& options, const EngineRegistry& registry);
 
 /// The plan's points with their records (`records[k]` of `plan.requests[k]`), the Pareto front
-/// and one fit per method.
-SweepResult collectSweep(const SweepPlan& plan, const std::vector<RunRecord>& records);
+/// and one fit per method. `repeats` are further passes over the same requests (each as long as
+/// `records`): each point's wall time is the median over `records` and `repeats`; its metric
+/// and record are the first pass's.
+SweepResult collectSweep(const SweepPlan& plan, const std::vector<RunRecord>& records,
+                         const std::vector<std::vector<RunRecord>>& repeats = {});
 
 /// planSweep, the runs (isolated, `options.jobs` at a time), collectSweep.
 SweepResult runSweep(

@@ -274,32 +274,8 @@ BulletEngine::BulletEngine() = default;
 BulletEngine::~BulletEngine() = default;
 
 std::vector<std::string> BulletEngine::unsupported(const pbd::Scene& scene,
-                                                   const Method& /*method*/) const {
-  std::vector<std::string> missing;
-  for (const pbd::TriangleModelDesc& model : scene.triangleModels)
-    missing.push_back(model.jsonPath +
-                      ": particles (cloth): the Bullet adapter maps rigid bodies only");
-  for (const pbd::TetModelDesc& model : scene.tetModels)
-    missing.push_back(model.jsonPath +
-                      ": particles (deformable solid): the Bullet adapter maps rigid bodies only");
-  for (const pbd::LineModelDesc& model : scene.lineModels)
-    missing.push_back(model.jsonPath +
-                      ": particles (Cosserat rod): the Bullet adapter maps rigid bodies only");
-  for (const pbd::JointDesc& joint : scene.joints)
-    if (joint.type == pbd::JointType::StiffRod)
-      missing.push_back(joint.jsonPath +
-                        ": stiff-rod joints (CosseratJoints, elastic bending and twisting "
-                        "between rod segments) are not mapped by the Bullet adapter");
-  for (const pbd::FluidModelDesc& model : scene.fluidModels)
-    missing.push_back(model.jsonPath +
-                      ": particles (FluidModels: fluid): the Bullet adapter maps rigid bodies only");
-  for (const pbd::RigidBodyDesc& body : scene.rigidBodies)
-    if (std::string why = bullet::unsupportedCollision(body); !why.empty())
-      missing.push_back(std::move(why));
-  for (const pbd::JointDesc& joint : scene.joints)
-    if (std::string why = bullet::unsupportedJoint(joint); !why.empty())
-      missing.push_back(std::move(why));
-  return missing;
+                                                   const Method& method) const {
+  return unsupportedFeatures(bulletFeatures(), scene, method.name);
 }
 
 void BulletEngine::load(const pbd::Scene& scene, const Method& method) {
@@ -405,6 +381,7 @@ EngineEntry bulletEngineEntry() {
   entry.defaultMethod = "bullet.si";
   entry.methods = bulletMethods();
   entry.honouredSettings = {"timeStepSize", "gravitation"};
+  entry.features = bulletFeatures();
   entry.make = [](const EngineOptions&) { return std::unique_ptr<Engine>(new BulletEngine()); };
   return entry;
 }

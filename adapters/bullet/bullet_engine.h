@@ -40,7 +40,7 @@ struct BulletSettings {
 /// The method's parameters, validated; throws std::invalid_argument naming a bad one.
 BulletSettings bulletSettingsFor(const Method& method);
 
-class BulletEngine final : public Engine {
+class BulletEngine final : public SteppingEngine {
  public:
   BulletEngine();
   ~BulletEngine() override;
@@ -65,6 +65,8 @@ class BulletEngine final : public Engine {
   std::unique_ptr<Model> model_;
 };
 
+/// How the engine maps every scene feature (bullet_features.cpp; adapters/features.h).
+FeatureTable bulletFeatures();
 EngineEntry bulletEngineEntry();
 
 }  // namespace pbdval

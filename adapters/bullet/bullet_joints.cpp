@@ -165,19 +165,6 @@ void addSpringForce(const pbd::JointDesc& joint, btRigidBody& a, btRigidBody& b,
 // +axis on A, −axis on B), so B moving along +axis needs a negative target.
 const double kLinearMotorVelocitySign = -1;
 
-std::string unsupportedJoint(const pbd::JointDesc& joint) {
-  switch (joint.type) {
-    case JointType::Distance:
-      return joint.jsonPath +
-             ": Bullet has no distance constraint between two rigid bodies (its constraints "
-             "join points or act along body-fixed axes; a rod would need a massless body)";
-    case JointType::RigidBodyParticleBall:
-      return joint.jsonPath + ": Bullet rigid bodies have no particles";
-    default:
-      return {};
-  }
-}
-
 void addJoint(const pbd::JointDesc& joint, btRigidBody& a, btRigidBody& b, JointModel& m) {
   const char* kind = kSixDof;
   switch (joint.type) {

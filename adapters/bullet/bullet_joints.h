@@ -40,9 +40,6 @@
 
 namespace pbdval::bullet {
 
-/// Why Bullet cannot represent the joint, or empty when it can.
-std::string unsupportedJoint(const pbd::JointDesc& joint);
-
 /// The constraints of one world and what must happen to them before each step.
 struct JointModel {
   std::vector<std::unique_ptr<btTypedConstraint>> constraints;

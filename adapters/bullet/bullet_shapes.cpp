@@ -36,22 +36,6 @@ constexpr btScalar kHullShrinkClamp = 0.25;
 
 }  // namespace
 
-std::string unsupportedCollision(const pbd::RigidBodyDesc& body) {
-  const CollisionObjectType type = body.collision.type;
-  if (type == CollisionObjectType::None) return {};
-  const std::string where = body.jsonPath + ": ";
-  if (type == CollisionObjectType::HollowSphere)
-    return where + "hollow sphere (collisionObjectType 6): Bullet has no hollow-sphere shape";
-  if (body.collision.invertSDF)
-    return where +
-           "invertSDF (an inside-out collision object): Bullet shapes collide on their "
-           "outside only";
-  if (isMeshType(type) && !body.mesh)
-    return where + "collisionObjectType " + std::to_string(static_cast<int>(type)) +
-           " is built from the body's mesh in Bullet, and the body has no geometryFile";
-  return {};
-}
-
 bool isConvex(const pbd::TriangleMesh& mesh, double relativeTolerance) {
   if (mesh.vertices.empty()) return false;
   Eigen::AlignedBox<pbd::Real, 3> box;

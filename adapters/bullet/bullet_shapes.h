@@ -31,9 +31,6 @@
 
 namespace pbdval::bullet {
 
-/// Why Bullet cannot represent the body's collision object, or empty when it can.
-std::string unsupportedCollision(const pbd::RigidBodyDesc& body);
-
 /// True when every vertex lies on the inner side of every triangle's plane (within
 /// `relativeTolerance` × the mesh's bounding-box diagonal).
 bool isConvex(const pbd::TriangleMesh& mesh, double relativeTolerance = 1e-7);

@@ -261,7 +261,7 @@ class MjcfWriter {
         shape = "type=\"mesh\" mesh=\"m" + std::to_string(index) + "\"";
         break;
       default:
-        return;  // unsupported shapes are rejected before (unsupportedShape)
+        return;  // unsupported shapes are rejected before (mujocoFeatures())
     }
     out_ << indent << "<geom name=\"" << geomName(std::size_t(index)) << "\" " << shape << " "
          << poseAttributes(pose) << " contype=\"0\" conaffinity=\"0\" margin=\"0\" gap=\"0\"/>\n";
@@ -408,32 +408,6 @@ class MjcfWriter {
 
 std::string bodyName(std::size_t index) {
   return "b" + std::to_string(index);
-}
-
-std::optional<std::string> unsupportedShape(const RigidBodyDesc& body) {
-  const std::string prefix = body.jsonPath + ": collisionObjectType ";
-  switch (body.collision.type) {
-    case CollisionObjectType::None:
-    case CollisionObjectType::Sphere:
-    case CollisionObjectType::Box:
-    case CollisionObjectType::Cylinder:
-      return std::nullopt;
-    case CollisionObjectType::Torus:
-      return prefix +
-             "4 (torus): MuJoCo has no torus, and a mesh collides as its convex hull, "
-             "which fills the hole";
-    case CollisionObjectType::HollowSphere:
-    case CollisionObjectType::HollowBox:
-      return prefix + std::to_string(int(body.collision.type)) +
-             " (hollow shape): MuJoCo collides meshes as convex hulls, which are solid";
-    case CollisionObjectType::SignedDistanceField:
-      if (body.collision.invertSDF)
-        return prefix + "5 with invertSDF: MuJoCo has no inside-out collision shapes";
-      if (!body.mesh)
-        return prefix + "5 without geometryFile: MuJoCo needs the mesh (it cannot read SDF files)";
-      return std::nullopt;
-  }
-  return prefix + "unknown";
 }
 
 MjcfModel writeMjcf(const pbd::Scene& scene, const MujocoSettings& settings,

@@ -48,13 +48,10 @@ struct MjcfModel {
   std::vector<std::string> approximations;
 };
 
-/// Why MuJoCo cannot represent this body's collision shape, if it cannot.
-std::optional<std::string> unsupportedShape(const pbd::RigidBodyDesc& body);
-
 /// MuJoCo body name of Scene::rigidBodies[index].
 std::string bodyName(std::size_t index);
 
-/// Requires a scene without unsupported features (planKinematicTree and unsupportedShape).
+/// Requires a scene without unsupported features (MujocoEngine::unsupported, from mujocoFeatures()).
 MjcfModel writeMjcf(const pbd::Scene& scene, const MujocoSettings& settings,
                     const KinematicTree& tree);
 

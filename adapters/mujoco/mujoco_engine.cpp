@@ -3,26 +3,57 @@
 
 #include <mujoco/mujoco.h>
 
-#include <cstring>
+#include <algorithm>
 #include <sstream>
 
 #include "adapters/mujoco/mujoco_errors.h"
+#include "adapters/mujoco/mujoco_model_fields.h"
 
 namespace pbdval {
+
+namespace mujoco {
+
+std::vector<FeatureUse> featureUses(const pbd::Scene& scene) {
+  // Which joints close kinematic loops depends on the spanning forest this adapter builds
+  // (kinematic_tree.h): those uses are added to the scene's own.
+  std::vector<FeatureUse> uses = sceneFeatureUses(scene);
+  const KinematicTree tree = planKinematicTree(scene);
+  for (std::size_t k = 0; k < scene.joints.size(); ++k) {
+    const pbd::JointDesc& joint = scene.joints[k];
+    if (tree.roles[k] == JointRole::LoopClosure)
+      uses.push_back({"joint.closingLoop.ballOrHinge", joint.jsonPath, ""});
+    else if (tree.roles[k] == JointRole::Unsupported &&
+             joint.type != pbd::JointType::RigidBodyParticleBall &&
+             joint.type != pbd::JointType::StiffRod)
+      uses.push_back({"joint.closingLoop.other", joint.jsonPath,
+                      std::string("a ") + pbd::jointTypeName(joint.type) + " joint"});
+  }
+  return uses;
+}
+
+std::vector<std::string> unsupportedRigidFeatures(const pbd::Scene& scene) {
+  // The rigid part only (shapes, joints, bodies, contacts): mujoco-python maps the particle
+  // models as flexes and decides those itself (python/pbdval/external/mujoco/flexes.py).
+  std::vector<FeatureUse> uses = featureUses(scene);
+  const auto particle = [](const FeatureUse& use) {
+    for (const char* rigid : {"shape.", "joint.", "body.", "contact."})
+      if (use.key.rfind(rigid, 0) == 0) return false;
+    return true;
+  };
+  uses.erase(std::remove_if(uses.begin(), uses.end(), particle), uses.end());
+  std::vector<std::string> missing;
+  // The built-in engine's table, for the method the adapter runs by default (its entries for
+  // rigid features are the same for every method).
+  for (UnsupportedUse& use : unsupportedUses(mujocoFeatures(), uses, "mujoco.euler"))
+    missing.push_back(std::move(use.message));
+  return missing;
+}
+
+}  // namespace mujoco
+
 namespace {
 
 using mujoco::guarded;
-
-constexpr const char* kModelFile = "pbdval.xml";
-
-/// MuJoCo's in-memory file system (about 2 MB in 2.2.2: kept off the stack).
-struct VirtualFiles {
-  std::unique_ptr<mjVFS> vfs = std::make_unique<mjVFS>();
-  VirtualFiles() { mj_defaultVFS(vfs.get()); }
-  ~VirtualFiles() { mj_deleteVFS(vfs.get()); }  // never mj_deleteFileVFS: it hangs in 2.2.2
-  VirtualFiles(const VirtualFiles&) = delete;
-  VirtualFiles& operator=(const VirtualFiles&) = delete;
-};
 
 /// Warnings that mean the run cannot continue: MuJoCo resets mjData after a bad number
 /// (the state would jump back to t = 0) and drops contacts or constraints when its buffers
@@ -75,25 +106,10 @@ MujocoEngine::MujocoEngine() = default;
 MujocoEngine::~MujocoEngine() = default;
 
 std::vector<std::string> MujocoEngine::unsupported(const pbd::Scene& scene,
-                                                   const Method& /*method*/) const {
+                                                   const Method& method) const {
   std::vector<std::string> missing;
-  for (const pbd::TriangleModelDesc& m : scene.triangleModels)
-    missing.push_back(m.jsonPath + ": MuJoCo has no particles in this adapter (cloth)");
-  for (const pbd::TetModelDesc& m : scene.tetModels)
-    missing.push_back(m.jsonPath + ": MuJoCo has no particles in this adapter (deformable solid)");
-  for (const pbd::LineModelDesc& m : scene.lineModels)
-    missing.push_back(m.jsonPath + ": MuJoCo has no particles in this adapter (Cosserat rod)");
-  for (const pbd::JointDesc& joint : scene.joints)
-    if (joint.type == pbd::JointType::StiffRod)
-      missing.push_back(joint.jsonPath +
-                        ": stiff-rod joints (CosseratJoints, elastic bending and twisting "
-                        "between rod segments) are not mapped by the MuJoCo adapter");
-  for (const pbd::FluidModelDesc& m : scene.fluidModels)
-    missing.push_back(m.jsonPath + ": MuJoCo has no particles in this adapter (FluidModels: fluid)");
-  for (const pbd::RigidBodyDesc& body : scene.rigidBodies)
-    if (auto problem = mujoco::unsupportedShape(body)) missing.push_back(*problem);
-  for (std::string& problem : mujoco::planKinematicTree(scene).unsupported)
-    missing.push_back(std::move(problem));
+  for (UnsupportedUse& use : unsupportedUses(mujocoFeatures(), mujoco::featureUses(scene), method.name))
+    missing.push_back(std::move(use.message));
   return missing;
 }
 
@@ -131,22 +147,7 @@ void MujocoEngine::indexBodies(const pbd::Scene& scene) {
 }
 
 void MujocoEngine::compile() {
-  VirtualFiles files;
-  const std::string& xml = mjcf_.xml;
-  char error[1024] = "";
-  mjModel* model = nullptr;
-  guarded("mj_loadXML", warnings_, [&] {
-    if (mj_makeEmptyFileVFS(files.vfs.get(), kModelFile, int(xml.size())) != 0) return;
-    std::memcpy(files.vfs->filedata[mj_findFileVFS(files.vfs.get(), kModelFile)], xml.data(),
-                xml.size());
-    model = mj_loadXML(kModelFile, files.vfs.get(), error, sizeof error);
-    mj_freeLastXML();  // MuJoCo keeps the parsed XML in a global; nothing here needs it
-  });
-  if (model == nullptr)
-    throw EngineError(std::string("MuJoCo rejected the model: ") +
-                      (error[0] != 0 ? error : "the VFS could not hold it"));
-  model_.reset(model);
-  if (error[0] != 0) warnings_.push_back(std::string("MuJoCo compiler: ") + error);
+  model_.reset(mujoco::compileMjcf(mjcf_.xml, warnings_));
   mjData* data = nullptr;
   guarded("mj_makeData", warnings_, [&] { data = mj_makeData(model_.get()); });
   if (data == nullptr) throw EngineError("MuJoCo could not allocate mjData");
@@ -370,6 +371,7 @@ EngineEntry mujocoEngineEntry() {
   entry.defaultMethod = "mujoco.euler";
   entry.methods = mujoco::mujocoMethods();
   entry.honouredSettings = {"timeStepSize", "gravitation"};
+  entry.features = mujocoFeatures();
   entry.make = [](const EngineOptions&) { return std::unique_ptr<Engine>(new MujocoEngine()); };
   return entry;
 }

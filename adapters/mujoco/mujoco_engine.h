@@ -19,7 +19,7 @@ struct mjData_;
 
 namespace pbdval {
 
-class MujocoEngine final : public Engine {
+class MujocoEngine final : public SteppingEngine {
  public:
   MujocoEngine();
   ~MujocoEngine() override;
@@ -80,6 +80,21 @@ class MujocoEngine final : public Engine {
   double stepEndTime_ = 0;  ///< time at the end of the step being taken (for messages)
 };
 
+/// How the engine maps every scene feature (mujoco_features.cpp; adapters/features.h).
+FeatureTable mujocoFeatures();
 EngineEntry mujocoEngineEntry();
+
+namespace mujoco {
+
+/// The features `scene` uses (sceneFeatureUses), with the joints that close a loop of the
+/// spanning forest this adapter builds (planKinematicTree).
+std::vector<FeatureUse> featureUses(const pbd::Scene& scene);
+
+/// The messages of the unsupported uses of the scene's rigid part (shapes, joints, bodies,
+/// contacts) by mujocoFeatures(): what mujoco-python, which maps particle models as flexes and
+/// decides those itself, cannot take from the built-in adapter's MJCF ("RigidBodies[2]: ...").
+std::vector<std::string> unsupportedRigidFeatures(const pbd::Scene& scene);
+
+}  // namespace mujoco
 
 }  // namespace pbdval

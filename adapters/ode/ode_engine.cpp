@@ -70,26 +70,7 @@ void OdeEngine::destroyModel() noexcept {
 
 std::vector<std::string> OdeEngine::unsupported(const pbd::Scene& scene,
                                                 const Method& method) const {
-  std::vector<std::string> missing;
-  for (const pbd::TriangleModelDesc& model : scene.triangleModels)
-    missing.push_back(model.jsonPath + ": ODE has no particles (cloth)");
-  for (const pbd::TetModelDesc& model : scene.tetModels)
-    missing.push_back(model.jsonPath + ": ODE has no particles (deformable solids)");
-  for (const pbd::LineModelDesc& model : scene.lineModels)
-    missing.push_back(model.jsonPath + ": ODE has no particles (Cosserat rods)");
-  for (const pbd::JointDesc& joint : scene.joints)
-    if (joint.type == pbd::JointType::StiffRod)
-      missing.push_back(joint.jsonPath +
-                        ": stiff-rod joints (CosseratJoints, elastic bending and twisting "
-                        "between rod segments) are not mapped by the ODE adapter");
-  for (const pbd::FluidModelDesc& model : scene.fluidModels)
-    missing.push_back(model.jsonPath + ": ODE has no particles (FluidModels: fluids)");
-  for (const pbd::RigidBodyDesc& body : scene.rigidBodies)
-    for (std::string& reason : ode::unsupportedShapeFeatures(body))
-      missing.push_back(std::move(reason));
-  for (std::string& reason : ode::unsupportedJointFeatures(scene, odeSettingsFor(method)))
-    missing.push_back(std::move(reason));
-  return missing;
+  return unsupportedFeatures(odeFeatures(), scene, method.name);
 }
 
 void OdeEngine::load(const pbd::Scene& scene, const Method& method) {
@@ -197,6 +178,7 @@ EngineEntry odeEngineEntry() {
   entry.defaultMethod = "ode.quickstep";
   entry.methods = odeMethods();
   entry.honouredSettings = {"timeStepSize", "gravitation"};
+  entry.features = odeFeatures();
   entry.make = [](const EngineOptions&) { return std::unique_ptr<Engine>(new OdeEngine()); };
   return entry;
 }

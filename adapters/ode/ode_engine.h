@@ -21,7 +21,7 @@
 
 namespace pbdval {
 
-class OdeEngine final : public Engine {
+class OdeEngine final : public SteppingEngine {
  public:
   OdeEngine() = default;
   ~OdeEngine() override;
@@ -63,6 +63,8 @@ class OdeEngine final : public Engine {
   std::string failure_;  ///< the ODE error that made the world unusable; empty when fine
 };
 
+/// How the engine maps every scene feature (ode_features.cpp; adapters/features.h).
+FeatureTable odeFeatures();
 EngineEntry odeEngineEntry();
 
 }  // namespace pbdval

@@ -34,21 +34,6 @@ SpringRow springRow(double stiffness, double damping, double stepSize) {
 
 }  // namespace
 
-std::vector<std::string> unsupportedJointFeatures(const pbd::Scene& scene,
-                                                  const OdeSettings& settings) {
-  std::vector<std::string> missing;
-  for (const pbd::JointDesc& joint : scene.joints) {
-    if (joint.type == JointType::RigidBodyParticleBall)
-      missing.push_back(joint.jsonPath + ": ODE has no particles");
-    if (joint.type == JointType::BallOnLine && settings.solver == OdeSettings::Solver::QuickStep)
-      missing.push_back(joint.jsonPath +
-                        ": ODE has no ball-on-line joint; the light carriage body that emulates "
-                        "it is beyond QuickStep's iterative solver (the anchor leaves the line by "
-                        "0.1 m in cases/joint_ball_on_line.json): use ode.step");
-  }
-  return missing;
-}
-
 OdeJoints::OdeJoints(OdeWorld& world, const pbd::Scene& scene, const OdeSettings& settings)
     : world_(world), scene_(scene), settings_(settings) {
   for (const pbd::JointDesc& joint : scene.joints)

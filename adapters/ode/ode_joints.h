@@ -36,10 +36,6 @@
 
 namespace pbdval::ode {
 
-/// The joints of `scene` that ODE cannot represent with these settings, by JSON path.
-std::vector<std::string> unsupportedJointFeatures(const pbd::Scene& scene,
-                                                  const OdeSettings& settings);
-
 class OdeJoints {
  public:
   /// Creates every joint of `scene` in `world` (owned by the world). Call inside an OdeCall.

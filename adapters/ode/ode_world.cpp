@@ -24,10 +24,6 @@ int sceneIndexOf(dGeomID geom) {
   return static_cast<int>(reinterpret_cast<std::intptr_t>(dGeomGetData(geom)));
 }
 
-bool isTrimeshShape(CollisionObjectType type) {
-  return type == CollisionObjectType::Torus || type == CollisionObjectType::SignedDistanceField;
-}
-
 }  // namespace
 
 struct OdeWorld::TriMesh {
@@ -49,29 +45,6 @@ struct OdeWorld::TriMesh {
   TriMesh(const TriMesh&) = delete;
   TriMesh& operator=(const TriMesh&) = delete;
 };
-
-std::vector<std::string> unsupportedShapeFeatures(const pbd::RigidBodyDesc& body) {
-  const pbd::CollisionObjectDesc& c = body.collision;
-  std::vector<std::string> missing;
-  if (c.type == CollisionObjectType::HollowSphere || c.type == CollisionObjectType::HollowBox) {
-    missing.push_back(
-        body.jsonPath + ".collisionObjectType: " +
-        (c.type == CollisionObjectType::HollowSphere ? "hollow sphere" : "hollow box") +
-        ": ODE has no hollow shape (a wall of thickness thicknessSDF)");
-  } else if (isTrimeshShape(c.type)) {
-    const char* shape = c.type == CollisionObjectType::Torus ? "torus" : "SDF";
-    if (!body.mesh)
-      missing.push_back(body.jsonPath + ".collisionObjectType: " + shape +
-                        ": ODE collides the body's geometryFile as a trimesh, and there is none");
-    if (c.type == CollisionObjectType::SignedDistanceField && !c.fileName.empty())
-      missing.push_back(body.jsonPath +
-                        ".collisionObjectFileName: ODE cannot read a precomputed SDF; it collides "
-                        "the geometry mesh (leave the name empty)");
-    if (c.invertSDF)
-      missing.push_back(body.jsonPath + ".invertSDF: ODE's trimesh has no inside-out form");
-  }
-  return missing;
-}
 
 Vector3 frictionDirection(const Vector3& normal) {
   Vector3 direction = Vector3::UnitX() - normal * normal.x();

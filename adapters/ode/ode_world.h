@@ -10,7 +10,7 @@
 //
 // Shapes (`collisionObjectType`): sphere, box and cylinder are ODE primitives (ODE's cylinder
 // axis is z, the seed's is y: S = rotation by −90° about x); torus and SDF collide the body's
-// mesh as a trimesh; hollow shapes have no ODE counterpart (unsupportedShapeFeatures).
+// mesh as a trimesh; hollow shapes have no ODE counterpart (odeFeatures(), ode_features.cpp).
 //
 // Contacts (collide()): every pair of geoms whose bounding boxes overlap, except static–static,
 // gets up to maxContacts points from dCollide, each a contact joint with the pair's friction
@@ -56,9 +56,6 @@ struct ContactRecord {
   Vector3 normal = Vector3::Zero();
   double depth = 0;
 };
-
-/// The features of `body`'s collision shape that ODE cannot represent, by JSON path.
-std::vector<std::string> unsupportedShapeFeatures(const pbd::RigidBodyDesc& body);
 
 /// The friction pyramid's first direction for a contact normal (see the file comment).
 Vector3 frictionDirection(const Vector3& normal);

@@ -71,35 +71,8 @@ pbd::SimulationSettings pbdSettingsFor(const pbd::Scene& scene, const Method& me
 }
 
 std::vector<std::string> PbdEngine::unsupported(const pbd::Scene& scene,
-                                                const Method& /*method*/) const {
-  std::vector<std::string> missing;
-  const int cloth = scene.simulation.clothSimulationMethod;
-  for (const pbd::TriangleModelDesc& model : scene.triangleModels) {
-    if (cloth < 0 || cloth > 4)
-      missing.push_back(model.jsonPath + ": cloth simulation (clothSimulationMethod " +
-                        std::to_string(cloth) +
-                        ") is not implemented; 1 (distance, PBD), 2 (FEM triangles, PBD), 3 "
-                        "(strain-based triangles, PBD) and 4 (distance, XPBD) are, 0 leaves free "
-                        "particles");
-  }
-  const int solid = scene.simulation.solidSimulationMethod;
-  const pbd::Real poissonRatio = scene.simulation.solid_poissonRatio;
-  const bool fem = solid == 2 || solid == 3;
-  for (const pbd::TetModelDesc& model : scene.tetModels) {
-    if (solid < 0 || solid > 6) {
-      missing.push_back(model.jsonPath + ": deformable solids (solidSimulationMethod " +
-                        std::to_string(solid) +
-                        ") are not implemented; 1 (distance and volume, PBD), 2 (FEM, PBD), "
-                        "3 (FEM, XPBD), 4 (strain-based, PBD), 5 (shape matching, PBD) and 6 "
-                        "(distance and volume, XPBD) are, 0 leaves free particles");
-    } else if (fem && !(poissonRatio >= 0 && poissonRatio <= pbd::Real(0.49))) {
-      // The seed's FEM solve returns false for such a ν (research/pbd.md §4.1).
-      missing.push_back(model.jsonPath + ": FEM solids (solidSimulationMethod " +
-                        std::to_string(solid) + ") with solid_poissonRatio " +
-                        pbd::formatReal(double(poissonRatio)) + " outside [0, 0.49]");
-    }
-  }
-  return missing;
+                                                const Method& method) const {
+  return unsupportedFeatures(pbdFeatures(), scene, method.name);
 }
 
 void PbdEngine::load(const pbd::Scene& scene, const Method& method) {
@@ -211,6 +184,7 @@ EngineEntry pbdEngineEntry() {
   entry.runMethods = {"pbd", "pbd.xpbd"};
   entry.methods = pbdMethods();
   entry.honouredSettings = pbd::simulationSettingKeys();
+  entry.features = pbdFeatures();
   entry.make = [](const EngineOptions& options) {
     return std::unique_ptr<Engine>(new PbdEngine(options));
   };

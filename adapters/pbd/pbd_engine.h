@@ -16,7 +16,7 @@
 
 namespace pbdval {
 
-class PbdEngine final : public Engine {
+class PbdEngine final : public SteppingEngine {
  public:
   explicit PbdEngine(EngineOptions options = {}) : options_(std::move(options)) {}
 
@@ -43,6 +43,8 @@ class PbdEngine final : public Engine {
 /// `method` (pbd: the seed's step; pbd.xpbd: XPBD with the method's substeps and compliances).
 pbd::SimulationSettings pbdSettingsFor(const pbd::Scene& scene, const Method& method);
 
+/// How the engine maps every scene feature (pbd_features.cpp; adapters/features.h).
+FeatureTable pbdFeatures();
 EngineEntry pbdEngineEntry();
 
 }  // namespace pbdval

@@ -26,8 +26,10 @@
 #include "pbd/io/scene_loader.h"
 #include "pbd/io/suggestion.h"
 #include "pbdval/build_info.h"
+#include "python/bindings/mujoco_model.h"
 #include "validation/case_spec.h"
 #include "validation/engines/standard_engines.h"
+#include "validation/gate.h"
 #include "validation/interrupts.h"
 #include "validation/mechanics.h"
 #include "validation/measure_trajectory.h"
@@ -35,6 +37,7 @@
 #include "validation/overrides.h"
 #include "validation/references/reference.h"
 #include "validation/resolved_scene.h"
+#include "validation/results.h"
 #include "validation/run_execution.h"
 #include "validation/simulation.h"
 #include "validation/trajectory.h"
@@ -359,11 +362,7 @@ class Stepper {
   Stepper(const Registry& registry, const SceneHandle& scene, const std::string& method,
           const py::dict& parameters)
       : configured_(configure(registry, scene, method, parameters)) {
-    engine_ = configured_.engine->make(registry.engines.options());
-    if (engine_->runsWhole())
-      throw std::invalid_argument("engine " + configured_.engine->name +
-                                  " runs in another process and cannot be stepped from Python: "
-                                  "run it with pbdval.simulate or pbdval.run");
+    engine_ = registry.engines.makeStepping(configured_.engine->name);
     const std::vector<std::string> missing =
         engine_->unsupported(configured_.scene, configured_.method);
     if (!missing.empty()) {
@@ -472,7 +471,7 @@ class Stepper {
 
  private:
   Configured configured_;
-  std::unique_ptr<Engine> engine_;
+  std::unique_ptr<SteppingEngine> engine_;
   State state_;
 };
 
@@ -523,17 +522,7 @@ py::tuple simulate(const Registry& registry, const SceneHandle& scene, const std
     py::gil_scoped_release release;
     RunCallbacks callbacks;
     callbacks.onSample = [&samples](const State& s) { samples.push_back(s); };
-    if (engine->runsWhole()) {
-      const WholeRun whole = engine->runWhole(c.scene, c.method, length, wallTimeLimit);
-      samples = whole.samples;
-      outcome.status = whole.status;
-      outcome.reason = whole.reason;
-      outcome.steps = whole.steps;
-      outcome.facts = whole.facts;
-      outcome.settings = whole.settings;
-    } else {
-      outcome = runSimulation(*engine, c.scene, c.method, length, callbacks, wallTimeLimit);
-    }
+    outcome = runSimulation(*engine, c.scene, c.method, length, callbacks, wallTimeLimit);
   }
   py::dict run;
   run["engine"] = c.engine->name;
@@ -721,6 +710,7 @@ PYBIND11_MODULE(_core, m) {
       .def("read_into", &Stepper::readInto, py::arg("packed").noconvert())
       .def("facts", &Stepper::facts);
 
+  bindMujocoModel(m);
   m.def("_load_scene", &loadSceneFile, py::arg("path"), py::arg("strict"));
   m.def("_scene_summary", &sceneSummary);
   // The command line's "did you mean" (pbd/io/suggestion.h), for the Python API's messages.
@@ -750,13 +740,104 @@ PYBIND11_MODULE(_core, m) {
       for (const pv::MethodInfo& info : e.methods)
         methods.append(methodDict(info, e));
       d["methods"] = methods;
+      py::list features;
+      for (const pv::FeatureSupport& f : e.features.entries) {
+        py::dict entry;
+        entry["feature"] = f.key;
+        entry["support"] = pv::supportName(f.support);
+        entry["text"] = f.text;
+        entry["methods"] = f.methods;
+        features.append(entry);
+      }
+      d["features"] = features;
       engines.append(d);
     }
     return engines;
   });
+  m.def("_scene_features", []() {
+    py::list features;
+    for (const pv::FeatureInfo& f : pv::sceneFeatures()) {
+      py::dict d;
+      d["key"] = f.key;
+      d["description"] = f.description;
+      d["from_scene"] = f.fromScene;
+      features.append(d);
+    }
+    return features;
+  });
+  // What decides a run `unsupported` before it starts, without running it: the features the
+  // scene uses, those the engine's table declares unsupported for the method (the generic
+  // function), and what the engine's unsupported() returns (the table's verdict, plus the uses
+  // only the engine can see, such as MuJoCo's loop closures).
+  m.def("_feature_support", [](const Registry& r, const SceneHandle& h, const std::string& method) {
+    const pv::MethodInfo& info = r.engines.method(method);
+    const pv::EngineEntry& entry = r.engines.engine(info.engine);
+    const pv::Method resolved = pv::resolveMethod(info);
+    const std::vector<pv::FeatureUse> uses = pv::sceneFeatureUses(*h.scene);
+    py::dict d;
+    py::list used;
+    for (const pv::FeatureUse& u : uses) {
+      py::dict item;
+      item["feature"] = u.key;
+      item["json_path"] = u.jsonPath;
+      const pv::FeatureSupport* decided = entry.features.resolve(u.key, info.name);
+      item["support"] = decided ? pv::supportName(decided->support) : "undeclared";
+      used.append(item);
+    }
+    d["uses"] = used;
+    py::list unsupported;
+    for (const pv::UnsupportedUse& u : pv::unsupportedUses(entry.features, uses, info.name)) {
+      py::dict item;
+      item["feature"] = u.key;
+      item["json_path"] = u.jsonPath;
+      item["message"] = u.message;
+      unsupported.append(item);
+    }
+    d["table_unsupported"] = unsupported;
+    d["engine_unsupported"] = r.engines.make(info.engine)->unsupported(*h.scene, resolved);
+    d["declares_features"] = !entry.features.entries.empty();
+    return d;
+  });
   m.def("_simulate", &simulate);
   m.def("_measure", &measure);
   m.def("_energy", &energy);
+  // Every metric's unit (validation/metrics.h, metric::declared()): the report's headers.
+  m.def("_metric_units", [] {
+    py::dict units;
+    for (const pv::metric::Declared& d : pv::metric::declared())
+      units[py::str(d.name)] = d.unit;
+    return units;
+  });
+  // The cases' own checks (Validation.checks) on a results.json, judged without a baseline by
+  // the gate's own function (validation/gate.h evaluateCaseChecks): the report's bounds.
+  m.def("_case_checks", [](const std::string& path) {
+    if (path.find('\0') != std::string::npos)
+      throw ResultsFileError("a file name cannot contain a NUL character");
+    pv::ResultsFile results;
+    try {
+      results = pv::readResults(path);
+    } catch (const std::exception& e) {
+      throw ResultsFileError(e.what());
+    }
+    auto optional = [](const std::optional<double>& v) -> py::object {
+      return v ? py::object(py::float_(*v)) : py::object(py::none());
+    };
+    py::list checks;
+    for (const pv::GateOutcome& o : pv::evaluateCaseChecks(results.cases, results)) {
+      py::dict d;
+      d["case"] = o.suite;
+      d["name"] = o.name;
+      d["run"] = o.run;
+      d["metric"] = o.metric;
+      d["present"] = o.finding.present;
+      d["holds"] = o.finding.holds;
+      d["message"] = o.message;
+      d["now"] = optional(o.value);
+      d["allowed"] = optional(o.allowed);
+      checks.append(d);
+    }
+    return checks;
+  });
   m.def("_read_trajectory", [](const std::string& path) {
     if (path.find('\0') != std::string::npos)
       throw ResultsFileError("a file name cannot contain a NUL character");

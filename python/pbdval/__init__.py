@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING
 # The extension lives in the build folder's pbdval/ (no __init__.py there): join it.
 __path__ = extend_path(__path__, __name__)
 
-from pbdval.errors import (  # noqa: E402
+from pbdval.errors import (
     ArgumentError,
     BuildMissingError,
     CommandError,

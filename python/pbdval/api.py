@@ -13,9 +13,10 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Iterator, Mapping, Sequence, Union
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -27,12 +28,12 @@ if TYPE_CHECKING:  # pragma: no cover
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
-ParameterValue = Union[bool, int, float, str, Sequence[float]]
+ParameterValue = bool | int | float | str | Sequence[float]
 
 
-def _core() -> "ModuleType":
+def _core() -> ModuleType:
     try:
-        from pbdval import _core as core  # type: ignore[attr-defined]
+        from pbdval import _core as core
     except ImportError as error:  # the extension is built by CMake, not by pip
         raise BuildMissingError(
             "pbdval._core is not built: run 'cmake --build --preset release' (or scripts/test) "
@@ -99,12 +100,25 @@ class MethodInfo:
 
 
 @dataclass(frozen=True)
+class FeatureSupport:
+    """One entry of an engine's feature table (docs/engines.md#features): how the engine maps a
+    scene feature or a group of features (a dotted prefix), for some or every method."""
+
+    feature: str
+    support: str  # native | approximated | unsupported
+    text: str
+    methods: tuple[str, ...] = ()  # empty: every method
+
+
+@dataclass(frozen=True)
 class EngineInfo:
     name: str
     default_method: str
     run_by_default: bool
     honoured_settings: tuple[str, ...]
     methods: tuple[MethodInfo, ...]
+    #: The engine's feature table (empty for a catalogue entry that declares none).
+    features: tuple[FeatureSupport, ...] = ()
 
 
 class Engines:
@@ -147,6 +161,8 @@ class Engines:
                     run_by_default=e["run_by_default"],
                     honoured_settings=tuple(e["honoured_settings"]),
                     methods=methods,
+                    features=tuple(FeatureSupport(feature=f["feature"], support=f["support"], text=f["text"],
+                                                  methods=tuple(f["methods"])) for f in e["features"]),
                 )
             )
         self._engines = {info.name: info for info in infos}
@@ -239,7 +255,7 @@ class Scene:
         """The resolved scene (docs/external-engines.md) as a dict: what `pbdval export-scene`
         writes, with `method` and its parameters (defaults, then `parameters`)."""
         registry = engines or Engines()
-        return _core()._resolved_scene(
+        resolved: dict[str, Any] = _core()._resolved_scene(
             registry._registry,
             self._handle,
             _method_name(method, registry),
@@ -247,6 +263,7 @@ class Scene:
             0.0 if duration is None else _seconds("duration", duration),
             -1.0 if sample_interval is None else _seconds("sample_interval", sample_interval, zero=True),
         )
+        return resolved
 
     def __repr__(self) -> str:
         return f"Scene({self.file!r}, bodies={self.body_count})"
@@ -314,7 +331,7 @@ class Trajectory:
     segment_angular_velocities: FloatArray | None = None
 
     @classmethod
-    def _from_core(cls, d: Mapping[str, Any]) -> "Trajectory":
+    def _from_core(cls, d: Mapping[str, Any]) -> Trajectory:
         return cls(
             times=np.asarray(d["times"]),
             ids=np.asarray(d["ids"], dtype=np.int64),
@@ -333,7 +350,7 @@ class Trajectory:
     @classmethod
     def read(
         cls, path: str | Path, *, particles: str | Path | None = None, segments: str | Path | None = None
-    ) -> "Trajectory":
+    ) -> Trajectory:
         """Reads a trajectory file of `pbdval simulate`/`run` with the suite's own reader: NPY
         when the name ends in .npy (`pbdval run --trajectory-format npy`), else CSV. Errors name
         the file and the line or row. `particles`: the file of `pbdval simulate --particles`
@@ -371,7 +388,7 @@ class Trajectory:
         return trajectory
 
     @classmethod
-    def read_csv(cls, path: str | Path) -> "Trajectory":
+    def read_csv(cls, path: str | Path) -> Trajectory:
         """Reads a trajectory CSV (or NPY, by its extension): the same as `read`."""
         return cls.read(path)
 
@@ -419,7 +436,7 @@ def _read_indexed_table(path: str | Path, header: str, what: str) -> FloatArray:
     count = int(np.count_nonzero(table[:, 0] == table[0, 0]))
     if table.shape[0] % count != 0:
         raise ResultsError(f"{path}: {table.shape[0]} rows are not whole samples of {count} {what}")
-    samples = table.reshape(-1, count, columns)
+    samples: FloatArray = table.reshape(-1, count, columns)
     if not np.array_equal(samples[:, :, 1], np.tile(np.arange(count), (samples.shape[0], 1))):
         raise ResultsError(f"{path}: every sample must list {what} 0..{count - 1} in order")
     if not np.all(samples[:, :, 0] == samples[:, :1, 0]):
@@ -511,7 +528,8 @@ class Simulation:
 
     def state_hash(self) -> str | None:
         """For the deterministic PBD engine: a hash of the complete state now."""
-        return self._stepper.facts().get("state_hash")
+        state_hash = self._stepper.facts().get("state_hash")
+        return None if state_hash is None else str(state_hash)
 
 
 @dataclass
@@ -689,7 +707,8 @@ class Energy:
     @property
     def relative_drift(self) -> FloatArray:
         """(E(t) - E(0)) / E_ref per sample: the series behind energy_drift_*."""
-        return (self.total - self.total[0]) / self.scale
+        drift: FloatArray = (self.total - self.total[0]) / self.scale
+        return drift
 
 
 def energy(scene: Scene, trajectory: Trajectory, *, engines: Engines | None = None) -> Energy:

@@ -31,9 +31,10 @@ import sys
 import tempfile
 import time
 import zlib
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable, Sequence
+from typing import Any
 
 from pbdval.errors import PbdvalError
 from pbdval.results import Results, load_results, pbdval_binary
@@ -78,7 +79,7 @@ def run_slice(binary: str, run_args: Sequence[str], index: int, count: int,
     with tempfile.TemporaryDirectory(prefix="pbdval-slice-") as folder:
         argv = [binary, command, *run_args, "--shard", f"{index}/{count}", "--out", folder,
                 "--jobs", "1", "--quiet"]
-        done = subprocess.run(argv, capture_output=True, text=True)
+        done = subprocess.run(argv, capture_output=True, text=True, check=False)
         if done.returncode != 0:
             raise RuntimeError(f"pbdval {command} --shard {index}/{count} exited {done.returncode}: "
                                f"{done.stderr.strip()[-2000:]}")
@@ -134,7 +135,7 @@ def parse_arguments(command: str, argv: Sequence[str]) -> tuple[argparse.Namespa
 
 
 def plan_of(binary: str, run_args: Sequence[str], command: str = "run") -> dict[str, Any]:
-    done = subprocess.run([binary, command, *run_args, "--list-plan"], capture_output=True, text=True)
+    done = subprocess.run([binary, command, *run_args, "--list-plan"], capture_output=True, text=True, check=False)
     if done.returncode != 0:
         raise ClusterError(done.stderr.strip() or f"pbdval {command} --list-plan exited {done.returncode}")
     plan: dict[str, Any] = json.loads(done.stdout)
@@ -142,7 +143,7 @@ def plan_of(binary: str, run_args: Sequence[str], command: str = "run") -> dict[
 
 
 def connect(args: argparse.Namespace) -> Any:
-    from distributed import Client  # noqa: PLC0415  (imported only by the Dask executor)
+    from distributed import Client  # imported only by the Dask executor
 
     address = args.scheduler or args.scheduler_file
     try:
@@ -182,8 +183,8 @@ def run_on_cluster(client: Any, run_args: Sequence[str], out: Path, *, runs_per_
     local command does: a results folder for `run` (returned as Results), sweep.json for
     `sweep` (its path returned). `task` is the function each task runs (tests replace it to
     kill workers)."""
-    from distributed import as_completed  # noqa: PLC0415
-    from distributed.scheduler import KilledWorker  # noqa: PLC0415
+    from distributed import as_completed
+    from distributed.scheduler import KilledWorker
 
     binary = str(pbdval_binary())
     plan = plan_of(binary, run_args, command)
@@ -204,10 +205,8 @@ def run_on_cluster(client: Any, run_args: Sequence[str], out: Path, *, runs_per_
                for k in range(1, count + 1)}
     sent = raw = 0
     start = time.perf_counter()
-    done = 0
-    for future in as_completed(futures):
+    for done, future in enumerate(as_completed(futures), start=1):
         k = futures[future]
-        done += 1
         try:
             output: SliceOutput = future.result()
             write_slice(output, slices / str(k))
@@ -227,11 +226,11 @@ def run_on_cluster(client: Any, run_args: Sequence[str], out: Path, *, runs_per_
     folders = [str(slices / str(k)) for k in range(1, count + 1)]
     if command == "sweep":
         joined = subprocess.run([binary, "sweep", *run_args, "--from-shards", ",".join(folders), "--out", str(out)],
-                                capture_output=True, text=True)
+                                capture_output=True, text=True, check=False)
     else:
         force = ["--force"] if "--force" in run_args else []  # the run's own --force, for its --out
         joined = subprocess.run([binary, "merge", *folders, "--out", str(out), "--move", "--quiet", *force],
-                                capture_output=True, text=True)
+                                capture_output=True, text=True, check=False)
     if joined.returncode != 0:
         raise ClusterError(f"joining the slices failed: {joined.stderr.strip()}")
     shutil.rmtree(slices)
@@ -250,7 +249,7 @@ def record_failure(binary: str, run_args: Sequence[str], index: int, count: int,
     if folder.exists():
         shutil.rmtree(folder)
     done = subprocess.run([binary, command, *run_args, "--shard", f"{index}/{count}", "--fail-with", reason,
-                           "--out", str(folder), "--quiet"], capture_output=True, text=True)
+                           "--out", str(folder), "--quiet"], capture_output=True, text=True, check=False)
     if done.returncode != 0:
         raise ClusterError(f"could not record the failure of slice {index}: {done.stderr.strip()}")
 

@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import subprocess
-from typing import Sequence
+from collections.abc import Sequence
+from typing import Any
 
 
 class PbdvalError(Exception):
@@ -30,7 +31,7 @@ class SceneError(PbdvalError, ValueError):
         parts = [p for p in (file, json_path, message) if p]
         super().__init__(": ".join(parts))
 
-    def __reduce__(self):  # type: ignore[no-untyped-def]
+    def __reduce__(self) -> tuple[type[SceneError], tuple[str, str, str]]:
         return (SceneError, (self.file, self.json_path, self.message))
 
 
@@ -65,7 +66,7 @@ class CommandError(PbdvalError, subprocess.CalledProcessError):
         detail = message[-1] if message else "no message"
         return f"{' '.join(self.cmd[:2])} exited with status {self.returncode}: {detail}"
 
-    def __reduce__(self):  # type: ignore[no-untyped-def]
+    def __reduce__(self) -> tuple[type[CommandError], tuple[Any, ...]]:
         return (CommandError, (self.returncode, self.cmd, self.output, self.stderr))
 
 

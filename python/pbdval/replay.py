@@ -8,6 +8,13 @@ The viewer, `web/replay.js`, draws it with three.js (bundled from npm into the r
 `assets/`): one colour per engine/method, static bodies grey, play, pause, speed and a time
 scrubber; between frames it interpolates positions linearly and rotations by slerp.
 
+Deformables are replayed from the particles each run read back (ENGINE-METHOD.particles.*):
+cloth (triangle models) and solids (the boundary faces of tet models) as surfaces, rods (line
+models) as polylines through their particles, fluids as points, every run in its colour, with
+the same slider; at most `MAX_PARTICLE_FRAMES` frames × particles × runs. A run that cannot be
+replayed (it did not complete, or read no particles back in a scene of particles) is named in
+`notes` with the reason, and so is a case where no run can be.
+
 Arrays are little-endian float32 (positions, quaternions, times, mesh vertices) and uint32
 (triangles), base64-encoded. A body is drawn from its geometry file (the OBJ, times its
 `scale`) when it has one, else from its collision shape (box, sphere, cylinder; others as a
@@ -20,8 +27,9 @@ from __future__ import annotations
 
 import base64
 import json
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -31,6 +39,8 @@ from pbdval.api import Scene, Trajectory
 MAX_FRAMES = 240
 #: frames × dynamic bodies × runs per case at most: about 1.1 MB of data per case.
 MAX_BODY_FRAMES = 30_000
+#: frames × particles × runs per case at most: about 2.4 MB of particle data per case.
+MAX_PARTICLE_FRAMES = 150_000
 #: Triangles of one mesh at most (the case library's largest, sphere.obj, has 1280).
 MAX_TRIANGLES = 20_000
 
@@ -92,8 +102,32 @@ def _shape(body: dict[str, Any], meshes: dict[str, dict[str, Any]]) -> dict[str,
     return {"sphere": 0.02}  # a marker for the centre of mass
 
 
-def replay_data(case: str, scene: Scene, runs: Sequence[tuple[str, str, Trajectory]]) -> dict[str, Any]:
-    """The replay of `runs` (label, colour, trajectory) of one case."""
+def particle_topology(resolved: dict[str, Any]) -> dict[str, Any]:
+    """How the viewer draws the scene's particles (global particle indices): "surfaces" (the
+    triangles of cloth and the boundary faces of solids), "lines" (the rods' particles, in
+    order) and "points" (the rest: fluids)."""
+    count = len(resolved.get("particles") or [])
+    surfaces: list[list[int]] = []
+    covered = np.zeros(count, dtype=bool)
+    for key, faces in (("triangleModels", "triangles"), ("tetModels", "boundaryFaces")):
+        for model in resolved.get(key) or []:
+            first = int(model.get("firstParticle", 0))
+            local = np.asarray(model.get(faces) or [], dtype=np.int64).reshape(-1, 3)
+            if len(local):
+                surfaces.append((local + first).reshape(-1).tolist())
+            covered[first:first + int(model.get("particleCount", 0))] = True
+    rest = [i for i in range(count) if not covered[i]]
+    has_rods = int((resolved.get("deformables") or {}).get("lineModels", 0)) > 0
+    return {"surfaces": [_b64(np.asarray(s), "<u4") for s in surfaces],
+            "lines": [_b64(np.asarray(rest), "<u4")] if has_rods and len(rest) > 1 else [],
+            "points": _b64(np.asarray(rest), "<u4") if rest and not has_rods else "",
+            "particleCount": count}
+
+
+def replay_data(case: str, scene: Scene, runs: Sequence[tuple[str, str, Trajectory]],
+                notes: Sequence[str] = ()) -> dict[str, Any]:
+    """The replay of `runs` (label, colour, trajectory) of one case; `notes` say which runs of
+    the case are not replayed, and why (more are added here)."""
     resolved = scene.resolved()
     bodies = resolved["bodies"]
     meshes: dict[str, dict[str, Any]] = {}
@@ -105,12 +139,28 @@ def replay_data(case: str, scene: Scene, runs: Sequence[tuple[str, str, Trajecto
             "com": body.get("principalFrame", {}).get("centerOfMass", [0, 0, 0]),
             "position": pose.get("position", [0, 0, 0]), "rotation": pose.get("rotation", [1, 0, 0, 0]),
         })
+    topology = particle_topology(resolved)
+    particle_count = int(topology["particleCount"])
+    said = list(notes)
     dynamic_ids = [b["id"] for b in described if b["dynamic"]]
-    usable = [(label, colour, t) for label, colour, t in runs if len(t) >= 1]
+    usable = []
+    for label, colour, t in runs:
+        if len(t) < 1:
+            said.append(f"{label}: its trajectory holds no sample")
+            continue
+        has_particles = t.particle_positions is not None and t.particle_positions.shape[1] == particle_count
+        if particle_count and not has_particles:
+            said.append(f"{label}: read no particles back ({particle_count} in the scene), so only its rigid "
+                        "bodies are replayed" if dynamic_ids else f"{label}: read no particles back "
+                        f"({particle_count} in the scene): nothing of it to replay")
+            if not dynamic_ids:
+                continue
+        usable.append((label, colour, t))
     duration = max((float(t.times[-1]) for _, _, t in usable), default=0.0)
     budget = MAX_BODY_FRAMES // max(1, len(dynamic_ids) * len(usable))
+    particle_budget = MAX_PARTICLE_FRAMES // max(1, particle_count * len(usable)) if particle_count else budget
     samples = max((len(t) for _, _, t in usable), default=1)
-    frames = max(2, min(MAX_FRAMES, samples, budget))
+    frames = max(2, min(MAX_FRAMES, samples, budget, particle_budget))
     times = np.linspace(0.0, duration, frames)
     encoded = []
     for label, colour, trajectory in usable:
@@ -124,11 +174,22 @@ def replay_data(case: str, scene: Scene, runs: Sequence[tuple[str, str, Trajecto
                 positions[:, j] = trajectory.positions[rows, c]
                 quaternions[:, j] = trajectory.quaternions[rows, c]
         finite = np.isfinite(positions).all(axis=(1, 2)) & np.isfinite(quaternions).all(axis=(1, 2))
+        particles = None
+        if particle_count and trajectory.particle_positions is not None \
+                and trajectory.particle_positions.shape[1] == particle_count:
+            particles = trajectory.particle_positions[rows]
+            finite &= np.isfinite(particles).all(axis=(1, 2))
         last = int(np.argmin(finite)) if not finite.all() else frames  # a diverged run stops
-        encoded.append({"label": label, "colour": colour, "frames": last,
-                        "x": _b64(positions[:last], "<f4"), "q": _b64(quaternions[:last], "<f4")})
+        entry = {"label": label, "colour": colour, "frames": last,
+                 "x": _b64(positions[:last], "<f4"), "q": _b64(quaternions[:last], "<f4")}
+        if particles is not None:
+            entry["p"] = _b64(particles[:last], "<f4")
+        encoded.append(entry)
+    if not encoded:
+        said.append("no run of this case can be replayed")
     return {"case": case, "times": _b64(times, "<f4"), "frameCount": frames, "duration": duration,
-            "dynamicIds": dynamic_ids, "bodies": described, "meshes": meshes, "runs": encoded}
+            "dynamicIds": dynamic_ids, "bodies": described, "meshes": meshes, "runs": encoded,
+            "particles": topology, "notes": said}
 
 
 def replay_script(data: dict[str, Any]) -> str:

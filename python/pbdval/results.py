@@ -7,17 +7,18 @@ results.json), so a study scripted in Python gets exactly the numbers the suite 
 
 from __future__ import annotations
 
-import json
 import functools
+import json
 import math
 import os
 import shutil
 import subprocess
 import sys
 import tempfile
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Iterable, Iterator, Mapping, Sequence, TypeVar
+from typing import Any, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -32,7 +33,7 @@ SUPPORTED_SCHEMA_VERSIONS = (1,)
 def pbdval_binary() -> Path:
     """The pbdval command of the build the C++ core was loaded from (<build>/bin/pbdval)."""
     try:
-        from pbdval import _core  # type: ignore[attr-defined]
+        from pbdval import _core
     except ImportError as error:
         raise BuildMissingError(f"pbdval._core is not built ({error}); build with scripts/test") from error
     binary = Path(_core.__file__).resolve().parents[2] / "bin" / "pbdval"
@@ -292,7 +293,7 @@ def run(
     if force:
         command += ["--force"]
     completed = subprocess.run(command, stdout=subprocess.PIPE if quiet else None,
-                               stderr=subprocess.PIPE, text=True)
+                               stderr=subprocess.PIPE, text=True, check=False)
     # Exit status 0 is the command's word that it wrote results.json now; any other status
     # leaves whatever `out` held before, which is not this call's result.
     if completed.returncode != 0:

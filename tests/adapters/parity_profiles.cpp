@@ -20,8 +20,8 @@ ParityProfile pbdProfile() {
   p.contacts = true;
   p.frictionCone = FrictionCone::Isotropic;  // friction along the sliding direction
   // Sticking block: the seed solves friction once per step, at velocity level, after the
-  // substeps (research/pbd.md §3.1, §3.6). The velocity pass stops the block, but during the
-  // next step's n substeps gravity moves it again by g sin θ h_s² n(n+1)/2 = g sin θ h²
+  // substeps (docs/seed.md#the-step, #rigid-contacts). The velocity pass stops the block, but
+  // during the next step's n substeps gravity moves it again by g sin θ h_s² n(n+1)/2 = g sin θ h²
   // (n+1)/(2n) before friction acts, and no position is ever corrected back. Per second:
   // g sin θ h (n+1)/(2n) = 9.81 × sin 21.57° × 0.002 × 0.6 = 4.33 mm. Allowed: that bound
   // + 25 % for the block's rocking on its four corner contacts (measured: 4.4 mm).

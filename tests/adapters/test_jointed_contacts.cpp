@@ -165,8 +165,8 @@ TEST_P(JointedBodies, WithoutCollisionShapesTheLinkSwingsThroughTheBeam) {
 
 TEST_P(JointedBodies, TheRunRecordsThatJointedBodiesCollide) {
   const Method method = testRegistry().resolve(GetParam());
-  const std::unique_ptr<Engine> engine =
-      testRegistry().make(testRegistry().method(GetParam()).engine);
+  const std::unique_ptr<SteppingEngine> engine =
+      testRegistry().makeStepping(testRegistry().method(GetParam()).engine);
   engine->load(pbd::loadScene(kCase).scene, method);
   const auto settings = engine->effectiveSettings();
   const auto found = settings.find("jointedBodiesCollide");

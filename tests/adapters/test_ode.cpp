@@ -297,11 +297,16 @@ TEST(OdeUnsupported, FeaturesWithoutAnODECounterpartAreNamed) {
   OdeEngine engine;
   const std::vector<std::string> missing = engine.unsupported(s, method());
   ASSERT_EQ(missing.size(), 3u);
+  // Each names the JSON path, the feature, and the reason of ODE's feature table.
   EXPECT_EQ(missing[0],
-            "RigidBodies[0].collisionObjectType: hollow sphere: ODE has no hollow shape (a wall "
-            "of thickness thicknessSDF)");
-  EXPECT_EQ(missing[1].rfind("RigidBodies[1].collisionObjectType: SDF:", 0), 0u) << missing[1];
-  EXPECT_EQ(missing[2], "RigidBodyParticleBallJoints[0]: ODE has no particles");
+            "RigidBodies[0]: hollow sphere (collisionObjectType 6): ODE has no hollow shape (a "
+            "wall of thickness thicknessSDF)");
+  EXPECT_EQ(missing[1].rfind("RigidBodies[1]: signed distance field without a geometryFile mesh", 0),
+            0u)
+      << missing[1];
+  EXPECT_EQ(missing[2],
+            "RigidBodyParticleBallJoints[0]: rigid body–particle ball joint "
+            "(RigidBodyParticleBallJoints): ODE has no particles");
   const RunOutcome outcome = runSimulation(engine, s, method(), {0.1, 0}, {});
   EXPECT_EQ(outcome.status, RunStatus::Unsupported);
   EXPECT_NE(outcome.reason.find("RigidBodyParticleBallJoints[0]"), std::string::npos);
@@ -458,7 +463,11 @@ TEST(OdeJoints, BallOnLineIsARailCarriageInTheDirectSolverOnly) {
   OdeEngine engine;
   const std::vector<std::string> quick = engine.unsupported(s, method("ode.quickstep"));
   ASSERT_EQ(quick.size(), 1u);
-  EXPECT_EQ(quick[0].rfind("BallOnLineJoints[0]: ODE has no ball-on-line joint", 0), 0u);
+  EXPECT_EQ(quick[0].rfind("BallOnLineJoints[0]: ball-on-line joint (BallOnLineJoints): ODE has no "
+                          "ball-on-line joint",
+                          0),
+            0u)
+      << quick[0];
   ASSERT_TRUE(engine.unsupported(s, method("ode.step")).empty());
 
   engine.load(s, method("ode.step"));

@@ -12,7 +12,7 @@ namespace {
 
 enum class Failure { None, Crash, Hang, Throw, NotANumber };
 
-class SelftestEngine final : public Engine {
+class SelftestEngine final : public SteppingEngine {
  public:
   std::string_view name() const override { return "selftest"; }
   std::vector<std::string> unsupported(const pbd::Scene&, const Method&) const override {

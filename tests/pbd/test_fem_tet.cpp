@@ -194,7 +194,7 @@ TEST(FemTet, CorrectionsConserveMomentumAndReduceTheEnergy) {
 }
 
 TEST(FemTet, PbdCorrectionDoesNotDependOnYoungsModulus) {
-  // The seed's semantics (research/pbd.md §5.3 #7): U and ∇U both scale with E, so s ∇U does
+  // The seed's semantics (docs/seed.md#fem-modulus-scale): U and ∇U both scale with E, so s ∇U does
   // not. Only ν matters.
   const std::array<Vector3, 4> x = deformedTet();
   const std::array<Real, 4> w = {1, 2, Real(0.5), Real(0.25)};
@@ -305,7 +305,7 @@ TEST(FemTetWorld, XpbdApexSettlesAtTheStVKStretch) {
 TEST(FemTetWorld, PbdApexStretchIsSetByIterationsNotByE) {
   // PBD with C = U ≈ ½ k u² (small strain): one projection Δu = −C/C′ = −u/2 halves the
   // displacement, so n iterations keep 2⁻ⁿ of u + g h_s² (the prediction from rest): the fixed
-  // point is u = g h_s² / (2ⁿ − 1), whatever E (research/pbd.md §3.4). The strain is ~10⁻⁵, so
+  // point is u = g h_s² / (2ⁿ − 1), whatever E (docs/seed.md#stiffness). The strain is ~10⁻⁵, so
   // the cubic term of U changes this by ~10⁻⁵ relative; the recurrence's roots have modulus
   // 2^(−n/2), so after 1 s nothing of the start remains: 10⁻³ relative allowed.
   // The stretch (10⁻⁶ m … 10⁻⁵ m) is a few float ulps of the apex's 1 m position.

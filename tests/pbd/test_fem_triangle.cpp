@@ -2,8 +2,9 @@
 // energy of known in-plane deformations against the orthotropic plane-stress closed forms, zero
 // energy and no correction at rest and under 3D rigid motions (the rest triangle in a general
 // plane), the gradients against central differences, momentum, the correction reducing C, the
-// seed's scale invariance (research/pbd.md §5.3 #7); in the world: one constraint per triangle
-// for method 2 only, and a cloth pinned at one edge whose stretch falls with the iteration count.
+// seed's scale invariance (docs/seed.md#fem-modulus-scale); in the world: one constraint per
+// triangle for method 2 only, and a cloth pinned at one edge whose stretch falls with the iteration
+// count.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -178,7 +179,8 @@ TEST(FemTriangle, CorrectionConservesMomentumAndReducesTheEnergy) {
 }
 
 TEST(FemTriangle, CorrectionDoesNotDependOnTheModuliScale) {
-  // research/pbd.md §5.3 #7: C and ∇C scale with the moduli, the correction C ∇C/|∇C|² does not.
+  // docs/seed.md#fem-modulus-scale: C and ∇C scale with the moduli,
+  // the correction C ∇C/|∇C|² does not.
   const std::array<Real, 3> w = {1, Real(0.5), 2};
   const auto x = deformed(gradientOf(Real(1.1), Real(0.2), Real(-0.15), Real(0.9)));
   const auto base = femTrianglePbd(x, w, constraint(1));

@@ -247,8 +247,8 @@ TEST(SeedReferenceMotors, TheOriginalLagsTwoStepsBehindTheSetPointAndPbdValDoesN
     const double t = recorded[k].first;
     // 10⁻⁹ rad/s: the hard velocity row closes to round-off (ω ~ 1 rad/s, five iterations).
     // After the sequence's end (t = 4) the original starts it again: the scene gives no
-    // `repeatSequence`, and the seed's loader leaves that flag uninitialised (research/pbd.md
-    // §4.2.5), here true. pbdval holds the last value.
+    // `repeatSequence`, and the seed's loader leaves that flag uninitialised
+    // (docs/seed.md#motor-target-sequences), here true. pbdval holds the last value.
     if (t - 2 * h <= 4)
       EXPECT_NEAR(recorded[k].second, velocityMotorSetPoint(t - 2 * h), 1e-9) << "original, t = " << t;
     else

@@ -4,7 +4,7 @@
 // flag combinations), one projection leaving an O(e²) residual of an O(e) strain in the last
 // component it projects (first-order exact), convergence to the rest shape with momentum
 // conserved; in the world: constraints for method 4 only, each normalize flag from its own key
-// (the seed passes normalizeStretch twice: research/pbd.md §5.3 #5), and a block hanging from
+// (the seed passes normalizeStretch twice: docs/seed.md#sbd-tet-flags), and a block hanging from
 // static particles that stays bounded and stretches less with more iterations.
 #include <gtest/gtest.h>
 

@@ -1,11 +1,11 @@
 // Strain-based triangles (constraints/strain_triangle.h), clothSimulationMethod 3: the strain
 // components of known deformations against their closed forms, zero at rest and under 3D rigid
 // motions for triangles in any plane (the seed projects the rest state on a world plane:
-// research/pbd.md §5.3 #6), the gradients against central differences (all normalize flags),
-// one projection leaving an O(e²) residual of an O(e) strain (first-order exact), convergence to
-// the rest shape, momentum; in the world: one constraint per triangle for method 3 only, and a
-// vertical cloth (which the seed drops) pinned at its top edge whose stretch falls with the
-// iteration count.
+// docs/seed.md#sbd-triangle-rest-shape), the gradients against central differences (all normalize
+// flags), one projection leaving an O(e²) residual of an O(e) strain (first-order exact),
+// convergence to the rest shape, momentum; in the world: one constraint per triangle for method 3
+// only, and a vertical cloth (which the seed drops) pinned at its top edge whose stretch falls with
+// the iteration count.
 #include <gtest/gtest.h>
 
 #include <algorithm>

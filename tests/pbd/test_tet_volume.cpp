@@ -1,8 +1,9 @@
 // Tet volume constraints (constraints/tet_volume.h), PBD and XPBD: the gradients against
 // central differences, the rest state in either orientation (the seed's |V₀| bug), rigid-motion
 // invariance and momentum; in the world: an apex on a static base held by the volume constraint
-// alone settles at the closed-form compression 9 m g/(k A²) (XPBD) or (1 − k)ⁿ g h_s²/(1 − (1 − k)ⁿ)
-// (PBD, iteration-dependent); the constraints a tet model gets from solidSimulationMethod.
+// alone settles at the closed-form compression 9 m g/(k A²) (XPBD) or
+// (1 − k)ⁿ g h_s²/(1 − (1 − k)ⁿ) (PBD, iteration-dependent); the constraints a tet model gets
+// from solidSimulationMethod.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -10,18 +10,23 @@ import json
 import os
 import subprocess
 import sys
+from collections.abc import Callable, Generator
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import pytest
 
 REPO = Path(__file__).resolve().parents[2]
+#: The build under test: its pbdval._core (the folder python/) comes before any other checkout's
+#: the venv's .pth may name, as the runner sets it for its Python engines.
+BUILD = Path(os.environ.get("PBDVAL_BUILD_DIR", REPO / "build" / "release"))
 sys.path.insert(0, str(REPO / "python"))
+sys.path.insert(1, str(BUILD / "python"))
 VENV_PYTHON = REPO / ".venv" / "bin" / "python"
 
 
 @pytest.hookimpl(hookwrapper=True)
-def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo[Any]):  # type: ignore[no-untyped-def]
+def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo[Any]) -> Generator[None, Any, None]:
     outcome = yield
     report = outcome.get_result()
     if report.skipped and not hasattr(report, "wasxfail"):
@@ -36,8 +41,7 @@ def repo() -> Path:
 
 @pytest.fixture(scope="session")
 def pbdval_binary() -> Path:
-    build = Path(os.environ.get("PBDVAL_BUILD_DIR", REPO / "build" / "release"))
-    binary = build / "bin" / "pbdval"
+    binary = BUILD / "bin" / "pbdval"
     if not binary.is_file():
         pytest.fail(f"{binary} is missing: build it (cmake --build --preset release --target pbdval) "
                     "or set PBDVAL_BUILD_DIR")
@@ -77,16 +81,18 @@ def engine_command(name: str) -> list[str]:
 
 def engine_environment() -> dict[str, str]:
     """The environment the runner gives a "{python}" engine: PBDVAL_PROTOCOL=1 and this source
-    tree's python/ first on PYTHONPATH (validation/engines/standard_engines.cpp)."""
+    tree's python/ and the build's first on PYTHONPATH (validation/engines/standard_engines.cpp)."""
     inherited = os.environ.get("PYTHONPATH", "")
-    path = str(REPO / "python") + (os.pathsep + inherited if inherited else "")
+    path = os.pathsep.join([str(REPO / "python"), str(BUILD / "python")]) + (
+        os.pathsep + inherited if inherited else "")
     return dict(os.environ, PBDVAL_PROTOCOL="1", PYTHONPATH=path)
 
 
 @pytest.fixture
 def run_engine(tmp_path: Path) -> Callable[[str, Path], tuple[dict[str, Any], Path]]:
     """run_engine("pybullet", scene) → (status.json, OUTDIR): the catalogue entry's command run as
-    the runner does (engine_command, engine_environment), repository root as working directory."""
+    the runner does (engine_command, engine_environment), in the catalogue's folder (engines/),
+    where its relative paths lead."""
     counter = [0]
 
     def run(engine: str, scene: Path) -> tuple[dict[str, Any], Path]:
@@ -94,8 +100,8 @@ def run_engine(tmp_path: Path) -> Callable[[str, Path], tuple[dict[str, Any], Pa
         out = tmp_path / f"out{counter[0]}"
         out.mkdir()
         result = subprocess.run(engine_command(engine) + ["--scene", str(scene), "--out", str(out)],
-                                capture_output=True, text=True, cwd=REPO, env=engine_environment(),
-                                check=False, timeout=600)
+                                capture_output=True, text=True, cwd=REPO / "engines",
+                                env=engine_environment(), check=False, timeout=600)
         assert result.returncode == 0, f"{engine} exited {result.returncode}: {result.stderr}"
         assert result.stdout == "", f"{engine} wrote to standard output: {result.stdout[:200]}"
         status = json.loads((out / "status.json").read_text())

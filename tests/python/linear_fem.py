@@ -89,3 +89,51 @@ def lumped_masses(positions: np.ndarray, tets: np.ndarray, density: float) -> np
         x = positions[tet]
         masses[tet] += density * abs(np.linalg.det((x[1:] - x[0]).T)) / 24
     return masses
+
+
+def membrane_static_displacement(positions: np.ndarray, triangles: np.ndarray, masses: np.ndarray,
+                                 fixed: np.ndarray, gravity: np.ndarray, stretch: float,
+                                 poisson: float) -> np.ndarray:
+    """The in-plane static solution of a flat membrane of linear (constant-strain) triangles
+    under plane stress, for a load in its plane: (n, 3) displacements u solving K u = f,
+    f_i = m_i g (projected onto the plane), u_i = 0 for i in `fixed`. `stretch` is E t (N/m).
+    With 2D coordinates in an orthonormal basis of the plane and, per triangle of area A, the
+    shape-function gradients g_a (rows of the inverse of [x_1 - x_0, x_2 - x_0]^T,
+    g_0 = -(g_1 + g_2)), the element block between vertices a and b is
+
+        K_ab = A (mu (g_a . g_b) I + mu g_b g_a^T + lambda* g_a g_b^T)      (2 x 2),
+
+    mu = E t / (2 (1 + nu)), lambda* = E t nu / (1 - nu^2): the Hessian of
+    A (mu eps:eps + lambda*/2 (tr eps)^2), linear plane-stress elasticity."""
+    x = np.asarray(positions, dtype=np.float64)
+    origin = x[0]
+    first = np.asarray(triangles[0])
+    e1 = x[first[1]] - x[first[0]]
+    e1 /= np.linalg.norm(e1)
+    normal = np.cross(x[first[1]] - x[first[0]], x[first[2]] - x[first[0]])
+    normal /= np.linalg.norm(normal)
+    if np.max(np.abs((x - origin) @ normal)) > 1e-12:
+        raise ValueError("the membrane is not flat")
+    basis = np.vstack([e1, np.cross(normal, e1)])  # (2, 3)
+    p = (x - origin) @ basis.T
+    mu = stretch / (2 * (1 + poisson))
+    lam = stretch * poisson / (1 - poisson**2)
+    n = len(p)
+    k = np.zeros((2 * n, 2 * n))
+    for tri in np.asarray(triangles):
+        edges = (p[tri[1:]] - p[tri[0]]).T
+        area = abs(np.linalg.det(edges)) / 2
+        inverse = np.linalg.inv(edges)
+        g = np.vstack([-inverse.sum(axis=0), inverse])
+        for a in range(3):
+            for b in range(3):
+                block = area * (mu * (g[a] @ g[b]) * np.eye(2) + mu * np.outer(g[b], g[a])
+                                + lam * np.outer(g[a], g[b]))
+                k[2 * tri[a]:2 * tri[a] + 2, 2 * tri[b]:2 * tri[b] + 2] += block
+    f = (masses[:, None] * (basis @ np.asarray(gravity))[None, :]).reshape(-1)
+    free_nodes = np.setdiff1d(np.arange(n), fixed)
+    free = (2 * free_nodes[:, None] + np.arange(2)[None, :]).reshape(-1)
+    u = np.zeros(2 * n)
+    u[free] = np.linalg.solve(k[np.ix_(free, free)], f[free])
+    displacement: np.ndarray = u.reshape(-1, 2) @ basis
+    return displacement

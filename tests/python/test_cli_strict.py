@@ -12,11 +12,13 @@ import shutil
 import signal
 import subprocess
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 
 import pbdval
+
 REPO = Path(__file__).resolve().parents[2]
 # The build under test (as the conftest's pbdval_binary fixture); pbdval.run uses the build its
 # C++ core was loaded from.
@@ -38,7 +40,7 @@ def snapshot(folder: Path) -> dict[str, bytes]:
             if p.is_file() and p.name != ".pbdval.lock"}
 
 
-def wait_for(condition, seconds: float = 60.0) -> None:  # type: ignore[no-untyped-def]
+def wait_for(condition: Callable[[], bool], seconds: float = 60.0) -> None:
     deadline = time.monotonic() + seconds
     while not condition():
         if time.monotonic() > deadline:
@@ -107,7 +109,8 @@ def test_run_with_a_set_value_the_loader_rejects_exits_2_like_simulate(tmp_path:
 
 def test_jobs_beyond_the_range_does_not_wrap_around(tmp_path: Path) -> None:
     # 4294967297 = 2^32 + 1 would wrap to 1 in a 32-bit int.
-    expect_usage_error(pbdval_command("run", QUICK, "--engines", "pbd", "--jobs", "4294967297", "--out", str(tmp_path / "r")),
+    expect_usage_error(pbdval_command("run", QUICK, "--engines", "pbd", "--jobs", "4294967297",
+                                      "--out", str(tmp_path / "r")),
                        "--jobs: expected an integer from 1 to 1024, got '4294967297'")
     expect_usage_error(pbdval_command("sweep", QUICK, "--param", "timeStepSize=0.01,0.005", "--jobs", "0"),
                        "--jobs: expected an integer from 1 to 1024")
@@ -241,10 +244,12 @@ def test_no_output_may_overwrite_an_input_of_the_same_command(tmp_path: Path) ->
     assert not same.exists()
 
     results = tmp_path / "run"
-    assert pbdval_command("run", str(scene), "--engines", "pbd", "--out", str(results), "--no-trajectories").returncode == 0
+    done = pbdval_command("run", str(scene), "--engines", "pbd", "--out", str(results), "--no-trajectories")
+    assert done.returncode == 0
     results_json = results / "results.json"
     results_bytes = results_json.read_bytes()
-    expect_usage_error(pbdval_command("baseline", "--results", str(results), "--out", str(results_json)), "is the results")
+    expect_usage_error(pbdval_command("baseline", "--results", str(results), "--out", str(results_json)),
+                       "is the results")
     baseline = tmp_path / "baseline.json"
     assert pbdval_command("baseline", "--results", str(results), "--out", str(baseline)).returncode == 0
     baseline_bytes = baseline.read_bytes()

@@ -10,13 +10,14 @@ import os
 import signal
 import subprocess
 import time
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any
 
 import pytest
 
 from pbdval import cluster
-from pbdval.results import load_results, pbdval_binary
+from pbdval.results import Results, load_results, pbdval_binary
 
 REPO = Path(__file__).resolve().parents[2]
 VENV = REPO / ".venv" / "bin"
@@ -84,7 +85,7 @@ def local_run(folder: Path) -> Path:
 def test_the_cluster_gives_what_a_local_run_gives(scheduler_file: Path, tmp_path: Path) -> None:
     out = tmp_path / "dask"
     done = subprocess.run([str(pbdval_binary()), "run", *RUN_ARGS, "--executor", "dask", "--scheduler-file",
-                           str(scheduler_file), "--out", str(out)], capture_output=True, text=True)
+                           str(scheduler_file), "--out", str(out)], capture_output=True, text=True, check=False)
     assert done.returncode == 0, done.stderr
     assert f"{RUNS} runs in {RUNS} tasks on 2 Dask workers" in done.stderr
     local = local_run(tmp_path / "local")
@@ -99,7 +100,8 @@ def test_a_sweep_on_the_cluster_fits_what_a_local_sweep_fits(scheduler_file: Pat
     sweep = [str(REPO / "cases" / "joint_hinge.json"), "--param", "timeStepSize=0.004,0.002,0.001",
              "--methods", "pbd,mujoco.rk4", "--reference", "fine"]
     done = subprocess.run([str(pbdval_binary()), "sweep", *sweep, "--executor", "dask", "--scheduler-file",
-                           str(scheduler_file), "--out", str(tmp_path / "dask")], capture_output=True, text=True)
+                           str(scheduler_file), "--out", str(tmp_path / "dask")],
+                          capture_output=True, text=True, check=False)
     assert done.returncode == 0, done.stderr
     subprocess.run([str(pbdval_binary()), "sweep", *sweep, "--out", str(tmp_path / "local"), "--quiet"],
                    check=True, capture_output=True)
@@ -114,7 +116,7 @@ def test_a_sweep_on_the_cluster_fits_what_a_local_sweep_fits(scheduler_file: Pat
 def test_bad_arguments_are_reported_by_the_pbdval_command(scheduler_file: Path, tmp_path: Path) -> None:
     done = subprocess.run([str(pbdval_binary()), "run", *RUN_ARGS, "--methods", "no.such", "--executor", "dask",
                            "--scheduler-file", str(scheduler_file), "--out", str(tmp_path / "o")],
-                          capture_output=True, text=True)
+                          capture_output=True, text=True, check=False)
     assert done.returncode == 2 and "no.such" in done.stderr
 
 
@@ -142,6 +144,7 @@ def test_a_worker_killed_mid_run_loses_nothing(scheduler_file: Path, tmp_path: P
 
     with Client(scheduler_file=str(scheduler_file), timeout=START_TIMEOUT) as client:
         results = cluster.run_on_cluster(client, RUN_ARGS, tmp_path / "out", quiet=True, task=kill_worker_once)
+        assert isinstance(results, Results)  # `run` gives a results folder
         client.wait_for_workers(2, timeout=START_TIMEOUT)  # the nanny brought it back
     assert all(r.ok for r in results), [(r.case, r.label, r.reason) for r in results if not r.ok]
     assert comparable(tmp_path / "out") == comparable(local_run(tmp_path / "local"))
@@ -152,6 +155,7 @@ def test_a_run_that_kills_workers_twice_is_an_error(scheduler_file: Path, tmp_pa
 
     with Client(scheduler_file=str(scheduler_file), timeout=START_TIMEOUT) as client:
         results = cluster.run_on_cluster(client, RUN_ARGS, tmp_path / "out", quiet=True, task=kill_worker_always)
+        assert isinstance(results, Results)  # `run` gives a results folder
         client.wait_for_workers(2, timeout=START_TIMEOUT)
     failed = [r for r in results if not r.ok]
     assert len(failed) == 1 and failed[0].status == "error"
@@ -166,16 +170,16 @@ def test_workers_of_another_build_are_refused(scheduler_file: Path, tmp_path: Pa
     real = cluster.build_identity
     # The client's identity changes here only; workers import the real function.
     monkeypatch.setattr(cluster, "build_identity", lambda binary: real(binary).replace("commit:", "commit: other"))
-    with Client(scheduler_file=str(scheduler_file), timeout=START_TIMEOUT) as client:
-        with pytest.raises(cluster.ClusterError, match="runs another pbdval build"):
-            cluster.run_on_cluster(client, RUN_ARGS, tmp_path / "out", quiet=True)
+    with (Client(scheduler_file=str(scheduler_file), timeout=START_TIMEOUT) as client,
+          pytest.raises(cluster.ClusterError, match="runs another pbdval build")):
+        cluster.run_on_cluster(client, RUN_ARGS, tmp_path / "out", quiet=True)
 
 
 def test_an_unreachable_scheduler_is_a_clear_error_within_the_timeout(tmp_path: Path) -> None:
     start_time = time.monotonic()
     done = subprocess.run([str(pbdval_binary()), "run", *RUN_ARGS, "--executor", "dask", "--scheduler",
                            "tcp://127.0.0.1:9", "--connect-timeout", "2", "--out", str(tmp_path / "o")],
-                          capture_output=True, text=True)
+                          capture_output=True, text=True, check=False)
     elapsed = time.monotonic() - start_time
     assert done.returncode == 2
     assert "cannot reach the Dask scheduler tcp://127.0.0.1:9 within 2 s" in done.stderr

@@ -33,18 +33,26 @@ def position_difference(case: str, method_a: str, method_b: str) -> float:
     return float(np.max(np.abs(a.positions - b.positions)))
 
 
-# Free flight, joints of the tree and sphere contacts: no solver change between the versions.
+# Free flight, every joint type of the seed (one model description: the built-in engine's MJCF,
+# docs/external-engines.md#one-model-description; springs, dampers, distance joints, motors) and
+# sphere contacts: no solver change between the versions.
 @pytest.mark.parametrize("case", ["projectile", "free_tumbling_box", "joint_hinge", "joint_ball", "chain_10",
                                   "double_pendulum", "contact_sphere_drop", "contact_bouncing_balls",
-                                  "contact_rolling_sphere"])
+                                  "contact_rolling_sphere", "joint_slider", "joint_universal",
+                                  "joint_ball_on_line", "joint_damper", "joint_distance",
+                                  "joint_rigid_body_spring", "joint_target_angle_motor_hinge",
+                                  "joint_target_velocity_motor_hinge", "joint_target_position_motor_slider",
+                                  "joint_target_velocity_motor_slider", "xpbd_pendulum_hinge"])
 def test_mujoco_4_reproduces_mujoco_2_2_2(case: str) -> None:
     assert position_difference(case, "mujoco.euler", "mujoco-python.euler.newton") <= ROUND_OFF
 
 
-@pytest.mark.parametrize("case", ["contact_resting_box", "contact_incline_stick"])
+@pytest.mark.parametrize("case", ["contact_resting_box", "contact_incline_stick", "car", "contact_jointed_bodies"])
 def test_mujoco_4_box_contacts_differ_from_2_2_2(case: str) -> None:
     # Box-on-box contacts changed between the versions (docs/external-engines.md): 3 mm on the
-    # resting box, 5e-7 m on the incline over their runs.
+    # resting box, 5e-7 m on the incline over their runs; 2.3 mm on the car and 3.3 mm on the
+    # jointed links, both with contacts on boxes (their joint types agree to round-off in the
+    # joint cases above).
     assert position_difference(case, "mujoco.euler", "mujoco-python.euler.newton") > 100 * ROUND_OFF
 
 
@@ -59,3 +67,20 @@ def test_pybullet_hinge_is_not_bullets_hinge() -> None:
     # pybullet has no hinge between maximal-coordinate bodies: the adapter uses two
     # point-to-point constraints, the C++ adapter btHingeConstraint (6 cm apart over 3 s).
     assert position_difference("joint_hinge", "bullet.si", "pybullet.si") > 1e-3
+
+
+# Reduced coordinates: pybullet's btMultiBody integrates the same joint trees with the same
+# joint-space semi-implicit Euler as MuJoCo 2.2.2 (docs/external-engines.md#pybullet-in-reduced-
+# coordinates): chains of massless links, spherical joints and the chaotic double pendulum included.
+@pytest.mark.parametrize("case", ["joint_hinge", "joint_ball", "joint_universal", "joint_ball_on_line",
+                                  "joint_slider", "joint_damper", "joint_rigid_body_spring",
+                                  "xpbd_pendulum_hinge", "chain_10", "double_pendulum"])
+def test_pybullet_in_reduced_coordinates_reproduces_mujoco_2_2_2(case: str) -> None:
+    assert position_difference(case, "mujoco.euler", "pybullet.multibody.si") <= ROUND_OFF
+
+
+# Motors: the C++ adapter's set points on a joint both hold exactly (MuJoCo's are servos).
+@pytest.mark.parametrize("case", ["joint_target_position_motor_slider",
+                                  "joint_target_velocity_motor_slider"])
+def test_pybullet_in_reduced_coordinates_drives_slider_motors_as_the_cpp_bullet_adapter(case: str) -> None:
+    assert position_difference(case, "bullet.si", "pybullet.multibody.si") <= ROUND_OFF

@@ -91,8 +91,8 @@ def test_step_counts_beyond_the_run_cap_or_not_whole_are_refused(scene: pbdval.S
         assert simulation.time == 0
         print("done")
         """)
-    result = subprocess.run([sys.executable, "-c", program], check=False, capture_output=True, text=True, timeout=60,
-                            env=_python_environment({}))
+    result = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True, timeout=60,
+                            env=_python_environment({}), check=False)
     assert result.stdout == "done\n", (result.stdout, result.stderr)
 
 
@@ -255,7 +255,9 @@ def engine_catalogue(tmp_path: Path) -> Iterator[Path]:
         echo $$ $child ${hang:-} >>"$ENGINE_PIDS.all"
         echo $child >"$ENGINE_PIDS"
         if [ "$ENGINE_MODE" = hang ]; then wait $hang; exit 0; fi
-        printf '{"protocol": 1, "status": "unsupported", "reason": "r", "unsupported": ["x"]}' >"$4/status.json"
+        printf '{"protocol": 1, "status": "unsupported", "reason": "r", "divergedAt": null, ' >"$4/status.json"
+        printf '"engineVersion": "e 1", "effectiveSettings": {}, "integratorStepsPerSceneStep": 1, ' >>"$4/status.json"
+        printf '"contactMargin": null, "unsupported": ["x"]}' >>"$4/status.json"
         """))
     catalogue = tmp_path / "engines"
     catalogue.mkdir()

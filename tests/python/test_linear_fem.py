@@ -4,8 +4,8 @@ cantilever case's expected deflection against it."""
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 import pytest
@@ -59,11 +59,11 @@ def test_an_axially_loaded_bar_stretches_by_fl_over_ea() -> None:
     u = np.zeros(3 * len(x))
     # The fixed face holds all three components, which a nu = 0 stretch does not need.
     u[dofs] = np.linalg.solve(k[np.ix_(dofs, dofs)], f.reshape(-1)[dofs])
-    u = u.reshape(-1, 3)
+    displacement = u.reshape(-1, 3)
     # A dense solve of ~100 unknowns with condition number ~1e3: round-off ~1e-13 of the largest
     # displacement; 1e-9 of it leaves margin and still fails for any discretisation error.
     largest = force * 0.4 / (E * 0.01)
-    np.testing.assert_allclose(u[:, 0], force * x[:, 0] / (E * 0.01), rtol=0, atol=1e-9 * largest)
+    np.testing.assert_allclose(displacement[:, 0], force * x[:, 0] / (E * 0.01), rtol=0, atol=1e-9 * largest)
 
 
 def test_the_cantilever_approaches_timoshenko_with_refinement() -> None:
@@ -99,7 +99,7 @@ def test_the_cantilever_cases_expected_deflection_is_the_linear_fem_solution(
     fixed = np.flatnonzero(masses == 0)
     assert len(fixed) == 25  # the 5 x 5 nodes of the clamped face
     u = linear_fem.static_displacement(x, beam.tets, masses, fixed, np.array(scene.gravity),
-                                       beam.material["stiffness"], beam.material["poissonRatio"])
+                                       float(beam.material["stiffness"]), float(beam.material["poissonRatio"]))
     lo, hi = np.array(spec["region"]["min"]), np.array(spec["region"]["max"])
     region = np.all((x >= lo) & (x <= hi), axis=1)
     assert region.sum() == 25  # the tip face

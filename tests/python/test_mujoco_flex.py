@@ -9,8 +9,9 @@ from __future__ import annotations
 import json
 import math
 import subprocess
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -75,10 +76,10 @@ def test_flex_vertices_masses_and_elements_are_the_scenes(export_scene: Export, 
     # Total mass: fsum rounds the exact sum once, so equal multisets of masses give equal totals.
     assert math.fsum(model.body_mass[1:]) == math.fsum(masses)
     assert np.array_equal(run.layout.state(data)[:, :3], positions)
-    models = (*scene.triangle_models, *scene.tet_models)
+    models: tuple[pp.TriangleModel | pp.TetModel, ...] = (*scene.triangle_models, *scene.tet_models)
     assert model.nflex == len(models)
     for f, m in enumerate(models):
-        elements = np.asarray(m.triangles if hasattr(m, "triangles") else m.tets) + m.first_particle
+        elements = np.asarray(m.triangles if isinstance(m, pp.TriangleModel) else m.tets) + m.first_particle
         dim = elements.shape[1] - 1
         assert model.flex_dim[f] == dim and model.flex_vertadr[f] == m.first_particle
         first = model.flex_elemdataadr[f]
@@ -113,7 +114,7 @@ def test_cloth_membrane_under_uniaxial_strain_pulls_like_the_spring_network(expo
     scene = scene_of(export_scene, "cloth_on_sphere", "mujoco-python.euler.newton", without_bodies)
     run = engine.MujocoRun(scene)
     x0 = run.layout.positions0
-    eps, k, width = 1e-6, scene.triangle_models[0].material["stiffness"], np.ptp(x0[:, 2])
+    eps, k, width = 1e-6, float(scene.triangle_models[0].material["stiffness"]), np.ptp(x0[:, 2])
     stretched = x0.copy()
     stretched[:, 0] = x0[:, 0].min() + (x0[:, 0] - x0[:, 0].min()) * (1 + eps)
     forces = elastic_forces(run, stretched)
@@ -125,6 +126,94 @@ def test_cloth_membrane_under_uniaxial_strain_pulls_like_the_spring_network(expo
     assert np.abs(forces.sum(axis=0)).max() < 1e-9 * expected
 
 
+#: The FEM cloth of the tests: the membrane of the cases' k = 1000 N/m spring network (E t = 4k/3),
+#: nu = 0.3, isotropic (G = E/(1 + nu) in the seed's convention, flexes.fem_membrane).
+FEM_STRETCH, FEM_POISSON = 4000.0 / 3.0, 0.3
+
+
+def fem_cloth(document: dict[str, Any], young_y: float = FEM_STRETCH, shear: float = FEM_STRETCH / 1.3,
+              bending: int = 0) -> None:
+    """The document's first cloth as the seed's FEM cloth (method 2) with the moduli given."""
+    document["triangleModels"][0].update(
+        simulationMethod=2, methodName="fem", bendingMethod=bending,
+        bendingMethodName={0: "none", 3: "isometric_xpbd"}[bending])
+    document["triangleModels"][0]["material"].update(
+        xxStiffness=FEM_STRETCH, yyStiffness=young_y, xyStiffness=shear,
+        xyPoissonRatio=FEM_POISSON, yxPoissonRatio=FEM_POISSON)
+
+
+def test_fem_cloth_is_the_isotropic_membrane_of_its_moduli(export_scene: Export) -> None:
+    # The seed's FEM triangle with E_x = E_y = E_s, nu_xy = nu_yx = nu has the plane-stress normal
+    # stiffness E_s/(1 - nu^2) and cross term E_s nu/(1 - nu^2) per unit area (C = A psi), and
+    # shear G: MuJoCo's membrane with E t = E_s, poisson nu is it exactly when G = E_s/(1 + nu).
+    # Stretched along x by eps with y and z held (uniaxial strain), the column x = max of the
+    # free sheet pulls E_s/(1 - nu^2) eps L, times St. Venant-Kirchhoff's (1 + eps)(1 + eps/2).
+    def free_fem_cloth(document: dict[str, Any]) -> None:
+        without_bodies(document)
+        fem_cloth(document)
+
+    scene = scene_of(export_scene, "cloth_on_sphere", "mujoco-python.euler.newton", free_fem_cloth)
+    membrane = flexes.fem_membrane(scene.triangle_models[0].material)
+    assert (membrane.stretch, membrane.poisson) == (FEM_STRETCH, FEM_POISSON)
+    assert membrane.shear_ratio == pytest.approx(1.0, rel=1e-15)  # E/(E/1.3 x 1.3): round-off
+    run = engine.MujocoRun(scene)
+    assert "): native" in str(run.settings["TriangleModels[0].membrane"])
+    x0 = run.layout.positions0
+    eps, width = 1e-6, np.ptp(x0[:, 2])
+    stretched = x0.copy()
+    stretched[:, 0] = x0[:, 0].min() + (x0[:, 0] - x0[:, 0].min()) * (1 + eps)
+    forces = elastic_forces(run, stretched)
+    right = np.isclose(x0[run.layout.dynamic, 0], x0[:, 0].max())
+    expected = FEM_STRETCH / (1 - FEM_POISSON**2) * eps * width * (1 + eps) * (1 + eps / 2)
+    assert -forces[right, 0].sum() == pytest.approx(expected, rel=1e-8)  # round-off on 1e-3 N
+
+
+def test_fem_cloth_with_the_seeds_shear_modulus_is_recorded_as_approximated(export_scene: Export) -> None:
+    # The seed's defaults E_x = E_y = G = 1, nu = 0.3: MuJoCo's shear stiffness E/(2(1 + nu)) is
+    # E_s/(G (1 + nu)) = 1/1.3 of the seed's G/2.
+    scene = scene_of(export_scene, "cloth_hanging", "mujoco-python.euler.newton",
+                     lambda d: fem_cloth(d, shear=FEM_STRETCH))
+    settings = engine.MujocoRun(scene).settings
+    assert "shear stiffness 0.769231 x the seed's" in str(settings["TriangleModels[0].membrane"])
+    assert "approximated" in str(settings["TriangleModels[0].membrane"])
+
+
+def test_a_fem_curtain_settles_at_the_linear_membrane_fem_sag(export_scene: Export) -> None:
+    # cloth_hanging turned upright (the sheet in the x-y plane, gravity in its plane) and pinned
+    # along its top row, FEM cloth with E t = 4000/3 N/m, nu = 0.3, no bending: an in-plane load,
+    # so linear plane-stress FEM of the same triangles, masses and pins (linear_fem, numpy only)
+    # is the static solution at small strain. In `discrete`, whose backward Euler settles the
+    # released sheet, the time-mean sag of the bottom edge over the second half of 4 s is that
+    # solution's to St. Venant-Kirchhoff's geometric nonlinearity, of the order of the strain
+    # (largest 3e-3): bound 5e-3 (measured 2.2e-3).
+    def upright(document: dict[str, Any]) -> None:
+        fem_cloth(document)
+        for p in document["particles"]:
+            x, y, z = p["position"]
+            p["position"] = [x, 1.0 - z, y]  # 90 degrees about x: the row z = -0.5 on top
+        top = max(p["position"][1] for p in document["particles"])
+        pinned = [i for i, p in enumerate(document["particles"]) if p["position"][1] == top]
+        for i in pinned:
+            document["particles"][i]["mass"] = 0.0
+        document["triangleModels"][0]["staticParticles"] = pinned
+
+    scene = scene_of(export_scene, "cloth_hanging", "mujoco-python.discrete.newton", upright, duration=4.0)
+    run = engine.MujocoRun(scene)
+    x0 = run.layout.positions0
+    masses = np.array([p.mass for p in scene.particles])
+    cloth = scene.triangle_models[0]
+    expected = linear_fem.membrane_static_displacement(
+        x0, np.asarray(cloth.triangles), masses, np.flatnonzero(masses == 0), np.array(scene.gravity),
+        FEM_STRETCH, FEM_POISSON)
+    bottom = np.flatnonzero(np.isclose(x0[:, 1], x0[:, 1].min()))
+    sags = []
+    for n in range(1, scene.steps + 1):
+        step(run)
+        if n * scene.time_step_size > 2.0:
+            sags.append((run.layout.state(run.data)[bottom, 1] - x0[bottom, 1]).mean())
+    assert np.mean(sags) == pytest.approx(expected[bottom, 1].mean(), rel=5e-3)
+
+
 def test_tets_under_uniaxial_strain_pull_with_lambda_plus_two_mu(export_scene: Export) -> None:
     # The tet bar stretched along its axis by eps, the cross-section held: uniaxial strain, so
     # the end face x = 1 m (A = 0.2 x 0.2 m^2) carries (lambda + 2 mu) eps A, times
@@ -133,7 +222,7 @@ def test_tets_under_uniaxial_strain_pull_with_lambda_plus_two_mu(export_scene: E
     run = engine.MujocoRun(scene)
     x0 = run.layout.positions0
     material = scene.tet_models[0].material
-    E, nu = material["stiffness"], material["poissonRatio"]
+    E, nu = float(material["stiffness"]), float(material["poissonRatio"])
     lam, mu = E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
     eps, area = 1e-6, np.ptp(x0[:, 1]) * np.ptp(x0[:, 2])
     stretched = x0.copy()
@@ -229,7 +318,7 @@ def test_explicit_integrators_substep_below_the_stability_limit(export_scene: Ex
     # by central differences of the membrane force on that particle alone.
     scene = scene_of(export_scene, "cloth_hanging", "mujoco-python.euler.newton")
     run = engine.MujocoRun(scene)
-    omega = run.settings["elasticOmegaMax"]
+    omega = float(run.settings["elasticOmegaMax"])
     h = scene.time_step_size
     assert run.substeps == math.ceil(omega * h) and run.substeps > 1
     assert run.model.opt.timestep == pytest.approx(h / run.substeps, rel=1e-15)
@@ -286,8 +375,11 @@ def test_pinned_particles_stay_and_the_particles_file_has_every_sample(export_sc
 
 @pytest.mark.parametrize("case,method,edit,feature", [
     ("cloth_hanging", "mujoco-python.euler.newton",
-     lambda d: d["triangleModels"][0].update(simulationMethod=2, methodName="fem"),
-     "TriangleModels[0]: cloth method 2 (fem)"),
+     lambda d: d["triangleModels"][0].update(simulationMethod=3, methodName="strain"),
+     "TriangleModels[0]: cloth method 3 (strain)"),
+    ("cloth_hanging", "mujoco-python.euler.newton",
+     lambda d: fem_cloth(d, young_y=2.0 * FEM_STRETCH),
+     "TriangleModels[0]: cloth method 2 (fem) with orthotropic moduli"),
     ("cloth_hanging", "mujoco-python.euler.newton",
      lambda d: d["triangleModels"][0].update(bendingMethod=1, bendingMethodName="dihedral"),
      "TriangleModels[0]: bending method 1 (dihedral)"),
@@ -348,8 +440,8 @@ def test_cantilever_settles_at_the_linear_fem_deflection(export_scene: Export) -
     masses = np.array([p.mass for p in scene.particles])
     assert len(scene.tet_models) == 1 and model.first_particle == 0  # local indices are global
     expected = linear_fem.static_displacement(x0, model.tets, masses, np.array(model.static_particles),
-                                              np.array(scene.gravity), model.material["stiffness"],
-                                              model.material["poissonRatio"])
+                                              np.array(scene.gravity), float(model.material["stiffness"]),
+                                              float(model.material["poissonRatio"]))
     tip = np.flatnonzero(np.isclose(x0[:, 0], x0[:, 0].max()))
     sags = []
     for n in range(1, scene.steps + 1):

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import re
 import tomllib
-from pathlib import Path
 
 import setuptools
 
@@ -65,8 +64,10 @@ def test_no_module_of_the_package_edits_the_import_path() -> None:
 
 
 def test_the_engines_siblings_import_as_modules_of_the_package() -> None:
-    from pbdval.external.mujoco import contact_law, engine as mujoco_engine, flexes
-    from pbdval.external.pybullet import deformables, engine as pybullet_engine, materials
+    from pbdval.external.mujoco import contact_law, flexes
+    from pbdval.external.mujoco import engine as mujoco_engine
+    from pbdval.external.pybullet import deformables, materials
+    from pbdval.external.pybullet import engine as pybullet_engine
 
     assert pybullet_engine.materials is materials and pybullet_engine.deformables is deformables
     assert mujoco_engine.flexes is flexes and mujoco_engine.contact_law is contact_law
@@ -74,7 +75,7 @@ def test_the_engines_siblings_import_as_modules_of_the_package() -> None:
 
 def test_importing_the_python_engines_leaves_the_api_function_engines_callable() -> None:
     import pbdval
-    import pbdval.external.mujoco.engine  # noqa: F401
-    import pbdval.external.pybullet.engine  # noqa: F401
+    import pbdval.external.mujoco.engine
+    import pbdval.external.pybullet.engine
 
     assert callable(pbdval.engines)

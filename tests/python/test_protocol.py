@@ -6,6 +6,7 @@ import json
 import math
 import random
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -15,7 +16,7 @@ from pbdval.external.mujoco import contact_law
 from pbdval.external.pybullet import materials
 
 
-def minimal_document() -> dict:
+def minimal_document() -> dict[str, Any]:
     return {
         "format": "pbdval.resolved-scene", "version": 1, "source": "/x/s.json", "name": "s",
         "method": {"name": "m", "parameters": {"iterations": 7, "flag": True, "cone": "elliptic"}},
@@ -168,6 +169,19 @@ def test_divergence_uses_the_runner_limits() -> None:
     assert pp.divergence_reason(1.0, [ok]) is None
     assert "body 1 blew up" in (pp.divergence_reason(1.0, [ok, far]) or "")
     assert "non-finite state of body 2" in (pp.divergence_reason(1.0, [nan]) or "")
+
+
+def test_divergence_is_decided_by_the_norms_not_by_the_components() -> None:
+    # Components past the cheap look's half limit are judged by |x| and |v| exactly: 6e5 on
+    # each axis is |x| = 1.04e6 (over), 5.7e5 is 0.987e6 (within); 0.9e6 on one axis is within,
+    # (0, 8e5, -8e5) is |v| = 1.13e6 (over).
+    def body(position: tuple[float, float, float], velocity: tuple[float, float, float]) -> pp.BodyState:
+        return pp.BodyState(0, position, (1, 0, 0, 0), velocity, (0, 0, 0))
+    assert "blew up" in (pp.divergence_reason(0.0, [body((6e5, 6e5, 6e5), (0, 0, 0))]) or "")
+    assert pp.divergence_reason(0.0, [body((5.7e5, 5.7e5, 5.7e5), (0, 0, 0))]) is None
+    assert pp.divergence_reason(0.0, [body((0, 0, 0), (9e5, 0, 0))]) is None
+    assert "blew up" in (pp.divergence_reason(0.0, [body((0, 0, 0), (0, 8e5, -8e5))]) or "")
+    assert "non-finite" in (pp.divergence_reason(0.0, [body((math.inf, 0, 0), (0, 0, 0))]) or "")
 
 
 # --- pybullet's per-body material factors (pbdval.external.pybullet.materials)

@@ -6,15 +6,15 @@ from __future__ import annotations
 import json
 import math
 import subprocess
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 import pytest
 
 from conftest import REPO
 from pbdval import protocol as pp
-
 from pbdval.external.pybullet import deformables, engine
 
 PYBULLET = "pybullet"  # the catalogue entry run_engine runs
@@ -157,10 +157,10 @@ def test_the_substep_count_keeps_the_explicit_step_stable(export_scene: Export) 
             bound = deformables.omega_max_bound(deformables.spring_row_sums(x, edges, k),
                                                 node_mass, dynamic)
         else:
-            m = scene.tet_models[0]
-            e, nu = float(m.material["stiffness"]), float(m.material["poissonRatio"])
-            exact = stiffness_of_tets(x, m.tets, e, nu)
-            bound = deformables.omega_max_bound(deformables.tet_row_sums(x, m.tets, e, nu),
+            tets = scene.tet_models[0]
+            e, nu = float(tets.material["stiffness"]), float(tets.material["poissonRatio"])
+            exact = stiffness_of_tets(x, tets.tets, e, nu)
+            bound = deformables.omega_max_bound(deformables.tet_row_sums(x, tets.tets, e, nu),
                                                 node_mass, dynamic)
         omega = highest_frequency(exact, node_mass, dynamic)
         # Gershgorin: the bound is never below the true highest frequency (round-off aside).

@@ -8,6 +8,7 @@ import json
 import re
 import subprocess
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -32,7 +33,8 @@ def real_results(tmp_path_factory: pytest.TempPathFactory) -> Path:
 def test_a_real_run_renders_every_case_and_run(real_results: Path, tmp_path: Path) -> None:
     report = tmp_path / "report"
     done = pbdval("report", str(real_results), "--out", str(report), "--baseline",
-                  str(REPO / "reports/baselines/main.json"), "--sweeps", str(REPO / "reports/sweeps/joint_hinge-timestep"))
+                  str(REPO / "reports/baselines/main.json"),
+                  "--sweeps", str(REPO / "reports/sweeps/joint_hinge-timestep"))
     assert done.stdout.strip() == str(report / "index.html")
     index = (report / "index.html").read_text()
     for case in ("joint_hinge", "joint_distance"):
@@ -54,14 +56,71 @@ def test_a_real_run_renders_every_case_and_run(real_results: Path, tmp_path: Pat
     assert "p = " in convergence and "slope 4" in convergence
     # Error against wall time with the sweep's Pareto front (marked by pbdval sweep).
     assert "Pareto front" in convergence and (report / "figures/sweep-joint_hinge-timestep-cost.svg").is_file()
-    # The parity matrix from docs/parity-*.md: Bullet lacks distance joints, MuJoCo universal joints.
+    # The parity matrix from the engines' feature tables: Bullet, pybullet and MuJoCo 4 lack
+    # distance joints (ODE and pbd have them); pybullet and MuJoCo 4 universal joints.
     parity = (report / "parity.html").read_text()
-    distance_row = parity[parity.index("<td>DistanceJoints</td>"):].split("</tr>")[0]
-    assert distance_row.count("unsupported") >= 3 and "native" in distance_row
-    universal_row = parity[parity.index("<td>UniversalJoints</td>"):].split("</tr>")[0]
-    assert "unsupported" in universal_row
+    distance_row = parity[parity.index("<td title='joint.distance'>"):].split("</tr>")[0]
+    assert distance_row.count(">unsupported<") == 3 and ">native<" in distance_row
+    universal_row = parity[parity.index("<td title='joint.universal'>"):].split("</tr>")[0]
+    assert universal_row.count(">unsupported<") == 2
     assert (report / "figures/joint_hinge-energy.svg").read_text().startswith("<svg")
     assert "| joint_hinge |" in (report / "report.md").read_text()
+
+
+@pytest.fixture(scope="module")
+def tumbling_results(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """free_tumbling_box in pbd and MuJoCo: its reference has no orientation and its centre of
+    mass rests, so its trajectory error is 0 in every engine."""
+    out = tmp_path_factory.mktemp("tumbling") / "out"
+    pbdval("run", str(REPO / "cases/free_tumbling_box.json"), "--engines", "pbd,mujoco", "--out", str(out),
+           "--jobs", "2", "--quiet")
+    return out
+
+
+def ranking_row(index: str, case: str) -> str:
+    row = re.search(rf"<tr><td><a href='cases/{case}.html'>.*?</tr>", index, re.DOTALL)
+    assert row is not None, f"no row of {case} in the overview"
+    return row[0]
+
+
+def test_the_overview_ranks_by_a_metric_that_tells_the_engines_apart(tumbling_results: Path, tmp_path: Path) -> None:
+    index = build_report(tumbling_results, tmp_path / "report", quiet=True).read_text()
+    row = ranking_row(index, "free_tumbling_box")
+    document = json.loads((tumbling_results / "results.json").read_text())
+    runs = {f"{r['engine']}/{r['method']}": r for r in document["runs"]}
+    assert all(r["metrics"]["trajectory_error_max"] == 0 for r in runs.values())  # why it must not decide
+    # The case's own bound (energy_drift_final ≤ 0.01) decides, named with the unit metrics.h declares.
+    assert "<th class='metric'>energy_drift_final <span class=unit>(1 (of E_ref))</span></th>" in row
+    # RK4 (fourth order) conserves the torque-free energy far better than the first-order methods:
+    # it is the best of the row, and the only one.
+    cells = re.findall(r"<td class='num ([a-z]*)'[^>]*>(.*?)</td>", row)
+    starred = [i for i, (_, text) in enumerate(cells) if "★" in text]
+    labels = re.findall(r"<th><svg class='swatch'.*?</svg>([^<]+)</th>", index)
+    assert [labels[i] for i in starred] == ["mujoco/mujoco.rk4"]
+    best = min(abs(r["metrics"]["energy_drift_final"]) for r in runs.values() if r["status"] == "ok")
+    assert best == abs(runs["mujoco/mujoco.rk4"]["metrics"]["energy_drift_final"])
+    # Coloured by the case's bound as the gate's function judges it: Euler creates energy (+5 %,
+    # beyond the +1 % bound); PBD dissipates it (within).
+    where = {labels[i]: css for i, (css, _) in enumerate(cells)}
+    assert where["mujoco/mujoco.euler"] == "beyond" and where["pbd/pbd"] == "within"
+    summary = re.search(r"<tr><td><svg class='swatch'.*?</svg>mujoco/mujoco.rk4</td>(.*?)</tr>", index)
+    assert summary is not None and re.findall(r">(\d+)<", summary[1])[:2] == ["1", "1"]  # runs, best
+
+
+def test_every_metric_has_the_unit_docs_metrics_md_gives_it(real_results: Path) -> None:
+    from pbdval.report import metric_units
+
+    units = metric_units()
+    document = json.loads((real_results / "results.json").read_text())
+    assert {m for r in document["runs"] for m in r["metrics"]} <= set(units)
+    text = (REPO / "docs/metrics.md").read_text()
+    table = text[text.index("| name | unit | present when |"):].split("\n\n")[0]
+    compared = 0
+    for names, unit in re.findall(r"^\| (`[^|]*) \| ([^|,]+) \|", table, re.MULTILINE):
+        for name in re.findall(r"`([a-z_]+)`", names.split("(+")[0]):
+            assert units[name].split(" ")[0] == unit.split(" ")[0], name
+            compared += 1
+    assert compared >= 20
 
 
 def tampered_baseline(real_results: Path, tmp_path: Path) -> Path:
@@ -87,10 +146,14 @@ def tampered_baseline(real_results: Path, tmp_path: Path) -> Path:
 
 
 def gate_row(index: str, verdict: str, case: str, check: str) -> str:
-    """The report's gate-table row of a check, or "" when there is none."""
-    for row in re.findall(rf"<tr class='verdict-{verdict}'>.*?</tr>", index):
-        if f"<td>{case}</td>" in row and f"<td>{check}</td>" in row:
-            return row
+    """The line of a check ("RUN WHAT": "pbd/pbd trajectory_error_max") in its run's row of the
+    report's changes table, or "" when there is none."""
+    run, what = check.rsplit(" ", 1)
+    for row in re.findall(r"<tr class='verdict-[a-z_]+'>.*?</tr>", index):
+        if f"<td>{case}</td><td>{run}</td>" in row:
+            for line in re.findall(rf"<div class='change verdict-{verdict}'>.*?</div>", row):
+                if f"<b>{what}</b>" in line:
+                    return str(line)
     return ""
 
 
@@ -102,16 +165,41 @@ def test_the_gates_verdicts_are_listed_with_their_numbers(real_results: Path, tm
     # The counts on top: the regression and the missing run are the only failures, in two cases.
     assert "<b>1 regression and 1 missing in 2 cases</b>" in index
     regression = gate_row(index, "regression", "joint_hinge", "pbd/pbd trajectory_error_max")
-    assert "badge fail" in regression and "2×" in regression
+    assert "badge fail" in regression and "×2," in regression  # the ratio to the baseline
     tolerated = gate_row(index, "tolerated_change", "joint_hinge", "pbd/pbd.xpbd trajectory_error_max")
-    assert "badge warn" in tolerated and "1.05×" in tolerated
+    assert "badge warn" in tolerated and "×1.05," in tolerated
     improvement = gate_row(index, "improvement", "joint_distance", "pbd/pbd joint_error_linear_max")
-    assert "badge pass" in improvement and "0.25×" in improvement
+    assert "badge pass" in improvement and "×0.25," in improvement
     assert "badge fail" in gate_row(index, "missing", "joint_distance", "pbd/pbd.gone present")
     assert "badge note" in gate_row(index, "new", "joint_distance", "bullet/bullet.si new")
     # The table is HTML, not the gate's Markdown as text.
     assert "| regression |" not in index and "<table class='gate'>" in index
     assert "| regression | joint_hinge | pbd/pbd trajectory_error_max |" in (report / "report.md").read_text()
+
+
+def test_the_settings_that_differ_from_the_baseline_are_listed_with_their_runs(real_results: Path,
+                                                                               tmp_path: Path) -> None:
+    """`pbdval baseline` records each run's settings and the build's flags; a baseline edited to
+    hold another subSteps for one run and other flags shows exactly those differences, and a
+    baseline without settings (made before they were stored) says so instead."""
+    baseline = tmp_path / "baseline.json"
+    pbdval("baseline", "--results", str(real_results), "--out", str(baseline))
+    document = json.loads(baseline.read_text())
+    hinge = next(r for r in document["runs"] if r["case"] == "joint_hinge" and r["method"] == "pbd")
+    now = hinge["settings"]["subSteps"]
+    hinge["settings"]["subSteps"] = now + "0"
+    document["source"]["flags"] = "-O0"
+    baseline.write_text(json.dumps(document))
+    index = build_report(real_results, tmp_path / "report", baseline=baseline, quiet=True).read_text()
+    table = index[index.index("Settings that differ from the baseline"):]
+    rows = re.findall(r"<tr><td>([^<]*)</td><td>([^<]*)</td><td>([^<]*)</td><td>([^<]*)</td></tr>", table)
+    assert rows == [("subSteps", now + "0", now, "1: joint_hinge pbd/pbd")]
+    assert "<b>flags</b> -O0 → " in table
+    for run in document["runs"]:
+        run.pop("settings", None)
+    baseline.write_text(json.dumps(document))
+    index = build_report(real_results, tmp_path / "old", baseline=baseline, quiet=True).read_text()
+    assert "the baseline records no run's settings" in index
 
 
 def test_gate_text_junit_markdown_and_report_count_the_same_failures(real_results: Path, tmp_path: Path) -> None:
@@ -136,20 +224,24 @@ def test_gate_text_junit_markdown_and_report_count_the_same_failures(real_result
     assert flagged > 0 and {c["case"] for c in verdicts["checks"] if c["verdict"] == "regression"} == {"joint_hinge"}
     assert verdicts["counts"]["failed"] == flagged
     text = done.stdout
-    assert len(re.findall(r"^FAIL ", text, re.M)) == flagged
+    assert len(re.findall(r"^FAIL ", text, re.MULTILINE)) == flagged
     assert f", {flagged} failed in 1 case (" in text.splitlines()[-1]
     junit = files["xml"].read_text()
-    assert re.search(r'<testsuites [^>]*failures="(\d+)"', junit).group(1) == str(flagged)
+    failures = re.search(r'<testsuites [^>]*failures="(\d+)"', junit)
+    assert failures is not None and failures.group(1) == str(flagged)
     assert junit.count("<failure ") == flagged
     markdown = files["md"].read_text()
-    assert len(re.findall(r"^\| (regression|missing) \|", markdown, re.M)) == flagged
+    assert len(re.findall(r"^\| (regression|missing) \|", markdown, re.MULTILINE)) == flagged
     assert f", {flagged} failed in 1 case (" in markdown
     # The report, running the gate itself or showing the verdicts of the gate above.
-    for name, source in (("report", {"baseline": baseline}), ("shown", {"gate_json": files["json"]})):
-        build_report(worse, tmp_path / name, quiet=True, **source)
+    for name, gate_baseline, gate_json in (("report", baseline, None), ("shown", None, files["json"])):
+        build_report(worse, tmp_path / name, quiet=True, baseline=gate_baseline, gate_json=gate_json)
         index = (tmp_path / name / "index.html").read_text()
-        rows = re.findall(r"<tr class='verdict-(regression|missing)'>", index)
-        assert len(rows) == flagged, name
+        lines = re.findall(r"<div class='change verdict-(regression|missing)'>", index)
+        assert len(lines) == flagged, name
+        # One row per run: every run of joint_hinge has a regression, and no other run.
+        rows = re.findall(r"<tr class='verdict-regression'><td>.*?</td><td>([a-z_]+)</td>", index)
+        assert rows and set(rows) == {"joint_hinge"}, name
         assert f"<b>{flagged} regressions and 0 missing in 1 case</b>" in index, name
         assert verdicts["summary"] in index, name
         assert f"{flagged} failed in 1 case" in (tmp_path / name / "report.md").read_text(), name
@@ -171,9 +263,18 @@ def test_sweep_writes_its_convergence_page(tmp_path: Path) -> None:
     page = (out / "report/convergence.html").read_text()
     assert "projectile" in page and "p = " in page and "Pareto front" in page
     assert "href='index.html'" not in page  # on its own: no links to pages that do not exist
+    # Each point's wall time is the median of three passes (the default --repeat), each kept.
+    for point in json.loads((out / "sweep.json").read_text())["points"]:
+        times = sorted(point["wall_times_s"])
+        assert len(times) == 3 and point["wall_time_s"] == times[1]
+    assert "the median of its 3 passes" in page and 'class="spread"' in page
+    assert "trajectory_error_max (m)" in page and "timeStepSize (s)" in page  # both axes with units
+    done = pbdval("sweep", str(REPO / "cases/projectile.json"), "--param", "timeStepSize=0.01", "--methods", "pbd",
+                  "--out", str(tmp_path / "none"), "--repeat", "0", check=False)
+    assert done.returncode == 2 and "--repeat" in done.stderr
 
 
-def synthetic(folder: Path, runs: list[dict], schema_version: int = 1, case_file: str = "") -> Path:
+def synthetic(folder: Path, runs: list[dict[str, Any]], schema_version: int = 1, case_file: str = "") -> Path:
     folder.mkdir(parents=True)
     cases = {r["case"]: {"file": case_file, "description": "synthetic", "checks": [], "tolerances": {}}
              for r in runs}
@@ -182,7 +283,8 @@ def synthetic(folder: Path, runs: list[dict], schema_version: int = 1, case_file
     return folder
 
 
-def run_record(case: str, engine: str, method: str, status: str, metrics: dict, trajectory: str = "") -> dict:
+def run_record(case: str, engine: str, method: str, status: str, metrics: dict[str, Any],
+               trajectory: str = "") -> dict[str, Any]:
     return {"case": case, "caseFile": "", "engine": engine, "method": method, "status": status,
             "reason": "" if status == "ok" else f"synthetic {status}", "metrics": metrics,
             "trajectory": trajectory, "parameters": {}, "settings": {"solver": "x"}, "facts": {}}
@@ -230,8 +332,50 @@ def test_a_suspect_run_shows_its_metric_and_its_reason(tmp_path: Path) -> None:
             run_record("a", "ode", "ode.quickstep", "diverged", {})]
     folder = synthetic(tmp_path / "results", runs, case_file=str(tmp_path / "no-such-scene.json"))
     index = build_report(folder, tmp_path / "report", quiet=True).read_text()
-    assert ">17.6 (suspect)<" in index and "title='synthetic suspect'" in index
+    cell = re.search(r"<td class='num [a-z]+' title='([^']*)'><span class='v'>17.6(.*?)</td>", index)
+    assert cell is not None and "synthetic suspect" in cell[1] and "badge warn'>suspect<" in cell[2]
     page = (tmp_path / "report/cases/a.html").read_text()
     held = page[page.index("Runs held suspect"):]
     assert "bullet/bullet.si" in held.split("Runs that did not complete")[0]
     assert "ode/ode.quickstep" in page[page.index("Runs that did not complete"):]
+
+
+def test_report_cases_covers_those_cases_and_gates_only_them(real_results: Path, tmp_path: Path) -> None:
+    """`report --cases joint_hinge`: the other case of the results has no page and no row, and the
+    gate (against the full library's baseline) lists none of the baseline's other 51 cases as
+    missing runs — only this case's runs of engines the results lack (pbd and bullet ran, so the
+    baseline's mujoco/ode/... runs of joint_hinge are missing, and nothing of joint_distance)."""
+    report = tmp_path / "report"
+    pbdval("report", str(real_results), "--out", str(report), "--cases", "joint_hinge", "--baseline",
+           str(REPO / "reports/baselines/main.json"))
+    index = (report / "index.html").read_text()
+    assert "cases/joint_hinge.html" in index and (report / "cases/joint_hinge.html").is_file()
+    # (the run's command line in the metadata still names both cases' files)
+    assert "cases/joint_distance.html" not in index and not (report / "cases/joint_distance.html").exists()
+    assert " in 1 case</b>" in index
+    gate_rows = re.findall(r"<tr class='verdict-[a-z_]+'><td><span class='badge [a-z]+'>[^<]*</span></td>"
+                           r"<td>([a-z0-9_]+)</td>", index)
+    assert gate_rows and set(gate_rows) == {"joint_hinge"}
+
+
+def test_report_cases_with_an_unknown_name_is_a_clear_error(real_results: Path, tmp_path: Path) -> None:
+    done = pbdval("report", str(real_results), "--out", str(tmp_path / "r"), "--cases", "joint_hinje", check=False)
+    assert done.returncode == 2
+    assert "no case 'joint_hinje'" in done.stderr and "did you mean joint_hinge" in done.stderr
+    assert not (tmp_path / "r").exists()
+
+
+def test_every_declared_method_has_a_style_of_its_own_fixed_by_the_registry() -> None:
+    """The palette is a function of the registry's declaration: every (engine, method) pair the
+    registry declares gets a distinct (colour, dash); a label with assignments keeps its method's
+    style; a sweep's bare method name gets its engine/method's style; asking in another order
+    gives the same answers."""
+    from pbdval.palette import declared_engines, style_of_label
+
+    pairs = [(engine, method) for engine, methods in declared_engines() for method in methods]
+    styles = [style_of_label(f"{engine}/{method}") for engine, method in pairs]
+    assert len({(s.colour, s.dash) for s in styles}) == len(pairs)
+    assert [style_of_label(f"{e}/{m}") for e, m in reversed(pairs)] == list(reversed(styles))
+    assert style_of_label("pbd/pbd.xpbd [timeStepSize=0.01]") == style_of_label("pbd/pbd.xpbd")
+    assert style_of_label("ode.quickstep") == style_of_label("ode/ode.quickstep")
+    assert style_of_label("gone/gone.euler").colour == "#999999"  # an engine the registry does not declare

@@ -68,7 +68,7 @@ def test_segments_as_csv_and_npy(tmp_path: Path) -> None:
     table = np.load(npy)
     assert table.dtype == np.float64 and table.shape == (41 * SEGMENTS, 9)  # 41 samples x 10
     assert np.array_equal(table, np.loadtxt(csv, delimiter=",", skiprows=1))
-    times, rotations, angular = pbdval.read_segments(npy)
+    _times, rotations, angular = pbdval.read_segments(npy)
     assert rotations.shape == (41, SEGMENTS, 4) and angular.shape == (41, SEGMENTS, 3)
     assert np.all(rotations[:, :, 0] >= 0)  # w >= 0, as the body files
     # Unit quaternions (renormalised after every correction): |q| = 1 to a few roundings.
@@ -135,6 +135,7 @@ def test_in_memory_trajectory_carries_the_segments(tmp_path: Path) -> None:
     bodies, particles, segments = simulate(cantilever_scene(tmp_path), tmp_path, ".npy", "pbd", 0.01)
     read = pbdval.Trajectory.read(bodies, particles=particles, segments=segments)
     # The files hold w >= 0; the engine's quaternions may have either sign (the same rotation).
+    assert trajectory.segment_rotations is not None and read.segment_rotations is not None
     signs = np.where(trajectory.segment_rotations[..., :1] < 0, -1.0, 1.0)
     np.testing.assert_array_equal(read.segment_rotations[: len(trajectory)], signs * trajectory.segment_rotations)
     a, b = pbdval.energy(scene, trajectory), pbdval.energy(scene, read)

@@ -30,6 +30,7 @@ def test_run_writes_npy_trajectories_equal_to_the_csv_ones(tmp_path: Path) -> No
     assert len(csv_runs) == len(npy_runs) >= 4  # the cases name their methods
     for c, n in zip(csv_runs, npy_runs):
         assert n.trajectory_path is not None and n.trajectory_path.suffix == ".npy"
+        assert c.trajectory_path is not None
         # numpy reads the file as the CSV's table, exactly (shortest round-trip text on one side,
         # the doubles' bits on the other).
         table = np.load(n.trajectory_path)

@@ -15,6 +15,7 @@
 
 #include "common/text_assertions.h"
 #include "pbd/io/scene_loader.h"
+#include "pbdval/build_info.h"
 #include "validation/engines/standard_engines.h"
 #include "validation/external_engine.h"
 #include "validation/interrupts.h"
@@ -112,6 +113,7 @@ class ExternalEngineTest : public ::testing::Test {
 
   static std::string okStatus() {
     return R"(printf '{"protocol": 1, "status": "ok", "reason": "", "engineVersion": "shell 1", )"
+           R"("unsupported": [], "divergedAt": null, )"
            R"("integratorStepsPerSceneStep": 2, "contactMargin": 0.001, )"
            R"("effectiveSettings": {"solver": "none", "iterations": 3}}' > "$4/status.json")";
   }
@@ -416,8 +418,10 @@ TEST_F(ExternalEngineTest, NaNsInTheTrajectoryAreADivergence) {
 
 TEST_F(ExternalEngineTest, UnsupportedFeaturesAreReportedByName) {
   const RunOutcome outcome = run(
-      R"(printf '{"protocol": 1, "status": "unsupported", "reason": "x", )"
-      R"("unsupported": ["SliderJoints[0]: joint slider", "particles"]}' > "$4/status.json")");
+      R"(printf '{"protocol": 1, "status": "unsupported", "reason": "x", "divergedAt": null, )"
+      R"("engineVersion": "shell 1", "effectiveSettings": {}, "integratorStepsPerSceneStep": 1, )"
+      R"("contactMargin": null, "unsupported": ["SliderJoints[0]: joint slider", "particles"]}' )"
+      R"(> "$4/status.json")");
   EXPECT_EQ(outcome.status, RunStatus::Unsupported);
   EXPECT_EQ(outcome.reason, "SliderJoints[0]: joint slider; particles");
 }
@@ -590,7 +594,7 @@ TEST(EngineCatalogue, EntriesAreTypedAndBadFilesNameTheirPath) {
     "methods": [{"name": "good.a", "description": "d", "parameters": [
       {"name": "iterations", "kind": "integer", "default": 10, "min": 1, "max": 100,
        "description": "sweeps"}]}]})";
-  const std::vector<EngineEntry> entries = readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"}, "/root");
+  const std::vector<EngineEntry> entries = readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"});
   ASSERT_EQ(entries.size(), 1u);
   EXPECT_EQ(entries[0].methods[0].parameters[0].kind, ParameterKind::Integer);
   EXPECT_THROW(parseParameter(entries[0].methods[0].parameters[0], "0", "good.a"), std::invalid_argument);
@@ -599,11 +603,79 @@ TEST(EngineCatalogue, EntriesAreTypedAndBadFilesNameTheirPath) {
     "defaultMethod": "bad.a", "methods": [{"name": "bad.a", "parameters": [
       {"name": "p", "kind": "float", "default": 1}]}]})";
   try {
-    readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"}, "/root");
+    readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"});
     FAIL() << "a bad kind was accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_TRUE(containsAll(e.what(), {"zbad.json", "methods[0].parameters[0].kind",
                                        "real, integer, bool, choice"})) << e.what();
+  }
+  fs::remove_all(folder);
+}
+
+TEST(EngineCatalogue, AFeatureTableIsCheckedAndDecidesUnsupportedRunsBeforeTheEngineStarts) {
+  const fs::path folder =
+      fs::temp_directory_path() / ("pbdval-catalogue-features-" + std::to_string(::getpid()));
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  const auto write = [&](const std::string& features) {
+    std::ofstream(folder / "probe.json") << R"({"protocol": 1, "name": "probe",
+      "command": ["/bin/false"], "defaultMethod": "probe.a",
+      "methods": [{"name": "probe.a"}, {"name": "probe.b"}], "features": [)"
+                                         << features << "]}";
+  };
+  const std::string everything =
+      R"({"feature": "shape", "support": "native"}, {"feature": "body", "support": "native"},
+         {"feature": "contact", "support": "native"}, {"feature": "particle", "support": "native"},
+         {"feature": "cloth", "support": "native"}, {"feature": "solid", "support": "native"},
+         {"feature": "rod", "support": "native"}, {"feature": "fluid", "support": "native"})";
+  write(everything + R"(, {"feature": "joint", "support": "native"},
+    {"feature": "joint.distance", "support": "unsupported", "text": "no rods", "methods": ["probe.b"]})");
+  const std::vector<EngineEntry> entries = readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"}, "/root");
+  ASSERT_EQ(entries.size(), 1u);
+  const EngineEntry& entry = entries[0];
+  ASSERT_EQ(entry.features.entries.size(), 10u);
+  EXPECT_EQ(entry.features.resolve("joint.distance", "probe.b")->support, Support::Unsupported);
+  // The engine (its command would fail) is never started for a run its table refuses.
+  pbd::Scene scene;
+  scene.rigidBodies = {pbd::RigidBodyDesc{}, pbd::RigidBodyDesc{}};
+  scene.rigidBodies[1].id = 1;
+  pbd::JointDesc joint;
+  joint.type = pbd::JointType::Distance;
+  joint.jsonPath = "DistanceJoints[0]";
+  joint.body1 = 0;
+  joint.body2 = 1;
+  scene.joints = {joint};
+  const std::unique_ptr<Engine> engine = entry.make({});
+  const std::vector<std::string> refused = engine->unsupported(scene, resolveMethod(entry.methods[1]));
+  ASSERT_EQ(refused.size(), 1u);
+  EXPECT_TRUE(containsAll(refused[0], {"DistanceJoints[0]", "no rods"})) << refused[0];
+  EXPECT_TRUE(engine->unsupported(scene, resolveMethod(entry.methods[0])).empty());
+  const RunOutcome outcome = runSimulation(*engine, scene, resolveMethod(entry.methods[1]), {0.1, 0}, {});
+  EXPECT_EQ(outcome.status, RunStatus::Unsupported);
+  EXPECT_TRUE(containsAll(outcome.reason, {"DistanceJoints[0]", "no rods"})) << outcome.reason;
+
+  // Each fault of a table is refused with the file and the JSON path.
+  const std::vector<std::pair<std::string, std::vector<std::string>>> faults = {
+      {everything + R"(, {"feature": "joint", "support": "native"}, {"feature": "joints.x", "support": "native"})",
+       {"probe.json", "features[9].feature", "joints.x"}},
+      {everything, {"probe.json", "no entry covers \"joint.ball\""}},
+      {everything + R"(, {"feature": "joint", "support": "approximated"})", {"features[8].text"}},
+      {everything + R"(, {"feature": "joint", "support": "partly", "text": "t"})",
+       {"features[8].support", "native, approximated, unsupported"}},
+      {everything + R"(, {"feature": "joint", "support": "native", "method": ["probe.a"]})",
+       {"features[8].method", "no such key"}},
+      {everything + R"(, {"feature": "joint", "support": "native", "methods": ["probe.c"]})",
+       {"features[8].methods", "probe.c"}},
+  };
+  for (const auto& [features, expected] : faults) {
+    write(features);
+    try {
+      readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"}, "/root");
+      ADD_FAILURE() << "accepted: " << features;
+    } catch (const std::invalid_argument& e) {
+      for (const std::string& part : expected)
+        EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << part << " in " << e.what();
+    }
   }
   fs::remove_all(folder);
 }
@@ -640,6 +712,264 @@ TEST(EngineCatalogue, TheVariableAddsEnginesToTheShippedOnes) {
     EXPECT_TRUE(containsAll(e.what(), {"'pybullet'", "PBDVAL_ENGINE_CATALOGUE", "another name"}))
         << e.what();
   }
+  fs::remove_all(folder);
+}
+
+
+// --- status.json against its schema (docs/schemas/status.schema.json) ---------------------------
+
+TEST_F(ExternalEngineTest, AStatusWithOnlyProtocolStatusAndReasonIsAnErrorNamingTheMissingKeys) {
+  const RunOutcome outcome = run("cp " + restingTrajectory() + " \"$4/trajectory.csv\"; " +
+                                 R"(printf '{"protocol": 1, "status": "ok", "reason": ""}' > "$4/status.json")");
+  EXPECT_EQ(outcome.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(outcome.reason, {"status.json", "unsupported: missing", "divergedAt: missing",
+                                           "engineVersion: missing", "contactMargin: missing",
+                                           "status.schema.json"}))
+      << outcome.reason;
+}
+
+TEST_F(ExternalEngineTest, AWronglyTypedStatusFieldIsAnErrorNamingItsJsonPath) {
+  const RunOutcome outcome = run(
+      "cp " + restingTrajectory() + " \"$4/trajectory.csv\"; " +
+      R"(printf '{"protocol": 1, "status": "ok", "reason": "", "unsupported": [], "divergedAt": null, )"
+      R"("engineVersion": "shell 1", "effectiveSettings": {"solver": {"kind": "pgs"}}, )"
+      R"("integratorStepsPerSceneStep": 1, "contactMargin": -1}' > "$4/status.json")");
+  EXPECT_EQ(outcome.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(outcome.reason, {"effectiveSettings.solver: expected a number, a boolean or a string",
+                                           "contactMargin: expected a number >= 0, got -1"}))
+      << outcome.reason;
+}
+
+// --- Persistent engines: runs through a server (serve protocol 1) ------------------------------
+
+/// A Python engine served by pbdval.protocol.serve_runs; what each run does is chosen by the
+/// file `mode` beside it: ok (copies `trajectory.csv` beside it, status ok), crash (SIGSEGV),
+/// hang. Every run records its own pid and its parent's (the server's); a run that finds the
+/// state an earlier run left in the module reports an error.
+const char* kServedEngine = R"(import os, shutil, signal, sys, time
+from pathlib import Path
+from pbdval import protocol as pp
+
+HERE = Path(__file__).resolve().parent
+earlier_runs: list[int] = []
+
+def main(argv):
+    args = pp.parse_arguments(argv, "served test engine")
+    mode = (HERE / "mode").read_text().strip()
+    (HERE / "server.pid").write_text(str(os.getppid()))
+    (HERE / "run.pid").write_text(str(os.getpid()))
+    if mode == "crash":
+        os.kill(os.getpid(), signal.SIGSEGV)
+    if mode == "hang":
+        time.sleep(300)
+    if earlier_runs:
+        pp.write_status(args.out, pp.Status("error", reason="state left by an earlier run", engine_version="t 1"))
+        return 0
+    earlier_runs.append(1)
+    shutil.copy(HERE / "trajectory.csv", args.out / "trajectory.csv")
+    pp.write_status(args.out, pp.Status("ok", engine_version="t 1"))
+    return 0
+
+if sys.argv[1:2] == ["--serve"]:
+    sys.exit(pp.serve_runs(sys.argv[2:], main, "served test engine"))
+sys.exit(main(sys.argv[1:]))
+)";
+
+class ServedEngineTest : public ExternalEngineTest {
+ protected:
+  void SetUp() override {
+    ExternalEngineTest::SetUp();
+    std::ofstream(folder_ / "engine.py") << kServedEngine;
+    fs::copy_file(restingTrajectory(), folder_ / "trajectory.csv");
+    // A short folder: a Unix socket's path has at most 107 bytes.
+    serverFolder_ = fs::temp_directory_path() / ("pbdval-serve-test-" + std::to_string(::getpid()));
+    fs::remove_all(serverFolder_);
+    server_ = startExternalServer("py", command({"--serve"}), serverFolder_.string());
+  }
+  void TearDown() override {
+    server_.reset();
+    fs::remove_all(serverFolder_);
+    ExternalEngineTest::TearDown();
+  }
+
+  ExternalCommand command(const std::vector<std::string>& extra = {}) const {
+    ExternalCommand c{{projectPython(), (folder_ / "engine.py").string()}, folder_.string(),
+                      std::string(PBDVAL_SOURCE_DIR) + "/python"};
+    c.argv.insert(c.argv.end(), extra.begin(), extra.end());
+    return c;
+  }
+
+  RunOutcome served(const std::string& mode, double limit = 30) {
+    std::ofstream(folder_ / "mode") << mode << "\n";
+    ExternalEngine engine("py", command(), serverFolder_.string());
+    Method method;
+    method.name = "py.test";
+    return runSimulation(engine, scene_, method, length_, {}, limit);
+  }
+
+  fs::path serverFolder_;
+  std::unique_ptr<EngineServer> server_;
+};
+
+TEST_F(ServedEngineTest, RunsGoToOneServerEachInAFreshChild) {
+  ASSERT_TRUE(server_->running());
+  const RunOutcome first = served("ok");
+  ASSERT_EQ(first.status, RunStatus::Ok) << first.reason;
+  const pid_t server = recordedPid(folder_ / "server.pid");
+  const pid_t firstRun = recordedPid(folder_ / "run.pid");
+  // The second run would be an error had it seen the first one's module state.
+  const RunOutcome second = served("ok");
+  ASSERT_EQ(second.status, RunStatus::Ok) << second.reason;
+  EXPECT_EQ(recordedPid(folder_ / "server.pid"), server);
+  EXPECT_NE(recordedPid(folder_ / "run.pid"), firstRun);
+  EXPECT_NE(server, firstRun);
+}
+
+TEST_F(ServedEngineTest, AServedRunGivesWhatTheSingleShotRunGives) {
+  const RunOutcome viaServer = served("ok");
+  ASSERT_EQ(viaServer.status, RunStatus::Ok) << viaServer.reason;
+  ExternalEngine single("py", command());
+  Method method;
+  method.name = "py.test";
+  std::vector<State> singleSamples;
+  RunCallbacks callbacks;
+  callbacks.onSample = [&](const State& s) { singleSamples.push_back(s); };
+  std::vector<State> servedSamples;
+  RunCallbacks servedCallbacks;
+  servedCallbacks.onSample = [&](const State& s) { servedSamples.push_back(s); };
+  ExternalEngine viaServerAgain("py", command(), serverFolder_.string());
+  const RunOutcome a = runSimulation(single, scene_, method, length_, callbacks, 30);
+  const RunOutcome b = runSimulation(viaServerAgain, scene_, method, length_, servedCallbacks, 30);
+  ASSERT_EQ(a.status, RunStatus::Ok) << a.reason;
+  ASSERT_EQ(b.status, RunStatus::Ok) << b.reason;
+  ASSERT_EQ(singleSamples.size(), servedSamples.size());
+  for (std::size_t k = 0; k < singleSamples.size(); ++k)
+    for (std::size_t i = 0; i < singleSamples[k].bodies.size(); ++i)
+      EXPECT_EQ(singleSamples[k].bodies[i].position, servedSamples[k].bodies[i].position);
+  EXPECT_EQ(a.facts.engineVersion, b.facts.engineVersion);
+}
+
+TEST_F(ServedEngineTest, ACrashingRunDoesNotTakeDownTheNext) {
+  const RunOutcome crash = served("crash");
+  EXPECT_EQ(crash.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(crash.reason, {"signal 11"})) << crash.reason;
+  EXPECT_TRUE(server_->running());
+  const RunOutcome next = served("ok");
+  EXPECT_EQ(next.status, RunStatus::Ok) << next.reason;
+}
+
+TEST_F(ServedEngineTest, AHangingRunIsATimeoutItsChildIsKilledAndTheServerGoesOn) {
+  const RunOutcome hang = served("hang", /*limit=*/1.0);
+  EXPECT_EQ(hang.status, RunStatus::Timeout) << hang.reason;
+  EXPECT_LT(hang.wallTime, 10.0);
+  EXPECT_FALSE(stillRunsAfterWaiting(recordedPid(folder_ / "run.pid")));
+  EXPECT_TRUE(server_->running());
+  const RunOutcome next = served("ok");
+  EXPECT_EQ(next.status, RunStatus::Ok) << next.reason;
+}
+
+TEST_F(ServedEngineTest, AServerThatCannotStartMakesItsRunsErrorsQuotingItsStandardError) {
+  server_.reset();
+  const ExternalCommand broken{
+      {"sh", "-c", "echo 'ImportError: No module named engine_library' >&2; exit 1", "server"},
+      folder_.string(), ""};
+  server_ = startExternalServer("py", broken, serverFolder_.string());
+  EXPECT_FALSE(server_->running());
+  const RunOutcome outcome = served("ok");
+  EXPECT_EQ(outcome.status, RunStatus::Error);
+  EXPECT_TRUE(containsAll(outcome.reason, {"server", "ImportError: No module named engine_library"}))
+      << outcome.reason;
+}
+
+/// The shipped Python engines, served and single-shot, on the same case: the same numbers, to
+/// the bit (the served run is the single-shot run in a forked child).
+TEST(ServedShippedEngines, PybulletAndMujocoGiveBitwiseTheSameTrajectoryServedAsSingleShot) {
+  const EngineRegistry engines = standardEngines([](const char*) -> const char* { return nullptr; });
+  const pbd::Scene scene =
+      pbd::loadScene(std::string(PBDVAL_SOURCE_DIR) + "/cases/double_pendulum.json").scene;
+  const fs::path serverFolder =
+      fs::temp_directory_path() / ("pbdval-serve-shipped-" + std::to_string(::getpid()));
+  for (const char* name : {"pybullet", "mujoco-python"}) {
+    const EngineEntry& entry = engines.engine(name);
+    ASSERT_TRUE(entry.startServer) << name << " declares no serve command";
+    const std::unique_ptr<EngineServer> server = entry.startServer(serverFolder.string());
+    ASSERT_TRUE(server->running()) << name;
+    EngineOptions options;
+    options.serverFolder = serverFolder.string();
+    const Method method = engines.resolve(entry.defaultMethod);
+    std::vector<State> single, served;
+    RunCallbacks a, b;
+    a.onSample = [&](const State& s) { single.push_back(s); };
+    b.onSample = [&](const State& s) { served.push_back(s); };
+    const RunOutcome singleRun =
+        runSimulation(*entry.make(EngineOptions{}), scene, method, {0.5, 0}, a, 120);
+    const RunOutcome servedRun = runSimulation(*entry.make(options), scene, method, {0.5, 0}, b, 120);
+    ASSERT_EQ(singleRun.status, RunStatus::Ok) << name << ": " << singleRun.reason;
+    ASSERT_EQ(servedRun.status, RunStatus::Ok) << name << ": " << servedRun.reason;
+    ASSERT_EQ(single.size(), served.size()) << name;
+    for (std::size_t k = 0; k < single.size(); ++k)
+      for (std::size_t i = 0; i < single[k].bodies.size(); ++i) {
+        const BodyState &x = single[k].bodies[i], &y = served[k].bodies[i];
+        EXPECT_TRUE(x.position == y.position && x.rotation.coeffs() == y.rotation.coeffs() &&
+                    x.velocity == y.velocity && x.angularVelocity == y.angularVelocity)
+            << name << ": sample " << k << " body " << i;
+      }
+    EXPECT_EQ(singleRun.settings, servedRun.settings) << name;
+  }
+  fs::remove_all(serverFolder);
+}
+
+// --- The catalogue: relative commands, serve ---------------------------------------------------
+
+TEST(EngineCatalogue, CommandsAreRelativeToTheCatalogueFile) {
+  const fs::path folder =
+      fs::temp_directory_path() / ("pbdval-catalogue-relative-" + std::to_string(::getpid()));
+  fs::remove_all(folder);
+  fs::create_directories(folder / "engines" / "bin");
+  // The engine reports, as its engine version, the folder it runs in.
+  std::ofstream(folder / "engines" / "bin" / "engine.sh")
+      << "printf '{\"protocol\": 1, \"status\": \"unsupported\", \"reason\": \"r\", \"unsupported\": "
+         "[\"everything\"], \"divergedAt\": null, \"engineVersion\": \"%s\", \"effectiveSettings\": {}, "
+         "\"integratorStepsPerSceneStep\": 1, \"contactMargin\": null}' \"$(pwd -P)\" > \"$4/status.json\"\n";
+  std::ofstream(folder / "engines" / "relative.json")
+      << R"({"protocol": 1, "name": "relative", "command": ["sh", "./bin/engine.sh"],
+            "defaultMethod": "relative.a", "methods": [{"name": "relative.a", "parameters": []}]})";
+  const std::string list = (folder / "engines").string();
+  // From another working folder: the command is found beside the catalogue all the same.
+  const fs::path before = fs::current_path();
+  fs::current_path(fs::temp_directory_path());
+  const EngineRegistry engines = standardEngines([&](const char* name) -> const char* {
+    return std::string(name) == "PBDVAL_ENGINE_CATALOGUE" ? list.c_str() : nullptr;
+  });
+  const pbd::Scene scene = pbd::parseScene(kScene, (folder / "scene.json").string()).scene;
+  const RunOutcome outcome = runSimulation(*engines.make("relative"), scene,
+                                           engines.resolve("relative.a"), {0.1, 0}, {}, 10);
+  fs::current_path(before);
+  EXPECT_EQ(outcome.status, RunStatus::Unsupported) << outcome.reason;
+  EXPECT_EQ(outcome.facts.engineVersion, fs::canonical(folder / "engines").string());
+  fs::remove_all(folder);
+}
+
+TEST(EngineCatalogue, AServeEntryOfAnotherProtocolIsAnErrorNamingItsPath) {
+  const fs::path folder =
+      fs::temp_directory_path() / ("pbdval-catalogue-serve-" + std::to_string(::getpid()));
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  std::ofstream(folder / "served.json") << R"({"protocol": 1, "name": "served",
+    "command": ["{python}", "engine.py"], "serve": {"protocol": 2, "command": ["{python}", "engine.py", "--serve"]},
+    "defaultMethod": "served.a", "methods": [{"name": "served.a", "parameters": []}]})";
+  try {
+    readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"});
+    FAIL() << "serve protocol 2 was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_TRUE(containsAll(e.what(), {"served.json", "serve.protocol", "expected 1"})) << e.what();
+  }
+  std::ofstream(folder / "served.json") << R"({"protocol": 1, "name": "served",
+    "command": ["{python}", "engine.py"], "serve": {"protocol": 1, "command": ["{python}", "engine.py", "--serve"]},
+    "defaultMethod": "served.a", "methods": [{"name": "served.a", "parameters": []}]})";
+  const std::vector<EngineEntry> entries = readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"});
+  ASSERT_EQ(entries.size(), 1u);
+  EXPECT_TRUE(bool(entries[0].startServer));
   fs::remove_all(folder);
 }
 

@@ -664,6 +664,31 @@ TEST(GateJudgesWithPinnedData, BaselineRoundTripKeepsThePins) {
   std::filesystem::remove(path);
 }
 
+// The settings a run was made with travel with the baseline, so that the report can say what
+// differs between a later run and it; a baseline without them (made before) still reads.
+TEST(GateJudgesWithPinnedData, BaselineRoundTripKeepsEachRunsSettingsAndTheBuildFlags) {
+  ResultsFile then = planned({run("pbd", 0.01)});
+  then.runs[0].settings = {{"timeStepSize", "0.005"}, {"subSteps", "5"}};
+  then.runs[0].methodParameters = {{"threads", "1"}};
+  then.metadata.flags = "-O3 -DNDEBUG";
+  then.metadata.buildType = "Release";
+  const std::string path = temporaryJson("settings", "");
+  writeBaseline(path, baselineFromResults(then));
+  const Baseline back = readBaseline(path);
+  EXPECT_EQ(back.runs.at(0).settings, then.runs[0].settings);
+  EXPECT_EQ(back.runs.at(0).methodParameters, then.runs[0].methodParameters);
+  EXPECT_EQ(back.source.flags, "-O3 -DNDEBUG");
+  EXPECT_EQ(back.source.buildType, "Release");
+  std::ofstream(path) << kBaselineHead
+                      << R"([{"case": "c", "engine": "pbd", "method": "pbd", "status": "ok",
+                              "metrics": {}, "settings": {"subSteps": 5}}]})";
+  EXPECT_NE(invalidArgumentOf([&] {
+              readBaseline(path);
+            }).find("runs[0].settings.subSteps: expected a string, got 5"),
+            std::string::npos);
+  std::filesystem::remove(path);
+}
+
 // FIPS 180-2, appendix B: the digests of "abc", of a two-block message and of a million "a"s;
 // and of the empty string (well known).
 TEST(Sha256, MatchesThePublishedTestVectors) {

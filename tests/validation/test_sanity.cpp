@@ -19,7 +19,7 @@ enum class Mistake { None, QuaternionXyzw, PositionsInMillimetres, OmegaInBodyAx
 
 /// Free flight, exactly: x(t) = x₀ + v₀ t + ½ g t², q(t) = exp(ω₀ t) q₀ (a body with isotropic
 /// inertia keeps its ω), read back with `mistake`.
-class ExactFreeFlightEngine : public Engine {
+class ExactFreeFlightEngine : public SteppingEngine {
  public:
   explicit ExactFreeFlightEngine(Mistake mistake) : mistake_(mistake) {}
   std::string_view name() const override { return "exact"; }
@@ -221,7 +221,7 @@ TEST(BoundaryChecks, AnImpactBetweenTwoSamplesIsNotAViolation) {
 /// A sphere spinning about z that alternates its turn every step (+θ, −θ, …), reporting the
 /// angular velocity of each step's own turn: consistent step by step, and a constant ω at every
 /// second step's state, where the net turn is zero.
-class StepOscillationEngine : public Engine {
+class StepOscillationEngine : public SteppingEngine {
  public:
   std::string_view name() const override { return "oscillation"; }
   std::vector<std::string> unsupported(const pbd::Scene&, const Method&) const override {

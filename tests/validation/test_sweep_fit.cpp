@@ -150,6 +150,7 @@ TEST(ConvergenceFit, RungeKuttaShowsOrderFourThroughTheWholeSweep) {
   options.metric = "trajectory_error_max";
   options.referenceMode = "fine";
   options.jobs = 2;
+  options.repetitions = 1;  // the order, not the wall time, is under test
   options.scratchFolder = (std::filesystem::temp_directory_path() /
                            ("pbdval-sweep-rk4-" + std::to_string(::getpid())))
                               .string();
@@ -162,6 +163,39 @@ TEST(ConvergenceFit, RungeKuttaShowsOrderFourThroughTheWholeSweep) {
   EXPECT_NEAR(fit.orders[0], 4, 0.15);
   EXPECT_TRUE(fit.excluded.empty());
   for (const LocalOrder& local : fit.localOrders) EXPECT_NEAR(local.order, 4, 0.15);
+}
+
+// A point's wall time is the median of its passes (3 passes: the middle value, whatever the
+// order they came in), every pass is kept, and the metric is the first pass's.
+TEST(SweepWallTime, IsTheMedianOfThePasses) {
+  SweepPlan plan;
+  plan.caseName = "c";
+  plan.metric = "trajectory_error_max";
+  plan.parameters = {{"timeStepSize", {"0.01", "0.005"}}};
+  plan.methods = {"pbd"};
+  std::vector<RunRecord> first;
+  for (const char* step : {"0.01", "0.005"}) {
+    SweepPoint point;
+    point.method = "pbd";
+    point.values = {{"timeStepSize", step}};
+    plan.points.push_back(point);
+    RunRecord record;
+    record.status = RunStatus::Ok;
+    record.request.method = "pbd";
+    record.metrics.values = {{"trajectory_error_max", std::stod(step)}, {"wall_time_s", 0.9}};
+    first.push_back(record);
+  }
+  std::vector<std::vector<RunRecord>> repeats = {first, first};
+  repeats[0][0].metrics.values["wall_time_s"] = 0.1;
+  repeats[1][0].metrics.values["wall_time_s"] = 0.2;
+  repeats[0][1].metrics.values["trajectory_error_max"] = 7;  // not the first pass: not the metric
+  const SweepResult result = collectSweep(plan, first, repeats);
+  EXPECT_EQ(result.points[0].wallTime, 0.2);
+  EXPECT_EQ(result.points[0].wallTimes, (std::vector<double>{0.9, 0.1, 0.2}));
+  EXPECT_EQ(result.points[1].wallTime, 0.9);
+  EXPECT_EQ(result.points[1].metric, 0.005);
+  repeats[1].pop_back();
+  EXPECT_THROW(collectSweep(plan, first, repeats), std::invalid_argument);
 }
 
 }  // namespace

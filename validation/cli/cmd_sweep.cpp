@@ -53,6 +53,9 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
       .flag("force", "replace a sweep.json of another sweep that --out holds")
       .option("jobs", "N", "runs in parallel, 1 to 1024 (default: the number of cores)")
       .option("timeout", "S", "wall-time limit per run (default 600)")
+      .option("repeat", "N",
+              "passes over the runs, 1 to 100: each point's wall time is the median of its N "
+              "(default 3)")
       .option("shard", "K/N", "run only the K-th of N slices of the sweep's runs (docs/cluster.md)")
       .option("from-shards", "DIR,...",
               "fit the runs of the shard folders (comma-separated) instead of running")
@@ -97,6 +100,7 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
     options.jobs =
         int(args.integerIn("jobs", std::max(1u, std::thread::hardware_concurrency()), 1, 1024));
     options.timeout = args.number("timeout", kDefaultWallTimeLimit);
+    options.repetitions = int(args.integerIn("repeat", kSweepRepetitions, 1, 100));
     if (options.timeout < 0) throw UsageError("--timeout: expected seconds ≥ 0");
     out = args.value("out", "out");
     while (out.size() > 1 && out.back() == '/')
@@ -176,6 +180,7 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
       return 0;
     }
     std::vector<RunRecord> records;
+    std::vector<std::vector<RunRecord>> repeats;
     if (args.has("from-shards")) {
       std::vector<ShardResults> shards;
       for (const std::string& shardFolder : splitList(args.value("from-shards")))
@@ -190,9 +195,12 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
     } else {
       RunScheduler scheduler(context.engines, options.jobs, options.timeout, scratch);
       records = scheduler.runAll(plan.requests, progress);
+      // Further passes for the wall times (their median: sweep.h SweepOptions::repetitions).
+      for (int pass = 1; pass < options.repetitions; ++pass)
+        repeats.push_back(scheduler.runAll(plan.requests, progress));
       std::filesystem::remove_all(scratch);
     }
-    const SweepResult result = collectSweep(plan, records);
+    const SweepResult result = collectSweep(plan, records, repeats);
     const std::string path = out + "/sweep.json";
     writeSweepJson(folder->staging() + "/sweep.json", result, currentMetadata(command.str()));
     folder->commit({"sweep.json"}, "sweep.json");

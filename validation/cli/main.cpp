@@ -4,6 +4,7 @@
 #include <cstring>
 #include <exception>
 #include <iostream>
+#include <string>
 
 #include "pbd/io/suggestion.h"
 #include "pbd/math/types.h"
@@ -45,8 +46,32 @@ namespace {
 void printOverview() {
   std::printf(
       "usage: pbdval COMMAND [ARGS...]\n\n"
-      "pbdval runs rigid-body, joint and contact scenes in a position-based dynamics library and\n"
-      "in reference engines, and measures them the same way.\n\ncommands:\n");
+      "pbdval runs the same scene files (rigid bodies and every joint of PositionBasedDynamics,\n"
+      "contacts, cloth, solids, rods and fluids) in a position-based dynamics library and in\n"
+      "reference engines, measures every engine the same way (energy, momentum, joint error,\n"
+      "penetration, error against analytic references) and gates releases on the results.\n");
+  // The engines are the registry's, never a list written here; a broken catalogue must not
+  // take the help text down with it (the commands report it).
+  try {
+    const pbdval::EngineRegistry engines =
+        pbdval::standardEngines([](const char* v) { return std::getenv(v); });
+    // One line per 96 columns, as the rest of the help text.
+    std::string line = "\nengines:";
+    for (const auto& entry : engines.entries()) {
+      const std::string name =
+          " " + entry.name + (entry.runByDefault ? "" : " (by name only)") + ",";
+      if (line.size() + name.size() > 96) {
+        std::printf("%s\n", line.c_str());
+        line = "        ";
+      }
+      line += name;
+    }
+    line.back() = '.';
+    std::printf("%s\n'pbdval methods' lists their methods and parameters.\n", line.c_str());
+  } catch (const std::exception& e) {
+    std::printf("engines: the catalogue could not be read: %s\n", e.what());
+  }
+  std::printf("\ncommands:\n");
   for (const auto& c : pbdval::cli::commands())
     std::printf("  %-12s %s\n", c.name, c.summary);
   std::printf(

@@ -33,11 +33,13 @@ EngineRegistry standardEngines(const EnvironmentLookup& environment) {
       start = end + 1;
     }
   }
-  // The Python engines (python/pbdval/external) import pbdval from this source tree: the one
+  // The Python engines (python/pbdval/external) import pbdval from this source tree and its
+  // C++ part (pbdval._core: mujoco-python writes its model with it) from this build: the one
   // place their module path is set (the venv's own .pth may name another checkout).
-  const ProjectPython python{projectPython(), root + "/python"};
+  const ProjectPython python{projectPython(),
+                             root + "/python:" + std::string(PBDVAL_BINARY_DIR) + "/python"};
   for (const std::string& folder : folders)
-    for (EngineEntry& entry : readEngineCatalogue(folder, python, root)) {
+    for (EngineEntry& entry : readEngineCatalogue(folder, python)) {
       const std::string name = entry.name;
       try {
         engines.add(std::move(entry));

@@ -4,7 +4,7 @@
 // Semi-implicit Euler with step h (v_{k+1} = v_k + h g, x_{k+1} = x_k + h v_{k+1}):
 //   x_k = x₀ + k h v₀ + ½ g h² k (k + 1)  ⇔  x(t) = x₀ + v₀ t + ½ g t (t + h)  at t = k h,
 //   v(t) = v₀ + g t: a bias of ½ g h t against the parabola (Hairer, Lubich, Wanner,
-//   "Geometric Numerical Integration", 2nd ed., 2006, §I.1; research/validation.md §2.7).
+//   "Geometric Numerical Integration", 2nd ed., 2006, §I.1; docs/references.md, "projectile").
 // The centre of mass of every described body (Validation.reference.bodies, else every dynamic
 // body) follows it independently; no contact. Orientations are given only when every
 // described body starts without spin (they then stay constant); a spinning body's rotation is

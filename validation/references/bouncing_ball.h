@@ -16,7 +16,7 @@
 // e ∈ [0, 1] (default the pair's material, Scene::pairMaterial), "contactHeight" h_c = n·x of
 // the centre of mass at contact (m; default: the ground box's top face along n + the ball's
 // radius), "radius" (default the sphere collision radius), "normal" (default −ĝ).
-// Literature: Goldsmith, Impact (1960), ch. 1; research/validation.md §1 #5.
+// Literature: Goldsmith, Impact (1960), ch. 1.
 #pragma once
 
 #include <vector>

@@ -34,7 +34,7 @@ void projectPositions(World& world, Real h) {
 }
 
 /// Collision detection on the positions after the substeps; contacts are set up from the
-/// current velocities (the seed's order: research/pbd.md §3.1, steps 6–7).
+/// current velocities (the seed's order: docs/seed.md#the-step, steps 5–6).
 void detectContacts(World& world) {
   world.collision.detect(world.bodies, world.settings.contactTolerance, world.contacts.geometry,
                          world.settings.contactModel == ContactModel::Seed

@@ -1,7 +1,9 @@
 // The 3D replay of a case page (docs/report.md#3d-replay): draws window.PBDVAL_REPLAY (written
 // by python/pbdval/replay.py) with three.js (the global THREE of assets/three.min.js and
-// THREE.OrbitControls). One colour per engine/method, static bodies grey. Between frames the
-// positions are interpolated linearly and the rotations by slerp.
+// THREE.OrbitControls). One colour per engine/method, static bodies grey; deformables from the
+// particles each run read back: cloth and solid surfaces (data.particles.surfaces), rods as
+// polylines (.lines), fluids as points (.points). Between frames the positions (bodies and
+// particles) are interpolated linearly and the rotations by slerp.
 // window.pbdvalReplay exposes the state to the report's browser test.
 (function () {
   "use strict";
@@ -132,18 +134,53 @@
 
   var times = floats(data.times);
   var bodyCount = data.dynamicIds.length;
+  var particleCount = data.particles ? data.particles.particleCount : 0;
   var dynamicBodies = data.bodies.filter(function (b) { return b.dynamic; });
   var runs = data.runs.map(function (run) {
     var material = new THREE.MeshStandardMaterial({ color: new THREE.Color(run.colour), roughness: 0.6,
                                                      transparent: true, opacity: 0.85 });
     var objects = dynamicBodies.map(function (body) { return makeBody(body, material); });
     var entry = { label: run.label, frames: run.frames, x: floats(run.x), q: floats(run.q), objects: objects,
-                  visible: true };
+                  visible: true, p: run.p ? floats(run.p) : null, particleObjects: [], particlePositions: null };
     for (var f = 0; f < entry.frames; ++f)
       for (var b = 0; b < bodyCount; ++b) {
         var i = 3 * (f * bodyCount + b);
         bounds.expandByPoint(new THREE.Vector3(entry.x[i], entry.x[i + 1], entry.x[i + 2]));
       }
+    if (entry.p) {
+      // One position buffer per run, shared by its surfaces, polylines and points.
+      entry.particlePositions = new THREE.BufferAttribute(new Float32Array(3 * particleCount), 3);
+      entry.particlePositions.setUsage(THREE.DynamicDrawUsage);
+      for (var k = 0; k < entry.frames * particleCount; ++k)
+        bounds.expandByPoint(new THREE.Vector3(entry.p[3 * k], entry.p[3 * k + 1], entry.p[3 * k + 2]));
+      var colour = new THREE.Color(run.colour);
+      data.particles.surfaces.forEach(function (faces) {
+        var g = new THREE.BufferGeometry();
+        g.setAttribute("position", entry.particlePositions);
+        g.setIndex(new THREE.BufferAttribute(integers(faces), 1));
+        var surface = new THREE.Mesh(g, new THREE.MeshStandardMaterial({ color: colour, roughness: 0.7,
+          side: THREE.DoubleSide, transparent: true, opacity: 0.8 }));
+        var edges = new THREE.Mesh(g, new THREE.MeshBasicMaterial({ color: colour, wireframe: true }));
+        entry.particleObjects.push(surface, edges);
+      });
+      data.particles.lines.forEach(function (indices) {
+        var g = new THREE.BufferGeometry();
+        g.setAttribute("position", entry.particlePositions);
+        g.setIndex(new THREE.BufferAttribute(integers(indices), 1));
+        // An index list drawn as a strip: consecutive particles joined.
+        entry.particleObjects.push(new THREE.Line(g, new THREE.LineBasicMaterial({ color: colour })));
+        entry.particleObjects.push(new THREE.Points(g, new THREE.PointsMaterial({ color: colour, size: 4,
+          sizeAttenuation: false })));
+      });
+      if (data.particles.points) {
+        var g = new THREE.BufferGeometry();
+        g.setAttribute("position", entry.particlePositions);
+        g.setIndex(new THREE.BufferAttribute(integers(data.particles.points), 1));
+        entry.particleObjects.push(new THREE.Points(g, new THREE.PointsMaterial({ color: colour, size: 3,
+          sizeAttenuation: false })));
+      }
+      entry.particleObjects.forEach(function (object) { object.frustumCulled = false; scene.add(object); });
+    }
     var item = document.createElement("label");
     var box = document.createElement("input");
     box.type = "checkbox";
@@ -198,6 +235,17 @@
     runs.forEach(function (run) {
       var shown = run.visible && f < run.frames;
       var h = Math.min(g, run.frames - 1);
+      run.particleObjects.forEach(function (object) { object.visible = shown; });
+      if (shown && run.p) {
+        var target = run.particlePositions.array;
+        var a0 = 3 * f * particleCount, a1 = 3 * h * particleCount;
+        for (var k = 0; k < 3 * particleCount; ++k)
+          target[k] = run.p[a0 + k] + s * (run.p[a1 + k] - run.p[a0 + k]);
+        run.particlePositions.needsUpdate = true;
+        run.particleObjects.forEach(function (object) {
+          if (object.isMesh && !object.material.wireframe) object.geometry.computeVertexNormals();
+        });
+      }
       run.objects.forEach(function (object, b) {
         object.visible = shown;
         if (!shown) return;

@@ -16,7 +16,7 @@
 //   hollow box (b, thickness t)      φ = |φ_box| − t,                     ∇φ = sgn(φ_box) ∇φ_box
 //
 // These are exact Euclidean distances (1-Lipschitz), as in the seed
-// (DistanceFieldCollisionDetection.cpp; research/pbd.md §3.7), which differentiates all but
+// (DistanceFieldCollisionDetection.cpp; docs/seed.md#analytic-shapes), which differentiates all but
 // the spheres numerically; here every gradient is analytic. On the sets where φ is not
 // differentiable (the centre of a sphere, the medial surfaces of a box, the axis of a cylinder
 // or torus) the functions return one of the one-sided gradients, chosen deterministically:

@@ -1,5 +1,5 @@
 // Collision detection: points of one object against the signed distance function of another,
-// both ways, as the seed's DistanceFieldCollisionDetection does (research/pbd.md §3.7).
+// both ways, as the seed's DistanceFieldCollisionDetection does (docs/seed.md#collision-detection).
 //
 // Collision objects: every rigid body with a collisionObjectType (its shape, its surface
 // samples and their bounding-sphere hierarchy), and every triangle and tet model (their
@@ -17,7 +17,8 @@
 //      tolerance shell, and the distance d. With ContactOrder::Seed, a point against the seed's
 //      grid of a scaled mesh (collisionObjectScale s ≠ 1) takes the seed's unscaled distance,
 //      d = φ_mesh(x ⊙ s⁻¹) − tolerance, and shell point (x ⊙ s⁻¹ − d n) ⊙ s (the seed's
-//      CubicSDFCollisionObject::collisionTest does not scale d back; research/pbd.md §16);
+//      CubicSDFCollisionObject::collisionTest does not scale d back;
+//      docs/seed.md#unscaled-grid-distance);
 //   5. the contacts of one direction are ordered. ContactOrder::Seed (the `seed` contact model):
 //      a rigid body with a mesh reports in the seed's kd-tree order (seed_point_order.h), which
 //      depends on the mesh's vertex numbering and its round-off-determined principal frame;

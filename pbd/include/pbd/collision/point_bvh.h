@@ -1,5 +1,5 @@
 // A bounding-sphere hierarchy over a point cloud: the vertex side of collision detection
-// (the seed's PointCloudBSH, research/pbd.md §3.7).
+// (the seed's PointCloudBSH, docs/seed.md#vertex-trees).
 //
 // Built top-down: a node's points are split at the median along the longest axis of their
 // bounding box, down to at most `maxLeafSize` points (10, as in the seed). Each node's sphere

@@ -1,5 +1,5 @@
 // The order in which PositionBasedDynamics 2.2.2 (the seed) reports the contacts of one body's
-// mesh vertices against another body's SDF (research/pbd.md §3.7), reproduced so that the
+// mesh vertices against another body's SDF (docs/seed.md#vertex-trees), reproduced so that the
 // `seed` contact model solves its contacts in the seed's Gauss–Seidel order.
 //
 // The seed walks a kd-tree of the vertices depth first, first child first, and reports the

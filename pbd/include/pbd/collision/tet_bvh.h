@@ -1,5 +1,5 @@
 // An axis-aligned bounding-box hierarchy over the tetrahedra of one tet model: the tet side of
-// particle–tet collision detection (the seed's TetMeshBSH, research/pbd.md §3.7, step 6).
+// particle–tet collision detection (the seed's TetMeshBSH, docs/seed.md#vertex-trees).
 //
 // Built once, top-down over the tets' centroids at build time: a node's tets are split at the
 // median centroid along the longest axis of their centroids' box, down to at most

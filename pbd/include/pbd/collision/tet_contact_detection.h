@@ -1,6 +1,6 @@
 // Particle–tet collision detection between tet models: a particle of one tet model inside a
 // tetrahedron of another (the seed's DistanceFieldCollisionDetection::collisionDetectionSolidSolid,
-// research/pbd.md §3.7, step 6; Bender et al.).
+// docs/seed.md#tet-against-tet; Bender et al.).
 //
 // Per detection, for every ordered pair (A, B) of different tet models whose current boxes
 // overlap, in model order (A, then B), A with `testMesh` (or no collision type, as for the

@@ -17,7 +17,7 @@
 // Quaternion corrections are added to the coefficients and the quaternion is renormalised.
 // A quaternion of 4-vector inverse mass w_q has the kinetic energy ½ (1/(4 w_q)) |ω|²: its
 // rotational inertia is I = 1/(4 w_q), isotropic (the seed integrates orientations with an
-// isotropic inertia and no torque; research/pbd.md §3.1).
+// isotropic inertia and no torque; docs/seed.md#the-step).
 //
 // Two variants:
 //  PBD (the seed's PositionBasedCosseratRods): per-iteration fractions k ∈ [0, 1],

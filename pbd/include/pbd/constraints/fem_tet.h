@@ -1,8 +1,8 @@
 // Linear FEM tetrahedra with the St. Venant–Kirchhoff material, the energy used as the
 // constraint: the solids of solidSimulationMethod 2 (PBD, the seed's default) and 3 (XPBD)
 // (Bender, Koschier, Charrier, Weber 2014, "Position-based simulation of continuous materials";
-// research/pbd.md §2.1, §3.4). For a tet (x₀, x₁, x₂, x₃) with D = [x₁ − x₀, x₂ − x₀, x₃ − x₀]
-// and D_m the same at t = 0, V₀ = |det D_m| / 6:
+// docs/seed.md#fem-tets and #stiffness). For a tet (x₀, x₁, x₂, x₃) with
+// D = [x₁ − x₀, x₂ − x₀, x₃ − x₀] and D_m the same at t = 0, V₀ = |det D_m| / 6:
 //   F = D D_m⁻¹,  ε = ½ (FᵀF − I)  (Green strain),
 //   ψ = μ ε:ε + ½ λ_L tr(ε)²,  μ = E / (2 (1 + ν)),  λ_L = E ν / ((1 + ν)(1 − 2ν)),
 //   U = V₀ ψ,  P = F (2μ ε + λ_L tr(ε) I)  (first Piola–Kirchhoff stress),
@@ -14,14 +14,14 @@
 // rotations (the smallest singular value takes the sign of J), every singular value clamped to
 // ≥ 0.577 (≈ 1/√3, the seed's value), and U, ∇U evaluated at F̂ = U Σ̂ Vᵀ: P(F̂) pushes the tet
 // back towards positive volume. ∇U is then the gradient of U(F̂) with Σ̂ held, not an exact
-// gradient. The seed enters this path when V/V₀ < 0.2 and V ≤ 0 (research/pbd.md §2.1), i.e.
+// gradient. The seed enters this path when V/V₀ < 0.2 and V ≤ 0 (docs/seed.md#fem-tets), i.e.
 // J ≤ 0 for a positively listed tet; here J uses the signed V₀, so a tet listed with negative
 // orientation is not taken as inverted at rest (cf. the volume constraint, §5.3 #11).
 //
 // Method 2, PBD with C = U and no stiffness factor (the seed's semantics, kept deliberately):
 //   s = U / Σ w_i |∇_iU|²,  Δx_i = −s w_i ∇_iU.
 // Scaling E scales U and ∇U alike, so the correction does not depend on E at all, only on ν,
-// the iteration and substep counts (research/pbd.md §3.4, §5.3 #7): E = 1 (the forced default)
+// the iteration and substep counts (docs/seed.md#fem-modulus-scale): E = 1 (the forced default)
 // is as stiff as E = 10⁹. The seed's solvers use a fixed ε = 10⁻⁶ (§4.1; if it bounds
 // Σ w|∇U|² here, small strains of small tets go uncorrected, and E's scale would matter there
 // after all: not verified against the seed); here only Σ w|∇U|² ≤ ε² (a state at rest) is

@@ -8,6 +8,7 @@
 // frame (init_FEMTriangleConstraint): cloth_xxStiffness acts across the first edge,
 // cloth_yyStiffness along it. D_m = [X₁ − X₀, X₂ − X₀] holds the rest edges in (x̂, ŷ)
 // coordinates, B = D_m⁻¹, A the rest area.
+// clang-format off
 //   F = [x₁ − x₀, x₂ − x₀] B  (3 × 2),   E = ½ (FᵀF − I)  (Green strain, 2 × 2),
 //   normal stiffness (plane stress, the inverse of the compliance ε_xx = σ_xx/E_x − ν_yx σ_yy/E_y,
 //   ε_yy = −ν_xy σ_xx/E_x + σ_yy/E_y):  c_xx = E_x/(1 − ν_xy ν_yx), c_yy = E_y/(1 − ν_xy ν_yx),
@@ -15,13 +16,14 @@
 //   S = [[c_xx E_xx + c_xy E_yy, G E_xy], [G E_xy, c_xy E_xx + c_yy E_yy]]  (second Piola–Kirchhoff),
 //   ψ = ½ E : S = ½ (c_xx E_xx² + 2 c_xy E_xx E_yy + c_yy E_yy²) + G E_xy²,
 //   C = A ψ ≥ 0,   [∇_{x₁}C, ∇_{x₂}C] = A F S Bᵀ,   ∇_{x₀}C = −∇_{x₁}C − ∇_{x₂}C
+// clang-format on
 // (the gradients sum to zero, so w-weighted corrections conserve linear momentum; C is invariant
 // under rigid motions in 3D, out of the plane too, since it depends on FᵀF only).
 // The shear term G E_xy² is the seed's (its stress is G E_xy with the tensor shear strain E_xy):
 // it is ½ G' γ² with the engineering shear γ = 2 E_xy and G' = G/2.
 //
 // PBD projection, as the seed's solve_FEMTriangleConstraint: s = C / Σ w_i |∇_iC|²,
-// Δx_i = −s w_i ∇_iC, with NO stiffness factor (research/pbd.md §3.4). Scaling E_x, E_y and G
+// Δx_i = −s w_i ∇_iC, with NO stiffness factor (docs/seed.md#stiffness). Scaling E_x, E_y and G
 // together scales C and ∇C alike, so the correction does not depend on the moduli's absolute
 // scale (research §5.3 #7, tested): only their ratios and the Poisson ratios matter; stiffness
 // comes from the iteration and substep counts. Near rest C ∝ δ² (δ the strain), so a step to the

@@ -8,9 +8,9 @@
 //   ∇_{x_i}C = (3/(A₀ + A₁)) K_i H.
 // The energy is the constraint, as in the seed (PositionBasedDynamics' IsometricBendingConstraint):
 // C ≥ 0 with its minimum, C = 0 and ∇C = 0, at every flat state, so the model assumes a flat
-// rest state (the seed's too: research/pbd.md §5.3 #12). For a symmetric fold by the dihedral
-// angle φ of an edge of length 1 whose opposite vertices stand d from it over one foot point,
-// C = (6/d) sin²(φ/2) (tested). The gradients sum to zero (momentum is conserved).
+// rest state (the seed's too: docs/seed.md#flat-bending-rest-state). For a symmetric fold by the
+// dihedral angle φ of an edge of length 1 whose opposite vertices stand d from it over one foot
+// point, C = (6/d) sin²(φ/2) (tested). The gradients sum to zero (momentum is conserved).
 //   PBD, k ∈ [0, 1] per iteration: s = C / Σ w_i |∇_iC|², Δx_i = −k s w_i ∇_iC.
 //   XPBD, k the energy's stiffness, α̃ = 1/(k h_s²), λ reset every substep:
 //     Δλ = (−C − α̃ λ) / (Σ w_i |∇_iC|² + α̃), Δx_i = w_i Δλ ∇_iC.

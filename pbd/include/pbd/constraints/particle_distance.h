@@ -7,7 +7,7 @@
 //
 // PBD (Müller, Heidelberger, Hennix, Ratcliff 2007, "Position based dynamics", eq. 8–9), with a
 // dimensionless stiffness k ∈ [0, 1] applied in every iteration (its effect depends on the
-// iteration and substep counts, research/pbd.md §3.4):
+// iteration and substep counts, docs/seed.md#stiffness):
 //   s = C / (w₁ + w₂),   Δp₁ = −k w₁ s n,   Δp₂ = +k w₂ s n.
 // XPBD (Macklin, Müller, Chentanez 2016, "XPBD", eq. 18), with a stiffness k in N/m, its
 // compliance α̃ = 1/(k h_s²) per substep h_s, and the multiplier λ reset at every substep's

@@ -17,9 +17,9 @@
 // particle the corrections conserve Σ m_i x_i, the momentum up to the 10⁻⁶ in the weights.
 // No stretch is allowed (the seed's allowStretch is false). The clusters are solved
 // Gauss–Seidel, each from the positions the previous ones corrected (as the seed).
-// Static particles (research/pbd.md §6.1, seed issue #8): they are not moved, so a cluster
-// holding one cannot reach its goal, and its heavy weight pins the centre c near it; the
-// maintainer warns of artefacts. Kept as the seed does it.
+// Static particles (docs/seed.md#static-particles-in-shape-matching, seed issue #8): they are not
+// moved, so a cluster holding one cannot reach its goal, and its heavy weight pins the centre c
+// near it; the maintainer warns of artefacts. Kept as the seed does it.
 // Pure functions (positions in, corrections out); nothing allocates (a fixed-size 3 × 3 SVD).
 #pragma once
 

@@ -4,9 +4,11 @@
 //
 // Rest state (once, from the positions at t = 0): D_m = [X₁ − X₀, X₂ − X₀, X₃ − X₀] in world
 // coordinates, B = D_m⁻¹ (a degenerate tet, det D_m ≈ 0, gets no constraint).
+// clang-format off
 //   F = [x₁ − x₀, x₂ − x₀, x₃ − x₀] B = [f₀, f₁, f₂],   S = FᵀF  (S = I at rest),
 //   stretch along a:  C_aa = S_aa − 1 = |f_a|² − 1          (normalizeStretch: |f_a| − 1),
 //   shear of a < b:   C_ab = S_ab = f_a · f_b               (normalizeShear: f_a·f_b / (|f_a||f_b|)).
+// clang-format on
 // With g_a = ∂C/∂f_a: ∇_{x_{k+1}}C = Σ_a B(k, a) g_a (k = 0, 1, 2), ∇_{x₀}C = −Σ_k ∇_{x_{k+1}}C
 // (the gradients sum to zero: w-weighted corrections conserve linear momentum; C depends on FᵀF
 // only, so it is invariant under rigid motions). ∂C_aa/∂f_a = 2 f_a (normalized: f_a/|f_a|),
@@ -21,7 +23,7 @@
 //
 // Deliberate difference from the seed: solid_normalizeStretch normalizes the stretches and
 // solid_normalizeShear the shears; the seed passes normalizeStretch for both flags, so
-// solid_normalizeShear is ignored there (research/pbd.md §5.3 #5).
+// solid_normalizeShear is ignored there (docs/seed.md#sbd-tet-flags).
 // Pure functions (positions in, corrections out); nothing allocates.
 #pragma once
 

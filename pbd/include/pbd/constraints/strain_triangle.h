@@ -22,10 +22,10 @@
 //
 // Deliberate differences from the seed:
 //  - The rest frame is the triangle's own plane. The seed builds its rest matrix from two world
-//    coordinates only (research/pbd.md §5.3 #6), so triangles not in that plane get a wrong rest
-//    state, and triangles perpendicular to it are dropped; here every non-degenerate triangle
-//    gets its true rest shape, whatever its orientation (tested). The material x axis is the
-//    first edge (the seed's is a world axis): the components, and so the corrections of one
+//    coordinates only (docs/seed.md#sbd-triangle-rest-shape), so triangles not in that plane get a
+//    wrong rest state, and triangles perpendicular to it are dropped; here every non-degenerate
+//    triangle gets its true rest shape, whatever its orientation (tested). The material x axis is
+//    the first edge (the seed's is a world axis): the components, and so the corrections of one
 //    Gauss–Seidel pass, depend on that frame; the rest shape they restore (S = I) does not.
 //  - Each stiffness from its own key: the seed's setters write xx into yy and xy (§5.3 #4).
 // Pure functions (positions in, corrections out); nothing allocates.

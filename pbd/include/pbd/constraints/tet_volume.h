@@ -8,7 +8,7 @@
 // sum to zero, so w-weighted corrections conserve linear momentum, and C is invariant under
 // rigid motions). V₀ is the signed rest volume: the seed takes |V₀| against the signed V, so a
 // tet listed with negative orientation starts at C = −2|V₀| and is driven to invert
-// (research/pbd.md §5.3 #11); here C = 0 at rest whatever the orientation.
+// (docs/seed.md#tet-orientation); here C = 0 at rest whatever the orientation.
 //
 // PBD, stiffness k ∈ [0, 1] per iteration:  s = C / Σ w_i |∇_iC|²,  Δp_i = −k s w_i ∇_iC.
 // XPBD, stiffness k in N/m⁵ (½ k C² is the energy), α̃ = 1/(k h_s²), λ reset every substep:

@@ -1,5 +1,5 @@
 // The velocity-level contact impulse shared by every contact family (rigid–rigid and
-// particle–rigid): the seed's model and the corrected one (research/pbd.md §3.6;
+// particle–rigid): the seed's model and the corrected one (docs/seed.md#rigid-contacts;
 // docs/contacts.md).
 //
 // A contact joins end 0 (the tested point) and end 1 (the SDF body) at world points c₀, c₁

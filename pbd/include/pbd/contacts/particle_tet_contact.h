@@ -1,10 +1,11 @@
 // Particle–tet contact: a particle p of one tet model inside a tet T of another
-// (deformable–deformable; the seed's ParticleTetContactConstraint, research/pbd.md §3.6).
-// Detection: collision/tet_contact_detection.h gives T (the tet of the closest point of the
-// other model's boundary), the weights b (barycentrics of that point in T, Σ b_i = 1, b_i ≥ 0)
-// and the unit normal n out of the other model (its contact face's; the seed's points from the
-// particle to the contact point). Capacity: sized at world build for the detector's worst case;
-// contacts beyond it are dropped at detection and counted in geometry.droppedContacts.
+// (deformable–deformable; the seed's ParticleTetContactConstraint,
+// docs/seed.md#particle-tet-contacts). Detection: collision/tet_contact_detection.h gives T (the
+// tet of the closest point of the other model's boundary), the weights b (barycentrics of that
+// point in T, Σ b_i = 1, b_i ≥ 0) and the unit normal n out of the other model (its contact face's;
+// the seed's points from the particle to the contact point). Capacity: sized at world build for the
+// detector's worst case; contacts beyond it are dropped at detection and counted in
+// geometry.droppedContacts.
 //
 //   C = n·(x_p − Σ_i b_i x_i) ≥ 0           (n fixed at detection)
 //   ∇C: ∂C/∂x_p = nᵀ,  ∂C/∂x_i = −b_i nᵀ     (Σ of the gradients = n (1 − Σ b_i) = 0:

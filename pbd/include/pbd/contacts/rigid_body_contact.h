@@ -8,7 +8,7 @@
 // The impulse (normal with restitution and penalty, friction; both models) is
 // contact_impulse.h's, with K = K₀ + K₁, K_k = w_k 𝟙 − [r_k]× J_k [r_k]× and
 // k_c = contactStiffnessRigidBody. An impulse p changes v₀ by w₀ p and ω₀ by J₀ (r₀ × p), and
-// body 1 by the opposite. Positions are not touched (research/pbd.md §3.6).
+// body 1 by the opposite. Positions are not touched (docs/seed.md#rigid-contacts).
 // Reference: Bender, Erleben, Trinkle 2014, CGF 33(1), §4; the seed's
 // PositionBasedRigidBodyDynamics::velocitySolve_RigidBodyContactConstraint.
 #pragma once

@@ -6,7 +6,7 @@
 //   (a, b, n) body 0's joint frame (a = axis), e = F₀⁻¹ ⊗ F₁ (w ≥ 0).
 //   Row 0 is XPBD-compliant with α̃ = 1/(k h²) (h the substep size, λ reset every substep);
 //   the other five are hard. Potential energy ½ k (a·d)². There is no velocity damping.
-// Reference: PositionBasedDynamics DamperJoint (research/pbd.md §2.4); XPBD eq. 18.
+// Reference: PositionBasedDynamics DamperJoint (docs/seed.md#damper-joint); XPBD eq. 18.
 #pragma once
 
 #include "pbd/joints/joint_common.h"

@@ -4,8 +4,8 @@
 //   t = 0), (a, b, n) body 0's joint frame (a = axis), e = F₀⁻¹ ⊗ F₁ (w ≥ 0).
 //   ∇C: axis rows (joint_parts::setAxisRow) and rotation rows ½ (w𝟙 − [vec e]×) R(F₀)ᵀ.
 // s* > 0 moves body 1 along +axis relative to body 0. The seed stores the initial offset in
-// world coordinates and never rotates it with body 0 (research/pbd.md §5.3 #15); here it is
-// fixed in body 0. Reference: PositionBasedDynamics TargetPositionMotorSliderJoint.
+// world coordinates and never rotates it with body 0 (docs/seed.md#position-motor-slider-offset);
+// here it is fixed in body 0. Reference: PositionBasedDynamics TargetPositionMotorSliderJoint.
 #pragma once
 
 #include "pbd/joints/joint_common.h"

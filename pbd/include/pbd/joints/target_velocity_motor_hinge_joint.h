@@ -5,7 +5,7 @@
 // a = the axis of body 0's joint frame; J's point rows are the ball joint's Jacobian, the
 // angular rows B₀ = −𝟙, B₁ = 𝟙. One 6×6 solve per velocity iteration.
 // The seed uses centre-of-mass velocities for the linear rows while its K uses connector
-// matrices (research/pbd.md §5.3 #14); here J and K are consistent (connector velocities).
+// matrices (docs/seed.md#velocity-motors); here J and K are consistent (connector velocities).
 // Reference: PositionBasedDynamics TargetVelocityMotorHingeJoint.
 #pragma once
 

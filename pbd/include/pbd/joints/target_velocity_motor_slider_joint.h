@@ -4,7 +4,7 @@
 // Velocity rows (6): the time derivatives of (a·d, b·d, n·d) (same Jacobians as the axis
 // rows, d = c₁ − c₀) with targets (v*, 0, 0), and ω₁ − ω₀ = 0 (B₀ = −𝟙, B₁ = 𝟙).
 // v* > 0 moves body 1 along +axis relative to body 0. The seed uses centre-of-mass velocities
-// (research/pbd.md §5.3 #14); here J is the exact derivative of the position rows.
+// (docs/seed.md#velocity-motors); here J is the exact derivative of the position rows.
 // Reference: PositionBasedDynamics TargetVelocityMotorSliderJoint.
 #pragma once
 

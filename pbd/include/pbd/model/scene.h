@@ -424,7 +424,7 @@ struct SimulationSettings {
 
 /// The deformables' stiffness as used: the scene's value, else what the seed's
 /// initTriangleModelConstraints / initTetModelConstraints force for the method
-/// (research/pbd.md §1.5): cloth 1, 10⁵ N/m with clothSimulationMethod 4; solid 1, 10⁶ with
+/// (docs/seed.md#defaults): cloth 1, 10⁵ N/m with clothSimulationMethod 4; solid 1, 10⁶ with
 /// solidSimulationMethod 3, 10⁵ N/m with 6; solid volume 1, 10⁵ N/m⁵ with 6.
 Real clothStiffnessFor(const SimulationSettings& settings);
 /// cloth_bendingStiffness, else 0.01, or 100 with clothBendingMethod 3.

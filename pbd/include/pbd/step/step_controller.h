@@ -1,4 +1,4 @@
-// The step controller: the seed's TimeStepController::step order (research/pbd.md §3.1).
+// The step controller: the seed's TimeStepController::step order (docs/seed.md#the-step).
 //
 // One step of size h with n = subSteps substeps of h_s = h/n:
 //   0. motors take their set point for the end of the step (t + h)

@@ -1,5 +1,7 @@
 """`python -m pbdval.external.mujoco --scene RESOLVED.json --out OUTDIR`: the engine's process
 (protocol 1, docs/external-engines.md), as the catalogue entry engines/mujoco-python.json runs it.
+`python -m pbdval.external.mujoco --serve --socket PATH`: the persistent process that serves
+many runs, each in a forked child (the catalogue's `serve`; pbdval.protocol.serve_runs).
 `python -m pbdval.external.mujoco --catalogue` prints that catalogue entry (catalogue.py)."""
 
 import sys
@@ -10,6 +12,10 @@ if sys.argv[1:] == ["--catalogue"]:
     sys.stdout.write(catalogue_text())
     sys.exit(0)
 
-from pbdval.external.mujoco.engine import main  # noqa: E402
+from pbdval.external.mujoco.engine import main
 
+if sys.argv[1:2] == ["--serve"]:
+    from pbdval.protocol import serve_runs
+
+    sys.exit(serve_runs(sys.argv[2:], main, "MuJoCo (Python) as a persistent pbdval external engine"))
 sys.exit(main())

@@ -14,6 +14,8 @@ from __future__ import annotations
 import json
 from typing import Any
 
+from pbdval.external.mujoco.features import FEATURES
+
 ENGINE = "mujoco-python"
 #: The MuJoCo release the catalogue announces (the test compares it with mujoco.__version__).
 MUJOCO_VERSION = "4.0.0"
@@ -42,6 +44,16 @@ _PARAMETERS: list[dict[str, Any]] = [
     {"name": "contactTimeconstSteps", "kind": "real", "default": 4.0, "min": 2.0, "max": 1000.0,
      "unit": "steps",
      "description": "contact time constant tau as a multiple of the step h (MuJoCo raises anything below 2h)"},
+    {"name": "equalityTimeconstSteps", "kind": "real", "default": 2.0, "min": 2.0, "max": 1000.0,
+     "unit": "steps",
+     "description": "time constant of equality constraints (loop-closing joints, distance joints) as a "
+                    "multiple of h, the built-in engine's equalityTimeconst"},
+    {"name": "equalityDampratio", "kind": "real", "default": 1.0, "min": 1e-06, "max": 1000000.0,
+     "unit": "", "description": "damping ratio of equality constraints (solref[1])"},
+    {"name": "servoTimeconstSteps", "kind": "real", "default": 4.0, "min": 2.0, "max": 1000.0,
+     "unit": "steps",
+     "description": "time constant of the motor servos as a multiple of h, the built-in engine's "
+                    "servoTimeconst"},
     {"name": "substeps", "kind": "integer", "default": 0, "min": 0, "max": 10000, "unit": "",
      "description": "internal steps per scene step; 0: automatic, 1 without particles or under the "
                     "discrete integrator, else the fewest with h_internal * omega_max <= 1 for the "
@@ -85,18 +97,20 @@ def catalogue() -> dict[str, Any]:
     return {
         "protocol": 1,
         "name": ENGINE,
-        "description": f"MuJoCo {MUJOCO_VERSION} through its Python package, model built with MjSpec "
-                       "(python/pbdval/external/mujoco/, run as python -m pbdval.external.mujoco; "
+        "description": f"MuJoCo {MUJOCO_VERSION} through its Python package, the built-in engine's MJCF "
+                       "compiled by MuJoCo 4 (python/pbdval/external/mujoco/, run as python -m pbdval.external.mujoco; "
                        "particles as flexes, python/pbdval/external/mujoco/flexes.py; "
                        "docs/external-engines.md#mujoco-python). Not the built-in 'mujoco' engine "
                        "(MuJoCo 2.2.2, C++).",
         "command": ["{python}", "-m", "pbdval.external.mujoco"],
+        "serve": {"protocol": 1, "command": ["{python}", "-m", "pbdval.external.mujoco", "--serve"]},
         "defaultMethod": DEFAULT_METHOD,
         "version": f"mujoco {MUJOCO_VERSION}",
         "methods": methods,
+        "features": FEATURES,
     }
 
 
 def catalogue_text() -> str:
     """The catalogue file's text, as shipped (two-space indentation, a final newline)."""
-    return json.dumps(catalogue(), indent=2) + "\n"
+    return json.dumps(catalogue(), indent=2, ensure_ascii=False) + "\n"

@@ -3,31 +3,35 @@ docs/external-engines.md; parity rules: docs/external-engines.md#mujoco-python).
 
     .venv/bin/python -m pbdval.external.mujoco --scene RESOLVED.json --out OUTDIR
 
-The model is built with mujoco.MjSpec (no MJCF text), with the parity rules of the built-in
-`mujoco` engine (adapters/mujoco/, MuJoCo 2.2.2): every body's frame is its principal frame at
-t = 0 with the scene's mass and principal inertia given explicitly; free bodies get a free
-joint; ball and hinge joints form the kinematic tree (a joint whose child already has a parent
-would close a loop: unsupported here); every contact pair of the scene is an explicit <pair>
-(contype = conaffinity = 0) with the pair's friction and a direct solref whose Kelvin-Voigt
-rebound is the pair's restitution (contact_law.py); margin and gap 0; no damping.
-Particles of triangle models (cloth) and tet models (solids) are MuJoCo flexes, one body with
-three slide joints per dynamic particle (flexes.py). Elastic flex forces are explicit in every
-integrator but `discrete` (implicit in position): under the others a scene step is split into
-internal steps below the stability limit of the stiffest elastic mode (parameter `substeps`).
+One model description for both MuJoCo versions: the rigid part (bodies, joints of every kind,
+springs, motors, distance joints, loops, contact pairs, solver options) is the MJCF the built-in
+`mujoco` engine's writer produces for MuJoCo 2.2.2 (adapters/mujoco/mjcf_writer.cpp, through
+pbdval._core._mujoco_mjcf from the run's scene), with the attributes MuJoCo 4 reads differently
+rewritten in one place (MJCF_2_2_2_TO_4), read into an mujoco.MjSpec and compiled by MuJoCo 4.
+What the C++ engine does after compiling is done here the same way: initial velocities projected
+onto the joints in the kinetic-energy norm, motor servos tuned from the joint-space inertia.
+tests/python/test_mujoco_model_parity.py compiles the same MJCF in both versions and compares
+the models field by field.
+Particles of triangle models (cloth) and tet models (solids) are MuJoCo flexes added to the
+spec, one body with three slide joints per dynamic particle (flexes.py). Elastic flex forces are
+explicit in every integrator but `discrete` (implicit in position): under the others a scene
+step is split into internal steps below the stability limit of the stiffest elastic mode
+(parameter `substeps`).
 Methods: mujoco-python.<integrator>.<solver>, integrator euler, rk4, implicit, implicitfast,
 discrete and solver newton, cg, pgs.
 """
 
 from __future__ import annotations
 
-import math
+import json
+import re
 import sys
 import warnings
 from pathlib import Path
-
-import numpy as np
+from typing import Any
 
 import mujoco
+import numpy as np
 
 from pbdval import protocol as pp
 from pbdval.external.mujoco import catalogue, contact_law, flexes
@@ -40,16 +44,66 @@ INTEGRATORS = {
     "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
     "discrete": mujoco.mjtIntegrator.mjINT_DISCRETE,
 }
+#: The MJCF keyword of each integrator (option/integrator).
+MJCF_INTEGRATORS = {"euler": "Euler", "rk4": "RK4", "implicit": "implicit",
+                    "implicitfast": "implicitfast", "discrete": "discrete"}
 SOLVERS = {
     "newton": mujoco.mjtSolver.mjSOL_NEWTON,
     "cg": mujoco.mjtSolver.mjSOL_CG,
     "pgs": mujoco.mjtSolver.mjSOL_PGS,
 }
-CONES = {"elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC, "pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL}
-SUPPORTED_JOINTS = ("ball", "hinge")
-SUPPORTED_SHAPES = ("none", "sphere", "box", "cylinder", "sdf")
-#: Constant impedance of contacts (solimp d0 = d_width), as the built-in engine.
+#: The MJCF keyword of each solver (option/solver).
+MJCF_SOLVERS = {"newton": "Newton", "cg": "CG", "pgs": "PGS"}
+CONES = ("elliptic", "pyramidal")
+#: Constant impedance of contacts and equality constraints (solimp d0 = d_width), the built-in
+#: engine's default solimp.
 SOLIMP = [0.99, 0.99, 0.001, 0.5, 2.0]
+
+#: What MuJoCo 4.0.0 reads differently from the MJCF the C++ writer produces for MuJoCo 2.2.2,
+#: found by compiling that MJCF with 4.0.0 (the schema rejects the first two). Each entry:
+#: (pattern, replacement, why). A pattern that no longer matches the writer's text is an error
+#: (mjcf_for_mujoco_4), so a change of the writer cannot slip past this table.
+MJCF_2_2_2_TO_4: list[tuple[str, str, str]] = [
+    (r' collision="all"', "",
+     ("option/collision was removed in MuJoCo 3.0: explicit <pair>s and filtered automatic "
+      "contacts are always both generated, which was 2.2.2's `all`")),
+    (r' passive="enable"', ' spring="enable" damper="enable"',
+     "option/flag/passive was split into `spring` and `damper` in MuJoCo 3.0"),
+    (r'<size nconmax="\d+" njmax="\d+"/>\n', "",
+     ("size/nconmax and njmax size 2.2.2's fixed contact and constraint buffers (its njmax^2 "
+      "matrices, hence the writer's caps); MuJoCo 4 allocates constraint rows from its arena "
+      "as they come and would only stop at the caps")),
+]
+
+
+def mjcf_for_mujoco_4(xml: str) -> str:
+    """The C++ writer's MJCF with MJCF_2_2_2_TO_4 applied. Raises RuntimeError when a pattern
+    of the table does not occur exactly once (the writer changed: the table must follow)."""
+    for pattern, replacement, _ in MJCF_2_2_2_TO_4:
+        xml, count = re.subn(pattern, replacement, xml)
+        if count != 1:
+            raise RuntimeError(f"MJCF_2_2_2_TO_4: {pattern!r} occurs {count} times in the C++ "
+                               "writer's MJCF (expected once): update the table in "
+                               "pbdval/external/mujoco/engine.py")
+    return xml
+
+
+def rigid_model(scene: pp.ResolvedScene, settings: dict[str, Any]) -> dict[str, Any]:
+    """The C++ writer's model of the scene's rigid part (pbdval._core._mujoco_mjcf): `xml`,
+    `motors`, `body_names`, ..., or only `unsupported` when it cannot be written."""
+    try:
+        from pbdval import _core  # the C++ extension of the build that runs this engine
+    except ImportError as e:
+        raise RuntimeError("mujoco-python writes its model with pbdval._core, the C++ part of "
+                           "pbdval: build it (cmake --build --preset release --target "
+                           "pbdval_python_core) and put <build>/python on PYTHONPATH, as the "
+                           f"runner does ({e})") from e
+    write = getattr(_core, "_mujoco_mjcf", None)
+    if write is None:  # another checkout's build, older than the one description
+        raise RuntimeError(f"{_core.__file__} has no _mujoco_mjcf: it is another build's pbdval._core; "
+                           "put this build's <build>/python first on PYTHONPATH, as the runner does")
+    model: dict[str, Any] = write(json.dumps(scene.document), settings)
+    return model
 
 
 def engine_version() -> str:
@@ -63,69 +117,44 @@ def method_parts(name: str) -> tuple[str, str] | None:
     return parts[1], parts[2]
 
 
-def tree(scene: pp.ResolvedScene) -> tuple[dict[int, tuple[int | None, pp.Joint | None]], list[str]]:
-    """Parent of every dynamic body (body index → (parent index or None for the world, the joint
-    to it or None for a free joint)), and the joints that do not fit a tree."""
-    parent: dict[int, tuple[int | None, pp.Joint | None]] = {}
-    problems: list[str] = []
+def writer_settings(integrator: str, solver: str, parameter: Any, h: float) -> dict[str, Any]:
+    """The C++ writer's MujocoSettings (adapters/mujoco/mujoco_settings.h) from this engine's
+    method and parameters; time constants are given in steps of h."""
+    cone = str(parameter("cone"))
+    if cone not in CONES:
+        raise ValueError(f"parameter cone: expected one of {', '.join(CONES)}, got {cone!r}")
+    steps: dict[str, float] = {}
+    for name in ("contactTimeconstSteps", "equalityTimeconstSteps", "servoTimeconstSteps"):
+        steps[name] = float(parameter(name))
+        if steps[name] < 2:
+            raise ValueError(f"parameter {name}: expected >= 2 (MuJoCo raises a shorter time "
+                             f"constant to 2h), got {steps[name]}")
+    dampratio = float(parameter("equalityDampratio"))
+    if dampratio <= 0:
+        raise ValueError(f"parameter equalityDampratio: expected > 0, got {dampratio}")
+    return {"integrator": MJCF_INTEGRATORS[integrator], "solver": MJCF_SOLVERS[solver],
+            "iterations": int(parameter("iterations")), "tolerance": float(parameter("tolerance")),
+            "cone": cone, "contact_time_constant": steps["contactTimeconstSteps"] * h,
+            "equality_solref": [steps["equalityTimeconstSteps"] * h, dampratio],
+            "solimp": list(SOLIMP), "servo_time_constant": steps["servoTimeconstSteps"] * h}
 
-    def ancestors(i: int | None) -> set[int]:
-        seen: set[int] = set()
-        while i is not None and i in parent:
-            seen.add(i)
-            i = parent[i][0]
-        return seen
 
-    for j in scene.joints:
-        if j.type not in SUPPORTED_JOINTS or j.body1 is None or j.body2 is None:
-            continue
-        a, b = scene.body_by_id(j.body1), scene.body_by_id(j.body2)
-        if not a.dynamic and not b.dynamic:
-            continue
-        candidates = [(b, a), (a, b)] if b.dynamic else [(a, b)]
-        if not a.dynamic:
-            candidates = [(b, a)]
-        placed = False
-        for child, par in candidates:
-            par_index = par.index if par.dynamic else None
-            if child.index in parent or (par_index is not None and child.index in ancestors(par_index)):
-                continue
-            parent[child.index] = (par_index, j)
-            placed = True
-            break
-        if not placed:
-            problems.append(f"{j.json_path}: closes a kinematic loop (equality constraints are not "
-                            "implemented in this engine)")
-    for b in scene.bodies:
-        if b.dynamic and b.index not in parent:
-            parent[b.index] = (None, None)
-    return parent, problems
+def parameter_reader(scene: pp.ResolvedScene, integrator: str) -> Any:
+    """name → the run's value of that parameter, else the catalogue's default (catalogue.py;
+    `discrete` has more iterations)."""
+    return lambda name: scene.parameter(name, catalogue.default(integrator, name))
 
 
 def unsupported_features(scene: pp.ResolvedScene) -> list[str]:
+    parts = method_parts(scene.method.name)
+    if parts is None:
+        return [f"method {scene.method.name}"]
     missing: list[str] = []
-    if method_parts(scene.method.name) is None:
-        missing.append(f"method {scene.method.name}")
-    for j in scene.joints:
-        if j.type not in SUPPORTED_JOINTS:
-            missing.append(f"{j.json_path}: joint {j.type}")
-    missing += tree(scene)[1]
-    parents = tree(scene)[0]
-    for b in scene.bodies:
-        if b.shape.type not in SUPPORTED_SHAPES:
-            missing.append(f"{b.json_path}: shape {b.shape.type}")
-        elif b.shape.inverted:
-            missing.append(f"{b.json_path}: inverted shape (invertSDF)")
-        elif b.shape.type == "sdf" and not b.geometry_file:
-            missing.append(f"{b.json_path}: sdf without a geometry file")
-        parent, joint = parents.get(b.index, (None, None))
-        if b.dynamic and joint is not None and parent is not None and (
-                any(b.velocity) or any(b.angular_velocity)):
-            missing.append(f"{b.json_path}: initial velocity of a body jointed to a moving body")
+    settings = writer_settings(*parts, parameter_reader(scene, parts[0]), scene.time_step_size)
+    missing += rigid_model(scene, settings)["unsupported"]
     if scene.particles or scene.triangle_models or scene.tet_models:
         missing += flexes.unsupported(scene)
-        parts = method_parts(scene.method.name)
-        if parts is not None and parts[0] in ("implicit", "implicitfast"):
+        if parts[0] in ("implicit", "implicitfast"):
             missing.append(f"method {scene.method.name} with particles: MuJoCo 4 refuses flex "
                            "elasticity under implicit and implicitfast (use discrete, euler or rk4)")
         if parts == ("discrete", "pgs"):
@@ -134,20 +163,23 @@ def unsupported_features(scene: pp.ResolvedScene) -> list[str]:
     return missing
 
 
-def _matrix(q: "pp.Quat") -> list[list[float]]:
+def _matrix(q: pp.Quat) -> np.ndarray:
     w, x, y, z = q
-    return [[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]]
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
 
 
-def relative_pose(parent: pp.Body | None, child: pp.Body) -> tuple[list[float], list[float]]:
-    """The child's principal frame in its parent's principal frame (world when None)."""
-    if parent is None:
-        return list(child.position), list(child.world_principal_rotation)
-    inv = pp.quat_conjugate(parent.world_principal_rotation)
-    d = [c - p for c, p in zip(child.position, parent.position)]
-    return list(pp.quat_rotate(inv, d)), list(pp.quat_multiply(inv, child.world_principal_rotation))
+def _fatal_warnings() -> dict[int, str]:
+    """MuJoCo's warnings after which a run cannot go on (as in the built-in engine): it resets
+    the state after a bad number, and drops contacts or constraints when memory runs out."""
+    w = mujoco.mjtWarning
+    return {int(w.mjWARN_BADQPOS): "bad qpos: MuJoCo reset the state",
+            int(w.mjWARN_BADQVEL): "bad qvel: MuJoCo reset the state",
+            int(w.mjWARN_BADQACC): "bad qacc (unstable): MuJoCo reset the state",
+            int(w.mjWARN_BADCTRL): "bad ctrl: MuJoCo reset the state",
+            int(w.mjWARN_CONTACTFULL): "contact memory full: contacts were dropped",
+            int(w.mjWARN_CNSTRFULL): "constraint memory full: constraints were dropped"}
 
 
 class MujocoRun:
@@ -157,49 +189,40 @@ class MujocoRun:
         assert parts is not None
         integrator, solver = parts
         h = scene.time_step_size
-        # The catalogue's defaults (catalogue.py; `discrete` has more iterations).
-        def parameter(name: str) -> pp.ParameterValue:
-            return scene.parameter(name, catalogue.default(integrator, name))
-
-        self.iterations = int(parameter("iterations"))
-        self.tolerance = float(parameter("tolerance"))
-        cone = str(parameter("cone"))
-        if cone not in CONES:
-            raise ValueError(f"parameter cone: expected one of {', '.join(CONES)}, got {cone!r}")
-        tau_steps = float(parameter("contactTimeconstSteps"))
-        if tau_steps < 2:
-            raise ValueError(f"parameter contactTimeconstSteps: expected >= 2 (MuJoCo raises a "
-                             f"shorter time constant to 2h), got {tau_steps}")
-        self.tau = tau_steps * h
+        parameter = parameter_reader(scene, integrator)
+        writer = writer_settings(integrator, solver, parameter, h)
+        self.tau = float(writer["contact_time_constant"])
+        self.servo_tau = float(writer["servo_time_constant"])
         requested_substeps = int(parameter("substeps"))
         if requested_substeps < 0:
             raise ValueError(f"parameter substeps: expected >= 0 (0: automatic), got {requested_substeps}")
         self.settings: dict[str, pp.ParameterValue] = {
             "method": f"{ENGINE}.{integrator}.{solver}", "integrator": integrator, "solver": solver,
-            "iterations": self.iterations, "tolerance": self.tolerance, "cone": cone,
-            "contactTimeconst": self.tau, "solimp": " ".join(str(v) for v in SOLIMP),
-            "margin": 0.0, "gap": 0.0, "damping": 0.0,
+            "iterations": writer["iterations"], "tolerance": writer["tolerance"],
+            "cone": writer["cone"], "contactTimeconst": self.tau,
+            "solimp": " ".join(str(v) for v in SOLIMP), "margin": 0.0, "gap": 0.0, "damping": 0.0,
+            "equality.solref": " ".join(str(v) for v in writer["equality_solref"]),
+            "servo.timeconst": self.servo_tau,
+            "model": "the built-in engine's MJCF (adapters/mujoco/mjcf_writer.cpp) with "
+                     f"{len(MJCF_2_2_2_TO_4)} MuJoCo 4 rewrites (MJCF_2_2_2_TO_4)",
         }
-        spec = mujoco.MjSpec()
-        spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
-        spec.compiler.boundmass = 0.0
-        spec.compiler.boundinertia = 0.0
-        spec.compiler.balanceinertia = False
-        spec.option.timestep = h
-        spec.option.gravity = list(scene.gravity)
-        spec.option.integrator = INTEGRATORS[integrator]
-        spec.option.solver = SOLVERS[solver]
-        spec.option.iterations = self.iterations
-        spec.option.tolerance = self.tolerance
-        spec.option.cone = CONES[cone]
-        # Jointed bodies collide (the seed's rule): the rigid pairs are explicit <pair>s, which
-        # MuJoCo never filters; filterparent is disabled as well, as in the built-in adapter.
-        spec.option.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_FILTERPARENT)
-        self.body_names: list[str] = [f"body{b.index}" for b in scene.bodies]
-        self.geom_names: dict[int, str] = {}
-        self.parents, _ = tree(scene)
-        self._add_bodies(spec)
-        self._add_pairs(spec)
+        self.mjcf = rigid_model(scene, writer)
+        if self.mjcf["unsupported"]:
+            raise ValueError("MuJoCo cannot represent " + "; ".join(self.mjcf["unsupported"]))
+        spec = mujoco.MjSpec.from_string(mjcf_for_mujoco_4(self.mjcf["xml"]))
+        if scene.particles:  # rigid pairs stay explicit <pair>s; particles collide by affinity
+            for geom in spec.geoms:
+                geom.conaffinity = flexes.FLEX_CONTACT_BIT
+        self.settings["contact.pairs"] = int(self.mjcf["contact_pairs"])
+        self.settings["equality.constraints"] = int(self.mjcf["equality_constraints"])
+        for pair, law in dict(self.mjcf["pair_settings"]).items():
+            self.settings[f"contact.{pair}"] = str(law)
+        for i, note in enumerate(self.mjcf["approximations"]):
+            self.settings[f"approximation.{i}"] = str(note)
+        self.settings["jointedBodiesCollide"] = (
+            f"yes (as in the seed): {self.mjcf['jointed_contact_pairs']} of the pairs join bodies "
+            "connected by a joint; explicit <pair>s, which MuJoCo never filters, and filterparent "
+            "disabled")
         bending_curvature = float(parameter("clothBendingCurvature"))
         if bending_curvature < 0:
             raise ValueError("parameter clothBendingCurvature: expected >= 0 (0: no bending), "
@@ -211,7 +234,10 @@ class MujocoRun:
             warnings.filterwarnings("ignore", message=".*has no equality constraints or passive forces")
             self.model = spec.compile()
         self.data = mujoco.MjData(self.model)
-        self._initial_velocities()
+        self.body_ids = [mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, n)
+                         for n in self.mjcf["body_names"]]
+        mujoco.mj_forward(self.model, self.data)
+        self._project_initial_velocities()
         self.layout.resolve(self.model)
         for i, d in zip(self.layout.dynamic, self.layout.dofs):
             self.data.qvel[d] = scene.particles[i].velocity
@@ -220,8 +246,7 @@ class MujocoRun:
         if mismatch != 0.0:
             raise RuntimeError("flex vertices are not the scene's particles at t = 0 "
                                f"(off by {mismatch:g} m)")
-        self.body_ids = [mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, n)
-                         for n in self.body_names]
+        self.servos = self._tune_servos()
         self.substeps = self._substeps(integrator, requested_substeps)
         self.model.opt.timestep = h / self.substeps
         self.settings["substeps"] = self.substeps
@@ -241,150 +266,90 @@ class MujocoRun:
         law = contact_law.contact_solref(self.tau, self.scene.time_step_size, model.restitution)
         return [-law.stiffness, -law.damping], list(SOLIMP)
 
-    def _add_geom(self, mj_body: "mujoco.MjsBody", b: pp.Body, spec: "mujoco.MjSpec") -> None:
-        s = b.shape
-        if s.type == "none":
+    def _project_initial_velocities(self) -> None:
+        """The built-in engine's projection (mujoco_engine.cpp projectInitialVelocities): the
+        scene gives every body's velocity, MuJoCo's state is the joint velocities; the qvel
+        closest to the scene's in the kinetic-energy norm solves M qvel = sum_b J_b^T (m v, I w)
+        (the generalised momentum of the scene's velocities). It reproduces them exactly when
+        they agree with the joints; a body they disagree for is recorded."""
+        m, d = self.model, self.data
+        if m.nv == 0:
             return
-        # The shape is given in the scene frame; the body frame is the principal frame.
-        to_principal = pp.quat_conjugate(b.principal_rotation)
-        pos = pp.quat_rotate(to_principal, [-c for c in b.principal_com])
-        quat = to_principal
-        name = f"geom{b.index}"
-        # Rigid pairs are explicit <pair>s; particles (flexes) collide through the affinity bit.
-        affinity = flexes.FLEX_CONTACT_BIT if self.scene.particles else 0
-        geom = mj_body.add_geom(name=name, contype=0, conaffinity=affinity, margin=0.0, gap=0.0)
-        if s.type == "sphere":
-            geom.type = mujoco.mjtGeom.mjGEOM_SPHERE
-            geom.size = [s.radius, 0, 0]
-        elif s.type == "box":
-            geom.type = mujoco.mjtGeom.mjGEOM_BOX
-            geom.size = list(s.half_extents)
-        elif s.type == "cylinder":
-            geom.type = mujoco.mjtGeom.mjGEOM_CYLINDER
-            geom.size = [s.radius, s.height / 2, 0]
-            half = math.sqrt(0.5)  # MuJoCo's cylinder runs along z, the scene's along y
-            quat = pp.quat_multiply(quat, (half, -half, 0.0, 0.0))
-        else:  # sdf: the body's mesh, which MuJoCo collides as its convex hull
-            mesh = spec.add_mesh(name=f"mesh{b.index}", file=b.geometry_file,
-                                 scale=list(b.geometry_scale or (1, 1, 1)))
-            geom.type = mujoco.mjtGeom.mjGEOM_MESH
-            geom.meshname = mesh.name
-            self.settings[f"{b.json_path}.shape"] = "convex hull of the mesh"
-        geom.pos = list(pos)
-        geom.quat = list(quat)
-        self.geom_names[b.index] = name
-
-    def _add_bodies(self, spec: "mujoco.MjSpec") -> None:
-        scene = self.scene
-        children: dict[int | None, list[int]] = {}
-        for index, (par, _) in self.parents.items():
-            children.setdefault(par, []).append(index)
-        for b in scene.bodies:  # static bodies: welded to the world
-            if not b.dynamic:
-                body = spec.worldbody.add_body(name=self.body_names[b.index], pos=list(b.position),
-                                               quat=list(b.world_principal_rotation))
-                self._add_geom(body, b, spec)
-
-        def add(mj_parent: "mujoco.MjsBody", parent: pp.Body | None, index: int) -> None:
-            b = scene.bodies[index]
-            pos, quat = relative_pose(parent, b)
-            body = mj_parent.add_body(name=self.body_names[index], pos=pos, quat=quat,
-                                      mass=b.mass, inertia=list(b.principal_inertia),
-                                      ipos=[0, 0, 0], iquat=[1, 0, 0, 0], explicitinertial=True)
-            joint = self.parents[index][1]
-            if joint is None:
-                body.add_freejoint()
-            else:
-                side = "body1" if joint.body1 == b.id else "body2"
-                anchor = getattr(joint.points["anchor"], side).principal
-                if joint.type == "ball":
-                    body.add_joint(type=mujoco.mjtJoint.mjJNT_BALL, pos=list(anchor), damping=0.0)
-                else:
-                    axis = getattr(joint.axes["axis"], side).principal
-                    # Seen from its first body, the joint turns the other way round.
-                    sign = -1.0 if side == "body1" else 1.0
-                    body.add_joint(type=mujoco.mjtJoint.mjJNT_HINGE, pos=list(anchor),
-                                   axis=[sign * a for a in axis], damping=0.0)
-            self._add_geom(body, b, spec)
-            for c in children.get(index, []):
-                add(body, b, c)
-
-        for index in children.get(None, []):
-            add(spec.worldbody, None, index)
-
-    def _add_pairs(self, spec: "mujoco.MjSpec") -> None:
-        h = self.scene.time_step_size
-        jointed = 0
-        for p in self.scene.contact_pairs:
-            a, b = self.scene.body_by_id(p.bodies[0]), self.scene.body_by_id(p.bodies[1])
-            if a.index not in self.geom_names or b.index not in self.geom_names:
-                continue
-            jointed += self.scene.jointed(a.id, b.id)
-            law = contact_law.contact_solref(self.tau, h, p.restitution)
-            spec.add_pair(geomname1=self.geom_names[a.index], geomname2=self.geom_names[b.index],
-                          condim=3, friction=[p.friction, p.friction, 0.0, 0.0, 0.0],
-                          solref=[-law.stiffness, -law.damping], solimp=SOLIMP, margin=0.0, gap=0.0)
-        self.settings["jointedBodiesCollide"] = (
-            f"yes (as in the seed): {jointed} of the pairs join bodies connected by a joint; "
-            "explicit <pair>s, which MuJoCo never filters, and filterparent disabled")
-
-    def _initial_velocities(self) -> None:
-        for b in self.scene.bodies:
+        jacp, jacr = np.zeros((3, m.nv)), np.zeros((3, m.nv))
+        momentum = np.zeros(m.nv)
+        inertias: list[np.ndarray] = []
+        for b, body_id in zip(self.scene.bodies, self.body_ids):
+            rotation = _matrix(b.world_principal_rotation)
+            inertias.append(rotation @ np.diag(b.principal_inertia) @ rotation.T)
             if not b.dynamic:
                 continue
-            body_id = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, self.body_names[b.index])
-            dof = self.model.jnt_dofadr[self.model.body_jntadr[body_id]]
-            joint = self.parents[b.index][1]
-            if joint is not None:
-                if any(b.velocity) or any(b.angular_velocity):
-                    self._jointed_initial_velocity(b, joint, dof)
+            mujoco.mj_jacBodyCom(m, d, jacp, jacr, body_id)
+            momentum += jacp.T @ (b.mass * np.array(b.velocity)) + jacr.T @ (inertias[-1] @ b.angular_velocity)
+        qvel = np.zeros((1, m.nv))
+        mujoco.mj_solveM(m, d, qvel, momentum.reshape(1, -1))
+        d.qvel[:] = qvel[0]
+        for b, body_id in zip(self.scene.bodies, self.body_ids):
+            if not b.dynamic:
                 continue
-            # A free joint's qvel: linear velocity in world, angular velocity in body axes.
-            local_w = pp.quat_rotate(pp.quat_conjugate(b.world_principal_rotation), b.angular_velocity)
-            self.data.qvel[dof:dof + 3] = b.velocity
-            self.data.qvel[dof + 3:dof + 6] = local_w
+            mujoco.mj_jacBodyCom(m, d, jacp, jacr, body_id)
+            v, w = jacp @ d.qvel, jacr @ d.qvel
+            mismatch = float(np.linalg.norm(v - b.velocity) + np.linalg.norm(w - b.angular_velocity))
+            scale = float(np.linalg.norm(b.velocity) + np.linalg.norm(b.angular_velocity))
+            if mismatch > 1e-9 * (1 + scale):  # the C++ engine's threshold
+                self.settings[f"{b.json_path}.initialVelocity"] = (
+                    f"disagrees with its joints by {mismatch:.6g}; projected onto them "
+                    "(kinetic-energy norm): v = " + " ".join(f"{x:.6g}" for x in v)
+                    + ", w = " + " ".join(f"{x:.6g}" for x in w))
 
-    def _jointed_initial_velocity(self, b: pp.Body, joint: pp.Joint, dof: int) -> None:
-        """A body jointed to the world whose scene velocity (v, w) need not fit the joint: the
-        nearest joint motion in the kinetic-energy norm, minimising m|v - W x r|^2 +
-        (w - W)^T I (w - W) over the joint's angular velocities W (r from the pivot to the centre
-        of mass), which gives I_p W = L_p: the angular momentum about the pivot is kept (the
-        built-in engine's projection, docs/parity-mujoco.md). Ball: W free; hinge: W = s a."""
-        rotation = np.array(_matrix(b.world_principal_rotation))
-        inertia = rotation @ np.diag(b.principal_inertia) @ rotation.T
-        r = np.array(b.position) - np.array(joint.points["anchor"].world)
-        inertia_pivot = inertia + b.mass * (float(r @ r) * np.eye(3) - np.outer(r, r))
-        momentum = inertia @ np.array(b.angular_velocity) + b.mass * np.cross(r, np.array(b.velocity))
-        if joint.type == "ball":
-            w = np.linalg.solve(inertia_pivot, momentum)
-            self.data.qvel[dof:dof + 3] = rotation.T @ w  # MuJoCo's ball qvel is in body axes
-        else:
-            side = "body1" if joint.body1 == b.id else "body2"
-            axis = np.array(joint.axes["axis"].world) * (-1.0 if side == "body1" else 1.0)
-            w = axis * float(axis @ momentum) / float(axis @ inertia_pivot @ axis)
-            self.data.qvel[dof] = float(axis @ w)
-        fitted = (np.cross(w, r), w)
-        self.settings[f"{b.json_path}.initialVelocity"] = (
-            "projected onto the joint (kinetic-energy norm): v = " + " ".join(f"{x:.6g}" for x in fitted[0])
-            + ", w = " + " ".join(f"{x:.6g}" for x in fitted[1]))
+    def _tune_servos(self) -> list[tuple[int, pp.MotorTarget]]:
+        """The built-in engine's servos (mujoco_engine.cpp tuneServos): critically damped on the
+        driven joint, m = 1/(M^-1)_ii at t = 0, tau = servoTimeconst; a position servo applies
+        kp (q* - q) - kv qdot with kp = m/tau^2, kv = 2m/tau, a velocity servo kv (qdot* - qdot)
+        with kv = m/tau. Returns (actuator, set point) per motor."""
+        m, d = self.model, self.data
+        servos: list[tuple[int, pp.MotorTarget]] = []
+        for motor in self.mjcf["motors"]:
+            actuator = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_ACTUATOR, motor["actuator"])
+            joint = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, motor["joint_name"])
+            dof = int(m.jnt_dofadr[joint])
+            unit, column = np.zeros((1, m.nv)), np.zeros((1, m.nv))
+            unit[0, dof] = 1.0
+            mujoco.mj_solveM(m, d, column, unit)
+            inertia = 1.0 / column[0, dof]
+            tau = self.servo_tau
+            velocity = bool(motor["velocity_servo"])
+            kv = inertia / tau if velocity else 2 * inertia / tau
+            kp = 0.0 if velocity else inertia / (tau * tau)
+            m.actuator_gainprm[actuator, 0] = kv if velocity else kp
+            m.actuator_biasprm[actuator, 0:3] = [0.0, -kp, -kv]
+            joint_desc = self.scene.joints[int(motor["joint"])]
+            assert joint_desc.target is not None
+            d.ctrl[actuator] = joint_desc.target.value_at(d.time)
+            servos.append((actuator, joint_desc.target))
+            self.settings[f"servo.{joint_desc.json_path}"] = (
+                f"{'velocity' if velocity else 'position (PD)'} kp={kp:.6g} kv={kv:.6g} "
+                f"joint inertia={inertia:.6g}")
+        return servos
 
     def states(self) -> list[pp.BodyState]:
         out = []
         velocity = np.zeros(6)
         for b, body_id in zip(self.scene.bodies, self.body_ids):
-            mujoco.mj_objectVelocity(self.model, self.data, mujoco.mjtObj.mjOBJ_BODY, body_id,
+            # [w; v] at the body frame's origin (the centre of mass), world axes.
+            mujoco.mj_objectVelocity(self.model, self.data, mujoco.mjtObj.mjOBJ_XBODY, body_id,
                                      velocity, 0)
             q = pp.quat_multiply(self.data.xquat[body_id], pp.quat_conjugate(b.principal_rotation))
             out.append(pp.BodyState(b.id, self.data.xpos[body_id].copy(), q,
-                                    velocity[3:].copy(), velocity[:3].copy()))
+                                    [float(v) for v in velocity[3:]], [float(w) for w in velocity[:3]]))
         return out
 
     def run(self, out_dir: Path) -> pp.Status:
-        bad_qacc = int(mujoco.mjtWarning.mjWARN_BADQACC)
+        fatal = _fatal_warnings()
 
         def failure(t: float) -> str | None:
-            if self.data.warning[bad_qacc].number > 0:
-                return f"MuJoCo reset the state after a bad acceleration at t = {t:g} s"
+            for warning, text in fatal.items():
+                if self.data.warning[warning].number > 0:
+                    return f"MuJoCo at t = {t:g} s: {text}"
             return None
 
         def check(t: float) -> str | None:
@@ -409,6 +374,10 @@ class MujocoRun:
 
         def step() -> None:
             for _ in range(self.substeps):
+                # Set points for the end of the step being taken, as the PBD motors use them.
+                end = self.data.time + self.model.opt.timestep
+                for actuator, target in self.servos:
+                    self.data.ctrl[actuator] = target.value_at(end)
                 mujoco.mj_step(self.model, self.data)
 
         particles = (lambda t: self.layout.state(self.data)) if self.scene.particles else None

@@ -24,6 +24,20 @@ Materials:
   4k/3, which reproduces the network's C_1111 = 3k/2 and C_1122 = C_1212 = k/2 along the grid
   axes exactly; the network's anisotropy (stiffer along the diagonals it has) is not
   representable: approximated.
+- cloth, method 2 (the seed's FEM triangles, Bender et al. 2014: an orthotropic St. Venant-
+  Kirchhoff membrane, energy A psi per triangle with psi = 1/2 c_xx E_xx^2 + c_xy E_xx E_yy +
+  1/2 c_yy E_yy^2 + G E_xy^2 on the Green strain E, c_xx = E_x/(1 - nu_xy nu_yx), c_yy likewise,
+  c_xy = (E_x nu_yx + E_y nu_xy)/(2 (1 - nu_xy nu_yx)); the moduli are per unit area, N/m):
+  MuJoCo's membrane is isotropic St. Venant-Kirchhoff under plane stress, psi = mu tr(E^2) +
+  lambda*/2 (tr E)^2 with mu = E t/(2 (1 + nu)), lambda* = E t nu/(1 - nu^2). With E_x = E_y = E_s
+  and nu_xy = nu_yx = nu the two agree term by term for E t = E_s, poisson = nu
+  (c_xx = lambda* + 2 mu, c_xy = lambda*) and shear G = 2 mu = E_s/(1 + nu); another G is
+  approximated by MuJoCo's (ratio E_s/(G (1 + nu)) recorded; the seed's defaults E = G = 1,
+  nu = 0.3 give 1/1.3). Orthotropic moduli are unsupported. The thickness is 2 r (membrane only)
+  or, with bending method 3, from the matched rigidity below with this E t and nu. The seed's
+  PBD projection has no stiffness factor (its stiffness comes from its iterations and substeps,
+  only the moduli's ratios matter to it), MuJoCo's is the moduli's: the same scene is as stiff
+  as its moduli in MuJoCo, as stiff as its solver makes it in pbd.
 - bending, method 3 (XPBD isometric, Bergou et al. 2006): its potential (1/2) k C^2, with
   C = (3/(A0 + A1)) |sum K_i x_i|^2 / 2 itself quadratic in the positions, is quartic in the fold,
   with no stiffness at the flat state; MuJoCo's shell bending is quadratic (Kirchhoff,
@@ -35,7 +49,7 @@ Materials:
   normalisation). Softer than the seed's for larger folds, stiffer for smaller: approximated.
   The shell thickness then follows from D = E t^3 / (12 (1 - nu^2)) with E t fixed by the
   membrane. kappa* = 0: no bending. Method 0: none, native. Methods 1 and 2 (PBD fractions per
-  iteration) are unsupported.
+  iteration) are unsupported; so are cloth methods 1 and 3.
 - method 0 (no constraints) of either: a flex without elasticity, native.
 - damping 0 everywhere.
 
@@ -52,9 +66,8 @@ import warnings
 from dataclasses import dataclass
 from typing import Any
 
-import numpy as np
-
 import mujoco
+import numpy as np
 
 from pbdval import protocol as pp
 
@@ -65,15 +78,56 @@ FLEX_CONTACT_BIT = 2
 CLOTH_RADIUS = 0.001
 #: Poisson ratio of the membrane that matches a spring network (Cauchy relation, see above).
 NETWORK_POISSON = 1.0 / 3.0
-CLOTH_METHODS = {0: "none", 4: "xpbd_distance"}
+CLOTH_METHODS = {0: "none", 2: "fem (isotropic moduli)", 4: "xpbd_distance"}
+#: Relative difference below which two of the FEM cloth's moduli (or Poisson ratios) count as
+#: equal: the loader's values are doubles, so equal inputs are equal to the last bit; 1e-12
+#: leaves room for moduli derived by arithmetic in a scene generator.
+ISOTROPY_TOLERANCE = 1e-12
 BENDING_METHODS = {0: "none", 3: "isometric_xpbd (matched at one curvature)"}
 SOLID_METHODS = {0: "none", 3: "fem_xpbd"}
+
+
+def _differ(a: float, b: float) -> bool:
+    return abs(a - b) > ISOTROPY_TOLERANCE * max(abs(a), abs(b))
+
+
+@dataclass(frozen=True)
+class FemMembrane:
+    """MuJoCo's isotropic membrane for the seed's FEM cloth (method 2, module comment)."""
+
+    stretch: float  # E t (N/m): MuJoCo's young times thickness
+    poisson: float  # nu
+    shear_ratio: float  # MuJoCo's shear stiffness over the seed's: E_s / (G (1 + nu))
+
+
+def fem_membrane(material: dict[str, Any]) -> FemMembrane:
+    """The membrane of the seed's FEM triangle with E_x = E_y = E_s, nu_xy = nu_yx = nu and
+    shear modulus G (the seed's energy has G E_xy^2; isotropy means G = E_s/(1 + nu))."""
+    youngs, poisson = float(material["xxStiffness"]), float(material["xyPoissonRatio"])
+    shear = float(material["xyStiffness"])
+    return FemMembrane(stretch=youngs, poisson=poisson, shear_ratio=youngs / (shear * (1 + poisson)))
 
 
 def unsupported(scene: Any) -> list[str]:
     """The particle features this engine cannot represent, each naming its JSON path."""
     missing = pp.unsupported_particle_models(scene, "MuJoCo's flexes", CLOTH_METHODS,
                                              BENDING_METHODS, SOLID_METHODS)
+    for tm in scene.triangle_models:
+        if tm.simulation_method != 2:
+            continue
+        m = tm.material
+        if _differ(float(m["xxStiffness"]), float(m["yyStiffness"])) or _differ(
+                float(m["xyPoissonRatio"]), float(m["yxPoissonRatio"])):
+            missing.append(
+                f"{tm.json_path}: cloth method 2 (fem) with orthotropic moduli (cloth_xxStiffness "
+                f"{m['xxStiffness']:g}, cloth_yyStiffness {m['yyStiffness']:g}, cloth_xyPoissonRatio "
+                f"{m['xyPoissonRatio']:g}, cloth_yxPoissonRatio {m['yxPoissonRatio']:g}): MuJoCo's "
+                "flex elasticity is isotropic")
+        elif float(m["xyStiffness"]) <= 0 or not 0 <= float(m["xyPoissonRatio"]) < 0.5:
+            missing.append(
+                f"{tm.json_path}: cloth method 2 (fem) with cloth_xyStiffness {m['xyStiffness']:g} "
+                f"and Poisson ratio {m['xyPoissonRatio']:g}: MuJoCo needs a positive shear modulus "
+                "and 0 <= nu < 0.5")
     counted = sum(m.particle_count for m in (*scene.triangle_models, *scene.tet_models))
     if not (scene.line_models or scene.fluid_models) and counted != len(scene.particles):
         missing.append(f"particles: {len(scene.particles)} in the scene, {counted} in its triangle "
@@ -95,7 +149,7 @@ def membrane_stiffness(positions: np.ndarray, triangles: np.ndarray, edge_stiffn
             key = (min(int(i), int(j)), max(int(i), int(j)))
             shares[key] = shares.get(key, 0) + 1
     total = sum(0.5 * n * float(np.sum((x[i] - x[j]) ** 2)) for (i, j), n in sorted(shares.items()))
-    return edge_stiffness * total / (3.0 * area)
+    return float(edge_stiffness * total / (3.0 * area))
 
 
 Stencil = tuple[list[int], np.ndarray, float]
@@ -125,7 +179,7 @@ def bending_stencils(positions: np.ndarray, triangles: np.ndarray) -> list[Stenc
         a0, b0, a1, b1 = cot(x0, x1, x2), cot(x1, x0, x2), cot(x0, x1, x3), cot(x1, x0, x3)
         weights = np.array([b0 + b1, a0 + a1, -a0 - b0, -a1 - b1])
         area = 0.5 * (np.linalg.norm(np.cross(x1 - x0, x2 - x0)) + np.linalg.norm(np.cross(x1 - x0, x3 - x0)))
-        stencils.append(([i, j, k, m], weights, 3.0 / area))
+        stencils.append(([i, j, k, m], weights, float(3.0 / area)))
     return stencils
 
 
@@ -211,7 +265,7 @@ class FlexLayout:
     dofs: np.ndarray = None  # type: ignore[assignment]  # (D, 3) dof addresses
     masses: np.ndarray = None  # type: ignore[assignment]  # (D,)
 
-    def resolve(self, model: "mujoco.MjModel") -> None:
+    def resolve(self, model: mujoco.MjModel) -> None:
         qpos, dofs = [], []
         for i in self.dynamic:
             body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, self.body_names[i])
@@ -221,7 +275,7 @@ class FlexLayout:
         self.qpos = np.array(qpos, dtype=np.int64).reshape(-1, 3)
         self.dofs = np.array(dofs, dtype=np.int64).reshape(-1, 3)
 
-    def state(self, data: "mujoco.MjData") -> np.ndarray:
+    def state(self, data: mujoco.MjData) -> np.ndarray:
         """(P, 6): positions and velocities of every particle in scene order."""
         out = np.zeros((len(self.positions0), 6))
         out[:, :3] = self.positions0
@@ -231,7 +285,7 @@ class FlexLayout:
         return out
 
 
-def add_flexes(spec: "mujoco.MjSpec", scene: Any, contact: Any, settings: dict[str, Any],
+def add_flexes(spec: mujoco.MjSpec, scene: Any, contact: Any, settings: dict[str, Any],
                bending_curvature: float = 2.0) -> FlexLayout:
     """Adds a body per dynamic particle and one flex per triangle or tet model; `contact(model)`
     gives (solref, solimp) of a model's contacts; XPBD isometric bending is matched at
@@ -282,25 +336,38 @@ def add_flexes(spec: "mujoco.MjSpec", scene: Any, contact: Any, settings: dict[s
             flex.young = 0.0
             settings[f"{path}.elasticity"] = "none (method 0, native)"
         elif cloth:
-            k = float(tm.material["stiffness"])
-            stiffness = membrane_stiffness(positions[first:first + count], elements, k)
+            if tm.simulation_method == 2:
+                fem = fem_membrane(tm.material)
+                stiffness, poisson = fem.stretch, fem.poisson
+                membrane = (
+                    f"St. Venant-Kirchhoff membrane of the FEM triangles' moduli: E t = "
+                    f"cloth_xxStiffness = {stiffness:.6g} N/m, nu = {poisson:g}; shear stiffness "
+                    f"{fem.shear_ratio:.6g} x the seed's (cloth_xyStiffness "
+                    f"{float(tm.material['xyStiffness']):g}; equal when it is E_s/(1 + nu)): "
+                    + ("native" if abs(fem.shear_ratio - 1) <= ISOTROPY_TOLERANCE else "approximated")
+                    + "; the seed's PBD projection has no stiffness factor (its stiffness comes "
+                    "from the iterations), MuJoCo's is the moduli's")
+            else:
+                k = float(tm.material["stiffness"])
+                stiffness = membrane_stiffness(positions[first:first + count], elements, k)
+                poisson = NETWORK_POISSON
+                membrane = (f"St. Venant-Kirchhoff membrane for springs of {k:g} N/m on every edge "
+                            f"(approximated): E t = {stiffness:.6g} N/m, nu = 1/3")
             rigidity = 0.0
             if tm.bending_method == 3 and bending_curvature > 0:
                 rigidity = matched_rigidity(positions[first:first + count], elements,
                                             float(tm.material["bendingStiffness"]),
-                                            bending_curvature, NETWORK_POISSON)
+                                            bending_curvature, poisson)
             # D = E t^3/(12 (1 - nu^2)) with E t fixed: t^2 = 12 (1 - nu^2) D / (E t).
-            thickness = (math.sqrt(12 * (1 - NETWORK_POISSON**2) * rigidity / stiffness)
+            thickness = (math.sqrt(12 * (1 - poisson**2) * rigidity / stiffness)
                          if rigidity > 0 else 2 * CLOTH_RADIUS)
             flex.radius = CLOTH_RADIUS
             flex.thickness = thickness
             flex.young = stiffness / thickness
-            flex.poisson = NETWORK_POISSON
+            flex.poisson = poisson
             flex.elastic2d = 3 if rigidity > 0 else 2  # both, or stretching only
             settings[f"{path}.membrane"] = (
-                f"St. Venant-Kirchhoff membrane for springs of {k:g} N/m on every edge "
-                f"(approximated): E t = {stiffness:.6g} N/m, nu = 1/3, t = {thickness:.6g} m, "
-                f"E = {stiffness / thickness:.6g} Pa")
+                f"{membrane}; t = {thickness:.6g} m, E = {stiffness / thickness:.6g} Pa")
             if rigidity > 0:
                 settings[f"{path}.bending"] = (
                     f"Kirchhoff shell bending D = {rigidity:.6g} N m (approximated): MuJoCo's "
@@ -326,7 +393,7 @@ def add_flexes(spec: "mujoco.MjSpec", scene: Any, contact: Any, settings: dict[s
                       masses=masses[masses > 0])
 
 
-def highest_frequency(model: "mujoco.MjModel", data: "mujoco.MjData", layout: FlexLayout,
+def highest_frequency(model: mujoco.MjModel, data: mujoco.MjData, layout: FlexLayout,
                       iterations: int = 60, displacement: float = 1e-7) -> float:
     """omega_max (rad/s) of the particles' elastic forces at the current state: the largest
     eigenvalue of M^-1/2 K M^-1/2 by power iteration, K v from central differences of
@@ -346,7 +413,8 @@ def highest_frequency(model: "mujoco.MjModel", data: "mujoco.MjData", layout: Fl
             data.qvel[:] = 0.0
             mujoco.mj_forward(model, data)
             forces.append(data.qfrc_passive[dofs].copy())
-        return -(forces[0] - forces[1]) / (2 * displacement)
+        difference: np.ndarray = -(forces[0] - forces[1]) / (2 * displacement)
+        return difference
 
     u = np.random.default_rng(0).standard_normal(len(dofs))
     u /= np.linalg.norm(u)
@@ -372,7 +440,7 @@ def explicit_substeps(omega: float, step: float) -> int:
     return max(1, math.ceil(omega * step))
 
 
-def state_matches(data: "mujoco.MjData", layout: FlexLayout) -> float:
+def state_matches(data: mujoco.MjData, layout: FlexLayout) -> float:
     """Largest |flexvert_xpos - scene position| (after mj_forward): 0 when flex vertex i is
     scene particle i."""
     if not len(layout.positions0):

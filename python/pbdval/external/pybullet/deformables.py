@@ -40,11 +40,11 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
-
 import pybullet as pb
 
 from pbdval import protocol as pp
@@ -131,8 +131,8 @@ def write_obj(path: str, positions: np.ndarray, triangles: np.ndarray) -> None:
     """One `v` per particle in order (17 significant digits: exact in double), one `f` per
     triangle (1-based)."""
     with open(path, "w", encoding="ascii") as f:
-        f.writelines("v %.17g %.17g %.17g\n" % tuple(float(c) for c in x) for x in positions)
-        f.writelines("f %d %d %d\n" % tuple(int(i) + 1 for i in t) for t in triangles)
+        f.writelines(f"v {float(x[0]):.17g} {float(x[1]):.17g} {float(x[2]):.17g}\n" for x in positions)
+        f.writelines(f"f {int(t[0]) + 1} {int(t[1]) + 1} {int(t[2]) + 1}\n" for t in triangles)
 
 
 def write_vtk(path: str, positions: np.ndarray, tets: np.ndarray) -> None:
@@ -141,9 +141,9 @@ def write_vtk(path: str, positions: np.ndarray, tets: np.ndarray) -> None:
     with open(path, "w", encoding="ascii") as f:
         f.write("# vtk DataFile Version 2.0\npbdval tet model\nASCII\nDATASET UNSTRUCTURED_GRID\n")
         f.write(f"POINTS {len(positions)} double\n")
-        f.writelines("%.17g %.17g %.17g\n" % tuple(float(c) for c in x) for x in positions)
+        f.writelines(f"{float(x[0]):.17g} {float(x[1]):.17g} {float(x[2]):.17g}\n" for x in positions)
         f.write(f"\nCELLS {len(tets)} {5 * len(tets)}\n")
-        f.writelines("4 %d %d %d %d\n" % tuple(int(i) for i in t) for t in tets)
+        f.writelines(f"4 {int(t[0])} {int(t[1])} {int(t[2])} {int(t[3])}\n" for t in tets)
         f.write(f"\nCELL_TYPES {len(tets)}\n")
         f.writelines("10\n" for _ in range(len(tets)))
 
@@ -292,9 +292,9 @@ class SoftBodies:
         if dynamic.any():
             model.mass_difference = float(np.max(np.abs(model.node_mass - masses[dynamic]) /
                                                  masses[dynamic]))
-        common: dict[str, Any] = dict(scale=1.0, mass=model.node_mass * count,
-                                      collisionMargin=margin, frictionCoeff=friction,
-                                      physicsClientId=self.client)
+        common: dict[str, Any] = {"scale": 1.0, "mass": model.node_mass * count,
+                                  "collisionMargin": margin, "frictionCoeff": friction,
+                                  "physicsClientId": self.client}
         if kind == "cloth":
             body, row_sums = self._cloth(index, m, x, common)
         else:
@@ -320,8 +320,8 @@ class SoftBodies:
         k = float(m.material["stiffness"])
         edges = mesh_edges(triangles)
         row_sums = spring_row_sums(x, edges, k)
-        springs: dict[str, Any] = dict(useMassSpring=1, springElasticStiffness=k,
-                                       springDampingStiffness=0.0, useNeoHookean=0)
+        springs: dict[str, Any] = {"useMassSpring": 1, "springElasticStiffness": k,
+                                   "springDampingStiffness": 0.0, "useNeoHookean": 0}
         bending = self.bending_spring_stiffness
         if m.bending_method == BENDING_ISOMETRIC_XPBD and bending > 0:
             springs.update(useBendingSprings=1, springBendingStiffness=bending)

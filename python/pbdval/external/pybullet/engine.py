@@ -14,6 +14,9 @@ speculative contacts; split impulse for all penetration; one internal step per s
 constraint; hinge = two point-to-point constraints on the axis (hinge_half_length). Everything else is reported
 unsupported by name.
 
+The methods pybullet.multibody.* (multibody.py) build the joints' trees as btMultiBodies in
+reduced coordinates instead; `run` and `unsupported_features` hand them over.
+
 Scenes with particles (cloth: TriangleModels, solids: TetModels) run in Bullet's deformable world
 (resetSimulation(RESET_USE_DEFORMABLE_WORLD)) as soft bodies: deformables.py, and the mapping
 table in docs/external-engines.md#pybullet.
@@ -23,11 +26,11 @@ from __future__ import annotations
 
 import math
 import tempfile
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-
 import pybullet as pb
 
 from pbdval import protocol as pp
@@ -40,6 +43,8 @@ SOLVERS = {
     "pybullet.dantzig": pb.CONSTRAINT_SOLVER_LCP_DANTZIG,
 }
 DEFAULT_METHOD = "pybullet.si"
+#: The reduced-coordinate family (multibody.py): pybullet.multibody.si, .pgs, .dantzig.
+MULTIBODY_PREFIX = "pybullet.multibody."
 SUPPORTED_JOINTS = ("ball", "hinge")
 SUPPORTED_SHAPES = ("none", "sphere", "box", "cylinder", "sdf", "torus")
 #: Half the distance between a hinge's two point-to-point constraints when no body of the joint
@@ -71,6 +76,10 @@ def wxyz(q: Any) -> tuple[float, float, float, float]:
 
 
 def unsupported_features(scene: pp.ResolvedScene) -> list[str]:
+    if scene.method.name.startswith(MULTIBODY_PREFIX):
+        from pbdval.external.pybullet import multibody  # imports this module
+
+        return multibody.unsupported_features(scene)
     missing: list[str] = []
     if scene.method.name not in ("", *SOLVERS):
         missing.append(f"method {scene.method.name}")
@@ -121,9 +130,9 @@ def material_factors(scene: pp.ResolvedScene, which: str) -> list[float] | None:
                               deformables.combine(rule, m.friction, soft[j].friction)))
         count += len(soft)
     factors = materials.per_body_factors(count, pairs)
-    if factors is not None and which == "friction":
-        if any(v > materials.BULLET_MAX_FRICTION for _, _, v in pairs):
-            return None
+    if (factors is not None and which == "friction"
+            and any(v > materials.BULLET_MAX_FRICTION for _, _, v in pairs)):
+        return None
     return factors
 
 
@@ -167,27 +176,35 @@ def _rotation_matrix(q: pp.Quat) -> list[list[float]]:
             [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]]
 
 
-def collision_shape(client: int, body: pp.Body) -> tuple[int, str]:
-    """The pybullet shape in the body's scene frame, and a note when it approximates."""
+def collision_shape(client: int, body: pp.Body,
+                    frame_position: Sequence[float] = (0.0, 0.0, 0.0)) -> tuple[int, str]:
+    """The pybullet shape in the body's scene frame, and a note when it approximates.
+    `frame_position`: the scene frame's origin in the frame the shape is attached to, when that
+    is not the scene frame but one turned as it (a multibody's link frame: multibody.py)."""
     s = body.shape
+    offset = list(frame_position)
     if s.type == "none":
         return -1, ""
     if s.type == "sphere":
-        return pb.createCollisionShape(pb.GEOM_SPHERE, radius=s.radius, physicsClientId=client), ""
+        return pb.createCollisionShape(pb.GEOM_SPHERE, radius=s.radius,
+                                       collisionFramePosition=offset, physicsClientId=client), ""
     if s.type == "box":
+        assert s.half_extents is not None  # every box has them (protocol.read_resolved_scene)
         return pb.createCollisionShape(pb.GEOM_BOX, halfExtents=list(s.half_extents),
+                                       collisionFramePosition=offset,
                                        physicsClientId=client), ""
     if s.type == "cylinder":
         # pybullet's cylinder runs along z, the scene's along y: rotate −90° about x.
         half = math.sqrt(0.5)
         return pb.createCollisionShape(pb.GEOM_CYLINDER, radius=s.radius, height=s.height,
                                        collisionFrameOrientation=[-half, 0, 0, half],
+                                       collisionFramePosition=offset,
                                        physicsClientId=client), ""
     # sdf and torus: the body's mesh, as the built-in bullet engine does.
     flags = 0 if body.dynamic else pb.GEOM_FORCE_CONCAVE_TRIMESH
     shape = pb.createCollisionShape(pb.GEOM_MESH, fileName=body.geometry_file,
                                     meshScale=list(body.geometry_scale or (1, 1, 1)), flags=flags,
-                                    physicsClientId=client)
+                                    collisionFramePosition=offset, physicsClientId=client)
     note = "convex hull of the mesh" if body.dynamic else "triangle mesh"
     return shape, f"{body.json_path}: {s.type} as {note}"
 
@@ -202,7 +219,7 @@ class PybulletRun:
         self.soft: deformables.SoftBodies | None = None
         self.substeps = 1
         method = scene.method.name or DEFAULT_METHOD
-        self.solver = SOLVERS[method]
+        self.solver = self._solver(method)
         self.iterations = int(scene.parameter("solverIterations", 10))
         self.erp = float(scene.parameter("erp", 0.2))
         self.contact_erp = float(scene.parameter("contactErp", 0.2))
@@ -228,6 +245,9 @@ class PybulletRun:
             self._soft_bodies(folder)
         if self.notes:
             self.settings["approximations"] = "; ".join(self.notes)
+
+    def _solver(self, method: str) -> int:
+        return int(SOLVERS[method])
 
     def _soft_bodies(self, folder: str) -> None:
         scene = self.scene
@@ -297,11 +317,11 @@ class PybulletRun:
                 baseInertialFramePosition=list(b.principal_com),
                 baseInertialFrameOrientation=xyzw(b.principal_rotation),
                 useMaximalCoordinates=True, physicsClientId=c)
-            dynamics: dict[str, Any] = dict(
-                lateralFriction=friction[b.index], restitution=restitution[b.index],
-                rollingFriction=0.0, spinningFriction=0.0, linearDamping=0.0,
-                angularDamping=0.0, contactProcessingThreshold=0.0,
-                activationState=pb.ACTIVATION_STATE_DISABLE_SLEEPING)
+            dynamics: dict[str, Any] = {
+                "lateralFriction": friction[b.index], "restitution": restitution[b.index],
+                "rollingFriction": 0.0, "spinningFriction": 0.0, "linearDamping": 0.0,
+                "angularDamping": 0.0, "contactProcessingThreshold": 0.0,
+                "activationState": pb.ACTIVATION_STATE_DISABLE_SLEEPING}
             if b.dynamic:
                 # With `mass` given too: localInertiaDiagonal alone sets the mass of a
                 # maximal-coordinate body to -1 (pybullet 3.2.7), and the first step gives NaN.
@@ -425,6 +445,10 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def run(scene: pp.ResolvedScene, out: Path) -> pp.Status:
+    if scene.method.name.startswith(MULTIBODY_PREFIX):
+        from pbdval.external.pybullet import multibody  # imports this module
+
+        return multibody.run(scene, out)
     if not deformables.has_deformables(scene):
         return PybulletRun(scene).run(out)
     # The soft bodies' meshes go to a scratch folder of our own, never into OUTDIR.

@@ -18,7 +18,7 @@ unsupported. A body that is static and in no pair gets 1.
 from __future__ import annotations
 
 import math
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 

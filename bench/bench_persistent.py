@@ -1,0 +1,124 @@
+#!/usr/bin/env python3
+"""The cost of external engines in a suite run (docs/benchmarks.md#persistent-engines): the
+wall time of one `pbdval run` of many short cases, per engine, the Python engines against their
+C++ twins (pybullet against bullet, mujoco-python against mujoco). Speed is measured here, never
+asserted in tests.
+
+    .venv/bin/python bench/bench_persistent.py [--binary PBDVAL] [--before PBDVAL]
+        [--cases A,B,...] [--jobs N] [--repeat N] [--out FILE.json]
+
+--before names another pbdval binary (e.g. a build without persistent engines) measured the same
+way, interleaved with --binary, so that both see the same machine load. Each figure is the best
+(minimum) of --repeat runs, the usual estimate of a cost on a machine whose other load only ever
+adds time. The statuses of every run are recorded beside the times.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime as dt
+import json
+import os
+import platform
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+from collections import Counter
+from pathlib import Path
+from typing import Any
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO / "python"))
+
+from pbdval import protocol as pp
+
+CASES = ["projectile", "free_tumbling_box", "joint_ball", "joint_hinge", "double_pendulum",
+         "double_pendulum_boxes", "chain_10", "chain_mass_ratio", "contact_resting_box",
+         "contact_incline_slide", "contact_incline_stick", "contact_sphere_drop",
+         "contact_seed_bounce", "contact_seed_sink", "contact_rolling_sphere", "contact_stack_5",
+         "contact_pyramid", "contact_sphere_pile", "contact_bowling_ball", "xpbd_resting_box",
+         "xpbd_bouncing_sphere", "xpbd_incline_slide", "xpbd_incline_stick", "xpbd_pendulum_hinge"]
+PAIRS = [("pybullet", "bullet"), ("mujoco-python", "mujoco")]
+
+
+def run_once(binary: Path, engine: str, cases: list[str], jobs: int) -> tuple[float, dict[str, int]]:
+    """Wall seconds of one `pbdval run` of `cases` in `engine`, and its runs' statuses."""
+    with tempfile.TemporaryDirectory(prefix="pbdval-bench-persistent-") as folder:
+        command = [str(binary), "run", *[str(REPO / "cases" / f"{c}.json") for c in cases],
+                   "--engines", engine, "--jobs", str(jobs), "--out", str(Path(folder) / "out"),
+                   "--timeout", "600"]
+        start = time.perf_counter()
+        result = subprocess.run(command, capture_output=True, text=True, check=False, cwd=folder)
+        seconds = time.perf_counter() - start
+        if result.returncode not in (0, 1):  # 1: some run not ok (a gate of its own), still timed
+            raise RuntimeError(f"{' '.join(command)} exited {result.returncode}: {result.stderr[-2000:]}")
+        runs = json.loads((Path(folder) / "out" / "results.json").read_text())["runs"]
+        return seconds, dict(Counter(r["status"] for r in runs))
+
+
+def measure(binaries: dict[str, Path], cases: list[str], jobs: int, repeat: int) -> dict[str, Any]:
+    engines = [e for pair in PAIRS for e in pair]
+    best: dict[str, dict[str, float]] = {label: {} for label in binaries}
+    statuses: dict[str, dict[str, dict[str, int]]] = {label: {} for label in binaries}
+    for attempt in range(repeat):
+        for label, binary in binaries.items():
+            for engine in engines:
+                seconds, counts = run_once(binary, engine, cases, jobs)
+                best[label][engine] = min(seconds, best[label].get(engine, float("inf")))
+                statuses[label][engine] = counts
+                print(f"[{attempt + 1}/{repeat}] {label} {engine}: {seconds:.2f} s {counts}", flush=True)
+    ratios = {label: {f"{python}/{cpp}": best[label][python] / best[label][cpp] for python, cpp in PAIRS}
+              for label in binaries}
+    return {"best_wall_s": best, "statuses": statuses, "ratios": ratios}
+
+
+def context(binaries: dict[str, Path], cases: list[str], jobs: int, repeat: int) -> dict[str, Any]:
+    cpu = ""
+    try:
+        with open("/proc/cpuinfo") as info:
+            cpu = next(line.split(":", 1)[1].strip() for line in info if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    commit = subprocess.run(["git", "-C", str(REPO), "rev-parse", "--short", "HEAD"],
+                            capture_output=True, text=True, check=False).stdout.strip()
+    return {
+        "created": dt.datetime.now(dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
+        "host": socket.gethostname(), "cpu": cpu, "cores": os.cpu_count(),
+        "load_average": os.getloadavg(), "python": platform.python_version(), "commit": commit,
+        "binaries": {label: {"path": str(b), "version": subprocess.run(
+            [str(b), "--version"], capture_output=True, text=True, check=False).stdout.strip()}
+            for label, b in binaries.items()},
+        "cases": cases, "jobs": jobs, "repeat": repeat,
+    }
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
+    parser.add_argument("--binary", type=Path, default=REPO / "build" / "release" / "bin" / "pbdval")
+    parser.add_argument("--before", type=Path, default=None, help="another pbdval to compare with")
+    parser.add_argument("--cases", default=",".join(CASES))
+    parser.add_argument("--jobs", type=int, default=1)
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--out", type=Path, default=None,
+                        help="JSON file (default: bench/results/<host>/persistent-<UTC stamp>.json)")
+    args = parser.parse_args()
+    cases = [c for c in args.cases.split(",") if c]
+    binaries = {"after": args.binary.resolve()}
+    if args.before is not None:
+        binaries["before"] = args.before.resolve()
+    document = {"context": context(binaries, cases, args.jobs, args.repeat),
+                **measure(binaries, cases, args.jobs, args.repeat)}
+    for label, ratios in document["ratios"].items():
+        print(label, {k: round(v, 2) for k, v in ratios.items()})
+    out = args.out or REPO / "bench" / "results" / socket.gethostname() / (
+        "persistent-" + dt.datetime.now(dt.UTC).strftime("%Y%m%dT%H%M%SZ") + ".json")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    pp.write_json_atomically(out, document)
+    print(f"wrote {out}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

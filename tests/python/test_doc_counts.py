@@ -1,0 +1,102 @@
+"""The numbers README.md and docs/ state about the case library cannot go stale: each is checked
+against the plan `pbdval run cases --list-plan` prints and the committed baseline
+(reports/baselines/main.json), recomputed from them by the rules docs/gate.md states, never
+copied from a run's output."""
+
+from __future__ import annotations
+
+import json
+import re
+import subprocess
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from pbdval.results import pbdval_binary
+
+REPO = Path(__file__).resolve().parents[2]
+BASELINE = REPO / "reports/baselines/main.json"
+#: How README.md writes small counts ("in six engines").
+NUMBER_WORDS = {"two": 2, "three": 3, "four": 4, "five": 5, "six": 6, "seven": 7, "eight": 8, "nine": 9,
+                "ten": 10, "eleven": 11, "twelve": 12}
+#: Metrics the gate does not compare unless a case's tolerances name them (docs/gate.md, default
+#: tolerances: the normalisations *_scale and the timing metrics).
+UNGATED = ("wall_time_s", "steps", "real_time_factor")
+
+
+@pytest.fixture(scope="module")
+def plan() -> dict[str, Any]:
+    done = subprocess.run([str(pbdval_binary()), "run", "cases", "--list-plan"], cwd=REPO, capture_output=True,
+                          text=True, check=True)
+    document: dict[str, Any] = json.loads(done.stdout)
+    return document
+
+
+@pytest.fixture(scope="module")
+def baseline() -> dict[str, Any]:
+    document: dict[str, Any] = json.loads(BASELINE.read_text(encoding="utf-8"))
+    return document
+
+
+def run_keys(runs: list[dict[str, Any]]) -> set[tuple[str, str, str, tuple[str, ...]]]:
+    return {(r["case"], r["engine"], r["method"], tuple(r.get("assignments", []))) for r in runs}
+
+
+def gate_checks(baseline: dict[str, Any]) -> int:
+    """How many checks `pbdval gate` makes when results hold exactly the baseline's runs with
+    their statuses (docs/gate.md, "What is checked"): one status check per run; one comparison
+    per gated metric of each completed (ok or suspect) run; one per case bound and matching ok
+    run; one per ordering."""
+    cases = baseline["cases"]
+    count = 0
+    for run in baseline["runs"]:
+        count += 1
+        if run["status"] in ("ok", "suspect"):
+            tolerated = cases[run["case"]].get("tolerances", {})
+            count += sum(1 for m in run["metrics"]
+                         if m in tolerated or not (m.endswith("_scale") or m in UNGATED))
+    for case, data in cases.items():
+        for check in data["checks"]:
+            if "better" in check:
+                count += 1
+                continue
+            count += sum(1 for r in baseline["runs"] if r["case"] == case and r["status"] == "ok"
+                         and (not check.get("engines") or r["engine"] in check["engines"])
+                         and (not check.get("methods") or r["method"] in check["methods"]))
+    return count
+
+
+def test_the_committed_baseline_holds_exactly_the_plans_runs(plan: dict[str, Any], baseline: dict[str, Any]) -> None:
+    assert run_keys(plan["runs"]) == run_keys(baseline["runs"])
+    assert plan["planSize"] == len(plan["runs"])
+
+
+def test_the_readme_counts_cases_runs_and_engines_of_the_plan(plan: dict[str, Any]) -> None:
+    text = (REPO / "README.md").read_text(encoding="utf-8")
+    found = re.search(r"The full library \((\d+) cases, (\d+) runs in (\w+) engines", text)
+    assert found, "README.md no longer states the library's size as '(N cases, M runs in K engines'"
+    cases, runs, engines = int(found[1]), int(found[2]), NUMBER_WORDS.get(found[3], -1)
+    assert cases == len({r["case"] for r in plan["runs"]})
+    assert runs == plan["planSize"]
+    assert engines == len({r["engine"] for r in plan["runs"]})
+
+
+def test_the_readme_gate_line_counts_the_checks_and_known_failures_of_the_baseline(
+        baseline: dict[str, Any]) -> None:
+    text = (REPO / "README.md").read_text(encoding="utf-8")
+    found = re.search(r"pbdval gate: passed \((\d+) checks, 0 failed; (\d+) known failures", text)
+    assert found, "README.md no longer shows the gate's line on the whole library"
+    assert int(found[1]) == gate_checks(baseline)
+    # Known failures: the case checks that failed in the baseline's results, and the runs
+    # suspect there (a run suspect in the baseline and now is a known failure, docs/gate.md).
+    suspect = sum(1 for r in baseline["runs"] if r["status"] == "suspect")
+    assert int(found[2]) == len(baseline["knownFailures"]) + suspect
+
+
+def test_the_report_page_counts_the_library_of_the_plan(plan: dict[str, Any]) -> None:
+    text = (REPO / "docs/report.md").read_text(encoding="utf-8")
+    found = re.search(r"The whole case library's report \((\d+) runs, (\d+) cases", text)
+    assert found, "docs/report.md no longer states the size of the library it measured"
+    assert int(found[1]) == plan["planSize"]
+    assert int(found[2]) == len({r["case"] for r in plan["runs"]})

@@ -1,0 +1,214 @@
+"""Persistent engines (serve protocol 1, docs/external-engines.md#persistent-engines) from the
+engine's side: pbdval.protocol.serve_runs as pybullet and mujoco-python run it, and `pbdval run`
+handing its runs to them."""
+
+from __future__ import annotations
+
+import json
+import os
+import socket
+import subprocess
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from conftest import REPO, VENV_PYTHON, engine_environment
+
+
+def serve_command(name: str) -> list[str]:
+    """The catalogue entry's `serve` command as the runner runs it ("{python}" replaced)."""
+    entry = json.loads((REPO / "engines" / f"{name}.json").read_text())
+    assert entry["serve"]["protocol"] == 1
+    return [str(VENV_PYTHON) if word == "{python}" else word for word in entry["serve"]["command"]]
+
+
+@pytest.fixture
+def server(tmp_path: Path) -> Iterator[Callable[[str], Path]]:
+    """server("mujoco-python") → the socket of that engine's server, started as a worker of
+    `pbdval run` starts it; stopped (by its pid) after the test."""
+    started: list[subprocess.Popen[bytes]] = []
+
+    def start(name: str) -> Path:
+        path = tmp_path / f"{name}.socket"
+        log = (tmp_path / f"{name}.stderr").open("wb")
+        process = subprocess.Popen([*serve_command(name), "--socket", str(path)],
+                                   cwd=REPO / "engines", env=engine_environment(),
+                                   stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=log)
+        started.append(process)
+        deadline = time.monotonic() + 60  # the runner's start limit
+        while time.monotonic() < deadline:
+            assert process.poll() is None, (tmp_path / f"{name}.stderr").read_text()
+            if path.exists():
+                with socket.socket(socket.AF_UNIX) as probe:
+                    try:
+                        probe.connect(str(path))
+                        return path
+                    except OSError:
+                        pass
+            time.sleep(0.01)
+        raise AssertionError(f"{name}'s server did not listen within 60 s")
+
+    yield start
+    for process in started:
+        process.kill()
+        process.wait()
+
+
+def request(path: Path, document: Any) -> list[dict[str, Any]]:
+    """One connection: sends `document` as a line, returns the replies until the server closes."""
+    with socket.socket(socket.AF_UNIX) as connection:
+        connection.connect(str(path))
+        connection.sendall((json.dumps(document) + "\n").encode())
+        data = b""
+        while chunk := connection.recv(4096):
+            data += chunk
+    return [json.loads(line) for line in data.decode().splitlines()]
+
+
+@pytest.mark.parametrize("engine", ["pybullet", "mujoco-python"])
+def test_a_served_run_writes_the_single_shot_files_bit_for_bit(
+        engine: str, server: Callable[[str], Path], export_scene: Callable[..., Path],
+        run_engine: Callable[[str, Path], tuple[dict[str, Any], Path]], tmp_path: Path) -> None:
+    method = {"pybullet": "pybullet.si", "mujoco-python": "mujoco-python.euler.newton"}[engine]
+    scene = export_scene("double_pendulum", method=method, duration=0.5)
+    status, single = run_engine(engine, scene)
+    assert status["status"] == "ok", status
+    socket_path = server(engine)
+    for attempt in range(2):  # the second run from the same server: nothing of the first remains
+        out = tmp_path / f"served{attempt}"
+        out.mkdir()
+        replies = request(socket_path, {"protocol": 1, "scene": str(scene), "out": str(out),
+                                        "stderr": str(tmp_path / f"served{attempt}.stderr")})
+        assert len(replies) == 2 and "started" in replies[0], replies
+        assert replies[1] == {"exited": 0}, (tmp_path / f"served{attempt}.stderr").read_text()
+        assert (out / "trajectory.npy").read_bytes() == (single / "trajectory.npy").read_bytes()
+        assert json.loads((out / "status.json").read_text()) == status
+
+
+def test_a_bad_request_is_answered_with_an_error_and_the_server_serves_on(
+        server: Callable[[str], Path], export_scene: Callable[..., Path], tmp_path: Path) -> None:
+    socket_path = server("mujoco-python")
+    assert request(socket_path, {"protocol": 2}) == [{"error": "protocol: expected 1, got 2"}]
+    replies = request(socket_path, {"protocol": 1, "scene": "", "out": "o", "stderr": "e"})
+    assert replies == [{"error": "scene: expected a path, got ''"}]
+    scene = export_scene("projectile", method="mujoco-python.euler.newton", duration=0.1)
+    out = tmp_path / "out"
+    out.mkdir()
+    replies = request(socket_path, {"protocol": 1, "scene": str(scene), "out": str(out),
+                                    "stderr": str(tmp_path / "stderr")})
+    assert replies[-1] == {"exited": 0}
+    # A run that fails as the single-shot command would: bad usage is exit status 2 (argparse).
+    replies = request(socket_path, {"protocol": 1, "scene": str(scene), "out": str(tmp_path / "none"),
+                                    "stderr": str(tmp_path / "stderr2")})
+    assert replies[-1] == {"exited": 2}
+    assert "not an existing directory" in (tmp_path / "stderr2").read_text()
+
+
+def children(pid: int) -> list[int]:
+    """The processes `pid` started (Linux /proc)."""
+    return [int(c) for c in Path(f"/proc/{pid}/task/{pid}/children").read_text().split()]
+
+
+def test_the_child_waiting_for_the_next_run_is_replaced_when_it_dies(
+        server: Callable[[str], Path], export_scene: Callable[..., Path], tmp_path: Path) -> None:
+    socket_path = server("pybullet")
+    server_pid = next(int(p.name) for p in Path("/proc").iterdir() if p.name.isdigit()
+                      and str(socket_path) in (p / "cmdline").read_bytes().decode(errors="replace"))
+    deadline = time.monotonic() + 10  # the server forks it just after it starts listening
+    while not (waiting := children(server_pid)) and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert len(waiting) == 1  # the next run's child, forked ahead
+    os.kill(waiting[0], 9)
+    scene = export_scene("projectile", method="pybullet.si", duration=0.1)
+    out = tmp_path / "out"
+    out.mkdir()
+    replies = request(socket_path, {"protocol": 1, "scene": str(scene), "out": str(out),
+                                    "stderr": str(tmp_path / "stderr")})
+    assert replies[0]["started"] != waiting[0]
+    assert replies[-1] == {"exited": 0}, (tmp_path / "stderr").read_text()
+    assert json.loads((out / "status.json").read_text())["status"] == "ok"
+
+
+def test_pbdval_run_hands_its_runs_to_servers_and_leaves_nothing_behind(
+        pbdval_binary: Path, tmp_path: Path) -> None:
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    cases = [str(REPO / "cases" / f"{name}.json") for name in ("projectile", "joint_hinge", "joint_ball")]
+    result = subprocess.run([str(pbdval_binary), "run", *cases, "--engines", "pybullet,mujoco-python",
+                             "--jobs", "2", "--out", str(tmp_path / "out")],
+                            capture_output=True, text=True, cwd=tmp_path, check=False, timeout=600,
+                            env=dict(os.environ, TMPDIR=str(scratch)))
+    assert result.returncode == 0, result.stderr
+    runs = json.loads((tmp_path / "out" / "results.json").read_text())["runs"]
+    assert len(runs) == 6
+    assert all(run["status"] == "ok" for run in runs), [(r["case"], r["engine"], r["reason"]) for r in runs]
+    # The servers' sockets and logs, the runs' scratch folders: all gone with the command.
+    assert list(scratch.iterdir()) == []
+
+
+TOY_ENGINE = """\
+import os, signal, sys, time
+sys.path.insert(0, {examples!r})
+from euler_engine import run as euler_run  # the template engine's integrator
+from pbdval import protocol as pp
+
+def main(argv=None):
+    def run(scene, out):
+        if "hang" in scene.name:
+            time.sleep(300)
+        if "crash" in scene.name:
+            os.kill(os.getpid(), signal.SIGSEGV)
+        return euler_run(scene, out)
+    return pp.serve(argv, "toy", lambda scene: [], run, "toy 1")
+
+if sys.argv[1:2] == ["--serve"]:
+    sys.exit(pp.serve_runs(sys.argv[2:], main, "toy, persistent"))
+sys.exit(main())
+"""
+
+
+def test_a_hang_and_a_crash_in_pbdval_run_do_not_reach_the_next_runs_of_the_server(
+        pbdval_binary: Path, tmp_path: Path) -> None:
+    catalogue = tmp_path / "catalogue"
+    catalogue.mkdir()
+    (catalogue / "toy.py").write_text(TOY_ENGINE.format(examples=str(REPO / "examples")))
+    (catalogue / "toy.json").write_text(json.dumps({
+        "protocol": 1, "name": "toy", "command": ["{python}", "toy.py"],
+        "serve": {"protocol": 1, "command": ["{python}", "toy.py", "--serve"]},
+        "defaultMethod": "toy.a", "methods": [{"name": "toy.a", "parameters": []}]}))
+    cases = tmp_path / "cases"
+    cases.mkdir()
+    (cases / "models").symlink_to(REPO / "cases" / "models")  # the meshes the case names
+    projectile = (REPO / "cases" / "projectile.json").read_text()
+    order = ["a_first", "b_hang", "c_next", "d_crash", "e_last"]
+    for name in order:
+        (cases / f"{name}.json").write_text(projectile.replace('"Name": "projectile"', f'"Name": "{name}"'))
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    result = subprocess.run([str(pbdval_binary), "run", *[str(cases / f"{n}.json") for n in order],
+                             "--engines", "toy", "--jobs", "1", "--timeout", "3",
+                             "--out", str(tmp_path / "out")],
+                            capture_output=True, text=True, cwd=tmp_path, check=False, timeout=600,
+                            env=dict(os.environ, TMPDIR=str(scratch),
+                                     PBDVAL_ENGINE_CATALOGUE=str(catalogue)))
+    assert result.returncode == 0, result.stderr
+    runs = {r["case"]: r for r in json.loads((tmp_path / "out" / "results.json").read_text())["runs"]}
+    assert runs["b_hang"]["status"] == "timeout", runs["b_hang"]
+    assert runs["d_crash"]["status"] == "error" and "signal 11" in runs["d_crash"]["reason"], runs["d_crash"]
+    for name in ("a_first", "c_next", "e_last"):
+        assert runs[name]["status"] == "ok", runs[name]
+    # Nothing left: no scratch folder, no socket, no process of the engine.
+    assert list(scratch.iterdir()) == []
+    still = [p.name for p in Path("/proc").iterdir() if p.name.isdigit()
+             and str(catalogue) in _cmdline(p)]
+    assert still == []
+
+
+def _cmdline(process: Path) -> str:
+    try:
+        return (process / "cmdline").read_bytes().decode(errors="replace")
+    except OSError:  # it ended meanwhile
+        return ""
