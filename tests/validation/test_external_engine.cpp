@@ -630,7 +630,7 @@ TEST(EngineCatalogue, AFeatureTableIsCheckedAndDecidesUnsupportedRunsBeforeTheEn
          {"feature": "rod", "support": "native"}, {"feature": "fluid", "support": "native"})";
   write(everything + R"(, {"feature": "joint", "support": "native"},
     {"feature": "joint.distance", "support": "unsupported", "text": "no rods", "methods": ["probe.b"]})");
-  const std::vector<EngineEntry> entries = readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"}, "/root");
+  const std::vector<EngineEntry> entries = readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"});
   ASSERT_EQ(entries.size(), 1u);
   const EngineEntry& entry = entries[0];
   ASSERT_EQ(entry.features.entries.size(), 10u);
@@ -670,7 +670,7 @@ TEST(EngineCatalogue, AFeatureTableIsCheckedAndDecidesUnsupportedRunsBeforeTheEn
   for (const auto& [features, expected] : faults) {
     write(features);
     try {
-      readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"}, "/root");
+      readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"});
       ADD_FAILURE() << "accepted: " << features;
     } catch (const std::invalid_argument& e) {
       for (const std::string& part : expected)
@@ -801,7 +801,7 @@ class ServedEngineTest : public ExternalEngineTest {
 
   RunOutcome served(const std::string& mode, double limit = 30) {
     std::ofstream(folder_ / "mode") << mode << "\n";
-    ExternalEngine engine("py", command(), serverFolder_.string());
+    ExternalEngine engine("py", command(), {}, serverFolder_.string());
     Method method;
     method.name = "py.test";
     return runSimulation(engine, scene_, method, length_, {}, limit);
@@ -837,7 +837,7 @@ TEST_F(ServedEngineTest, AServedRunGivesWhatTheSingleShotRunGives) {
   std::vector<State> servedSamples;
   RunCallbacks servedCallbacks;
   servedCallbacks.onSample = [&](const State& s) { servedSamples.push_back(s); };
-  ExternalEngine viaServerAgain("py", command(), serverFolder_.string());
+  ExternalEngine viaServerAgain("py", command(), {}, serverFolder_.string());
   const RunOutcome a = runSimulation(single, scene_, method, length_, callbacks, 30);
   const RunOutcome b = runSimulation(viaServerAgain, scene_, method, length_, servedCallbacks, 30);
   ASSERT_EQ(a.status, RunStatus::Ok) << a.reason;
