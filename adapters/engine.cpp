@@ -117,7 +117,8 @@ double Method::seconds(const std::string& parameter, double stepSize) const {
 
 std::map<std::string, std::string> Method::textValues() const {
   std::map<std::string, std::string> text;
-  for (const auto& [key, v] : values) text[key] = v.text();
+  for (const auto& [key, v] : values)
+    text[key] = v.text();
   return text;
 }
 

@@ -90,7 +90,8 @@ struct Method {
 /// `info` resolved: defaults, then `overrides` (parameter → text), each parsed and checked
 /// against its declaration. Throws std::invalid_argument for an unknown parameter (naming the
 /// valid ones) or a value out of range (naming the range).
-Method resolveMethod(const MethodInfo& info, const std::map<std::string, std::string>& overrides = {});
+Method resolveMethod(const MethodInfo& info,
+                     const std::map<std::string, std::string>& overrides = {});
 
 /// What the runner needs to know about a loaded run, typed. effectiveSettings() is for the
 /// parity record only; nothing is parsed out of it.
@@ -135,9 +136,9 @@ struct RunLength {
 /// motion). Its metrics are kept; the gate fails it unless the baseline knows it.
 enum class RunStatus { Ok, Suspect, Diverged, Timeout, Unsupported, Error };
 /// Every status, in the order summaries list them (the one declaration the parsers use).
-inline constexpr RunStatus kRunStatuses[] = {RunStatus::Ok, RunStatus::Suspect,
+inline constexpr RunStatus kRunStatuses[] = {RunStatus::Ok,          RunStatus::Suspect,
                                              RunStatus::Unsupported, RunStatus::Diverged,
-                                             RunStatus::Timeout, RunStatus::Error};
+                                             RunStatus::Timeout,     RunStatus::Error};
 const char* runStatusName(RunStatus status);
 /// Whether a run of this status completed and was measured (its metrics are data): ok and
 /// suspect. Summaries, sweeps and reports show the metrics of exactly these.
@@ -181,9 +182,9 @@ class RunObserver {
 struct EngineRunResult {
   RunStatus status = RunStatus::Ok;
   std::string reason;
-  long steps = 0;                         ///< scene steps taken
-  double busySeconds = 0;                 ///< wall time of the engine's own work
-  std::optional<std::string> stateHash;   ///< of the final state, for deterministic engines
+  long steps = 0;                        ///< scene steps taken
+  double busySeconds = 0;                ///< wall time of the engine's own work
+  std::optional<std::string> stateHash;  ///< of the final state, for deterministic engines
 };
 
 /// An engine failure with a message (an engine's error callback, a rejected model, ...). The

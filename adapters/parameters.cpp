@@ -84,7 +84,8 @@ std::string ParameterSpec::expectation() const {
       return "true or false (or 1 or 0)";
     case ParameterKind::Choice: {
       std::string list;
-      for (const std::string& c : choices) list += (list.empty() ? "" : ", ") + c;
+      for (const std::string& c : choices)
+        list += (list.empty() ? "" : ", ") + c;
       return "one of " + list;
     }
     case ParameterKind::Duration: {
@@ -228,7 +229,8 @@ void checkParameter(const ParameterSpec& spec, const ParameterValue& value,
       break;
     case ParameterKind::Choice: {
       bool known = false;
-      for (const std::string& c : spec.choices) known = known || c == value.choice;
+      for (const std::string& c : spec.choices)
+        known = known || c == value.choice;
       if (!known) fail();
       break;
     }

@@ -23,9 +23,9 @@ const char* parameterKindName(ParameterKind kind);
 /// A parameter's value as checked against its declaration.
 struct ParameterValue {
   ParameterKind kind = ParameterKind::Real;
-  double number = 0;       ///< Real, Integer, Bool (0/1), Duration (seconds, or steps if inSteps)
-  bool inSteps = false;    ///< Duration only: `number` counts steps
-  std::string choice;      ///< Choice only
+  double number = 0;     ///< Real, Integer, Bool (0/1), Duration (seconds, or steps if inSteps)
+  bool inSteps = false;  ///< Duration only: `number` counts steps
+  std::string choice;    ///< Choice only
 
   /// The canonical text: "0.2", "10", "true", "Newton", "4h".
   std::string text() const;
@@ -72,6 +72,7 @@ double durationSeconds(const ParameterSpec& spec, const ParameterValue& value, d
                        const std::string& method);
 
 /// Checks an already typed value (from a catalogue or results file) against `spec`.
-void checkParameter(const ParameterSpec& spec, const ParameterValue& value, const std::string& method);
+void checkParameter(const ParameterSpec& spec, const ParameterValue& value,
+                    const std::string& method);
 
 }  // namespace pbdval

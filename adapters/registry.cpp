@@ -10,23 +10,27 @@ EngineRegistry::EngineRegistry(EngineOptions options) : options_(std::move(optio
 
 void EngineRegistry::add(EngineEntry entry) {
   for (const EngineEntry& e : entries_)
-    if (e.name == entry.name) throw std::invalid_argument("engine '" + entry.name + "' is registered twice");
+    if (e.name == entry.name)
+      throw std::invalid_argument("engine '" + entry.name + "' is registered twice");
   for (const MethodInfo& m : entry.methods) {
     for (const EngineEntry& e : entries_)
       for (const MethodInfo& other : e.methods)
         if (other.name == m.name)
           throw std::invalid_argument("method '" + m.name + "' of engine " + entry.name +
                                       " is already a method of engine " + e.name);
-    for (const ParameterSpec& p : m.parameters) parseParameter(p, p.defaultValue, m.name);
+    for (const ParameterSpec& p : m.parameters)
+      parseParameter(p, p.defaultValue, m.name);
   }
   bool hasDefault = false;
-  for (const MethodInfo& m : entry.methods) hasDefault = hasDefault || m.name == entry.defaultMethod;
+  for (const MethodInfo& m : entry.methods)
+    hasDefault = hasDefault || m.name == entry.defaultMethod;
   if (!hasDefault)
     throw std::invalid_argument("engine " + entry.name + ": default method '" +
                                 entry.defaultMethod + "' is not one of its methods");
   for (const std::string& run : entry.runMethods) {
     bool known = false;
-    for (const MethodInfo& m : entry.methods) known = known || m.name == run;
+    for (const MethodInfo& m : entry.methods)
+      known = known || m.name == run;
     if (!known)
       throw std::invalid_argument("engine " + entry.name + ": run method '" + run +
                                   "' is not one of its methods");
@@ -36,12 +40,14 @@ void EngineRegistry::add(EngineEntry entry) {
 
 std::vector<std::string> EngineRegistry::runMethods(const std::string& name) const {
   const EngineEntry& entry = engine(name);
-  return entry.runMethods.empty() ? std::vector<std::string>{entry.defaultMethod} : entry.runMethods;
+  return entry.runMethods.empty() ? std::vector<std::string>{entry.defaultMethod}
+                                  : entry.runMethods;
 }
 
 std::vector<std::string> EngineRegistry::engineNames() const {
   std::vector<std::string> names;
-  for (const EngineEntry& e : entries_) names.push_back(e.name);
+  for (const EngineEntry& e : entries_)
+    names.push_back(e.name);
   return names;
 }
 

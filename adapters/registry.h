@@ -29,14 +29,17 @@ class EngineRegistry {
   const EngineEntry& engine(const std::string& name) const;
   /// Throws std::invalid_argument naming the known methods.
   const MethodInfo& method(const std::string& name) const;
-  std::string defaultMethod(const std::string& engine) const { return this->engine(engine).defaultMethod; }
+  std::string defaultMethod(const std::string& engine) const {
+    return this->engine(engine).defaultMethod;
+  }
   /// EngineEntry::runMethods, or the default method alone.
   std::vector<std::string> runMethods(const std::string& engine) const;
 
   /// Defaults, then `overrides` (parameter → text), each parsed and checked against its
   /// declaration. Throws std::invalid_argument for an unknown parameter (naming the valid ones)
   /// or a value out of range (naming the range).
-  Method resolve(const std::string& method, const std::map<std::string, std::string>& overrides = {}) const;
+  Method resolve(const std::string& method,
+                 const std::map<std::string, std::string>& overrides = {}) const;
 
   /// A new instance of `engine`, created with this registry's options.
   std::unique_ptr<Engine> make(const std::string& engine) const;

@@ -9,7 +9,6 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
-
 #include <cmath>
 #include <exception>
 #include <map>
@@ -39,7 +38,8 @@ void stepScene(benchmark::State& state, const pbdval::EngineRegistry& engines,
     overrides[assignment.substr(0, equals)] = assignment.substr(equals + 1);
   }
   const pbdval::Method resolved = engines.resolve(name, overrides);
-  std::unique_ptr<pbdval::SteppingEngine> engine = engines.makeStepping(engines.method(name).engine);
+  std::unique_ptr<pbdval::SteppingEngine> engine =
+      engines.makeStepping(engines.method(name).engine);
   const std::vector<std::string> missing = engine->unsupported(scene, resolved);
   if (!missing.empty()) {
     std::string reason = "unsupported:";
@@ -121,8 +121,8 @@ int main(int argc, char** argv) {
   const std::vector<std::string> cases = {
       "chain_10",     "chain_100", "double_pendulum", "contact_stack_5", "contact_sphere_pile",
       "contact_pile", "car"};
-  const std::vector<std::string> methods = {"pbd",      "pbd.xpbd",     "bullet.si",    "ode.quickstep",
-                                            "ode.step", "mujoco.euler", "mujoco.rk4"};
+  const std::vector<std::string> methods = {
+      "pbd", "pbd.xpbd", "bullet.si", "ode.quickstep", "ode.step", "mujoco.euler", "mujoco.rk4"};
   // No grid cache: built in memory.
   const pbdval::EngineRegistry engines = pbdval::builtInEngines();
   for (const std::string& c : cases)
@@ -141,12 +141,15 @@ int main(int argc, char** argv) {
   for (const std::string family : {"chain", "spheres", "boxes"}) {
     std::vector<std::string> familyMethods = scalingMethods;
     if (family != "chain")
-      familyMethods.insert(familyMethods.begin() + 2, threadedMethods.begin(), threadedMethods.end());
+      familyMethods.insert(familyMethods.begin() + 2, threadedMethods.begin(),
+                           threadedMethods.end());
     for (const std::string& m : familyMethods)
       for (const int n : {10, 30, 100, 300, 1000, 3000, 10000})
         benchmark::RegisterBenchmark(
             ("scaling/" + family + "/" + m + "/" + std::to_string(n)).c_str(),
-            [&engines, family, m, n](benchmark::State& s) { stepScaling(s, engines, family, n, m); })
+            [&engines, family, m, n](benchmark::State& s) {
+              stepScaling(s, engines, family, n, m);
+            })
             ->Unit(benchmark::kMicrosecond)
             // The same 20 steps (0.05 to 0.15 s) for every N: with an adaptive iteration count a
             // small scene would be timed over its whole 2 s and a large one over its first steps,
@@ -157,10 +160,9 @@ int main(int argc, char** argv) {
   // (no reference engine simulates cloth, solids, rods or fluids here).
   // The rod family's "side" is its particle count.
   for (const std::string family : {"cloth", "solid", "rod", "fluid"}) {
-    const std::vector<int> sides =
-        family == "cloth" ? std::vector<int>{10, 32, 100, 316}
-        : family == "rod" ? std::vector<int>{100, 1000, 10000, 100000}
-                          : std::vector<int>{5, 10, 22, 46};
+    const std::vector<int> sides = family == "cloth" ? std::vector<int>{10, 32, 100, 316}
+                                   : family == "rod" ? std::vector<int>{100, 1000, 10000, 100000}
+                                                     : std::vector<int>{5, 10, 22, 46};
     for (const std::string m : {"pbd", "pbd.xpbd"})
       for (const int side : sides) {
         const int particles = family == "cloth" ? side * side

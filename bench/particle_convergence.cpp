@@ -15,6 +15,8 @@
 // proportional to their product, so the anti-diagonals compare equal cost. Writes JSON with the
 // build's metadata (--json PATH, atomically) and prints Markdown tables (docs/convergence.md).
 //   pbdval_particle_convergence [--json PATH]
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -24,8 +26,6 @@
 #include <string>
 #include <thread>
 #include <vector>
-
-#include <unistd.h>
 
 #include "common/cantilever_beam.h"
 #include "pbd/constraints/particle_distance.h"
@@ -88,12 +88,14 @@ Real chainError(bool xpbd, int substeps, int iterations) {
   const Real decay = std::exp(-Real(20) * scene.simulation.timeStepSize);
   while (world.time < 3) {
     world.step();
-    for (Vector3& v : world.bodies.particles.velocity) v *= decay;
+    for (Vector3& v : world.bodies.particles.velocity)
+      v *= decay;
   }
   const Real length = Real(count) * spacing;
   const Real stretch = -world.bodies.particles.position.back().y() - length;
   if (!xpbd) return std::abs(stretch) / length;
-  const Real expected = mass * -scene.simulation.gravitation.y() / stiffness * count * (count + 1) / 2;
+  const Real expected =
+      mass * -scene.simulation.gravitation.y() / stiffness * count * (count + 1) / 2;
   return std::abs(stretch - expected) / expected;
 }
 
@@ -175,25 +177,28 @@ int main(int argc, char** argv) {
       std::vector<std::vector<double>> grid;
       for (int s : counts) {
         grid.emplace_back();
-        for (int i : counts) grid.back().push_back(double(study.measure(s, i)));
+        for (int i : counts)
+          grid.back().push_back(double(study.measure(s, i)));
       }
       // Equal cost N = substeps × iterations: all substeps against all iterations.
       std::printf("\n**%s, %s** (error: %s)\n\n| substeps \\ iterations |", study.name.c_str(),
                   study.method.c_str(), study.error.c_str());
-      for (int i : counts) std::printf(" %d |", i);
+      for (int i : counts)
+        std::printf(" %d |", i);
       std::printf("\n|---|");
-      for (std::size_t k = 0; k < counts.size(); ++k) std::printf("---|");
+      for (std::size_t k = 0; k < counts.size(); ++k)
+        std::printf("---|");
       std::printf("\n");
       for (std::size_t r = 0; r < counts.size(); ++r) {
         std::printf("| %d |", counts[r]);
-        for (double e : grid[r]) std::printf(" %.2e |", e);
+        for (double e : grid[r])
+          std::printf(" %.2e |", e);
         std::printf("\n");
       }
       nlohmann::json equalCost = nlohmann::json::array();
       for (std::size_t k = 1; k < counts.size(); ++k)
-        equalCost.push_back({{"cost", counts[k]},
-                             {"substeps_only", grid[k][0]},
-                             {"iterations_only", grid[0][k]}});
+        equalCost.push_back(
+            {{"cost", counts[k]}, {"substeps_only", grid[k][0]}, {"iterations_only", grid[0][k]}});
       out["studies"].push_back({{"case", study.name},
                                 {"method", study.method},
                                 {"error", study.error},

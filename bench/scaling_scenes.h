@@ -32,9 +32,8 @@
 #pragma once
 
 #include <cmath>
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "pbd/model/mass_properties.h"
 #include "pbd/model/mesh.h"
@@ -43,8 +42,11 @@
 namespace pbdval::bench {
 
 inline nlohmann::json scalingSettings(bool contacts) {
-  nlohmann::json s = {{"timeStepSize", 0.005}, {"subSteps", 5},         {"maxIterations", 1},
-                      {"maxIterationsV", 5},   {"gravitation", {0, -9.81, 0}}};
+  nlohmann::json s = {{"timeStepSize", 0.005},
+                      {"subSteps", 5},
+                      {"maxIterations", 1},
+                      {"maxIterationsV", 5},
+                      {"gravitation", {0, -9.81, 0}}};
   if (contacts) s["contactStiffnessRigidBody"] = 10;
   return s;
 }
@@ -56,12 +58,18 @@ inline std::string chainScene(int links, const std::string& modelFolder) {
   scene["Simulation"] = scalingSettings(false);
   nlohmann::json bodies = nlohmann::json::array();
   nlohmann::json joints = nlohmann::json::array();
-  bodies.push_back({{"id", 0}, {"geometryFile", modelFolder + "/cube.obj"}, {"isDynamic", false},
-                    {"translation", {0, 2, 0}}, {"scale", {0.1, 0.1, 0.1}},
+  bodies.push_back({{"id", 0},
+                    {"geometryFile", modelFolder + "/cube.obj"},
+                    {"isDynamic", false},
+                    {"translation", {0, 2, 0}},
+                    {"scale", {0.1, 0.1, 0.1}},
                     {"collisionObjectType", 0}});
   for (int i = 1; i <= links; ++i) {
-    bodies.push_back({{"id", i}, {"geometryFile", modelFolder + "/cube.obj"}, {"density", 1000},
-                      {"translation", {0.05 * i - 0.025, 2, 0}}, {"scale", {0.05, 0.02, 0.02}},
+    bodies.push_back({{"id", i},
+                      {"geometryFile", modelFolder + "/cube.obj"},
+                      {"density", 1000},
+                      {"translation", {0.05 * i - 0.025, 2, 0}},
+                      {"scale", {0.05, 0.02, 0.02}},
                       {"collisionObjectType", 0}});
     joints.push_back({{"bodyID1", i - 1}, {"bodyID2", i}, {"position", {0.05 * (i - 1), 2, 0}}});
   }
@@ -72,9 +80,9 @@ inline std::string chainScene(int links, const std::string& modelFolder) {
 
 /// `count` spheres (or cubes; a multiple of 5) in piles of five on a square floor.
 inline std::string pileScene(int count, bool boxes, const std::string& modelFolder) {
-  const double size = 0.2;     // sphere diameter or cube edge
-  const double spacing = 0.21; // 1 cm between the four lower bodies of a pile
-  const double pitch = 0.8;    // between piles
+  const double size = 0.2;      // sphere diameter or cube edge
+  const double spacing = 0.21;  // 1 cm between the four lower bodies of a pile
+  const double pitch = 0.8;     // between piles
   const int piles = count / 5;
   const int side = int(std::ceil(std::sqrt(double(piles))));
   const double floor = side * pitch + 1.0;
@@ -82,15 +90,23 @@ inline std::string pileScene(int count, bool boxes, const std::string& modelFold
   scene["Name"] = std::string("scaling_") + (boxes ? "boxes_" : "spheres_") + std::to_string(count);
   scene["Simulation"] = scalingSettings(true);
   nlohmann::json bodies = nlohmann::json::array();
-  bodies.push_back({{"id", 0}, {"geometryFile", modelFolder + "/cube.obj"}, {"isDynamic", false},
-                    {"translation", {0, -0.5, 0}}, {"scale", {floor, 1, floor}},
-                    {"collisionObjectType", 2}, {"collisionObjectScale", {floor, 1, floor}},
-                    {"restitution", 0.3}, {"friction", 0.25}});
+  bodies.push_back({{"id", 0},
+                    {"geometryFile", modelFolder + "/cube.obj"},
+                    {"isDynamic", false},
+                    {"translation", {0, -0.5, 0}},
+                    {"scale", {floor, 1, floor}},
+                    {"collisionObjectType", 2},
+                    {"collisionObjectScale", {floor, 1, floor}},
+                    {"restitution", 0.3},
+                    {"friction", 0.25}});
   const double origin = -0.5 * (side - 1) * pitch;
   int id = 1;
   auto add = [&](double x, double y, double z) {
-    nlohmann::json body = {{"id", id++}, {"density", 500}, {"translation", {x, y, z}},
-                           {"restitution", 0.3}, {"friction", 0.25}};
+    nlohmann::json body = {{"id", id++},
+                           {"density", 500},
+                           {"translation", {x, y, z}},
+                           {"restitution", 0.3},
+                           {"friction", 0.25}};
     if (boxes) {
       body["geometryFile"] = modelFolder + "/cube.obj";
       body["scale"] = {size, size, size};
@@ -119,7 +135,8 @@ inline std::string rodScene(int particles) {
   scene["Name"] = "scaling_rod_" + std::to_string(particles);
   scene["Simulation"] = scalingSettings(false);
   nlohmann::json points = nlohmann::json::array();
-  for (int i = 0; i < particles; ++i) points.push_back({0.01 * i, 1.0, 0.0});
+  for (int i = 0; i < particles; ++i)
+    points.push_back({0.01 * i, 1.0, 0.0});
   nlohmann::json rod = nlohmann::json::object();
   rod["points"] = points;
   rod["staticParticles"] = nlohmann::json::array({0});
@@ -163,7 +180,8 @@ inline pbd::Scene clothScene(int side) {
   const std::vector<pbd::Real> masses = pbd::lumpedMasses(cloth.mesh, 0.3);
   for (std::size_t p = 0; p < cloth.mesh.vertices.size(); ++p) {
     const bool pinned = p == 0 || p == std::size_t(side - 1);
-    scene.particles.push_back({cloth.mesh.vertices[p], pbd::Vector3::Zero(), pinned ? 0 : masses[p]});
+    scene.particles.push_back(
+        {cloth.mesh.vertices[p], pbd::Vector3::Zero(), pinned ? 0 : masses[p]});
   }
   scene.triangleModels.push_back(std::move(cloth));
   return scene;

@@ -38,8 +38,9 @@ struct Node {
   }
   Node at(std::size_t i) const {
     if (!json.is_array() || i >= json.size())
-      throw std::invalid_argument(pbd::printableText(file + ": " + path + "[" + std::to_string(i) + "]") +
-                                  ": missing (required)");
+      throw std::invalid_argument(
+          pbd::printableText(file + ": " + path + "[" + std::to_string(i) + "]") +
+          ": missing (required)");
     return {json.at(i), path + "[" + std::to_string(i) + "]", file};
   }
 
@@ -130,8 +131,9 @@ ReferenceSpec parseReference(const Node& node, const pbd::Scene& scene,
         const Node id = bodies.at(i);
         if (!id.json.is_number_integer()) id.fail("a body id (integer)");
         const int bodyId = id.json.get<int>();
-        const bool exists = std::any_of(scene.rigidBodies.begin(), scene.rigidBodies.end(),
-                                        [&](const pbd::RigidBodyDesc& b) { return b.id == bodyId; });
+        const bool exists =
+            std::any_of(scene.rigidBodies.begin(), scene.rigidBodies.end(),
+                        [&](const pbd::RigidBodyDesc& b) { return b.id == bodyId; });
         if (!exists) id.fail("the id of a rigid body of the scene");
         r.bodyIds.push_back(bodyId);
       }
@@ -171,8 +173,10 @@ CheckSpec parseCheck(const Node& node, const EngineRegistry& registry) {
   c.metric = node.at("metric").text();
   if (node.json.contains("max")) c.max = node.at("max").finite();
   if (node.json.contains("min")) c.min = node.at("min").finite();
-  if (node.json.contains("engines")) c.engines = names(node.at("engines"), registry, checkEngineName);
-  if (node.json.contains("methods")) c.methods = names(node.at("methods"), registry, checkMethodName);
+  if (node.json.contains("engines"))
+    c.engines = names(node.at("engines"), registry, checkEngineName);
+  if (node.json.contains("methods"))
+    c.methods = names(node.at("methods"), registry, checkMethodName);
   if (node.json.contains("better")) c.better = node.at("better").text();
   if (node.json.contains("worse")) c.worse = node.at("worse").text();
   if (node.json.contains("description")) c.description = node.at("description").text();
@@ -199,7 +203,8 @@ SweepSpec parseSweep(const Node& node, const EngineRegistry& registry) {
     for (std::size_t i = 0; i < values.json.size(); ++i)
       s.parameters[item.key()].push_back(values.at(i).value());
   }
-  if (node.json.contains("methods")) s.methods = names(node.at("methods"), registry, checkMethodName);
+  if (node.json.contains("methods"))
+    s.methods = names(node.at("methods"), registry, checkMethodName);
   if (node.json.contains("metric")) s.metric = node.at("metric").text();
   return s;
 }
@@ -277,9 +282,12 @@ CaseSpec parseCaseSpec(const pbd::Scene& scene, const EngineRegistry& registry) 
         conserved.at(i).fail("\"energy\", \"linearMomentum\" or \"angularMomentum\"");
     }
   }
-  if (block.contains("engines")) spec.engines = names(root.at("engines"), registry, checkEngineName);
-  if (block.contains("methods")) spec.methods = names(root.at("methods"), registry, checkMethodName);
-  if (block.contains("reference")) spec.reference = parseReference(root.at("reference"), scene, registry);
+  if (block.contains("engines"))
+    spec.engines = names(root.at("engines"), registry, checkEngineName);
+  if (block.contains("methods"))
+    spec.methods = names(root.at("methods"), registry, checkMethodName);
+  if (block.contains("reference"))
+    spec.reference = parseReference(root.at("reference"), scene, registry);
   if (block.contains("checks")) {
     const Node checks = root.at("checks");
     if (!checks.json.is_array()) checks.fail("an array of checks");
@@ -302,8 +310,8 @@ CaseSpec parseCaseSpec(const pbd::Scene& scene, const EngineRegistry& registry) 
       spec.sweeps.push_back(parseSweep(sweeps.at(i), registry));
   }
   if (block.contains("staticDisplacement"))
-    spec.staticDisplacement = parseStaticDisplacement(root.at("staticDisplacement"), scene,
-                                                      defaultDuration(scene, spec));
+    spec.staticDisplacement =
+        parseStaticDisplacement(root.at("staticDisplacement"), scene, defaultDuration(scene, spec));
   return spec;
 }
 

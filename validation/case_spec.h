@@ -50,12 +50,12 @@ struct CheckSpec {
 /// undamped oscillation about the static state averages to it: the mean of cos ωt over a window
 /// T differs from 0 by at most 1/(ωT).
 struct StaticDisplacementSpec {
-  std::string jsonPath;                  ///< "Validation.staticDisplacement"
-  pbd::Vector3 regionMin, regionMax;     ///< the particles initially inside this box (inclusive)
-  std::vector<int> particles;            ///< resolved from the region, in scene order, ≥ 1
-  pbd::Vector3 direction;                ///< unit
-  double from = 0;                       ///< s
-  double expected = 0;                   ///< m, non-zero
+  std::string jsonPath;               ///< "Validation.staticDisplacement"
+  pbd::Vector3 regionMin, regionMax;  ///< the particles initially inside this box (inclusive)
+  std::vector<int> particles;         ///< resolved from the region, in scene order, ≥ 1
+  pbd::Vector3 direction;             ///< unit
+  double from = 0;                    ///< s
+  double expected = 0;                ///< m, non-zero
   std::string description;
 };
 

@@ -19,8 +19,7 @@
 
 namespace pbdval {
 
-double signedTetVolume(const Vector3& x0, const Vector3& x1, const Vector3& x2,
-                       const Vector3& x3) {
+double signedTetVolume(const Vector3& x0, const Vector3& x1, const Vector3& x2, const Vector3& x3) {
   return (x1 - x0).dot((x2 - x0).cross(x3 - x0)) / 6;
 }
 
@@ -49,10 +48,11 @@ ElasticEnergy::ElasticEnergy(const pbd::Scene& scene) {
   }
   for (const pbd::IsometricBendingConstraint& c : pbd::clothBendingConstraints(scene)) {
     if (c.xpbd)
-      bending_.push_back({c.particles,
-                          {double(c.weights[0]), double(c.weights[1]), double(c.weights[2]),
-                           double(c.weights[3])},
-                          double(c.scale), double(c.stiffness)});
+      bending_.push_back(
+          {c.particles,
+           {double(c.weights[0]), double(c.weights[1]), double(c.weights[2]), double(c.weights[3])},
+           double(c.scale),
+           double(c.stiffness)});
     else
       hasPbdConstraints_ = true;
   }
@@ -63,8 +63,8 @@ ElasticEnergy::ElasticEnergy(const pbd::Scene& scene) {
     }
     // Lamé parameters from E and ν (computed here, not taken from the library).
     const double e = double(c.youngsModulus), nu = double(c.poissonRatio);
-    femTets_.push_back({c.particles, c.inverseRestMatrix, double(c.restVolume),
-                        e / (2 * (1 + nu)), e * nu / ((1 + nu) * (1 - 2 * nu))});
+    femTets_.push_back({c.particles, c.inverseRestMatrix, double(c.restVolume), e / (2 * (1 + nu)),
+                        e * nu / ((1 + nu) * (1 - 2 * nu))});
   }
   const auto need = [this](int particle) {
     particlesNeeded_ = std::max(particlesNeeded_, std::size_t(particle) + 1);
@@ -74,16 +74,20 @@ ElasticEnergy::ElasticEnergy(const pbd::Scene& scene) {
     need(s.b);
   }
   for (const Volume& v : volumes_)
-    for (int p : v.particles) need(p);
+    for (int p : v.particles)
+      need(p);
   for (const Bending& b : bending_)
-    for (int p : b.particles) need(p);
+    for (int p : b.particles)
+      need(p);
   for (const FemTet& t : femTets_)
-    for (int p : t.particles) need(p);
+    for (int p : t.particles)
+      need(p);
   // PBD-only families (a fraction per iteration, or the FEM energy with no stiffness factor):
   // no energy of their own.
   if (!pbd::clothDihedralConstraints(scene).empty() ||
-      !pbd::femTriangleConstraints(scene).empty() || !pbd::strainTriangleConstraints(scene).empty() ||
-      !pbd::strainTetConstraints(scene).empty() || !pbd::shapeMatchingConstraints(scene).empty())
+      !pbd::femTriangleConstraints(scene).empty() ||
+      !pbd::strainTriangleConstraints(scene).empty() || !pbd::strainTetConstraints(scene).empty() ||
+      !pbd::shapeMatchingConstraints(scene).empty())
     hasPbdConstraints_ = true;
   // Cosserat rods: the PBD ones (fractions) define no energy; the XPBD ones' constraints, with
   // their rest lengths, rest Darboux quaternions and moduli, as the scene defines them.
@@ -130,10 +134,9 @@ double rodBendTwistEnergy(const Quaternion& q0, const Quaternion& q1, const Quat
 double ElasticEnergy::of(const State& state) const {
   if (state.particles.empty()) return 0;
   if (state.particles.size() < particlesNeeded_)
-    throw std::invalid_argument("elastic energy: the state holds " +
-                                std::to_string(state.particles.size()) +
-                                " particles, the scene's constraints need " +
-                                std::to_string(particlesNeeded_));
+    throw std::invalid_argument(
+        "elastic energy: the state holds " + std::to_string(state.particles.size()) +
+        " particles, the scene's constraints need " + std::to_string(particlesNeeded_));
   double energy = 0;
   for (const Spring& s : springs_) {
     const double stretch = (positionOf(state, s.a) - positionOf(state, s.b)).norm() - s.restLength;
@@ -148,14 +151,16 @@ double ElasticEnergy::of(const State& state) const {
   }
   for (const Bending& b : bending_) {
     Vector3 h = Vector3::Zero();
-    for (std::size_t i = 0; i < 4; ++i) h += b.weights[i] * positionOf(state, b.particles[i]);
+    for (std::size_t i = 0; i < 4; ++i)
+      h += b.weights[i] * positionOf(state, b.particles[i]);
     const double c = 0.5 * b.scale * h.squaredNorm();
     energy += 0.5 * b.stiffness * c * c;
   }
   for (const FemTet& t : femTets_) {
     const Vector3& x0 = positionOf(state, t.particles[0]);
     pbd::Matrix3 deformed;
-    for (int i = 0; i < 3; ++i) deformed.col(i) = positionOf(state, t.particles[std::size_t(i + 1)]) - x0;
+    for (int i = 0; i < 3; ++i)
+      deformed.col(i) = positionOf(state, t.particles[std::size_t(i + 1)]) - x0;
     const pbd::Matrix3 f = deformed * t.inverseRestMatrix;
     const pbd::Matrix3 strain = 0.5 * (f.transpose() * f - pbd::Matrix3::Identity());
     const double trace = strain.trace();
@@ -163,10 +168,9 @@ double ElasticEnergy::of(const State& state) const {
   }
   if (state.segments.empty()) return energy;  // no orientations read back: the rods left out
   if (state.segments.size() < segmentsNeeded_)
-    throw std::invalid_argument("elastic energy: the state holds " +
-                                std::to_string(state.segments.size()) +
-                                " rod segments, the scene's rods need " +
-                                std::to_string(segmentsNeeded_));
+    throw std::invalid_argument(
+        "elastic energy: the state holds " + std::to_string(state.segments.size()) +
+        " rod segments, the scene's rods need " + std::to_string(segmentsNeeded_));
   for (const RodStretchShear& c : rodStretchShear_)
     energy += rodStretchShearEnergy(positionOf(state, c.particle0), positionOf(state, c.particle1),
                                     state.segments[std::size_t(c.segment)].rotation, c.restLength,
@@ -216,20 +220,21 @@ RestShape::RestShape(const pbd::Scene& scene) {
   // Cosserat rods: each segment is an edge (its stretch is the rod's axial strain).
   for (const pbd::LineModelDesc& model : scene.lineModels) {
     std::vector<std::array<int, 2>> segments;
-    for (std::size_t k = 0; k < model.segmentCount(); ++k) segments.push_back({int(k), int(k) + 1});
+    for (std::size_t k = 0; k < model.segmentCount(); ++k)
+      segments.push_back({int(k), int(k) + 1});
     addEdges(segments, model.firstParticle);
   }
 }
 
 RestShape::Measures RestShape::measure(const State& state) const {
   if (state.particles.size() < particlesNeeded_)
-    throw std::invalid_argument("deformation metrics: the state holds " +
-                                std::to_string(state.particles.size()) +
-                                " particles, the scene's models need " +
-                                std::to_string(particlesNeeded_));
+    throw std::invalid_argument(
+        "deformation metrics: the state holds " + std::to_string(state.particles.size()) +
+        " particles, the scene's models need " + std::to_string(particlesNeeded_));
   Measures m;
   for (const Edge& e : edges_) {
-    const double strain = (positionOf(state, e.a) - positionOf(state, e.b)).norm() / e.restLength - 1;
+    const double strain =
+        (positionOf(state, e.a) - positionOf(state, e.b)).norm() / e.restLength - 1;
     m.stretchMax = std::max(m.stretchMax, std::abs(strain));
     m.stretchSumOfSquares += strain * strain;
   }

@@ -111,7 +111,7 @@ class RestShape {
   bool hasTets() const { return !tets_.empty(); }
 
   struct Measures {
-    double stretchMax = 0;          ///< max |ℓ/ℓ₀ − 1|
+    double stretchMax = 0;           ///< max |ℓ/ℓ₀ − 1|
     double stretchSumOfSquares = 0;  ///< Σ (ℓ/ℓ₀ − 1)² over the edges
     std::size_t edges = 0;
     double tetVolumeErrorMax = 0;    ///< max |V/V₀ − 1|

@@ -1,8 +1,8 @@
 #include "validation/external_engine.h"
 
 #include <fcntl.h>
-#include <signal.h>
 #include <poll.h>
+#include <signal.h>
 #include <sys/prctl.h>
 #include <sys/socket.h>
 #include <sys/un.h>
@@ -18,17 +18,17 @@
 #include <fstream>
 #include <initializer_list>
 #include <map>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <thread>
 
 #include "pbd/io/number_text.h"
+#include "pbdval/build_info.h"
 #include "validation/interrupts.h"
 #include "validation/json_schema.h"
 #include "validation/json_text.h"
 #include "validation/process_reaper.h"
-#include "pbdval/build_info.h"
 #include "validation/resolved_scene.h"
 #include "validation/simulation.h"
 #include "validation/trajectory.h"
@@ -54,7 +54,7 @@ using Clock = std::chrono::steady_clock;
 constexpr const char* kStatusFile = "status.json";
 constexpr const char* kTrajectoryFile = "trajectory.csv";
 constexpr const char* kTrajectoryNpyFile = "trajectory.npy";  // the binary alternative
-constexpr const char* kParticlesFile = "particles.csv";          // particle states, when any
+constexpr const char* kParticlesFile = "particles.csv";       // particle states, when any
 constexpr const char* kParticlesNpyFile = "particles.npy";
 constexpr const char* kStderrFile = "stderr.txt";
 
@@ -100,10 +100,9 @@ std::string firstErrorLine(const std::string& text) {
     const std::string trimmed = line.substr(start);
     const std::size_t colon = trimmed.find(':');
     const std::string head = colon == std::string::npos ? "" : trimmed.substr(0, colon);
-    const bool named =
-        !head.empty() && head.find(' ') == std::string::npos &&
-        ((head.size() >= 5 && head.compare(head.size() - 5, 5, "Error") == 0) ||
-         (head.size() >= 9 && head.compare(head.size() - 9, 9, "Exception") == 0));
+    const bool named = !head.empty() && head.find(' ') == std::string::npos &&
+                       ((head.size() >= 5 && head.compare(head.size() - 5, 5, "Error") == 0) ||
+                        (head.size() >= 9 && head.compare(head.size() - 9, 9, "Exception") == 0));
     if (named || trimmed.rfind("error:", 0) == 0 || trimmed.rfind("terminate called", 0) == 0)
       return trimmed.size() > 300 ? trimmed.substr(0, 297) + "..." : trimmed;
   }
@@ -117,7 +116,8 @@ std::string stderrTail(const fs::path& file) {
   std::stringstream text;
   text << in.rdbuf();
   std::string s = text.str();
-  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' '))
+    s.pop_back();
   if (s.empty()) return "";
   const std::string first = firstErrorLine(s);
   const bool cut = s.size() > 400;
@@ -187,7 +187,8 @@ Exit runProcess(const ExternalCommand& command, const std::vector<std::string>& 
   std::vector<std::string> arguments = command.argv;
   arguments.insert(arguments.end(), extraArguments.begin(), extraArguments.end());
   std::vector<char*> argv;
-  for (std::string& a : arguments) argv.push_back(a.data());
+  for (std::string& a : arguments)
+    argv.push_back(a.data());
   argv.push_back(nullptr);
   const std::string pythonPath = pythonPathFor(command);  // composed before the fork
   const InterruptWatch interrupts;
@@ -302,8 +303,10 @@ class ReplyReader {
       if (::poll(&item, 1, 2) <= 0) continue;
       char chunk[512];
       const ssize_t n = ::read(fd_, chunk, sizeof(chunk));
-      if (n > 0) buffer_.append(chunk, std::size_t(n));
-      else if (n == 0 || (errno != EINTR && errno != EAGAIN)) ended_ = true;
+      if (n > 0)
+        buffer_.append(chunk, std::size_t(n));
+      else if (n == 0 || (errno != EINTR && errno != EAGAIN))
+        ended_ = true;
     }
   }
   int signal() const { return signal_; }
@@ -348,9 +351,10 @@ Exit runServed(const std::string& socketPath, const std::string& serverLog,
   ReplyReader replies(connection.get(), interrupts);
   const Clock::time_point start = Clock::now();
   const Clock::time_point none = Clock::time_point::max();
-  const Clock::time_point deadline =
-      limit > 0 ? start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(limit))
-                : none;
+  const Clock::time_point deadline = limit > 0
+                                         ? start + std::chrono::duration_cast<Clock::duration>(
+                                                       std::chrono::duration<double>(limit))
+                                         : none;
   Json reply;
   ReplyReader::Result got = replies.next(deadline, reply);
   long child = 0;
@@ -381,9 +385,11 @@ Exit runServed(const std::string& socketPath, const std::string& serverLog,
     exit.signal = reply.at("signaled").get<int>();
   } else {
     if (child > 1) ::kill(-pid_t(child), SIGKILL);
-    exit.failure = "its server replied " + reply.dump() +
-                   (reply.contains("error") ? "" : " (expected {\"exited\": code} or {\"signaled\": signal})") +
-                   serverSays();
+    exit.failure =
+        "its server replied " + reply.dump() +
+        (reply.contains("error") ? ""
+                                 : " (expected {\"exited\": code} or {\"signaled\": signal})") +
+        serverSays();
   }
   return exit;
 }
@@ -391,8 +397,8 @@ Exit runServed(const std::string& socketPath, const std::string& serverLog,
 /// A server process (EngineEntry::startServer): started listening, stopped when it goes.
 class ExternalServer final : public EngineServer {
  public:
-  ExternalServer(const std::string& name, const ExternalCommand& serve,
-                 const std::string& folder, double startLimit)
+  ExternalServer(const std::string& name, const ExternalCommand& serve, const std::string& folder,
+                 double startLimit)
       : socket_(serverSocketPath(folder, name)) {
     std::error_code ignored;
     fs::create_directories(folder, ignored);
@@ -401,7 +407,8 @@ class ExternalServer final : public EngineServer {
     arguments.push_back("--socket");
     arguments.push_back(socket_);
     std::vector<char*> argv;
-    for (std::string& a : arguments) argv.push_back(a.data());
+    for (std::string& a : arguments)
+      argv.push_back(a.data());
     argv.push_back(nullptr);
     const std::string pythonPath = pythonPathFor(serve);
     const std::string logPath = serverLogPath(folder, name);
@@ -491,7 +498,8 @@ void readStatus(const fs::path& file, WholeRun& run) {
   const std::vector<std::string> violations = schemaViolations(statusSchema(), j);
   if (!violations.empty()) {
     std::string message;
-    for (const std::string& v : violations) message += (message.empty() ? "" : "; ") + v;
+    for (const std::string& v : violations)
+      message += (message.empty() ? "" : "; ") + v;
     throw std::invalid_argument(message + " (docs/schemas/status.schema.json)");
   }
   // The types and the rules between fields are the schema's; what follows only reads.
@@ -499,7 +507,8 @@ void readStatus(const fs::path& file, WholeRun& run) {
   run.reason = j.at("reason").get<std::string>();
   if (run.status == RunStatus::Unsupported) {
     std::string features;
-    for (const Json& f : j.at("unsupported")) features += (features.empty() ? "" : "; ") + f.get<std::string>();
+    for (const Json& f : j.at("unsupported"))
+      features += (features.empty() ? "" : "; ") + f.get<std::string>();
     run.reason = features;
   }
   run.facts.engineVersion = j.at("engineVersion").get<std::string>();
@@ -512,8 +521,8 @@ void readStatus(const fs::path& file, WholeRun& run) {
     run.facts.contactMargin = margin.get<double>();
   }
   for (const auto& item : j.at("effectiveSettings").items())
-    run.settings[item.key()] = item.value().is_string() ? item.value().get<std::string>()
-                                                        : jsonText(item.value(), -1);
+    run.settings[item.key()] =
+        item.value().is_string() ? item.value().get<std::string>() : jsonText(item.value(), -1);
 }
 
 /// Checks the samples against what the run asked for: every sample holds every body of the
@@ -615,7 +624,8 @@ EngineRunResult ExternalEngine::run(const pbd::Scene& scene, const Method& metho
   // The samples, checked by the observer like a stepped run's states.
   observer.begin(run.facts, run.settings, StateCadence::SamplesOnly);
   for (std::size_t k = 0; k < run.samples.size(); ++k)
-    if (!observer.state(run.samples[k], k == 0 ? 0 : std::min(plan.steps, long(k) * plan.stride))) break;
+    if (!observer.state(run.samples[k], k == 0 ? 0 : std::min(plan.steps, long(k) * plan.stride)))
+      break;
   EngineRunResult done = result;
   done.busySeconds = std::chrono::duration<double>(Clock::now() - started).count();
   return done;
@@ -679,8 +689,10 @@ EngineRunResult ExternalEngine::runWhole(const pbd::Scene& scene, const Method& 
     return fail("it exited with status " + std::to_string(code) + " without writing " +
                 kStatusFile + errors);
   if (code != 0)
-    return fail("it exited with status " + std::to_string(code) + " (the protocol asks for 0 "
-                "whenever status.json is written)" + errors);
+    return fail("it exited with status " + std::to_string(code) +
+                " (the protocol asks for 0 "
+                "whenever status.json is written)" +
+                errors);
   try {
     readStatus(outFolder / kStatusFile, run);
   } catch (const std::exception& e) {
@@ -711,12 +723,14 @@ EngineRunResult ExternalEngine::runWhole(const pbd::Scene& scene, const Method& 
     if (particleCsv || particleNpy)
       return fail(std::string("it wrote ") + (particleNpy ? kParticlesNpyFile : kParticlesFile) +
                   " for a scene without particles");
-    if (const std::string wrong = checkSamples(run.samples, scene, plan, run.status); !wrong.empty())
+    if (const std::string wrong = checkSamples(run.samples, scene, plan, run.status);
+        !wrong.empty())
       return fail(trajectoryFile + ": " + wrong);
   } else {
     if (!particleCsv && !particleNpy)
       return fail("the scene has " + std::to_string(scene.particles.size()) +
-                  " particles and it wrote neither " + kParticlesNpyFile + " nor " + kParticlesFile);
+                  " particles and it wrote neither " + kParticlesNpyFile + " nor " +
+                  kParticlesFile);
     const std::string particleFile = particleNpy ? kParticlesNpyFile : kParticlesFile;
     Trajectory particles;
     try {
@@ -732,9 +746,11 @@ EngineRunResult ExternalEngine::runWhole(const pbd::Scene& scene, const Method& 
         s.time = p.time;
         run.samples.push_back(s);
       }
-    if (const std::string wrong = checkSamples(run.samples, scene, plan, run.status); !wrong.empty())
+    if (const std::string wrong = checkSamples(run.samples, scene, plan, run.status);
+        !wrong.empty())
       return fail((scene.rigidBodies.empty() ? particleFile : trajectoryFile) + ": " + wrong);
-    if (const std::string wrong = mergeParticles(particles.samples, scene, run.samples); !wrong.empty())
+    if (const std::string wrong = mergeParticles(particles.samples, scene, run.samples);
+        !wrong.empty())
       return fail(particleFile + ": " + wrong);
   }
   run.steps = plan.steps;
@@ -777,7 +793,9 @@ struct CatalogueNode {
     const std::string p = path.empty() ? key : path + "." + key;
     return {json.is_object() && json.contains(key) ? json.at(key) : missing, p, file};
   }
-  CatalogueNode at(std::size_t i) const { return {json.at(i), path + "[" + std::to_string(i) + "]", file}; }
+  CatalogueNode at(std::size_t i) const {
+    return {json.at(i), path + "[" + std::to_string(i) + "]", file};
+  }
   bool has(const std::string& key) const { return json.is_object() && json.contains(key); }
   std::string text() const {
     if (!json.is_string() || json.get<std::string>().empty()) fail("a non-empty string");
@@ -829,13 +847,15 @@ ParameterSpec catalogueParameter(const CatalogueNode& node, const std::string& m
     p.kind = ParameterKind::Choice;
     p.defaultValue = value.text();
     const CatalogueNode choices = node.at("choices");
-    for (std::size_t i = 0; i < choices.array().size(); ++i) p.choices.push_back(choices.at(i).text());
+    for (std::size_t i = 0; i < choices.array().size(); ++i)
+      p.choices.push_back(choices.at(i).text());
   } else {
     node.at("kind").fail("one of real, integer, bool, choice");
   }
   if (node.has("min")) p.minimum = node.at("min").number();
   if (node.has("max")) p.maximum = node.at("max").number();
-  if (node.has("unit") && node.at("unit").json.is_string()) p.unit = node.at("unit").json.get<std::string>();
+  if (node.has("unit") && node.at("unit").json.is_string())
+    p.unit = node.at("unit").json.get<std::string>();
   p.description = node.has("description") ? node.at("description").text() : "";
   try {
     parseParameter(p, p.defaultValue, method);
@@ -866,8 +886,10 @@ FeatureTable catalogueFeatures(const CatalogueNode& node, const std::vector<std:
     }
     if (e.has("methods")) {
       const CatalogueNode list = e.at("methods");
-      if (list.array().empty()) list.fail("a non-empty array of method names (leave it out for every method)");
-      for (std::size_t k = 0; k < list.json.size(); ++k) support.methods.push_back(list.at(k).text());
+      if (list.array().empty())
+        list.fail("a non-empty array of method names (leave it out for every method)");
+      for (std::size_t k = 0; k < list.json.size(); ++k)
+        support.methods.push_back(list.at(k).text());
     }
     table.entries.push_back(std::move(support));
   }
@@ -876,9 +898,9 @@ FeatureTable catalogueFeatures(const CatalogueNode& node, const std::vector<std:
     std::string text = problems.front();
     // checkFeatureTable names entries "features[3]..." and the table "features: ...".
     throw std::invalid_argument(node.file + ": " + text +
-                                (problems.size() > 1 ? " (and " + std::to_string(problems.size() - 1) +
-                                                           " more)"
-                                                     : std::string()));
+                                (problems.size() > 1
+                                     ? " (and " + std::to_string(problems.size() - 1) + " more)"
+                                     : std::string()));
   }
   return table;
 }
@@ -910,8 +932,8 @@ EngineEntry catalogueEntry(const std::string& file, const ProjectPython& python)
   if (document.is_discarded()) throw std::invalid_argument(file + ": not valid JSON");
   if (!document.is_object()) root.fail("a JSON object");
   if (root.at("protocol").json != kExternalProtocolVersion) root.at("protocol").fail("1");
-  onlyKeys(root, {"protocol", "name", "description", "example", "command", "serve",
-                  "defaultMethod", "runMethods", "version", "methods", "features"});
+  onlyKeys(root, {"protocol", "name", "description", "example", "command", "serve", "defaultMethod",
+                  "runMethods", "version", "methods", "features"});
   EngineEntry entry;
   entry.name = root.at("name").text();
   const std::string folder = fs::absolute(fs::path(file)).parent_path().lexically_normal().string();
@@ -953,22 +975,24 @@ EngineEntry catalogueEntry(const std::string& file, const ProjectPython& python)
       const bool known = std::any_of(entry.methods.begin(), entry.methods.end(),
                                      [&](const MethodInfo& info) { return info.name == method; });
       if (!known) list.at(k).fail("one of this entry's methods");
-      if (std::find(entry.runMethods.begin(), entry.runMethods.end(), method) != entry.runMethods.end())
+      if (std::find(entry.runMethods.begin(), entry.runMethods.end(), method) !=
+          entry.runMethods.end())
         list.at(k).fail("a method not already listed");
       entry.runMethods.push_back(method);
     }
   }
   if (root.has("features")) {
     std::vector<std::string> methodNames;
-    for (const MethodInfo& info : entry.methods) methodNames.push_back(info.name);
+    for (const MethodInfo& info : entry.methods)
+      methodNames.push_back(info.name);
     entry.features = catalogueFeatures(root.at("features"), methodNames);
   }
   entry.runByDefault = !(root.has("example") && root.at("example").json == true);
   const std::string name = entry.name;
   const FeatureTable features = entry.features;
   entry.make = [name, command, serve, features](const EngineOptions& options) {
-    return std::unique_ptr<Engine>(new ExternalEngine(
-        name, command, features, serve ? options.serverFolder : std::string()));
+    return std::unique_ptr<Engine>(
+        new ExternalEngine(name, command, features, serve ? options.serverFolder : std::string()));
   };
   if (serve)
     entry.startServer = [name, serve](const std::string& serverFolder) {
@@ -979,14 +1003,16 @@ EngineEntry catalogueEntry(const std::string& file, const ProjectPython& python)
 
 }  // namespace
 
-std::vector<EngineEntry> readEngineCatalogue(const std::string& folder, const ProjectPython& python) {
+std::vector<EngineEntry> readEngineCatalogue(const std::string& folder,
+                                             const ProjectPython& python) {
   std::vector<std::string> files;
   std::error_code error;
   for (const auto& item : fs::directory_iterator(folder, error))
     if (item.path().extension() == ".json") files.push_back(item.path().string());
   std::sort(files.begin(), files.end());
   std::vector<EngineEntry> entries;
-  for (const std::string& file : files) entries.push_back(catalogueEntry(file, python));
+  for (const std::string& file : files)
+    entries.push_back(catalogueEntry(file, python));
   return entries;
 }
 

@@ -60,7 +60,8 @@ class ExternalEngine final : public Engine {
   /// What the catalogue's feature table declares unsupported (nothing without a table): such a
   /// run is reported without starting the engine. The engine still says in its status what it
   /// lacks beyond the table (conditions only a run finds).
-  std::vector<std::string> unsupported(const pbd::Scene& scene, const Method& method) const override;
+  std::vector<std::string> unsupported(const pbd::Scene& scene,
+                                       const Method& method) const override;
   EngineRunResult run(const pbd::Scene& scene, const Method& method, const RunLength& length,
                       const StepPlan& plan, double wallTimeLimit, RunObserver& observer) override;
 
@@ -96,13 +97,14 @@ std::unique_ptr<EngineServer> startExternalServer(const std::string& name,
 /// For the process that started `owner`, after `owner` has ended.
 void removeEngineLeftovers(pid_t owner);
 
-/// The engines of a catalogue folder: one `<name>.json` per engine (docs/external-engines.md#the-catalogue),
-/// each command's "{python}" replaced by `python.interpreter` (and such a command run with
-/// `python.packageFolder` first on its PYTHONPATH). Every command runs in the catalogue's folder,
-/// so that relative paths in it (a program, a script) are relative to the catalogue file. An
-/// entry with `serve` (its protocol and command) gets EngineEntry::startServer. Throws
-/// std::invalid_argument naming the file and JSON path of anything malformed. A missing folder
-/// has no engines.
-std::vector<EngineEntry> readEngineCatalogue(const std::string& folder, const ProjectPython& python);
+/// The engines of a catalogue folder: one `<name>.json` per engine
+/// (docs/external-engines.md#the-catalogue), each command's "{python}" replaced by
+/// `python.interpreter` (and such a command run with `python.packageFolder` first on its
+/// PYTHONPATH). Every command runs in the catalogue's folder, so that relative paths in it (a
+/// program, a script) are relative to the catalogue file. An entry with `serve` (its protocol and
+/// command) gets EngineEntry::startServer. Throws std::invalid_argument naming the file and JSON
+/// path of anything malformed. A missing folder has no engines.
+std::vector<EngineEntry> readEngineCatalogue(const std::string& folder,
+                                             const ProjectPython& python);
 
 }  // namespace pbdval

@@ -463,12 +463,9 @@ void writeBaseline(const std::string& path, const Baseline& baseline) {
                                     " (not finite) in an ok run; a baseline cannot gate it");
       }
     }
-    Json run = {{"case", r.request.caseName},
-                {"engine", r.request.engine},
-                {"method", r.request.method},
-                {"assignments", r.request.assignments},
-                {"status", runStatusName(r.status)},
-                {"metrics", metrics}};
+    Json run = {{"case", r.request.caseName},        {"engine", r.request.engine},
+                {"method", r.request.method},        {"assignments", r.request.assignments},
+                {"status", runStatusName(r.status)}, {"metrics", metrics}};
     // The run's effective settings, for the record: what the report compares a later run's
     // settings with (the gate judges none of them). Optional: older baselines lack them.
     if (!r.settings.empty()) run["settings"] = r.settings;

@@ -166,9 +166,10 @@ JointGeometry captureJointGeometry(const pbd::Scene& scene, const pbd::JointDesc
     const pbd::StiffRodJointParams& rod = joint.stiffRod;
     const Real r2 = rod.averageRadius * rod.averageRadius;
     const Real secondMoment = Real(EIGEN_PI) / 4 * r2 * r2;
-    g.rodStiffness = Vector3(rod.youngsModulus * secondMoment, 2 * rod.torsionModulus * secondMoment,
-                             rod.youngsModulus * secondMoment)
-                         .cwiseProduct(rod.stiffnessModifier);
+    g.rodStiffness =
+        Vector3(rod.youngsModulus * secondMoment, 2 * rod.torsionModulus * secondMoment,
+                rod.youngsModulus * secondMoment)
+            .cwiseProduct(rod.stiffnessModifier);
     g.rodSegmentLength = double(rod.averageSegmentLength);
   }
   const int body0 = joint.body1, body1 = joint.body2;
@@ -288,8 +289,9 @@ double springPotential(const JointGeometry& joint, const State& state) {
     const Quaternion s1 = bodyIn(state, joint.anchor1.body).rotation.normalized();
     const double length = joint.rodSegmentLength;
     const Vector3 change =
-        (2 / length) * (positiveScalarVector(s0.conjugate() * s1) -
-                        positiveScalarVector(joint.initialRotation0.conjugate() * joint.initialRotation1));
+        (2 / length) *
+        (positiveScalarVector(s0.conjugate() * s1) -
+         positiveScalarVector(joint.initialRotation0.conjugate() * joint.initialRotation1));
     return 0.5 * length * change.dot(joint.rodStiffness.cwiseProduct(change));
   }
   if (joint.type != JointType::RigidBodySpring && joint.type != JointType::Damper) return 0;

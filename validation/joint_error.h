@@ -92,9 +92,9 @@ struct JointGeometry {
   Vector3 initialAxis = Vector3::UnitX();  ///< a at t = 0 (world), for the hinge angle
   Quaternion initialRotation0 = Quaternion::Identity();  ///< R₀(0), R₁(0): scene rotations
   Quaternion initialRotation1 = Quaternion::Identity();
-  int particle = -1;      ///< global particle index (rigid-body–particle ball)
-  double restLength = 0;  ///< distance joint and spring, m
-  double stiffness = 0;   ///< spring and damper, N/m
+  int particle = -1;                       ///< global particle index (rigid-body–particle ball)
+  double restLength = 0;                   ///< distance joint and spring, m
+  double stiffness = 0;                    ///< spring and damper, N/m
   Vector3 rodStiffness = Vector3::Zero();  ///< stiff rod: (E I, 2 G I, E I) ∘ modifier, N m²
   double rodSegmentLength = 0;             ///< stiff rod: L, m
   pbd::MotorTarget target;

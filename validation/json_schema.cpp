@@ -12,14 +12,17 @@ using Json = nlohmann::json;
 constexpr std::array<const char*, 7> kAnnotations = {
     "$schema", "$id", "title", "description", "$comment", "default", "examples"};
 constexpr std::array<const char*, 13> kKeywords = {
-    "type",    "const",     "enum",     "required", "properties", "additionalProperties", "items",
-    "minimum", "minLength", "minItems", "if",       "then",       "else"};
+    "type",  "const",   "enum",      "required", "properties", "additionalProperties",
+    "items", "minimum", "minLength", "minItems", "if",         "then",
+    "else"};
 
 std::string childPath(const std::string& path, const std::string& key) {
   return path.empty() ? key : path + "." + key;
 }
 
-std::string shown(const std::string& path) { return path.empty() ? "(document)" : path; }
+std::string shown(const std::string& path) {
+  return path.empty() ? "(document)" : path;
+}
 
 std::string brief(const Json& value) {
   std::string text = value.dump();
@@ -35,7 +38,9 @@ bool hasType(const Json& value, const std::string& type) {
   if (type == "number") return value.is_number();
   if (type == "integer")
     return value.is_number_integer() ||
-           (value.is_number_float() && value.get<double>() == static_cast<double>(static_cast<long long>(value.get<double>())));
+           (value.is_number_float() &&
+            value.get<double>() ==
+                static_cast<double>(static_cast<long long>(value.get<double>())));
   throw std::invalid_argument("schema: unknown type \"" + type + "\"");
 }
 
@@ -53,7 +58,8 @@ void check(const Json& schema, const Json& value, const std::string& path,
     if (!schema.get<bool>()) violations.push_back(shown(path) + ": not allowed here");
     return;
   }
-  if (!schema.is_object()) throw std::invalid_argument("schema at " + shown(path) + ": not an object");
+  if (!schema.is_object())
+    throw std::invalid_argument("schema at " + shown(path) + ": not an object");
   for (const auto& item : schema.items()) {
     const std::string& key = item.key();
     const bool known =
@@ -67,13 +73,18 @@ void check(const Json& schema, const Json& value, const std::string& path,
   if (schema.contains("type")) {
     const Json& type = schema.at("type");
     std::vector<std::string> types;
-    if (type.is_string()) types.push_back(type.get<std::string>());
+    if (type.is_string())
+      types.push_back(type.get<std::string>());
     else
-      for (const Json& t : type) types.push_back(t.get<std::string>());
-    if (std::none_of(types.begin(), types.end(), [&](const std::string& t) { return hasType(value, t); })) {
+      for (const Json& t : type)
+        types.push_back(t.get<std::string>());
+    if (std::none_of(types.begin(), types.end(),
+                     [&](const std::string& t) { return hasType(value, t); })) {
       std::vector<std::string> named;
       for (const std::string& t : types)
-        named.push_back(t == "object" || t == "array" || t == "integer" ? "an " + t : t == "null" ? t : "a " + t);
+        named.push_back(t == "object" || t == "array" || t == "integer" ? "an " + t
+                        : t == "null"                                   ? t
+                                                                        : "a " + t);
       fail(alternatives(named));
       return;  // the other keywords would only repeat it
     }
@@ -83,7 +94,8 @@ void check(const Json& schema, const Json& value, const std::string& path,
     const Json& options = schema.at("enum");
     if (std::find(options.begin(), options.end(), value) == options.end()) {
       std::vector<std::string> named;
-      for (const Json& o : options) named.push_back(o.dump());
+      for (const Json& o : options)
+        named.push_back(o.dump());
       fail("one of " + alternatives(named));
     }
   }
@@ -112,7 +124,8 @@ void check(const Json& schema, const Json& value, const std::string& path,
         const Json& extra = schema.at("additionalProperties");
         if (extra.is_boolean() && !extra.get<bool>()) {
           std::vector<std::string> names;
-          for (const auto& p : properties.items()) names.push_back(p.key());
+          for (const auto& p : properties.items())
+            names.push_back(p.key());
           violations.push_back(member + ": not a known key (known: " + alternatives(names) + ")");
         } else {
           check(extra, item.value(), member, violations);
@@ -130,7 +143,8 @@ void check(const Json& schema, const Json& value, const std::string& path,
     if (schema.contains(branch)) check(schema.at(branch), value, path, violations);
   }
   if (schema.contains("allOf"))
-    for (const Json& part : schema.at("allOf")) check(part, value, path, violations);
+    for (const Json& part : schema.at("allOf"))
+      check(part, value, path, violations);
 }
 
 }  // namespace

@@ -33,7 +33,8 @@ double springEnergy(const pbd::Scene& scene, const State& state) {
 
 std::size_t segmentCount(const pbd::Scene& scene) {
   std::size_t count = 0;
-  for (const pbd::LineModelDesc& model : scene.lineModels) count += model.segmentCount();
+  for (const pbd::LineModelDesc& model : scene.lineModels)
+    count += model.segmentCount();
   return count;
 }
 
@@ -76,7 +77,8 @@ State initialState(const pbd::Scene& scene) {
         {particle.position, particle.mass > 0 ? particle.velocity : Vector3(Vector3::Zero())});
   // Rod segments start in their rest frames, at rest (as the PBD library builds them).
   for (const pbd::LineModelDesc& model : scene.lineModels)
-    for (const Quaternion& frame : model.frames) state.segments.push_back({frame, Vector3::Zero()});
+    for (const Quaternion& frame : model.frames)
+      state.segments.push_back({frame, Vector3::Zero()});
   return state;
 }
 

@@ -33,7 +33,7 @@ void checkStateMatchesScene(const pbd::Scene& scene, const State& state);
 
 struct EnergyTerms {
   double translational = 0;  ///< Σ ½ m ‖v‖² (bodies and particles), J
-  double rotational = 0;     ///< Σ ½ ωᵀ I_w ω (bodies) + Σ ½ |ω|²/(4 w_q) (rod segments), J
+  double rotational = 0;  ///< Σ ½ ωᵀ I_w ω (bodies) + Σ ½ |ω|²/(4 w_q) (rod segments), J
   double gravitational = 0;  ///< Σ −m g·x (bodies' centres of mass and particles), J
   double spring = 0;  ///< RigidBodySprings ½ k (ℓ − ℓ₀)², DamperJoints ½ k s², stiff rods, J
   double elastic = 0;  ///< the XPBD particle constraints' and rods' energy (ElasticEnergy), J

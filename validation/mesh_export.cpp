@@ -51,8 +51,9 @@ MeshExporter::MeshExporter(const pbd::Scene& scene, MeshExportOptions options)
       const std::vector<pbd::BarycentricAttachment> attached =
           pbd::attachToTets(model.mesh, model.visMesh->vertices);
       if (attached.empty() && !model.visMesh->vertices.empty()) {
-        notes_.push_back(model.jsonPath + ": the visual mesh cannot attach (no tet of positive "
-                                          "volume); its boundary faces are exported instead");
+        notes_.push_back(model.jsonPath +
+                         ": the visual mesh cannot attach (no tet of positive "
+                         "volume); its boundary faces are exported instead");
       } else {
         s.kind = Kind::Attached;
         for (const pbd::BarycentricAttachment& a : attached) {
@@ -80,17 +81,20 @@ std::vector<Vector3> MeshExporter::vertices(const Surface& surface, const State&
     case Kind::Body: {
       const BodyState& body = state.bodies.at(surface.body);
       const Vector3 origin = body.position - body.rotation * surface.centerOfMass;
-      for (const Vector3& v : surface.mesh->vertices) out.push_back(origin + body.rotation * v);
+      for (const Vector3& v : surface.mesh->vertices)
+        out.push_back(origin + body.rotation * v);
       break;
     }
     case Kind::Particles:
-      for (int p : surface.particles) out.push_back(state.particles.at(std::size_t(p)).position);
+      for (int p : surface.particles)
+        out.push_back(state.particles.at(std::size_t(p)).position);
       break;
     case Kind::Attached:
       for (std::size_t v = 0; v < surface.carriers.size(); ++v) {
         Vector3 x = Vector3::Zero();
         for (std::size_t i = 0; i < 4; ++i)
-          x += surface.weights[v][i] * state.particles.at(std::size_t(surface.carriers[v][i])).position;
+          x += surface.weights[v][i] *
+               state.particles.at(std::size_t(surface.carriers[v][i])).position;
         out.push_back(x);
       }
       break;

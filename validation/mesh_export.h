@@ -48,12 +48,12 @@ class MeshExporter {
   struct Surface {
     std::string name;
     Kind kind = Kind::Particles;
-    std::size_t body = 0;                       ///< Body: index in State::bodies
+    std::size_t body = 0;                           ///< Body: index in State::bodies
     std::shared_ptr<const pbd::TriangleMesh> mesh;  ///< Body: the scene-frame mesh
-    Vector3 centerOfMass = Vector3::Zero();     ///< Body: in the scene frame
-    std::vector<int> particles;                 ///< Particles: vertex → particle
-    std::vector<std::array<int, 4>> carriers;   ///< Attached: vertex → the tet's particles
-    std::vector<std::array<double, 4>> weights;  ///< Attached: vertex → barycentric weights
+    Vector3 centerOfMass = Vector3::Zero();         ///< Body: in the scene frame
+    std::vector<int> particles;                     ///< Particles: vertex → particle
+    std::vector<std::array<int, 4>> carriers;       ///< Attached: vertex → the tet's particles
+    std::vector<std::array<double, 4>> weights;     ///< Attached: vertex → barycentric weights
     std::vector<std::array<int, 3>> triangles;
   };
 

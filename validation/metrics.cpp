@@ -1,8 +1,6 @@
 // computeMetrics: one code path for every engine (docs/metrics.md).
 #include "validation/metrics.h"
 
-#include "pbd/model/mesh.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -13,6 +11,7 @@
 
 #include "pbd/collision/collision_shape.h"
 #include "pbd/collision/mesh_distance.h"
+#include "pbd/model/mesh.h"
 #include "validation/deformation.h"
 #include "validation/joint_error.h"
 #include "validation/mechanics.h"
@@ -196,8 +195,7 @@ void addParticlePenetrationMetrics(const MetricInputs& in, MetricSet& out) {
       shapes.emplace_back(b, pbd::makeCollisionShape(scene.rigidBodies[b]));
   if (shapes.empty()) return;
   if (in.samples->front().particles.empty()) {
-    out.notes.push_back(
-        "particle_penetration_max: the engine reads back no particles");
+    out.notes.push_back("particle_penetration_max: the engine reads back no particles");
     return;
   }
   double deepest = 0;
@@ -205,12 +203,11 @@ void addParticlePenetrationMetrics(const MetricInputs& in, MetricSet& out) {
     for (const auto& [body, shape] : shapes) {
       const pbd::RigidBodyDesc& desc = scene.rigidBodies[body];
       const Quaternion rotation = s.bodies[body].rotation.normalized();
-      const Vector3 origin =
-          s.bodies[body].position - rotation * desc.massProperties.centerOfMass;
+      const Vector3 origin = s.bodies[body].position - rotation * desc.massProperties.centerOfMass;
       const Quaternion inverse = rotation.conjugate();
       for (const ParticleState& p : s.particles)
-        deepest = std::max(deepest, -double(shape.distance(
-                                        (inverse * (p.position - origin)).cast<pbd::Real>())));
+        deepest = std::max(
+            deepest, -double(shape.distance((inverse * (p.position - origin)).cast<pbd::Real>())));
     }
   out.values[metric::kParticlePenetrationMax] = deepest;
 }
@@ -231,13 +228,15 @@ void addSolidPenetrationMetrics(const MetricInputs& in, MetricSet& out) {
   for (const pbd::TetModelDesc& m : scene.tetModels) {
     std::vector<std::array<int, 3>> faces = pbd::boundaryFaces(m.mesh);
     for (std::array<int, 3>& face : faces)
-      for (int& v : face) v += m.firstParticle;
+      for (int& v : face)
+        v += m.firstParticle;
     boundaries.push_back(std::move(faces));
   }
   double deepest = 0;
   for (const State& s : *in.samples) {
     pbd::TriangleMesh surface;
-    for (const ParticleState& p : s.particles) surface.vertices.push_back(p.position.cast<pbd::Real>());
+    for (const ParticleState& p : s.particles)
+      surface.vertices.push_back(p.position.cast<pbd::Real>());
     for (std::size_t b = 0; b < scene.tetModels.size(); ++b) {
       const pbd::TetModelDesc& tetSide = scene.tetModels[b];
       if (boundaries[b].empty()) continue;
@@ -308,12 +307,14 @@ void addStaticDisplacementMetrics(const MetricInputs& in, MetricSet& out) {
     if (s.time < d.from) continue;
     for (int i : d.particles) {
       const auto index = std::size_t(i);
-      sum += double((s.particles[index].position - in.scene->particles[index].position).dot(d.direction));
+      sum += double(
+          (s.particles[index].position - in.scene->particles[index].position).dot(d.direction));
       ++count;
     }
   }
   if (count == 0) {
-    out.notes.push_back("static_displacement: no sample at or after t = " + formatNumber(d.from) + " s");
+    out.notes.push_back("static_displacement: no sample at or after t = " + formatNumber(d.from) +
+                        " s");
     return;
   }
   const double mean = sum / double(count);

@@ -1,11 +1,10 @@
 #include "validation/numerics.h"
 
-#include <tuple>
-
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 
 namespace pbdval {
 
@@ -75,8 +74,8 @@ std::pair<Vector3, Vector3> hermite(const Vector3& x0, const Vector3& v0, const 
   const double s2 = s * s, s3 = s2 * s;
   const Vector3 x = (2 * s3 - 3 * s2 + 1) * x0 + (s3 - 2 * s2 + s) * dt * v0 +
                     (-2 * s3 + 3 * s2) * x1 + (s3 - s2) * dt * v1;
-  const Vector3 v = (6 * s2 - 6 * s) / dt * (x0 - x1) + (3 * s2 - 4 * s + 1) * v0 +
-                    (3 * s2 - 2 * s) * v1;
+  const Vector3 v =
+      (6 * s2 - 6 * s) / dt * (x0 - x1) + (3 * s2 - 4 * s + 1) * v0 + (3 * s2 - 2 * s) * v1;
   return {x, v};
 }
 
@@ -90,9 +89,9 @@ Matrix3 cross(const Vector3& a) {
 Matrix3 inverseLeftJacobian(const Vector3& phi) {
   const double theta = phi.norm();
   // 1/θ² − (1 + cos θ)/(2 θ sin θ) → 1/12 + θ²/720 as θ → 0 (the series below 1e-4 rad).
-  const double c = theta < 1e-4
-                       ? 1.0 / 12 + theta * theta / 720
-                       : 1 / (theta * theta) - (1 + std::cos(theta)) / (2 * theta * std::sin(theta));
+  const double c =
+      theta < 1e-4 ? 1.0 / 12 + theta * theta / 720
+                   : 1 / (theta * theta) - (1 + std::cos(theta)) / (2 * theta * std::sin(theta));
   const Matrix3 k = cross(phi);
   return Matrix3::Identity() - 0.5 * k + c * k * k;
 }
@@ -122,7 +121,8 @@ Quaternion hermiteRotation(Quaternion q0, const Vector3& w0, Quaternion q1, cons
   const Vector3 phiEnd = rotationVector(delta);
   const Vector3 rateEnd = inverseLeftJacobian(phiEnd) * w1;
   const double s2 = s * s, s3 = s2 * s;
-  const Vector3 phi = (s3 - 2 * s2 + s) * dt * w0 + (-2 * s3 + 3 * s2) * phiEnd + (s3 - s2) * dt * rateEnd;
+  const Vector3 phi =
+      (s3 - 2 * s2 + s) * dt * w0 + (-2 * s3 + 3 * s2) * phiEnd + (s3 - s2) * dt * rateEnd;
   return (exponential(phi) * q0).normalized();
 }
 
@@ -145,9 +145,11 @@ State interpolateState(const State& a, const State& b, double s, double time) {
     const BodyState& q = b.bodies[i];
     BodyState& r = out.bodies[i];
     r.id = p.id;
-    std::tie(r.position, r.velocity) = hermite(p.position, p.velocity, q.position, q.velocity, s, dt);
+    std::tie(r.position, r.velocity) =
+        hermite(p.position, p.velocity, q.position, q.velocity, s, dt);
     r.angularVelocity = (1 - s) * p.angularVelocity + s * q.angularVelocity;
-    r.rotation = hermiteRotation(p.rotation, p.angularVelocity, q.rotation, q.angularVelocity, s, dt);
+    r.rotation =
+        hermiteRotation(p.rotation, p.angularVelocity, q.rotation, q.angularVelocity, s, dt);
   }
   out.particles.resize(a.particles.size());
   for (std::size_t i = 0; i < a.particles.size(); ++i)

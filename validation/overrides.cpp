@@ -51,7 +51,8 @@ std::map<std::string, std::string> applyAssignments(const std::vector<std::strin
   return methodValues;
 }
 
-bool assignmentApplies(const std::string& key, const MethodInfo& method, const EngineEntry& engine) {
+bool assignmentApplies(const std::string& key, const MethodInfo& method,
+                       const EngineEntry& engine) {
   return method.find(key) != nullptr || contains(engine.honouredSettings, key);
 }
 

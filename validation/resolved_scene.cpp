@@ -249,7 +249,8 @@ json localElements(const std::vector<std::array<int, N>>& elements) {
   json list = json::array();
   for (const std::array<int, N>& element : elements) {
     json indices = json::array();
-    for (int i : element) indices.push_back(i);
+    for (int i : element)
+      indices.push_back(i);
     list.push_back(std::move(indices));
   }
   return list;
@@ -270,9 +271,9 @@ const char* clothBendingMethodName(int method) {
 }
 
 const char* solidMethodName(int method) {
-  static const char* const kNames[] = {"none",   "distance_volume", "fem",
-                                       "fem_xpbd", "strain",        "shape_matching",
-                                       "xpbd_distance_volume"};
+  static const char* const kNames[] = {
+      "none",           "distance_volume",     "fem", "fem_xpbd", "strain",
+      "shape_matching", "xpbd_distance_volume"};
   return method >= 0 && method < 7 ? kNames[method] : "unknown";
 }
 

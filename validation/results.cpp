@@ -39,16 +39,16 @@ std::string utcNow() {
 
 Json metadataJson(const RunMetadata& m) {
   Json j = {{"created", m.created},
-          {"command", m.command},
-          {"pbdval",
-           {{"version", m.version},
-            {"commit", m.commit},
-            {"commitState", m.commitState},
-            {"buildType", m.buildType},
-            {"compiler", m.compiler},
-            {"flags", m.flags},
-            {"precision", m.precision}}},
-          {"machine", {{"hostname", m.hostname}, {"cpu", m.cpu}, {"cores", m.cores}}}};
+            {"command", m.command},
+            {"pbdval",
+             {{"version", m.version},
+              {"commit", m.commit},
+              {"commitState", m.commitState},
+              {"buildType", m.buildType},
+              {"compiler", m.compiler},
+              {"flags", m.flags},
+              {"precision", m.precision}}},
+            {"machine", {{"hostname", m.hostname}, {"cpu", m.cpu}, {"cores", m.cores}}}};
   if (!m.planDigest.empty()) j["planDigest"] = m.planDigest;
   if (m.shard)
     j["shard"] = {{"index", m.shard->index},

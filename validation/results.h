@@ -14,10 +14,10 @@ namespace pbdval {
 
 /// Which slice of a plan a results folder holds (`pbdval run --shard K/N`, docs/cluster.md).
 struct ShardInfo {
-  int index = 1;              ///< K, 1-based
-  int count = 1;              ///< N
-  std::size_t planSize = 0;   ///< runs in the whole plan (cases that could not be read included)
-  std::string planDigest;     ///< of the whole plan: equal plans, equal digests
+  int index = 1;             ///< K, 1-based
+  int count = 1;             ///< N
+  std::size_t planSize = 0;  ///< runs in the whole plan (cases that could not be read included)
+  std::string planDigest;    ///< of the whole plan: equal plans, equal digests
 };
 
 /// Where and how a set of results was produced.

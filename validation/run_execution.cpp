@@ -49,9 +49,9 @@ RunLength lengthOf(const LoadedCase& c, const RunRequest& request) {
 /// A run of `engineName`/`method` on `scene` at step `fineStep`, sampled at the same times as
 /// the run being measured (whose step is `coarseStep`).
 std::optional<ReferenceTrajectory> referenceRun(const LoadedCase& c, const EngineRegistry& registry,
-                                                const std::string& engineName,
-                                                const Method& method, double fineStep,
-                                                const RunLength& length, double coarseStep,
+                                                const std::string& engineName, const Method& method,
+                                                double fineStep, const RunLength& length,
+                                                double coarseStep,
                                                 std::vector<std::string>& notes) {
   pbd::Scene fine = c.scene;
   fine.simulation.timeStepSize = pbd::Real(fineStep);
@@ -72,10 +72,9 @@ std::optional<ReferenceTrajectory> referenceRun(const LoadedCase& c, const Engin
   return reference;
 }
 
-std::optional<ReferenceTrajectory> buildReference(const LoadedCase& c, const EngineRegistry& registry,
-                                                  const RunRequest& request, const RunRecord& record,
-                                                  const std::vector<State>& samples,
-                                                  std::vector<std::string>& notes) {
+std::optional<ReferenceTrajectory> buildReference(
+    const LoadedCase& c, const EngineRegistry& registry, const RunRequest& request,
+    const RunRecord& record, const std::vector<State>& samples, std::vector<std::string>& notes) {
   const double h = double(c.scene.simulation.timeStepSize);
   const RunLength length = lengthOf(c, request);
   if (request.referenceMode == "none") return std::nullopt;
@@ -145,8 +144,8 @@ void checkContactMargin(double margin) {
   if (!(std::abs(margin) <= kMaxContactMargin))
     throw std::invalid_argument("contact_margin: expected a number of metres in [-" +
                                 formatNumber(kMaxContactMargin) + ", " +
-                                formatNumber(kMaxContactMargin) + "] (an engine's contact margin), got " +
-                                formatNumber(margin));
+                                formatNumber(kMaxContactMargin) +
+                                "] (an engine's contact margin), got " + formatNumber(margin));
 }
 
 MetricSet measureSamples(const pbd::Scene& scene, const CaseSpec& spec,
@@ -247,9 +246,9 @@ RunRecord executeRun(const RunRequest& request, const EngineRegistry& registry) 
       reference = resampleReference(*reference, times);
     }
     if (reference) record.reference = reference->description;
-    mergeMetrics(record.metrics, measureSamples(c.scene, c.spec, samples,
-                                                reference ? &*reference : nullptr,
-                                                record.facts.contactMargin));
+    mergeMetrics(record.metrics,
+                 measureSamples(c.scene, c.spec, samples, reference ? &*reference : nullptr,
+                                record.facts.contactMargin));
     for (std::string& note : notes)
       record.metrics.notes.push_back(std::move(note));
     // Physics sanity, whatever the case declares: an ok run that breaks a bound the scene

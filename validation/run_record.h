@@ -4,9 +4,8 @@
 // at once, isolated: run_scheduler.h.
 #pragma once
 
-#include <nlohmann/json.hpp>
-
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 

@@ -95,11 +95,12 @@ RunRecord collect(const Child& child, int waitStatus, const RunRequest& request,
 
 }  // namespace
 
-/// The engine servers of each worker (EngineEntry::startServer, docs/external-engines.md#persistent-engines):
-/// started when a worker first runs such an engine, kept for its next runs, restarted when one
-/// ended or a run of the worker ended abnormally (killed, crashed: its server may be busy
-/// with what that run left), all stopped with the pool. Their sockets are in a folder of
-/// their own under $TMPDIR (a Unix socket path has at most 107 bytes).
+/// The engine servers of each worker (EngineEntry::startServer,
+/// docs/external-engines.md#persistent-engines): started when a worker first runs such an engine,
+/// kept for its next runs, restarted when one ended or a run of the worker ended abnormally
+/// (killed, crashed: its server may be busy with what that run left), all stopped with the pool.
+/// Their sockets are in a folder of their own under $TMPDIR (a Unix socket path has at most 107
+/// bytes).
 class ServerPool {
  public:
   static constexpr std::size_t kMaxSocketPath = 108;  ///< sizeof(sockaddr_un::sun_path) on Linux
@@ -112,7 +113,8 @@ class ServerPool {
   }
   ~ServerPool() {
     if (::getpid() != owner_) return;  // a forked copy: the servers are the scheduler's
-    for (auto& worker : servers_) worker.clear();
+    for (auto& worker : servers_)
+      worker.clear();
     if (!folder_.empty()) {
       std::error_code ignored;
       std::filesystem::remove_all(folder_, ignored);
@@ -173,7 +175,8 @@ class InterruptBlock {
 
   /// Waits up to `seconds` for SIGINT or SIGTERM; returns it, or 0.
   int wait(double seconds) const {
-    timespec timeout{static_cast<time_t>(seconds), static_cast<long>((seconds - std::floor(seconds)) * 1e9)};
+    timespec timeout{static_cast<time_t>(seconds),
+                     static_cast<long>((seconds - std::floor(seconds)) * 1e9)};
     const int signal = sigtimedwait(&signals_, nullptr, &timeout);
     return signal > 0 ? signal : 0;
   }
@@ -188,8 +191,9 @@ class InterruptBlock {
 }  // namespace
 
 RunInterrupted::RunInterrupted(int signal, std::size_t finished, std::size_t total)
-    : std::runtime_error(std::string("interrupted by ") + (signal == SIGINT ? "SIGINT" : "SIGTERM") +
-                         " after " + std::to_string(finished) + " of " + std::to_string(total) +
+    : std::runtime_error(std::string("interrupted by ") +
+                         (signal == SIGINT ? "SIGINT" : "SIGTERM") + " after " +
+                         std::to_string(finished) + " of " + std::to_string(total) +
                          " runs: the running ones were stopped and their files removed"),
       signal_(signal) {}
 
@@ -204,12 +208,14 @@ std::vector<RunRecord> RunScheduler::runAll(
   ServerPool servers{std::size_t(jobs_)};
   const auto freeWorker = [&]() {
     for (std::size_t w = 0;; ++w)
-      if (std::none_of(running.begin(), running.end(), [w](const Child& c) { return c.worker == w; }))
+      if (std::none_of(running.begin(), running.end(),
+                       [w](const Child& c) { return c.worker == w; }))
         return w;
   };
   std::size_t next = 0, done = 0;
   const auto stopAll = [&](int signal) {
-    for (const Child& child : running) ::kill(-child.pid, SIGKILL);
+    for (const Child& child : running)
+      ::kill(-child.pid, SIGKILL);
     for (const Child& child : running) {
       int status = 0;
       ::waitpid(child.pid, &status, 0);

@@ -120,10 +120,10 @@ std::optional<CheckViolation> initialStateViolation(const pbd::Scene& scene, con
       what = "angular velocity";
     }
     if (what)
-      return CheckViolation{"initial_state", "initial_state: the first sample's " +
-                                                 std::string(what) + " of " + bodyName(scene, i) +
-                                                 " is not the scene's initial state: " +
-                                                 message.str()};
+      return CheckViolation{"initial_state",
+                            "initial_state: the first sample's " + std::string(what) + " of " +
+                                bodyName(scene, i) +
+                                " is not the scene's initial state: " + message.str()};
   }
   return std::nullopt;
 }
@@ -133,11 +133,11 @@ std::optional<CheckViolation> unitQuaternionViolation(const pbd::Scene& scene, c
   for (std::size_t i = 0; i < s.bodies.size(); ++i) {
     const double norm = s.bodies[i].rotation.norm();
     if (!(std::abs(norm - 1) <= kUnitQuaternionTolerance))
-      return CheckViolation{"unit_quaternion",
-                            "unit_quaternion: the orientation of " + bodyName(scene, i) +
-                                " at sample " + std::to_string(k) + " (t = " + fmt(s.time) +
-                                " s) has norm " + fmt(norm) + ", not 1 (bound " +
-                                fmt(kUnitQuaternionTolerance) + ")"};
+      return CheckViolation{"unit_quaternion", "unit_quaternion: the orientation of " +
+                                                   bodyName(scene, i) + " at sample " +
+                                                   std::to_string(k) + " (t = " + fmt(s.time) +
+                                                   " s) has norm " + fmt(norm) + ", not 1 (bound " +
+                                                   fmt(kUnitQuaternionTolerance) + ")"};
   }
   for (std::size_t i = 0; i < s.segments.size(); ++i) {
     const double norm = s.segments[i].rotation.norm();
@@ -178,9 +178,8 @@ constexpr double kRestSpeedFloor = 1e-6;
 /// (orientations) over the interval from sample k (`a`) to k+1 (`b`); `before` and `after` are
 /// the neighbouring samples or null (docs/metrics.md §Boundary checks).
 std::vector<IntervalMismatch> velocityMismatches(const pbd::Scene& scene, const State* before,
-                                                 const State& a, const State& b,
-                                                 const State* after, std::size_t k,
-                                                 double restAllowance,
+                                                 const State& a, const State& b, const State* after,
+                                                 std::size_t k, double restAllowance,
                                                  const std::vector<double>& sizes,
                                                  const std::vector<bool>& skip) {
   std::vector<IntervalMismatch> mismatches;
@@ -208,32 +207,32 @@ std::vector<IntervalMismatch> velocityMismatches(const pbd::Scene& scene, const 
         (sizes[i] > 0 ? (restAllowance + residual) / sizes[i] : 0) + kRestSpeedFloor;
     bool stillAxisMoving = false;
     for (int axis = 0; axis < 3; ++axis)
-      stillAxisMoving |= std::abs(bb.position[axis] - ba.position[axis]) <= kStill &&
-                         std::min(std::abs(ba.velocity[axis]), std::abs(bb.velocity[axis])) >
-                             restLinear;
+      stillAxisMoving |=
+          std::abs(bb.position[axis] - ba.position[axis]) <= kStill &&
+          std::min(std::abs(ba.velocity[axis]), std::abs(bb.velocity[axis])) > restLinear;
     const double spinning = std::min(ba.angularVelocity.norm(), bb.angularVelocity.norm());
     if (stillAxisMoving || (turned <= kStill && spinning > restAngular)) {
       std::ostringstream m;
-      m << "velocity_at_rest: " << bodyName(scene, i) << " from sample " << k << " (t = "
-        << fmt(a.time) << " s) on holds still " << (stillAxisMoving ? "along an axis" : "in turn")
-        << " (between samples " << k << " and " << k + 1 << " it moves "
-        << fmt(bb.position - ba.position) << " m and turns " << fmt(turned)
-        << " rad) yet reports v = " << fmt(bb.velocity) << " m/s and ω = "
-        << fmt(bb.angularVelocity) << " rad/s, more than the method's rest allowance "
-        << fmt(restLinear) << " m/s, " << fmt(restAngular) << " rad/s";
+      m << "velocity_at_rest: " << bodyName(scene, i) << " from sample " << k
+        << " (t = " << fmt(a.time) << " s) on holds still "
+        << (stillAxisMoving ? "along an axis" : "in turn") << " (between samples " << k << " and "
+        << k + 1 << " it moves " << fmt(bb.position - ba.position) << " m and turns " << fmt(turned)
+        << " rad) yet reports v = " << fmt(bb.velocity)
+        << " m/s and ω = " << fmt(bb.angularVelocity)
+        << " rad/s, more than the method's rest allowance " << fmt(restLinear) << " m/s, "
+        << fmt(restAngular) << " rad/s";
       mismatches.push_back({i, false, "velocity_at_rest", m.str()});
       continue;
     }
     const double deviation = distanceToSegment(fd, ba.velocity, bb.velocity);
-    const double bound =
-        intervalAllowance(bp ? &bp->velocity : nullptr, ba.velocity, bb.velocity,
-                          bn ? &bn->velocity : nullptr, fd) +
-        stepCorrection + restAllowance +
-        kReadBackPrecision * (ba.position.norm() + bb.position.norm() + 1.0) / dt;
+    const double bound = intervalAllowance(bp ? &bp->velocity : nullptr, ba.velocity, bb.velocity,
+                                           bn ? &bn->velocity : nullptr, fd) +
+                         stepCorrection + restAllowance +
+                         kReadBackPrecision * (ba.position.norm() + bb.position.norm() + 1.0) / dt;
     if (!(deviation <= bound)) {
       std::ostringstream m;
-      m << "velocity_consistency: " << bodyName(scene, i) << " from sample " << k << " (t = "
-        << fmt(a.time) << " s) on: between samples " << k << " and " << k + 1
+      m << "velocity_consistency: " << bodyName(scene, i) << " from sample " << k
+        << " (t = " << fmt(a.time) << " s) on: between samples " << k << " and " << k + 1
         << " its centre of mass moves at " << fmt(fd)
         << " m/s (finite difference), its reported velocities are " << fmt(ba.velocity) << " and "
         << fmt(bb.velocity) << " m/s: " << fmt(deviation) << " m/s off, more than the bound "
@@ -337,8 +336,8 @@ SanityBounds sanityBounds(const pbd::Scene& scene) {
     if (b.notIsolated.empty() &&
         (bodyMass(scene, joint.body1) == 0 || bodyMass(scene, joint.body2) == 0))
       b.notIsolated = joint.jsonPath + " holds a body to a static body or a particle";
-  if (b.notIsolated.empty() && (!scene.particles.empty() || !scene.lineModels.empty() ||
-                                !scene.fluidModels.empty()))
+  if (b.notIsolated.empty() &&
+      (!scene.particles.empty() || !scene.lineModels.empty() || !scene.fluidModels.empty()))
     b.notIsolated = "the scene has particle models, rods or fluids";
   if (b.notIsolated.empty() && !b.passive) b.notIsolated = b.notPassive;
   b.isolated = b.notIsolated.empty();
@@ -357,8 +356,8 @@ SanityBounds sanityBounds(const pbd::Scene& scene) {
     if (!body.isDynamic) continue;
     const double size = bodySize(body);
     if (gravity > 0 && size > 0)
-      consider(std::sqrt(size / gravity), "√(ℓ/|g|), ℓ = " + fmt(size) + " m the size of " +
-                                              body.jsonPath);
+      consider(std::sqrt(size / gravity),
+               "√(ℓ/|g|), ℓ = " + fmt(size) + " m the size of " + body.jsonPath);
     const double spin = double(body.angularVelocity.norm());
     if (spin > 0) consider(1 / spin, "1/|ω₀| of " + body.jsonPath);
   }
@@ -376,9 +375,8 @@ SanityBounds sanityBounds(const pbd::Scene& scene) {
       const double inertia2 = smallestPrincipalInertia(scene, joint.body2);
       const double inertia = inertia1 > 0 && inertia2 > 0 ? std::min(inertia1, inertia2)
                                                           : std::max(inertia1, inertia2);
-      const double stiffness =
-          std::max(double(rod.youngsModulus), double(rod.torsionModulus)) * M_PI * r * r * r * r /
-          4 / std::max(length, 1e-12);
+      const double stiffness = std::max(double(rod.youngsModulus), double(rod.torsionModulus)) *
+                               M_PI * r * r * r * r / 4 / std::max(length, 1e-12);
       if (inertia > 0 && stiffness > 0)
         consider(std::sqrt(inertia / stiffness), "√(I/k) of " + joint.jsonPath);
     }
@@ -395,7 +393,8 @@ BoundaryChecker::BoundaryChecker(const pbd::Scene& scene, double initialToleranc
       streakStart_(2 * scene.rigidBodies.size()),
       restVelocityAllowance_(restVelocityAllowance) {
   window_.reserve(4);
-  for (const pbd::RigidBodyDesc& body : scene.rigidBodies) sizes_.push_back(bodySize(body));
+  for (const pbd::RigidBodyDesc& body : scene.rigidBodies)
+    sizes_.push_back(bodySize(body));
   skipVelocity_.assign(scene.rigidBodies.size(), false);
 }
 
@@ -403,7 +402,8 @@ BoundaryChecker::BoundaryChecker(const pbd::Scene& scene, const RunFacts& facts)
     : BoundaryChecker(scene, facts.initialStateTolerance, facts.restVelocityAllowance,
                       facts.initialVelocitiesProjected) {
   for (int body : facts.velocityDrivenBodies)
-    if (body >= 0 && std::size_t(body) < skipVelocity_.size()) skipVelocity_[std::size_t(body)] = true;
+    if (body >= 0 && std::size_t(body) < skipVelocity_.size())
+      skipVelocity_[std::size_t(body)] = true;
 }
 
 void BoundaryChecker::checkInterval(std::size_t first) {
@@ -416,9 +416,9 @@ void BoundaryChecker::checkInterval(std::size_t first) {
   // impact, a velocity pass at a contact event or a split-impulse push lasts one or two; a
   // protocol mistake or a defect holds at every sample.
   std::vector<int> failing(streaks_.size(), 0);
-  for (IntervalMismatch& m : velocityMismatches(scene_, before, window_[first],
-                                                window_[first + 1], after, k,
-                                                restVelocityAllowance_, sizes_, skipVelocity_)) {
+  for (IntervalMismatch& m :
+       velocityMismatches(scene_, before, window_[first], window_[first + 1], after, k,
+                          restVelocityAllowance_, sizes_, skipVelocity_)) {
     const std::size_t slot = 2 * m.body + (m.angular ? 1 : 0);
     failing[slot] = 1;
     if (streaks_[slot]++ == 0) streakStart_[slot] = std::move(m);
@@ -474,8 +474,8 @@ std::optional<CheckViolation> sanityViolation(const pbd::Scene& scene, const Cas
   const double duration = samples.back().time - samples.front().time;
   const double relative = bounds.relativeBound(duration);
   std::ostringstream why;
-  why << "h T/τ² + " << fmt(kSanityFloor) << " = " << fmt(relative) << " (h = " << fmt(bounds.stepSize)
-      << " s, T = " << fmt(duration) << " s, τ = "
+  why << "h T/τ² + " << fmt(kSanityFloor) << " = " << fmt(relative)
+      << " (h = " << fmt(bounds.stepSize) << " s, T = " << fmt(duration) << " s, τ = "
       << (std::isfinite(bounds.timeScale) ? fmt(bounds.timeScale) + " s: " + bounds.timeScaleSource
                                           : std::string("none: the scene has no time scale"))
       << ")";
@@ -530,7 +530,7 @@ std::optional<CheckViolation> sanityViolation(const pbd::Scene& scene, const Cas
       const double linear =
           (mk.linear - m0.linear - m0.mass * g * elapsed).norm() / std::max(scales.linear, 1e-300);
       const double angular = (mk.angular - m0.angular).norm() / std::max(scales.angular, 1e-300);
-      const char* check = linear > relative ? "linear_momentum"
+      const char* check = linear > relative    ? "linear_momentum"
                           : angular > relative ? "angular_momentum"
                                                : nullptr;
       if (!check) continue;

@@ -24,8 +24,9 @@
 namespace pbdval {
 
 /// A failed check: its name ("initial_state", "unit_quaternion", "velocity_consistency",
-/// "angular_velocity_consistency", "velocity_at_rest", "energy_created", "speed", "linear_momentum",
-/// "angular_momentum") and one sentence naming the body, the sample, the value and the bound.
+/// "angular_velocity_consistency", "velocity_at_rest", "energy_created", "speed",
+/// "linear_momentum", "angular_momentum") and one sentence naming the body, the sample, the value
+/// and the bound.
 struct CheckViolation {
   std::string check;
   std::string message;
@@ -97,11 +98,11 @@ std::optional<CheckViolation> boundaryViolation(const pbd::Scene& scene,
 
 /// What the sanity bounds of a scene are, derived from the Scene alone.
 struct SanityBounds {
-  bool passive = false;     ///< no motors and no energy the measured E leaves out
-  std::string notPassive;   ///< why not (empty when passive)
-  bool isolated = false;    ///< no static body or particle to push against, no fluid
-  std::string notIsolated;  ///< why not (empty when isolated)
-  double timeScale = 0;     ///< τ, s: the scene's fastest time scale (∞ when it has none)
+  bool passive = false;         ///< no motors and no energy the measured E leaves out
+  std::string notPassive;       ///< why not (empty when passive)
+  bool isolated = false;        ///< no static body or particle to push against, no fluid
+  std::string notIsolated;      ///< why not (empty when isolated)
+  double timeScale = 0;         ///< τ, s: the scene's fastest time scale (∞ when it has none)
   std::string timeScaleSource;  ///< which term set τ ("gravity over RigidBodies[2]'s size", ...)
   double stepSize = 0;          ///< h, s: Simulation.timeStepSize
   /// The relative bound over a run of `duration` seconds: h T / τ² + 1e-6 (docs/metrics.md).

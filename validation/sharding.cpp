@@ -216,7 +216,8 @@ ResultsFile mergeShards(const std::vector<ShardResults>& shards, const std::stri
     if (fromRuns != recorded)
       throw std::invalid_argument(
           "the shards' runs, merged in plan order, are not the plan they were run from "
-          "(metadata.planDigest " + recorded + ", the runs give " + fromRuns +
+          "(metadata.planDigest " +
+          recorded + ", the runs give " + fromRuns +
           "): a run was relabelled, reordered or edited in a shard's results.json");
   }
   for (const ShardResults& s : shards)

@@ -32,8 +32,8 @@ StepPlan planSteps(const RunLength& length, double stepSize) {
   const double steps = std::round(length.duration / stepSize);
   if (!(steps <= kMaxStepsPerRun)) {
     std::ostringstream message;
-    message << "a duration of " << length.duration << " s at a step of " << stepSize
-            << " s is " << steps << " steps, more than the " << kMaxStepsPerRun
+    message << "a duration of " << length.duration << " s at a step of " << stepSize << " s is "
+            << steps << " steps, more than the " << kMaxStepsPerRun
             << " one run may take: shorten the duration or enlarge the step";
     throw std::invalid_argument(message.str());
   }
@@ -72,8 +72,7 @@ std::string divergenceReason(const State& state) {
              << " s (|x| = " << b.position.norm() << " m, |v| = " << b.velocity.norm() << " m/s)";
     return reason.str();
   }
-  for (std::size_t i = 0; i < state.particles.size(); ++i)
-  {
+  for (std::size_t i = 0; i < state.particles.size(); ++i) {
     const ParticleState& p = state.particles[i];
     if (!p.position.allFinite() || !p.velocity.allFinite()) {
       std::ostringstream reason;
@@ -82,8 +81,8 @@ std::string divergenceReason(const State& state) {
     }
     if (p.position.norm() > kDivergenceLimit || p.velocity.norm() > kDivergenceLimit) {
       std::ostringstream reason;
-      reason << "particle " << i << " blew up at t = " << state.time << " s (|x| = "
-             << p.position.norm() << " m, |v| = " << p.velocity.norm() << " m/s)";
+      reason << "particle " << i << " blew up at t = " << state.time
+             << " s (|x| = " << p.position.norm() << " m, |v| = " << p.velocity.norm() << " m/s)";
       return reason.str();
     }
   }
@@ -181,7 +180,8 @@ class RunChecks final : public RunObserver {
         applyBoundaryViolation(*boundary_->violation(), plan_.stride * stepsPerStep_, outcome_);
       return;
     }
-    if (boundary_->finish()) applyBoundaryViolation(*boundary_->violation(), stepsPerStep_, outcome_);
+    if (boundary_->finish())
+      applyBoundaryViolation(*boundary_->violation(), stepsPerStep_, outcome_);
     if (outcome_.status == RunStatus::Ok && plan_.stride > 1 && sampled_->finish() &&
         sampled_->violation()->aboutVelocities)
       applyBoundaryViolation(*sampled_->violation(), plan_.stride * stepsPerStep_, outcome_);

@@ -52,8 +52,9 @@ void printSummaryTable(std::ostream& out, const std::vector<RunRecord>& runs) {
         // Why, on a line of its own under the metrics: the check, the value and the bound.
         std::string reason = r.reason;
         if (reason.size() > 110) reason = reason.substr(0, 107) + "...";
-        out << '\n' << padded("", caseWidth) << "  " << padded("", runWidth) << "  "
-            << padded("", 11) << reason;
+        out << '\n'
+            << padded("", caseWidth) << "  " << padded("", runWidth) << "  " << padded("", 11)
+            << reason;
       }
     } else {
       std::string reason = r.reason;

@@ -152,13 +152,12 @@ std::vector<std::size_t> asymptoticRange(const std::string& parameter,
     for (std::size_t r = k + 1; r < rows.size(); ++r) {
       const double value = parameterValues[rows[r]][column];
       fit.excluded.push_back(
-          {value, r == k + 1
-                      ? "on a floor: from " + shortNumber(local.from) + " to " +
-                            shortNumber(local.to) + " the error fell by a factor " +
-                            shortNumber(errors[rows[k]] / errors[rows[k + 1]]) + " only (local order " +
-                            shortNumber(local.order) + ", under half the first, " +
-                            shortNumber(first) + ")"
-                      : "finer than the floor at " + shortNumber(local.to)});
+          {value, r == k + 1 ? "on a floor: from " + shortNumber(local.from) + " to " +
+                                   shortNumber(local.to) + " the error fell by a factor " +
+                                   shortNumber(errors[rows[k]] / errors[rows[k + 1]]) +
+                                   " only (local order " + shortNumber(local.order) +
+                                   ", under half the first, " + shortNumber(first) + ")"
+                             : "finer than the floor at " + shortNumber(local.to)});
     }
     fit.flags.push_back("floor");
     rows.resize(k + 1);
@@ -197,8 +196,8 @@ SweepFit fitConvergence(const std::string& method, const std::vector<std::string
   }
   std::vector<std::size_t> rows = usable;
   if (varying.size() == 1)
-    rows = asymptoticRange(parameterNames[varying[0]], parameterValues, errors, usable,
-                           varying[0], fit);
+    rows = asymptoticRange(parameterNames[varying[0]], parameterValues, errors, usable, varying[0],
+                           fit);
   leastSquaresFit(parameterNames, parameterValues, errors, rows, varying, fit);
   if (rows.size() < varying.size() + 2) fit.flags.push_back("too_few_points");
   if (fit.rSquared < kMinimumRSquared) fit.flags.push_back("r_squared_below_0.99");
@@ -223,12 +222,14 @@ SweepFit fitConvergence(const std::string& method, const std::vector<std::string
     warnings.push_back(std::to_string(fit.excluded.size()) +
                        " finest point(s) on a floor left out of the fit");
   if (std::find(fit.flags.begin(), fit.flags.end(), "r_squared_below_0.99") != fit.flags.end())
-    warnings.push_back("R^2 " + shortNumber(fit.rSquared) +
-                       " < 0.99: the points do not follow one power law, the order is not reliable");
+    warnings.push_back(
+        "R^2 " + shortNumber(fit.rSquared) +
+        " < 0.99: the points do not follow one power law, the order is not reliable");
   if (std::find(fit.flags.begin(), fit.flags.end(), "too_few_points") != fit.flags.end())
     warnings.push_back("only " + std::to_string(fit.points) +
                        " points in the fit: add refinements to confirm the order");
-  for (const std::string& w : warnings) fit.warning += (fit.warning.empty() ? "" : "; ") + w;
+  for (const std::string& w : warnings)
+    fit.warning += (fit.warning.empty() ? "" : "; ") + w;
   return fit;
 }
 
@@ -313,7 +314,8 @@ SweepPlan planSweep(const SweepOptions& options, const EngineRegistry& registry)
       throw OptionError(options.caseFile +
                         ": no --param given and the case declares no Validation.sweeps");
     const SweepSpec& declared = spec.sweeps.front();
-    for (const auto& [name, values] : declared.parameters) plan.parameters.emplace_back(name, values);
+    for (const auto& [name, values] : declared.parameters)
+      plan.parameters.emplace_back(name, values);
     if (plan.methods.empty()) plan.methods = declared.methods;
     if (plan.metric.empty()) plan.metric = declared.metric;
   }
@@ -345,8 +347,9 @@ SweepPlan planSweep(const SweepOptions& options, const EngineRegistry& registry)
   const double common = commonSampleInterval(steps, wanted);
   const double sampleInterval = common > 0 ? common : wanted;
   if (common == 0)
-    plan.notes.push_back("no sample interval is a whole number of every swept step: runs are "
-                         "compared with the reference by cubic Hermite interpolation");
+    plan.notes.push_back(
+        "no sample interval is a whole number of every swept step: runs are "
+        "compared with the reference by cubic Hermite interpolation");
 
   checkSweepNames(plan, !options.methods.empty(), options.metric.empty(), registry);
   for (const std::string& method : plan.methods) {
@@ -369,7 +372,8 @@ SweepPlan planSweep(const SweepOptions& options, const EngineRegistry& registry)
       r.caseFile = options.caseFile;
       r.engine = info.engine;
       r.method = method;
-      for (const auto& [name, value] : values) r.assignments.push_back(name + "=" + value);
+      for (const auto& [name, value] : values)
+        r.assignments.push_back(name + "=" + value);
       r.referenceMode = options.referenceMode;
       r.fineDivisor = options.fineDivisor;
       if (options.referenceMode == "fine") r.referenceStepSize = smallestStep / options.fineDivisor;
@@ -429,7 +433,8 @@ SweepResult collectSweep(const SweepPlan& plan, const std::vector<RunRecord>& re
   markParetoFront(result.points);
 
   std::vector<std::string> names;
-  for (const auto& [name, values] : plan.parameters) names.push_back(name);
+  for (const auto& [name, values] : plan.parameters)
+    names.push_back(name);
   for (const std::string& method : plan.methods) {
     std::vector<std::vector<double>> values;
     std::vector<double> errors;

@@ -46,10 +46,10 @@ struct SweepPoint {
   std::string method;
   std::vector<std::pair<std::string, std::string>> values;
   RunRecord record;
-  double metric = 0;    ///< NaN when the run failed or lacks the metric
-  double wallTime = 0;  ///< s, the median of wallTimes
+  double metric = 0;              ///< NaN when the run failed or lacks the metric
+  double wallTime = 0;            ///< s, the median of wallTimes
   std::vector<double> wallTimes;  ///< s, of every pass over the run (the first: its record's)
-  bool pareto = false;  ///< on the error/wall-time Pareto front (over all methods)
+  bool pareto = false;            ///< on the error/wall-time Pareto front (over all methods)
 };
 
 /// The order between two successive refinements of one parameter: log(e₁/e₂) / log(x₁/x₂)

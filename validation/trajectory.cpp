@@ -56,8 +56,8 @@ namespace {
 using RowSink = std::function<void(const double* fields, const std::string& where)>;
 
 /// The rows of a CSV with exactly `header` on its first line and `columns` numbers per line.
-void parseCsvRows(const std::string& text, const char* header, int columns,
-                  const std::string& path, const RowSink& row) {
+void parseCsvRows(const std::string& text, const char* header, int columns, const std::string& path,
+                  const RowSink& row) {
   std::istringstream in(text);
   std::string line;
   if (!std::getline(in, line) || line != header)
@@ -90,11 +90,13 @@ void parseNpyRows(const std::string& bytes, int columns, const std::string& path
                               shape + ", C order: docs/external-engines.md#trajectory)");
   };
   static const std::string kMagic = "\x93NUMPY";
-  if (bytes.size() < 10 || bytes.compare(0, kMagic.size(), kMagic) != 0) throw fail("the NPY magic");
+  if (bytes.size() < 10 || bytes.compare(0, kMagic.size(), kMagic) != 0)
+    throw fail("the NPY magic");
   const int major = static_cast<unsigned char>(bytes[6]);
   std::size_t headerLength = 0, offset = 0;
   if (major == 1) {
-    headerLength = static_cast<unsigned char>(bytes[8]) | (static_cast<unsigned char>(bytes[9]) << 8);
+    headerLength =
+        static_cast<unsigned char>(bytes[8]) | (static_cast<unsigned char>(bytes[9]) << 8);
     offset = 10;
   } else if (major == 2 || major == 3) {
     if (bytes.size() < 12) throw fail("a complete NPY preamble");
@@ -115,7 +117,8 @@ void parseNpyRows(const std::string& bytes, int columns, const std::string& path
   const char* end = header.data() + header.size();
   std::size_t rows = 0, found = 0;
   auto r = std::from_chars(p, end, rows);
-  if (r.ec != std::errc() || r.ptr + 2 > end || r.ptr[0] != ',' || r.ptr[1] != ' ') throw fail(shape);
+  if (r.ec != std::errc() || r.ptr + 2 > end || r.ptr[0] != ',' || r.ptr[1] != ' ')
+    throw fail(shape);
   r = std::from_chars(r.ptr + 2, end, found);
   if (r.ec != std::errc() || r.ptr >= end || *r.ptr != ')' || found != std::size_t(columns))
     throw fail(shape);
@@ -138,9 +141,11 @@ State& sampleOfRow(Trajectory& trajectory, const double* fields, const std::stri
                    const char* idName) {
   for (int f = 0; f < 2; ++f)
     if (!std::isfinite(fields[f]))
-      throw std::runtime_error(where + ": field " + std::to_string(f + 1) + " is not a finite number");
+      throw std::runtime_error(where + ": field " + std::to_string(f + 1) +
+                               " is not a finite number");
   if (fields[1] != std::floor(fields[1]) || std::abs(fields[1]) > 2147483647.0)
-    throw std::runtime_error(where + ": the " + std::string(idName) + " (field 2) is not an integer");
+    throw std::runtime_error(where + ": the " + std::string(idName) +
+                             " (field 2) is not an integer");
   if (trajectory.samples.empty() || trajectory.samples.back().time != fields[0]) {
     trajectory.samples.emplace_back();
     trajectory.samples.back().time = fields[0];
@@ -204,8 +209,9 @@ Trajectory readTrajectoryCsv(const std::string& path) {
 
 Trajectory parseTrajectoryCsv(const std::string& text, const std::string& sourceName) {
   Trajectory trajectory;
-  parseCsvRows(text, kTrajectoryCsvHeader, 15, pbd::printableText(sourceName),
-               [&](const double* f, const std::string& where) { appendBodyRow(trajectory, f, where); });
+  parseCsvRows(
+      text, kTrajectoryCsvHeader, 15, pbd::printableText(sourceName),
+      [&](const double* f, const std::string& where) { appendBodyRow(trajectory, f, where); });
   return trajectory;
 }
 
@@ -215,22 +221,25 @@ Trajectory readTrajectoryNpy(const std::string& path) {
 
 Trajectory parseTrajectoryNpy(const std::string& bytes, const std::string& sourceName) {
   Trajectory trajectory;
-  parseNpyRows(bytes, 15, pbd::printableText(sourceName),
-               [&](const double* f, const std::string& where) { appendBodyRow(trajectory, f, where); });
+  parseNpyRows(
+      bytes, 15, pbd::printableText(sourceName),
+      [&](const double* f, const std::string& where) { appendBodyRow(trajectory, f, where); });
   return trajectory;
 }
 
 Trajectory parseParticleTrajectoryCsv(const std::string& text, const std::string& sourceName) {
   Trajectory trajectory;
-  parseCsvRows(text, kParticleCsvHeader, 8, pbd::printableText(sourceName),
-               [&](const double* f, const std::string& where) { appendParticleRow(trajectory, f, where); });
+  parseCsvRows(
+      text, kParticleCsvHeader, 8, pbd::printableText(sourceName),
+      [&](const double* f, const std::string& where) { appendParticleRow(trajectory, f, where); });
   return trajectory;
 }
 
 Trajectory parseParticleTrajectoryNpy(const std::string& bytes, const std::string& sourceName) {
   Trajectory trajectory;
-  parseNpyRows(bytes, 8, pbd::printableText(sourceName),
-               [&](const double* f, const std::string& where) { appendParticleRow(trajectory, f, where); });
+  parseNpyRows(
+      bytes, 8, pbd::printableText(sourceName),
+      [&](const double* f, const std::string& where) { appendParticleRow(trajectory, f, where); });
   return trajectory;
 }
 
@@ -242,15 +251,17 @@ Trajectory readParticleTrajectory(const std::string& path) {
 
 Trajectory parseSegmentTrajectoryCsv(const std::string& text, const std::string& sourceName) {
   Trajectory trajectory;
-  parseCsvRows(text, kSegmentCsvHeader, 9, pbd::printableText(sourceName),
-               [&](const double* f, const std::string& where) { appendSegmentRow(trajectory, f, where); });
+  parseCsvRows(
+      text, kSegmentCsvHeader, 9, pbd::printableText(sourceName),
+      [&](const double* f, const std::string& where) { appendSegmentRow(trajectory, f, where); });
   return trajectory;
 }
 
 Trajectory parseSegmentTrajectoryNpy(const std::string& bytes, const std::string& sourceName) {
   Trajectory trajectory;
-  parseNpyRows(bytes, 9, pbd::printableText(sourceName),
-               [&](const double* f, const std::string& where) { appendSegmentRow(trajectory, f, where); });
+  parseNpyRows(
+      bytes, 9, pbd::printableText(sourceName),
+      [&](const double* f, const std::string& where) { appendSegmentRow(trajectory, f, where); });
   return trajectory;
 }
 
@@ -290,16 +301,27 @@ void writeNpyRow(std::ostream& out, const double (&row)[N]) {
 
 void writeTrajectoryNpy(std::ostream& out, const std::vector<State>& samples) {
   std::size_t rows = 0;
-  for (const State& s : samples) rows += s.bodies.size();
+  for (const State& s : samples)
+    rows += s.bodies.size();
   writeNpyPreamble(out, rows, 15);
   for (const State& s : samples)
     for (const BodyState& b : s.bodies) {
       const Quaternion q = b.rotation.w() < 0 ? Quaternion(-b.rotation.coeffs()) : b.rotation;
-      const double row[15] = {s.time, double(b.id), double(b.position.x()), double(b.position.y()),
-                              double(b.position.z()), double(q.w()), double(q.x()), double(q.y()),
-                              double(q.z()), double(b.velocity.x()), double(b.velocity.y()),
-                              double(b.velocity.z()), double(b.angularVelocity.x()),
-                              double(b.angularVelocity.y()), double(b.angularVelocity.z())};
+      const double row[15] = {s.time,
+                              double(b.id),
+                              double(b.position.x()),
+                              double(b.position.y()),
+                              double(b.position.z()),
+                              double(q.w()),
+                              double(q.x()),
+                              double(q.y()),
+                              double(q.z()),
+                              double(b.velocity.x()),
+                              double(b.velocity.y()),
+                              double(b.velocity.z()),
+                              double(b.angularVelocity.x()),
+                              double(b.angularVelocity.y()),
+                              double(b.angularVelocity.z())};
       writeNpyRow(out, row);
     }
 }
@@ -331,14 +353,20 @@ void writeParticleCsvRows(std::ostream& out, const State& state) {
 
 void writeParticleTrajectoryNpy(std::ostream& out, const std::vector<State>& samples) {
   std::size_t rows = 0;
-  for (const State& s : samples) rows += s.particles.size();
+  for (const State& s : samples)
+    rows += s.particles.size();
   writeNpyPreamble(out, rows, 8);
   for (const State& s : samples)
     for (std::size_t i = 0; i < s.particles.size(); ++i) {
       const ParticleState& p = s.particles[i];
-      const double row[8] = {s.time, double(i), double(p.position.x()), double(p.position.y()),
-                             double(p.position.z()), double(p.velocity.x()),
-                             double(p.velocity.y()), double(p.velocity.z())};
+      const double row[8] = {s.time,
+                             double(i),
+                             double(p.position.x()),
+                             double(p.position.y()),
+                             double(p.position.z()),
+                             double(p.velocity.x()),
+                             double(p.velocity.y()),
+                             double(p.velocity.z())};
       writeNpyRow(out, row);
     }
 }
@@ -359,9 +387,9 @@ void writeSegmentCsvRows(std::ostream& out, const State& state) {
     end += timeLength;
     *end++ = ',';
     end = std::to_chars(end, end + 24, i).ptr;
-    for (double v : {double(q.w()), double(q.x()), double(q.y()), double(q.z()),
-                     double(s.angularVelocity.x()), double(s.angularVelocity.y()),
-                     double(s.angularVelocity.z())}) {
+    for (double v :
+         {double(q.w()), double(q.x()), double(q.y()), double(q.z()), double(s.angularVelocity.x()),
+          double(s.angularVelocity.y()), double(s.angularVelocity.z())}) {
       *end++ = ',';
       end = pbd::writeReal(end, v);
     }
@@ -372,7 +400,8 @@ void writeSegmentCsvRows(std::ostream& out, const State& state) {
 
 void writeSegmentTrajectoryNpy(std::ostream& out, const std::vector<State>& samples) {
   std::size_t rows = 0;
-  for (const State& s : samples) rows += s.segments.size();
+  for (const State& s : samples)
+    rows += s.segments.size();
   writeNpyPreamble(out, rows, 9);
   for (const State& s : samples)
     for (std::size_t i = 0; i < s.segments.size(); ++i) {
@@ -395,14 +424,16 @@ void writeParticleTrajectory(std::ostream& out, const std::vector<State>& sample
                              TrajectoryFormat format) {
   if (format == TrajectoryFormat::Npy) return writeParticleTrajectoryNpy(out, samples);
   writeParticleCsvHeader(out);
-  for (const State& s : samples) writeParticleCsvRows(out, s);
+  for (const State& s : samples)
+    writeParticleCsvRows(out, s);
 }
 
 void writeSegmentTrajectory(std::ostream& out, const std::vector<State>& samples,
                             TrajectoryFormat format) {
   if (format == TrajectoryFormat::Npy) return writeSegmentTrajectoryNpy(out, samples);
   writeSegmentCsvHeader(out);
-  for (const State& s : samples) writeSegmentCsvRows(out, s);
+  for (const State& s : samples)
+    writeSegmentCsvRows(out, s);
 }
 
 bool hasNpyExtension(const std::string& path) {

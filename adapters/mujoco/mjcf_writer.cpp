@@ -1,10 +1,10 @@
-#include "pbd/io/number_text.h"
 #include "adapters/mujoco/mjcf_writer.h"
 
 #include <algorithm>
 #include <sstream>
 
 #include "adapters/mujoco/contact_softness.h"
+#include "pbd/io/number_text.h"
 
 namespace pbdval::mujoco {
 namespace {

@@ -51,7 +51,8 @@ struct MjcfModel {
 /// MuJoCo body name of Scene::rigidBodies[index].
 std::string bodyName(std::size_t index);
 
-/// Requires a scene without unsupported features (MujocoEngine::unsupported, from mujocoFeatures()).
+/// Requires a scene without unsupported features (MujocoEngine::unsupported, from
+/// mujocoFeatures()).
 MjcfModel writeMjcf(const pbd::Scene& scene, const MujocoSettings& settings,
                     const KinematicTree& tree);
 

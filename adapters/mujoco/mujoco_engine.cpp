@@ -1,4 +1,3 @@
-#include "pbd/io/number_text.h"
 #include "adapters/mujoco/mujoco_engine.h"
 
 #include <mujoco/mujoco.h>
@@ -8,6 +7,7 @@
 
 #include "adapters/mujoco/mujoco_errors.h"
 #include "adapters/mujoco/mujoco_model_fields.h"
+#include "pbd/io/number_text.h"
 
 namespace pbdval {
 
@@ -108,7 +108,8 @@ MujocoEngine::~MujocoEngine() = default;
 std::vector<std::string> MujocoEngine::unsupported(const pbd::Scene& scene,
                                                    const Method& method) const {
   std::vector<std::string> missing;
-  for (UnsupportedUse& use : unsupportedUses(mujocoFeatures(), mujoco::featureUses(scene), method.name))
+  for (UnsupportedUse& use :
+       unsupportedUses(mujocoFeatures(), mujoco::featureUses(scene), method.name))
     missing.push_back(std::move(use.message));
   return missing;
 }
@@ -336,9 +337,8 @@ std::map<std::string, std::string> MujocoEngine::effectiveSettings() const {
   if (m != nullptr) {
     s["nconmax"] = std::to_string(m->nconmax);
     s["njmax"] = std::to_string(m->njmax);
-    s["gravity"] = pbd::formatReal(m->opt.gravity[0]) + " " +
-                   pbd::formatReal(m->opt.gravity[1]) + " " +
-                   pbd::formatReal(m->opt.gravity[2]);
+    s["gravity"] = pbd::formatReal(m->opt.gravity[0]) + " " + pbd::formatReal(m->opt.gravity[1]) +
+                   " " + pbd::formatReal(m->opt.gravity[2]);
   }
   for (const auto& [pair, law] : mjcf_.pairSettings)
     s["contact." + pair] = law;

@@ -10,9 +10,9 @@
 
 #include <memory>
 
+#include "adapters/engine.h"
 #include "adapters/mujoco/mjcf_writer.h"
 #include "adapters/mujoco/mujoco_settings.h"
-#include "adapters/engine.h"
 
 struct mjModel_;
 struct mjData_;

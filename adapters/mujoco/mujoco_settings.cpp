@@ -28,14 +28,17 @@ constexpr IntegratorMethod kIntegrators[] = {
 constexpr double kMinimumTimeConstantSteps = 2;
 
 ParameterSpec impedance(std::string name, double value, std::string description) {
-  return realParameter(std::move(name), value, 0.0001, 0.9999, "", std::move(description));  // mjMIN/MAXIMP
+  return realParameter(std::move(name), value, 0.0001, 0.9999, "",
+                       std::move(description));  // mjMIN/MAXIMP
 }
 
 std::vector<ParameterSpec> parameters() {
-  ParameterSpec width = realParameter("solimpWidth", 0.001, 0, 1e6, "m",
-                                      "solimp width: distance over which the impedance goes from d0 to dwidth");
+  ParameterSpec width =
+      realParameter("solimpWidth", 0.001, 0, 1e6, "m",
+                    "solimp width: distance over which the impedance goes from d0 to dwidth");
   width.minimumExclusive = true;
-  ParameterSpec midpoint = realParameter("solimpMidpoint", 0.5, 0, 1, "", "solimp midpoint of the impedance sigmoid");
+  ParameterSpec midpoint =
+      realParameter("solimpMidpoint", 0.5, 0, 1, "", "solimp midpoint of the impedance sigmoid");
   midpoint.minimumExclusive = midpoint.maximumExclusive = true;
   ParameterSpec dampratio = realParameter("equalityDampratio", 1, 0, 1e6, "",
                                           "damping ratio of equality constraints (solref[1])");
@@ -44,13 +47,16 @@ std::vector<ParameterSpec> parameters() {
       choiceParameter("solver", "Newton", {"Newton", "CG", "PGS"}, "constraint solver"),
       integerParameter("iterations", 100, 1, 1e6, "maximum solver iterations per step"),
       realParameter("tolerance", 1e-8, 0, 1, "", "solver tolerance (relative cost improvement)"),
-      choiceParameter("cone", "elliptic", {"elliptic", "pyramidal"},
-                      "friction cone: elliptic (isotropic) or pyramidal (4 edges in the contact frame)"),
+      choiceParameter(
+          "cone", "elliptic", {"elliptic", "pyramidal"},
+          "friction cone: elliptic (isotropic) or pyramidal (4 edges in the contact frame)"),
       durationParameter("contactTimeconst", "4h", kMinimumTimeConstantSteps,
                         "contact time constant tau; stiffness 1/tau^2, damping from the pair's "
                         "restitution"),
-      impedance("solimpD0", 0.99, "impedance of contacts and equality constraints at zero violation (solimp[0])"),
-      impedance("solimpDwidth", 0.99, "impedance at a violation of solimpWidth or more (solimp[1])"),
+      impedance("solimpD0", 0.99,
+                "impedance of contacts and equality constraints at zero violation (solimp[0])"),
+      impedance("solimpDwidth", 0.99,
+                "impedance at a violation of solimpWidth or more (solimp[1])"),
       width,
       midpoint,
       realParameter("solimpPower", 2, 1, 1e6, "", "power of the impedance sigmoid (solimp[4])"),
@@ -87,7 +93,8 @@ MujocoSettings mujocoSettingsFor(const pbd::Scene& scene, const Method& method) 
   s.iterations = static_cast<int>(method.integer("iterations"));
   s.tolerance = method.real("tolerance");
   s.contactTimeConstant = method.seconds("contactTimeconst", s.stepSize);
-  s.equalitySolref = {method.seconds("equalityTimeconst", s.stepSize), method.real("equalityDampratio")};
+  s.equalitySolref = {method.seconds("equalityTimeconst", s.stepSize),
+                      method.real("equalityDampratio")};
   s.servoTimeConstant = method.seconds("servoTimeconst", s.stepSize);
   s.solimp = {method.real("solimpD0"), method.real("solimpDwidth"), method.real("solimpWidth"),
               method.real("solimpMidpoint"), method.real("solimpPower")};

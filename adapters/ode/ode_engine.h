@@ -13,11 +13,11 @@
 
 #include <memory>
 
+#include "adapters/engine.h"
 #include "adapters/ode/ode_joints.h"
 #include "adapters/ode/ode_runtime.h"
 #include "adapters/ode/ode_settings.h"
 #include "adapters/ode/ode_world.h"
-#include "adapters/engine.h"
 
 namespace pbdval {
 

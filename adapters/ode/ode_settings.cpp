@@ -43,10 +43,11 @@ std::vector<MethodInfo> odeMethods() {
   quick.description =
       "ODE 0.16 dWorldQuickStep: semi-implicit Euler, projected Gauss-Seidel with successive "
       "over-relaxation";
-  ParameterSpec sor = realParameter("sor", 1.3, 0, 2, "", "over-relaxation factor w (ODE's default)");
+  ParameterSpec sor =
+      realParameter("sor", 1.3, 0, 2, "", "over-relaxation factor w (ODE's default)");
   sor.minimumExclusive = sor.maximumExclusive = true;
-  quick.parameters = {integerParameter("iterations", 20, 1, 1 << 20, "SOR sweeps per step (ODE's default)"),
-                      sor};
+  quick.parameters = {
+      integerParameter("iterations", 20, 1, 1 << 20, "SOR sweeps per step (ODE's default)"), sor};
   for (ParameterSpec& p : commonParameters())
     quick.parameters.push_back(std::move(p));
   return {step, quick};

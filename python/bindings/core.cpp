@@ -31,8 +31,8 @@
 #include "validation/engines/standard_engines.h"
 #include "validation/gate.h"
 #include "validation/interrupts.h"
-#include "validation/mechanics.h"
 #include "validation/measure_trajectory.h"
+#include "validation/mechanics.h"
 #include "validation/metrics.h"
 #include "validation/overrides.h"
 #include "validation/references/reference.h"
@@ -229,7 +229,8 @@ py::dict statesDict(const std::vector<State>& samples, std::size_t bodies) {
         R(k, i, 1) = double(g.rotation.x());
         R(k, i, 2) = double(g.rotation.y());
         R(k, i, 3) = double(g.rotation.z());
-        for (int a = 0; a < 3; ++a) Omega(k, i, a) = double(g.angularVelocity[a]);
+        for (int a = 0; a < 3; ++a)
+          Omega(k, i, a) = double(g.angularVelocity[a]);
       }
     }
     d["segment_rotations"] = rotations;
@@ -297,8 +298,10 @@ std::vector<State> samplesOf(const pbd::Scene& scene, const Array& times, const 
       std::vector<ParticleState>& particles = samples[std::size_t(k)].particles;
       particles.resize(std::size_t(p));
       for (py::ssize_t i = 0; i < p; ++i) {
-        particles[std::size_t(i)].position = Vector3(Real(X(k, i, 0)), Real(X(k, i, 1)), Real(X(k, i, 2)));
-        particles[std::size_t(i)].velocity = Vector3(Real(U(k, i, 0)), Real(U(k, i, 1)), Real(U(k, i, 2)));
+        particles[std::size_t(i)].position =
+            Vector3(Real(X(k, i, 0)), Real(X(k, i, 1)), Real(X(k, i, 2)));
+        particles[std::size_t(i)].velocity =
+            Vector3(Real(U(k, i, 0)), Real(U(k, i, 1)), Real(U(k, i, 2)));
       }
     }
   }
@@ -308,7 +311,8 @@ std::vector<State> samplesOf(const pbd::Scene& scene, const Array& times, const 
         "arrays) or neither");
   if (!segmentRotations.is_none()) {
     py::ssize_t count = 0;
-    for (const pbd::LineModelDesc& model : scene.lineModels) count += py::ssize_t(model.segmentCount());
+    for (const pbd::LineModelDesc& model : scene.lineModels)
+      count += py::ssize_t(model.segmentCount());
     const Array r = segmentRotations.cast<Array>(), w = segmentAngularVelocities.cast<Array>();
     requireShape(r, "segment_rotations", t, count, 4);
     requireShape(w, "segment_angular_velocities", t, count, 3);
@@ -562,18 +566,18 @@ py::dict measure(const Registry& registry, const SceneHandle& handle, const Arra
     const py::dict r = reference.cast<py::dict>();
     given.description = r.contains("description") ? r["description"].cast<std::string>()
                                                   : std::string("reference trajectory");
-    given.samples = samplesOf(scene, r["times"].cast<Array>(), r["positions"].cast<Array>(),
-                              r["quaternions"].cast<Array>(), r["velocities"].cast<Array>(),
-                              r["angular_velocities"].cast<Array>(),
-                              r.contains("particle_positions") ? py::object(r["particle_positions"])
-                                                               : py::object(py::none()),
-                              r.contains("particle_velocities") ? py::object(r["particle_velocities"])
-                                                                : py::object(py::none()),
-                              r.contains("segment_rotations") ? py::object(r["segment_rotations"])
-                                                              : py::object(py::none()),
-                              r.contains("segment_angular_velocities")
-                                  ? py::object(r["segment_angular_velocities"])
-                                  : py::object(py::none()));
+    given.samples = samplesOf(
+        scene, r["times"].cast<Array>(), r["positions"].cast<Array>(),
+        r["quaternions"].cast<Array>(), r["velocities"].cast<Array>(),
+        r["angular_velocities"].cast<Array>(),
+        r.contains("particle_positions") ? py::object(r["particle_positions"])
+                                         : py::object(py::none()),
+        r.contains("particle_velocities") ? py::object(r["particle_velocities"])
+                                          : py::object(py::none()),
+        r.contains("segment_rotations") ? py::object(r["segment_rotations"])
+                                        : py::object(py::none()),
+        r.contains("segment_angular_velocities") ? py::object(r["segment_angular_velocities"])
+                                                 : py::object(py::none()));
   }
   MeasuredTrajectory measured;
   MetricSeries series;

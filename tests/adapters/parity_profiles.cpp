@@ -1,10 +1,10 @@
 // One profile per engine. Each adapter's author keeps its entry; see parity_profiles.h.
-#include "engines/selftest_engine.h"
 #include "parity_profiles.h"
 
 #include <cmath>
 
 #include "adapters/engine.h"
+#include "engines/selftest_engine.h"
 
 namespace pbdval::test {
 namespace {

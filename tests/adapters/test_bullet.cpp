@@ -10,10 +10,10 @@
 #include <set>
 #include <tuple>
 
-#include "engines/selftest_engine.h"
 #include "adapters/bullet/bullet_engine.h"
 #include "adapters/bullet/bullet_shapes.h"
 #include "common/scene_fixtures.h"
+#include "engines/selftest_engine.h"
 #include "pbd/io/mesh_loader.h"
 #include "pbd/io/scene_loader.h"
 #include "validation/simulation.h"
@@ -50,8 +50,8 @@ std::vector<State> trajectory(const Scene& scene, double duration, const std::st
   BulletEngine engine;
   RunCallbacks callbacks;
   callbacks.onSample = [&](const State& s) { samples.push_back(s); };
-  const RunOutcome outcome =
-      runSimulation(engine, scene, testRegistry().resolve(method, overrides), {duration, 0}, callbacks);
+  const RunOutcome outcome = runSimulation(engine, scene, testRegistry().resolve(method, overrides),
+                                           {duration, 0}, callbacks);
   EXPECT_EQ(outcome.status, RunStatus::Ok) << outcome.reason;
   return samples;
 }

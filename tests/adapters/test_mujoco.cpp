@@ -9,12 +9,12 @@
 #include <filesystem>
 #include <functional>
 
-#include "engines/selftest_engine.h"
 #include "adapters/mujoco/contact_softness.h"
 #include "adapters/mujoco/kinematic_tree.h"
 #include "adapters/mujoco/mujoco_engine.h"
 #include "adapters/mujoco/mujoco_errors.h"
 #include "common/scene_fixtures.h"
+#include "engines/selftest_engine.h"
 #include "pbd/io/scene_loader.h"
 #include "validation/case_spec.h"
 #include "validation/simulation.h"
@@ -107,8 +107,9 @@ TEST(MujocoMethods, SettingsResolveStepMultiplesAndRejectBadValues) {
                std::invalid_argument);
   // The same rule for a time constant given in seconds, checked once the step is known:
   // 0.003 s is 1.5 steps of 2 ms.
-  EXPECT_THROW(mujoco::mujocoSettingsFor(s, method("mujoco.euler", {{"contactTimeconst", "0.003"}})),
-               std::invalid_argument);
+  EXPECT_THROW(
+      mujoco::mujocoSettingsFor(s, method("mujoco.euler", {{"contactTimeconst", "0.003"}})),
+      std::invalid_argument);
   EXPECT_DOUBLE_EQ(
       mujoco::mujocoSettingsFor(s, method("mujoco.euler", {{"contactTimeconst", "0.004"}}))
           .contactTimeConstant,
@@ -491,8 +492,9 @@ TEST(MujocoTree, UnsupportedFeaturesAreNamed) {
       if (m.find(text) != std::string::npos) return true;
     return false;
   };
-  EXPECT_TRUE(mentions("RigidBodyParticleBallJoints[0]: rigid body–particle ball joint "
-                       "(RigidBodyParticleBallJoints): MuJoCo has no particles in this adapter"));
+  EXPECT_TRUE(
+      mentions("RigidBodyParticleBallJoints[0]: rigid body–particle ball joint "
+               "(RigidBodyParticleBallJoints): MuJoCo has no particles in this adapter"));
   EXPECT_TRUE(mentions("RigidBodies[1]: torus without a geometryFile"));
   EXPECT_TRUE(mentions("MuJoCo has no torus"));
   EXPECT_TRUE(mentions("TriangleModels[0]: cloth"));
@@ -696,8 +698,7 @@ TEST(MujocoErrors, BadNumbersStopTheRunAndNoLogFileIsWritten) {
 // --- The shipped cases ---------------------------------------------------------------------------
 
 TEST(MujocoCases, EveryCaseRunsOrNamesWhatIsMissing) {
-  const std::filesystem::path cases =
-      std::filesystem::path(PBDVAL_SOURCE_DIR) / "cases";
+  const std::filesystem::path cases = std::filesystem::path(PBDVAL_SOURCE_DIR) / "cases";
   int count = 0;
   for (const auto& entry : std::filesystem::directory_iterator(cases)) {
     if (entry.path().extension() != ".json") continue;

@@ -9,9 +9,9 @@
 #include <filesystem>
 #include <regex>
 
-#include "engines/selftest_engine.h"
 #include "adapters/ode/ode_engine.h"
 #include "common/scene_fixtures.h"
+#include "engines/selftest_engine.h"
 #include "pbd/io/scene_loader.h"
 #include "pbd/math/quaternion.h"
 #include "validation/simulation.h"
@@ -301,8 +301,8 @@ TEST(OdeUnsupported, FeaturesWithoutAnODECounterpartAreNamed) {
   EXPECT_EQ(missing[0],
             "RigidBodies[0]: hollow sphere (collisionObjectType 6): ODE has no hollow shape (a "
             "wall of thickness thicknessSDF)");
-  EXPECT_EQ(missing[1].rfind("RigidBodies[1]: signed distance field without a geometryFile mesh", 0),
-            0u)
+  EXPECT_EQ(
+      missing[1].rfind("RigidBodies[1]: signed distance field without a geometryFile mesh", 0), 0u)
       << missing[1];
   EXPECT_EQ(missing[2],
             "RigidBodyParticleBallJoints[0]: rigid body–particle ball joint "
@@ -464,8 +464,8 @@ TEST(OdeJoints, BallOnLineIsARailCarriageInTheDirectSolverOnly) {
   const std::vector<std::string> quick = engine.unsupported(s, method("ode.quickstep"));
   ASSERT_EQ(quick.size(), 1u);
   EXPECT_EQ(quick[0].rfind("BallOnLineJoints[0]: ball-on-line joint (BallOnLineJoints): ODE has no "
-                          "ball-on-line joint",
-                          0),
+                           "ball-on-line joint",
+                           0),
             0u)
       << quick[0];
   ASSERT_TRUE(engine.unsupported(s, method("ode.step")).empty());

@@ -3,9 +3,9 @@
 // range named, and the canonical text reads back to the same value.
 #include <gtest/gtest.h>
 
+#include "adapters/built_in_engines.h"
 #include "adapters/parameters.h"
 #include "engines/selftest_engine.h"
-#include "adapters/built_in_engines.h"
 #include "pbd/io/number_text.h"
 
 namespace pbdval {
@@ -34,7 +34,8 @@ TEST(Parameters, EveryDefaultOfEveryMethodParsesAndRoundTrips) {
 TEST(Parameters, RangesAreCheckedAndNamed) {
   const ParameterSpec iterations = integerParameter("iterations", 10, 1, 100, "sweeps");
   EXPECT_EQ(parseParameter(iterations, "100", "m").number, 100);
-  EXPECT_EQ(errorOf(iterations, "0"), "method m: iterations: expected an integer in [1, 100], got '0'");
+  EXPECT_EQ(errorOf(iterations, "0"),
+            "method m: iterations: expected an integer in [1, 100], got '0'");
   EXPECT_NE(errorOf(iterations, "2.5"), "");
   EXPECT_NE(errorOf(iterations, "1e1"), "");  // integers are written as integers
   EXPECT_NE(errorOf(iterations, ""), "");

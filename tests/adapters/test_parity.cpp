@@ -7,9 +7,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "engines/selftest_engine.h"
 #include "adapters/engine.h"
 #include "common/scene_fixtures.h"
+#include "engines/selftest_engine.h"
 #include "parity_profiles.h"
 #include "validation/simulation.h"
 

@@ -80,13 +80,12 @@ TEST(PbdXpbdMethod, ParametersSelectTheXpbdStep) {
   EXPECT_EQ(defaults.xpbd.substeps, pbd::XpbdSettings{}.substeps);
   EXPECT_EQ(defaults.xpbd.speculativeMargin, pbd::XpbdSettings{}.speculativeMargin);
   const pbd::SimulationSettings set = pbdSettingsFor(
-      scene, testRegistry().resolve("pbd.xpbd", {{"substeps", "7"}, {"contactCompliance", "1e-6"}}));
+      scene,
+      testRegistry().resolve("pbd.xpbd", {{"substeps", "7"}, {"contactCompliance", "1e-6"}}));
   EXPECT_EQ(set.xpbd.substeps, 7);
   EXPECT_DOUBLE_EQ(double(set.xpbd.contactCompliance), 1e-6);
-  for (const auto& [name, value] :
-       std::vector<std::pair<std::string, std::string>>{{"substeps", "0"},
-                                                        {"substeps", "2.5"},
-                                                        {"jointLinearCompliance", "-1"}}) {
+  for (const auto& [name, value] : std::vector<std::pair<std::string, std::string>>{
+           {"substeps", "0"}, {"substeps", "2.5"}, {"jointLinearCompliance", "-1"}}) {
     try {
       testRegistry().resolve("pbd.xpbd", {{name, value}});
       ADD_FAILURE() << name << " = " << value << " accepted";

@@ -53,8 +53,10 @@ inline JointDesc rodJoint(int id, int a, int b, const Vector3& point, Real segme
 inline void addTree(Scene& s, StiffRodSolver solver) {
   StiffRodTreeDesc tree;
   tree.jsonPath = "TreeModels[0]";
-  for (std::size_t i = 0; i < s.rigidBodies.size(); ++i) tree.bodies.push_back(int(i));
-  for (std::size_t j = 0; j < s.joints.size(); ++j) tree.joints.push_back(int(j));
+  for (std::size_t i = 0; i < s.rigidBodies.size(); ++i)
+    tree.bodies.push_back(int(i));
+  for (std::size_t j = 0; j < s.joints.size(); ++j)
+    tree.joints.push_back(int(j));
   tree.solver = solver;
   s.stiffRodTrees.push_back(tree);
 }

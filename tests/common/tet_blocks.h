@@ -20,7 +20,8 @@ inline Scene tetBlock(int nx, int ny, int nz, int solidMethod) {
   const Real h = Real(0.25);
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) solid.mesh.vertices.push_back(Vector3(h * i, -h * j, h * k));
+      for (int i = 0; i < nx; ++i)
+        solid.mesh.vertices.push_back(Vector3(h * i, -h * j, h * k));
   for (int k = 0; k + 1 < nz; ++k)
     for (int j = 0; j + 1 < ny; ++j)
       for (int i = 0; i + 1 < nx; ++i) {
@@ -33,7 +34,8 @@ inline Scene tetBlock(int nx, int ny, int nz, int solidMethod) {
                                            v[std::size_t(t[2])], v[std::size_t(t[3])]});
       }
   scene.tetModels.push_back(solid);
-  for (const Vector3& v : solid.mesh.vertices) scene.particles.push_back({v, Vector3::Zero(), 1});
+  for (const Vector3& v : solid.mesh.vertices)
+    scene.particles.push_back({v, Vector3::Zero(), 1});
   scene.simulation.solidSimulationMethod = solidMethod;
   return scene;
 }
@@ -56,8 +58,12 @@ inline int appendTetCube(Scene& scene, const Vector3& corner, int cells, Real sp
         std::array<int, 8> v;
         for (int c = 0; c < 8; ++c)
           v[std::size_t(c)] = index(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1));
-        for (const std::array<int, 4>& t : std::vector<std::array<int, 4>>{
-                 {0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}}) {
+        for (const std::array<int, 4>& t : std::vector<std::array<int, 4>>{{0, 1, 3, 7},
+                                                                           {0, 1, 5, 7},
+                                                                           {0, 2, 3, 7},
+                                                                           {0, 2, 6, 7},
+                                                                           {0, 4, 5, 7},
+                                                                           {0, 4, 6, 7}}) {
           std::array<int, 4> tet{v[std::size_t(t[0])], v[std::size_t(t[1])], v[std::size_t(t[2])],
                                  v[std::size_t(t[3])]};
           const auto& p = solid.mesh.vertices;
@@ -70,7 +76,8 @@ inline int appendTetCube(Scene& scene, const Vector3& corner, int cells, Real sp
       }
   solid.id = static_cast<int>(scene.tetModels.size());
   solid.firstParticle = static_cast<int>(scene.particles.size());
-  for (const Vector3& v : solid.mesh.vertices) scene.particles.push_back({v, Vector3::Zero(), 1});
+  for (const Vector3& v : solid.mesh.vertices)
+    scene.particles.push_back({v, Vector3::Zero(), 1});
   scene.tetModels.push_back(solid);
   return static_cast<int>(scene.tetModels.size()) - 1;
 }

@@ -16,17 +16,19 @@ namespace pbdval::fuzz {
 
 using Target = void (*)(const std::uint8_t* data, std::size_t size);
 
-void sceneTarget(const std::uint8_t* data, std::size_t size);       ///< pbd::parseScene
-void caseSpecTarget(const std::uint8_t* data, std::size_t size);    ///< + parseCaseSpec
-void objTarget(const std::uint8_t* data, std::size_t size);         ///< pbd::parseObj
-void tetGenTarget(const std::uint8_t* data, std::size_t size);      ///< .node, "\n===\n", .ele
-void resultsTarget(const std::uint8_t* data, std::size_t size);     ///< parseResultsText
-void baselineTarget(const std::uint8_t* data, std::size_t size);    ///< parseBaselineText
-void trajectoryTarget(const std::uint8_t* data, std::size_t size);  ///< parseTrajectoryCsv
+void sceneTarget(const std::uint8_t* data, std::size_t size);          ///< pbd::parseScene
+void caseSpecTarget(const std::uint8_t* data, std::size_t size);       ///< + parseCaseSpec
+void objTarget(const std::uint8_t* data, std::size_t size);            ///< pbd::parseObj
+void tetGenTarget(const std::uint8_t* data, std::size_t size);         ///< .node, "\n===\n", .ele
+void resultsTarget(const std::uint8_t* data, std::size_t size);        ///< parseResultsText
+void baselineTarget(const std::uint8_t* data, std::size_t size);       ///< parseBaselineText
+void trajectoryTarget(const std::uint8_t* data, std::size_t size);     ///< parseTrajectoryCsv
 void trajectoryNpyTarget(const std::uint8_t* data, std::size_t size);  ///< parseTrajectoryNpy
-void measureTarget(const std::uint8_t* data, std::size_t size);     ///< measureTrajectory
-void simulateTarget(const std::uint8_t* data, std::size_t size);    ///< load + runSimulation, every engine
-void mergeShardTarget(const std::uint8_t* data, std::size_t size);  ///< a shard's results.json, merged
+void measureTarget(const std::uint8_t* data, std::size_t size);        ///< measureTrajectory
+void simulateTarget(const std::uint8_t* data,
+                    std::size_t size);  ///< load + runSimulation, every engine
+void mergeShardTarget(const std::uint8_t* data,
+                      std::size_t size);  ///< a shard's results.json, merged
 
 struct NamedTarget {
   const char* name;  ///< also the folder of its corpus: tests/fuzz/corpus/<name>/

@@ -1,5 +1,6 @@
-// The trajectory readers' targets (CSV and NPY): validation/trajectory.cpp needs only the pbd library, so its
-// fuzz program is built from it directly, without the engines (tests/fuzz/CMakeLists.txt).
+// The trajectory readers' targets (CSV and NPY): validation/trajectory.cpp needs only the pbd
+// library, so its fuzz program is built from it directly, without the engines
+// (tests/fuzz/CMakeLists.txt).
 #include <stdexcept>
 
 #include "fuzz_support.h"
@@ -18,7 +19,8 @@ void trajectoryTarget(const std::uint8_t* data, std::size_t size) {
 
 void trajectoryNpyTarget(const std::uint8_t* data, std::size_t size) {
   try {
-    (void)parseTrajectoryNpy(std::string(reinterpret_cast<const char*>(data), size), "trajectory.npy");
+    (void)parseTrajectoryNpy(std::string(reinterpret_cast<const char*>(data), size),
+                             "trajectory.npy");
   } catch (const std::runtime_error& e) {
     expectPrintable(e.what());
   }

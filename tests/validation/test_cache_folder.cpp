@@ -18,12 +18,15 @@ EnvironmentLookup environment(std::map<std::string, std::string> variables) {
 }
 
 TEST(CacheFolder, FromTheEnvironmentInOrderOfPrecedence) {
-  EXPECT_EQ(sdfCacheFolder(environment({{"PBDVAL_SDF_CACHE", "/tmp/explicit"}, {"XDG_CACHE_HOME", "/tmp/xdg"}})),
+  EXPECT_EQ(sdfCacheFolder(environment(
+                {{"PBDVAL_SDF_CACHE", "/tmp/explicit"}, {"XDG_CACHE_HOME", "/tmp/xdg"}})),
             "/tmp/explicit");
-  EXPECT_EQ(sdfCacheFolder(environment({{"PBDVAL_SDF_CACHE", ""}, {"HOME", "/home/a"}})), "");  // disabled
+  EXPECT_EQ(sdfCacheFolder(environment({{"PBDVAL_SDF_CACHE", ""}, {"HOME", "/home/a"}})),
+            "");  // disabled
   EXPECT_EQ(sdfCacheFolder(environment({{"XDG_CACHE_HOME", "/tmp/xdg"}, {"HOME", "/home/a"}})),
             "/tmp/xdg/pbdval");
-  EXPECT_EQ(sdfCacheFolder(environment({{"HOME", "/home/someone"}})), "/home/someone/.cache/pbdval");
+  EXPECT_EQ(sdfCacheFolder(environment({{"HOME", "/home/someone"}})),
+            "/home/someone/.cache/pbdval");
   EXPECT_EQ(sdfCacheFolder(environment({})), "");
 }
 

@@ -24,7 +24,8 @@ pbd::Scene clothAndCube(int clothMethod, int solidMethod) {
   pbd::Scene scene = test::emptyScene(Vector3::Zero());
   pbd::TriangleModelDesc cloth;
   for (int j = 0; j < 3; ++j)
-    for (int i = 0; i < 3; ++i) cloth.mesh.vertices.push_back(Vector3(0.5 * i, 0, 0.5 * j));
+    for (int i = 0; i < 3; ++i)
+      cloth.mesh.vertices.push_back(Vector3(0.5 * i, 0, 0.5 * j));
   for (int j = 0; j < 2; ++j)
     for (int i = 0; i < 2; ++i) {
       const int a = 3 * j + i;
@@ -40,8 +41,10 @@ pbd::Scene clothAndCube(int clothMethod, int solidMethod) {
   cube.mesh.tetrahedra = {{0, 1, 3, 5}, {0, 3, 2, 6}, {0, 5, 6, 4}, {3, 6, 5, 7}, {0, 3, 6, 5}};
   cube.firstParticle = 9;
   scene.tetModels.push_back(cube);
-  for (const auto& v : cloth.mesh.vertices) scene.particles.push_back({v, Vector3::Zero(), 1});
-  for (const auto& v : cube.mesh.vertices) scene.particles.push_back({v, Vector3::Zero(), 1});
+  for (const auto& v : cloth.mesh.vertices)
+    scene.particles.push_back({v, Vector3::Zero(), 1});
+  for (const auto& v : cube.mesh.vertices)
+    scene.particles.push_back({v, Vector3::Zero(), 1});
   scene.simulation.clothSimulationMethod = clothMethod;
   scene.simulation.solidSimulationMethod = solidMethod;
   scene.simulation.clothBendingMethod = 0;
@@ -115,8 +118,8 @@ TEST(Deformation, ElasticEnergyIsHalfKTimesTheSquaredConstraints) {
   EXPECT_THROW(elastic.of(partial), std::invalid_argument);
   // Σ ℓ₀²: cloth 12 · 0.25 + 4 · 0.5 = 5; cube 12 · 1 + 6 · 2 = 24. Tets: 4 of 1/6, 1 of 1/3.
   const double e = s - 1, v = s * s * s - 1;
-  const double expected = 0.5 * 300 * e * e * 5 + 0.5 * 500 * e * e * 24 +
-                          0.5 * 7000 * v * v * (4.0 / 36 + 1.0 / 9);
+  const double expected =
+      0.5 * 300 * e * e * 5 + 0.5 * 500 * e * e * 24 + 0.5 * 7000 * v * v * (4.0 / 36 + 1.0 / 9);
   EXPECT_NEAR(elastic.of(scaled(scene, s)), expected, 1e-12 * expected);
   EXPECT_NEAR(energyOf(scene, scaled(scene, s)).elastic, expected, 1e-12 * expected);
 }
@@ -152,7 +155,8 @@ TEST(Deformation, XpbdFemTetEnergyIsTheStVenantKirchhoffEnergy) {
   tet.mesh.vertices = {Vector3(0, 0, 0), Vector3(1, 0, 0), Vector3(0, 1, 0), Vector3(0, 0, 1)};
   tet.mesh.tetrahedra = {{0, 1, 2, 3}};
   scene.tetModels.push_back(tet);
-  for (const auto& v : tet.mesh.vertices) scene.particles.push_back({v, Vector3::Zero(), 1});
+  for (const auto& v : tet.mesh.vertices)
+    scene.particles.push_back({v, Vector3::Zero(), 1});
   scene.simulation.solidSimulationMethod = 3;
   scene.simulation.solid_stiffness = 5000;
   scene.simulation.solid_poissonRatio = 0.25;
@@ -160,7 +164,8 @@ TEST(Deformation, XpbdFemTetEnergyIsTheStVenantKirchhoffEnergy) {
   EXPECT_TRUE(elastic.defined());
   State stretched = initialState(scene);
   const double e = 0.03;
-  for (ParticleState& p : stretched.particles) p.position.x() *= 1 + e;
+  for (ParticleState& p : stretched.particles)
+    p.position.x() *= 1 + e;
   const double mu = 5000 / (2 * 1.25), lambda = 5000 * 0.25 / (1.25 * 0.5);
   const double a = ((1 + e) * (1 + e) - 1) / 2;
   const double expected = (1.0 / 6) * (lambda + 2 * mu) * a * a / 2;
@@ -168,7 +173,8 @@ TEST(Deformation, XpbdFemTetEnergyIsTheStVenantKirchhoffEnergy) {
   // A rigid motion stores nothing.
   State moved = initialState(scene);
   const Quaternion q = test::turn(Vector3(1, 2, 3), 0.8);
-  for (ParticleState& p : moved.particles) p.position = q * p.position + Vector3(1, 2, 3);
+  for (ParticleState& p : moved.particles)
+    p.position = q * p.position + Vector3(1, 2, 3);
   EXPECT_LT(elastic.of(moved), 1e-20);
   // Method 2 (PBD FEM) defines no energy.
   scene.simulation.solidSimulationMethod = 2;
@@ -188,13 +194,14 @@ TEST(Deformation, ComputeMetricsReportsStretchAndVolume) {
   const MetricSet m = computeMetrics(in);
   EXPECT_NEAR(m.values.at(metric::kParticleStretchMax), 0.03, 1e-14);
   // RMS over 3 samples × 34 edges of strains 0, 0.03, −0.01.
-  EXPECT_NEAR(m.values.at(metric::kParticleStretchRms),
-              std::sqrt((0.03 * 0.03 + 0.01 * 0.01) / 3), 1e-14);
+  EXPECT_NEAR(m.values.at(metric::kParticleStretchRms), std::sqrt((0.03 * 0.03 + 0.01 * 0.01) / 3),
+              1e-14);
   EXPECT_NEAR(m.values.at(metric::kTetVolumeErrorMax), std::pow(1.03, 3) - 1, 1e-14);
   EXPECT_NEAR(m.values.at(metric::kSolidVolumeErrorMax), std::pow(1.03, 3) - 1, 1e-14);
   // Without particles read back: no deformation metrics, and a note.
   std::vector<State> bare = samples;
-  for (State& s : bare) s.particles.clear();
+  for (State& s : bare)
+    s.particles.clear();
   in.samples = &bare;
   const MetricSet without = computeMetrics(in);
   EXPECT_EQ(without.values.count(metric::kParticleStretchMax), 0u);
@@ -242,8 +249,10 @@ TEST(Deformation, SolidPenetrationIsTheDeepestVertexInsideAnotherSolid) {
   pbd::Scene scene = clothAndCube(4, 6);
   pbd::TetModelDesc second = scene.tetModels[0];
   second.firstParticle = static_cast<int>(scene.particles.size());
-  for (Vector3& v : second.mesh.vertices) v += Vector3(3, 0, 0);  // at x ∈ [8, 9]: apart
-  for (const Vector3& v : second.mesh.vertices) scene.particles.push_back({v, Vector3::Zero(), 1});
+  for (Vector3& v : second.mesh.vertices)
+    v += Vector3(3, 0, 0);  // at x ∈ [8, 9]: apart
+  for (const Vector3& v : second.mesh.vertices)
+    scene.particles.push_back({v, Vector3::Zero(), 1});
   scene.tetModels.push_back(second);
   std::vector<State> samples = {initialState(scene)};
   MetricInputs in;
@@ -274,7 +283,8 @@ TEST(Deformation, RodSegmentsAreEdgesAndOnlyXpbdRodsDefineEnergy) {
     }
     pbd::appendLineModel(scene, rod);
     State state = initialState(scene);
-    for (auto& p : state.particles) p.position *= 1.02;  // about the static first point
+    for (auto& p : state.particles)
+      p.position *= 1.02;  // about the static first point
     const RestShape rest(scene);
     const RestShape::Measures m = rest.measure(state);
     EXPECT_EQ(m.edges, 3u);
@@ -315,7 +325,8 @@ TEST(StaticDisplacement, IsTheMeanDisplacementOfTheRegionFromItsStartTime) {
   for (auto [t, down] : {std::pair{0.0, 0.3}, {0.5, 0.008}, {1.0, 0.014}}) {
     State s = initialState(scene);
     s.time = t;
-    for (int i : spec.staticDisplacement->particles) s.particles[std::size_t(i)].position.y() -= down;
+    for (int i : spec.staticDisplacement->particles)
+      s.particles[std::size_t(i)].position.y() -= down;
     samples.push_back(s);
   }
   MetricInputs in;
@@ -327,10 +338,12 @@ TEST(StaticDisplacement, IsTheMeanDisplacementOfTheRegionFromItsStartTime) {
   EXPECT_NEAR(m.values.at(metric::kStaticDisplacement), 0.011, 1e-15);
   EXPECT_NEAR(m.values.at(metric::kStaticDisplacementError), 0.1, 1e-12);
   // No particles read back: absent, with a note.
-  for (State& s : samples) s.particles.clear();
+  for (State& s : samples)
+    s.particles.clear();
   const MetricSet bare = computeMetrics(in);
   EXPECT_EQ(bare.values.count(metric::kStaticDisplacement), 0u);
-  EXPECT_NE(bare.notes.end(), std::find_if(bare.notes.begin(), bare.notes.end(), [](const std::string& n) {
+  EXPECT_NE(bare.notes.end(),
+            std::find_if(bare.notes.begin(), bare.notes.end(), [](const std::string& n) {
               return n.find("static_displacement") != std::string::npos;
             }));
 }
@@ -377,7 +390,8 @@ TEST(ParticleTrajectoryError, IsTheDistanceToTheReferencesParticles) {
   reference.samples = {initialState(scene), initialState(scene)};
   reference.samples[1].time = 0.1;
   std::vector<State> samples = reference.samples;
-  for (ParticleState& p : samples[1].particles) p.position += Vector3(0.03, 0.04, 0);
+  for (ParticleState& p : samples[1].particles)
+    p.position += Vector3(0.03, 0.04, 0);
   const CaseSpec spec;
   MetricInputs in;
   in.scene = &scene;
@@ -390,10 +404,12 @@ TEST(ParticleTrajectoryError, IsTheDistanceToTheReferencesParticles) {
   EXPECT_NEAR(m.values.at(metric::kParticleTrajectoryErrorRms), 0.05 / std::sqrt(2.0), 1e-15);
   EXPECT_EQ(m.values.count(metric::kTrajectoryErrorMax), 0u);  // no bodies to compare
   // A reference without particles (an analytic model): no particle metric, a note.
-  for (State& s : reference.samples) s.particles.clear();
+  for (State& s : reference.samples)
+    s.particles.clear();
   const MetricSet without = computeMetrics(in);
   EXPECT_EQ(without.values.count(metric::kParticleTrajectoryErrorMax), 0u);
-  EXPECT_NE(without.notes.end(), std::find_if(without.notes.begin(), without.notes.end(), [](const std::string& n) {
+  EXPECT_NE(without.notes.end(),
+            std::find_if(without.notes.begin(), without.notes.end(), [](const std::string& n) {
               return n.find("particle_trajectory_error") != std::string::npos;
             }));
 }

@@ -7,8 +7,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -54,14 +54,16 @@ class ExternalEngineTest : public ::testing::Test {
       State s;
       s.time = step * 0.01;
       for (const pbd::RigidBodyDesc& b : scene_.rigidBodies)
-        s.bodies.push_back({b.id, b.initialCenterOfMass(), b.rotation, Vector3::Zero(), Vector3::Zero()});
+        s.bodies.push_back(
+            {b.id, b.initialCenterOfMass(), b.rotation, Vector3::Zero(), Vector3::Zero()});
       samples.push_back(s);
     }
     if (edit) edit(samples);
     const fs::path file = folder_ / ("trajectory-" + std::to_string(counter_++) + ".csv");
     std::ofstream out(file);
     writeCsvHeader(out);
-    for (const State& s : samples) writeCsvRows(out, s);
+    for (const State& s : samples)
+      writeCsvRows(out, s);
     return file.string();
   }
 
@@ -74,15 +76,16 @@ class ExternalEngineTest : public ::testing::Test {
       for (const pbd::RigidBodyDesc& b : scene_.rigidBodies) {
         const Vector3 x = b.initialCenterOfMass();
         const pbd::Quaternion q = b.rotation;
-        for (double v : {step * 0.01, double(b.id), double(x.x()), double(x.y()), double(x.z()),
-                         double(q.w()), double(q.x()), double(q.y()), double(q.z()), 0.0, 0.0, 0.0,
-                         0.0, 0.0, 0.0})
+        for (double v :
+             {step * 0.01, double(b.id), double(x.x()), double(x.y()), double(x.z()), double(q.w()),
+              double(q.x()), double(q.y()), double(q.z()), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0})
           rows.push_back(v);
       }
     std::string dict = header.empty() ? "{'descr': '<f8', 'fortran_order': False, 'shape': (" +
                                             std::to_string(rows.size() / 15) + ", 15), }"
                                       : header;
-    while ((10 + dict.size() + 1) % 64 != 0) dict += ' ';
+    while ((10 + dict.size() + 1) % 64 != 0)
+      dict += ' ';
     dict += '\n';
     std::string bytes = "\x93NUMPY";
     bytes += char(1);
@@ -100,7 +103,8 @@ class ExternalEngineTest : public ::testing::Test {
 
   /// Runs the shell `script` as an engine ($4 is the output folder).
   RunOutcome run(const std::string& script, double limit = 10) {
-    ExternalEngine engine("shell", ExternalCommand{{"sh", "-c", script, "engine"}, folder_.string(), ""});
+    ExternalEngine engine("shell",
+                          ExternalCommand{{"sh", "-c", script, "engine"}, folder_.string(), ""});
     Method method;
     method.name = "shell.test";
     std::vector<State> seen;
@@ -126,7 +130,8 @@ class ExternalEngineTest : public ::testing::Test {
 };
 
 TEST_F(ExternalEngineTest, AWellBehavedEngineRunsWithItsFactsAndSettings) {
-  const RunOutcome outcome = run("cp " + restingTrajectory() + " \"$4/trajectory.csv\"; " + okStatus());
+  const RunOutcome outcome =
+      run("cp " + restingTrajectory() + " \"$4/trajectory.csv\"; " + okStatus());
   ASSERT_EQ(outcome.status, RunStatus::Ok) << outcome.reason;
   EXPECT_EQ(samples_.size(), 3u);
   EXPECT_EQ(outcome.facts.engineVersion, "shell 1");
@@ -159,22 +164,23 @@ TEST_F(ExternalEngineTest, BadBinaryTrajectoriesAreErrorsNamingWhatWasExpected) 
   EXPECT_EQ(truncated.status, RunStatus::Error);
   EXPECT_TRUE(containsAll(truncated.reason, {"trajectory.npy", "6 rows", "found 100 bytes"}))
       << truncated.reason;
-  const RunOutcome floats = run(
-      "cp " + restingNpy("{'descr': '<f4', 'fortran_order': False, 'shape': (6, 15), }") +
-      " \"$4/trajectory.npy\"; " + okStatus());
+  const RunOutcome floats =
+      run("cp " + restingNpy("{'descr': '<f4', 'fortran_order': False, 'shape': (6, 15), }") +
+          " \"$4/trajectory.npy\"; " + okStatus());
   EXPECT_TRUE(containsAll(floats.reason, {"trajectory.npy", "'<f8'"})) << floats.reason;
-  const RunOutcome columns = run(
-      "cp " + restingNpy("{'descr': '<f8', 'fortran_order': False, 'shape': (6, 14), }") +
-      " \"$4/trajectory.npy\"; " + okStatus());
+  const RunOutcome columns =
+      run("cp " + restingNpy("{'descr': '<f8', 'fortran_order': False, 'shape': (6, 14), }") +
+          " \"$4/trajectory.npy\"; " + okStatus());
   EXPECT_TRUE(containsAll(columns.reason, {"shape (rows, 15)"})) << columns.reason;
-  const RunOutcome fortran = run(
-      "cp " + restingNpy("{'descr': '<f8', 'fortran_order': True, 'shape': (6, 15), }") +
-      " \"$4/trajectory.npy\"; " + okStatus());
+  const RunOutcome fortran =
+      run("cp " + restingNpy("{'descr': '<f8', 'fortran_order': True, 'shape': (6, 15), }") +
+          " \"$4/trajectory.npy\"; " + okStatus());
   EXPECT_TRUE(containsAll(fortran.reason, {"'fortran_order': False"})) << fortran.reason;
   const RunOutcome both = run("cp " + restingNpy() + " \"$4/trajectory.npy\"; cp " +
                               restingTrajectory() + " \"$4/trajectory.csv\"; " + okStatus());
   EXPECT_EQ(both.status, RunStatus::Error);
-  EXPECT_TRUE(containsAll(both.reason, {"both", "trajectory.csv", "trajectory.npy"})) << both.reason;
+  EXPECT_TRUE(containsAll(both.reason, {"both", "trajectory.csv", "trajectory.npy"}))
+      << both.reason;
   const RunOutcome text = run("echo hello > \"$4/trajectory.npy\"; " + okStatus());
   EXPECT_TRUE(containsAll(text.reason, {"NPY magic"})) << text.reason;
 }
@@ -185,13 +191,15 @@ TEST_F(ExternalEngineTest, AMissingCommandIsAnError) {
   method.name = "missing.x";
   const RunOutcome outcome = runSimulation(engine, scene_, method, length_, {});
   EXPECT_EQ(outcome.status, RunStatus::Error);
-  EXPECT_TRUE(containsAll(outcome.reason, {"could not be started", "/no/such/engine"})) << outcome.reason;
+  EXPECT_TRUE(containsAll(outcome.reason, {"could not be started", "/no/such/engine"}))
+      << outcome.reason;
 }
 
 TEST_F(ExternalEngineTest, ANonZeroExitIsAnErrorWithItsStandardError) {
   const RunOutcome outcome = run("echo 'Traceback: boom' >&2; exit 3");
   EXPECT_EQ(outcome.status, RunStatus::Error);
-  EXPECT_TRUE(containsAll(outcome.reason, {"exited with status 3", "status.json", "boom"})) << outcome.reason;
+  EXPECT_TRUE(containsAll(outcome.reason, {"exited with status 3", "status.json", "boom"}))
+      << outcome.reason;
 }
 
 TEST_F(ExternalEngineTest, AnErrorMessageAboveALongStackIsKept) {
@@ -296,7 +304,8 @@ pid_t forkHangingRun(const fs::path& folder, const pbd::Scene& scene, const RunL
         "shell",
         ExternalCommand{
             {"sh", "-c", "sleep 300 & echo $! > " + childFile.string() + "; sleep 300", "engine"},
-            folder.string(), ""});
+            folder.string(),
+            ""});
     Method method;
     method.name = "shell.hang";
     try {
@@ -362,26 +371,29 @@ TEST_F(ExternalEngineTest, AMalformedStatusIsAnError) {
 }
 
 TEST_F(ExternalEngineTest, ATruncatedTrajectoryIsAnError) {
-  const RunOutcome outcome = run(
-      "head -c 200 " + restingTrajectory() + " > \"$4/trajectory.csv\"; " + okStatus());
+  const RunOutcome outcome =
+      run("head -c 200 " + restingTrajectory() + " > \"$4/trajectory.csv\"; " + okStatus());
   EXPECT_EQ(outcome.status, RunStatus::Error);
   EXPECT_TRUE(containsAll(outcome.reason, {"trajectory.csv", "line"})) << outcome.reason;
 }
 
 TEST_F(ExternalEngineTest, WrongRowCountsTimesOrBodiesAreErrors) {
-  const RunOutcome few = run("cp " + restingTrajectory([](std::vector<State>& s) { s.pop_back(); }) +
-                             " \"$4/trajectory.csv\"; " + okStatus());
+  const RunOutcome few =
+      run("cp " + restingTrajectory([](std::vector<State>& s) { s.pop_back(); }) +
+          " \"$4/trajectory.csv\"; " + okStatus());
   EXPECT_EQ(few.status, RunStatus::Error);
   EXPECT_TRUE(containsAll(few.reason, {"2 samples, expected 3"})) << few.reason;
 
-  const RunOutcome time = run("cp " + restingTrajectory([](std::vector<State>& s) { s[1].time = 0.06; }) +
-                              " \"$4/trajectory.csv\"; " + okStatus());
+  const RunOutcome time =
+      run("cp " + restingTrajectory([](std::vector<State>& s) { s[1].time = 0.06; }) +
+          " \"$4/trajectory.csv\"; " + okStatus());
   EXPECT_EQ(time.status, RunStatus::Error);
   EXPECT_TRUE(containsAll(time.reason, {"t = 0.06", "expected 0.05"})) << time.reason;
 
   const RunOutcome bodies = run("cp " + restingTrajectory([](std::vector<State>& s) {
                                   std::swap(s[2].bodies[0], s[2].bodies[1]);
-                                }) + " \"$4/trajectory.csv\"; " + okStatus());
+                                }) +
+                                " \"$4/trajectory.csv\"; " + okStatus());
   EXPECT_EQ(bodies.status, RunStatus::Error);
   EXPECT_TRUE(containsAll(bodies.reason, {"is body 7, expected body 3"})) << bodies.reason;
 }
@@ -391,8 +403,10 @@ TEST_F(ExternalEngineTest, ProtocolMistakesAreErrorsNamingTheCheckAndTheBody) {
   // built-in engine's: each of these mistakes leaves the first sample off the scene's state.
   const auto mistake = [&](const std::function<void(BodyState&)>& edit) {
     return run("cp " + restingTrajectory([&](std::vector<State>& samples) {
-                 for (State& s : samples) edit(s.bodies[1]);
-               }) + " \"$4/trajectory.csv\"; " + okStatus());
+                 for (State& s : samples)
+                   edit(s.bodies[1]);
+               }) +
+               " \"$4/trajectory.csv\"; " + okStatus());
   };
   const RunOutcome xyzw = mistake([](BodyState& b) {
     b.rotation = Quaternion(b.rotation.x(), b.rotation.y(), b.rotation.z(), b.rotation.w());
@@ -411,7 +425,8 @@ TEST_F(ExternalEngineTest, ProtocolMistakesAreErrorsNamingTheCheckAndTheBody) {
 TEST_F(ExternalEngineTest, NaNsInTheTrajectoryAreADivergence) {
   const RunOutcome outcome = run("cp " + restingTrajectory([](std::vector<State>& s) {
                                    s[1].bodies[1].position.x() = std::nan("");
-                                 }) + " \"$4/trajectory.csv\"; " + okStatus());
+                                 }) +
+                                 " \"$4/trajectory.csv\"; " + okStatus());
   EXPECT_EQ(outcome.status, RunStatus::Diverged);
   EXPECT_TRUE(containsAll(outcome.reason, {"non-finite", "body 7"})) << outcome.reason;
 }
@@ -446,22 +461,26 @@ class ExternalEngineParticleTest : public ExternalEngineTest {
 
   /// The particles at rest at the planned sample times, `edit` applied, as CSV or NPY (the
   /// library's writers: their format is tested in test_trajectory).
-  std::string restingParticles(bool npy, const std::function<void(std::vector<State>&)>& edit = {}) {
+  std::string restingParticles(bool npy,
+                               const std::function<void(std::vector<State>&)>& edit = {}) {
     std::vector<State> samples;
     for (int step : {0, 5, 10}) {
       State s;
       s.time = step * 0.01;
-      for (const pbd::ParticleDesc& p : scene_.particles) s.particles.push_back({p.position, Vector3::Zero()});
+      for (const pbd::ParticleDesc& p : scene_.particles)
+        s.particles.push_back({p.position, Vector3::Zero()});
       samples.push_back(s);
     }
     if (edit) edit(samples);
-    const fs::path file = folder_ / ("particles-" + std::to_string(counter_++) + (npy ? ".npy" : ".csv"));
+    const fs::path file =
+        folder_ / ("particles-" + std::to_string(counter_++) + (npy ? ".npy" : ".csv"));
     std::ofstream out(file, std::ios::binary);
     if (npy) {
       writeParticleTrajectoryNpy(out, samples);
     } else {
       writeParticleCsvHeader(out);
-      for (const State& s : samples) writeParticleCsvRows(out, s);
+      for (const State& s : samples)
+        writeParticleCsvRows(out, s);
     }
     return file.string();
   }
@@ -474,19 +493,22 @@ class ExternalEngineParticleTest : public ExternalEngineTest {
 
 TEST_F(ExternalEngineParticleTest, ParticlesAreReadBackWithTheirSamples) {
   for (bool npy : {false, true}) {
-    const RunOutcome outcome = run(copies(restingParticles(npy), npy ? "particles.npy" : "particles.csv"));
+    const RunOutcome outcome =
+        run(copies(restingParticles(npy), npy ? "particles.npy" : "particles.csv"));
     ASSERT_EQ(outcome.status, RunStatus::Ok) << outcome.reason;
     ASSERT_EQ(samples_.size(), 3u);
     for (const State& s : samples_) {
       ASSERT_EQ(s.particles.size(), 3u);
-      for (std::size_t i = 0; i < 3; ++i)  // the files hold the doubles exactly (shortest text or binary)
+      for (std::size_t i = 0; i < 3;
+           ++i)  // the files hold the doubles exactly (shortest text or binary)
         EXPECT_EQ(s.particles[i].position, scene_.particles[i].position) << "npy " << npy;
     }
   }
 }
 
 TEST_F(ExternalEngineParticleTest, MissingOrMisplacedParticlesAreErrors) {
-  const RunOutcome none = run("cp " + restingTrajectory() + " \"$4/trajectory.csv\"; " + okStatus());
+  const RunOutcome none =
+      run("cp " + restingTrajectory() + " \"$4/trajectory.csv\"; " + okStatus());
   EXPECT_EQ(none.status, RunStatus::Error);
   EXPECT_TRUE(containsAll(none.reason, {"3 particles", "neither particles.npy nor particles.csv"}))
       << none.reason;
@@ -495,10 +517,12 @@ TEST_F(ExternalEngineParticleTest, MissingOrMisplacedParticlesAreErrors) {
                               copies(restingParticles(false), "particles.csv"));
   EXPECT_TRUE(containsAll(both.reason, {"both", "particles.csv", "particles.npy"})) << both.reason;
 
-  const RunOutcome few = run(copies(
-      restingParticles(false, [](std::vector<State>& s) { s[1].particles.pop_back(); }), "particles.csv"));
+  const RunOutcome few =
+      run(copies(restingParticles(false, [](std::vector<State>& s) { s[1].particles.pop_back(); }),
+                 "particles.csv"));
   EXPECT_EQ(few.status, RunStatus::Error);
-  EXPECT_TRUE(containsAll(few.reason, {"particles.csv", "sample 1", "2 particles, expected 3"})) << few.reason;
+  EXPECT_TRUE(containsAll(few.reason, {"particles.csv", "sample 1", "2 particles, expected 3"}))
+      << few.reason;
 
   const RunOutcome late = run(copies(
       restingParticles(true, [](std::vector<State>& s) { s[2].time = 0.11; }), "particles.npy"));
@@ -506,7 +530,8 @@ TEST_F(ExternalEngineParticleTest, MissingOrMisplacedParticlesAreErrors) {
 
   const RunOutcome missingSample = run(copies(
       restingParticles(false, [](std::vector<State>& s) { s.pop_back(); }), "particles.csv"));
-  EXPECT_TRUE(containsAll(missingSample.reason, {"2 samples", "the trajectory 3"})) << missingSample.reason;
+  EXPECT_TRUE(containsAll(missingSample.reason, {"2 samples", "the trajectory 3"}))
+      << missingSample.reason;
 }
 
 TEST_F(ExternalEngineParticleTest, ParticlesOutOfOrderAreAnErrorNamingTheRow) {
@@ -520,15 +545,16 @@ TEST_F(ExternalEngineParticleTest, ParticlesOutOfOrderAreAnErrorNamingTheRow) {
 }
 
 TEST_F(ExternalEngineParticleTest, ABlownUpParticleIsADivergence) {
-  const RunOutcome nan = run(copies(restingParticles(true, [](std::vector<State>& s) {
-                                      s[1].particles[2].velocity.y() = std::nan("");
-                                    }), "particles.npy"));
+  const RunOutcome nan = run(copies(
+      restingParticles(
+          true, [](std::vector<State>& s) { s[1].particles[2].velocity.y() = std::nan(""); }),
+      "particles.npy"));
   EXPECT_EQ(nan.status, RunStatus::Diverged);
   EXPECT_TRUE(containsAll(nan.reason, {"non-finite", "particle 2", "t = 0.05"})) << nan.reason;
   // 2e6 m: beyond the runner's limit of 1e6 m (kDivergenceLimit).
-  const RunOutcome far = run(copies(restingParticles(false, [](std::vector<State>& s) {
-                                      s[2].particles[1].position.x() = 2e6;
-                                    }), "particles.csv"));
+  const RunOutcome far = run(copies(
+      restingParticles(false, [](std::vector<State>& s) { s[2].particles[1].position.x() = 2e6; }),
+      "particles.csv"));
   EXPECT_EQ(far.status, RunStatus::Diverged);
   EXPECT_TRUE(containsAll(far.reason, {"particle 1 blew up"})) << far.reason;
 }
@@ -557,7 +583,8 @@ TEST_F(ExternalEngineParticleTest, ASceneWithoutBodiesTakesItsSamplesFromThePart
   }
   EXPECT_EQ(samples_[2].time, 0.1);
 
-  const RunOutcome late = run(engine(restingParticles(false, [](std::vector<State>& s) { s[2].time = 0.11; })));
+  const RunOutcome late =
+      run(engine(restingParticles(false, [](std::vector<State>& s) { s[2].time = 0.11; })));
   EXPECT_EQ(late.status, RunStatus::Error);
   EXPECT_TRUE(containsAll(late.reason, {"particles.csv", "sample 2", "t = 0.11"})) << late.reason;
 }
@@ -565,10 +592,11 @@ TEST_F(ExternalEngineParticleTest, ASceneWithoutBodiesTakesItsSamplesFromThePart
 TEST_F(ExternalEngineTest, ParticlesForASceneWithoutParticlesAreAnError) {
   const std::string file = (folder_ / "stray.csv").string();
   std::ofstream(file) << "t,index,x,y,z,vx,vy,vz\n";
-  const RunOutcome outcome = run("cp " + restingTrajectory() + " \"$4/trajectory.csv\"; cp " + file +
-                                 " \"$4/particles.csv\"; " + okStatus());
+  const RunOutcome outcome = run("cp " + restingTrajectory() + " \"$4/trajectory.csv\"; cp " +
+                                 file + " \"$4/particles.csv\"; " + okStatus());
   EXPECT_EQ(outcome.status, RunStatus::Error);
-  EXPECT_TRUE(containsAll(outcome.reason, {"particles.csv", "without particles"})) << outcome.reason;
+  EXPECT_TRUE(containsAll(outcome.reason, {"particles.csv", "without particles"}))
+      << outcome.reason;
 }
 
 TEST_F(ExternalEngineTest, APythonCommandGetsThePackageFolderFirstOnItsPythonPath) {
@@ -594,10 +622,12 @@ TEST(EngineCatalogue, EntriesAreTypedAndBadFilesNameTheirPath) {
     "methods": [{"name": "good.a", "description": "d", "parameters": [
       {"name": "iterations", "kind": "integer", "default": 10, "min": 1, "max": 100,
        "description": "sweeps"}]}]})";
-  const std::vector<EngineEntry> entries = readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"});
+  const std::vector<EngineEntry> entries =
+      readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"});
   ASSERT_EQ(entries.size(), 1u);
   EXPECT_EQ(entries[0].methods[0].parameters[0].kind, ParameterKind::Integer);
-  EXPECT_THROW(parseParameter(entries[0].methods[0].parameters[0], "0", "good.a"), std::invalid_argument);
+  EXPECT_THROW(parseParameter(entries[0].methods[0].parameters[0], "0", "good.a"),
+               std::invalid_argument);
 
   std::ofstream(folder / "zbad.json") << R"({"protocol": 1, "name": "bad", "command": ["x"],
     "defaultMethod": "bad.a", "methods": [{"name": "bad.a", "parameters": [
@@ -606,8 +636,9 @@ TEST(EngineCatalogue, EntriesAreTypedAndBadFilesNameTheirPath) {
     readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"});
     FAIL() << "a bad kind was accepted";
   } catch (const std::invalid_argument& e) {
-    EXPECT_TRUE(containsAll(e.what(), {"zbad.json", "methods[0].parameters[0].kind",
-                                       "real, integer, bool, choice"})) << e.what();
+    EXPECT_TRUE(containsAll(
+        e.what(), {"zbad.json", "methods[0].parameters[0].kind", "real, integer, bool, choice"}))
+        << e.what();
   }
   fs::remove_all(folder);
 }
@@ -630,7 +661,8 @@ TEST(EngineCatalogue, AFeatureTableIsCheckedAndDecidesUnsupportedRunsBeforeTheEn
          {"feature": "rod", "support": "native"}, {"feature": "fluid", "support": "native"})";
   write(everything + R"(, {"feature": "joint", "support": "native"},
     {"feature": "joint.distance", "support": "unsupported", "text": "no rods", "methods": ["probe.b"]})");
-  const std::vector<EngineEntry> entries = readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"});
+  const std::vector<EngineEntry> entries =
+      readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"});
   ASSERT_EQ(entries.size(), 1u);
   const EngineEntry& entry = entries[0];
   ASSERT_EQ(entry.features.entries.size(), 10u);
@@ -646,17 +678,20 @@ TEST(EngineCatalogue, AFeatureTableIsCheckedAndDecidesUnsupportedRunsBeforeTheEn
   joint.body2 = 1;
   scene.joints = {joint};
   const std::unique_ptr<Engine> engine = entry.make({});
-  const std::vector<std::string> refused = engine->unsupported(scene, resolveMethod(entry.methods[1]));
+  const std::vector<std::string> refused =
+      engine->unsupported(scene, resolveMethod(entry.methods[1]));
   ASSERT_EQ(refused.size(), 1u);
   EXPECT_TRUE(containsAll(refused[0], {"DistanceJoints[0]", "no rods"})) << refused[0];
   EXPECT_TRUE(engine->unsupported(scene, resolveMethod(entry.methods[0])).empty());
-  const RunOutcome outcome = runSimulation(*engine, scene, resolveMethod(entry.methods[1]), {0.1, 0}, {});
+  const RunOutcome outcome =
+      runSimulation(*engine, scene, resolveMethod(entry.methods[1]), {0.1, 0}, {});
   EXPECT_EQ(outcome.status, RunStatus::Unsupported);
   EXPECT_TRUE(containsAll(outcome.reason, {"DistanceJoints[0]", "no rods"})) << outcome.reason;
 
   // Each fault of a table is refused with the file and the JSON path.
   const std::vector<std::pair<std::string, std::vector<std::string>>> faults = {
-      {everything + R"(, {"feature": "joint", "support": "native"}, {"feature": "joints.x", "support": "native"})",
+      {everything +
+           R"(, {"feature": "joint", "support": "native"}, {"feature": "joints.x", "support": "native"})",
        {"probe.json", "features[9].feature", "joints.x"}},
       {everything, {"probe.json", "no entry covers \"joint.ball\""}},
       {everything + R"(, {"feature": "joint", "support": "approximated"})", {"features[8].text"}},
@@ -674,7 +709,8 @@ TEST(EngineCatalogue, AFeatureTableIsCheckedAndDecidesUnsupportedRunsBeforeTheEn
       ADD_FAILURE() << "accepted: " << features;
     } catch (const std::invalid_argument& e) {
       for (const std::string& part : expected)
-        EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << part << " in " << e.what();
+        EXPECT_NE(std::string(e.what()).find(part), std::string::npos)
+            << part << " in " << e.what();
     }
   }
   fs::remove_all(folder);
@@ -715,16 +751,16 @@ TEST(EngineCatalogue, TheVariableAddsEnginesToTheShippedOnes) {
   fs::remove_all(folder);
 }
 
-
 // --- status.json against its schema (docs/schemas/status.schema.json) ---------------------------
 
 TEST_F(ExternalEngineTest, AStatusWithOnlyProtocolStatusAndReasonIsAnErrorNamingTheMissingKeys) {
-  const RunOutcome outcome = run("cp " + restingTrajectory() + " \"$4/trajectory.csv\"; " +
-                                 R"(printf '{"protocol": 1, "status": "ok", "reason": ""}' > "$4/status.json")");
+  const RunOutcome outcome =
+      run("cp " + restingTrajectory() + " \"$4/trajectory.csv\"; " +
+          R"(printf '{"protocol": 1, "status": "ok", "reason": ""}' > "$4/status.json")");
   EXPECT_EQ(outcome.status, RunStatus::Error);
-  EXPECT_TRUE(containsAll(outcome.reason, {"status.json", "unsupported: missing", "divergedAt: missing",
-                                           "engineVersion: missing", "contactMargin: missing",
-                                           "status.schema.json"}))
+  EXPECT_TRUE(containsAll(
+      outcome.reason, {"status.json", "unsupported: missing", "divergedAt: missing",
+                       "engineVersion: missing", "contactMargin: missing", "status.schema.json"}))
       << outcome.reason;
 }
 
@@ -735,8 +771,9 @@ TEST_F(ExternalEngineTest, AWronglyTypedStatusFieldIsAnErrorNamingItsJsonPath) {
       R"("engineVersion": "shell 1", "effectiveSettings": {"solver": {"kind": "pgs"}}, )"
       R"("integratorStepsPerSceneStep": 1, "contactMargin": -1}' > "$4/status.json")");
   EXPECT_EQ(outcome.status, RunStatus::Error);
-  EXPECT_TRUE(containsAll(outcome.reason, {"effectiveSettings.solver: expected a number, a boolean or a string",
-                                           "contactMargin: expected a number >= 0, got -1"}))
+  EXPECT_TRUE(containsAll(outcome.reason,
+                          {"effectiveSettings.solver: expected a number, a boolean or a string",
+                           "contactMargin: expected a number >= 0, got -1"}))
       << outcome.reason;
 }
 
@@ -793,7 +830,8 @@ class ServedEngineTest : public ExternalEngineTest {
   }
 
   ExternalCommand command(const std::vector<std::string>& extra = {}) const {
-    ExternalCommand c{{projectPython(), (folder_ / "engine.py").string()}, folder_.string(),
+    ExternalCommand c{{projectPython(), (folder_ / "engine.py").string()},
+                      folder_.string(),
                       std::string(PBDVAL_SOURCE_DIR) + "/python"};
     c.argv.insert(c.argv.end(), extra.begin(), extra.end());
     return c;
@@ -872,19 +910,22 @@ TEST_F(ServedEngineTest, AServerThatCannotStartMakesItsRunsErrorsQuotingItsStand
   server_.reset();
   const ExternalCommand broken{
       {"sh", "-c", "echo 'ImportError: No module named engine_library' >&2; exit 1", "server"},
-      folder_.string(), ""};
+      folder_.string(),
+      ""};
   server_ = startExternalServer("py", broken, serverFolder_.string());
   EXPECT_FALSE(server_->running());
   const RunOutcome outcome = served("ok");
   EXPECT_EQ(outcome.status, RunStatus::Error);
-  EXPECT_TRUE(containsAll(outcome.reason, {"server", "ImportError: No module named engine_library"}))
+  EXPECT_TRUE(
+      containsAll(outcome.reason, {"server", "ImportError: No module named engine_library"}))
       << outcome.reason;
 }
 
 /// The shipped Python engines, served and single-shot, on the same case: the same numbers, to
 /// the bit (the served run is the single-shot run in a forked child).
 TEST(ServedShippedEngines, PybulletAndMujocoGiveBitwiseTheSameTrajectoryServedAsSingleShot) {
-  const EngineRegistry engines = standardEngines([](const char*) -> const char* { return nullptr; });
+  const EngineRegistry engines =
+      standardEngines([](const char*) -> const char* { return nullptr; });
   const pbd::Scene scene =
       pbd::loadScene(std::string(PBDVAL_SOURCE_DIR) + "/cases/double_pendulum.json").scene;
   const fs::path serverFolder =
@@ -903,7 +944,8 @@ TEST(ServedShippedEngines, PybulletAndMujocoGiveBitwiseTheSameTrajectoryServedAs
     b.onSample = [&](const State& s) { served.push_back(s); };
     const RunOutcome singleRun =
         runSimulation(*entry.make(EngineOptions{}), scene, method, {0.5, 0}, a, 120);
-    const RunOutcome servedRun = runSimulation(*entry.make(options), scene, method, {0.5, 0}, b, 120);
+    const RunOutcome servedRun =
+        runSimulation(*entry.make(options), scene, method, {0.5, 0}, b, 120);
     ASSERT_EQ(singleRun.status, RunStatus::Ok) << name << ": " << singleRun.reason;
     ASSERT_EQ(servedRun.status, RunStatus::Ok) << name << ": " << servedRun.reason;
     ASSERT_EQ(single.size(), served.size()) << name;
@@ -928,9 +970,12 @@ TEST(EngineCatalogue, CommandsAreRelativeToTheCatalogueFile) {
   fs::create_directories(folder / "engines" / "bin");
   // The engine reports, as its engine version, the folder it runs in.
   std::ofstream(folder / "engines" / "bin" / "engine.sh")
-      << "printf '{\"protocol\": 1, \"status\": \"unsupported\", \"reason\": \"r\", \"unsupported\": "
-         "[\"everything\"], \"divergedAt\": null, \"engineVersion\": \"%s\", \"effectiveSettings\": {}, "
-         "\"integratorStepsPerSceneStep\": 1, \"contactMargin\": null}' \"$(pwd -P)\" > \"$4/status.json\"\n";
+      << "printf '{\"protocol\": 1, \"status\": \"unsupported\", \"reason\": \"r\", "
+         "\"unsupported\": "
+         "[\"everything\"], \"divergedAt\": null, \"engineVersion\": \"%s\", "
+         "\"effectiveSettings\": {}, "
+         "\"integratorStepsPerSceneStep\": 1, \"contactMargin\": null}' \"$(pwd -P)\" > "
+         "\"$4/status.json\"\n";
   std::ofstream(folder / "engines" / "relative.json")
       << R"({"protocol": 1, "name": "relative", "command": ["sh", "./bin/engine.sh"],
             "defaultMethod": "relative.a", "methods": [{"name": "relative.a", "parameters": []}]})";
@@ -967,7 +1012,8 @@ TEST(EngineCatalogue, AServeEntryOfAnotherProtocolIsAnErrorNamingItsPath) {
   std::ofstream(folder / "served.json") << R"({"protocol": 1, "name": "served",
     "command": ["{python}", "engine.py"], "serve": {"protocol": 1, "command": ["{python}", "engine.py", "--serve"]},
     "defaultMethod": "served.a", "methods": [{"name": "served.a", "parameters": []}]})";
-  const std::vector<EngineEntry> entries = readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"});
+  const std::vector<EngineEntry> entries =
+      readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"});
   ASSERT_EQ(entries.size(), 1u);
   EXPECT_TRUE(bool(entries[0].startServer));
   fs::remove_all(folder);

@@ -17,7 +17,8 @@ using pbd::test::containsAll;
 
 std::string joined(const std::vector<std::string>& lines) {
   std::string text;
-  for (const std::string& line : lines) text += line + "\n";
+  for (const std::string& line : lines)
+    text += line + "\n";
   return text;
 }
 
@@ -62,28 +63,32 @@ TEST(JsonSchema, ViolationsInsideArraysAndObjectsNameTheirPath) {
   status["integratorStepsPerSceneStep"] = 0;
   status["extra"] = true;
   const std::string text = joined(schemaViolations(statusSchema(), status));
-  EXPECT_TRUE(containsAll(text, {"unsupported[1]: expected a string, got 3",
-                                 "effectiveSettings.solver: expected a number, a boolean or a string",
-                                 "integratorStepsPerSceneStep: expected a number >= 1, got 0",
-                                 "extra: not a known key"}))
+  EXPECT_TRUE(containsAll(
+      text,
+      {"unsupported[1]: expected a string, got 3",
+       "effectiveSettings.solver: expected a number, a boolean or a string",
+       "integratorStepsPerSceneStep: expected a number >= 1, got 0", "extra: not a known key"}))
       << text;
 }
 
 TEST(JsonSchema, TheRulesBetweenFieldsHold) {
   Json failed = validStatus();
   failed["status"] = "error";  // a non-ok status needs a reason
-  EXPECT_NE(joined(schemaViolations(statusSchema(), failed)).find("reason: expected a non-empty string"),
-            std::string::npos);
+  EXPECT_NE(
+      joined(schemaViolations(statusSchema(), failed)).find("reason: expected a non-empty string"),
+      std::string::npos);
   Json unsupported = validStatus();
   unsupported["status"] = "unsupported";
   unsupported["reason"] = "r";  // but names no feature
-  EXPECT_NE(joined(schemaViolations(statusSchema(), unsupported)).find("unsupported: expected an array of at least 1 items"),
+  EXPECT_NE(joined(schemaViolations(statusSchema(), unsupported))
+                .find("unsupported: expected an array of at least 1 items"),
             std::string::npos);
   Json diverged = validStatus();
   diverged["status"] = "diverged";
   diverged["reason"] = "r";  // with divergedAt null
-  EXPECT_NE(joined(schemaViolations(statusSchema(), diverged)).find("divergedAt: expected a number"),
-            std::string::npos);
+  EXPECT_NE(
+      joined(schemaViolations(statusSchema(), diverged)).find("divergedAt: expected a number"),
+      std::string::npos);
   Json okWithReason = validStatus();
   okWithReason["reason"] = "fine";
   EXPECT_NE(joined(schemaViolations(statusSchema(), okWithReason)).find("reason: expected \"\""),

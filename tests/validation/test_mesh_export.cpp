@@ -3,7 +3,6 @@
 // any affine map of the tets (barycentric coordinates are affine invariant), the exported files
 // read back to the placed geometry, and frames fall on the frame-rate grid.
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <cmath>
@@ -26,7 +25,8 @@ namespace fs = std::filesystem;
 /// The unit cube split into five positively oriented tets (corner k at (k&1, k>>1&1, k>>2&1)).
 pbd::TetMesh cubeTets() {
   pbd::TetMesh mesh;
-  for (int k = 0; k < 8; ++k) mesh.vertices.push_back(Vector3(k & 1, (k >> 1) & 1, (k >> 2) & 1));
+  for (int k = 0; k < 8; ++k)
+    mesh.vertices.push_back(Vector3(k & 1, (k >> 1) & 1, (k >> 2) & 1));
   mesh.tetrahedra = {{0, 1, 3, 5}, {0, 3, 2, 6}, {0, 5, 6, 4}, {3, 6, 5, 7}, {0, 3, 6, 5}};
   return mesh;
 }
@@ -56,7 +56,8 @@ TEST(MeshExport, AttachedPointsFollowAnyAffineMapExactly) {
   const auto attached = pbd::attachToTets(cube, points);
   ASSERT_EQ(attached.size(), points.size());
   for (std::size_t i = 0; i < 3; ++i)  // inside or on the surface: every weight ≥ 0
-    for (double w : attached[i].weights) EXPECT_GE(w, -1e-15);
+    for (double w : attached[i].weights)
+      EXPECT_GE(w, -1e-15);
   Matrix3 map;
   map << 1.2, 0.3, -0.1, 0.0, 0.8, 0.4, 0.2, -0.5, 1.1;
   const Vector3 shift(3, -1, 2);
@@ -64,7 +65,8 @@ TEST(MeshExport, AttachedPointsFollowAnyAffineMapExactly) {
     Vector3 carried = Vector3::Zero(), atRest = Vector3::Zero();
     double sum = 0;
     for (std::size_t k = 0; k < 4; ++k) {
-      const Vector3& x = cube.vertices[std::size_t(cube.tetrahedra[std::size_t(attached[i].tet)][k])];
+      const Vector3& x =
+          cube.vertices[std::size_t(cube.tetrahedra[std::size_t(attached[i].tet)][k])];
       carried += attached[i].weights[k] * (map * x + shift);
       atRest += attached[i].weights[k] * x;
       sum += attached[i].weights[k];
@@ -85,7 +87,8 @@ TEST(MeshExport, WrittenMeshesReadBackToTheSameGeometry) {
   for (const pbd::TriangleMesh& back :
        {pbd::parseObj(obj.str(), "mesh.obj"), pbd::parsePly(ply.str(), "mesh.ply")}) {
     ASSERT_EQ(back.vertices.size(), 3u);
-    for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(back.vertices[i], mesh.vertices[i]);  // exact
+    for (std::size_t i = 0; i < 3; ++i)
+      EXPECT_EQ(back.vertices[i], mesh.vertices[i]);  // exact
     EXPECT_EQ(back.triangles, mesh.triangles);
   }
 }
@@ -105,8 +108,10 @@ TEST_F(MeshExporterRun, FramesFallOnTheGridAndBodiesArePlacedByTheirPose) {
   // tet: one file per surface per frame and format.
   const std::string json = std::string(R"({"RigidBodies": [{"id": 7, "geometryFile": ")") +
                            PBDVAL_SOURCE_DIR + R"(/cases/models/cube.obj", "scale": [1, 2, 3]}],
-      "TriangleModels": [{"geometryFile": ")" + PBDVAL_SOURCE_DIR + R"(/tests/data/meshes/plane_3x3.obj"}],
-      "TetModels": [{"nodeFile": ")" + PBDVAL_SOURCE_DIR + R"(/tests/data/meshes/tet.node", "eleFile": ")" +
+      "TriangleModels": [{"geometryFile": ")" +
+                           PBDVAL_SOURCE_DIR + R"(/tests/data/meshes/plane_3x3.obj"}],
+      "TetModels": [{"nodeFile": ")" +
+                           PBDVAL_SOURCE_DIR + R"(/tests/data/meshes/tet.node", "eleFile": ")" +
                            PBDVAL_SOURCE_DIR + R"(/tests/data/meshes/tet.ele"}]})";
   const pbd::Scene scene = pbd::parseScene(json, PBDVAL_SOURCE_DIR "/cases/inline.json", {}).scene;
   MeshExportOptions options;
@@ -122,29 +127,36 @@ TEST_F(MeshExporterRun, FramesFallOnTheGridAndBodiesArePlacedByTheirPose) {
     state.time = 0.025 * k;
     state.bodies[0].position = Vector3(1, 2, 3) * state.time;
     state.bodies[0].rotation = k == 20 ? turn : Quaternion::Identity();
-    for (ParticleState& p : state.particles) p.position.y() -= state.time;
+    for (ParticleState& p : state.particles)
+      p.position.y() -= state.time;
     exporter.onState(state);
   }
   EXPECT_EQ(exporter.frames(), 6u);
   EXPECT_EQ(exporter.files(), 6u * 3 * 2);  // frames × surfaces × formats
-  for (const char* name : {"body7_00005.obj", "body7_00005.ply", "cloth0_00003.obj", "solid0_00000.ply"})
+  for (const char* name :
+       {"body7_00005.obj", "body7_00005.ply", "cloth0_00003.obj", "solid0_00000.ply"})
     EXPECT_TRUE(fs::is_regular_file(folder_ / "meshes" / name)) << name;
   EXPECT_FALSE(fs::exists(folder_ / "meshes" / "body7_00006.obj"));
   // The last frame's box: p + R (v − c) with p = (0.5, 1, 1.5).
-  const pbd::TriangleMesh box = pbd::loadSurfaceMesh((folder_ / "meshes" / "body7_00005.ply").string());
+  const pbd::TriangleMesh box =
+      pbd::loadSurfaceMesh((folder_ / "meshes" / "body7_00005.ply").string());
   const pbd::RigidBodyDesc& body = scene.rigidBodies[0];
   ASSERT_EQ(box.vertices.size(), body.mesh->vertices.size());
   for (std::size_t i = 0; i < box.vertices.size(); ++i) {
-    const Vector3 expected = Vector3(0.5, 1, 1.5) + turn * (body.mesh->vertices[i] - body.massProperties.centerOfMass);
+    const Vector3 expected =
+        Vector3(0.5, 1, 1.5) + turn * (body.mesh->vertices[i] - body.massProperties.centerOfMass);
     EXPECT_LT((box.vertices[i] - expected).norm(), 1e-14) << i;
   }
   // The cloth at frame 3 (t = 0.3 s, reached by the state at 0.3 s): lowered by 0.3 m.
-  const pbd::TriangleMesh cloth = pbd::loadSurfaceMesh((folder_ / "meshes" / "cloth0_00003.obj").string());
+  const pbd::TriangleMesh cloth =
+      pbd::loadSurfaceMesh((folder_ / "meshes" / "cloth0_00003.obj").string());
   ASSERT_EQ(cloth.vertices.size(), 9u);
   for (std::size_t i = 0; i < 9; ++i)
     EXPECT_NEAR(cloth.vertices[i].y(), scene.particles[i].position.y() - 0.3, 1e-15);
   // The tet without a visual mesh: its four boundary faces.
-  EXPECT_EQ(pbd::loadSurfaceMesh((folder_ / "meshes" / "solid0_00000.obj").string()).triangles.size(), 4u);
+  EXPECT_EQ(
+      pbd::loadSurfaceMesh((folder_ / "meshes" / "solid0_00000.obj").string()).triangles.size(),
+      4u);
 }
 
 TEST_F(MeshExporterRun, BadOptionsAreErrors) {

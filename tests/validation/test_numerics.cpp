@@ -123,7 +123,9 @@ TEST(ResampleStates, PositionsAreExactForCubicMotion) {
 }
 
 /// A body spinning about z at 3 rad/s while its axis precesses: q(t) = R_x(0.7 sin t) R_z(3t).
-Quaternion wobble(double t) { return turn(Vector3(1, 0, 0), 0.7 * std::sin(t)) * turn(Vector3(0, 0, 1), 3 * t); }
+Quaternion wobble(double t) {
+  return turn(Vector3(1, 0, 0), 0.7 * std::sin(t)) * turn(Vector3(0, 0, 1), 3 * t);
+}
 /// Its world angular velocity, from q̇ q⁻¹ = ½ ω by a central difference of step 1e-6 (error
 /// O(1e-12), far below what the test resolves).
 Vector3 wobbleRate(double t) {
@@ -142,14 +144,16 @@ TEST(ResampleStates, RotationsFollowTheAngularVelocityToFourthOrder) {
   State b = oneBodyState(0.4, Vector3::Zero(), spin(0.4), Vector3::Zero());
   a.bodies[0].angularVelocity = b.bodies[0].angularVelocity = w;
   for (double s : {0.1, 0.5, 0.9})
-    EXPECT_LT(geodesicAngle(interpolateState(a, b, s, 0.4 * s).bodies[0].rotation, spin(0.4 * s)), 1e-14);
+    EXPECT_LT(geodesicAngle(interpolateState(a, b, s, 0.4 * s).bodies[0].rotation, spin(0.4 * s)),
+              1e-14);
 
   auto midpointError = [&](double dt) {
     State p = oneBodyState(1.0, Vector3::Zero(), wobble(1.0), Vector3::Zero());
     State q = oneBodyState(1.0 + dt, Vector3::Zero(), wobble(1.0 + dt), Vector3::Zero());
     p.bodies[0].angularVelocity = wobbleRate(1.0);
     q.bodies[0].angularVelocity = wobbleRate(1.0 + dt);
-    return geodesicAngle(interpolateState(p, q, 0.5, 1.0 + dt / 2).bodies[0].rotation, wobble(1.0 + dt / 2));
+    return geodesicAngle(interpolateState(p, q, 0.5, 1.0 + dt / 2).bodies[0].rotation,
+                         wobble(1.0 + dt / 2));
   };
   const double coarse = midpointError(0.1), fine = midpointError(0.05);
   // Ratio 16 for O(dt⁴); [12, 20] leaves room for the next term of the expansion at these steps.

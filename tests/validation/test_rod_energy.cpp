@@ -88,7 +88,8 @@ TEST(RodEnergy, ShearIsHalfKappaGALengthShearSquared) {
     State state = initialState(scene);
     const double shear = 0.02;
     state.particles[2].position =
-        state.particles[1].position + kLength * (director(state, 1, 2) + shear * director(state, 1, axis));
+        state.particles[1].position +
+        kLength * (director(state, 1, 2) + shear * director(state, 1, axis));
     const double expected = 0.5 * kKappaGA * kLength * shear * shear;
     EXPECT_NEAR(ElasticEnergy(scene).of(state), expected, kRoundOff * expected) << axis;
   }
@@ -118,22 +119,25 @@ TEST(RodEnergy, TermsAddAndDoNotDependOnTheQuaternionSignOrARigidMotion) {
   const double strain = 0.01, twist = 0.2;
   turnSecondSegment(state, test::turn(Vector3::UnitZ(), twist));  // d₃ unchanged
   state.particles[2].position = Vector3((2 + strain) * kLength, 0, 0);
-  const double expected = 0.5 * kEA * kLength * strain * strain +
-                          2 * kGJ / kLength * std::pow(std::sin(twist / 2), 2);
+  const double expected =
+      0.5 * kEA * kLength * strain * strain + 2 * kGJ / kLength * std::pow(std::sin(twist / 2), 2);
   const ElasticEnergy elastic(scene);
   const double energy = elastic.of(state);
   EXPECT_NEAR(energy, expected, kRoundOff * expected);
   // q and −q are the same frame: every term is a product of two coefficients, bit for bit the
   // same (the trajectory files write w ≥ 0, the engine may hold w < 0).
   State flipped = state;
-  for (SegmentState& s : flipped.segments) s.rotation.coeffs() = -s.rotation.coeffs();
+  for (SegmentState& s : flipped.segments)
+    s.rotation.coeffs() = -s.rotation.coeffs();
   EXPECT_EQ(elastic.of(flipped), energy);
   // A rigid motion of everything (the rest frames are the scene's, the constraints measure
   // relative quantities): the same energy to round-off.
   const Quaternion r = test::turn(Vector3(1, 2, 3), 0.7);
   State moved = state;
-  for (ParticleState& p : moved.particles) p.position = r * p.position + Vector3(1, -2, 3);
-  for (SegmentState& s : moved.segments) s.rotation = r * s.rotation;
+  for (ParticleState& p : moved.particles)
+    p.position = r * p.position + Vector3(1, -2, 3);
+  for (SegmentState& s : moved.segments)
+    s.rotation = r * s.rotation;
   EXPECT_NEAR(elastic.of(moved), energy, kRoundOff * energy);
   // Without the segments the rods' energy is not measured (0 here: no other constraints).
   State noSegments = state;
@@ -157,8 +161,8 @@ TEST(RodEnergy, SpinningSegmentHasHalfIOmegaSquared) {
     State state = initialState(scene);
     const EnergyTerms still = energyOf(scene, state);
     EXPECT_EQ(still.rotational, 0.0);
-    state.segments[0].angularVelocity = Vector3(0, 3, 4);   // |ω|² = 25
-    state.segments[1].angularVelocity = Vector3(7, 0, 0);   // static: not counted
+    state.segments[0].angularVelocity = Vector3(0, 3, 4);  // |ω|² = 25
+    state.segments[1].angularVelocity = Vector3(7, 0, 0);  // static: not counted
     const double mass = 1000 * kArea * kLength;
     const double inertia = withDensity ? 0.5 * mass * kRadius * kRadius : 0.25;
     const double expected = 0.5 * inertia * 25;
@@ -187,7 +191,8 @@ CantileverRun runCantilever(const std::string& method, int iterations,
   run.scene.simulation.subSteps = 1;
   run.scene.simulation.maxIterations = iterations;
   pbd::LineModelDesc rod;
-  for (int i = 0; i <= 10; ++i) rod.points.push_back(Vector3(0.1 * i, 0, 0));
+  for (int i = 0; i <= 10; ++i)
+    rod.points.push_back(Vector3(0.1 * i, 0, 0));
   rod.radius = 0.01;
   rod.density = 1000;
   rod.youngsModulus = 1e9;
@@ -244,9 +249,10 @@ TEST(RodEnergy, ConvergedXpbdCantileverOnlyDissipates) {
   const double sagEnergy = q * q * std::pow(length, 5) / (40 * ei);
   const double omega2 = 3.516 * 3.516 * ei / (1000 * kPi * 1e-4 * std::pow(length, 4));
   const double dissipated = sagEnergy * (1 - std::pow(1 + 1e-6 * omega2, -1000));
-  std::printf("converged XPBD cantilever: E - E(0) without the rod's terms min %.4g J, final "
-              "%.4g J; with them max %+.3g J, min %.4g J, final %.4g J (predicted %.4g J)\n",
-              c.downBefore, c.finalBefore, c.upAfter, c.downAfter, c.finalAfter, -dissipated);
+  std::printf(
+      "converged XPBD cantilever: E - E(0) without the rod's terms min %.4g J, final "
+      "%.4g J; with them max %+.3g J, min %.4g J, final %.4g J (predicted %.4g J)\n",
+      c.downBefore, c.finalBefore, c.upAfter, c.downAfter, c.finalAfter, -dissipated);
   // Before: the swing's bending energy is missing: at least 3 of the 4 × ½ k δ² (the first
   // half-swing's dissipation takes ≈ 6 % of the oscillation energy; measured −0.091 J).
   EXPECT_LT(c.downBefore, -3 * sagEnergy);
@@ -268,9 +274,10 @@ TEST(RodEnergy, ConvergedXpbdCantileverOnlyDissipates) {
 TEST(RodEnergy, XpbdMethodApproachesConservationWithSubsteps) {
   const EnergyChanges fine = energyChanges(runCantilever("pbd.xpbd", 1, {{"substeps", "100"}}));
   const EnergyChanges finer = energyChanges(runCantilever("pbd.xpbd", 1, {{"substeps", "200"}}));
-  std::printf("pbd.xpbd cantilever: E - E(0) without the rod's terms min %.4g J; with them max "
-              "%+.3g J (100 substeps), %+.3g J (200 substeps), final %.4g J, %.4g J\n",
-              fine.downBefore, fine.upAfter, finer.upAfter, fine.finalAfter, finer.finalAfter);
+  std::printf(
+      "pbd.xpbd cantilever: E - E(0) without the rod's terms min %.4g J; with them max "
+      "%+.3g J (100 substeps), %+.3g J (200 substeps), final %.4g J, %.4g J\n",
+      fine.downBefore, fine.upAfter, finer.upAfter, fine.finalAfter, finer.finalAfter);
   EXPECT_LT(fine.downBefore, -0.07);  // ≥ 3 × ½ k δ² missing, as above
   // The excess is at most 1 % of the swing's energy with 100 substeps, and falls by at least
   // 3× when the substep halves (second order would be 4×; measured 4.4×).
@@ -293,7 +300,8 @@ TEST(RodEnergy, SegmentFilesRoundTripBitForBit) {
   }
   std::ostringstream csv, npy;
   writeSegmentCsvHeader(csv);
-  for (const State& s : samples) writeSegmentCsvRows(csv, s);
+  for (const State& s : samples)
+    writeSegmentCsvRows(csv, s);
   writeSegmentTrajectoryNpy(npy, samples);
   EXPECT_EQ(csv.str().substr(0, csv.str().find('\n')), "t,index,qw,qx,qy,qz,wx,wy,wz");
   for (const Trajectory& read : {parseSegmentTrajectoryCsv(csv.str(), "s.csv"),
@@ -307,7 +315,8 @@ TEST(RodEnergy, SegmentFilesRoundTripBitForBit) {
         const Quaternion& q = samples[k].segments[i].rotation;
         const Quaternion expected = q.w() < 0 ? Quaternion(-q.coeffs()) : q;
         EXPECT_EQ(read.samples[k].segments[i].rotation.coeffs(), expected.coeffs());
-        EXPECT_EQ(read.samples[k].segments[i].angularVelocity, samples[k].segments[i].angularVelocity);
+        EXPECT_EQ(read.samples[k].segments[i].angularVelocity,
+                  samples[k].segments[i].angularVelocity);
       }
     }
   }

@@ -1,7 +1,6 @@
 // The runner: isolation of runs (crash, hang, throw, NaN each get their status while the
 // others complete), run planning, and the results file round trip.
 #include <gtest/gtest.h>
-
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -14,8 +13,8 @@
 
 #include "engines/selftest_engine.h"
 #include "validation/results.h"
-#include "validation/run_plan.h"
 #include "validation/run_execution.h"
+#include "validation/run_plan.h"
 #include "validation/run_record.h"
 #include "validation/run_scheduler.h"
 #include "validation/trajectory.h"

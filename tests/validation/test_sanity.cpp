@@ -43,9 +43,9 @@ class ExactFreeFlightEngine : public SteppingEngine {
       b.angularVelocity = body.angularVelocity;
       const double spin = double(body.angularVelocity.norm());
       const Quaternion turn =
-          spin > 0 ? Quaternion(Eigen::AngleAxis<pbd::Real>(spin * time_,
-                                                            body.angularVelocity / spin))
-                   : Quaternion::Identity();
+          spin > 0
+              ? Quaternion(Eigen::AngleAxis<pbd::Real>(spin * time_, body.angularVelocity / spin))
+              : Quaternion::Identity();
       b.rotation = (turn * body.rotation).normalized();
       switch (mistake_) {
         case Mistake::None:
@@ -119,8 +119,8 @@ TEST(BoundaryChecks, PositionsInMillimetresAreAnError) {
 TEST(BoundaryChecks, PositionsInMillimetresFromTheOriginAreCaughtByTheirVelocities) {
   // At the origin a scale error leaves the first sample right: the motion gives it away.
   pbd::Scene scene = tumblingCubeScene();
-  scene.rigidBodies[0].translation = -(scene.rigidBodies[0].rotation *
-                                       scene.rigidBodies[0].massProperties.centerOfMass);
+  scene.rigidBodies[0].translation =
+      -(scene.rigidBodies[0].rotation * scene.rigidBodies[0].massProperties.centerOfMass);
   const RunOutcome outcome = runExact(scene, Mistake::PositionsInMillimetres);
   EXPECT_EQ(outcome.status, RunStatus::Error);
   EXPECT_NE(outcome.reason.find("velocity_consistency: body 0"), std::string::npos)
@@ -132,8 +132,7 @@ TEST(BoundaryChecks, AngularVelocityInBodyAxesIsAnError) {
   const RunOutcome outcome = runExact(tumblingCubeScene(), Mistake::OmegaInBodyAxes);
   EXPECT_EQ(outcome.status, RunStatus::Error);
   // The first sample's ω is already in the tilted body axes.
-  EXPECT_NE(outcome.reason.find("angular velocity of body 0"), std::string::npos)
-      << outcome.reason;
+  EXPECT_NE(outcome.reason.find("angular velocity of body 0"), std::string::npos) << outcome.reason;
 }
 
 TEST(BoundaryChecks, TheBodyOriginInsteadOfTheCentreOfMassIsAnError) {
@@ -345,10 +344,10 @@ TEST(SanityBounds, MomentumChangedInAnIsolatedSceneWithoutGravityIsSuspect) {
     // From sample 5 on, body 0's velocity is turned by 0.1 rad: the energy is unchanged, the
     // momentum is not (‖ΔP‖ = 2 m sin 0.05 ≈ 0.1 m).
     const Vector3 velocity = k >= 5 ? Vector3(std::cos(0.1), std::sin(0.1), 0) : Vector3(1, 0, 0);
-    s.bodies.push_back({0, Vector3(0.01 * k, 0, 0), Quaternion::Identity(), velocity,
+    s.bodies.push_back(
+        {0, Vector3(0.01 * k, 0, 0), Quaternion::Identity(), velocity, Vector3::Zero()});
+    s.bodies.push_back({1, Vector3(1 - 0.01 * k, 0, 0), Quaternion::Identity(), Vector3(-1, 0, 0),
                         Vector3::Zero()});
-    s.bodies.push_back({1, Vector3(1 - 0.01 * k, 0, 0), Quaternion::Identity(),
-                        Vector3(-1, 0, 0), Vector3::Zero()});
     samples.push_back(s);
   }
   const std::optional<CheckViolation> v = sanityViolation(scene, CaseSpec{}, samples);

@@ -20,7 +20,8 @@ struct Sequence {
 };
 
 /// e = C h^p (+ floor), h halving from h0; `noise` multiplies each error by exp(N(0, noise²)).
-Sequence manufactured(double order, int points, double floor = 0, double noise = 0, unsigned seed = 1) {
+Sequence manufactured(double order, int points, double floor = 0, double noise = 0,
+                      unsigned seed = 1) {
   std::mt19937 random(seed);
   std::normal_distribution<double> normal(0, 1);
   Sequence s;
@@ -151,18 +152,20 @@ TEST(ConvergenceFit, RungeKuttaShowsOrderFourThroughTheWholeSweep) {
   options.referenceMode = "fine";
   options.jobs = 2;
   options.repetitions = 1;  // the order, not the wall time, is under test
-  options.scratchFolder = (std::filesystem::temp_directory_path() /
-                           ("pbdval-sweep-rk4-" + std::to_string(::getpid())))
-                              .string();
+  options.scratchFolder =
+      (std::filesystem::temp_directory_path() / ("pbdval-sweep-rk4-" + std::to_string(::getpid())))
+          .string();
   const SweepResult result = runSweep(options, testRegistry());
   std::filesystem::remove_all(options.scratchFolder);
   ASSERT_EQ(result.fits.size(), 1u);
   const SweepFit& fit = result.fits[0];
-  for (const SweepPoint& p : result.points) ASSERT_EQ(p.record.status, RunStatus::Ok) << p.record.reason;
+  for (const SweepPoint& p : result.points)
+    ASSERT_EQ(p.record.status, RunStatus::Ok) << p.record.reason;
   ASSERT_EQ(fit.orders.size(), 1u) << fit.note;
   EXPECT_NEAR(fit.orders[0], 4, 0.15);
   EXPECT_TRUE(fit.excluded.empty());
-  for (const LocalOrder& local : fit.localOrders) EXPECT_NEAR(local.order, 4, 0.15);
+  for (const LocalOrder& local : fit.localOrders)
+    EXPECT_NEAR(local.order, 4, 0.15);
 }
 
 // A point's wall time is the median of its passes (3 passes: the middle value, whatever the

@@ -1,7 +1,5 @@
 #include "validation/cli/args.h"
 
-#include "validation/overrides.h"
-
 #include <cstdint>
 #include <cstdio>
 #include <optional>
@@ -9,6 +7,7 @@
 
 #include "pbd/io/number_text.h"
 #include "pbd/io/suggestion.h"
+#include "validation/overrides.h"
 
 namespace pbdval::cli {
 

@@ -120,12 +120,11 @@ int gateCommand(const Context& context, const Arguments& arguments) {
     if (args.has("cases") && splitList(args.value("cases")).empty())
       return parser.usageError("--cases: expected a comma-separated list of case names");
     // The reports must not replace what they report on, nor each other.
-    checkOutputsAreNotInputs(
-        {{"--junit", args.value("junit")},
-         {"--markdown", args.value("markdown")},
-         {"--json", args.value("json")}},
-        {{"the baseline", args.value("baseline")},
-         {"the results", resultsPathOf(args.value("results"))}});
+    checkOutputsAreNotInputs({{"--junit", args.value("junit")},
+                              {"--markdown", args.value("markdown")},
+                              {"--json", args.value("json")}},
+                             {{"the baseline", args.value("baseline")},
+                              {"the results", resultsPathOf(args.value("results"))}});
     Baseline baseline = readBaseline(args.value("baseline"));
     const std::string resultsPath = resultsPathOf(args.value("results"));
     results = readResults(resultsPath);

@@ -55,8 +55,10 @@ int mergeCommand(const Context& /*context*/, const Arguments& arguments) {
       shards.push_back({folder, readResults(folder + "/results.json")});
       // Without the plan's digest the merged runs cannot be checked against the plan.
       if (shards.back().results.metadata.planDigest.empty())
-        throw std::invalid_argument(folder + "/results.json: metadata.planDigest: missing (results "
-                                    "written before pbdval recorded the plan); run the shard again");
+        throw std::invalid_argument(
+            folder +
+            "/results.json: metadata.planDigest: missing (results "
+            "written before pbdval recorded the plan); run the shard again");
     }
     const bool move = args.flags.count("move") > 0;
     ResultsFile merged = mergeShards(shards, command.str());

@@ -1,7 +1,6 @@
 // pbdval methods [ENGINE...]: the solver methods of every engine, with parameters and defaults.
 #include <cstdio>
 #include <iostream>
-
 #include <stdexcept>
 
 #include "adapters/registry.h"
@@ -29,21 +28,23 @@ int methodsCommand(const Context& context, const Arguments& arguments) {
   }
   for (const EngineEntry& engine : registry.entries()) {
     bool listed = args.positionals.empty();
-    for (const std::string& wanted : args.positionals) listed = listed || wanted == engine.name;
+    for (const std::string& wanted : args.positionals)
+      listed = listed || wanted == engine.name;
     if (!listed) continue;
     std::printf("%s (default method: %s)\n", engine.name.c_str(), engine.defaultMethod.c_str());
     std::string settings;
     for (const std::string& key : engine.honouredSettings)
       settings += (settings.empty() ? "" : ", ") + key;
-    std::printf("  scene settings it honours (--set KEY=VALUE, ranges in docs/scene-format.md):\n"
-                "      %s\n",
-                settings.c_str());
+    std::printf(
+        "  scene settings it honours (--set KEY=VALUE, ranges in docs/scene-format.md):\n"
+        "      %s\n",
+        settings.c_str());
     for (const MethodInfo& m : engine.methods) {
       std::printf("  %s\n      %s\n", m.name.c_str(), m.description.c_str());
       for (const ParameterSpec& p : m.parameters)
         std::printf("      --set %s=%s  (%s%s%s) %s\n", p.name.c_str(), p.defaultValue.c_str(),
-                    p.expectation().c_str(), p.unit.empty() ? "" : ", unit ",
-                    p.unit.c_str(), p.description.c_str());
+                    p.expectation().c_str(), p.unit.empty() ? "" : ", unit ", p.unit.c_str(),
+                    p.description.c_str());
     }
   }
   return 0;

@@ -16,7 +16,6 @@
 #include "validation/atomic_file.h"
 #include "validation/case_library.h"
 #include "validation/cli/args.h"
-#include "validation/simulation.h"
 #include "validation/cli/commands.h"
 #include "validation/cli/executors.h"
 #include "validation/overrides.h"
@@ -26,6 +25,7 @@
 #include "validation/run_scheduler.h"
 #include "validation/sha256.h"
 #include "validation/sharding.h"
+#include "validation/simulation.h"
 #include "validation/summary.h"
 
 namespace pbdval::cli {
@@ -250,7 +250,10 @@ int runCommand(const Context& context, const Arguments& arguments) {
   // and the gate reports the run's error instead of refusing the file.
   for (const RunRecord& u : plan.unreadable)
     results.cases.emplace(u.request.caseName,
-                          CaseGateData{u.request.caseFile, "could not be read: " + u.reason, {}, {},
+                          CaseGateData{u.request.caseFile,
+                                       "could not be read: " + u.reason,
+                                       {},
+                                       {},
                                        fileSha256(u.request.caseFile).value_or("")});
   results.runs = plan.unreadable;
   results.runs.insert(results.runs.end(), records.begin(), records.end());

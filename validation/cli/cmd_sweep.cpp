@@ -10,7 +10,6 @@
 #include "validation/atomic_file.h"
 #include "validation/case_library.h"
 #include "validation/cli/args.h"
-#include "validation/simulation.h"
 #include "validation/cli/commands.h"
 #include "validation/cli/executors.h"
 #include "validation/cli/python_module.h"
@@ -20,6 +19,7 @@
 #include "validation/results_folder.h"
 #include "validation/run_scheduler.h"
 #include "validation/sharding.h"
+#include "validation/simulation.h"
 #include "validation/summary.h"
 #include "validation/sweep.h"
 
@@ -120,7 +120,8 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
   auto progress = [quiet](const RunRecord& r, std::size_t done, std::size_t total) {
     if (quiet) return;
     std::string values;
-    for (const std::string& a : r.request.assignments) values += " " + a;
+    for (const std::string& a : r.request.assignments)
+      values += " " + a;
     std::fprintf(stderr, "[%3zu/%zu] %s%s %s\n", done, total, runLabel(r.request).c_str(),
                  values.c_str(), runStatusName(r.status));
   };
@@ -176,7 +177,8 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
       }
       writeResults(folder->staging() + "/results.json", results);
       folder->commit({"trajectories", "results.json"}, "results.json");
-      std::printf("%s; results in %s/results.json\n", statusCounts(results.runs).c_str(), out.c_str());
+      std::printf("%s; results in %s/results.json\n", statusCounts(results.runs).c_str(),
+                  out.c_str());
       return 0;
     }
     std::vector<RunRecord> records;
@@ -208,8 +210,8 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
     std::printf("wrote %s\n", path.c_str());
     if (args.flags.count("report")) {
       // The convergence page, by the report's own code (python/pbdval/report.py): the last step.
-      std::vector<std::string> argv = {projectPython(), "-m", "pbdval.report", "--convergence", out,
-                                       "--out", out + "/report"};
+      std::vector<std::string> argv = {
+          projectPython(), "-m", "pbdval.report", "--convergence", out, "--out", out + "/report"};
       if (quiet) argv.push_back("--quiet");
       folder.reset();  // the lock is released before this process becomes the report's
       return execPython(argv);

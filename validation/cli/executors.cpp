@@ -3,8 +3,8 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
-#include "validation/engines/standard_engines.h"
 #include "validation/cli/python_module.h"
+#include "validation/engines/standard_engines.h"
 #include "validation/json_text.h"
 #include "validation/sharding.h"
 
@@ -13,12 +13,15 @@ namespace pbdval::cli {
 void printPlan(const RunPlan& plan) {
   nlohmann::json runs = nlohmann::json::array();
   for (const RunRequest& r : plan.requests)
-    runs.push_back({{"case", r.caseName}, {"caseFile", r.caseFile}, {"engine", r.engine},
-                    {"method", r.method}, {"assignments", r.assignments}});
+    runs.push_back({{"case", r.caseName},
+                    {"caseFile", r.caseFile},
+                    {"engine", r.engine},
+                    {"method", r.method},
+                    {"assignments", r.assignments}});
   nlohmann::json unreadable = nlohmann::json::array();
   for (const RunRecord& u : plan.unreadable)
-    unreadable.push_back({{"case", u.request.caseName}, {"caseFile", u.request.caseFile},
-                          {"reason", u.reason}});
+    unreadable.push_back(
+        {{"case", u.request.caseName}, {"caseFile", u.request.caseFile}, {"reason", u.reason}});
   const nlohmann::json document = {{"planSize", plan.requests.size() + plan.unreadable.size()},
                                    {"planDigest", planDigest(plan)},
                                    {"runs", runs},
@@ -29,14 +32,16 @@ void printPlan(const RunPlan& plan) {
 bool wantsDask(const ParsedArgs& args) {
   const std::string executor = args.value("executor", "local");
   if (executor == "dask") return true;
-  if (executor != "local") throw UsageError("--executor: expected local or dask, got '" + executor + "'");
+  if (executor != "local")
+    throw UsageError("--executor: expected local or dask, got '" + executor + "'");
   for (const char* option : {"scheduler", "scheduler-file", "connect-timeout", "runs-per-task"})
     if (args.has(option)) throw UsageError(std::string("--") + option + " needs --executor dask");
   if (args.has("fail-with") && !args.has("shard")) throw UsageError("--fail-with needs --shard");
   return false;
 }
 
-std::vector<RunRecord> failedRecords(const std::vector<RunRequest>& requests, const std::string& reason) {
+std::vector<RunRecord> failedRecords(const std::vector<RunRequest>& requests,
+                                     const std::string& reason) {
   std::vector<RunRecord> records;
   for (const RunRequest& request : requests) {
     RunRecord failed;

@@ -20,7 +20,8 @@ void printPlan(const RunPlan& plan);
 bool wantsDask(const ParsedArgs& args);
 
 /// The requests as runs of status error with `reason`, none of them run (--fail-with).
-std::vector<RunRecord> failedRecords(const std::vector<RunRequest>& requests, const std::string& reason);
+std::vector<RunRecord> failedRecords(const std::vector<RunRequest>& requests,
+                                     const std::string& reason);
 
 /// --executor dask: replaces this process by the Dask client (python -m pbdval.cluster COMMAND
 /// ARGUMENTS..., the project's virtual environment), with --executor and its value removed.

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 #include <string>
-#include <vector>
 #include <utility>
+#include <vector>
 
 #include "adapters/built_in_engines.h"
 #include "pbdval/build_info.h"
@@ -48,7 +48,8 @@ EngineRegistry standardEngines(const EnvironmentLookup& environment) {
                                     (folder == folders.front()
                                          ? std::string()
                                          : " (PBDVAL_ENGINE_CATALOGUE adds engines to the shipped "
-                                           "ones in " + folders.front() + "; give yours another name)"));
+                                           "ones in " +
+                                               folders.front() + "; give yours another name)"));
       }
     }
   return engines;

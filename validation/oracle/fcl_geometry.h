@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "validation/oracle/distance_oracle.h"
 #include "pbd/model/mesh.h"
+#include "validation/oracle/distance_oracle.h"
 
 namespace pbdval::fcl_oracle {
 
