@@ -1,3 +1,5 @@
+#include <algorithm>
+
 #include "pbd/constraints/isometric_bending.h"
 #include "pbd/constraints/particle_stencil.h"
 
@@ -100,8 +102,10 @@ std::vector<IsometricBendingConstraint> clothBendingConstraints(const Scene& sce
 }
 
 void solveIsometricBending(std::vector<IsometricBendingConstraint>& constraints,
-                           ParticleStates& particles, Real substepSize, bool firstIteration) {
-  for (IsometricBendingConstraint& c : constraints) {
+                           ParticleStates& particles, Real substepSize, bool firstIteration, std::size_t begin,
+    std::size_t end) {
+  for (std::size_t k = begin, n = std::min(end, constraints.size()); k < n; ++k) {
+    IsometricBendingConstraint& c = constraints[k];
     std::array<Vector3, 4> x;
     std::array<Real, 4> w;
     gatherParticles(particles, c.particles, x, w);

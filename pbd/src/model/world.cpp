@@ -145,8 +145,9 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
   created.reserve(scene.joints.size());
   std::vector<int> sceneIndex;
   for (std::size_t k = 0; k < scene.joints.size(); ++k) {
-    const JointDesc& desc = scene.joints[k];
+    JointDesc desc = scene.joints[k];
     if (solvedByTreeSolver(scene, desc)) continue;
+    desc.model = jointModelFor(scene.simulation);
     created.push_back(makeJoint(world.bodies, desc));
     ends.push_back(jointEnds(created.back()));
     sceneIndex.push_back(static_cast<int>(k));
@@ -162,6 +163,8 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
     world.stiffRodTrees.emplace_back(world.bodies, treeJoints, tree.jsonPath);
   }
   world.constraints = ConstraintFamilies::fromScene(scene);
+  // The seed's step solves the cloth and solid elements in PositionBasedDynamics' colour order.
+  if (scene.simulation.stepMethod == StepMethod::Seed) world.constraints.orderAsTheSeed(scene);
   world.fluids = buildFluids(scene);
   world.collision = CollisionDetector(scene, options);
   world.materials = ContactMaterials(scene);

@@ -17,6 +17,7 @@
 // Pure functions; nothing allocates.
 #pragma once
 
+#include <cstdint>
 #include <array>
 #include <vector>
 
@@ -67,6 +68,7 @@ std::vector<IsometricBendingConstraint> clothBendingConstraints(const Scene& sce
 
 /// One Gauss–Seidel sweep; XPBD ones reset λ when `firstIteration`.
 void solveIsometricBending(std::vector<IsometricBendingConstraint>& constraints,
-                           ParticleStates& particles, Real substepSize, bool firstIteration);
+                           ParticleStates& particles, Real substepSize, bool firstIteration,
+                  std::size_t begin = 0, std::size_t end = SIZE_MAX);
 
 }  // namespace pbd
