@@ -35,6 +35,13 @@ struct IsometricBendingConstraint {
   bool xpbd = false;
   Real stiffness = 1;
   Real multiplier = 0;
+  /// The seed's Q = −(3/(2(A₀ + A₁))) K Kᵀ (init_IsometricBendingConstraint), with which the
+  /// PBD projection is evaluated in the seed's operation order: C_seed = ½ Σ Q_jk x_k·x_j =
+  /// −C/4·…, ∇_j = Σ_k Q_jk x_k; the PBD step is the same as with C (the factor cancels).
+  Eigen::Matrix<Real, 4, 4> seedQ = Eigen::Matrix<Real, 4, 4>::Zero();
+  /// No PBD correction when the seed's Σ w_j |∇_j|² is not above it (femCutoffFor: the seed's
+  /// 10⁻⁶ in `pbd`, 0 in `pbd.xpbd`).
+  Real cutoff = 0;
 };
 
 /// K and 3/(A₀ + A₁) of the stencil at `rest` (x₀, x₁ the edge). False for a degenerate stencil
