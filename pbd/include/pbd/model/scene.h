@@ -400,9 +400,10 @@ struct SimulationSettings {
   /// Extension; unset: the method's own (distanceGridFor).
   std::optional<GridInterpolation> distanceGrid;
   /// Extension; unset: the method's own (femCutoffFor). The FEM triangle and FEM tet solves
-  /// (PBD and XPBD) skip an element whose weighted gradient sum Σ w_i |∇_iC|² (for XPBD tets
-  /// plus α̃ C²) is below it, and the FEM builders drop an element whose rest matrix has
-  /// |det D_m| ≤ it (docs/methods.md, "Particle constraints").
+  /// (PBD and XPBD) and the isometric bending PBD solve skip an element whose weighted
+  /// gradient sum Σ w_i |∇_iC|² (for XPBD tets plus α̃ C²) is below it, and the FEM builders
+  /// drop an element whose rest matrix has |det D_m| ≤ it (docs/methods.md, "Particle
+  /// constraints").
   std::optional<Real> femCutoff;
   /// Extension; unset: the method's own (jointModelFor).
   std::optional<JointModel> jointModel;
