@@ -157,11 +157,10 @@ double ElasticEnergy::of(const State& state) const {
     energy += 0.5 * b.stiffness * c * c;
   }
   for (const FemTet& t : femTets_) {
-    const Vector3& x0 = positionOf(state, t.particles[0]);
-    pbd::Matrix3 deformed;
-    for (int i = 0; i < 3; ++i)
-      deformed.col(i) = positionOf(state, t.particles[std::size_t(i + 1)]) - x0;
-    const pbd::Matrix3 f = deformed * t.inverseRestMatrix;
+    // F as the library defines it (its edges and rest matrix: fem_tet.h).
+    std::array<Vector3, 4> x;
+    for (std::size_t i = 0; i < 4; ++i) x[i] = positionOf(state, t.particles[i]);
+    const pbd::Matrix3 f = pbd::femDeformationGradient(x, t.inverseRestMatrix);
     const pbd::Matrix3 strain = 0.5 * (f.transpose() * f - pbd::Matrix3::Identity());
     const double trace = strain.trace();
     energy += t.restVolume * (t.mu * strain.squaredNorm() + 0.5 * t.lambda * trace * trace);

@@ -90,7 +90,10 @@ TEST(SpringRecurrence, DamperAxialRowIsImplicitEuler) {
 // The angle motor holds a hard constraint on the relative rotation: the hinge angle equals the
 // interpolated target at the end of every step (to the constraint bound above).
 TEST(Motors, TargetAngleTracksItsSequence) {
-  const Scene scene = singleJointScene(JointType::TargetAngleMotorHinge);
+  // The corrected schedule: the set point of the step's end (the seed's, two steps late, is
+  // checked against the original's recording in test_seed_reference.cpp).
+  Scene scene = singleJointScene(JointType::TargetAngleMotorHinge);
+  scene.simulation.jointModel = JointModel::Corrected;
   World world = buildWorld(scene);
   const Quaternion q0 = scene.rigidBodies[1].initialPrincipalRotation();
   Real worst = 0;
@@ -107,7 +110,9 @@ TEST(Motors, TargetAngleTracksItsSequence) {
 // The velocity motor drives ω about the axis to the set point at the end of every step; the
 // pendulum's weight acts against it, but the velocity pass sets it exactly (hard rows).
 TEST(Motors, TargetVelocityHingeHoldsItsRate) {
-  const Scene scene = singleJointScene(JointType::TargetVelocityMotorHinge);
+  // The corrected schedule, as above.
+  Scene scene = singleJointScene(JointType::TargetVelocityMotorHinge);
+  scene.simulation.jointModel = JointModel::Corrected;
   World world = buildWorld(scene);
   for (int n = 0; n < 600; ++n) {
     world.step();

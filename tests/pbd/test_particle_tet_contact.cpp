@@ -307,6 +307,9 @@ Scene headOn(Schedule s) {
     scene.particles[i].velocity = Vector3(1, 0, 0);
   scene.simulation.gravitation = Vector3::Zero();
   scene.simulation.solidSimulationMethod = 3;
+  // The contacts are measured on pbdval's FEM, without the seed's absolute cut-off (which
+  // leaves the cubes' small strains uncorrected: docs/methods.md, "femCutoff").
+  scene.simulation.femCutoff = 0;
   useSchedule(scene, s);
   return scene;
 }
@@ -355,9 +358,10 @@ TEST(ParticleTetContactWorld, HeadOnCollisionConservesMomentumAndSeparatesTheCub
       // (within their elastic vibration, 5 % of the approach speed).
       EXPECT_FALSE(world.tetContacts.contacts.empty()) << nameOf(s);
       EXPECT_NEAR(vB.x(), approach / 2, Real(0.05)) << nameOf(s);
-      // A vertex enters during a step (≤ v h) and is corrected in the next (one step late);
-      // the cubes' elastic vibration can add as much again: 2 v h.
-      EXPECT_LT(deepest, 2 * approach * world.settings.timeStepSize) << nameOf(s);
+      // A vertex enters during a step (≤ v h), is found after it and corrected during the next
+      // one, in which it keeps approaching until the correction (≤ v h); the cubes' elastic
+      // vibration can add as much again: 3 v h.
+      EXPECT_LT(deepest, 3 * approach * world.settings.timeStepSize) << nameOf(s);
     } else {
       // Unilateral contacts let the cubes part: B, pushed, leaves A behind (the elastic
       // rebound of the cubes gives more than the inelastic half), and no contact remains.
@@ -384,6 +388,9 @@ Scene dropScene(Schedule s) {
   for (std::size_t i = 0; i < 27; ++i)
     if (scene.particles[i].position.y() == 0) scene.particles[i].mass = 0;
   scene.simulation.solidSimulationMethod = 3;
+  // The contacts are measured on pbdval's FEM, without the seed's absolute cut-off (which
+  // leaves the cubes' small strains uncorrected: docs/methods.md, "femCutoff").
+  scene.simulation.femCutoff = 0;
   useSchedule(scene, s);
   return scene;
 }
@@ -429,8 +436,10 @@ TEST(ParticleTetContactWorld, CubeDroppedOnACubeFallsFreelyThenRestsOnIt) {
       EXPECT_LT(deepest, 2 * impact * h) << nameOf(s);
       // Its particle–tet friction never acts (particle_tet_contact.h): nothing resists the
       // sideways kicks of the contact normals of the cube rocking after its elastic rebound,
-      // it slides off the lower cube's top and falls — asserted as the seed's failure.
-      EXPECT_LT(end.y(), Real(0.7)) << nameOf(s);
+      // it slides off the lower cube's top and falls — asserted as the seed's failure: its
+      // centre ends below where it would rest (0.75 less the elastic compression, < 1 mm; the
+      // current schedules below rest there) by more than 1 cm.
+      EXPECT_LT(end.y(), Real(0.74)) << nameOf(s);
       continue;
     }
     // Current schedules: found in every substep, a vertex is caught within one substep of

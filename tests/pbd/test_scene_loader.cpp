@@ -875,7 +875,7 @@ std::vector<WarningCase> warningCases() {
       {R"({"Simulation": {"triangleModelBendingMethod": 1}})",
        "Simulation.triangleModelBendingMethod", "did you mean \"clothBendingMethod\"?"},
       {R"({"Simulation": {"gravity": [0, -2, 0]}})", "Simulation.gravity",
-       "PositionBasedDynamics ignores \"gravity\" and would simulate with [0, -9.81, 0]"},
+       "as PositionBasedDynamics ignores \"gravity\": the gravitation stays the default [0, -9.81, 0]"},
       {R"({"Simulation": {"gravity": [0, -2, 0], "gravitation": [0, -1, 0]}})",
        "Simulation.gravity", "ignored: \"gravitation\" is also given"},
       {R"({"Simulation": {"renderBVH": 2, "renderBVHDepth": 3}})", "Simulation.renderBVH",
@@ -936,9 +936,10 @@ TEST(SceneLoaderWarnings, EachCaseWarnsAtItsPath) {
 TEST(SceneLoaderWarnings, WarnedValuesAreHandledAsDocumented) {
   // Unknown and stale keys change nothing.
   EXPECT_EQ(parse(R"({"Simulation": {"maxIter": 4}})").scene.simulation.maxIterations, 1);
-  // `gravity` alone is used; with `gravitation` it is ignored.
+  // `gravity` is ignored, as the seed ignores it (its CarScene.json gives [0, -2, 0] and falls
+  // at -9.81): alone it leaves the default, with `gravitation` that one holds.
   EXPECT_EQ(parse(R"({"Simulation": {"gravity": [0, -2, 0]}})").scene.simulation.gravitation,
-            Vector3(0, -2, 0));
+            Vector3(0, Real(-9.81), 0));
   EXPECT_EQ(parse(R"({"Simulation": {"gravity": [0, -2, 0], "gravitation": [0, -1, 0]}})")
                 .scene.simulation.gravitation,
             Vector3(0, -1, 0));

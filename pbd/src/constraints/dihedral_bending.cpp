@@ -1,6 +1,7 @@
 #include "pbd/constraints/dihedral_bending.h"
 #include "pbd/constraints/particle_stencil.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -97,8 +98,10 @@ std::vector<DihedralBendingConstraint> clothDihedralConstraints(const Scene& sce
 }
 
 void solveDihedralBending(const std::vector<DihedralBendingConstraint>& constraints,
-                          ParticleStates& particles) {
-  for (const DihedralBendingConstraint& c : constraints) {
+                          ParticleStates& particles, std::size_t begin,
+    std::size_t end) {
+  for (std::size_t k = begin, n = std::min(end, constraints.size()); k < n; ++k) {
+    const DihedralBendingConstraint& c = constraints[k];
     std::array<Vector3, 4> x;
     std::array<Real, 4> w;
     gatherParticles(particles, c.particles, x, w);

@@ -1,3 +1,6 @@
+#include <algorithm>
+#include <cmath>
+
 #include "pbd/constraints/isometric_bending.h"
 #include "pbd/constraints/particle_stencil.h"
 
@@ -29,6 +32,31 @@ Gradients gradients(const std::array<Vector3, 4>& x, const std::array<Real, 4>& 
   return out;
 }
 
+/// The seed's init_IsometricBendingConstraint: Q = K ⊗ (coef K), coef = −3/(2 (A₀ + A₁)), with
+/// its cotangents and areas (x₀, x₁ the edge).
+Eigen::Matrix<Real, 4, 4> seedBendingMatrix(const std::array<Vector3, 4>& x) {
+  const Vector3 e0 = x[1] - x[0];
+  const Vector3 e1 = x[2] - x[0];
+  const Vector3 e2 = x[3] - x[0];
+  const Vector3 e3 = x[2] - x[1];
+  const Vector3 e4 = x[3] - x[1];
+  const Real c01 = cotangent(e0, e1);
+  const Real c02 = cotangent(e0, e2);
+  const Real c03 = cotangent(-e0, e3);
+  const Real c04 = cotangent(-e0, e4);
+  const Real a0 = Real(0.5) * (e0.cross(e1)).norm();
+  const Real a1 = Real(0.5) * (e0.cross(e2)).norm();
+  const Real coef = Real(-3) / (Real(2) * (a0 + a1));
+  const Real k[4] = {c03 + c04, c01 + c02, -c01 - c03, -c02 - c04};
+  const Real k2[4] = {coef * k[0], coef * k[1], coef * k[2], coef * k[3]};
+  Eigen::Matrix<Real, 4, 4> q;
+  for (int j = 0; j < 4; ++j) {
+    for (int i = 0; i < j; ++i) q(j, i) = q(i, j) = k[j] * k2[i];
+    q(j, j) = k[j] * k2[j];
+  }
+  return q;
+}
+
 }  // namespace
 
 bool isometricBendingStencil(const std::array<Vector3, 4>& rest, std::array<Real, 4>& weights,
@@ -56,6 +84,24 @@ BendingCorrection isometricBendingPbd(const std::array<Vector3, 4>& x,
                                       const std::array<Real, 4>& inverseMasses,
                                       const IsometricBendingConstraint& c) {
   BendingCorrection out;
+  if (c.cutoff > 0) {
+    // The seed's solve_IsometricBendingConstraint, operation by operation.
+    Real energy = 0;
+    for (int k = 0; k < 4; ++k)
+      for (int j = 0; j < 4; ++j) energy += c.seedQ(j, k) * x[std::size_t(k)].dot(x[std::size_t(j)]);
+    energy *= Real(0.5);
+    std::array<Vector3, 4> g = {Vector3::Zero(), Vector3::Zero(), Vector3::Zero(), Vector3::Zero()};
+    for (int k = 0; k < 4; ++k)
+      for (int j = 0; j < 4; ++j) g[std::size_t(j)] += c.seedQ(j, k) * x[std::size_t(k)];
+    Real sum = 0;
+    for (std::size_t j = 0; j < 4; ++j)
+      if (inverseMasses[j] != 0) sum += inverseMasses[j] * g[j].squaredNorm();
+    if (!(std::abs(sum) > c.cutoff)) return out;
+    const Real s = energy / sum;
+    for (std::size_t j = 0; j < 4; ++j)
+      out.positions[j] = -c.stiffness * (s * inverseMasses[j]) * g[j];
+    return out;
+  }
   const Gradients g = gradients(x, inverseMasses, c);
   // At a flat state C and ∇C vanish together: nothing to do (and no direction).
   if (!(g.weightedNorm > kEpsilon * kEpsilon)) return out;
@@ -93,6 +139,8 @@ std::vector<IsometricBendingConstraint> clothBendingConstraints(const Scene& sce
       if (!anyDynamic || !isometricBendingStencil(rest, c.weights, c.scale)) continue;
       c.xpbd = bending == 3;
       c.stiffness = clothBendingStiffnessFor(scene.simulation);
+      c.cutoff = femCutoffFor(scene.simulation);
+      c.seedQ = seedBendingMatrix(rest);
       constraints.push_back(c);
     }
   }
@@ -100,8 +148,10 @@ std::vector<IsometricBendingConstraint> clothBendingConstraints(const Scene& sce
 }
 
 void solveIsometricBending(std::vector<IsometricBendingConstraint>& constraints,
-                           ParticleStates& particles, Real substepSize, bool firstIteration) {
-  for (IsometricBendingConstraint& c : constraints) {
+                           ParticleStates& particles, Real substepSize, bool firstIteration, std::size_t begin,
+    std::size_t end) {
+  for (std::size_t k = begin, n = std::min(end, constraints.size()); k < n; ++k) {
+    IsometricBendingConstraint& c = constraints[k];
     std::array<Vector3, 4> x;
     std::array<Real, 4> w;
     gatherParticles(particles, c.particles, x, w);

@@ -1,3 +1,5 @@
+#include <algorithm>
+
 #include "pbd/constraints/particle_distance.h"
 
 #include "pbd/model/body_states.h"
@@ -82,8 +84,10 @@ std::vector<ParticleDistanceConstraint> deformableDistanceConstraints(const Scen
 }
 
 void solveParticleDistances(std::vector<ParticleDistanceConstraint>& constraints,
-                            ParticleStates& particles, Real substepSize, bool firstIteration) {
-  for (ParticleDistanceConstraint& c : constraints) {
+                            ParticleStates& particles, Real substepSize, bool firstIteration, std::size_t begin,
+    std::size_t end) {
+  for (std::size_t k = begin, n = std::min(end, constraints.size()); k < n; ++k) {
+    ParticleDistanceConstraint& c = constraints[k];
     const auto i = std::size_t(c.particle1), j = std::size_t(c.particle2);
     DistanceCorrection d;
     if (c.xpbd) {

@@ -1,5 +1,6 @@
 #include "pbd/constraints/shape_matching.h"
 
+#include <algorithm>
 #include <Eigen/SVD>
 
 #include "pbd/constraints/strain_tet.h"
@@ -93,8 +94,10 @@ std::vector<ShapeMatchingConstraint> shapeMatchingConstraints(const Scene& scene
 }
 
 void solveShapeMatching(const std::vector<ShapeMatchingConstraint>& constraints,
-                        ParticleStates& particles) {
-  for (const ShapeMatchingConstraint& c : constraints) {
+                        ParticleStates& particles, std::size_t begin,
+    std::size_t end) {
+  for (std::size_t k = begin, n = std::min(end, constraints.size()); k < n; ++k) {
+    const ShapeMatchingConstraint& c = constraints[k];
     std::array<Vector3, 4> x;
     std::array<Real, 4> w;
     for (std::size_t i = 0; i < 4; ++i) {

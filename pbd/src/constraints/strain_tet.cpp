@@ -1,5 +1,6 @@
 #include "pbd/constraints/strain_tet.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "pbd/model/scene.h"
@@ -148,8 +149,10 @@ std::vector<StrainTetConstraint> strainTetConstraints(const Scene& scene) {
 }
 
 void solveStrainTets(const std::vector<StrainTetConstraint>& constraints,
-                     ParticleStates& particles) {
-  for (const StrainTetConstraint& c : constraints) {
+                     ParticleStates& particles, std::size_t begin,
+    std::size_t end) {
+  for (std::size_t k = begin, n = std::min(end, constraints.size()); k < n; ++k) {
+    const StrainTetConstraint& c = constraints[k];
     std::array<Vector3, 4> x;
     std::array<Real, 4> w;
     for (std::size_t i = 0; i < 4; ++i) {

@@ -1,6 +1,7 @@
 #include "pbd/constraints/strain_triangle.h"
 #include "pbd/constraints/particle_stencil.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "pbd/model/scene.h"
@@ -146,8 +147,10 @@ std::vector<StrainTriangleConstraint> strainTriangleConstraints(const Scene& sce
 }
 
 void solveStrainTriangles(const std::vector<StrainTriangleConstraint>& constraints,
-                          ParticleStates& particles) {
-  for (const StrainTriangleConstraint& c : constraints) {
+                          ParticleStates& particles, std::size_t begin,
+    std::size_t end) {
+  for (std::size_t k = begin, n = std::min(end, constraints.size()); k < n; ++k) {
+    const StrainTriangleConstraint& c = constraints[k];
     std::array<Vector3, 3> x;
     std::array<Real, 3> w;
     gatherParticles(particles, c.particles, x, w);

@@ -1,3 +1,5 @@
+#include <algorithm>
+
 #include "pbd/constraints/tet_volume.h"
 #include "pbd/constraints/particle_stencil.h"
 
@@ -77,8 +79,10 @@ std::vector<TetVolumeConstraint> solidVolumeConstraints(const Scene& scene) {
 }
 
 void solveTetVolumes(std::vector<TetVolumeConstraint>& constraints, ParticleStates& particles,
-                     Real substepSize, bool firstIteration) {
-  for (TetVolumeConstraint& c : constraints) {
+                     Real substepSize, bool firstIteration, std::size_t begin,
+    std::size_t end) {
+  for (std::size_t k = begin, n = std::min(end, constraints.size()); k < n; ++k) {
+    TetVolumeConstraint& c = constraints[k];
     std::array<Vector3, 4> p;
     std::array<Real, 4> w;
     gatherParticles(particles, c.particles, p, w);

@@ -168,8 +168,17 @@ KeyTable<TetModelDesc> tetFileKeys(const LoadContext& context) {
                                                   T& m) { m.eleFile = context.existingFile(v); }}),
       {"visFile",
        [&context](const JsonValue& v, T& m) {
-         // Empty: no visual mesh (the seed's default).
-         m.visFile = v.string().empty() ? std::string() : context.existingFile(v);
+         // Empty: no visual mesh (the seed's default). A missing file is a warning: the visual
+         // mesh only follows the tets, and PositionBasedDynamics runs without it (its OBJ
+         // loader logs the failure and leaves the mesh empty).
+         m.visFile.clear();
+         if (v.string().empty()) return;
+         try {
+           m.visFile = context.existingFile(v);
+         } catch (const SceneError& e) {
+           v.warn(std::string("ignored: ") + e.diagnostic().message +
+                  "; the tet model is simulated without a visual mesh");
+         }
        }},
   };
 }

@@ -14,6 +14,7 @@ struct JointInput {
   std::optional<Real> target;
   std::optional<MotorTarget> sequence;
   bool repeat = false;
+  bool repeatGiven = false;
   std::optional<Vector3> particleJointPosition;  ///< documented, but ignored by the seed
 };
 
@@ -93,7 +94,10 @@ KeyTable<JointInput> jointKeyTable(JointType type) {
     table.push_back({"target", [](const JsonValue& v, J& j) { j.target = v.number(); }});
     table.push_back(
         {"targetSequence", [](const JsonValue& v, J& j) { j.sequence = readTargetSequence(v); }});
-    table.push_back({"repeatSequence", [](const JsonValue& v, J& j) { j.repeat = v.boolean(); }});
+    table.push_back({"repeatSequence", [](const JsonValue& v, J& j) {
+      j.repeat = v.boolean();
+      j.repeatGiven = true;
+    }});
   }
   return table;
 }
@@ -198,6 +202,7 @@ Real clampAngle(Real angle, const JsonValue& where) {
 MotorTarget resolveMotorTarget(JsonObject& object, JointInput& in) {
   MotorTarget motor;
   motor.repeat = in.repeat;
+  motor.repeatGiven = in.repeatGiven;
   if (in.target) {
     motor.constant = *in.target;
     if (in.sequence) {

@@ -1,6 +1,7 @@
 #include "pbd/io/mesh_loader.h"
 
 #include <array>
+#include <charconv>
 #include <climits>
 #include <cstdint>
 #include <optional>
@@ -56,6 +57,18 @@ class TokenizedFile {
     return static_cast<Real>(*value);
   }
 
+  /// A finite number rounded once to single precision, as `stof` reads it.
+  Real single(const std::string& token) const {
+    real(token);  // the same checks and messages as a full-precision number
+    const char* begin = token.data();
+    if (*begin == '+') ++begin;
+    float value = 0;
+    const auto result = std::from_chars(begin, token.data() + token.size(), value);
+    if (result.ec != std::errc() || !std::isfinite(value))
+      fail("expected a finite single-precision number, got '" + token + "'");
+    return static_cast<Real>(value);
+  }
+
   int integer(const std::string& token) const {
     const std::optional<std::int64_t> value = parseInteger(token);
     if (!value || *value > INT_MAX || *value < INT_MIN)
@@ -78,11 +91,13 @@ bool isIgnoredObjStatement(const std::string& keyword) {
   return false;
 }
 
-Vector3 readObjVertex(const TokenizedFile& file, const Tokens& tokens) {
+Vector3 readObjVertex(const TokenizedFile& file, const Tokens& tokens, ObjPrecision precision) {
   // "v x y z [w]"; some exporters append r g b, which are numbers as well and ignored.
   if (tokens.size() < 4 || tokens.size() > 8) file.fail("expected 'v x y z [w]'");
   for (std::size_t i = 4; i < tokens.size(); ++i)
     file.real(tokens[i]);
+  if (precision == ObjPrecision::Single)
+    return Vector3(file.single(tokens[1]), file.single(tokens[2]), file.single(tokens[3]));
   return Vector3(file.real(tokens[1]), file.real(tokens[2]), file.real(tokens[3]));
 }
 
@@ -247,18 +262,23 @@ void readTetGenElements(const std::string& text, const std::string& path, int no
 
 }  // namespace
 
-TriangleMesh loadObj(const std::string& path) {
-  return parseObj(readWholeFile(path), path);
+const char* objPrecisionName(ObjPrecision precision) {
+  return precision == ObjPrecision::Single ? "single" : "double";
 }
 
-TriangleMesh parseObj(const std::string& text, const std::string& sourceName) {
+TriangleMesh loadObj(const std::string& path, ObjPrecision precision) {
+  return parseObj(readWholeFile(path), path, precision);
+}
+
+TriangleMesh parseObj(const std::string& text, const std::string& sourceName,
+                      ObjPrecision precision) {
   TokenizedFile file(text, sourceName);
   TriangleMesh mesh;
   Tokens tokens;
   while (file.next(tokens)) {
     const std::string& keyword = tokens[0];
     if (keyword == "v") {
-      mesh.vertices.push_back(readObjVertex(file, tokens));
+      mesh.vertices.push_back(readObjVertex(file, tokens, precision));
     } else if (keyword == "f") {
       appendObjFace(file, tokens, mesh);
     } else if (!isIgnoredObjStatement(keyword)) {

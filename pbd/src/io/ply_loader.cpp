@@ -323,10 +323,10 @@ TriangleMesh parsePly(const std::string& bytes, const std::string& sourceName) {
   return mesh;
 }
 
-TriangleMesh loadSurfaceMesh(const std::string& path) {
+TriangleMesh loadSurfaceMesh(const std::string& path, ObjPrecision objPrecision) {
   std::string extension = path.size() >= 4 ? path.substr(path.size() - 4) : std::string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return extension == ".ply" ? loadPly(path) : loadObj(path);
+  return extension == ".ply" ? loadPly(path) : loadObj(path, objPrecision);
 }
 
 TriangleMesh loadPly(const std::string& path) {

@@ -32,6 +32,22 @@ ContactModel contactModel(const JsonValue& value) {
   value.fail("one of \"seed\", \"corrected\"");
 }
 
+/// Extension: "seed" | "corrected".
+JointModel jointModel(const JsonValue& value) {
+  const std::string name = value.string();
+  for (JointModel model : {JointModel::Seed, JointModel::Corrected})
+    if (name == jointModelName(model)) return model;
+  value.fail("one of \"seed\", \"corrected\"");
+}
+
+/// Extension: "single" | "double".
+ObjPrecision objPrecision(const JsonValue& value) {
+  const std::string name = value.string();
+  for (ObjPrecision precision : {ObjPrecision::Single, ObjPrecision::Double})
+    if (name == objPrecisionName(precision)) return precision;
+  value.fail("one of \"single\", \"double\"");
+}
+
 /// Extension: "cubicLagrange" | "catmullRom".
 GridInterpolation distanceGrid(const JsonValue& value) {
   const std::string name = value.string();
@@ -40,20 +56,21 @@ GridInterpolation distanceGrid(const JsonValue& value) {
   value.fail("one of \"cubicLagrange\", \"catmullRom\"");
 }
 
-void readGravityAlias(JsonObject& object, SimulationSettings& settings) {
+/// `gravity` is parsed by the seed's scene loader but never used: the seed simulates with its
+/// `gravitation` (default [0, -9.81, 0]) whatever `gravity` says (its CarScene.json gives
+/// [0, -2, 0] and runs at -9.81). Ignored the same way here, with a warning.
+void readGravityAlias(JsonObject& object) {
   const auto gravity = object.find("gravity");
   if (!gravity) return;
+  const Vector3 value = gravity->vector3();  // still a value that was given: it must be well-formed
   if (object.has("gravitation")) {
-    gravity->vector3(between(-kMaxGravitation, kMaxGravitation));  // still given: well-formed
-    gravity->warn(
-        "ignored: \"gravitation\" is also given (PositionBasedDynamics ignores "
-        "\"gravity\" always)");
+    gravity->warn("ignored: \"gravitation\" is also given (PositionBasedDynamics ignores "
+                  "\"gravity\" always)");
     return;
   }
-  settings.gravitation = gravity->vector3(between(-kMaxGravitation, kMaxGravitation));
-  gravity->warn("used as \"gravitation\" " + formatVector(settings.gravitation) +
-                ", but PositionBasedDynamics ignores \"gravity\" and would simulate with "
-                "[0, -9.81, 0]; rename the key to \"gravitation\"");
+  gravity->warn("ignored " + formatVector(value) +
+                ", as PositionBasedDynamics ignores \"gravity\": the gravitation stays the "
+                "default [0, -9.81, 0]; rename the key to \"gravitation\" to use it");
 }
 
 /// `renderBVH` is the documented name of the seed's `renderBVHDepth`.
@@ -157,6 +174,17 @@ KeyTable<SimulationSettings> simulationKeys() {
          if (s.distanceGrid) writeString(j, "distanceGrid", gridInterpolationName(*s.distanceGrid));
        }},
 
+      numberKey("femCutoff", &S::femCutoff, nonNegative()),
+      {"jointModel", [](const JsonValue& v, S& s) { s.jointModel = jointModel(v); }, false,
+       [](const S& s, Json& j) {
+         if (s.jointModel) writeString(j, "jointModel", jointModelName(*s.jointModel));
+       }},
+      {"objPrecision", [](const JsonValue& v, S& s) { s.objPrecision = objPrecision(v); }, false,
+       [](const S& s, Json& j) {
+         if (s.objPrecision != ObjPrecision::Single)
+           writeString(j, "objPrecision", objPrecisionName(s.objPrecision));
+       }},
+
       integerKey("clothSimulationMethod", &S::clothSimulationMethod, between(0, 4)),
       integerKey("clothBendingMethod", &S::clothBendingMethod, between(0, 3)),
       numberKey("cloth_stiffness", &S::cloth_stiffness, nonNegative()),
@@ -230,7 +258,7 @@ void readSimulation(const JsonValue& block, Scene& scene) {
   JsonObject object = block.object();
   readKeys(object, simulationKeys(), scene.simulation);
   readKeys(object, viewerKeys(), scene.viewer);
-  readGravityAlias(object, scene.simulation);
+  readGravityAlias(object);
   readRenderBvhAlias(object, scene.viewer);
   checkClothPoissonRatios(object, scene.simulation);
   object.warnUnknownKeys();
@@ -248,6 +276,13 @@ std::vector<std::string> simulationSettingKeys() {
 void applySimulationSetting(SimulationSettings& settings, const std::string& key,
                             const std::string& valueText, const std::string& origin) {
   using namespace scene_io;
+  if (key == "objPrecision") {
+    // The meshes are read with it while the scene loads; a later change would leave them as
+    // they were read.
+    throw SceneError(SceneDiagnostic{
+        origin, "Simulation.objPrecision",
+        "takes effect while the meshes are read: give it in the scene file's Simulation block"});
+  }
   for (const auto& entry : simulationKeys()) {
     if (entry.key != key) continue;
     // The value as JSON ("10", "[0, -9.81, 0]", "\"corrected\""); else a list "0,-9.81,0";
@@ -311,6 +346,7 @@ LoadedScene parseScene(const std::string& jsonText, const std::string& sourcePat
   scene.sourceFile = sourcePath;
   readKeys(root, topLevelKeys(), scene);
   if (auto block = root.find("Simulation")) readSimulation(*block, scene);
+  context.setObjPrecision(scene.simulation.objPrecision);
   if (auto block = root.find("RigidBodies")) readRigidBodies(*block, context, scene);
   if (auto block = root.find("TriangleModels")) readTriangleModels(*block, context, scene);
   if (auto block = root.find("TetModels")) readTetModels(*block, context, scene);

@@ -30,7 +30,7 @@ const TriangleMesh& LoadContext::obj(const std::string& path, const JsonValue& f
   auto it = objFiles_.find(path);
   if (it == objFiles_.end()) {
     try {
-      it = objFiles_.emplace(path, loadSurfaceMesh(path)).first;
+      it = objFiles_.emplace(path, loadSurfaceMesh(path, objPrecision_)).first;
     } catch (const SceneError& e) {
       fileKey.error(std::string("cannot load the mesh: ") + e.what());
     }

@@ -54,6 +54,9 @@ class LoadContext {
  public:
   explicit LoadContext(std::filesystem::path sceneFolder);
 
+  /// How OBJ coordinates are read from now on (Simulation.objPrecision, read first).
+  void setObjPrecision(ObjPrecision precision) { objPrecision_ = precision; }
+
   /// The resolved path of a file key (relative paths against the scene folder); fails, naming
   /// the key, when the string is empty or the file does not exist.
   std::string existingFile(const JsonValue& fileKey) const;
@@ -70,6 +73,7 @@ class LoadContext {
   const TriangleMesh& obj(const std::string& path, const JsonValue& fileKey);
 
   std::filesystem::path sceneFolder_;
+  ObjPrecision objPrecision_ = ObjPrecision::Single;
   std::map<std::string, TriangleMesh> objFiles_;
   std::map<std::pair<std::string, std::array<Real, 3>>, std::shared_ptr<const TriangleMesh>>
       scaledObjs_;

@@ -4,7 +4,7 @@ namespace pbd {
 
 TargetVelocityMotorSliderJoint::TargetVelocityMotorSliderJoint(const BodyStates& bodies,
                                                                const JointDesc& desc)
-    : slider_(bodies, desc), target_(desc.target) {
+    : slider_(bodies, desc), target_(desc.target), model_(desc.model) {
   updateTarget(0);
 }
 

@@ -34,21 +34,24 @@ std::vector<std::array<int, 2>> uniqueEdges(const std::vector<std::array<int, 4>
 }
 
 std::vector<EdgeStencil> interiorEdgeStencils(const TriangleMesh& mesh) {
-  // Edge (sorted) → its rank of first appearance and the opposite vertices of its triangles.
+  // Edge (sorted) → its rank of first appearance, its orientation then (the seed's
+  // IndexedFaceMesh::buildNeighbors keeps the first triangle's (t_k, t_k+1)) and the opposite
+  // vertices of its triangles.
   std::map<std::pair<int, int>, std::vector<int>> opposites;
-  std::vector<std::pair<int, int>> order;
+  std::vector<std::pair<int, int>> order;  // as first seen
   for (const auto& t : mesh.triangles)
     for (std::size_t k = 0; k < 3; ++k) {
       const int a = t[k], b = t[(k + 1) % 3];
       const std::pair<int, int> key{std::min(a, b), std::max(a, b)};
       auto [it, inserted] = opposites.try_emplace(key);
-      if (inserted) order.push_back(key);
+      if (inserted) order.push_back({a, b});
       it->second.push_back(t[(k + 2) % 3]);
     }
   std::vector<EdgeStencil> stencils;
-  for (const auto& key : order) {
-    const std::vector<int>& opposite = opposites[key];
-    if (opposite.size() == 2) stencils.push_back({{key.first, key.second}, {opposite[0], opposite[1]}});
+  for (const auto& edge : order) {
+    const std::vector<int>& opposite =
+        opposites[{std::min(edge.first, edge.second), std::max(edge.first, edge.second)}];
+    if (opposite.size() == 2) stencils.push_back({{edge.first, edge.second}, {opposite[0], opposite[1]}});
   }
   return stencils;
 }

@@ -88,6 +88,20 @@ Real MotorTarget::valueAt(Real time) const {
   return values[i - 1] + s * (values[i] - values[i - 1]);
 }
 
+Real MotorTarget::seedValueAt(Real time) const {
+  if (times.empty() || time < 0) return constant;
+  Real t = time;
+  const Real duration = times.back() - times.front();
+  if ((repeatGiven ? repeat : true) && duration > 0)
+    while (t > duration) t -= duration;
+  std::size_t index = 0;
+  while (index < times.size() && times[index] <= t) ++index;
+  if (index == times.size()) return values.back();
+  if (index == 0) return values.front();  // before the first sample (the seed reads out of range)
+  const Real alpha = (t - times[index - 1]) / (times[index] - times[index - 1]);
+  return (Real(1) - alpha) * values[index - 1] + alpha * values[index];
+}
+
 const char* contactCombineRuleName(ContactCombineRule rule) {
   switch (rule) {
     case ContactCombineRule::Seed:
@@ -133,6 +147,20 @@ Real solidStiffnessFor(const SimulationSettings& settings) {
 Real solidVolumeStiffnessFor(const SimulationSettings& settings) {
   if (settings.solid_volumeStiffness) return *settings.solid_volumeStiffness;
   return settings.solidSimulationMethod == 6 ? Real(1e5) : Real(1);
+}
+
+const char* jointModelName(JointModel model) {
+  return model == JointModel::Seed ? "seed" : "corrected";
+}
+
+JointModel jointModelFor(const SimulationSettings& settings) {
+  if (settings.jointModel) return *settings.jointModel;
+  return settings.stepMethod == StepMethod::Xpbd ? JointModel::Corrected : JointModel::Seed;
+}
+
+Real femCutoffFor(const SimulationSettings& settings) {
+  if (settings.femCutoff) return *settings.femCutoff;
+  return settings.stepMethod == StepMethod::Xpbd ? Real(0) : kSeedFemCutoff;
 }
 
 GridInterpolation distanceGridFor(const SimulationSettings& settings) {

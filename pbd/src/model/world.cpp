@@ -1,5 +1,6 @@
 #include "pbd/model/world.h"
 
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -144,9 +145,38 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
   std::vector<JointEnds> ends;
   created.reserve(scene.joints.size());
   std::vector<int> sceneIndex;
-  for (std::size_t k = 0; k < scene.joints.size(); ++k) {
-    const JointDesc& desc = scene.joints[k];
+  // The seed's step colours the joints in the seed's list order: its SceneLoaderDemo adds them
+  // by block — ball, ball-on-line, hinge, universal, slider, rigid-body–particle, the four
+  // motors, damper, spring, distance (the scene's own order within a block). The order decides
+  // the colour groups and so the Gauss–Seidel order.
+  std::vector<std::size_t> listOrder(scene.joints.size());
+  for (std::size_t k = 0; k < listOrder.size(); ++k) listOrder[k] = k;
+  if (scene.simulation.stepMethod == StepMethod::Seed) {
+    const auto seedRank = [](JointType type) {
+      switch (type) {
+        case JointType::Damper:
+          return 10;
+        case JointType::RigidBodySpring:
+          return 11;
+        case JointType::Distance:
+          return 12;
+        case JointType::TargetAngleMotorHinge:
+        case JointType::TargetVelocityMotorHinge:
+        case JointType::TargetPositionMotorSlider:
+        case JointType::TargetVelocityMotorSlider:
+          return static_cast<int>(type) - 3;  // 6 … 9, after the rigid-body–particle joint
+        default:
+          return static_cast<int>(type);
+      }
+    };
+    std::stable_sort(listOrder.begin(), listOrder.end(), [&](std::size_t a, std::size_t b) {
+      return seedRank(scene.joints[a].type) < seedRank(scene.joints[b].type);
+    });
+  }
+  for (std::size_t k : listOrder) {
+    JointDesc desc = scene.joints[k];
     if (solvedByTreeSolver(scene, desc)) continue;
+    desc.model = jointModelFor(scene.simulation);
     created.push_back(makeJoint(world.bodies, desc));
     ends.push_back(jointEnds(created.back()));
     sceneIndex.push_back(static_cast<int>(k));
@@ -162,6 +192,8 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
     world.stiffRodTrees.emplace_back(world.bodies, treeJoints, tree.jsonPath);
   }
   world.constraints = ConstraintFamilies::fromScene(scene);
+  // The seed's step solves the cloth and solid elements in PositionBasedDynamics' colour order.
+  if (scene.simulation.stepMethod == StepMethod::Seed) world.constraints.orderAsTheSeed(scene);
   world.fluids = buildFluids(scene);
   world.collision = CollisionDetector(scene, options);
   world.materials = ContactMaterials(scene);

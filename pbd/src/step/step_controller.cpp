@@ -59,10 +59,15 @@ void stepWorld(World& world) {
   const Real h = world.settings.timeStepSize;
   const int substeps = world.settings.subSteps;
   const Real hs = h / static_cast<Real>(substeps);
-  const Real endTime = static_cast<Real>(world.stepCount + 1) * h;
+  // Motor set points: pbdval's f(t + h), the end of this step (jointModel corrected); the
+  // seed's f(t − h), set after the previous step from that step's start time (negative before
+  // the first step: the loader's initial target; MotorTarget::seedValueAt).
+  const Real targetTime = jointModelFor(world.settings) == JointModel::Seed
+                              ? static_cast<Real>(world.stepCount - 1) * h
+                              : static_cast<Real>(world.stepCount + 1) * h;
 
   for (Joint& joint : world.joints)
-    std::visit([&](auto& j) { j.updateTarget(endTime); }, joint);
+    std::visit([&](auto& j) { j.updateTarget(targetTime); }, joint);
   resetAccelerations(world);
   for (int s = 0; s < substeps; ++s) {
     predictPositions(world, hs);
@@ -77,7 +82,7 @@ void stepWorld(World& world) {
   world.contacts.rememberImpulses();
 
   ++world.stepCount;
-  world.time = endTime;
+  world.time = static_cast<Real>(world.stepCount) * h;
 }
 
 }  // namespace pbd

@@ -23,6 +23,7 @@
 // (the steps and buildWorld follow the list).
 #pragma once
 
+#include <cstddef>
 #include <vector>
 
 #include "pbd/constraints/cosserat_rod.h"
@@ -72,45 +73,80 @@ struct ConstraintFamilies {
   /// firstIteration) is its Gauss–Seidel pass.
   template <typename Visitor>
   void forEachFamily(Visitor&& visit) {
-    visit(genericRigidConstraints, kAddedInCpp, [](auto& c, BodyStates& b, Real h, bool first) {
-      solveGenericRigidConstraints(c, b.rigid, h, first);
-    });
+    using Range = std::size_t;
+    visit(genericRigidConstraints, kAddedInCpp,
+          [](auto& c, BodyStates& b, Real h, bool first, Range, Range) {
+            solveGenericRigidConstraints(c, b.rigid, h, first);
+          });
     visit(particleDistances, deformableDistanceConstraints,
-          [](auto& c, BodyStates& b, Real h, bool first) {
-            solveParticleDistances(c, b.particles, h, first);
+          [](auto& c, BodyStates& b, Real h, bool first, Range begin, Range end) {
+            solveParticleDistances(c, b.particles, h, first, begin, end);
           });
     visit(femTriangles, femTriangleConstraints,
-          [](auto& c, BodyStates& b, Real, bool) { solveFemTriangles(c, b.particles); });
+          [](auto& c, BodyStates& b, Real, bool, Range begin, Range end) {
+            solveFemTriangles(c, b.particles, begin, end);
+          });
     visit(strainTriangles, strainTriangleConstraints,
-          [](auto& c, BodyStates& b, Real, bool) { solveStrainTriangles(c, b.particles); });
-    visit(tetVolumes, solidVolumeConstraints, [](auto& c, BodyStates& b, Real h, bool first) {
-      solveTetVolumes(c, b.particles, h, first);
-    });
-    visit(femTets, solidFemConstraints, [](auto& c, BodyStates& b, Real h, bool first) {
-      solveFemTets(c, b.particles, h, first);
-    });
+          [](auto& c, BodyStates& b, Real, bool, Range begin, Range end) {
+            solveStrainTriangles(c, b.particles, begin, end);
+          });
+    visit(tetVolumes, solidVolumeConstraints,
+          [](auto& c, BodyStates& b, Real h, bool first, Range begin, Range end) {
+            solveTetVolumes(c, b.particles, h, first, begin, end);
+          });
+    visit(femTets, solidFemConstraints,
+          [](auto& c, BodyStates& b, Real h, bool first, Range begin, Range end) {
+            solveFemTets(c, b.particles, h, first, begin, end);
+          });
     visit(strainTets, strainTetConstraints,
-          [](auto& c, BodyStates& b, Real, bool) { solveStrainTets(c, b.particles); });
+          [](auto& c, BodyStates& b, Real, bool, Range begin, Range end) {
+            solveStrainTets(c, b.particles, begin, end);
+          });
     visit(shapeMatching, shapeMatchingConstraints,
-          [](auto& c, BodyStates& b, Real, bool) { solveShapeMatching(c, b.particles); });
-    visit(clothBending, clothBendingConstraints, [](auto& c, BodyStates& b, Real h, bool first) {
-      solveIsometricBending(c, b.particles, h, first);
-    });
+          [](auto& c, BodyStates& b, Real, bool, Range begin, Range end) {
+            solveShapeMatching(c, b.particles, begin, end);
+          });
+    visit(clothBending, clothBendingConstraints,
+          [](auto& c, BodyStates& b, Real h, bool first, Range begin, Range end) {
+            solveIsometricBending(c, b.particles, h, first, begin, end);
+          });
     visit(clothDihedrals, clothDihedralConstraints,
-          [](auto& c, BodyStates& b, Real, bool) { solveDihedralBending(c, b.particles); });
-    visit(genericConstraints, kAddedInCpp,
-          [](auto& c, BodyStates& b, Real, bool) { solveGenericConstraints(c, b.particles); });
-    visit(rods, rodConstraints, [](auto& c, BodyStates& b, Real h, bool first) {
+          [](auto& c, BodyStates& b, Real, bool, Range begin, Range end) {
+            solveDihedralBending(c, b.particles, begin, end);
+          });
+    visit(genericConstraints, kAddedInCpp, [](auto& c, BodyStates& b, Real, bool, Range, Range) {
+      solveGenericConstraints(c, b.particles);
+    });
+    visit(rods, rodConstraints, [](auto& c, BodyStates& b, Real h, bool first, Range, Range) {
       solveRods(c, b.particles, b.segments, h, first);
     });
   }
+
+  /// The seed's Gauss–Seidel order of the cloth and solid families (indices kFirstSeedOrdered …
+  /// kLastSeedOrdered of the list), set by orderAsTheSeed: runs of consecutive elements of one
+  /// family. Empty: family by family, in list order.
+  struct SeedRun {
+    int family = 0;
+    std::size_t begin = 0, end = 0;
+  };
+  std::vector<SeedRun> seedOrder;
+  static constexpr int kFirstSeedOrdered = 1;  ///< particleDistances
+  static constexpr int kLastSeedOrdered = 9;   ///< clothDihedrals
+
+  /// Puts the cloth and solid families in PositionBasedDynamics' order: its constraint list
+  /// (per triangle model its cloth elements, then its bending elements; then per tet model its
+  /// solid elements — method 1 and 6: edges, then volumes) split greedily into groups of
+  /// elements that share no particle (SimulationModel::initConstraintGroups), solved group by
+  /// group. Each family's array is permuted into that order and seedOrder lists the runs.
+  void orderAsTheSeed(const Scene& scene);
 
   /// Every family with a scene key built from `scene`, in list order (the families' own
   /// std::invalid_argument for bad input); the kAddedInCpp families empty.
   static ConstraintFamilies fromScene(const Scene& scene);
 
-  /// One sweep of every family, in list order: the families' part of a position iteration.
-  /// `firstIteration`: the first iteration of a substep of size `substepSize`.
+  /// One sweep of every family, in list order (the cloth and solid families in seedOrder when it
+  /// is set): the families' part of a position iteration. `firstIteration`: the first iteration
+  /// of a substep of size `substepSize`.
   void solvePositions(BodyStates& bodies, Real substepSize, bool firstIteration);
 };
 

@@ -15,6 +15,7 @@
 // Pure functions; nothing allocates.
 #pragma once
 
+#include <cstdint>
 #include <array>
 #include <vector>
 
@@ -50,6 +51,7 @@ std::vector<DihedralBendingConstraint> clothDihedralConstraints(const Scene& sce
 
 /// One Gauss–Seidel sweep.
 void solveDihedralBending(const std::vector<DihedralBendingConstraint>& constraints,
-                          ParticleStates& particles);
+                          ParticleStates& particles,
+                  std::size_t begin = 0, std::size_t end = SIZE_MAX);
 
 }  // namespace pbd

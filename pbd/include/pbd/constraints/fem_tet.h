@@ -1,12 +1,14 @@
 // Linear FEM tetrahedra with the St. Venant–Kirchhoff material, the energy used as the
 // constraint: the solids of solidSimulationMethod 2 (PBD, the seed's default) and 3 (XPBD)
 // (Bender, Koschier, Charrier, Weber 2014, "Position-based simulation of continuous materials";
-// docs/seed.md#fem-tets and #stiffness). For a tet (x₀, x₁, x₂, x₃) with
-// D = [x₁ − x₀, x₂ − x₀, x₃ − x₀] and D_m the same at t = 0, V₀ = |det D_m| / 6:
+// docs/seed.md#fem-tets and #stiffness). For a tet (x₀, x₁, x₂, x₃) with D = [x₀ − x₃, x₁ − x₃, x₂ − x₃]
+// (the seed's edges, from x₃) and D_m the same at t = 0, V₀ = |det D_m| / 6 (every quantity
+// is evaluated in the seed's operation order, so that the `pbd` method follows the original's
+// round-off too):
 //   F = D D_m⁻¹,  ε = ½ (FᵀF − I)  (Green strain),
 //   ψ = μ ε:ε + ½ λ_L tr(ε)²,  μ = E / (2 (1 + ν)),  λ_L = E ν / ((1 + ν)(1 − 2ν)),
 //   U = V₀ ψ,  P = F (2μ ε + λ_L tr(ε) I)  (first Piola–Kirchhoff stress),
-//   [∇_{x₁}U ∇_{x₂}U ∇_{x₃}U] = V₀ P D_m⁻ᵀ,  ∇_{x₀}U = −(∇_{x₁}U + ∇_{x₂}U + ∇_{x₃}U).
+//   [∇_{x₀}U ∇_{x₁}U ∇_{x₂}U] = V₀ P D_m⁻ᵀ,  ∇_{x₃}U = −(∇_{x₀}U + ∇_{x₁}U + ∇_{x₂}U).
 // U ≥ 0 (ν ∈ [0, 0.49] makes λ_L ≥ 0), U = 0 and ∇U = 0 at every rigid motion of the rest state
 // (up to round-off); the gradients sum to zero, so w-weighted corrections conserve linear momentum.
 //
@@ -22,10 +24,11 @@
 //   s = U / Σ w_i |∇_iU|²,  Δx_i = −s w_i ∇_iU.
 // Scaling E scales U and ∇U alike, so the correction does not depend on E at all, only on ν,
 // the iteration and substep counts (docs/seed.md#fem-modulus-scale): E = 1 (the forced default)
-// is as stiff as E = 10⁹. The seed's solvers use a fixed ε = 10⁻⁶ (§4.1; if it bounds
-// Σ w|∇U|² here, small strains of small tets go uncorrected, and E's scale would matter there
-// after all: not verified against the seed); here only Σ w|∇U|² ≤ ε² (a state at rest) is
-// skipped.
+// is as stiff as E = 10⁹. The seed skips every correction with Σ w|∇U|² < 10⁻⁶ (and, for
+// XPBD, Σ w|∇U′|² + α̃ C² < 10⁻⁶) and builds no element with |det D_m| ≤ 10⁻⁶:
+// FemTetConstraint::cutoff and femTetRestState's minimumDeterminant, femCutoffFor(settings)
+// (10⁻⁶ for the `pbd` method, 0 for `pbd.xpbd`, where only a state at rest is skipped). So
+// small strains of small tets go uncorrected in the seed, and E's scale matters there after all.
 // Method 3, XPBD with C = √(2U/E), so ½ E C² = U; α̃ = 1/(E h_s²), λ reset every substep:
 //   Δλ = (−C − α̃ λ) / (Σ w_i |∇_iC|² + α̃),  Δx_i = w_i Δλ ∇_iC,  ∇C = ∇U / (E C);
 // computed with g = ∇U/E (finite as C → 0) as Δλ = C² (−C − α̃ λ)/(Σ w|g|² + α̃ C²),
@@ -37,6 +40,7 @@
 // Pure functions (positions in, corrections out); nothing allocates (fixed-size SVD).
 #pragma once
 
+#include <cstdint>
 #include <array>
 #include <vector>
 
@@ -58,6 +62,9 @@ struct FemTetConstraint {
   Real poissonRatio = Real(0.3);                    ///< ν ∈ [0, 0.49]
   bool xpbd = false;                                ///< false: method 2 (PBD); true: 3 (XPBD)
   Real multiplier = 0;                              ///< λ of the current substep (XPBD)
+  /// No correction when Σ w_i |∇_iC|² (+ α̃ C² for XPBD) < cutoff (femCutoffFor: the
+  /// seed's 10⁻⁶ in `pbd`).
+  Real cutoff = 0;
 };
 
 struct LameParameters {
@@ -68,9 +75,9 @@ struct LameParameters {
 LameParameters lameParameters(Real youngsModulus, Real poissonRatio);
 
 /// D_m⁻¹ and V₀ of the tet `rest`; false for a degenerate tet (|det D_m| no larger than the
-/// round-off of the product of its edge lengths).
+/// round-off of the product of its edge lengths, or than minimumDeterminant: the seed's 10⁻⁶).
 bool femTetRestState(const std::array<Vector3, 4>& rest, Matrix3& inverseRestMatrix,
-                     Real& restVolume);
+                     Real& restVolume, Real minimumDeterminant = 0);
 
 /// F = D D_m⁻¹.
 Matrix3 femDeformationGradient(const std::array<Vector3, 4>& x, const Matrix3& inverseRestMatrix);
@@ -91,7 +98,8 @@ struct FemTetCorrection {
   Real multiplier = 0;  ///< Δλ (XPBD; 0 for PBD)
 };
 
-/// Method 2: the PBD projection of C = U (no stiffness factor); none when Σ w|∇U|² ≤ ε².
+/// Method 2: the PBD projection of C = U (no stiffness factor); none when Σ w|∇U|² ≤ ε² or
+/// < c.cutoff.
 FemTetCorrection femTetPbd(const std::array<Vector3, 4>& x,
                            const std::array<Real, 4>& inverseMasses, const FemTetConstraint& c);
 
@@ -109,6 +117,7 @@ std::vector<FemTetConstraint> solidFemConstraints(const Scene& scene);
 /// One Gauss–Seidel sweep over `constraints` in order; the XPBD ones reset λ first when
 /// `firstIteration` (the start of a substep of size `substepSize`).
 void solveFemTets(std::vector<FemTetConstraint>& constraints, ParticleStates& particles,
-                  Real substepSize, bool firstIteration);
+                  Real substepSize, bool firstIteration,
+                  std::size_t begin = 0, std::size_t end = SIZE_MAX);
 
 }  // namespace pbd

@@ -17,6 +17,7 @@
 // Pure functions; nothing allocates.
 #pragma once
 
+#include <cstdint>
 #include <array>
 #include <vector>
 
@@ -34,6 +35,13 @@ struct IsometricBendingConstraint {
   bool xpbd = false;
   Real stiffness = 1;
   Real multiplier = 0;
+  /// The seed's Q = −(3/(2(A₀ + A₁))) K Kᵀ (init_IsometricBendingConstraint), with which the
+  /// PBD projection is evaluated in the seed's operation order: C_seed = ½ Σ Q_jk x_k·x_j =
+  /// −C/4·…, ∇_j = Σ_k Q_jk x_k; the PBD step is the same as with C (the factor cancels).
+  Eigen::Matrix<Real, 4, 4> seedQ = Eigen::Matrix<Real, 4, 4>::Zero();
+  /// No PBD correction when the seed's Σ w_j |∇_j|² is not above it (femCutoffFor: the seed's
+  /// 10⁻⁶ in `pbd`, 0 in `pbd.xpbd`).
+  Real cutoff = 0;
 };
 
 /// K and 3/(A₀ + A₁) of the stencil at `rest` (x₀, x₁ the edge). False for a degenerate stencil
@@ -67,6 +75,7 @@ std::vector<IsometricBendingConstraint> clothBendingConstraints(const Scene& sce
 
 /// One Gauss–Seidel sweep; XPBD ones reset λ when `firstIteration`.
 void solveIsometricBending(std::vector<IsometricBendingConstraint>& constraints,
-                           ParticleStates& particles, Real substepSize, bool firstIteration);
+                           ParticleStates& particles, Real substepSize, bool firstIteration,
+                  std::size_t begin = 0, std::size_t end = SIZE_MAX);
 
 }  // namespace pbd

@@ -18,6 +18,7 @@
 // nothing allocates.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "pbd/math/types.h"
@@ -67,7 +68,8 @@ std::vector<ParticleDistanceConstraint> deformableDistanceConstraints(const Scen
 /// `firstIteration` (the start of a substep of size `substepSize`).
 void solveParticleDistances(std::vector<ParticleDistanceConstraint>& constraints,
                             ParticleStates& particles, Real substepSize,
-                            bool firstIteration);
+                            bool firstIteration,
+                  std::size_t begin = 0, std::size_t end = SIZE_MAX);
 
 /// The tension (N, positive when stretched) of an XPBD distance constraint whose substep
 /// multiplier is λ: −λ/h_s².

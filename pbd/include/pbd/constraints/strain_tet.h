@@ -27,6 +27,7 @@
 // Pure functions (positions in, corrections out); nothing allocates.
 #pragma once
 
+#include <cstdint>
 #include <array>
 #include <vector>
 
@@ -79,6 +80,7 @@ std::vector<StrainTetConstraint> strainTetConstraints(const Scene& scene);
 
 /// One Gauss–Seidel sweep over `constraints` in order.
 void solveStrainTets(const std::vector<StrainTetConstraint>& constraints,
-                     ParticleStates& particles);
+                     ParticleStates& particles,
+                  std::size_t begin = 0, std::size_t end = SIZE_MAX);
 
 }  // namespace pbd

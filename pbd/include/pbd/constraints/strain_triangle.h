@@ -31,6 +31,7 @@
 // Pure functions (positions in, corrections out); nothing allocates.
 #pragma once
 
+#include <cstdint>
 #include <array>
 #include <vector>
 
@@ -81,6 +82,7 @@ std::vector<StrainTriangleConstraint> strainTriangleConstraints(const Scene& sce
 
 /// One Gauss–Seidel sweep over `constraints` in order.
 void solveStrainTriangles(const std::vector<StrainTriangleConstraint>& constraints,
-                          ParticleStates& particles);
+                          ParticleStates& particles,
+                  std::size_t begin = 0, std::size_t end = SIZE_MAX);
 
 }  // namespace pbd

@@ -6,6 +6,15 @@
 //   (a, b, n) body 0's joint frame (a = axis), e = F₀⁻¹ ⊗ F₁ (w ≥ 0).
 //   Row 0 is XPBD-compliant with α̃ = 1/(k h²) (h the substep size, λ reset every substep);
 //   the other five are hard. Potential energy ½ k (a·d)². There is no velocity damping.
+// The linear rows' Jacobians (Simulation.jointModel, jointModelFor):
+//   seed (the `pbd` method's default, as PositionBasedDynamics' solve_DamperJoint): A₀ = −[a b n]ᵀ,
+//     A₁ = [a b n]ᵀ, B₀ = B₁ = 0 — the correction moves the centres of mass only; the rows'
+//     dependence on the bodies' rotations (d is measured from body 0's anchor, along body 0's
+//     axes) is left out, so once body 0 rotates the step is not the projection of C: the
+//     linear corrections carry no torque and do not conserve angular momentum.
+//   corrected (`pbd.xpbd`'s default): the anchor rows with their full Jacobian (setAxisRow:
+//     B₀ = (n × (c₁ − x₀))ᵀ, B₁ = ((c₁ − x₁) × n)ᵀ), the Gauss–Newton step of C, which
+//     conserves linear and angular momentum (docs/methods.md, "Joints").
 // Reference: PositionBasedDynamics DamperJoint (docs/seed.md#damper-joint); XPBD eq. 18.
 #pragma once
 
@@ -31,6 +40,7 @@ class DamperJoint : public JointDefaults {
  private:
   PointAxisFrames frames_;
   Real stiffness_ = 0;
+  JointModel model_ = JointModel::Seed;
   Vector compliance_ = Vector::Zero();
   Vector multiplier_ = Vector::Zero();
 };

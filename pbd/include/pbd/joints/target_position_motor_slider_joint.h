@@ -18,7 +18,7 @@ class TargetPositionMotorSliderJoint : public JointDefaults {
   static constexpr int kRows = 6;
 
   TargetPositionMotorSliderJoint(const BodyStates& bodies, const JointDesc& desc);
-  void updateTarget(Real time) { offset_ = target_.valueAt(time); }
+  void updateTarget(Real time) { offset_ = targetAt(time); }
   void solvePosition(BodyStates& bodies, Real substepSize);
   ConstraintRows<kRows> positionRows(const BodyStates& bodies) const;
   JointError error(const BodyStates& bodies) const;
@@ -28,6 +28,10 @@ class TargetPositionMotorSliderJoint : public JointDefaults {
  private:
   PointAxisFrames frames_;
   MotorTarget target_;
+  JointModel model_ = JointModel::Seed;  ///< the seed's or pbdval's set-point schedule
+  Real targetAt(Real time) const {
+    return model_ == JointModel::Seed ? target_.seedValueAt(time) : target_.valueAt(time);
+  }
   Real offset_ = 0;
 };
 

@@ -5,7 +5,9 @@
 // a = the axis of body 0's joint frame; J's point rows are the ball joint's Jacobian, the
 // angular rows B₀ = −𝟙, B₁ = 𝟙. One 6×6 solve per velocity iteration.
 // The seed uses centre-of-mass velocities for the linear rows while its K uses connector
-// matrices (docs/seed.md#velocity-motors); here J and K are consistent (connector velocities).
+// matrices (docs/seed.md#velocity-motors): Simulation.jointModel seed (the `pbd` method's default)
+// does the same (the linear rows' target ω₁ × r₁ − ω₀ × r₀ turns J v into v₁ − v₀);
+// jointModel corrected keeps J and K consistent (connector velocities).
 // Reference: PositionBasedDynamics TargetVelocityMotorHingeJoint.
 #pragma once
 
@@ -20,7 +22,7 @@ class TargetVelocityMotorHingeJoint : public JointDefaults {
   static constexpr int kVelocityRows = 6;
 
   TargetVelocityMotorHingeJoint(const BodyStates& bodies, const JointDesc& desc);
-  void updateTarget(Real time) { angularVelocity_ = target_.valueAt(time); }
+  void updateTarget(Real time) { angularVelocity_ = targetAt(time); }
   void solvePosition(BodyStates& bodies, Real substepSize) {
     hinge_.solvePosition(bodies, substepSize);
   }
@@ -35,6 +37,10 @@ class TargetVelocityMotorHingeJoint : public JointDefaults {
  private:
   HingeJoint hinge_;
   MotorTarget target_;
+  JointModel model_ = JointModel::Seed;  ///< the seed's or pbdval's set-point schedule
+  Real targetAt(Real time) const {
+    return model_ == JointModel::Seed ? target_.seedValueAt(time) : target_.valueAt(time);
+  }
   Real angularVelocity_ = 0;
 };
 

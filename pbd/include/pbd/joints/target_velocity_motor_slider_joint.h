@@ -19,7 +19,7 @@ class TargetVelocityMotorSliderJoint : public JointDefaults {
   static constexpr int kVelocityRows = 6;
 
   TargetVelocityMotorSliderJoint(const BodyStates& bodies, const JointDesc& desc);
-  void updateTarget(Real time) { velocity_ = target_.valueAt(time); }
+  void updateTarget(Real time) { velocity_ = targetAt(time); }
   void solvePosition(BodyStates& bodies, Real substepSize) {
     slider_.solvePosition(bodies, substepSize);
   }
@@ -34,6 +34,10 @@ class TargetVelocityMotorSliderJoint : public JointDefaults {
  private:
   SliderJoint slider_;
   MotorTarget target_;
+  JointModel model_ = JointModel::Seed;  ///< the seed's or pbdval's set-point schedule
+  Real targetAt(Real time) const {
+    return model_ == JointModel::Seed ? target_.seedValueAt(time) : target_.valueAt(time);
+  }
   Real velocity_ = 0;
 };
 

@@ -9,6 +9,13 @@
 namespace pbd {
 
 /// A triangle surface. Triangles are counter-clockwise seen from outside for closed meshes.
+/// How OBJ vertex coordinates are read. PositionBasedDynamics 2.2.2 parses them with `stof`
+/// (single precision, correctly rounded) and widens them to double: `Single` reproduces that
+/// (the scene loader's default, `Simulation.objPrecision`); `Double` keeps every digit.
+enum class ObjPrecision { Single, Double };
+
+const char* objPrecisionName(ObjPrecision precision);
+
 struct TriangleMesh {
   std::vector<Vector3> vertices;
   std::vector<std::array<int, 3>> triangles;

@@ -162,9 +162,17 @@ struct MotorTarget {
   std::vector<Real> times;   ///< strictly increasing; empty: use `constant`
   std::vector<Real> values;  ///< same size as `times`
   bool repeat = false;
+  bool repeatGiven = false;  ///< the scene gave `repeatSequence`
 
   bool hasSequence() const { return !times.empty(); }
   Real valueAt(Real time) const;
+  /// The seed's evaluation (TimeStepController::step): `constant` before t = 0 (the value its
+  /// loader sets for the first step: `target`, or 0 with a sequence); with a sequence, while
+  /// t > T (T = last time − first time) t −= T when repeating — and the seed repeats when the
+  /// scene does not give `repeatSequence` (its loader leaves the flag uninitialised, true in
+  /// the recorded build) — then linear interpolation between the bracketing samples, the last
+  /// value past the end.
+  Real seedValueAt(Real time) const;
 };
 
 /// A stiff-rod joint's material and geometry (JointType::StiffRod; Deul, Müller, Bender 2018).
@@ -179,6 +187,13 @@ struct StiffRodJointParams {
   Real averageSegmentLength = 0;  ///< L, m: mean length of the two segments along their y axes
   Vector3 stiffnessModifier = Vector3::Ones();  ///< factors on (E I, 2 G I, E I)
 };
+
+/// Which of two formulations a joint with a documented difference from the seed uses
+/// (`Simulation.jointModel`, docs/methods.md "Joints"): the seed's own (`seed`) or pbdval's
+/// consistent one (`corrected`). Today the damper joint's linear rows.
+enum class JointModel : int { Seed, Corrected };
+
+const char* jointModelName(JointModel model);
 
 struct JointDesc {
   JointType type = JointType::Ball;
@@ -197,6 +212,8 @@ struct JointDesc {
   Real stiffness = 0;                   ///< spring and damper joints, N/m
   MotorTarget target;                   ///< motors only
   StiffRodJointParams stiffRod;         ///< stiff-rod joints only
+  /// Not a scene key of the joint: buildWorld sets it from Simulation.jointModel (jointModelFor).
+  JointModel model = JointModel::Seed;
 };
 
 /// How the joints of a stiff-rod tree are solved (`TreeModels[i].solverType`).
@@ -382,6 +399,17 @@ struct SimulationSettings {
   ContactModel contactModel = ContactModel::Seed;                    ///< extension
   /// Extension; unset: the method's own (distanceGridFor).
   std::optional<GridInterpolation> distanceGrid;
+  /// Extension; unset: the method's own (femCutoffFor). The FEM triangle and FEM tet solves
+  /// (PBD and XPBD) and the isometric bending PBD solve skip an element whose weighted
+  /// gradient sum Σ w_i |∇_iC|² (for XPBD tets plus α̃ C²) is below it, and the FEM builders
+  /// drop an element whose rest matrix has |det D_m| ≤ it (docs/methods.md, "Particle
+  /// constraints").
+  std::optional<Real> femCutoff;
+  /// Extension; unset: the method's own (jointModelFor).
+  std::optional<JointModel> jointModel;
+  /// Extension: how the scene's OBJ meshes are read (model/mesh.h); `single` as the seed.
+  /// Read before the meshes, so a scene-file key only (`--set` refuses it).
+  ObjPrecision objPrecision = ObjPrecision::Single;
   StepMethod stepMethod = StepMethod::Seed;  ///< extension (set by the method, not the file)
   XpbdSettings xpbd;                         ///< used when stepMethod == StepMethod::Xpbd
   /// Threads of the collision detection's narrow phase (the method parameter `threads`, not a
@@ -431,6 +459,19 @@ Real clothStiffnessFor(const SimulationSettings& settings);
 Real clothBendingStiffnessFor(const SimulationSettings& settings);
 Real solidStiffnessFor(const SimulationSettings& settings);
 Real solidVolumeStiffnessFor(const SimulationSettings& settings);
+
+/// `Simulation.jointModel` when the scene gives it, else the method's own: `seed` for `pbd`,
+/// `corrected` for `pbd.xpbd`.
+JointModel jointModelFor(const SimulationSettings& settings);
+
+/// The seed's absolute threshold 10⁻⁶ of its FEM solves (PositionBasedDynamics.cpp, XPBD.cpp).
+inline constexpr Real kSeedFemCutoff = Real(1e-6);
+
+/// `Simulation.femCutoff` when the scene gives it, else the method's own: the seed's 10⁻⁶ for
+/// the `pbd` method (its fidelity to PositionBasedDynamics), 0 for `pbd.xpbd` (an element is
+/// skipped only at rest: an absolute threshold on Σ w|∇C|² depends on the units and the mesh
+/// size, and freezes the small strains of stiff solids).
+Real femCutoffFor(const SimulationSettings& settings);
 
 /// The grid interpolation of type-5 shapes: `Simulation.distanceGrid` when the scene gives it,
 /// else the method's own: the seed's cubic Lagrange grid for the `pbd` method (its fidelity to

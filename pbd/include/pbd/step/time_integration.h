@@ -40,14 +40,15 @@ inline void semiImplicitEulerRotation(Real h, Real inverseMass, const Vector3& i
 inline void velocityUpdateFirstOrder(Real h, Real inverseMass, const Vector3& position,
                                      const Vector3& oldPosition, Vector3& velocity) {
   if (inverseMass == 0) return;
-  velocity = (position - oldPosition) / h;
+  // The seed's (1/h) (x − x_old): a multiplication by the rounded 1/h, not a division by h.
+  velocity = (Real(1) / h) * (position - oldPosition);
 }
 
 inline void velocityUpdateSecondOrder(Real h, Real inverseMass, const Vector3& position,
                                       const Vector3& oldPosition, const Vector3& lastPosition,
                                       Vector3& velocity) {
   if (inverseMass == 0) return;
-  velocity = (Real(1.5) * position - Real(2) * oldPosition + Real(0.5) * lastPosition) / h;
+  velocity = (Real(1) / h) * (Real(1.5) * position - Real(2) * oldPosition + Real(0.5) * lastPosition);
 }
 
 inline void angularVelocityUpdateFirstOrder(Real h, Real inverseMass, const Quaternion& rotation,
