@@ -159,7 +159,8 @@ double ElasticEnergy::of(const State& state) const {
   for (const FemTet& t : femTets_) {
     // F as the library defines it (its edges and rest matrix: fem_tet.h).
     std::array<Vector3, 4> x;
-    for (std::size_t i = 0; i < 4; ++i) x[i] = positionOf(state, t.particles[i]);
+    for (std::size_t i = 0; i < 4; ++i)
+      x[i] = positionOf(state, t.particles[i]);
     const pbd::Matrix3 f = pbd::femDeformationGradient(x, t.inverseRestMatrix);
     const pbd::Matrix3 strain = 0.5 * (f.transpose() * f - pbd::Matrix3::Identity());
     const double trace = strain.trace();

@@ -1,7 +1,6 @@
 #include "adapters/pbd/pbd_engine.h"
 
 #include <algorithm>
-
 #include <cstdio>
 
 #include "pbd/io/number_text.h"
@@ -35,8 +34,8 @@ std::vector<MethodInfo> pbdMethods() {
   xpbd.parameters = {
       integerParameter("substeps", defaults.substeps, 1, pbd::kMaxSubSteps,
                        "substeps per step, one position iteration each"),
-      realParameter("jointLinearCompliance", double(defaults.jointLinearCompliance), 0, 1e6,
-                    "m/N", "compliance of the point, axis and distance rows of joints"),
+      realParameter("jointLinearCompliance", double(defaults.jointLinearCompliance), 0, 1e6, "m/N",
+                    "compliance of the point, axis and distance rows of joints"),
       realParameter("jointAngularCompliance", double(defaults.jointAngularCompliance), 0, 1e6,
                     "rad/(N m)", "compliance of the rotation rows of joints"),
       realParameter("contactCompliance", double(defaults.contactCompliance), 0, 1e6, "m/N",
@@ -80,7 +79,8 @@ void PbdEngine::load(const pbd::Scene& scene, const Method& method) {
   configured.simulation = pbdSettingsFor(scene, method);
   world_.emplace(pbd::buildWorld(configured, options_.gridCacheFolder));
   bodyIds_.clear();
-  for (const pbd::RigidBodyDesc& body : scene.rigidBodies) bodyIds_.push_back(body.id);
+  for (const pbd::RigidBodyDesc& body : scene.rigidBodies)
+    bodyIds_.push_back(body.id);
   motorBodies_.clear();
   for (const pbd::JointDesc& joint : scene.joints) {
     const bool motor = joint.type == pbd::JointType::TargetAngleMotorHinge ||
@@ -89,7 +89,8 @@ void PbdEngine::load(const pbd::Scene& scene, const Method& method) {
                        joint.type == pbd::JointType::TargetVelocityMotorSlider;
     if (!motor) continue;
     for (int body : {joint.body1, joint.body2})
-      if (body >= 0 && std::find(motorBodies_.begin(), motorBodies_.end(), body) == motorBodies_.end())
+      if (body >= 0 &&
+          std::find(motorBodies_.begin(), motorBodies_.end(), body) == motorBodies_.end())
         motorBodies_.push_back(body);
   }
 }

@@ -60,15 +60,16 @@ inline Scene beamScene(int cells, int substeps, int iterations, int solidMethod 
 }
 
 struct Deflection {
-  Real tip = 0;      ///< mean downward displacement of the nodes of the face x = L
-  int steps = 0;     ///< steps to converge
+  Real tip = 0;   ///< mean downward displacement of the nodes of the face x = L
+  int steps = 0;  ///< steps to converge
   bool converged = false;
 };
 
 /// Settles the beam with mass-proportional damping of rate `damping` (1/s; a viscous force −c m v
 /// on every particle, which moves no equilibrium), until the tip moves less than `tolerance`
 /// (relative) over 0.1 s.
-inline Deflection staticTipDeflection(const Scene& scene, Real damping, Real tolerance, int maxSteps) {
+inline Deflection staticTipDeflection(const Scene& scene, Real damping, Real tolerance,
+                                      int maxSteps) {
   World world = buildWorld(scene);
   auto& particles = world.bodies.particles;
   std::vector<std::size_t> tip;
@@ -76,7 +77,8 @@ inline Deflection staticTipDeflection(const Scene& scene, Real damping, Real tol
     if (std::abs(scene.particles[p].position.x() - kLength) < 1e-9) tip.push_back(p);
   const auto tipDeflection = [&] {
     Real sum = 0;
-    for (std::size_t p : tip) sum += scene.particles[p].position.y() - particles.position[p].y();
+    for (std::size_t p : tip)
+      sum += scene.particles[p].position.y() - particles.position[p].y();
     return sum / static_cast<Real>(tip.size());
   };
   const Real decay = std::exp(-damping * scene.simulation.timeStepSize);
@@ -85,7 +87,8 @@ inline Deflection staticTipDeflection(const Scene& scene, Real damping, Real tol
   Real checkpoint = 0;
   for (int step = 1; step <= maxSteps; ++step) {
     world.step();
-    for (Vector3& v : particles.velocity) v *= decay;
+    for (Vector3& v : particles.velocity)
+      v *= decay;
     if (step % window == 0) {
       const Real now = tipDeflection();
       if (std::abs(now - checkpoint) < tolerance * std::abs(now)) return {now, step, true};
@@ -130,7 +133,8 @@ inline Real linearFemTipDeflection(const Scene& scene) {
     const Real volume = std::abs(edges.determinant()) / 6;
     const Matrix3 inverse = edges.inverse();  // row k − 1: ∇N_k
     std::array<Vector3, 4> grad;
-    for (int k = 1; k < 4; ++k) grad[std::size_t(k)] = inverse.row(k - 1).transpose();
+    for (int k = 1; k < 4; ++k)
+      grad[std::size_t(k)] = inverse.row(k - 1).transpose();
     grad[0] = -(grad[1] + grad[2] + grad[3]);
     for (std::size_t i = 0; i < 4; ++i)
       for (std::size_t j = 0; j < 4; ++j) {
@@ -138,16 +142,17 @@ inline Real linearFemTipDeflection(const Scene& scene) {
         if (di < 0 || dj < 0) continue;
         for (int a = 0; a < 3; ++a)
           for (int b = 0; b < 3; ++b) {
-            const Real k = volume * (mu * ((a == b ? grad[i].dot(grad[j]) : 0) +
-                                           grad[i][b] * grad[j][a]) +
-                                     lambda * grad[i][a] * grad[j][b]);
+            const Real k =
+                volume * (mu * ((a == b ? grad[i].dot(grad[j]) : 0) + grad[i][b] * grad[j][a]) +
+                          lambda * grad[i][a] * grad[j][b]);
             entries.emplace_back(3 * di + a, 3 * dj + b, k);
           }
       }
   }
   Eigen::SparseMatrix<Real> stiffness(3 * free, 3 * free);
   stiffness.setFromTriplets(entries.begin(), entries.end());
-  Eigen::Matrix<Real, Eigen::Dynamic, 1> load = Eigen::Matrix<Real, Eigen::Dynamic, 1>::Zero(3 * free);
+  Eigen::Matrix<Real, Eigen::Dynamic, 1> load =
+      Eigen::Matrix<Real, Eigen::Dynamic, 1>::Zero(3 * free);
   for (std::size_t p = 0; p < n; ++p)
     if (dof[p] >= 0) load(3 * dof[p] + 1) = -scene.particles[p].mass * kGravity;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<Real>> solver(stiffness);

@@ -43,12 +43,12 @@ TEST(ContactSceneKeys, DistanceGridIsReadCheckedAndDefaultsPerMethod) {
   EXPECT_EQ(distanceGridFor(settings), GridInterpolation::CubicLagrange);
   settings.stepMethod = StepMethod::Xpbd;
   EXPECT_EQ(distanceGridFor(settings), GridInterpolation::CatmullRom);
-  settings = parseScene(R"({"Simulation": {"distanceGrid": "cubicLagrange"}})", kInline)
-                 .scene.simulation;
+  settings =
+      parseScene(R"({"Simulation": {"distanceGrid": "cubicLagrange"}})", kInline).scene.simulation;
   settings.stepMethod = StepMethod::Xpbd;
   EXPECT_EQ(distanceGridFor(settings), GridInterpolation::CubicLagrange);
-  settings = parseScene(R"({"Simulation": {"distanceGrid": "catmullRom"}})", kInline)
-                 .scene.simulation;
+  settings =
+      parseScene(R"({"Simulation": {"distanceGrid": "catmullRom"}})", kInline).scene.simulation;
   EXPECT_EQ(distanceGridFor(settings), GridInterpolation::CatmullRom);
   EXPECT_EQ(errorOf(R"({"Simulation": {"distanceGrid": "trilinear"}})"),
             kInline +
@@ -90,7 +90,8 @@ TEST(ContactSceneKeys, ADiscregridGridIsRebuiltFromTheGeometryAtItsResolutionWit
   }
   const LoadedScene loaded = parseScene(
       R"({"RigidBodies": [{"geometryFile": "../../../cases/models/cube.obj",
-      "collisionObjectType": 5, "collisionObjectFileName": ")" + path + R"("}]})",
+      "collisionObjectType": 5, "collisionObjectFileName": ")" +
+          path + R"("}]})",
       kInline);
   const CollisionObjectDesc& c = loaded.scene.rigidBodies[0].collision;
   EXPECT_EQ(c.resolutionSDF, Vector3i(12, 14, 16));

@@ -48,8 +48,9 @@ TEST(DihedralBending, GradientMatchesCentralDifferencesAndSumsToZero) {
   const Quaternion q(AngleAxis(0.7, Vector3(1, 2, -1).normalized()));
   for (Real theta : {Real(0.2), Real(1.4), Real(-2.2)}) {
     std::array<Vector3, 4> x = hinge(theta);
-    for (Vector3& p : x) p = q * p + Vector3(Real(0.3), -1, 2);  // a generic pose
-    x[3] += Vector3(Real(0.05), Real(-0.02), Real(0.01));        // and an asymmetric stencil
+    for (Vector3& p : x)
+      p = q * p + Vector3(Real(0.3), -1, 2);               // a generic pose
+    x[3] += Vector3(Real(0.05), Real(-0.02), Real(0.01));  // and an asymmetric stencil
     const std::array<Vector3, 4> g = dihedralAngleGradient(x);
     Vector3 sum = Vector3::Zero();
     for (std::size_t i = 0; i < 4; ++i) {
@@ -75,12 +76,14 @@ TEST(DihedralBending, RestStateAndItsRigidMotionsNeedNoCorrection) {
   c.restAngle = dihedralAngle(hinge(Real(0.9)));
   const Quaternion q(AngleAxis(2.1, Vector3(-1, 1, 3).normalized()));
   std::array<Vector3, 4> moved = hinge(Real(0.9));
-  for (Vector3& p : moved) p = q * p + Vector3(4, 5, 6);
+  for (Vector3& p : moved)
+    p = q * p + Vector3(4, 5, 6);
   for (const auto& x : {hinge(Real(0.9)), moved}) {
     const BendingCorrection d = dihedralBendingPbd(x, {1, 1, 1, 1}, c);
     // Precision-aware: the residual angle is a few ε of an O(1) angle (moved: also the rotated
     // coordinates of magnitude ≤ 10), 1e-13 = 450 ε in double and the same 450 ε in float.
-    for (const Vector3& dx : d.positions) EXPECT_LT(dx.norm(), test::roundOffBound(1e-13));
+    for (const Vector3& dx : d.positions)
+      EXPECT_LT(dx.norm(), test::roundOffBound(1e-13));
   }
 }
 
@@ -110,7 +113,8 @@ TEST(DihedralBending, CorrectionConservesMomentumAndIsExactToFirstOrder) {
   const std::array<Vector3, 4> x = hinge(Real(-3.1));
   const BendingCorrection d = dihedralBendingPbd(x, w, c);
   Real moved = 0;
-  for (const Vector3& dx : d.positions) moved = std::max(moved, dx.norm());
+  for (const Vector3& dx : d.positions)
+    moved = std::max(moved, dx.norm());
   EXPECT_LT(moved, Real(0.2));  // a correction of the wrapped 0.083 rad, not of 6.2 rad
   EXPECT_GT(moved, 0);
 }
@@ -119,11 +123,12 @@ TEST(DihedralBending, ClothGetsOneConstraintPerInteriorEdgeWithItsRestAngle) {
   // A folded strip of four triangles: 3 interior edges.
   Scene scene;
   TriangleModelDesc cloth;
-  cloth.mesh.vertices = {Vector3(0, 0, 0), Vector3(0, 0, 1), Vector3(1, 0, 0), Vector3(1, 0, 1),
-                         Vector3(2, 1, 0), Vector3(2, 1, 1)};
+  cloth.mesh.vertices = {Vector3(0, 0, 0), Vector3(0, 0, 1), Vector3(1, 0, 0),
+                         Vector3(1, 0, 1), Vector3(2, 1, 0), Vector3(2, 1, 1)};
   cloth.mesh.triangles = {{0, 1, 2}, {2, 1, 3}, {2, 3, 4}, {4, 3, 5}};
   scene.triangleModels.push_back(cloth);
-  for (const Vector3& v : cloth.mesh.vertices) scene.particles.push_back({v, Vector3::Zero(), 1});
+  for (const Vector3& v : cloth.mesh.vertices)
+    scene.particles.push_back({v, Vector3::Zero(), 1});
   scene.simulation.clothSimulationMethod = 1;
   for (int bending : {0, 1, 2, 3}) {
     scene.simulation.clothBendingMethod = bending;

@@ -130,7 +130,8 @@ TEST(DistanceGrid, ReproducesQuadraticsExactly) {
 // the resolution: the maxima sit at different points).
 /// Fitted orders (value, gradient) of a grid of `interpolation` on the smooth field of the
 /// order tests: the distance to a sphere whose centre lies outside the unit cube.
-std::pair<double, double> smoothFieldOrders(GridInterpolation interpolation, const std::vector<int>& cells) {
+std::pair<double, double> smoothFieldOrders(GridInterpolation interpolation,
+                                            const std::vector<int>& cells) {
   const Vector3 centre(-1, Real(-0.5), Real(-0.8));
   auto field = [&](const Vector3& x) { return (x - centre).norm() - Real(0.7); };
   const std::vector<Vector3> points = randomPoints(4000, Vector3::Zero(), Vector3::Ones(), 4);
@@ -172,20 +173,19 @@ TEST(CubicLagrangeGrid, ReproducesCubicsExactly) {
     return 1 + x.x() - 2 * x.y() + x.x() * x.x() - x.y() * x.z() + x.x() * x.y() * x.z() +
            2 * x.x() * x.x() * x.x() - x.y() * x.y() * x.z() + Real(0.5) * x.z() * x.z() * x.z();
   };
-  const DistanceGrid grid = DistanceGrid::sample(Vector3(-1, 0, -2), Vector3(1, 1, 0),
-                                                 Vector3i(5, 3, 7), cubic,
-                                                 GridInterpolation::CubicLagrange);
-  EXPECT_EQ(grid.nodes().size(), DistanceGrid::nodeCount(Vector3i(5, 3, 7),
-                                                         GridInterpolation::CubicLagrange));
+  const DistanceGrid grid =
+      DistanceGrid::sample(Vector3(-1, 0, -2), Vector3(1, 1, 0), Vector3i(5, 3, 7), cubic,
+                           GridInterpolation::CubicLagrange);
+  EXPECT_EQ(grid.nodes().size(),
+            DistanceGrid::nodeCount(Vector3i(5, 3, 7), GridInterpolation::CubicLagrange));
   // 6·4·8 corners and two nodes on each of 5·4·8 + 6·3·8 + 6·4·7 edges.
   EXPECT_EQ(grid.nodes().size(), std::size_t(192 + 2 * (160 + 144 + 168)));
   for (const Vector3& p : randomPoints(500, Vector3(-1, 0, -2), Vector3(1, 1, 0), 3)) {
     const DistanceSample s = grid.evaluate(p);
     EXPECT_NEAR(s.distance, cubic(p), 1024 * kEpsilon);
-    const Vector3 exactGradient(
-        1 + 2 * p.x() + p.y() * p.z() + 6 * p.x() * p.x(),
-        -2 - p.z() + p.x() * p.z() - 2 * p.y() * p.z(),
-        -p.y() + p.x() * p.y() - p.y() * p.y() + Real(1.5) * p.z() * p.z());
+    const Vector3 exactGradient(1 + 2 * p.x() + p.y() * p.z() + 6 * p.x() * p.x(),
+                                -2 - p.z() + p.x() * p.z() - 2 * p.y() * p.z(),
+                                -p.y() + p.x() * p.y() - p.y() * p.y() + Real(1.5) * p.z() * p.z());
     EXPECT_LE((s.gradient - exactGradient).norm(), 1024 * kEpsilon * 10);
   }
 }
@@ -195,9 +195,9 @@ TEST(CubicLagrangeGrid, ReproducesCubicsExactly) {
 TEST(CubicLagrangeGrid, IsContinuousAcrossCellFaces) {
   const Vector3 centre(-1, Real(-0.5), Real(-0.8));
   auto field = [&](const Vector3& x) { return (x - centre).norm() - Real(0.7); };
-  const DistanceGrid grid = DistanceGrid::sample(Vector3::Zero(), Vector3::Ones(),
-                                                 Vector3i::Constant(4), field,
-                                                 GridInterpolation::CubicLagrange);
+  const DistanceGrid grid =
+      DistanceGrid::sample(Vector3::Zero(), Vector3::Ones(), Vector3i::Constant(4), field,
+                           GridInterpolation::CubicLagrange);
   const Real offset = Real(1e-9);
   for (const Vector3& p : randomPoints(200, Vector3::Zero(), Vector3::Ones(), 9)) {
     for (int axis = 0; axis < 3; ++axis) {
@@ -217,8 +217,8 @@ TEST(CubicLagrangeGrid, InterpolationErrorFallsAtTheOrderOfTheElement) {
   if (sizeof(Real) < 8) GTEST_SKIP() << "the finest errors are below float round-off";
   const auto [valueOrder, gradientOrder] =
       smoothFieldOrders(GridInterpolation::CubicLagrange, {4, 8, 16, 32});
-  std::printf("  fitted orders: value %.2f (serendipity cubic: 4), gradient %.2f (3)\n",
-              valueOrder, gradientOrder);
+  std::printf("  fitted orders: value %.2f (serendipity cubic: 4), gradient %.2f (3)\n", valueOrder,
+              gradientOrder);
   EXPECT_NEAR(valueOrder, 4, 0.3);
   EXPECT_NEAR(gradientOrder, 3, 0.3);
 }
@@ -295,7 +295,8 @@ TEST(DistanceGrid, TorusMeshGridApproachesTheAnalyticTorus) {
   const Vector3 low(Real(-1.54), Real(-0.54), Real(-1.54)), high = -low;
   for (int n : {16, 32, 64}) {
     const Vector3i cells(n, std::max(4, n * 2 / 5), n);
-    const CachedGrid grid = loadOrBuildMeshGrid(mesh, low, high, cells, GridInterpolation::CatmullRom, "");
+    const CachedGrid grid =
+        loadOrBuildMeshGrid(mesh, low, high, cells, GridInterpolation::CatmullRom, "");
     Real toMesh = 0, toTorus = 0;
     for (const Vector3& p : band) {
       const Real g = grid.grid->value(p);
@@ -385,10 +386,9 @@ TEST(GridCache, CorruptTruncatedForeignOrStaleFilesAreRebuilt) {
   TriangleMesh shifted = cubeMesh();
   for (Vector3& v : shifted.vertices)
     v.x() += Real(0.25);
-  const CachedGrid foreign =
-      loadOrBuildMeshGrid(shifted, Vector3::Constant(-1), Vector3::Constant(1),
-                          Vector3i::Constant(6), GridInterpolation::CatmullRom,
-                          folder.path.string());
+  const CachedGrid foreign = loadOrBuildMeshGrid(
+      shifted, Vector3::Constant(-1), Vector3::Constant(1), Vector3i::Constant(6),
+      GridInterpolation::CatmullRom, folder.path.string());
   fs::copy_file(foreign.path, path, fs::copy_options::overwrite_existing);
   const CachedGrid stale = cubeGrid(folder.path.string());
   EXPECT_EQ(stale.outcome, GridCacheOutcome::Rebuilt);

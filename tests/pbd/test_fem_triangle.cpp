@@ -99,8 +99,8 @@ TEST(FemTriangle, EnergyOfKnownDeformationsMatchesTheClosedForms) {
     // Biaxial (1 + e, 1 − e/2): ψ = ½ c_xx E_xx² + c_xy E_xx E_yy + ½ c_yy E_yy².
     const Real eyy = -e / 2 + e * e / 8;
     const Real biaxial = kArea * (cxx * exx * exx / 2 + cxy * exx * eyy + cyy * eyy * eyy / 2);
-    EXPECT_NEAR(femTriangleEnergy(deformed(gradientOf(1 + e, 0, 0, 1 - e / 2), moved), c),
-                biaxial, kRoundOff * (1 + biaxial));
+    EXPECT_NEAR(femTriangleEnergy(deformed(gradientOf(1 + e, 0, 0, 1 - e / 2), moved), c), biaxial,
+                kRoundOff * (1 + biaxial));
     // Simple shear x += g y: FᵀF = [[1, g], [g, 1 + g²]], E_xy = g/2, E_yy = g²/2:
     // ψ = ½ c_yy g⁴/4 + G g²/4 (the seed's shear term G E_xy²).
     const Real g = e;
@@ -124,7 +124,8 @@ TEST(FemTriangle, RestStateAndRigidMotionsHaveNoEnergyAndNoCorrection) {
       // E is round-off, ~10 ε (O(1) coordinates); C ~ A c E².
       EXPECT_LT(femTriangleEnergy(x, c), 1e4 * kEpsilon * kEpsilon);
       // The correction C/|∇C|² ∇C is of the order of E times the edge lengths.
-      for (const Vector3& dx : femTrianglePbd(x, w, c)) EXPECT_LT(dx.norm(), 1e3 * kEpsilon);
+      for (const Vector3& dx : femTrianglePbd(x, w, c))
+        EXPECT_LT(dx.norm(), 1e3 * kEpsilon);
     }
 }
 
@@ -166,8 +167,7 @@ TEST(FemTriangle, CorrectionConservesMomentumAndReducesTheEnergy) {
       energies.push_back(femTriangleEnergy(x, c));
       // Decreasing until C reaches its round-off floor (E ~ 10 ε: C ~ 10⁴ ε²).
       const Real previous = energies[energies.size() - 2];
-      EXPECT_TRUE(energies.back() < previous || previous < 1e4 * kEpsilon * kEpsilon)
-          << projection;
+      EXPECT_TRUE(energies.back() < previous || previous < 1e4 * kEpsilon * kEpsilon) << projection;
     }
     std::printf("  FEM triangle: C %.3e after 1 projection, %.3e after 50 (of %.3e)\n",
                 double(energies[1]), double(energies.back()), double(initial));
@@ -198,10 +198,10 @@ TEST(FemTriangle, CorrectionDoesNotDependOnTheModuliScale) {
 TEST(FemTriangle, DegenerateRestTriangleIsRejected) {
   Real area = 0;
   Matrix2x2 restInverse;
-  EXPECT_FALSE(femTriangleRest({Vector3(0, 0, 0), Vector3(1, 1, 0), Vector3(2, 2, 0)}, area,
-                               restInverse));
-  EXPECT_FALSE(femTriangleRest({Vector3(1, 0, 0), Vector3(1, 0, 0), Vector3(2, 2, 0)}, area,
-                               restInverse));
+  EXPECT_FALSE(
+      femTriangleRest({Vector3(0, 0, 0), Vector3(1, 1, 0), Vector3(2, 2, 0)}, area, restInverse));
+  EXPECT_FALSE(
+      femTriangleRest({Vector3(1, 0, 0), Vector3(1, 0, 0), Vector3(2, 2, 0)}, area, restInverse));
 }
 
 // An n × n grid of side 1 in the xz plane (y = 0), two triangles per cell.
@@ -210,7 +210,8 @@ Scene clothScene(int n, int method) {
   TriangleModelDesc cloth;
   const Real h = Real(1) / (n - 1);
   for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) cloth.mesh.vertices.push_back(Vector3(h * i, 0, h * j));
+    for (int i = 0; i < n; ++i)
+      cloth.mesh.vertices.push_back(Vector3(h * i, 0, h * j));
   for (int j = 0; j + 1 < n; ++j)
     for (int i = 0; i + 1 < n; ++i) {
       const int a = n * j + i;
@@ -218,7 +219,8 @@ Scene clothScene(int n, int method) {
       cloth.mesh.triangles.push_back({a, a + n + 1, a + 1});
     }
   scene.triangleModels.push_back(cloth);
-  for (const Vector3& v : cloth.mesh.vertices) scene.particles.push_back({v, Vector3::Zero(), 1});
+  for (const Vector3& v : cloth.mesh.vertices)
+    scene.particles.push_back({v, Vector3::Zero(), 1});
   scene.simulation.clothSimulationMethod = method;
   return scene;
 }
@@ -246,7 +248,8 @@ TEST(FemTriangleWorld, ClothGetsOneConstraintPerTriangleForMethodTwoOnly) {
   EXPECT_EQ(k.shear, Real(0.25));
   // A triangle of static particles gets none: make vertices 0, 1, 3, 4 static (triangles
   // (0, 3, 4) and (0, 4, 1) of the first cell).
-  for (int i : {0, 1, 3, 4}) scene.particles[std::size_t(i)].mass = 0;
+  for (int i : {0, 1, 3, 4})
+    scene.particles[std::size_t(i)].mass = 0;
   EXPECT_EQ(buildWorld(scene).constraints.femTriangles.size(), 6u);
 }
 
@@ -262,7 +265,8 @@ TEST(FemTriangleWorld, PinnedClothStaysBoundedAndStretchesLessWithMoreIterations
     // pbdval's FEM without the seed's absolute cut-off: below Σ w|∇C|² = 10⁻⁶ (edge strains
     // of ~10⁻², here) the seed leaves the triangles alone, whatever the iteration count.
     scene.simulation.femCutoff = 0;
-    for (int i = 0; i < 6; ++i) scene.particles[std::size_t(i)].mass = 0;
+    for (int i = 0; i < 6; ++i)
+      scene.particles[std::size_t(i)].mass = 0;
     World world = buildWorld(scene);
     ASSERT_EQ(world.constraints.femTriangles.size(), 50u);
     Real worst = 0;
@@ -278,7 +282,8 @@ TEST(FemTriangleWorld, PinnedClothStaysBoundedAndStretchesLessWithMoreIterations
     stretch.push_back(worst);
     // The pinned particles stay.
     for (int i = 0; i < 6; ++i)
-      EXPECT_EQ(world.bodies.particles.position[std::size_t(i)], scene.particles[std::size_t(i)].position);
+      EXPECT_EQ(world.bodies.particles.position[std::size_t(i)],
+                scene.particles[std::size_t(i)].position);
   }
   std::printf("  FEM cloth: largest edge stretch in 1 s: %.3e (1 iteration), %.3e (4)\n",
               double(stretch[0]), double(stretch[1]));

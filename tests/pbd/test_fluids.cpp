@@ -25,9 +25,9 @@
 namespace pbd {
 namespace {
 
-constexpr Real kRadius = Real(0.025);        // the seed's particle radius r
-constexpr Real kSupport = 4 * kRadius;       // its kernel support 4r
-constexpr Real kRestDensity = 1000;          // ρ₀
+constexpr Real kRadius = Real(0.025);   // the seed's particle radius r
+constexpr Real kSupport = 4 * kRadius;  // its kernel support 4r
+constexpr Real kRestDensity = 1000;     // ρ₀
 const Real kMass = Real(0.8) * std::pow(2 * kRadius, Real(3)) * kRestDensity;  // 0.8 (2r)³ ρ₀
 
 /// The cubic spline written out again from Monaghan's form (an independent implementation):
@@ -213,9 +213,7 @@ struct TestFluid {
     fluidLists = bruteForce(positions, positions, kSupport, true);
     boundaryLists = bruteForce(boundary, positions, kSupport, false);
   }
-  FluidSamples samples() const {
-    return {positions.data(), kMass, boundary.data(), psi.data()};
-  }
+  FluidSamples samples() const { return {positions.data(), kMass, boundary.data(), psi.data()}; }
   FluidNeighbourhood neighbourhood(std::size_t i) const {
     return {fluidLists[i].data(), int(fluidLists[i].size()), boundaryLists[i].data(),
             int(boundaryLists[i].size())};
@@ -288,8 +286,8 @@ TEST(FluidDensity, GradientsMatchCentralDifferences) {
   ASSERT_GT(fluid.boundaryLists[i].size(), 0u);
   const Real c = fluid.density(i, kernel) / kRestDensity - 1;
   ASSERT_GT(c, 0);  // compressed: the gradient of the clamped C is the unclamped one
-  const Vector3 own = pbfGradientOwn(i, fluid.samples(), fluid.neighbourhood(i), kernel,
-                                     kRestDensity);
+  const Vector3 own =
+      pbfGradientOwn(i, fluid.samples(), fluid.neighbourhood(i), kernel, kRestDensity);
   // δ = 1e-6 m: truncation δ² |∂³C| ~ 1e-12 × (m/ρ₀) σ/h³ ~ 1e-7, cancellation ε C / δ ~ 1e-10;
   // |∇C| ~ 10/m, so 1e-6 relative. Precision-aware: in float that δ's cancellation is
   // 0.1 of |∇C|, so the step is at least the shared ε^(1/3) times the support h (4.9e-4 m in
@@ -302,8 +300,7 @@ TEST(FluidDensity, GradientsMatchCentralDifferences) {
     TestFluid plus = fluid, minus = fluid;
     plus.positions[i](axis) += delta;
     minus.positions[i](axis) -= delta;
-    EXPECT_NEAR((cOf(plus) - cOf(minus)) / (2 * delta), own(axis), relative * own.norm())
-        << axis;
+    EXPECT_NEAR((cOf(plus) - cOf(minus)) / (2 * delta), own(axis), relative * own.norm()) << axis;
   }
   for (int j : fluid.fluidLists[i]) {
     const Vector3 g = pbfGradientNeighbour(fluid.positions[i], fluid.positions[std::size_t(j)],
@@ -323,8 +320,10 @@ TEST(FluidDensity, InvariantUnderRigidMotions) {
   TestFluid moved = fluid;
   const Quaternion q(AngleAxis(Real(0.7), Vector3(1, -2, 0.5).normalized()));
   const Vector3 t(3, -1, 2);
-  for (Vector3& x : moved.positions) x = q * x + t;
-  for (Vector3& x : moved.boundary) x = q * x + t;
+  for (Vector3& x : moved.positions)
+    x = q * x + t;
+  for (Vector3& x : moved.boundary)
+    x = q * x + t;
   const CubicSplineKernel kernel(kSupport);
   for (std::size_t i = 0; i < fluid.positions.size(); ++i) {
     const Real before = fluid.density(i, kernel), after = moved.density(i, kernel);
@@ -335,10 +334,10 @@ TEST(FluidDensity, InvariantUnderRigidMotions) {
     // in double, where 1e-9 is kept). The gradient's terms W' change alike: same bound.
     const Real motionRoundOff = 3000 * kEpsilon;
     EXPECT_NEAR(after, before, std::max(Real(1e-9), motionRoundOff) * before) << i;
-    const Vector3 g = pbfGradientOwn(i, fluid.samples(), fluid.neighbourhood(i), kernel,
-                                     kRestDensity);
-    const Vector3 gMoved = pbfGradientOwn(i, moved.samples(), moved.neighbourhood(i), kernel,
-                                          kRestDensity);
+    const Vector3 g =
+        pbfGradientOwn(i, fluid.samples(), fluid.neighbourhood(i), kernel, kRestDensity);
+    const Vector3 gMoved =
+        pbfGradientOwn(i, moved.samples(), moved.neighbourhood(i), kernel, kRestDensity);
     EXPECT_LT((gMoved - q * g).norm(), std::max(Real(1e-7), motionRoundOff) * (g.norm() + 1))
         << i;  // the gradient rotates
   }
@@ -354,16 +353,15 @@ TEST(FluidDensity, FluidCorrectionsConserveMomentum) {
   const std::size_t n = fluid.positions.size();
   std::vector<Real> lambdas(n);
   for (std::size_t i = 0; i < n; ++i)
-    lambdas[i] = pbfLambda(i, pbfConstraint(fluid.density(i, kernel), kRestDensity),
-                           fluid.samples(), fluid.neighbourhood(i), kernel, kRestDensity,
-                           kPbfEpsilon);
+    lambdas[i] =
+        pbfLambda(i, pbfConstraint(fluid.density(i, kernel), kRestDensity), fluid.samples(),
+                  fluid.neighbourhood(i), kernel, kRestDensity, kPbfEpsilon);
   Vector3 momentum = Vector3::Zero();
   Real magnitude = 0;
   int corrected = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const Vector3 dx =
-        pbfCorrection(i, lambdas.data(), fluid.samples(), fluid.neighbourhood(i), kernel,
-                      kRestDensity);
+    const Vector3 dx = pbfCorrection(i, lambdas.data(), fluid.samples(), fluid.neighbourhood(i),
+                                     kernel, kRestDensity);
     momentum += kMass * dx;
     magnitude += kMass * dx.norm();
     corrected += dx.norm() > 0 ? 1 : 0;
@@ -376,8 +374,7 @@ TEST(FluidDensity, FluidCorrectionsConserveMomentum) {
   Real outward = 0;
   for (std::size_t i = 0; i < n; ++i)
     outward += fluid.positions[i].dot(pbfCorrection(i, lambdas.data(), fluid.samples(),
-                                                    fluid.neighbourhood(i), kernel,
-                                                    kRestDensity));
+                                                    fluid.neighbourhood(i), kernel, kRestDensity));
   EXPECT_GT(outward, 0);
 }
 
@@ -386,17 +383,18 @@ TEST(FluidDensity, XsphConservesMomentumAndKeepsUniformMotion) {
   const CubicSplineKernel kernel(kSupport);
   const std::size_t n = fluid.positions.size();
   std::vector<Real> densities(n);
-  for (std::size_t i = 0; i < n; ++i) densities[i] = fluid.density(i, kernel);
+  for (std::size_t i = 0; i < n; ++i)
+    densities[i] = fluid.density(i, kernel);
   std::mt19937 random(5);
   std::uniform_real_distribution<Real> speed(-1, 1);
   std::vector<Vector3> velocities(n), uniform(n, Vector3(Real(0.3), -2, 1));
-  for (Vector3& v : velocities) v = Vector3(speed(random), speed(random), speed(random));
+  for (Vector3& v : velocities)
+    v = Vector3(speed(random), speed(random), speed(random));
   Vector3 momentum = Vector3::Zero();
   Real magnitude = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const Vector3 dv = xsphVelocityChange(i, velocities.data(), densities.data(),
-                                          fluid.samples(), fluid.neighbourhood(i), kernel,
-                                          Real(0.02));
+    const Vector3 dv = xsphVelocityChange(i, velocities.data(), densities.data(), fluid.samples(),
+                                          fluid.neighbourhood(i), kernel, Real(0.02));
     momentum += kMass * dv;
     magnitude += kMass * dv.norm();
     // A uniform velocity field has nothing to smooth: exactly zero (v_j − v_i = 0).
@@ -409,7 +407,6 @@ TEST(FluidDensity, XsphConservesMomentumAndKeepsUniformMotion) {
   // Precision-aware: 1e-12 = 4500 ε in double, the same multiple of ε in float.
   EXPECT_LT(momentum.norm(), test::roundOffBound(1e-12) * magnitude);
 }
-
 
 // ---------------------------------------------------------------------------------------------
 // World
@@ -520,11 +517,12 @@ TEST(FluidWorld, HydrostaticColumnSettlesInsideItsContainerNearRestDensity) {
   const double hs = double(scene.simulation.timeStepSize) / scene.simulation.subSteps;
   const double estimate = quasiStaticDensityGradient(hs, model.iterations) * height;
   const DensityError e = densityError(world);
-  std::printf("[ measured ] column: height %.3f m, density error mean %.3g max %.3g (quasi-static "
-              "estimate at the bottom %.3g), max speed %.3g m/s, escape %.3g m, dropped "
-              "neighbours %zu\n",
-              height, double(e.mean), double(e.max), estimate, double(speed), double(escape),
-              world.fluids.front().droppedNeighbours);
+  std::printf(
+      "[ measured ] column: height %.3f m, density error mean %.3g max %.3g (quasi-static "
+      "estimate at the bottom %.3g), max speed %.3g m/s, escape %.3g m, dropped "
+      "neighbours %zu\n",
+      height, double(e.mean), double(e.max), estimate, double(speed), double(escape),
+      world.fluids.front().droppedNeighbours);
   EXPECT_EQ(world.fluids.front().droppedNeighbours, 0u);
   // Contained: every centre stays inside the container box (the walls lie r outside it).
   EXPECT_LE(escape, 0);
@@ -637,7 +635,8 @@ bool containsAllOf(const std::string& text, const std::vector<std::string>& part
 }
 
 TEST(FluidScene, ReadsTheKeysAndAppendsTheParticlesAfterEveryOtherModel) {
-  const LoadedScene loaded = parseScene(R"({
+  const LoadedScene loaded =
+      parseScene(R"({
     "TriangleModels": [{"geometryFile": "../../../cases/models/cloth.obj"}],
     "FluidModels": [
       {"particleRadius": 0.05, "density0": 998, "viscosity": 0.1, "iterations": 3,
@@ -645,7 +644,8 @@ TEST(FluidScene, ReadsTheKeysAndAppendsTheParticlesAfterEveryOtherModel) {
                   {"min": [0.5, 0, 0], "max": [0.61, 0.1, 0.1]}],
        "container": {"min": [0, 0, 0], "max": [1, 1, 0.1]}},
       {"blocks": [{"min": [5, 5, 5], "max": [5.05, 5.05, 5.05]}]}
-    ]})", std::string(PBDVAL_TEST_DATA_DIR) + "/scenes/inline.json", LoadOptions{});
+    ]})",
+                 std::string(PBDVAL_TEST_DATA_DIR) + "/scenes/inline.json", LoadOptions{});
   EXPECT_TRUE(loaded.warnings.empty());
   const Scene& scene = loaded.scene;
   ASSERT_EQ(scene.fluidModels.size(), 2u);
@@ -685,45 +685,42 @@ TEST(FluidScene, BadInputNamesTheFileThePathAndWhatWasExpected) {
       {"/tmp/fluid_keys.json", "FluidModels[0].blocks[0]", "an empty box", "along y"}))
       << fluidError(R"({"blocks": [{"min": [0, 0.5, 0], "max": [0.5, 0.5, 0.5]}]})");
   // A block thinner than a particle.
-  EXPECT_TRUE(containsAllOf(
-      fluidError(R"({"blocks": [{"min": [0, 0, 0], "max": [0.5, 0.04, 0.5]}]})"),
-      {"FluidModels[0].blocks[0]", "holds no particle", "along y", "0.05"}));
+  EXPECT_TRUE(
+      containsAllOf(fluidError(R"({"blocks": [{"min": [0, 0, 0], "max": [0.5, 0.04, 0.5]}]})"),
+                    {"FluidModels[0].blocks[0]", "holds no particle", "along y", "0.05"}));
   // A block outside the container.
   EXPECT_TRUE(containsAllOf(
       fluidError(R"({"blocks": [{"min": [0.8, 0, 0], "max": [1.2, 0.5, 0.5]}], )" + box + "}"),
       {"FluidModels[0].blocks[0]", "outside the container"}));
   // Overlapping blocks.
-  EXPECT_TRUE(containsAllOf(
-      fluidError(R"({"blocks": [{"min": [0, 0, 0], "max": [0.5, 0.5, 0.5]},
+  EXPECT_TRUE(containsAllOf(fluidError(R"({"blocks": [{"min": [0, 0, 0], "max": [0.5, 0.5, 0.5]},
                                  {"min": [0.4, 0.4, 0.4], "max": [0.9, 0.9, 0.9]}]})"),
-      {"FluidModels[0].blocks[1]", "overlaps FluidModels[0].blocks[0]"}));
+                            {"FluidModels[0].blocks[1]", "overlaps FluidModels[0].blocks[0]"}));
   // Missing, empty or malformed blocks; an empty container.
   EXPECT_TRUE(containsAllOf(fluidError("{}"), {"FluidModels[0]", "blocks"}));
   EXPECT_TRUE(containsAllOf(fluidError(R"({"blocks": []})"),
                             {"FluidModels[0].blocks", "at least one block"}));
   EXPECT_TRUE(containsAllOf(fluidError(R"({"blocks": [{"min": [0, 0, 0]}]})"),
                             {"FluidModels[0].blocks[0]", "max"}));
-  EXPECT_TRUE(containsAllOf(
-      fluidError(R"({"blocks": [{"min": [0, 0, 0], "max": [0.5, 0.5, 0.5]}],
+  EXPECT_TRUE(containsAllOf(fluidError(R"({"blocks": [{"min": [0, 0, 0], "max": [0.5, 0.5, 0.5]}],
                      "container": {"min": [0, 0, 0], "max": [1, 0, 1]}})"),
-      {"FluidModels[0].container", "an empty box"}));
+                            {"FluidModels[0].container", "an empty box"}));
   // Out-of-range numbers.
   const std::string block = R"("blocks": [{"min": [0, 0, 0], "max": [0.5, 0.5, 0.5]}])";
   EXPECT_TRUE(containsAllOf(fluidError("{" + block + R"(, "particleRadius": 0})"),
                             {"FluidModels[0].particleRadius", "> 0"}));
-  EXPECT_TRUE(containsAllOf(fluidError("{" + block + R"(, "density0": -1})"),
-                            {"FluidModels[0].density0"}));
+  EXPECT_TRUE(
+      containsAllOf(fluidError("{" + block + R"(, "density0": -1})"), {"FluidModels[0].density0"}));
   EXPECT_TRUE(containsAllOf(fluidError("{" + block + R"(, "viscosity": 2})"),
                             {"FluidModels[0].viscosity"}));
   EXPECT_TRUE(containsAllOf(fluidError("{" + block + R"(, "iterations": 0})"),
                             {"FluidModels[0].iterations"}));
   // Too many particles (a block meant in centimetres).
-  EXPECT_TRUE(containsAllOf(
-      fluidError(R"({"blocks": [{"min": [0, 0, 0], "max": [50, 50, 50]}]})"),
-      {"FluidModels[0].blocks[0]", "more than 1000000 particles"}));
+  EXPECT_TRUE(containsAllOf(fluidError(R"({"blocks": [{"min": [0, 0, 0], "max": [50, 50, 50]}]})"),
+                            {"FluidModels[0].blocks[0]", "more than 1000000 particles"}));
   // An unknown key is a warning naming its path.
-  const LoadedScene loaded = parseScene(
-      R"({"FluidModels": [{)" + block + R"(, "viscosty": 0.1}]})", "/tmp/f.json", LoadOptions{});
+  const LoadedScene loaded = parseScene(R"({"FluidModels": [{)" + block + R"(, "viscosty": 0.1}]})",
+                                        "/tmp/f.json", LoadOptions{});
   ASSERT_EQ(loaded.warnings.size(), 1u);
   EXPECT_NE(loaded.warnings.front().jsonPath.find("FluidModels[0]"), std::string::npos);
 }

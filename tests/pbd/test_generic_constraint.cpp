@@ -42,14 +42,16 @@ GenericParticleConstraint distanceConstraint(int a, int b, Real length, bool ana
 GenericPositions positions(std::initializer_list<Vector3> points) {
   GenericPositions x = GenericPositions::Zero();
   int i = 0;
-  for (const Vector3& p : points) x.col(i++) = p;
+  for (const Vector3& p : points)
+    x.col(i++) = p;
   return x;
 }
 
 std::array<Real, kGenericMaxParticles> inverseMasses(std::initializer_list<Real> w) {
   std::array<Real, kGenericMaxParticles> out{};
   std::size_t i = 0;
-  for (Real wi : w) out[i++] = wi;
+  for (Real wi : w)
+    out[i++] = wi;
   return out;
 }
 
@@ -100,10 +102,8 @@ TEST(GenericConstraint, TwoComponentLinePinProjectsOntoTheLineInOneSolve) {
   const Vector3 start(0.9, 0.4, -0.6);
   const Vector3 expected = a + u * u.dot(start - a);
   for (bool analytic : {true, false}) {
-    const GenericParticleConstraint pin({0}, 2, value,
-                                        analytic ? GenericGradientFunction(gradient)
-                                                 : GenericGradientFunction(),
-                                        1);
+    const GenericParticleConstraint pin(
+        {0}, 2, value, analytic ? GenericGradientFunction(gradient) : GenericGradientFunction(), 1);
     const GenericCorrection c = genericConstraintPbd(pin, positions({start}), inverseMasses({2}));
     ASSERT_TRUE(c.applied);
     const Vector3 end = start + c.delta.col(0);
@@ -127,8 +127,8 @@ TEST(GenericConstraint, SingularSystemGivesNoCorrectionAndNoNaN) {
   const GenericPositions x = positions({kP1, kP2});
   // Every particle static: K = 0.
   for (bool analytic : {true, false})
-    expectNoCorrection(genericConstraintPbd(distanceConstraint(0, 1, 0.5, analytic), x,
-                                            inverseMasses({0, 0})));
+    expectNoCorrection(
+        genericConstraintPbd(distanceConstraint(0, 1, 0.5, analytic), x, inverseMasses({0, 0})));
   // A redundant pair of components: C₂ = 2 C₁, K of rank 1 (a zero pivot, to round-off for
   // the analytic gradient and to the square of the finite differences' error without it).
   auto redundant = [](const GenericPositions& p, GenericValue& c) {
@@ -141,9 +141,9 @@ TEST(GenericConstraint, SingularSystemGivesNoCorrectionAndNoNaN) {
   };
   for (bool analytic : {true, false})
     expectNoCorrection(genericConstraintPbd(
-        GenericParticleConstraint({0}, 2, redundant,
-                                  analytic ? GenericGradientFunction(redundantGradient)
-                                           : GenericGradientFunction()),
+        GenericParticleConstraint(
+            {0}, 2, redundant,
+            analytic ? GenericGradientFunction(redundantGradient) : GenericGradientFunction()),
         x, inverseMasses({1})));
   // Coinciding particles: the distance's gradient is NaN (0/0); no correction either.
   expectNoCorrection(genericConstraintPbd(distanceConstraint(0, 1, 0.5, true),
@@ -168,13 +168,12 @@ TEST(GenericConstraint, SingularityThresholdIsScaleFree) {
         j(1, 2) = 1 / scale;
       };
       const Vector3 start = scale * Vector3(1, 0.5, -0.25);
-      const GenericCorrection c = genericConstraintPbd(
-          GenericParticleConstraint({0}, 2, value, gradient), positions({start}),
-          inverseMasses({w}));
+      const GenericCorrection c =
+          genericConstraintPbd(GenericParticleConstraint({0}, 2, value, gradient),
+                               positions({start}), inverseMasses({w}));
       ASSERT_TRUE(c.applied) << scale << " " << w;
       // Onto the x axis: (scale, 0, 0), to round-off of numbers of size `scale` (16 ε).
-      EXPECT_NEAR((start + c.delta.col(0) - Vector3(scale, 0, 0)).norm(), 0,
-                  16 * kEpsilon * scale);
+      EXPECT_NEAR((start + c.delta.col(0) - Vector3(scale, 0, 0)).norm(), 0, 16 * kEpsilon * scale);
     }
 }
 
@@ -199,18 +198,19 @@ TEST(GenericConstraint, TranslationInvariantConstraintConservesMomentum) {
   const GenericPositions x = positions({kP1, kP2, Vector3(0.6, 0.4, -0.3)});
   const auto w = inverseMasses({1, Real(0.5), 2});
   for (bool analytic : {true, false}) {
-    const GenericCorrection c = genericConstraintPbd(
-        GenericParticleConstraint({0, 1, 2}, 2, value,
-                                  analytic ? GenericGradientFunction(gradient)
-                                           : GenericGradientFunction()),
-        x, w);
+    const GenericCorrection c =
+        genericConstraintPbd(GenericParticleConstraint({0, 1, 2}, 2, value,
+                                                       analytic ? GenericGradientFunction(gradient)
+                                                                : GenericGradientFunction()),
+                             x, w);
     ASSERT_TRUE(c.applied);
     Vector3 momentum = Vector3::Zero();
-    for (int i = 0; i < 3; ++i) momentum += c.delta.col(i) / w[std::size_t(i)];
+    for (int i = 0; i < 3; ++i)
+      momentum += c.delta.col(i) / w[std::size_t(i)];
     // Analytic: the round-off of three O(1) terms (16 ε). Central differences: each column
     // sum Σᵢ ∂C/∂xᵢ is zero up to the finite-difference error (coordinates below 1: h = ε^(1/3)).
-    EXPECT_NEAR(momentum.norm(), 0,
-                analytic ? 16 * kEpsilon : test::finiteDifferenceTolerance()) << analytic;
+    EXPECT_NEAR(momentum.norm(), 0, analytic ? 16 * kEpsilon : test::finiteDifferenceTolerance())
+        << analytic;
   }
 }
 
@@ -266,8 +266,7 @@ TEST(GenericConstraint, WorldPendulumMatchesTheBuiltInDistanceConstraint) {
     // Analytic gradient: each projection agrees with the built-in one to a few ε (above); a
     // pendulum is not chaotic, so the differences add up at most linearly: steps · 16 ε.
     const Vector3 reference = builtIn.bodies.particles.position[1];
-    EXPECT_NEAR((exact.bodies.particles.position[1] - reference).norm(), 0,
-                steps * 16 * kEpsilon);
+    EXPECT_NEAR((exact.bodies.particles.position[1] - reference).norm(), 0, steps * 16 * kEpsilon);
     // Central differences: each projection within the finite-difference tolerance, adding up
     // linearly too.
     EXPECT_NEAR((approximate.bodies.particles.position[1] - reference).norm(), 0,

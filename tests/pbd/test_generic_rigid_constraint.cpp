@@ -222,17 +222,18 @@ TEST(GenericRigidConstraint, RigidMotionInvariantConstraintConservesMomentum) {
   const ThreeBodies bodies;
   for (bool analytic : {true, false}) {
     // The rest values (0.9 m, 0.2, 0.3 m) are not those of these poses: a large violation.
-    const GenericRigidCorrection c =
-        genericRigidProjection(shapeConstraint(analytic), poses, bodies.inverse(poses), 0,
-                               GenericRigidValue::Zero());
+    const GenericRigidCorrection c = genericRigidProjection(
+        shapeConstraint(analytic), poses, bodies.inverse(poses), 0, GenericRigidValue::Zero());
     ASSERT_TRUE(c.applied);
     const auto [linear, angular] = momentumChange(bodies, poses, c);
     Real scale = 0;  // the size of the individual terms
-    for (std::size_t i = 0; i < 3; ++i) scale = std::max(scale, bodies.mass[i] * c.linear[i].norm());
-    std::printf("  momentum (%s): |sum m dx| = %.2e, |sum m x x dx + I dtheta| = %.2e "
-                "(terms up to %.2e)\n",
-                analytic ? "analytic" : "central differences", double(linear.norm()),
-                double(angular.norm()), double(scale));
+    for (std::size_t i = 0; i < 3; ++i)
+      scale = std::max(scale, bodies.mass[i] * c.linear[i].norm());
+    std::printf(
+        "  momentum (%s): |sum m dx| = %.2e, |sum m x x dx + I dtheta| = %.2e "
+        "(terms up to %.2e)\n",
+        analytic ? "analytic" : "central differences", double(linear.norm()),
+        double(angular.norm()), double(scale));
     ASSERT_GT(scale, 0.01);  // the projection did move the bodies
     // Exact identities for the analytic J (Σ J_x = 0, Σ J_θ − J_x [x]× = 0): round-off of a few
     // sums of O(scale) terms (64 ε · scale). With central differences the identities hold to
@@ -251,9 +252,8 @@ TEST(GenericRigidConstraint, RigidMotionInvariantConstraintConservesMomentum) {
   GenericRigidValue rest;
   shapeConstraint(true).evaluate(poses, rest);
   const Real tiny = Real(1e-6);
-  const GenericRigidConstraint nearlySatisfied =
-      shapeConstraint(true, rest(0) + Real(0.9) - tiny, rest(1) + Real(0.2) + tiny,
-                      rest(2) + Real(0.3) - tiny);
+  const GenericRigidConstraint nearlySatisfied = shapeConstraint(
+      true, rest(0) + Real(0.9) - tiny, rest(1) + Real(0.2) + tiny, rest(2) + Real(0.3) - tiny);
   const GenericRigidCorrection c = genericRigidProjection(
       nearlySatisfied, poses, bodies.inverse(poses), 0, GenericRigidValue::Zero());
   ASSERT_TRUE(c.applied);
@@ -310,14 +310,17 @@ TEST(GenericRigidConstraint, CorrectionsMoveWithARigidMotionOfTheScene) {
 TEST(GenericRigidConstraint, OneSolveOfALinearConstraintIsExactAndComplianceScalesIt) {
   // C = y₀ − 1 on one body (y₀ its centre of mass's y; q not read): linear, so one hard solve
   // lands on C = 0: Δy = 1 − y. With compliance, K = 1/m + α̃ and Δλ = −C/(1/m + α̃) (closed form).
-  auto value = [](const GenericRigidPoses& p, GenericRigidValue& c) { c(0) = p.position[0].y() - 1; };
+  auto value = [](const GenericRigidPoses& p, GenericRigidValue& c) {
+    c(0) = p.position[0].y() - 1;
+  };
   GenericRigidPoses poses;
   poses.position[0] = Vector3(0.2, 0.3, -0.1);
   GenericRigidInverseMasses w{};
   w[0] = {Real(0.5), Matrix3::Identity()};
   for (Real complianceTilde : {Real(0), Real(2)}) {
-    const GenericRigidCorrection c = genericRigidProjection(
-        GenericRigidConstraint({0}, 1, value), poses, w, complianceTilde, GenericRigidValue::Zero());
+    const GenericRigidCorrection c =
+        genericRigidProjection(GenericRigidConstraint({0}, 1, value), poses, w, complianceTilde,
+                               GenericRigidValue::Zero());
     ASSERT_TRUE(c.applied);
     const Real multiplier = Real(0.7) / (Real(0.5) + complianceTilde);
     // Central differences of a linear C: cancellation only, ε^(2/3) relative (100 ε^(2/3)).
@@ -390,7 +393,9 @@ TEST(GenericRigidConstraint, LimitsAreCheckedAtConstructionWithClearMessages) {
   const auto has = [](const std::string& message, const std::string& part) {
     return message.find(part) != std::string::npos;
   };
-  std::string m = invalidArgumentMessage([&] { GenericRigidConstraint({0, 1, 2, 3, 4}, 1, value); });
+  std::string m = invalidArgumentMessage([&] {
+    GenericRigidConstraint({0, 1, 2, 3, 4}, 1, value);
+  });
   EXPECT_TRUE(has(m, "5 bodies; 1 to 4 are supported")) << m;
   m = invalidArgumentMessage([&] { GenericRigidConstraint({}, 1, value); });
   EXPECT_TRUE(has(m, "0 bodies")) << m;
@@ -411,10 +416,9 @@ TEST(GenericRigidConstraint, LimitsAreCheckedAtConstructionWithClearMessages) {
   EXPECT_TRUE(has(m, "generic rigid-body constraint")) << m;  // every message names the family
   EXPECT_NO_THROW(GenericRigidConstraint({0, 1, 2, 3}, 6, value));  // the limits themselves
   // A body index beyond the world's: std::out_of_range from the solve, nothing moved.
-  std::vector<GenericRigidConstraint> constraints{
-      GenericRigidConstraint({0, 5}, 1, [](const GenericRigidPoses& p, GenericRigidValue& c) {
-        c(0) = p.position[0].x() - 1;
-      })};
+  std::vector<GenericRigidConstraint> constraints{GenericRigidConstraint(
+      {0, 5}, 1,
+      [](const GenericRigidPoses& p, GenericRigidValue& c) { c(0) = p.position[0].x() - 1; })};
   RigidBodyStates states;
   states.resize(2);
   EXPECT_THROW(solveGenericRigidConstraints(constraints, states, Real(0.001), true),
@@ -436,9 +440,8 @@ Scene pendulumScene(StepMethod stepMethod, Real theta0, bool ballJoint) {
   s.simulation.subSteps = 5;
   s.simulation.xpbd.substeps = 5;
   s.rigidBodies.push_back(test::boxBody(0, Vector3(0.2, 0.2, 0.2), kPivot, 1, false));
-  s.rigidBodies.push_back(test::boxBody(1, Vector3(0.1, 0.4, 0.1),
-                                        kPivot + Vector3(std::sin(theta0), -std::cos(theta0), 0),
-                                        100));
+  s.rigidBodies.push_back(test::boxBody(
+      1, Vector3(0.1, 0.4, 0.1), kPivot + Vector3(std::sin(theta0), -std::cos(theta0), 0), 100));
   if (ballJoint) {
     JointDesc j = test::makeJointDesc(JointType::Ball, 0, 1);
     j.position = kPivot;
@@ -470,9 +473,9 @@ GenericRigidConstraint genericBall(const World& world, const Vector3& point, boo
   const RigidBodyStates& b = world.bodies.rigid;
   const Vector3 a0 = b.rotation[0].conjugate() * (point - b.position[0]);
   const Vector3 a1 = b.rotation[1].conjugate() * (point - b.position[1]);
-  return GenericRigidConstraint(
-      {0, 1}, 3, BallValue{a0, a1},
-      analytic ? GenericRigidGradientFunction(BallGradient{a0, a1}) : GenericRigidGradientFunction());
+  return GenericRigidConstraint({0, 1}, 3, BallValue{a0, a1},
+                                analytic ? GenericRigidGradientFunction(BallGradient{a0, a1})
+                                         : GenericRigidGradientFunction());
 }
 
 struct SwingRecord {
@@ -489,9 +492,9 @@ struct SwingRecord {
 SwingRecord swing(World& world, int steps, const GenericRigidConstraint& joint) {
   const auto& b = world.bodies.rigid;
   const Real h = world.settings.timeStepSize;
-  const Real hs = h / Real(world.settings.stepMethod == StepMethod::Xpbd
-                               ? world.settings.xpbd.substeps
-                               : world.settings.subSteps);
+  const Real hs =
+      h / Real(world.settings.stepMethod == StepMethod::Xpbd ? world.settings.xpbd.substeps
+                                                             : world.settings.subSteps);
   const Real lever = (b.position[1] - kPivot).norm();
   SwingRecord record;
   std::vector<Real> crossings;
@@ -501,8 +504,7 @@ SwingRecord swing(World& world, int steps, const GenericRigidConstraint& joint) 
     const Vector3 v = b.velocity[1], omega = b.angularVelocity[1];
     const Real t0 = world.time;
     world.step();
-    const Real angle =
-        std::atan2(b.position[1].x() - kPivot.x(), kPivot.y() - b.position[1].y());
+    const Real angle = std::atan2(b.position[1].x() - kPivot.x(), kPivot.y() - b.position[1].y());
     if ((previousAngle > 0) != (angle > 0))
       crossings.push_back(t0 + (world.time - t0) * previousAngle / (previousAngle - angle));
     previousAngle = angle;
@@ -560,20 +562,21 @@ TEST(GenericRigidConstraintWorld, BallJointPendulumHasTheCompoundPeriodAndFollow
         swing(exact, steps, exact.constraints.genericRigidConstraints[0]);
     const SwingRecord approximateSwing =
         swing(approximate, steps, approximate.constraints.genericRigidConstraints[0]);
-    for (int n = 0; n < steps; ++n) reference.step();
+    for (int n = 0; n < steps; ++n)
+      reference.step();
     const char* name = stepMethod == StepMethod::Seed ? "seed" : "xpbd";
     const Real exactDeviation = (b.position[1] - reference.bodies.rigid.position[1]).norm();
     const Real approximateDeviation =
         (approximate.bodies.rigid.position[1] - reference.bodies.rigid.position[1]).norm();
-    const Real gradientDeviation =
-        (approximate.bodies.rigid.position[1] - b.position[1]).norm();
-    std::printf("  generic ball pendulum (%s): T = %.6f s, closed form %.6f s (%.2e), joint "
-                "error %.2e m (bound %.2e m), vs BallJoint %.2e m (gradient) %.2e m (central "
-                "differences), with vs without gradient %.2e m\n",
-                name, double(exactSwing.period), double(expectedPeriod),
-                double(exactSwing.period / expectedPeriod - 1), double(exactSwing.worstJointError),
-                double(exactSwing.jointErrorBound), double(exactDeviation),
-                double(approximateDeviation), double(gradientDeviation));
+    const Real gradientDeviation = (approximate.bodies.rigid.position[1] - b.position[1]).norm();
+    std::printf(
+        "  generic ball pendulum (%s): T = %.6f s, closed form %.6f s (%.2e), joint "
+        "error %.2e m (bound %.2e m), vs BallJoint %.2e m (gradient) %.2e m (central "
+        "differences), with vs without gradient %.2e m\n",
+        name, double(exactSwing.period), double(expectedPeriod),
+        double(exactSwing.period / expectedPeriod - 1), double(exactSwing.worstJointError),
+        double(exactSwing.jointErrorBound), double(exactDeviation), double(approximateDeviation),
+        double(gradientDeviation));
     EXPECT_NEAR(exactSwing.period, expectedPeriod, Real(1e-4) * expectedPeriod) << name;
     EXPECT_NEAR(approximateSwing.period, expectedPeriod, Real(1e-4) * expectedPeriod) << name;
     EXPECT_LE(exactSwing.worstJointError, exactSwing.jointErrorBound) << name;
@@ -612,7 +615,9 @@ TEST(GenericRigidConstraintWorld, CompliantConstraintIsASpringAndItsMultiplierAc
   if (sizeof(Real) < 8) GTEST_SKIP() << "25 um per substep at x = 1 m: float round-off";
   const Real omega = 2 * kPi, mass = 1;
   const Real alpha = 1 / (mass * omega * omega);
-  auto value = [](const GenericRigidPoses& p, GenericRigidValue& c) { c(0) = p.position[0].x() - 1; };
+  auto value = [](const GenericRigidPoses& p, GenericRigidValue& c) {
+    c(0) = p.position[0].x() - 1;
+  };
   auto gradient = [](const GenericRigidPoses&, GenericRigidJacobian& j) { j(0, 0) = 1; };
   World xpbd = buildWorld(freeBoxScene(StepMethod::Xpbd, 1));
   ASSERT_NEAR(xpbd.bodies.rigid.mass[0], mass, 1e-12);
@@ -636,9 +641,10 @@ TEST(GenericRigidConstraintWorld, CompliantConstraintIsASpringAndItsMultiplierAc
       2 * (crossings.back() - crossings.front()) / static_cast<Real>(crossings.size() - 1);
   const Real expected = 2 * kPi * hs / std::atan(omega * hs);
   const Real amplitudeForce = (1 / alpha) * Real(0.1) / omega;  // k A
-  std::printf("  compliant generic constraint: T = %.7f s (implicit Euler %.7f s), force error "
-              "%.2e of k A\n",
-              double(period), double(expected), double(worstForceError / amplitudeForce));
+  std::printf(
+      "  compliant generic constraint: T = %.7f s (implicit Euler %.7f s), force error "
+      "%.2e of k A\n",
+      double(period), double(expected), double(worstForceError / amplitudeForce));
   // The crossing interpolation between 5 ms steps: O((ω h)²) = 10⁻³ of a quarter period at
   // worst, averaged over the crossings; 10⁻⁴ of T (as the compliant distance joint's test).
   EXPECT_NEAR(period, expected, Real(1e-4) * expected);

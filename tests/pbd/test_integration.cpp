@@ -3,8 +3,8 @@
 
 #include <cmath>
 
-#include "pbd/model/world.h"
 #include "common/scene_fixtures.h"
+#include "pbd/model/world.h"
 
 namespace pbd {
 namespace {

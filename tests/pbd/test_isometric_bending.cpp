@@ -44,7 +44,8 @@ TEST(IsometricBending, FlatRestStateAndItsRigidMotionsHaveNoEnergy) {
   EXPECT_NEAR(c.weights[0] + c.weights[1] + c.weights[2] + c.weights[3], 0, 10 * kEpsilon);
   const Quaternion q(AngleAxis(1.3, Vector3(2, -1, 1).normalized()));
   std::array<Vector3, 4> moved;
-  for (std::size_t i = 0; i < 4; ++i) moved[i] = q * rest[i] + Vector3(1, 2, 3);
+  for (std::size_t i = 0; i < 4; ++i)
+    moved[i] = q * rest[i] + Vector3(1, 2, 3);
   // |H| is a sum of O(1) terms: round-off ~10 ε, squared in C. Precision-aware: the double
   // bounds (1e-25 on C ~ (10 ε)²·2·10⁴, 1e-12 = 4500 ε on Δx) keep their multiples of ε in
   // float, with ε² for the energy.
@@ -52,7 +53,8 @@ TEST(IsometricBending, FlatRestStateAndItsRigidMotionsHaveNoEnergy) {
   for (const auto& x : {rest, moved}) {
     EXPECT_LT(isometricBendingEnergy(x, c.weights, c.scale), energyRoundOff);
     const BendingCorrection d = isometricBendingPbd(x, {1, 1, 1, 1}, c);
-    for (const Vector3& dx : d.positions) EXPECT_LT(dx.norm(), test::roundOffBound(1e-12));
+    for (const Vector3& dx : d.positions)
+      EXPECT_LT(dx.norm(), test::roundOffBound(1e-12));
   }
 }
 
@@ -60,7 +62,8 @@ TEST(IsometricBending, GradientMatchesCentralDifferences) {
   const IsometricBendingConstraint c = constraintAt(fold(0), false, 1);
   const std::array<Vector3, 4> x = fold(Real(0.9));
   Vector3 h = Vector3::Zero();
-  for (std::size_t i = 0; i < 4; ++i) h += c.weights[i] * x[i];
+  for (std::size_t i = 0; i < 4; ++i)
+    h += c.weights[i] * x[i];
   const Real step = test::finiteDifferenceStep();
   for (std::size_t i = 0; i < 4; ++i)
     for (int axis = 0; axis < 3; ++axis) {
@@ -68,7 +71,8 @@ TEST(IsometricBending, GradientMatchesCentralDifferences) {
       plus[i](axis) += step;
       minus[i](axis) -= step;
       const Real numeric = (isometricBendingEnergy(plus, c.weights, c.scale) -
-                            isometricBendingEnergy(minus, c.weights, c.scale)) / (2 * step);
+                            isometricBendingEnergy(minus, c.weights, c.scale)) /
+                           (2 * step);
       EXPECT_NEAR(numeric, c.scale * c.weights[i] * h(axis), test::finiteDifferenceTolerance());
     }
 }
@@ -115,7 +119,8 @@ TEST(IsometricBending, ClothGetsOneConstraintPerInteriorEdge) {
   Scene scene;
   TriangleModelDesc cloth;
   for (int j = 0; j < 3; ++j)
-    for (int i = 0; i < 3; ++i) cloth.mesh.vertices.push_back(Vector3(Real(0.5) * i, 0, Real(0.5) * j));
+    for (int i = 0; i < 3; ++i)
+      cloth.mesh.vertices.push_back(Vector3(Real(0.5) * i, 0, Real(0.5) * j));
   for (int j = 0; j < 2; ++j)
     for (int i = 0; i < 2; ++i) {
       const int a = 3 * j + i;
@@ -123,7 +128,8 @@ TEST(IsometricBending, ClothGetsOneConstraintPerInteriorEdge) {
       cloth.mesh.triangles.push_back({a, a + 4, a + 1});
     }
   scene.triangleModels.push_back(cloth);
-  for (const Vector3& v : cloth.mesh.vertices) scene.particles.push_back({v, Vector3::Zero(), 1});
+  for (const Vector3& v : cloth.mesh.vertices)
+    scene.particles.push_back({v, Vector3::Zero(), 1});
   scene.simulation.clothSimulationMethod = 4;
   for (int bending : {0, 1, 2, 3}) {
     scene.simulation.clothBendingMethod = bending;
@@ -159,8 +165,8 @@ Real hingePeriod(Real mass, Real d, Real stiffness, Real theta0) {
   // θ₀ √(2 m d² / (U'(θ₀) θ₀)), with U'(θ) = 2 k (6/d)² sin³θ cos θ.
   const auto integrand = [&](Real u) {
     if (u >= kPi / 2) {
-      const Real slope = 2 * stiffness * (36 / (d * d)) * std::pow(std::sin(theta0), 3) *
-                         std::cos(theta0);
+      const Real slope =
+          2 * stiffness * (36 / (d * d)) * std::pow(std::sin(theta0), 3) * std::cos(theta0);
       return theta0 * std::sqrt(2 * mass * d * d / (slope * theta0));
     }
     const Real theta = theta0 * std::sin(u);
@@ -170,7 +176,8 @@ Real hingePeriod(Real mass, Real d, Real stiffness, Real theta0) {
   const int intervals = 4000;
   const Real h = (kPi / 2) / intervals;
   Real sum = integrand(0) + integrand(kPi / 2);
-  for (int i = 1; i < intervals; ++i) sum += (i % 2 ? 4 : 2) * integrand(h * i);
+  for (int i = 1; i < intervals; ++i)
+    sum += (i % 2 ? 4 : 2) * integrand(h * i);
   return 4 * sum * h / 3;
 }
 
@@ -190,11 +197,13 @@ TEST(IsometricBendingWorld, XpbdHingeSwingsWithTheClosedFormPeriodAndKeepsItsEne
   cloth.mesh.vertices.assign(flat.begin(), flat.end());
   cloth.mesh.triangles = {{0, 1, 2}, {1, 0, 3}};
   scene.triangleModels.push_back(cloth);
-  for (std::size_t i = 0; i < 4; ++i) scene.particles.push_back({flat[i], Vector3::Zero(), i < 2 ? Real(0) : mass});
+  for (std::size_t i = 0; i < 4; ++i)
+    scene.particles.push_back({flat[i], Vector3::Zero(), i < 2 ? Real(0) : mass});
   World world = buildWorld(scene);
   ASSERT_EQ(world.constraints.clothBending.size(), 1u);
   const std::array<Vector3, 4> folded = fold(2 * theta0, d);
-  for (std::size_t i = 0; i < 4; ++i) world.bodies.particles.position[i] = folded[i];
+  for (std::size_t i = 0; i < 4; ++i)
+    world.bodies.particles.position[i] = folded[i];
 
   const Real period = hingePeriod(mass, d, stiffness, theta0);
   const Real initialEnergy = stiffness * std::pow(6 / d * std::pow(std::sin(theta0), 2), 2) / 2;
@@ -213,10 +222,11 @@ TEST(IsometricBendingWorld, XpbdHingeSwingsWithTheClosedFormPeriodAndKeepsItsEne
     previous = now;
   }
   ASSERT_EQ(crossings.size(), 2u);
-  std::printf("  XPBD hinge: half period %.6f s (closed form %.6f s), kinetic energy at the "
-              "crossings %.6f, %.6f J of %.6f J\n",
-              double(crossings[1] - crossings[0]), double(period / 2),
-              double(kineticAtCrossing[0]), double(kineticAtCrossing[1]), double(initialEnergy));
+  std::printf(
+      "  XPBD hinge: half period %.6f s (closed form %.6f s), kinetic energy at the "
+      "crossings %.6f, %.6f J of %.6f J\n",
+      double(crossings[1] - crossings[0]), double(period / 2), double(kineticAtCrossing[0]),
+      double(kineticAtCrossing[1]), double(initialEnergy));
   // XPBD's per-substep phase error is O((ω h_s)²) with ω ~ 2π/T ≈ 10 rad/s, h_s = 10⁻⁴, and the
   // crossings interpolated between 1 ms steps err by O((ω h)²) ≈ 10⁻⁴ of the period: 0.5 %.
   EXPECT_NEAR(crossings[1] - crossings[0], period / 2, 0.005 * period);

@@ -5,9 +5,9 @@
 
 #include <cmath>
 
-#include "pbd/model/world.h"
 #include "common/joint_hold.h"
 #include "common/scene_fixtures.h"
+#include "pbd/model/world.h"
 
 namespace pbd {
 namespace {

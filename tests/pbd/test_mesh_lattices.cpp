@@ -1,8 +1,8 @@
 // The generated meshes of pbd/model/mesh.h: tetLattice (Kuhn tets) and triangleGrid. Checked
 // against the box they fill: every tet positive with a sixth of its cell's volume, the volumes
-// summing to the box's, the mesh conforming (its boundary is exactly the box's surface, two triangles per
-// boundary square: an unmatched interior face would add boundary triangles), and the sheet's
-// area and orientation.
+// summing to the box's, the mesh conforming (its boundary is exactly the box's surface, two
+// triangles per boundary square: an unmatched interior face would add boundary triangles), and the
+// sheet's area and orientation.
 #include <gtest/gtest.h>
 
 #include <set>
@@ -42,7 +42,8 @@ TEST(TetLattice, FillsItsBoxWithPositiveConformingKuhnTets) {
     for (int axis = 0; axis < 3; ++axis)
       for (Real side : {origin[axis], mesh.vertices.back()[axis]}) {
         bool all = true;
-        for (int v : f) all = all && mesh.vertices[std::size_t(v)][axis] == side;
+        for (int v : f)
+          all = all && mesh.vertices[std::size_t(v)][axis] == side;
         onAFace = onAFace || all;
       }
     EXPECT_TRUE(onAFace);

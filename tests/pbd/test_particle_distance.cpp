@@ -27,9 +27,11 @@ TEST(ParticleDistance, GradientMatchesCentralDifferences) {
   for (int axis = 0; axis < 3; ++axis) {
     const Vector3 e = h * Vector3::Unit(axis);
     const Real d1 = (particleDistanceValue(kP1 + e, kP2, length) -
-                     particleDistanceValue(kP1 - e, kP2, length)) / (2 * h);
+                     particleDistanceValue(kP1 - e, kP2, length)) /
+                    (2 * h);
     const Real d2 = (particleDistanceValue(kP1, kP2 + e, length) -
-                     particleDistanceValue(kP1, kP2 - e, length)) / (2 * h);
+                     particleDistanceValue(kP1, kP2 - e, length)) /
+                    (2 * h);
     EXPECT_NEAR(d1, n(axis), test::finiteDifferenceTolerance());
     EXPECT_NEAR(d2, -n(axis), test::finiteDifferenceTolerance());
   }
@@ -171,8 +173,9 @@ TEST(ParticleDistanceWorld, XpbdStretchIsMgOverKAndPbdStretchDependsOnIterations
                       "below float's ulp of 1.2e-7 m at the 1 m link length";
     World world = oscillator(mass, Real(0.5), false, iterations, 0, gravity);
     const Real stretch = meanStretch(world, 0.5, 1);
-    std::printf("  PBD hanging particle, k = 0.5, %d iterations: stretch %.6g m (closed form %.6g m)\n",
-                iterations, double(stretch), double(expected));
+    std::printf(
+        "  PBD hanging particle, k = 0.5, %d iterations: stretch %.6g m (closed form %.6g m)\n",
+        iterations, double(stretch), double(expected));
     EXPECT_NEAR(stretch, expected, 0.01 * expected) << iterations << " iterations";
   }
 }
@@ -215,9 +218,10 @@ TEST(ParticleDistanceWorld, HangingChainTensionAtTheTopIsTheWeightBelow) {
   // Every link carries the particles below it: link i holds count − i of them. For the lower
   // links the momentum term is a larger share of a smaller weight (the bottom particle's
   // m·v ≲ 0.01 kg·m/s over 2 s is 0.5 % of 0.98 N): allowed 2 %.
-  std::printf("  hanging chain: top link %.5f N (weight below %.5f N), bottom link %.5f N (%.5f N)\n",
-              double(sums.front() / samples), double(count * mass * Real(9.81)),
-              double(sums.back() / samples), double(mass * Real(9.81)));
+  std::printf(
+      "  hanging chain: top link %.5f N (weight below %.5f N), bottom link %.5f N (%.5f N)\n",
+      double(sums.front() / samples), double(count * mass * Real(9.81)),
+      double(sums.back() / samples), double(mass * Real(9.81)));
   for (int i = 0; i < count; ++i) {
     const Real weight = Real(count - i) * mass * Real(9.81);
     EXPECT_NEAR(sums[std::size_t(i)] / samples, weight, (i == 0 ? 0.01 : 0.02) * weight)
@@ -235,7 +239,8 @@ Real chainStretch(bool xpbd, int iterations) {
   scene.simulation.maxIterations = iterations;
   const int count = 20;
   for (int i = 0; i <= count; ++i)
-    scene.particles.push_back({Vector3(0, -Real(0.05) * i, 0), Vector3::Zero(), i == 0 ? 0 : Real(0.1)});
+    scene.particles.push_back(
+        {Vector3(0, -Real(0.05) * i, 0), Vector3::Zero(), i == 0 ? 0 : Real(0.1)});
   World world = buildWorld(scene);
   for (int i = 0; i < count; ++i) {
     ParticleDistanceConstraint c;
@@ -264,9 +269,10 @@ TEST(ParticleDistanceWorld, XpbdChainStretchIsTheClosedFormAndPbdsIsSetByIterati
   for (int iterations : {1, 4, 16}) {
     xpbd.push_back(chainStretch(true, iterations));
     pbd.push_back(chainStretch(false, iterations));
-    std::printf("  chain of 20, %2d iterations: XPBD stretch %.6g m (closed form %.6g m), "
-                "PBD k = 1: %.6g m\n",
-                iterations, double(xpbd.back()), double(expected), double(pbd.back()));
+    std::printf(
+        "  chain of 20, %2d iterations: XPBD stretch %.6g m (closed form %.6g m), "
+        "PBD k = 1: %.6g m\n",
+        iterations, double(xpbd.back()), double(expected), double(pbd.back()));
   }
   // XPBD converges to the implicit step's solution as the iterations grow: with 4 and 16 the
   // stretch is the closed form within the window's share of the oscillation (0.5 % allowed;
@@ -307,7 +313,8 @@ TEST(ParticleDistanceWorld, ClothEdgesComeFromTheTriangleModels) {
       EXPECT_EQ(c.xpbd, method == 4);
       EXPECT_EQ(c.stiffness, 300);
       EXPECT_EQ(c.restLength, (cloth.mesh.vertices[std::size_t(c.particle1)] -
-                               cloth.mesh.vertices[std::size_t(c.particle2)]).norm());
+                               cloth.mesh.vertices[std::size_t(c.particle2)])
+                                  .norm());
       EXPECT_FALSE(c.particle1 < 2 && c.particle2 < 2);
     }
   }

@@ -24,7 +24,8 @@ std::string squareObj(int n) {
   std::ostringstream o;
   o.precision(17);
   for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) o << "v " << Real(i) / n << " 0 " << Real(j) / n << "\n";
+    for (int i = 0; i <= n; ++i)
+      o << "v " << Real(i) / n << " 0 " << Real(j) / n << "\n";
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const int a = j * (n + 1) + i + 1;  // OBJ indices are 1-based
@@ -38,9 +39,9 @@ class ParticleMasses : public ::testing::Test {
  protected:
   void SetUp() override {
     directory_ = fs::temp_directory_path() /
-                 ("pbdval-particle-masses-" + std::to_string(::testing::UnitTest::GetInstance()
-                                                                 ->random_seed()) +
-                  "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+                 ("pbdval-particle-masses-" +
+                  std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "-" +
+                  ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(directory_);
   }
   void TearDown() override { fs::remove_all(directory_); }
@@ -67,7 +68,8 @@ class ParticleMasses : public ::testing::Test {
 
 Real totalMass(const Scene& scene) {
   Real mass = 0;
-  for (const ParticleDesc& p : scene.particles) mass += p.mass;
+  for (const ParticleDesc& p : scene.particles)
+    mass += p.mass;
   return mass;
 }
 
@@ -75,9 +77,9 @@ TEST_F(ParticleMasses, ClothMassIsDensityTimesAreaAtEveryRefinement) {
   // Scaled by (2, 1, 3) the square has the area 6 m²; ρ = 0.3 kg/m²: 1.8 kg.
   for (int n : {1, 2, 4, 8}) {
     const std::string obj = write("square" + std::to_string(n) + ".obj", squareObj(n));
-    const Scene seed = parse(R"({"TriangleModels": [{"geometryFile": ")" + obj +
-                             R"(", "scale": [2, 1, 3]}]})")
-                           .scene;
+    const Scene seed =
+        parse(R"({"TriangleModels": [{"geometryFile": ")" + obj + R"(", "scale": [2, 1, 3]}]})")
+            .scene;
     const Scene dense = parse(R"({"TriangleModels": [{"geometryFile": ")" + obj +
                               R"(", "scale": [2, 1, 3], "density": 0.3}]})")
                             .scene;
@@ -92,8 +94,7 @@ TEST_F(ParticleMasses, ClothMassIsDensityTimesAreaAtEveryRefinement) {
       const std::size_t centre = std::size_t(n / 2 * (n + 1) + n / 2);
       // Precision-aware: six terms and a product of a few roundings of 0.45 at most; 1e-15 is
       // 4.5 ε in double, the same multiple of ε in float.
-      EXPECT_NEAR(dense.particles[centre].mass, Real(0.3) * 6 / (n * n),
-                  test::roundOffBound(1e-15))
+      EXPECT_NEAR(dense.particles[centre].mass, Real(0.3) * 6 / (n * n), test::roundOffBound(1e-15))
           << n;
     }
   }
@@ -102,10 +103,11 @@ TEST_F(ParticleMasses, ClothMassIsDensityTimesAreaAtEveryRefinement) {
 TEST_F(ParticleMasses, TetMassIsDensityTimesVolumeAndStaticParticlesStayStatic) {
   // tests/data/meshes/tet.node: the unit corner tet, volume 1/6; scaled by 2: 8/6 m³.
   const std::string data = std::string(PBDVAL_TEST_DATA_DIR) + "/meshes/";
-  const Scene scene = parse(R"({"TetModels": [{"nodeFile": ")" + data + R"(tet.node", "eleFile": ")" +
-                            data + R"(tet.ele", "scale": [2, 2, 2], "density": 600,
+  const Scene scene =
+      parse(R"({"TetModels": [{"nodeFile": ")" + data + R"(tet.node", "eleFile": ")" + data +
+            R"(tet.ele", "scale": [2, 2, 2], "density": 600,
                                 "staticParticles": [3]}]})")
-                          .scene;
+          .scene;
   ASSERT_EQ(scene.particles.size(), 4u);
   for (std::size_t i = 0; i < 3; ++i)  // ρ V / 4 = 600 · (8/6) / 4 = 200 kg
     EXPECT_NEAR(scene.particles[i].mass, 200, 1e-12);
@@ -126,20 +128,19 @@ TEST_F(ParticleMasses, LumpingSplitsEveryElementEqually) {
   TetMesh tets;
   tets.vertices = {Vector3(0, 0, 0), Vector3(0, 1, 0), Vector3(1, 0, 0), Vector3(0, 0, 1)};
   tets.tetrahedra = {{0, 1, 2, 3}};
-  for (Real mass : lumpedMasses(tets, 24)) EXPECT_DOUBLE_EQ(mass, 1);  // 24 · (1/6) / 4
+  for (Real mass : lumpedMasses(tets, 24))
+    EXPECT_DOUBLE_EQ(mass, 1);  // 24 · (1/6) / 4
 }
 
 TEST_F(ParticleMasses, BadDensitiesAndVerticesWithoutElementsAreErrors) {
-  const std::string obj =
-      write("stray.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nv 5 5 5\nf 1 2 3\n");
+  const std::string obj = write("stray.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nv 5 5 5\nf 1 2 3\n");
   EXPECT_TRUE(test::containsAll(
       errorOf(R"({"TriangleModels": [{"geometryFile": ")" + obj + R"(", "density": 2}]})"),
       {"TriangleModels[0].density", "vertex 3 is in no element"}));
   // Without a density the stray vertex is a particle of mass 1, as in the seed.
-  EXPECT_EQ(parse(R"({"TriangleModels": [{"geometryFile": ")" + obj + R"("}]})")
-                .scene.particles[3]
-                .mass,
-            1);
+  EXPECT_EQ(
+      parse(R"({"TriangleModels": [{"geometryFile": ")" + obj + R"("}]})").scene.particles[3].mass,
+      1);
   const std::string square = write("square.obj", squareObj(1));
   for (const char* bad : {"0", "-1", "\"heavy\""})
     EXPECT_TRUE(test::containsAll(errorOf(R"({"TriangleModels": [{"geometryFile": ")" + square +

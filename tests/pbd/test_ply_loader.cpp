@@ -58,9 +58,11 @@ f 1 2 5
 
 void expectSameMesh(const TriangleMesh& a, const TriangleMesh& b) {
   ASSERT_EQ(a.vertices.size(), b.vertices.size());
-  for (std::size_t i = 0; i < a.vertices.size(); ++i) EXPECT_EQ(a.vertices[i], b.vertices[i]) << i;
+  for (std::size_t i = 0; i < a.vertices.size(); ++i)
+    EXPECT_EQ(a.vertices[i], b.vertices[i]) << i;
   ASSERT_EQ(a.triangles.size(), b.triangles.size());
-  for (std::size_t i = 0; i < a.triangles.size(); ++i) EXPECT_EQ(a.triangles[i], b.triangles[i]) << i;
+  for (std::size_t i = 0; i < a.triangles.size(); ++i)
+    EXPECT_EQ(a.triangles[i], b.triangles[i]) << i;
 }
 
 /// Appends `value` as `T` in the given byte order.
@@ -87,16 +89,19 @@ std::string binaryPly(bool bigEndian) {
                     "int vertex1\nproperty int vertex2\nend_header\n";
   const float xyz[5][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5f, 0.5f, 2}};
   for (const auto& v : xyz) {
-    for (float c : v) put<float>(out, c, bigEndian);
+    for (float c : v)
+      put<float>(out, c, bigEndian);
     put<double>(out, 0.25, bigEndian);
     put<std::uint8_t>(out, 255, bigEndian);
   }
   put<std::uint8_t>(out, 9, bigEndian);
   put<std::uint16_t>(out, 4, bigEndian);
-  for (std::uint32_t i : {0u, 1u, 2u, 3u}) put<std::uint32_t>(out, i, bigEndian);
+  for (std::uint32_t i : {0u, 1u, 2u, 3u})
+    put<std::uint32_t>(out, i, bigEndian);
   put<std::uint8_t>(out, 9, bigEndian);
   put<std::uint16_t>(out, 3, bigEndian);
-  for (std::uint32_t i : {0u, 1u, 4u}) put<std::uint32_t>(out, i, bigEndian);
+  for (std::uint32_t i : {0u, 1u, 4u})
+    put<std::uint32_t>(out, i, bigEndian);
   put<std::int32_t>(out, 0, bigEndian);
   put<std::int32_t>(out, 1, bigEndian);
   return out;
@@ -132,17 +137,19 @@ TEST(PlyLoader, FilesAreReadByTheirExtension) {
   EXPECT_EQ(ply.triangles[0], (std::array<int, 3>{0, 1, 2}));
   EXPECT_EQ(ply.vertices[1], Vector3(1, 0, 0));
   // A scene's triangle model from the PLY: its particles are the file's vertices.
-  const LoadedScene scene = parseScene(R"({"TriangleModels": [{"geometryFile": "../meshes/triangle.ply"}]})",
-                                       kDataDir + "/scenes/inline.json", LoadOptions{});
+  const LoadedScene scene =
+      parseScene(R"({"TriangleModels": [{"geometryFile": "../meshes/triangle.ply"}]})",
+                 kDataDir + "/scenes/inline.json", LoadOptions{});
   ASSERT_EQ(scene.scene.particles.size(), 3u);
   EXPECT_EQ(scene.scene.particles[2].position, Vector3(0, 1, 0));
 }
 
 TEST(PlyLoader, MalformedFilesNameThePlace) {
   using test::containsAll;
-  const std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
-                             "property float y\nproperty float z\nelement face 1\n"
-                             "property list uchar int vertex_indices\nend_header\n";
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n";
   const std::string vertices = "0 0 0\n1 0 0\n0 1 0\n";
   EXPECT_TRUE(containsAll(errorOf("solid\n"), {"mesh.ply", "header line 1"}));
   EXPECT_TRUE(containsAll(errorOf("ply\nformat ascii 1.0\nelement vertex 1\n"), {"no end_header"}));
@@ -150,29 +157,32 @@ TEST(PlyLoader, MalformedFilesNameThePlace) {
                           {"header line 2", "unknown format 'utf8'"}));
   EXPECT_TRUE(containsAll(errorOf("ply\nformat ascii 1.0\nproperty float x\nend_header\n"),
                           {"header line 3", "a property before any element"}));
-  EXPECT_TRUE(containsAll(
-      errorOf("ply\nformat ascii 1.0\nelement face 1\nproperty list float int vertex_indices\nend_header\n3 0 1 2\n"),
-      {"count type must be an integer type"}));
+  EXPECT_TRUE(containsAll(errorOf("ply\nformat ascii 1.0\nelement face 1\nproperty list float int "
+                                  "vertex_indices\nend_header\n3 0 1 2\n"),
+                          {"count type must be an integer type"}));
   EXPECT_TRUE(containsAll(errorOf(header + vertices + "3 0 1 7\n"),
                           {"face 0: vertex index 7 out of range (the file has 3 vertices)"}));
   EXPECT_TRUE(containsAll(errorOf(header + vertices + "2 0 1\n"),
                           {"face 0: a face needs at least 3 vertices, got 2"}));
-  EXPECT_TRUE(containsAll(errorOf(header + "0 0 0\n1 0 0\n"), {"vertex 2, x: the file ends early"}));
+  EXPECT_TRUE(
+      containsAll(errorOf(header + "0 0 0\n1 0 0\n"), {"vertex 2, x: the file ends early"}));
   EXPECT_TRUE(containsAll(errorOf(header + "0 0 zero\n1 0 0\n0 1 0\n3 0 1 2\n"),
                           {"vertex 0, z: expected a finite number, got 'zero'"}));
-  EXPECT_TRUE(containsAll(errorOf(header + vertices + "3 0 1 2\n4 5 6\n"),
-                          {"after the last element"}));
+  EXPECT_TRUE(
+      containsAll(errorOf(header + vertices + "3 0 1 2\n4 5 6\n"), {"after the last element"}));
   EXPECT_TRUE(containsAll(
-      errorOf("ply\nformat ascii 1.0\nelement vertex 100000000000\nproperty float x\nproperty float y\n"
-              "property float z\nend_header\n0 0 0\n"),
+      errorOf(
+          "ply\nformat ascii 1.0\nelement vertex 100000000000\nproperty float x\nproperty float y\n"
+          "property float z\nend_header\n0 0 0\n"),
       {"claims 100000000000 items; the file is too short"}));
   EXPECT_TRUE(containsAll(
       errorOf("ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\n"
               "element vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n"
               "3 0 1 2\n0 0 0\n1 0 0\n0 1 0\n"),
       {"the face element comes before the vertex element"}));
-  EXPECT_TRUE(containsAll(errorOf("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n"),
-                          {"needs scalar properties x, y and z"}));
+  EXPECT_TRUE(containsAll(
+      errorOf("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n"),
+      {"needs scalar properties x, y and z"}));
   EXPECT_TRUE(containsAll(
       errorOf("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
               "property float z\nelement face 1\nproperty list uchar float vertex_indices\n"

@@ -25,8 +25,8 @@ RigidBodyStates twoBodies(bool firstDynamic) {
 }
 
 // The same projection through the generic m-row path.
-Vector3 genericProjection(RigidBodyStates& b, const Vector3& a0, const Vector3& a1,
-                          Real compliance, const Vector3& lambda) {
+Vector3 genericProjection(RigidBodyStates& b, const Vector3& a0, const Vector3& a1, Real compliance,
+                          const Vector3& lambda) {
   const Vector3 c0 = b.position[0] + b.rotation[0] * a0;
   const Vector3 c1 = b.position[1] + b.rotation[1] * a1;
   ConstraintRows<3> rows;
@@ -84,8 +84,8 @@ TEST(PointConstraint, OneHardProjectionOfASmallErrorLeavesOnlyASecondOrderResidu
     RigidBodyStates b = twoBodies(true);
     const Vector3 a0(0.25, -0.1, 0.4);
     const Vector3 c0 = b.position[0] + b.rotation[0] * a0;
-    const Vector3 a1 = b.rotation[1].conjugate() *
-                       (c0 + offset * Vector3(0.3, -0.5, 0.2) - b.position[1]);
+    const Vector3 a1 =
+        b.rotation[1].conjugate() * (c0 + offset * Vector3(0.3, -0.5, 0.2) - b.position[1]);
     projectPointConstraint(b, 0, 1, a0, a1);
     return ((b.position[1] + b.rotation[1] * a1) - (b.position[0] + b.rotation[0] * a0)).norm();
   };

@@ -18,8 +18,8 @@ const Real kClosedFormTolerance = 8 * kEpsilon;
 TEST(ProximityDistance, ClosestPointOnSegment) {
   const Vector3 a(0, 0, 0), b(2, 0, 0);
   EXPECT_NEAR(closestPointOnSegment(Vector3(0.5, 1, 0), a, b), 0.25, kClosedFormTolerance);
-  EXPECT_EQ(closestPointOnSegment(Vector3(3, 1, -1), a, b), 1);   // beyond b
-  EXPECT_EQ(closestPointOnSegment(Vector3(-1, -1, 2), a, b), 0);  // beyond a
+  EXPECT_EQ(closestPointOnSegment(Vector3(3, 1, -1), a, b), 1);     // beyond b
+  EXPECT_EQ(closestPointOnSegment(Vector3(-1, -1, 2), a, b), 0);    // beyond a
   EXPECT_EQ(closestPointOnSegment(Vector3(-1, -1, 2), a, a), 0.5);  // zero length: midpoint
 }
 
@@ -34,13 +34,13 @@ TEST(ProximityDistance, ClosestPointOnTriangle) {
     Vector3 p, expected;  // expected barycentrics (u, v, w)
   };
   const Case cases[] = {
-      {Vector3(0.2, 0.3, 0.7), Vector3(0.5, 0.2, 0.3)},   // over the face: projection (0.2, 0.3)
-      {Vector3(2, -1, 0.5), Vector3(0, 1, 0)},            // beyond vertex b
-      {Vector3(-1, -0.5, -3), Vector3(1, 0, 0)},          // beyond vertex a
-      {Vector3(-0.2, 3, 0.1), Vector3(0, 0, 1)},          // beyond vertex c
-      {Vector3(1, 1, -0.4), Vector3(0, 0.5, 0.5)},        // beyond edge bc: (0.5, 0.5)
-      {Vector3(0.3, -2, 1), Vector3(0.7, 0.3, 0)},        // beyond edge ab: (0.3, 0)
-      {Vector3(-1, 0.6, 0.2), Vector3(0.4, 0, 0.6)},      // beyond edge ca: (0, 0.6)
+      {Vector3(0.2, 0.3, 0.7), Vector3(0.5, 0.2, 0.3)},  // over the face: projection (0.2, 0.3)
+      {Vector3(2, -1, 0.5), Vector3(0, 1, 0)},           // beyond vertex b
+      {Vector3(-1, -0.5, -3), Vector3(1, 0, 0)},         // beyond vertex a
+      {Vector3(-0.2, 3, 0.1), Vector3(0, 0, 1)},         // beyond vertex c
+      {Vector3(1, 1, -0.4), Vector3(0, 0.5, 0.5)},       // beyond edge bc: (0.5, 0.5)
+      {Vector3(0.3, -2, 1), Vector3(0.7, 0.3, 0)},       // beyond edge ab: (0.3, 0)
+      {Vector3(-1, 0.6, 0.2), Vector3(0.4, 0, 0.6)},     // beyond edge ca: (0, 0.6)
   };
   for (const Case& k : cases) {
     const Vector3 bary = closestPointOnTriangle(k.p, a, b, c);
@@ -95,20 +95,23 @@ TEST(ProximityDistance, ClosestPointsOfSegments) {
 template <int N>
 Vector3 difference(const std::array<Vector3, N>& x, const std::array<Real, N>& b) {
   Vector3 d = Vector3::Zero();
-  for (std::size_t i = 0; i < std::size_t(N); ++i) d += b[i] * x[i];
+  for (std::size_t i = 0; i < std::size_t(N); ++i)
+    d += b[i] * x[i];
   return d;
 }
 
 template <int N>
 std::array<Vector3, N> corrected(std::array<Vector3, N> x, const ProximityCorrection<N>& c) {
-  for (std::size_t i = 0; i < std::size_t(N); ++i) x[i] += c.delta[i];
+  for (std::size_t i = 0; i < std::size_t(N); ++i)
+    x[i] += c.delta[i];
   return x;
 }
 
 // The three constraints in one general configuration each, with their barycentric
 // coefficients (from the closest-point functions, tested above).
 struct PointEdgeCase {
-  std::array<Vector3, 3> x{Vector3(0.3, 0.8, -0.2), Vector3(-0.5, 0.1, 0.2), Vector3(0.9, -0.2, 0.1)};
+  std::array<Vector3, 3> x{Vector3(0.3, 0.8, -0.2), Vector3(-0.5, 0.1, 0.2),
+                           Vector3(0.9, -0.2, 0.1)};
   std::array<Real, 3> coefficients() const {
     const Real t = closestPointOnSegment(x[0], x[1], x[2]);
     return {1, -(1 - t), -t};
@@ -151,7 +154,8 @@ void checkProjection(const std::array<Vector3, N>& x, const std::array<Real, N>&
   for (std::size_t i = 0; i < std::size_t(N); ++i)
     if (w[i] > 0) momentum += c.delta[i] / w[i];
   bool allDynamic = true;
-  for (Real wi : w) allDynamic = allDynamic && wi > 0;
+  for (Real wi : w)
+    allDynamic = allDynamic && wi > 0;
   if (allDynamic) {
     EXPECT_NEAR(momentum.norm(), 0, 64 * kEpsilon);
   }
@@ -197,7 +201,8 @@ TEST(ProximityDistance, StaticParticlesDoNotMove) {
   // Everything static: no correction.
   const ProximityCorrection<4> none = edgeEdgeDistancePbd(ee.x, {0, 0, 0, 0}, rest, unit);
   EXPECT_FALSE(none.applied);
-  for (const Vector3& d : none.delta) EXPECT_EQ(d, Vector3::Zero());
+  for (const Vector3& d : none.delta)
+    EXPECT_EQ(d, Vector3::Zero());
 }
 
 TEST(ProximityDistance, CompressionAndStretchStiffnessOnTheirSides) {
@@ -229,8 +234,8 @@ TEST(ProximityDistance, ZeroDistanceHasNoDirectionAndNoCorrection) {
   const ProximityCorrection<3> pe = pointEdgeDistancePbd(
       {Vector3(0.5, 0, 0), Vector3(0, 0, 0), Vector3(1, 0, 0)}, {1, 1, 1}, Real(0.1), unit);
   const ProximityCorrection<4> pt = pointTriangleDistancePbd(
-      {Vector3(0.25, 0.25, 0), Vector3(0, 0, 0), Vector3(1, 0, 0), Vector3(0, 1, 0)},
-      {1, 1, 1, 1}, Real(0.1), unit);
+      {Vector3(0.25, 0.25, 0), Vector3(0, 0, 0), Vector3(1, 0, 0), Vector3(0, 1, 0)}, {1, 1, 1, 1},
+      Real(0.1), unit);
   const ProximityCorrection<4> ee = edgeEdgeDistancePbd(
       {Vector3(-1, 0, 0), Vector3(1, 0, 0), Vector3(0, -1, 0), Vector3(0, 1, 0)}, {1, 1, 1, 1},
       Real(0.1), unit);
@@ -238,9 +243,12 @@ TEST(ProximityDistance, ZeroDistanceHasNoDirectionAndNoCorrection) {
   EXPECT_FALSE(pt.applied);
   EXPECT_FALSE(ee.applied);
   EXPECT_EQ(pe.value, Real(-0.1));
-  for (const Vector3& d : pe.delta) EXPECT_EQ(d, Vector3::Zero());
-  for (const Vector3& d : pt.delta) EXPECT_EQ(d, Vector3::Zero());
-  for (const Vector3& d : ee.delta) EXPECT_EQ(d, Vector3::Zero());
+  for (const Vector3& d : pe.delta)
+    EXPECT_EQ(d, Vector3::Zero());
+  for (const Vector3& d : pt.delta)
+    EXPECT_EQ(d, Vector3::Zero());
+  for (const Vector3& d : ee.delta)
+    EXPECT_EQ(d, Vector3::Zero());
 }
 
 TEST(ProximityDistance, DegenerateFeaturesGiveFiniteCorrections) {
@@ -250,7 +258,8 @@ TEST(ProximityDistance, DegenerateFeaturesGiveFiniteCorrections) {
   const ProximityCorrection<3> c = pointEdgeDistancePbd(x, {1, 1, 1}, Real(0.5), unit);
   ASSERT_TRUE(c.applied);
   EXPECT_NEAR(c.value, 0.5, kClosedFormTolerance);
-  const Vector3 after = (x[0] + c.delta[0]) - Real(0.5) * ((x[1] + c.delta[1]) + (x[2] + c.delta[2]));
+  const Vector3 after =
+      (x[0] + c.delta[0]) - Real(0.5) * ((x[1] + c.delta[1]) + (x[2] + c.delta[2]));
   EXPECT_NEAR(after.norm(), 0.5, kClosedFormTolerance);
   // A collinear triangle.
   const ProximityCorrection<4> t = pointTriangleDistancePbd(
@@ -258,7 +267,8 @@ TEST(ProximityDistance, DegenerateFeaturesGiveFiniteCorrections) {
       Real(0.5), unit);
   ASSERT_TRUE(t.applied);
   EXPECT_NEAR(t.value, 0.5, kClosedFormTolerance);  // distance 1 to the line y = 0
-  for (const Vector3& d : t.delta) EXPECT_TRUE(d.allFinite());
+  for (const Vector3& d : t.delta)
+    EXPECT_TRUE(d.allFinite());
 }
 
 }  // namespace

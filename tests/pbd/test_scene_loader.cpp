@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-
 #include <cmath>
 #include <filesystem>
 #include <initializer_list>
@@ -89,12 +88,15 @@ TEST(SceneLoaderEveryKey, WarnsOnlyAboutTheSettingsItsMethodsDoNotUse) {
   // solidSimulationMethod 3 (XPBD FEM) the volume stiffness and the strain-based flags
   // (docs/scene-format.md#simulation lists what each method reads). Nothing else warns.
   std::vector<std::string> expected;
-  for (const char* key : {"cloth_xxStiffness", "cloth_yyStiffness", "cloth_xyStiffness",
-                          "cloth_xyPoissonRatio", "cloth_yxPoissonRatio",
-                          "cloth_normalizeStretch", "cloth_normalizeShear"})
-    expected.push_back(std::string("Simulation.") + key + ": ignored: clothSimulationMethod 4 does not use it");
-  for (const char* key : {"solid_volumeStiffness", "solid_normalizeStretch", "solid_normalizeShear"})
-    expected.push_back(std::string("Simulation.") + key + ": ignored: solidSimulationMethod 3 does not use it");
+  for (const char* key :
+       {"cloth_xxStiffness", "cloth_yyStiffness", "cloth_xyStiffness", "cloth_xyPoissonRatio",
+        "cloth_yxPoissonRatio", "cloth_normalizeStretch", "cloth_normalizeShear"})
+    expected.push_back(std::string("Simulation.") + key +
+                       ": ignored: clothSimulationMethod 4 does not use it");
+  for (const char* key :
+       {"solid_volumeStiffness", "solid_normalizeStretch", "solid_normalizeShear"})
+    expected.push_back(std::string("Simulation.") + key +
+                       ": ignored: solidSimulationMethod 3 does not use it");
   std::vector<std::string> actual;
   for (const auto& warning : everyKeyScene().warnings)
     actual.push_back(warning.jsonPath + ": " + warning.message);
@@ -600,9 +602,10 @@ TEST(SceneLoaderErrors, SyntaxErrorGivesLineAndColumn) {
 }
 
 TEST(SceneLoaderErrors, WrongTypesNameThePathTheExpectationAndTheValue) {
-  EXPECT_TRUE(containsAll(errorOf(R"({"Simulation": {"timeStepSize": "fast"}})"),
-                          {"inline.json: Simulation.timeStepSize: expected a number in [1e-07, 10], got "
-                           "\"fast\""}));
+  EXPECT_TRUE(
+      containsAll(errorOf(R"({"Simulation": {"timeStepSize": "fast"}})"),
+                  {"inline.json: Simulation.timeStepSize: expected a number in [1e-07, 10], got "
+                   "\"fast\""}));
   EXPECT_TRUE(containsAll(
       errorOf(R"({"RigidBodies": [{"collisionObjectType": 1, "collisionObjectScale": "abc"}]})"),
       {"RigidBodies[0].collisionObjectScale: expected an array of 3 finite numbers, got "
@@ -671,7 +674,8 @@ TEST(SceneLoaderErrors, OutOfRangeValues) {
   const std::pair<std::string, std::string> cases[] = {
       {R"({"Simulation": {"timeStepSize": 0}})",
        "Simulation.timeStepSize: expected a number in [1e-07, 10], got 0"},
-      {R"({"Simulation": {"subSteps": 0}})", "Simulation.subSteps: expected an integer in [1, 10000]"},
+      {R"({"Simulation": {"subSteps": 0}})",
+       "Simulation.subSteps: expected an integer in [1, 10000]"},
       // The bounds keep every run finite: 10^9 substeps per step would hang a run.
       {R"({"Simulation": {"subSteps": 1000000000}})",
        "Simulation.subSteps: expected an integer in [1, 10000], got 1000000000"},
@@ -737,9 +741,10 @@ TEST(SceneLoaderErrors, MissingMeshFileNamesTheKeyAndTheResolvedPath) {
   EXPECT_TRUE(containsAll(errorOf(R"({"RigidBodies": [{"geometryFile": ""}]})"),
                           {"RigidBodies[0].geometryFile: expected a file path, got \"\""}));
   // A PLY file that exists but is malformed: the key, the file and the header line.
-  EXPECT_TRUE(containsAll(errorOf(R"({"RigidBodies": [{"geometryFile": "../meshes/malformed.ply"}]})"),
-                          {"RigidBodies[0].geometryFile: cannot load the mesh: ", "malformed.ply",
-                           "header line 1: a PLY file starts with the line 'ply'"}));
+  EXPECT_TRUE(
+      containsAll(errorOf(R"({"RigidBodies": [{"geometryFile": "../meshes/malformed.ply"}]})"),
+                  {"RigidBodies[0].geometryFile: cannot load the mesh: ", "malformed.ply",
+                   "header line 1: a PLY file starts with the line 'ply'"}));
   // A mesh that exists but is malformed: the key, the mesh file and its line.
   EXPECT_TRUE(containsAll(errorOf(R"({"RigidBodies": [{"geometryFile": "../meshes/tet.ele"}]})"),
                           {"RigidBodies[0].geometryFile: cannot load the mesh: ",
@@ -875,7 +880,8 @@ std::vector<WarningCase> warningCases() {
       {R"({"Simulation": {"triangleModelBendingMethod": 1}})",
        "Simulation.triangleModelBendingMethod", "did you mean \"clothBendingMethod\"?"},
       {R"({"Simulation": {"gravity": [0, -2, 0]}})", "Simulation.gravity",
-       "as PositionBasedDynamics ignores \"gravity\": the gravitation stays the default [0, -9.81, 0]"},
+       "as PositionBasedDynamics ignores \"gravity\": the gravitation stays the default [0, -9.81, "
+       "0]"},
       {R"({"Simulation": {"gravity": [0, -2, 0], "gravitation": [0, -1, 0]}})",
        "Simulation.gravity", "ignored: \"gravitation\" is also given"},
       {R"({"Simulation": {"renderBVH": 2, "renderBVHDepth": 3}})", "Simulation.renderBVH",
@@ -1007,10 +1013,13 @@ Scene sceneWithRule(const std::string& rule) {
 
 TEST(ContactMaterial, RulesCombineAsNamed) {
   // Bodies 0 (μ 0.3, e 0.5) and 1 (μ 0.1, e 0.8).
-  struct Expected { const char* rule; Real friction, restitution; };
-  for (const Expected& x : {Expected{"seed", 0.4, 0.4}, Expected{"product", 0.03, 0.4},
-                            Expected{"average", 0.2, 0.65}, Expected{"min", 0.1, 0.5},
-                            Expected{"max", 0.3, 0.8}}) {
+  struct Expected {
+    const char* rule;
+    Real friction, restitution;
+  };
+  for (const Expected& x :
+       {Expected{"seed", 0.4, 0.4}, Expected{"product", 0.03, 0.4}, Expected{"average", 0.2, 0.65},
+        Expected{"min", 0.1, 0.5}, Expected{"max", 0.3, 0.8}}) {
     const ContactMaterial m = sceneWithRule(x.rule).pairMaterial(0, 1);
     EXPECT_NEAR(m.friction, x.friction, 1e-6) << x.rule;  // float-exact decimal inputs
     EXPECT_NEAR(m.restitution, x.restitution, 1e-6) << x.rule;
@@ -1041,10 +1050,12 @@ TEST(ContactMaterial, BadRuleAndPairsAreLocatedErrors) {
       << message(text);
   std::string pairs = kTwoPrimitives;
   pairs.replace(pairs.find("%RULE%"), 6, "seed");
-  const std::string missingValue = std::string(pairs).replace(pairs.find(", \"friction\": 0.9"), 17, "");
+  const std::string missingValue =
+      std::string(pairs).replace(pairs.find(", \"friction\": 0.9"), 17, "");
   EXPECT_NE(message(missingValue).find("ContactPairs[0]: a contact pair needs"), std::string::npos)
       << message(missingValue);
-  const std::string unknownBody = std::string(pairs).replace(pairs.find("\"bodyID1\": 3"), 12, "\"bodyID1\": 9");
+  const std::string unknownBody =
+      std::string(pairs).replace(pairs.find("\"bodyID1\": 3"), 12, "\"bodyID1\": 9");
   EXPECT_NE(message(unknownBody).find("ContactPairs[0].bodyID1"), std::string::npos)
       << message(unknownBody);
 }

@@ -74,15 +74,14 @@ void expectSameScene(const Scene& a, const Scene& b) {
   EXPECT_EQ(s.distanceGrid, t.distanceGrid);
   EXPECT_EQ(s.clothSimulationMethod, t.clothSimulationMethod);
   EXPECT_EQ(s.clothBendingMethod, t.clothBendingMethod);
-  for (auto member : {&SimulationSettings::cloth_stiffness, &SimulationSettings::solid_stiffness,
-                      &SimulationSettings::solid_volumeStiffness,
-                      &SimulationSettings::cloth_bendingStiffness})
+  for (auto member :
+       {&SimulationSettings::cloth_stiffness, &SimulationSettings::solid_stiffness,
+        &SimulationSettings::solid_volumeStiffness, &SimulationSettings::cloth_bendingStiffness})
     EXPECT_EQ(s.*member, t.*member);  // optional: unset stays unset
   for (auto member :
        {&SimulationSettings::cloth_xxStiffness, &SimulationSettings::cloth_yyStiffness,
         &SimulationSettings::cloth_xyStiffness, &SimulationSettings::cloth_xyPoissonRatio,
-        &SimulationSettings::cloth_yxPoissonRatio,
-        &SimulationSettings::solid_poissonRatio,
+        &SimulationSettings::cloth_yxPoissonRatio, &SimulationSettings::solid_poissonRatio,
         &SimulationSettings::rod_stretchingStiffness, &SimulationSettings::rod_shearingStiffnessX,
         &SimulationSettings::rod_shearingStiffnessY, &SimulationSettings::rod_bendingStiffnessX,
         &SimulationSettings::rod_bendingStiffnessY, &SimulationSettings::rod_twistingStiffness})

@@ -58,7 +58,8 @@ FemTriangleConstraint triangleConstraint(Real leg, Real cutoff) {
 
 Real weightedNorm(const std::array<Vector3, 3>& g, const std::array<Real, 3>& w) {
   Real sum = 0;
-  for (std::size_t i = 0; i < 3; ++i) sum += w[i] * g[i].squaredNorm();
+  for (std::size_t i = 0; i < 3; ++i)
+    sum += w[i] * g[i].squaredNorm();
   return sum;
 }
 
@@ -73,7 +74,8 @@ TEST(FemCutoff, AFemTriangleWhoseWeightedGradientSumIsBelowTheCutoffIsNotCorrect
   const Real sum = weightedNorm(femTriangleGradients(x, seed), w);
   ASSERT_GT(sum, 0);
   ASSERT_LT(sum, kSeedFemCutoff);
-  for (const Vector3& d : femTrianglePbd(x, w, seed)) EXPECT_EQ(d, Vector3::Zero());
+  for (const Vector3& d : femTrianglePbd(x, w, seed))
+    EXPECT_EQ(d, Vector3::Zero());
   const std::array<Vector3, 3> g = femTriangleGradients(x, exact);
   const std::array<Vector3, 3> d = femTrianglePbd(x, w, exact);
   const Real s = femTriangleEnergy(x, exact) / sum;
@@ -92,7 +94,8 @@ TEST(FemCutoff, AFemTriangleAboveTheCutoffIsCorrectedAlike) {
   const FemTriangleConstraint exact = triangleConstraint(1, 0);
   ASSERT_GT(weightedNorm(femTriangleGradients(x, seed), w), kSeedFemCutoff);
   const auto a = femTrianglePbd(x, w, seed), b = femTrianglePbd(x, w, exact);
-  for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(a[i], b[i]);
+  for (std::size_t i = 0; i < 3; ++i)
+    EXPECT_EQ(a[i], b[i]);
   EXPECT_GT(a[2].norm(), 0);
 }
 
@@ -121,10 +124,12 @@ TEST(FemCutoff, AFemTetBelowTheCutoffIsNotCorrectedByThePbdSolve) {
   const FemTetConstraint exact = tetConstraint(1, 0, false, 1);
   const FemTetEnergy e = femTetEnergy(x, seed);
   Real sum = 0;
-  for (std::size_t i = 0; i < 4; ++i) sum += w[i] * e.gradients[i].squaredNorm();
+  for (std::size_t i = 0; i < 4; ++i)
+    sum += w[i] * e.gradients[i].squaredNorm();
   ASSERT_GT(sum, 0);
   ASSERT_LT(sum, kSeedFemCutoff);
-  for (const Vector3& d : femTetPbd(x, w, seed).positions) EXPECT_EQ(d, Vector3::Zero());
+  for (const Vector3& d : femTetPbd(x, w, seed).positions)
+    EXPECT_EQ(d, Vector3::Zero());
   EXPECT_GT(femTetPbd(x, w, exact).positions[3].norm(), 0);
 }
 
@@ -137,13 +142,13 @@ TEST(FemCutoff, TheXpbdTetCutoffIncludesTheComplianceTerm) {
   const std::array<Vector3, 4> x = stretchedTet(1, Real(1e-4));
   const Real h = Real(1e-3);
   const FemTetCorrection stiff = femTetXpbd(x, w, tetConstraint(1, kSeedFemCutoff, true, 1e6), h);
-  for (const Vector3& d : stiff.positions) EXPECT_EQ(d, Vector3::Zero());
+  for (const Vector3& d : stiff.positions)
+    EXPECT_EQ(d, Vector3::Zero());
   EXPECT_EQ(stiff.multiplier, 0);
   EXPECT_GT(femTetXpbd(x, w, tetConstraint(1, 0, true, 1e6), h).positions[3].norm(), 0);
-  EXPECT_GT(femTetXpbd(x, w, tetConstraint(1, kSeedFemCutoff, true, Real(1e-5)), h)
-                .positions[3]
-                .norm(),
-            0);
+  EXPECT_GT(
+      femTetXpbd(x, w, tetConstraint(1, kSeedFemCutoff, true, Real(1e-5)), h).positions[3].norm(),
+      0);
 }
 
 TEST(FemCutoff, TheSeedsBuilderDropsElementsWhoseRestDeterminantIsNotAboveIt) {
@@ -151,8 +156,8 @@ TEST(FemCutoff, TheSeedsBuilderDropsElementsWhoseRestDeterminantIsNotAboveIt) {
   // |det D_m| > 10⁻⁶: a right triangle with legs 0.5 mm has |det D_m| = 2.5·10⁻⁷.
   Real area = 0;
   Eigen::Matrix<Real, 2, 2> restInverse;
-  EXPECT_FALSE(femTriangleRest(stretchedTriangle(Real(5e-4), 0), area, restInverse,
-                               kSeedFemCutoff));
+  EXPECT_FALSE(
+      femTriangleRest(stretchedTriangle(Real(5e-4), 0), area, restInverse, kSeedFemCutoff));
   EXPECT_TRUE(femTriangleRest(stretchedTriangle(Real(5e-4), 0), area, restInverse, 0));
   // A tet with edges 5 mm: |det D_m| = 1.25·10⁻⁷.
   Matrix3 inverse;
@@ -191,10 +196,10 @@ TEST(DamperJointModel, TheSeedsLinearRowsMoveTheCentresOfMassOnly) {
   const auto rows = joint.positionRows(world.bodies);
   for (std::size_t k = 0; k < 2; ++k) {
     EXPECT_EQ(rows.angular[k].topRows(3).norm(), 0) << k;
-    EXPECT_NEAR((rows.linear[k].topRows(3) * rows.linear[k].topRows(3).transpose() -
-                 Matrix3::Identity())
-                    .norm(),
-                0, 10 * kEpsilon)
+    EXPECT_NEAR(
+        (rows.linear[k].topRows(3) * rows.linear[k].topRows(3).transpose() - Matrix3::Identity())
+            .norm(),
+        0, 10 * kEpsilon)
         << "the rows are the joint frame's three orthonormal axes";
   }
 }
@@ -216,7 +221,8 @@ TEST(DamperJointModel, TheTwoModelsTurnASpinningFirstBodyDifferently) {
   // so only the rotation rows act on body 0's spin; the corrected rows add the lever's torque.
   // The two spins must differ after one step (the rows differ exactly in that torque).
   Scene seed = damperScene("seed"), corrected = damperScene("corrected");
-  for (Scene* s : {&seed, &corrected}) s->simulation.gravitation = Vector3::Zero();
+  for (Scene* s : {&seed, &corrected})
+    s->simulation.gravitation = Vector3::Zero();
   World a = buildWorld(seed), b = buildWorld(corrected);
   a.step();
   b.step();
@@ -310,20 +316,22 @@ TEST(SeedConstraintOrder, FemTrianglesAreSolvedGroupByGroupOfTheGreedyColouring)
   std::vector<std::vector<char>> used;
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     std::size_t g = 0;
-    while (g < used.size() && (used[g][std::size_t(triangles[t][0])] ||
-                               used[g][std::size_t(triangles[t][1])] ||
-                               used[g][std::size_t(triangles[t][2])]))
+    while (g < used.size() &&
+           (used[g][std::size_t(triangles[t][0])] || used[g][std::size_t(triangles[t][1])] ||
+            used[g][std::size_t(triangles[t][2])]))
       ++g;
     if (g == used.size()) {
       used.emplace_back(scene.particles.size(), char(0));
       groups.emplace_back();
     }
-    for (int v : triangles[t]) used[g][std::size_t(v)] = 1;
+    for (int v : triangles[t])
+      used[g][std::size_t(v)] = 1;
     groups[g].push_back(int(t));
   }
   std::vector<std::array<int, 3>> expected;
   for (const auto& group : groups)
-    for (int t : group) expected.push_back(triangles[std::size_t(t)]);
+    for (int t : group)
+      expected.push_back(triangles[std::size_t(t)]);
   ASSERT_GT(groups.size(), 1u) << "the mesh's triangles share vertices";
 
   const World world = buildWorld(scene);

@@ -9,11 +9,11 @@
 // round-off (operation order; the seed reads OBJ coordinates in single precision, a relative
 // change of 6·10⁻⁸). How much such a difference grows is a property of the scene, measured
 // here: the scene is run a second time with every dynamic body's start moved by
-// δ = 10⁻⁸ m, each in its own direction (the single-precision rounding of a 0.1 m coordinate is 3.7·10⁻⁹ m, so δ bounds
-// the input differences) and the distance between the two runs, D(t), is the growth of an
-// input difference of δ up to time t: round-off growth in a regular scene, Lyapunov growth in a
-// chaotic one. The tolerance at a sample is 10 D(t) (a margin for round-off injected at
-// every step rather than once) plus 10⁻⁹ m (the round-off floor: ~10⁻¹⁶ relative per
+// δ = 10⁻⁸ m, each in its own direction (the single-precision rounding of a 0.1 m coordinate
+// is 3.7·10⁻⁹ m, so δ bounds the input differences) and the distance between the two runs, D(t), is
+// the growth of an input difference of δ up to time t: round-off growth in a regular scene,
+// Lyapunov growth in a chaotic one. The tolerance at a sample is 10 D(t) (a margin for round-off
+// injected at every step rather than once) plus 10⁻⁹ m (the round-off floor: ~10⁻¹⁶ relative per
 // operation over ~10⁷ operations on a body in a run). Once D exceeds 1 mm the scene is past its
 // predictability horizon — two starts 10 nm apart no longer share a trajectory — and later
 // samples are not compared (printed with the horizon).
@@ -118,7 +118,7 @@ struct Comparison {
   double worstDeviation = 0;  ///< at that sample (m)
   double worstTolerance = 0;
   double worstTime = 0;
-  double horizon = 0;         ///< last compared time (s)
+  double horizon = 0;  ///< last compared time (s)
   int comparedSamples = 0;
   double lastTime = 0;
 };
@@ -189,7 +189,8 @@ std::vector<ParticleRow> readParticleRecording(const std::string& path) {
   if (!in) throw std::runtime_error(path + ": cannot open");
   std::string line;
   std::getline(in, line);
-  if (line != "t,index,x,y,z,vx,vy,vz") throw std::runtime_error(path + ": line 1: unexpected header");
+  if (line != "t,index,x,y,z,vx,vy,vz")
+    throw std::runtime_error(path + ": line 1: unexpected header");
   std::vector<ParticleRow> rows;
   int lineNumber = 1;
   while (std::getline(in, line)) {
@@ -206,7 +207,8 @@ std::vector<ParticleRow> readParticleRecording(const std::string& path) {
     }
     if (values.size() != 8)
       throw std::runtime_error(path + ": line " + std::to_string(lineNumber) + ": 8 columns");
-    rows.push_back({values[0], int(values[1]), Vector3(Real(values[2]), Real(values[3]), Real(values[4]))});
+    rows.push_back(
+        {values[0], int(values[1]), Vector3(Real(values[2]), Real(values[3]), Real(values[4]))});
   }
   return rows;
 }
@@ -263,7 +265,8 @@ Comparison compareParticles(const std::string& name, double window = 0) {
       lastStep = s;
       const auto& a = ours.at(s);
       const auto& b = perturbed.at(s);
-      for (std::size_t i = 0; i < a.size(); ++i) growth = std::max(growth, double((a[i] - b[i]).norm()));
+      for (std::size_t i = 0; i < a.size(); ++i)
+        growth = std::max(growth, double((a[i] - b[i]).norm()));
       if (growth > kHorizon) pastHorizon = true;
       if (!pastHorizon) {
         c.horizon = r.t;
@@ -289,11 +292,13 @@ TEST_P(SeedReferenceParticles, PbdMethodFollowsTheOriginalsParticles) {
   if (sizeof(Real) != sizeof(double)) GTEST_SKIP() << "the recordings are double precision";
   const std::string name = GetParam();
   const Comparison c = compareParticles(name);
-  std::printf("  %-42s worst %.3e m (tolerance %.3e m) at t = %.3f s; compared to t = %.3f of %.3f s\n",
-              name.c_str(), c.worstDeviation, c.worstTolerance, c.worstTime, c.horizon, c.lastTime);
+  std::printf(
+      "  %-42s worst %.3e m (tolerance %.3e m) at t = %.3f s; compared to t = %.3f of %.3f s\n",
+      name.c_str(), c.worstDeviation, c.worstTolerance, c.worstTime, c.horizon, c.lastTime);
   EXPECT_GT(c.comparedSamples, 1) << "the scene is past its horizon from the start";
-  EXPECT_LE(c.worstRatio, 1.0) << name << ": deviation " << c.worstDeviation << " m at t = "
-                               << c.worstTime << " s exceeds " << c.worstTolerance << " m";
+  EXPECT_LE(c.worstRatio, 1.0) << name << ": deviation " << c.worstDeviation
+                               << " m at t = " << c.worstTime << " s exceeds " << c.worstTolerance
+                               << " m";
 }
 
 // The issue's target (issue 28): the FEM cloth and FEM tet scenes agree with the original to
@@ -317,13 +322,17 @@ TEST(SeedReferenceFem, ClothAndTetScenesAgreeWithTheOriginalToAMicrometreOverThe
     double worst = 0;
     for (const ParticleRow& r : rows)
       if (r.t <= 1 + 1e-9)
-        worst = std::max(worst, double((ours.at(std::llround(r.t / h)).at(std::size_t(r.index)) -
-                                        r.position).norm()));
+        worst = std::max(
+            worst,
+            double((ours.at(std::llround(r.t / h)).at(std::size_t(r.index)) - r.position).norm()));
     std::printf("  %-20s largest difference over the first second %.3e m\n", name, worst);
     if (std::getenv("PBDVAL_SEED_TRACE"))
       for (const ParticleRow& r : rows)
         if (r.t <= 1 + 1e-9)
-          std::printf("    t %.3f p %d dev %.3e\n", r.t, r.index, double((ours.at(std::llround(r.t / h)).at(std::size_t(r.index)) - r.position).norm()));
+          std::printf(
+              "    t %.3f p %d dev %.3e\n", r.t, r.index,
+              double(
+                  (ours.at(std::llround(r.t / h)).at(std::size_t(r.index)) - r.position).norm()));
     EXPECT_LE(worst, 1e-6) << name;
   }
 }
@@ -342,11 +351,13 @@ TEST_P(SeedReference, PbdMethodFollowsTheOriginalsTrajectory) {
   if (sizeof(Real) != sizeof(double)) GTEST_SKIP() << "the recordings are double precision";
   const std::string name = GetParam();
   const Comparison c = compare(name);
-  std::printf("  %-42s worst %.3e m (tolerance %.3e m) at t = %.3f s; compared to t = %.3f of %.3f s\n",
-              name.c_str(), c.worstDeviation, c.worstTolerance, c.worstTime, c.horizon, c.lastTime);
+  std::printf(
+      "  %-42s worst %.3e m (tolerance %.3e m) at t = %.3f s; compared to t = %.3f of %.3f s\n",
+      name.c_str(), c.worstDeviation, c.worstTolerance, c.worstTime, c.horizon, c.lastTime);
   EXPECT_GT(c.comparedSamples, 1) << "the scene is past its horizon from the start";
-  EXPECT_LE(c.worstRatio, 1.0) << name << ": deviation " << c.worstDeviation << " m at t = "
-                               << c.worstTime << " s exceeds " << c.worstTolerance << " m";
+  EXPECT_LE(c.worstRatio, 1.0) << name << ": deviation " << c.worstDeviation
+                               << " m at t = " << c.worstTime << " s exceeds " << c.worstTolerance
+                               << " m";
 }
 
 // The scenes the `pbd` method reproduces (tests/data/seed_reference/README.md).
@@ -395,12 +406,14 @@ TEST(SeedReferenceMotors, TheOriginalAndThePbdMethodLagTwoStepsAndTheCorrectedMo
     std::vector<double> v;
     std::stringstream fields(line);
     std::string field;
-    while (std::getline(fields, field, ',')) v.push_back(std::strtod(field.c_str(), nullptr));
+    while (std::getline(fields, field, ','))
+      v.push_back(std::strtod(field.c_str(), nullptr));
     ASSERT_EQ(v.size(), 15u);
     recorded.emplace_back(v[0], v[14]);
   }
   std::vector<std::int64_t> steps;
-  for (const auto& r : recorded) steps.push_back(std::llround(r.first / h));
+  for (const auto& r : recorded)
+    steps.push_back(std::llround(r.first / h));
   World world = buildWorld(scene);
   Scene correctedScene = scene;
   correctedScene.simulation.jointModel = JointModel::Corrected;
@@ -416,11 +429,14 @@ TEST(SeedReferenceMotors, TheOriginalAndThePbdMethodLagTwoStepsAndTheCorrectedMo
     // 10⁻⁹ rad/s: the hard velocity row closes to round-off (ω ~ 1 rad/s, five iterations).
     // After the sequence's end (t = 4) the original starts it again: the scene gives no
     // `repeatSequence`, and the seed's loader leaves that flag uninitialised
-    // (docs/seed.md#motor-target-sequences), here true; the seed model does the same, the corrected one holds the last value.
+    // (docs/seed.md#motor-target-sequences), here true; the seed model does the same, the corrected
+    // one holds the last value.
     if (t - 2 * h <= 4)
-      EXPECT_NEAR(recorded[k].second, velocityMotorSetPoint(t - 2 * h), 1e-9) << "original, t = " << t;
+      EXPECT_NEAR(recorded[k].second, velocityMotorSetPoint(t - 2 * h), 1e-9)
+          << "original, t = " << t;
     else
-      EXPECT_NEAR(recorded[k].second, velocityMotorSetPoint(t - 4 - 2 * h), 1e-9) << "original, t = " << t;
+      EXPECT_NEAR(recorded[k].second, velocityMotorSetPoint(t - 4 - 2 * h), 1e-9)
+          << "original, t = " << t;
     // The seed model: the original's value, to the same 10⁻⁹ rad/s.
     EXPECT_NEAR(double(world.sceneFrameState(1).angularVelocity.z()), recorded[k].second, 1e-9)
         << "pbd (jointModel seed), t = " << t;
@@ -441,7 +457,8 @@ std::vector<int> recordedKdOrder(const std::string& file) {
   std::getline(in, line);
   std::vector<int> order;
   int v = 0;
-  while (in >> v) order.push_back(v);
+  while (in >> v)
+    order.push_back(v);
   return order;
 }
 
@@ -481,7 +498,8 @@ TEST(SeedReportOrder, ReproducesTheOriginalsKdTreeListForARotatedTorus) {
 Vector3 recordedPosition(const std::string& name, int id, double t) {
   for (const RecordedRow& r : readRecording(kReferenceDir + "/" + name + ".csv"))
     if (r.id == id && std::abs(r.t - t) < 1e-9) return r.position;
-  throw std::runtime_error(name + ": no sample of body " + std::to_string(id) + " at " + std::to_string(t));
+  throw std::runtime_error(name + ": no sample of body " + std::to_string(id) + " at " +
+                           std::to_string(t));
 }
 
 Vector3 ourPosition(const std::string& name, int id, double t) {
@@ -510,7 +528,8 @@ TEST(SeedFailures, TheSphereReboundsHigherThanNewtonsLaw) {
   const Scene scene = loadSeedScene("bounce");
   const double h = double(scene.simulation.timeStepSize);
   std::vector<std::int64_t> steps;
-  for (std::int64_t k = 0; k <= std::llround(1.5 / h); ++k) steps.push_back(k);
+  for (std::int64_t k = 0; k <= std::llround(1.5 / h); ++k)
+    steps.push_back(k);
   const Positions ours = run(scene, steps);
   double ourApex = -1, recordedApex = -1;
   bool ourBounced = false, recordedBounced = false;

@@ -22,10 +22,9 @@ namespace pbd {
 namespace {
 
 // A generic tet (no symmetry), positively oriented.
-const std::array<Vector3, 4> kTet = {Vector3(Real(0.1), Real(-0.2), Real(0.3)),
-                                     Vector3(Real(1.2), Real(0.1), Real(-0.1)),
-                                     Vector3(Real(0.3), Real(0.9), Real(0.2)),
-                                     Vector3(Real(0.2), Real(0.1), Real(1.1))};
+const std::array<Vector3, 4> kTet = {
+    Vector3(Real(0.1), Real(-0.2), Real(0.3)), Vector3(Real(1.2), Real(0.1), Real(-0.1)),
+    Vector3(Real(0.3), Real(0.9), Real(0.2)), Vector3(Real(0.2), Real(0.1), Real(1.1))};
 const std::array<Real, 4> kInverseMasses = {1, 2, Real(0.5), Real(0.25)};
 
 ShapeMatchingConstraint constraintFor(const std::array<Real, 4>& w = kInverseMasses) {
@@ -37,13 +36,15 @@ ShapeMatchingConstraint constraintFor(const std::array<Real, 4>& w = kInverseMas
 
 Vector3 weightedSum(const std::array<Vector3, 4>& v, const std::array<Real, 4>& w) {
   Vector3 s = Vector3::Zero();
-  for (std::size_t i = 0; i < 4; ++i) s += shapeMatchingWeight(w[i]) * v[i];
+  for (std::size_t i = 0; i < 4; ++i)
+    s += shapeMatchingWeight(w[i]) * v[i];
   return s;
 }
 
 Real totalWeight(const std::array<Real, 4>& w) {
   Real s = 0;
-  for (Real wi : w) s += shapeMatchingWeight(wi);
+  for (Real wi : w)
+    s += shapeMatchingWeight(wi);
   return s;
 }
 
@@ -52,7 +53,8 @@ Real totalWeight(const std::array<Real, 4>& w) {
 Matrix3 hornRotation(const std::array<Vector3, 4>& q, const std::array<Vector3, 4>& p,
                      const std::array<Real, 4>& w) {
   Matrix3 m = Matrix3::Zero();
-  for (std::size_t i = 0; i < 4; ++i) m += shapeMatchingWeight(w[i]) * q[i] * p[i].transpose();
+  for (std::size_t i = 0; i < 4; ++i)
+    m += shapeMatchingWeight(w[i]) * q[i] * p[i].transpose();
   const Real sxx = m(0, 0), sxy = m(0, 1), sxz = m(0, 2), syx = m(1, 0), syy = m(1, 1),
              syz = m(1, 2), szx = m(2, 0), szy = m(2, 1), szz = m(2, 2);
   Eigen::Matrix<Real, 4, 4> n;
@@ -67,7 +69,8 @@ Matrix3 hornRotation(const std::array<Vector3, 4>& q, const std::array<Vector3, 
 
 std::array<Vector3, 4> mapped(const Matrix3& a, const Vector3& t) {
   std::array<Vector3, 4> x;
-  for (std::size_t i = 0; i < 4; ++i) x[i] = a * kTet[i] + t;
+  for (std::size_t i = 0; i < 4; ++i)
+    x[i] = a * kTet[i] + t;
   return x;
 }
 
@@ -107,7 +110,8 @@ TEST(ShapeMatching, DeformedClusterIsProjectedOntoTheBestFitRotationOfItsRestSha
   // The independent fit: centre, offsets, Horn's rotation.
   const Vector3 centre = weightedSum(x, kInverseMasses) / totalWeight(kInverseMasses);
   std::array<Vector3, 4> p;
-  for (std::size_t i = 0; i < 4; ++i) p[i] = x[i] - centre;
+  for (std::size_t i = 0; i < 4; ++i)
+    p[i] = x[i] - centre;
   const Matrix3 r = hornRotation(c.restOffsets, p, kInverseMasses);
   const std::array<Vector3, 4> d = shapeMatchingPbd(x, kInverseMasses, c);
   for (std::size_t i = 0; i < 4; ++i) {
@@ -117,7 +121,8 @@ TEST(ShapeMatching, DeformedClusterIsProjectedOntoTheBestFitRotationOfItsRestSha
     x[i] += d[i];
   }
   // The projected cluster is rigid: a second projection does nothing.
-  for (const Vector3& dx : shapeMatchingPbd(x, kInverseMasses, c)) EXPECT_LT(dx.norm(), kRoundOff);
+  for (const Vector3& dx : shapeMatchingPbd(x, kInverseMasses, c))
+    EXPECT_LT(dx.norm(), kRoundOff);
   // The library's rotation is Horn's.
   Matrix3 a = Matrix3::Zero();
   for (std::size_t i = 0; i < 4; ++i)
@@ -128,11 +133,12 @@ TEST(ShapeMatching, DeformedClusterIsProjectedOntoTheBestFitRotationOfItsRestSha
 TEST(ShapeMatching, InvertedClusterIsRotatedNotReflected) {
   const ShapeMatchingConstraint c = constraintFor();
   // The mirror image of the rest tet (z ↦ −z), slightly deformed: det A < 0.
-  std::array<Vector3, 4> x = mapped(matrix(1, Real(0.1), 0, 0, Real(1.1), 0, 0, 0, -1),
-                                    Vector3(0, 1, 0));
+  std::array<Vector3, 4> x =
+      mapped(matrix(1, Real(0.1), 0, 0, Real(1.1), 0, 0, 0, -1), Vector3(0, 1, 0));
   ASSERT_LT(signedVolume(x), 0);
   const std::array<Vector3, 4> d = shapeMatchingPbd(x, kInverseMasses, c);
-  for (std::size_t i = 0; i < 4; ++i) x[i] += d[i];
+  for (std::size_t i = 0; i < 4; ++i)
+    x[i] += d[i];
   // With k = 1 the result is the rest shape rigidly moved: the rest volume, positive.
   EXPECT_NEAR(signedVolume(x), signedVolume(kTet), kRoundOff);
   for (std::size_t i = 0; i < 4; ++i)
@@ -198,7 +204,8 @@ TEST(ShapeMatchingWorld, SolidsGetOneClusterPerTetFromMethodFiveOnly) {
   // The count of a vertex is the number of tets listing it.
   std::vector<int> tetsOf(8, 0);
   for (const auto& t : scene.tetModels[0].mesh.tetrahedra)
-    for (int v : t) ++tetsOf[std::size_t(v)];
+    for (int v : t)
+      ++tetsOf[std::size_t(v)];
   for (const ShapeMatchingConstraint& c : clusters) {
     EXPECT_EQ(c.stiffness, Real(1));  // the seed's forced solid_stiffness
     for (std::size_t i = 0; i < 4; ++i)
@@ -209,7 +216,8 @@ TEST(ShapeMatchingWorld, SolidsGetOneClusterPerTetFromMethodFiveOnly) {
   scene.simulation.solid_stiffness = Real(0.4);
   EXPECT_EQ(buildWorld(scene).constraints.shapeMatching[0].stiffness, Real(0.4));
   // Tets of four static particles are left out: with 0, 1, 2, 4 static, tet {0, 1, 2, 4} is.
-  for (int i : {0, 1, 2, 4}) scene.particles[std::size_t(i)].mass = 0;
+  for (int i : {0, 1, 2, 4})
+    scene.particles[std::size_t(i)].mass = 0;
   EXPECT_EQ(buildWorld(scene).constraints.shapeMatching.size(), 4u);
 }
 

@@ -16,7 +16,9 @@ namespace {
 
 const std::string kInline = std::string(PBDVAL_TEST_DATA_DIR) + "/scenes/inline.json";
 
-LoadedScene parse(const std::string& json) { return parseScene(json, kInline, {}); }
+LoadedScene parse(const std::string& json) {
+  return parseScene(json, kInline, {});
+}
 
 std::string errorOf(const std::string& json) {
   try {
@@ -111,48 +113,61 @@ TEST(StiffRodSceneKeys, WrittenSceneLoadsToTheSameRod) {
 TEST(StiffRodSceneKeys, BadInputNamesThePathAndTheExpectation) {
   std::string tree = kTree;
   tree.insert(tree.size() - 1, R"(, "solverType": 3)");
-  EXPECT_TRUE(containsAll(errorOf(scene(tree)),
-                          {"inline.json", "TreeModels[0].solverType", "12", "0"}));
+  EXPECT_TRUE(
+      containsAll(errorOf(scene(tree)), {"inline.json", "TreeModels[0].solverType", "12", "0"}));
+  EXPECT_TRUE(
+      containsAll(errorOf(scene(R"({"rbIds": [1, 2, 3], "jIds": [10, 11], "torsionModulus": 1})")),
+                  {"TreeModels[0]", "missing required key \"youngsModulus\""}));
   EXPECT_TRUE(containsAll(
-      errorOf(scene(R"({"rbIds": [1, 2, 3], "jIds": [10, 11], "torsionModulus": 1})")),
-      {"TreeModels[0]", "missing required key \"youngsModulus\""}));
-  EXPECT_TRUE(containsAll(
-      errorOf(scene(R"({"rbIds": [1, 2, 3], "jIds": [10, 11], "youngsModulus": -1, "torsionModulus": 1})")),
+      errorOf(scene(
+          R"({"rbIds": [1, 2, 3], "jIds": [10, 11], "youngsModulus": -1, "torsionModulus": 1})")),
       {"TreeModels[0].youngsModulus"}));
   EXPECT_TRUE(containsAll(
-      errorOf(scene(R"({"rbIds": [1, 2, 3], "jIds": [10, 12], "youngsModulus": 1, "torsionModulus": 1})")),
+      errorOf(scene(
+          R"({"rbIds": [1, 2, 3], "jIds": [10, 12], "youngsModulus": 1, "torsionModulus": 1})")),
       {"TreeModels[0].jIds[1]", "CosseratJoint"}));
   EXPECT_TRUE(containsAll(
-      errorOf(scene(R"({"rbIds": [1, 2], "jIds": [10, 11], "youngsModulus": 1, "torsionModulus": 1})")),
+      errorOf(
+          scene(R"({"rbIds": [1, 2], "jIds": [10, 11], "youngsModulus": 1, "torsionModulus": 1})")),
       {"TreeModels[0].jIds[1]", "CosseratJoints[1]", "rbIds"}));
   EXPECT_TRUE(containsAll(
-      errorOf(scene(R"({"rbIds": [1, 2, 3], "jIds": [10], "youngsModulus": 1, "torsionModulus": 1})")),
+      errorOf(
+          scene(R"({"rbIds": [1, 2, 3], "jIds": [10], "youngsModulus": 1, "torsionModulus": 1})")),
       {"CosseratJoints[1]", "no TreeModel"}));
+  EXPECT_TRUE(containsAll(errorOf(scene(kTree + ", " + kTree)),
+                          {"TreeModels[1].jIds[0]", "already in TreeModels[0]"}));
   EXPECT_TRUE(containsAll(
-      errorOf(scene(kTree + ", " + kTree)),
-      {"TreeModels[1].jIds[0]", "already in TreeModels[0]"}));
-  EXPECT_TRUE(containsAll(
-      errorOf(scene(R"({"rbIds": [1, 2, 3], "jIds": [10, 11], "staticSegments": [4], "youngsModulus": 1, "torsionModulus": 1})")),
+      errorOf(scene(
+          R"({"rbIds": [1, 2, 3], "jIds": [10, 11], "staticSegments": [4], "youngsModulus": 1, "torsionModulus": 1})")),
       {"TreeModels[0].staticSegments[0]"}));
   EXPECT_TRUE(containsAll(
-      errorOf(scene(R"({"rbIds": [1, 2, 3], "jIds": [10, 11], "translation": [1, 0, 0], "youngsModulus": 1, "torsionModulus": 1})")),
+      errorOf(scene(
+          R"({"rbIds": [1, 2, 3], "jIds": [10, 11], "translation": [1, 0, 0], "youngsModulus": 1, "torsionModulus": 1})")),
       {"TreeModels[0].translation", "not supported"}));
   EXPECT_TRUE(containsAll(
-      errorOf(scene(kTree, R"("CosseratJoints": [{"bodyID1": 1, "bodyID2": 2, "position": [0, 0.2, 0]}])")),
+      errorOf(scene(
+          kTree, R"("CosseratJoints": [{"bodyID1": 1, "bodyID2": 2, "position": [0, 0.2, 0]}])")),
       {"CosseratJoints[0]", "missing required key \"id\""}));
   EXPECT_TRUE(containsAll(
-      errorOf(scene(kTree, R"("CosseratJoints": [{"bodyID1": 1, "bodyID2": 9, "id": 10, "position": [0, 0.2, 0]}])")),
+      errorOf(scene(
+          kTree,
+          R"("CosseratJoints": [{"bodyID1": 1, "bodyID2": 9, "id": 10, "position": [0, 0.2, 0]}])")),
       {"CosseratJoints[0].bodyID2", "rigid body"}));
   EXPECT_TRUE(containsAll(
-      errorOf(scene(kTree, R"("CosseratJoints": [{"bodyID1": 1, "bodyID2": 2, "id": 10, "position": [0, 0.2, 0]},
+      errorOf(scene(
+          kTree,
+          R"("CosseratJoints": [{"bodyID1": 1, "bodyID2": 2, "id": 10, "position": [0, 0.2, 0]},
                                                  {"bodyID1": 2, "bodyID2": 3, "id": 10, "position": [0, 0.4, 0]}])")),
       {"CosseratJoints[1].id", "also the id of CosseratJoints[0]"}));
   EXPECT_TRUE(containsAll(
-      errorOf(scene(kTree, R"("CosseratJoints": [{"bodyID1": 1, "bodyID2": 2, "id": 10, "position": [0, 0.2, 0], "stiffnessModifier": [1, 0, 1]}])")),
+      errorOf(scene(
+          kTree,
+          R"("CosseratJoints": [{"bodyID1": 1, "bodyID2": 2, "id": 10, "position": [0, 0.2, 0], "stiffnessModifier": [1, 0, 1]}])")),
       {"CosseratJoints[0].stiffnessModifier"}));
   // A sphere segment has no rod cross-section.
   EXPECT_TRUE(containsAll(
-      errorOf(R"({"RigidBodies": [{"id": 1, "collisionObjectType": 1}, {"id": 2, "collisionObjectType": 1, "translation": [0, 2, 0]}],
+      errorOf(
+          R"({"RigidBodies": [{"id": 1, "collisionObjectType": 1}, {"id": 2, "collisionObjectType": 1, "translation": [0, 2, 0]}],
                   "CosseratJoints": [{"bodyID1": 1, "bodyID2": 2, "id": 0, "position": [0, 1, 0]}],
                   "TreeModels": [{"rbIds": [1, 2], "jIds": [0], "youngsModulus": 1, "torsionModulus": 1}]})"),
       {"TreeModels[0].jIds[0]", "box (type 2) or cylinder (type 3)"}));

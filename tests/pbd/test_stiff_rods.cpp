@@ -42,7 +42,8 @@ void perturb(BodyStates& b, Real size) {
 /// The per-joint constraints of every joint of `scene` on `bodies`.
 std::vector<StretchBendingTwistingJoint> jointsOf(const Scene& scene, const BodyStates& bodies) {
   std::vector<StretchBendingTwistingJoint> joints;
-  for (const JointDesc& desc : scene.joints) joints.emplace_back(bodies, desc);
+  for (const JointDesc& desc : scene.joints)
+    joints.emplace_back(bodies, desc);
   return joints;
 }
 
@@ -68,8 +69,9 @@ TEST(StiffRodJoint, JacobianMatchesCentralDifferences) {
   Scene s;
   const Vector3 d0 = Vector3(1, 0.2, 0).normalized(), d1 = Vector3(0.6, 0.5, 0.4).normalized();
   s.rigidBodies.push_back(test::rodSegment(0, Vector3::Zero(), d0, Real(0.3), m, true));
-  s.rigidBodies.back().rotation = (s.rigidBodies.back().rotation *
-                                   Quaternion(AngleAxis(Real(0.4), Vector3::UnitY()))).normalized();
+  s.rigidBodies.back().rotation =
+      (s.rigidBodies.back().rotation * Quaternion(AngleAxis(Real(0.4), Vector3::UnitY())))
+          .normalized();
   s.rigidBodies.push_back(test::rodSegment(1, Real(0.3) * d0, d1, Real(0.3), m, true));
   s.joints.push_back(test::rodJoint(0, 0, 1, Real(0.3) * d0, Real(0.3), m));
   s.joints.back().stiffRod.tree = -1;  // no TreeModel: a per-joint constraint
@@ -86,14 +88,15 @@ TEST(StiffRodJoint, JacobianMatchesCentralDifferences) {
         for (auto [states, sign] : {std::pair{&plus, Real(1)}, std::pair{&minus, Real(-1)}}) {
           auto& r = states->rigid;
           if (angular)
-            r.rotation[std::size_t(body)] =
-                Quaternion(AngleAxis(sign * eps, Vector3::Unit(axis))) * r.rotation[std::size_t(body)];
+            r.rotation[std::size_t(body)] = Quaternion(AngleAxis(sign * eps, Vector3::Unit(axis))) *
+                                            r.rotation[std::size_t(body)];
           else
             r.position[std::size_t(body)] += sign * eps * Vector3::Unit(axis);
         }
         const Vector6 column =
             (joint.positionRows(plus).value - joint.positionRows(minus).value) / (2 * eps);
-        const auto& analytic = angular ? rows.angular[std::size_t(body)] : rows.linear[std::size_t(body)];
+        const auto& analytic =
+            angular ? rows.angular[std::size_t(body)] : rows.linear[std::size_t(body)];
         // Central differences, step ε^(1/3): error ~ε^(2/3) times the O(1..10) entries (the
         // Darboux rows carry 2/L = 6.7).
         EXPECT_LE((column - analytic.col(axis)).cwiseAbs().maxCoeff(),
@@ -232,7 +235,8 @@ BodyStates denseOneIteration(const Scene& s, const BodyStates& start, Real h) {
   const DenseVector dq = inverseMass * jacobian.transpose() * lambda;
   BodyStates out = start;
   for (int b = 0; b < nb; ++b)
-    joint_parts::applyPositionCorrection(out.rigid, b, dq.segment<3>(6 * b), dq.segment<3>(6 * b + 3));
+    joint_parts::applyPositionCorrection(out.rigid, b, dq.segment<3>(6 * b),
+                                         dq.segment<3>(6 * b + 3));
   return out;
 }
 
@@ -284,9 +288,11 @@ TEST(StiffRodTreeSolver, OneIterationMatchesConvergedGaussSeidel) {
     perturb(world.bodies, sizes[k]);
     const BodyStates start = world.bodies;
     BodyStates iterative = start;
-    for (auto& joint : joints) joint.beginSubstep(h);
+    for (auto& joint : joints)
+      joint.beginSubstep(h);
     for (int sweep = 0; sweep < 2000; ++sweep)
-      for (auto& joint : joints) joint.solvePosition(iterative, h);
+      for (auto& joint : joints)
+        joint.solvePosition(iterative, h);
     tree.beginSubstep(h);
     tree.solvePosition(world.bodies);
     difference[k] = maxPoseDifference(world.bodies.rigid, iterative.rigid);
@@ -464,7 +470,8 @@ Real totalEnergy(const World& world) {
          r.mass[i] * world.settings.gravitation.dot(r.position[i]);
   }
   for (const auto& tree : world.stiffRodTrees)
-    for (const auto& joint : tree.joints()) e += joint.elasticEnergy(world.bodies);
+    for (const auto& joint : tree.joints())
+      e += joint.elasticEnergy(world.bodies);
   for (const Joint& joint : world.joints)
     if (const auto* rod = std::get_if<StretchBendingTwistingJoint>(&joint))
       e += rod->elasticEnergy(world.bodies);
@@ -530,7 +537,8 @@ TEST(StiffRodWorld, XpbdStepReachesTheDiscreteDeflection) {
     const Real l = Real(1) / n;
     const Real ei = m.youngsModulus * test::secondMomentOfArea(m.radius);
     const Real half = Real(n) * Real(n + 1) / 2;
-    const Real discrete = world.bodies.rigid.mass[1] * kGravity * l * l * l / (2 * ei) * half * half;
+    const Real discrete =
+        world.bodies.rigid.mass[1] * kGravity * l * l * l / (2 * ei) * half * half;
     const Real deflection = -test::segmentTip(world, n, l).y();
     // As CantileverUnderWeight: small-angle terms ≤ 5e-5.
     EXPECT_NEAR(deflection / discrete, 1, 1e-3);

@@ -21,16 +21,16 @@ namespace pbd {
 namespace {
 
 // A generic tet (no symmetry), positively oriented.
-const std::array<Vector3, 4> kTet = {Vector3(Real(0.1), Real(-0.2), Real(0.3)),
-                                     Vector3(Real(1.2), Real(0.1), Real(-0.1)),
-                                     Vector3(Real(0.3), Real(0.9), Real(0.2)),
-                                     Vector3(Real(0.2), Real(0.1), Real(1.1))};
+const std::array<Vector3, 4> kTet = {
+    Vector3(Real(0.1), Real(-0.2), Real(0.3)), Vector3(Real(1.2), Real(0.1), Real(-0.1)),
+    Vector3(Real(0.3), Real(0.9), Real(0.2)), Vector3(Real(0.2), Real(0.1), Real(1.1))};
 
 // kTet deformed by F, then rotated by q and shifted by t: its deformation gradient is q F.
 std::array<Vector3, 4> deformed(const Matrix3& f, const Quaternion& q = Quaternion::Identity(),
                                 const Vector3& t = Vector3::Zero()) {
   std::array<Vector3, 4> x;
-  for (std::size_t i = 0; i < 4; ++i) x[i] = q * (f * kTet[i]) + t;
+  for (std::size_t i = 0; i < 4; ++i)
+    x[i] = q * (f * kTet[i]) + t;
   return x;
 }
 
@@ -80,8 +80,8 @@ TEST(StrainTet, ComponentsOfKnownDeformationsMatchTheClosedForms) {
       int a = 0, b = 0;
       axes(component, a, b);
       const Real expected = a == b ? s(a, a) - 1 : s(a, b);
-      const Real expectedNormalized = a == b ? std::sqrt(s(a, a)) - 1
-                                             : s(a, b) / std::sqrt(s(a, a) * s(b, b));
+      const Real expectedNormalized =
+          a == b ? std::sqrt(s(a, a)) - 1 : s(a, b) / std::sqrt(s(a, a) * s(b, b));
       EXPECT_NEAR(strainTetValue(x, plain, component), expected, kRoundOff) << int(component);
       EXPECT_NEAR(strainTetValue(x, normalized, component), expectedNormalized, kRoundOff)
           << int(component);
@@ -109,16 +109,17 @@ TEST(StrainTet, RestStateAndRigidMotionsHaveNoStrainAndNoCorrection) {
       for (TetStrainComponent component : kTetStrainComponents)
         EXPECT_NEAR(strainTetValue(x, c, component), 0, kRoundOff);
       // C is round-off, so is the correction C ∇C/|∇C|² (O(1) lengths and gradients).
-      for (const Vector3& dx : strainTetPbd(x, w, c)) EXPECT_LT(dx.norm(), kRoundOff);
+      for (const Vector3& dx : strainTetPbd(x, w, c))
+        EXPECT_LT(dx.norm(), kRoundOff);
     }
   }
 }
 
 TEST(StrainTet, GradientsMatchCentralDifferences) {
-  std::array<Vector3, 4> x = deformed(
-      matrix(Real(1.1), Real(0.2), Real(-0.1), Real(0.05), Real(0.9), Real(0.15), Real(-0.2),
-             Real(0.1), Real(1.3)),
-      kMoved, Vector3(Real(0.3), -1, 2));
+  std::array<Vector3, 4> x =
+      deformed(matrix(Real(1.1), Real(0.2), Real(-0.1), Real(0.05), Real(0.9), Real(0.15),
+                      Real(-0.2), Real(0.1), Real(1.3)),
+               kMoved, Vector3(Real(0.3), -1, 2));
   x[2] += Vector3(Real(0.05), Real(-0.1), Real(0.08));  // not a linear map of the rest tet
   const Real step = test::finiteDifferenceStep();
   for (bool normalizeStretch : {false, true})
@@ -155,13 +156,14 @@ TEST(StrainTet, OneProjectionIsExactToFirstOrderInTheLastComponent) {
       StrainTetConstraint c = constraintFor();
       c.stretchStiffness = stretches ? 1 : 0;
       c.shearStiffness = stretches ? 0 : 1;
-      const Matrix3 f = Matrix3::Identity() + e * matrix(1, Real(0.7), Real(-0.3), Real(-0.4),
-                                                         Real(0.5), Real(0.6), Real(0.2),
-                                                         Real(0.8), Real(-0.9));
+      const Matrix3 f =
+          Matrix3::Identity() + e * matrix(1, Real(0.7), Real(-0.3), Real(-0.4), Real(0.5),
+                                           Real(0.6), Real(0.2), Real(0.8), Real(-0.9));
       std::array<Vector3, 4> x = deformed(f, kMoved);
       const Real before = strainTetValue(x, c, last);
       const std::array<Vector3, 4> d = strainTetPbd(x, w, c);
-      for (std::size_t i = 0; i < 4; ++i) x[i] += d[i];
+      for (std::size_t i = 0; i < 4; ++i)
+        x[i] += d[i];
       residuals.push_back(std::abs(strainTetValue(x, c, last)));
       // A first-order strain to start with: C_zz ≈ −1.8 e, C_yz ≈ (0.6 + 0.8) e.
       EXPECT_GT(std::abs(before), e);
@@ -233,7 +235,8 @@ TEST(StrainTetWorld, SolidsGetStrainConstraintsFromMethodFourOnly) {
     EXPECT_TRUE(c.normalizeShear);
   }
   // Tets of four static particles are left out: with 0, 1, 2, 4 static, tet {0, 1, 2, 4} is.
-  for (int i : {0, 1, 2, 4}) scene.particles[std::size_t(i)].mass = 0;
+  for (int i : {0, 1, 2, 4})
+    scene.particles[std::size_t(i)].mass = 0;
   EXPECT_EQ(buildWorld(scene).constraints.strainTets.size(), 4u);
 }
 

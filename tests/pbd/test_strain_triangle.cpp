@@ -45,8 +45,8 @@ std::array<Vector3, 3> placed(const Matrix2x2& f, const Quaternion& q, const Vec
 // xy and yz: perpendicular to it).
 const std::vector<Quaternion> kPlanes = {
     Quaternion(AngleAxis(Real(0.7), Vector3(1, 2, Real(-0.5)).normalized())),
-    Quaternion(AngleAxis(Real(EIGEN_PI) / 2, Vector3(1, 0, 0))),  // xz plane
-    Quaternion::Identity(),                                       // xy plane
+    Quaternion(AngleAxis(Real(EIGEN_PI) / 2, Vector3(1, 0, 0))),   // xz plane
+    Quaternion::Identity(),                                        // xy plane
     Quaternion(AngleAxis(Real(EIGEN_PI) / 2, Vector3(0, 1, 0)))};  // yz plane
 const Vector3 kShift(Real(0.3), -1, 2);
 
@@ -106,7 +106,8 @@ TEST(StrainTriangle, RestStateAndRigidMotionsInAnyPlaneHaveNoStrainAndNoCorrecti
         for (StrainComponent component : kComponents)
           EXPECT_NEAR(strainTriangleValue(x, c, component), 0, kRoundOff);
         // C is round-off (~10 ε), so is the correction C ∇C/|∇C|² (O(1) lengths).
-        for (const Vector3& dx : strainTrianglePbd(x, w, c)) EXPECT_LT(dx.norm(), kRoundOff);
+        for (const Vector3& dx : strainTrianglePbd(x, w, c))
+          EXPECT_LT(dx.norm(), kRoundOff);
       }
     }
 }
@@ -127,7 +128,8 @@ TEST(StrainTriangle, GradientsMatchCentralDifferences) {
             plus[i](axis) += step;
             minus[i](axis) -= step;
             const Real numeric = (strainTriangleValue(plus, c, component) -
-                                  strainTriangleValue(minus, c, component)) / (2 * step);
+                                  strainTriangleValue(minus, c, component)) /
+                                 (2 * step);
             EXPECT_NEAR(numeric, g[i](axis), test::finiteDifferenceTolerance())
                 << int(component) << " " << i << " " << axis;
           }
@@ -147,12 +149,12 @@ TEST(StrainTriangle, OneProjectionIsExactToFirstOrder) {
       c.xxStiffness = component == StrainComponent::Xx ? 1 : 0;
       c.xyStiffness = component == StrainComponent::Xy ? 1 : 0;
       c.yyStiffness = component == StrainComponent::Yy ? 1 : 0;
-      std::array<Vector3, 3> x =
-          placed(gradientOf(1 + e, Real(0.7) * e, Real(-0.4) * e, 1 + Real(0.5) * e), kPlanes[0],
-                 kShift);
+      std::array<Vector3, 3> x = placed(
+          gradientOf(1 + e, Real(0.7) * e, Real(-0.4) * e, 1 + Real(0.5) * e), kPlanes[0], kShift);
       const Real before = strainTriangleValue(x, c, component);
       const std::array<Vector3, 3> d = strainTrianglePbd(x, w, c);
-      for (std::size_t i = 0; i < 3; ++i) x[i] += d[i];
+      for (std::size_t i = 0; i < 3; ++i)
+        x[i] += d[i];
       const Real after = strainTriangleValue(x, c, component);
       // A first-order strain to start with: C_xx ≈ 2e, C_yy ≈ e, C_xy ≈ (0.7 − 0.4) e.
       EXPECT_GT(std::abs(before), Real(0.25) * e);
@@ -175,7 +177,8 @@ TEST(StrainTriangle, RepeatedProjectionsRestoreTheRestShapeAndConserveMomentum) 
   for (const Quaternion& plane : kPlanes) {
     const StrainTriangleConstraint c = constraintIn(plane);
     const auto rest = placed(Matrix2x2::Identity(), plane, kShift);
-    std::array<Vector3, 3> x = placed(gradientOf(Real(1.2), Real(0.1), 0, Real(0.9)), plane, kShift);
+    std::array<Vector3, 3> x =
+        placed(gradientOf(Real(1.2), Real(0.1), 0, Real(0.9)), plane, kShift);
     for (int sweep = 0; sweep < 100; ++sweep) {
       const std::array<Vector3, 3> d = strainTrianglePbd(x, w, c);
       Vector3 momentum = Vector3::Zero();
@@ -188,8 +191,7 @@ TEST(StrainTriangle, RepeatedProjectionsRestoreTheRestShapeAndConserveMomentum) 
     // S = I fixes the triangle up to a rigid motion: its edge lengths are the rest lengths.
     for (std::size_t i = 0; i < 3; ++i) {
       const std::size_t j = (i + 1) % 3;
-      EXPECT_NEAR((x[i] - x[j]).norm(), (rest[i] - rest[j]).norm(), 1e4 * kEpsilon)
-          << "edge " << i;
+      EXPECT_NEAR((x[i] - x[j]).norm(), (rest[i] - rest[j]).norm(), 1e4 * kEpsilon) << "edge " << i;
     }
   }
 }
@@ -200,7 +202,8 @@ Scene verticalCloth(int n, int method) {
   TriangleModelDesc cloth;
   const Real h = Real(1) / (n - 1);
   for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) cloth.mesh.vertices.push_back(Vector3(0, -h * j, h * i));
+    for (int i = 0; i < n; ++i)
+      cloth.mesh.vertices.push_back(Vector3(0, -h * j, h * i));
   for (int j = 0; j + 1 < n; ++j)
     for (int i = 0; i + 1 < n; ++i) {
       const int a = n * j + i;
@@ -208,7 +211,8 @@ Scene verticalCloth(int n, int method) {
       cloth.mesh.triangles.push_back({a, a + n + 1, a + 1});
     }
   scene.triangleModels.push_back(cloth);
-  for (const Vector3& v : cloth.mesh.vertices) scene.particles.push_back({v, Vector3::Zero(), 1});
+  for (const Vector3& v : cloth.mesh.vertices)
+    scene.particles.push_back({v, Vector3::Zero(), 1});
   scene.simulation.clothSimulationMethod = method;
   return scene;
 }
@@ -233,7 +237,8 @@ TEST(StrainTriangleWorld, ClothGetsOneConstraintPerTriangleForMethodThreeOnly) {
   EXPECT_FALSE(c.normalizeStretch);
   EXPECT_TRUE(c.normalizeShear);
   // The triangles (0, 3, 4) and (0, 4, 1) of static particles get none.
-  for (int i : {0, 1, 3, 4}) scene.particles[std::size_t(i)].mass = 0;
+  for (int i : {0, 1, 3, 4})
+    scene.particles[std::size_t(i)].mass = 0;
   EXPECT_EQ(buildWorld(scene).constraints.strainTriangles.size(), 6u);
 }
 
@@ -246,7 +251,8 @@ TEST(StrainTriangleWorld, HangingVerticalClothStaysBoundedAndStretchesLessWithMo
     Scene scene = verticalCloth(6, 3);
     scene.simulation.clothBendingMethod = 0;
     scene.simulation.maxIterations = iterations;
-    for (int i = 0; i < 6; ++i) scene.particles[std::size_t(i)].mass = 0;
+    for (int i = 0; i < 6; ++i)
+      scene.particles[std::size_t(i)].mass = 0;
     World world = buildWorld(scene);
     ASSERT_EQ(world.constraints.strainTriangles.size(), 50u);
     Real worst = 0;

@@ -56,15 +56,17 @@ TEST(TetVolume, RigidMotionsAndMomentum) {
   const Quaternion q(AngleAxis(0.8, Vector3(1, 1, -2).normalized()));
   const Vector3 t(-2, 3, 1);
   std::array<Vector3, 4> moved;
-  for (std::size_t i = 0; i < 4; ++i) moved[i] = q * kTet[i] + t;
+  for (std::size_t i = 0; i < 4; ++i)
+    moved[i] = q * kTet[i] + t;
   // Round-off of a triple product of O(1) coordinates: a few ε.
   EXPECT_NEAR(signedTetVolume(moved), signedTetVolume(kTet), 20 * kEpsilon);
   const std::array<Real, 4> w = {1, 2, Real(0.5), Real(0.25)};
   const Real rest = Real(0.8) * signedTetVolume(kTet);  // compressed by a fifth
-  for (const TetVolumeCorrection& c : {tetVolumePbd(kTet, w, rest, 0.7),
-                                       tetVolumeXpbd(kTet, w, rest, 1e5, 1e-2, 0)}) {
+  for (const TetVolumeCorrection& c :
+       {tetVolumePbd(kTet, w, rest, 0.7), tetVolumeXpbd(kTet, w, rest, 1e5, 1e-2, 0)}) {
     Vector3 momentum = Vector3::Zero();
-    for (std::size_t i = 0; i < 4; ++i) momentum += c.positions[i] / w[i];
+    for (std::size_t i = 0; i < 4; ++i)
+      momentum += c.positions[i] / w[i];
     EXPECT_LT(momentum.norm(), 20 * kEpsilon);  // Σ m_i Δp_i = 0: the gradients sum to zero
     EXPECT_GT(c.positions[1].norm(), 1e-3);
   }
@@ -72,8 +74,10 @@ TEST(TetVolume, RigidMotionsAndMomentum) {
   // second-order term of V along the correction (small against the initial error 0.2 V).
   const TetVolumeCorrection exact = tetVolumePbd(kTet, w, rest, 1);
   std::array<Vector3, 4> projected;
-  for (std::size_t i = 0; i < 4; ++i) projected[i] = kTet[i] + exact.positions[i];
-  EXPECT_LT(std::abs(signedTetVolume(projected) - rest), 0.05 * std::abs(0.2 * signedTetVolume(kTet)));
+  for (std::size_t i = 0; i < 4; ++i)
+    projected[i] = kTet[i] + exact.positions[i];
+  EXPECT_LT(std::abs(signedTetVolume(projected) - rest),
+            0.05 * std::abs(0.2 * signedTetVolume(kTet)));
 }
 
 // A tet with a static base (right triangle of legs 1 in the xz-plane, area A = ½) and an apex of
@@ -152,7 +156,8 @@ TEST(TetVolumeWorld, SolidsGetEdgeAndVolumeConstraintsFromTheirMethod) {
     solid.mesh.vertices.push_back(Vector3(Real(k & 1), Real((k >> 1) & 1), Real((k >> 2) & 1)));
   solid.mesh.tetrahedra = {{0, 1, 2, 4}, {1, 3, 2, 7}, {1, 4, 5, 7}, {2, 4, 7, 6}, {1, 2, 4, 7}};
   scene.tetModels.push_back(solid);
-  for (const Vector3& v : solid.mesh.vertices) scene.particles.push_back({v, Vector3::Zero(), 1});
+  for (const Vector3& v : solid.mesh.vertices)
+    scene.particles.push_back({v, Vector3::Zero(), 1});
   for (int method : {0, 1, 2, 3, 4, 5, 6}) {
     scene.simulation.solidSimulationMethod = method;
     const World world = buildWorld(scene);

@@ -137,7 +137,8 @@ TEST(GenericConstraintWorld, StepAllocatesNothing) {
     world.constraints.genericConstraints.emplace_back(std::vector<int>{4}, 2, onVerticalLine);
     world.step();
     const long before = gAllocations.load();
-    for (int n = 0; n < 200; ++n) world.step();
+    for (int n = 0; n < 200; ++n)
+      world.step();
     EXPECT_EQ(gAllocations.load() - before, 0);
     // The constraints held: the line pin is linear (exact to round-off of O(1) numbers, 16 ε).
     const Vector3& pinned = world.bodies.particles.position[4];
@@ -192,7 +193,8 @@ TEST(GenericRigidConstraintWorld, StepAllocatesNothing) {
     world.constraints.genericRigidConstraints.emplace_back(std::vector<int>{1}, 1, heightPin);
     world.step();
     const long before = gAllocations.load();
-    for (int n = 0; n < 200; ++n) world.step();
+    for (int n = 0; n < 200; ++n)
+      world.step();
     EXPECT_EQ(gAllocations.load() - before, 0);
     // The boxes swung (gravity acts), and the pin (linear, solved last) held to round-off.
     EXPECT_GT((world.bodies.rigid.position[2] - Vector3(0.35, 0.9, 0)).norm(), 0.01);
@@ -489,7 +491,8 @@ TEST(World, ParallelDetectionIsBitwiseEqualForEveryThreadCount) {
         std::size_t contacts = 0;
         for (int n = 0; n < 200; ++n) {
           world.step();
-          contacts += world.contacts.geometry.rigid.size() + world.contacts.geometry.particle.size();
+          contacts +=
+              world.contacts.geometry.rigid.size() + world.contacts.geometry.particle.size();
         }
         EXPECT_EQ(gAllocations.load() - before, 0) << threads << " threads";
         hashes.push_back(world.stateHash());

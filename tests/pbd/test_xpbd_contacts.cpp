@@ -173,8 +173,8 @@ TEST(XpbdContacts, BouncingSphereApexRatioIsRestitutionSquared) {
   ASSERT_EQ(apex.size(), 4u);
   for (std::size_t k = 1; k < apex.size(); ++k) {
     const Real ratio = apex[k] / apex[k - 1];
-    std::printf("  bounce %zu: apex %.5f m, ratio %.5f (e^2 = %.5f, %.3f %%)\n", k,
-                double(apex[k]), double(ratio), double(e * e), double(100 * (ratio / (e * e) - 1)));
+    std::printf("  bounce %zu: apex %.5f m, ratio %.5f (e^2 = %.5f, %.3f %%)\n", k, double(apex[k]),
+                double(ratio), double(e * e), double(100 * (ratio / (e * e) - 1)));
     EXPECT_NEAR(ratio, e * e, Real(0.01) * e * e) << "bounce " << k;
   }
 }

@@ -26,7 +26,8 @@ Scene twoSpheres(JointType type, Real linearDamping, Real angularDamping) {
   s.simulation.xpbd.jointAngularDamping = angularDamping;
   s.rigidBodies.push_back(test::sphereBody(0, Real(0.3), Vector3(-1, 0, 0), 1000));
   s.rigidBodies.push_back(test::sphereBody(1, Real(0.3), Vector3(1, 0, 0), 1000));
-  for (RigidBodyDesc& b : s.rigidBodies) b.collision.type = CollisionObjectType::None;
+  for (RigidBodyDesc& b : s.rigidBodies)
+    b.collision.type = CollisionObjectType::None;
   JointDesc j = test::makeJointDesc(type, 0, 1);
   j.position = Vector3::Zero();
   j.axis = Vector3::UnitX();
@@ -53,14 +54,17 @@ TEST(XpbdJointDamping, RelativeSpinDecaysGeometricallyPerSubstep) {
   s.rigidBodies[0].angularVelocity = Vector3(w, 0, 0);
   s.rigidBodies[1].angularVelocity = Vector3(-w, 0, 0);
   World world = buildWorld(s);
-  for (int n = 0; n < 10; ++n) world.step();  // 100 substeps
+  for (int n = 0; n < 10; ++n)
+    world.step();  // 100 substeps
   const Real expected = -2 * w * std::pow(1 - mu * hs, 100);
-  const Vector3 relative = world.bodies.rigid.angularVelocity[1] - world.bodies.rigid.angularVelocity[0];
+  const Vector3 relative =
+      world.bodies.rigid.angularVelocity[1] - world.bodies.rigid.angularVelocity[0];
   EXPECT_NEAR(double(relative.x()), double(expected), 2e-9 * std::abs(double(expected)));
   EXPECT_NEAR(double(relative.tail<2>().norm()), 0, 1e-15);
   // The impulses are internal: the total angular momentum (equal inertias: the sum of the
   // angular velocities) stays 0 to the same round-off.
-  const Vector3 total = world.bodies.rigid.angularVelocity[0] + world.bodies.rigid.angularVelocity[1];
+  const Vector3 total =
+      world.bodies.rigid.angularVelocity[0] + world.bodies.rigid.angularVelocity[1];
   EXPECT_NEAR(double(total.norm()), 0, 2e-9 * w);
 }
 
@@ -76,7 +80,8 @@ TEST(XpbdJointDamping, SlidingDecaysGeometricallyPerSubstep) {
   s.rigidBodies[0].velocity = Vector3(-u / 2 + Real(0.1), 0, 0);
   s.rigidBodies[1].velocity = Vector3(u / 2 + Real(0.1), 0, 0);
   World world = buildWorld(s);
-  for (int n = 0; n < 10; ++n) world.step();
+  for (int n = 0; n < 10; ++n)
+    world.step();
   const RigidBodyStates& b = world.bodies.rigid;
   const double readBack = double(test::roundOffBound(5e-11));
   EXPECT_NEAR(double((b.velocity[1] - b.velocity[0]).x()), double(u * std::pow(1 - mu * hs, 100)),

@@ -122,11 +122,12 @@ TEST(XpbdPendulum, HingePeriodAndEnergyOverTenSeconds) {
                     "below float's half-ulp 1.2e-7 m there, so the pendulum does not move";
   const PendulumRun fine = runPendulum(80);
   const PendulumRun coarse = runPendulum(40);
-  std::printf("  hinge pendulum, 80 substeps: T = %.6f s, elliptic %.6f s (%.4f %%), "
-              "max energy drift %.4f %% of the swing energy (40 substeps: %.4f %%)\n",
-              double(fine.period), double(fine.expectedPeriod),
-              double(100 * (fine.period / fine.expectedPeriod - 1)), double(100 * fine.worstDrift),
-              double(100 * coarse.worstDrift));
+  std::printf(
+      "  hinge pendulum, 80 substeps: T = %.6f s, elliptic %.6f s (%.4f %%), "
+      "max energy drift %.4f %% of the swing energy (40 substeps: %.4f %%)\n",
+      double(fine.period), double(fine.expectedPeriod),
+      double(100 * (fine.period / fine.expectedPeriod - 1)), double(100 * fine.worstDrift),
+      double(100 * coarse.worstDrift));
   EXPECT_NEAR(fine.period, fine.expectedPeriod, Real(1e-3) * fine.expectedPeriod);
   EXPECT_LE(fine.worstDrift, 0.01);
   EXPECT_NEAR(coarse.worstDrift / fine.worstDrift, 2, 0.2);
@@ -146,7 +147,8 @@ TEST(XpbdCompliance, CompliantDistanceJointIsASpringOfStiffnessOneOverAlpha) {
   Scene s;
   s.simulation.timeStepSize = Real(0.005);
   s.simulation.gravitation = Vector3::Zero();
-  s.rigidBodies.push_back(test::boxBody(0, Vector3::Constant(Real(0.1)), Vector3::Zero(), 1, false));
+  s.rigidBodies.push_back(
+      test::boxBody(0, Vector3::Constant(Real(0.1)), Vector3::Zero(), 1, false));
   RigidBodyDesc cube = test::boxBody(1, Vector3::Constant(Real(0.1)), Vector3(1, 0, 0), 1000);
   const Real speed = Real(0.1);
   cube.velocity = Vector3(speed, 0, 0);
@@ -176,7 +178,8 @@ TEST(XpbdCompliance, CompliantDistanceJointIsASpringOfStiffnessOneOverAlpha) {
     previous = extension;
     const Real force = world.xpbd.jointMultipliers[0](0) / (hs * hs);
     const Real c = jointError(world.joints[0], world.bodies).linear;  // |C|
-    worstForceError = std::max(worstForceError, std::abs(std::abs(force) - k * c) / (k * speed / omega));
+    worstForceError =
+        std::max(worstForceError, std::abs(std::abs(force) - k * c) / (k * speed / omega));
   }
   ASSERT_GE(crossings.size(), 3u);
   const Real period =
@@ -186,10 +189,11 @@ TEST(XpbdCompliance, CompliantDistanceJointIsASpringOfStiffnessOneOverAlpha) {
                          Real(0.5) * k * (b.position[1].x() - 1) * (b.position[1].x() - 1);
   const Real energy0 = Real(0.5) * m * speed * speed;
   const Real expectedRatio = std::pow(1 + omega * omega * hs * hs, -Real(steps * kSubsteps));
-  std::printf("  compliant distance: T = %.7f s (2 pi sqrt(m/k) = %.7f), E/E0 = %.6f "
-              "(implicit Euler %.6f), force error %.2e of k A\n",
-              double(period), double(expectedPeriod), double(energyNow / energy0),
-              double(expectedRatio), double(worstForceError));
+  std::printf(
+      "  compliant distance: T = %.7f s (2 pi sqrt(m/k) = %.7f), E/E0 = %.6f "
+      "(implicit Euler %.6f), force error %.2e of k A\n",
+      double(period), double(expectedPeriod), double(energyNow / energy0), double(expectedRatio),
+      double(worstForceError));
   // Period: the discrete period is 1e-6 relative off; the crossing interpolation O((ω h)²).
   EXPECT_NEAR(period, expectedPeriod, Real(1e-4) * expectedPeriod);
   // Energy: the discrete energy oscillates within a period by O(ω h) = 0.03 % around the decay.
@@ -215,8 +219,8 @@ TEST(XpbdChain, MassRatioChainHoldsItsJoints) {
   const Vector3 anchor(0, 2, 0);
   s.rigidBodies.push_back(test::boxBody(0, Vector3::Constant(link), anchor, 1, false));
   for (int i = 1; i <= 10; ++i)
-    s.rigidBodies.push_back(test::boxBody(
-        i, Vector3::Constant(link), anchor + (Real(i) - Real(0.5)) * link * down, 10));
+    s.rigidBodies.push_back(test::boxBody(i, Vector3::Constant(link),
+                                          anchor + (Real(i) - Real(0.5)) * link * down, 10));
   s.rigidBodies.push_back(
       test::boxBody(11, Vector3::Constant(Real(0.2)), anchor + Real(1.1) * down, 125));
   for (RigidBodyDesc& body : s.rigidBodies)

@@ -47,7 +47,8 @@ void seedOrder(std::vector<ContactPointGeometry>::iterator begin,
 
 }  // namespace
 
-CollisionDetector::CollisionDetector(const Scene& scene, const CollisionShapeOptions& givenOptions) {
+CollisionDetector::CollisionDetector(const Scene& scene,
+                                     const CollisionShapeOptions& givenOptions) {
   CollisionShapeOptions options = givenOptions;
   options.gridInterpolation = distanceGridFor(scene.simulation);
   rigid_.resize(scene.rigidBodies.size());
@@ -216,18 +217,20 @@ void CollisionDetector::testPoint(const Vector3& world, int sdfBody, Real tolera
   // The seed's grid test (CubicSDFCollisionObject::collisionTest) works in the grid's unscaled
   // frame and does not scale the distance back: d = φ_unscaled(x ⊙ s⁻¹) − tolerance, the
   // shell point (x ⊙ s⁻¹ − d n) ⊙ s. Kept with the seed's rules; exact (s = 1) otherwise.
-  const bool unscaledGrid = seedGridDistance_ && shape.grid() && shape.gridScale() != Vector3::Ones();
+  const bool unscaledGrid =
+      seedGridDistance_ && shape.grid() && shape.gridScale() != Vector3::Ones();
   const Vector3 gridPoint =
       unscaledGrid ? Vector3(local.cwiseProduct(shape.gridScale().cwiseInverse())) : local;
-  const DistanceSample sample = unscaledGrid ? shape.evaluateGrid(gridPoint) : shape.evaluate(local);
+  const DistanceSample sample =
+      unscaledGrid ? shape.evaluateGrid(gridPoint) : shape.evaluate(local);
   const Real distance = sample.distance - tolerance;
   if (!(distance < 0)) return;
   const Real squared = sample.gradient.squaredNorm();
   if (squared < kMinimumSquaredGradient) return;  // no direction to push along
   const Vector3 normal = sample.gradient / std::sqrt(squared);
-  const Vector3 shellPoint = unscaledGrid
-                                 ? Vector3((gridPoint - distance * normal).cwiseProduct(shape.gridScale()))
-                                 : Vector3(local - distance * normal);
+  const Vector3 shellPoint =
+      unscaledGrid ? Vector3((gridPoint - distance * normal).cwiseProduct(shape.gridScale()))
+                   : Vector3(local - distance * normal);
   ContactPointGeometry contact;
   contact.sdfBody = sdfBody;
   contact.vertexPoint = world;
@@ -248,7 +251,8 @@ void CollisionDetector::rigidAgainstRigid(int vertexBody, int sdfBody, Real tole
                               tolerance);
       },
       [&](int point) {
-        const Vector3 world = frame.rotation * body.surface->samples[std::size_t(point)] + frame.origin;
+        const Vector3 world =
+            frame.rotation * body.surface->samples[std::size_t(point)] + frame.origin;
         testPoint(world, sdfBody, tolerance, [&](ContactPointGeometry& contact) {
           contact.vertexSide = vertexBody;
           contact.sample = point;
@@ -287,8 +291,8 @@ void CollisionDetector::particlesAgainstRigid(const ParticleModel& model,
       });
 }
 
-void CollisionDetector::detect(const BodyStates& bodies, Real tolerance,
-                               ContactGeometryBuffer& out, ContactOrder order) {
+void CollisionDetector::detect(const BodyStates& bodies, Real tolerance, ContactGeometryBuffer& out,
+                               ContactOrder order) {
   out.rigid.clear();
   out.particle.clear();
   out.droppedContacts = 0;
@@ -308,8 +312,7 @@ void CollisionDetector::detect(const BodyStates& bodies, Real tolerance,
     const std::size_t first = list.size();
     collectDirection(direction, bodies.particles, tolerance, out.rigid, out.particle,
                      out.droppedContacts);
-    orderDirection(direction, list.begin() + static_cast<std::ptrdiff_t>(first), list.end(),
-                   order);
+    orderDirection(direction, list.begin() + static_cast<std::ptrdiff_t>(first), list.end(), order);
   }
 }
 
@@ -348,7 +351,8 @@ void CollisionDetector::detectInParallel(const BodyStates& bodies, Real toleranc
                : std::size_t(particleModels_[std::size_t(d.first - rigidCount)].particleCount) + 1;
   };
   std::size_t total = 0;
-  for (const ObjectPair& d : directions_) total += work(d);
+  for (const ObjectPair& d : directions_)
+    total += work(d);
   const std::size_t partCount = parts_.size();
   std::size_t done = 0, direction = 0;
   for (std::size_t part = 0; part < partCount; ++part) {
@@ -375,8 +379,8 @@ void CollisionDetector::detectInParallel(const BodyStates& bodies, Real toleranc
         for (std::size_t k = d.partBegin_[std::size_t(partIndex)];
              k < d.partBegin_[std::size_t(partIndex) + 1]; ++k) {
           const std::size_t before = part.rigid.size() + part.particle.size();
-          d.collectDirection(d.directions_[k], *c.particles, c.tolerance, part.rigid,
-                             part.particle, part.dropped);
+          d.collectDirection(d.directions_[k], *c.particles, c.tolerance, part.rigid, part.particle,
+                             part.dropped);
           d.directionContacts_[k] = part.rigid.size() + part.particle.size() - before;
         }
       },
@@ -400,8 +404,8 @@ void CollisionDetector::detectInParallel(const BodyStates& bodies, Real toleranc
       list.insert(list.end(), from, from + static_cast<std::ptrdiff_t>(kept));
       out.droppedContacts += count - kept;
       at += count;
-      orderDirection(directions_[k], list.begin() + static_cast<std::ptrdiff_t>(first),
-                     list.end(), order);
+      orderDirection(directions_[k], list.begin() + static_cast<std::ptrdiff_t>(first), list.end(),
+                     order);
     }
   }
 }

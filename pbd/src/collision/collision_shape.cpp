@@ -102,8 +102,7 @@ CollisionShape makeCollisionShape(const RigidBodyDesc& body, const CollisionShap
       const CachedGrid grid = buildGrid(body, options, shape.meshBounds_);
       shape.grid_ = grid.grid;
       shape.gridOutcome_ = grid.outcome;
-      if (options.gridInterpolation == GridInterpolation::CubicLagrange)
-        shape.gridScale_ = c.scale;
+      if (options.gridInterpolation == GridInterpolation::CubicLagrange) shape.gridScale_ = c.scale;
       break;
     }
     default:

@@ -1,9 +1,9 @@
 #include "pbd/collision/point_bvh.h"
 
-#include "pbd/collision/median_split.h"
-
 #include <algorithm>
 #include <cmath>
+
+#include "pbd/collision/median_split.h"
 
 namespace pbd {
 namespace {

@@ -7,11 +7,10 @@
 
 #include "pbd/collision/seed_point_order.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-
-#include <Eigen/Eigenvalues>
 
 namespace pbd {
 namespace {
@@ -140,7 +139,8 @@ class SeedVolumeIntegration {
     Faaa = k1 * Paaa;
     Fbbb = k1 * Pbbb;
     Fccc = -k4 * (cube(n[A]) * Paaa + 3 * sqr(n[A]) * n[B] * Paab + 3 * n[A] * sqr(n[B]) * Pabb +
-                  cube(n[B]) * Pbbb + 3 * w * (sqr(n[A]) * Paa + 2 * n[A] * n[B] * Pab + sqr(n[B]) * Pbb) +
+                  cube(n[B]) * Pbbb +
+                  3 * w * (sqr(n[A]) * Paa + 2 * n[A] * n[B] * Pab + sqr(n[B]) * Pbb) +
                   w * w * (3 * (n[A] * Pa + n[B] * Pb) + w * P1));
     Faab = k1 * Paab;
     Fbbc = -k2 * (n[A] * Pabb + n[B] * Pbbb + w * Pbb);
@@ -184,8 +184,8 @@ class SeedVolumeIntegration {
   SeedVector mean_ = SeedVector::Zero(), centerOfMass_ = SeedVector::Zero();
   int A = 0, B = 1, C = 2;
   double P1 = 0, Pa = 0, Pb = 0, Paa = 0, Pab = 0, Pbb = 0, Paaa = 0, Paab = 0, Pabb = 0, Pbbb = 0;
-  double Fa = 0, Fb = 0, Fc = 0, Faa = 0, Fbb = 0, Fcc = 0, Faaa = 0, Fbbb = 0, Fccc = 0,
-         Faab = 0, Fbbc = 0, Fcca = 0;
+  double Fa = 0, Fb = 0, Fc = 0, Faa = 0, Fbb = 0, Fcc = 0, Faaa = 0, Fbbb = 0, Fccc = 0, Faab = 0,
+         Fbbc = 0, Fcca = 0;
   double T0_ = 0, T1_[3] = {0, 0, 0}, T2_[3] = {0, 0, 0}, TP_[3] = {0, 0, 0};
 };
 

@@ -1,8 +1,8 @@
 #include "pbd/collision/tet_bvh.h"
 
-#include "pbd/collision/median_split.h"
-
 #include <algorithm>
+
+#include "pbd/collision/median_split.h"
 
 namespace pbd {
 namespace {

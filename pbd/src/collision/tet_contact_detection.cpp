@@ -1,10 +1,10 @@
 #include "pbd/collision/tet_contact_detection.h"
 
-#include "pbd/model/mesh.h"
-
 #include <algorithm>
 #include <cmath>
 #include <map>
+
+#include "pbd/model/mesh.h"
 
 namespace pbd {
 namespace {

@@ -83,7 +83,8 @@ void ConstraintFamilies::orderAsTheSeed(const Scene& scene) {
   };
   for (const TriangleModelDesc& m : scene.triangleModels)
     mark(m.firstParticle, m.mesh.vertices.size());
-  for (const TetModelDesc& m : scene.tetModels) mark(m.firstParticle, m.mesh.vertices.size());
+  for (const TetModelDesc& m : scene.tetModels)
+    mark(m.firstParticle, m.mesh.vertices.size());
 
   struct Element {
     int family = 0;
@@ -104,9 +105,8 @@ void ConstraintFamilies::orderAsTheSeed(const Scene& scene) {
         e.index = k;
         e.particles = elementParticles(array[k]);
         const int first = e.particles.empty() ? -1 : e.particles[0];
-        const int owner = first >= 0 && std::size_t(first) < modelOf.size()
-                              ? modelOf[std::size_t(first)]
-                              : model;
+        const int owner =
+            first >= 0 && std::size_t(first) < modelOf.size() ? modelOf[std::size_t(first)] : model;
         e.seedKey = std::make_tuple(owner, secondInItsModel(index) ? 1 : 0, index, k);
         elements.push_back(std::move(e));
       }
@@ -129,7 +129,8 @@ void ConstraintFamilies::orderAsTheSeed(const Scene& scene) {
       if (free) break;
     }
     if (g == used.size()) used.emplace_back(scene.particles.size(), char(0));
-    for (int p : e.particles) used[g][std::size_t(p)] = 1;
+    for (int p : e.particles)
+      used[g][std::size_t(p)] = 1;
     e.group = g;
   }
   std::stable_sort(elements.begin(), elements.end(),
@@ -155,7 +156,8 @@ void ConstraintFamilies::orderAsTheSeed(const Scene& scene) {
     if constexpr (IsVector<std::decay_t<decltype(array)>>::value) {
       std::decay_t<decltype(array)> permuted;
       permuted.reserve(array.size());
-      for (std::size_t k : newOrder[std::size_t(index)]) permuted.push_back(array[k]);
+      for (std::size_t k : newOrder[std::size_t(index)])
+        permuted.push_back(array[k]);
       array = std::move(permuted);
     }
   });

@@ -1,10 +1,10 @@
 #include "pbd/constraints/dihedral_bending.h"
-#include "pbd/constraints/particle_stencil.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "pbd/constraints/particle_stencil.h"
 #include "pbd/model/mesh.h"
 #include "pbd/model/scene.h"
 
@@ -50,7 +50,8 @@ Real dihedralAngle(const std::array<Vector3, 4>& x) {
   const Vector3 normalB = (x[3] - x[0]).cross(edge);
   const Real na = normalA.norm(), nb = normalB.norm(), ne = edge.norm();
   if (!(na > 0) || !(nb > 0) || !(ne > 0)) return std::numeric_limits<Real>::quiet_NaN();
-  return std::atan2(normalA.cross(normalB).dot(edge) / (na * nb * ne), normalA.dot(normalB) / (na * nb));
+  return std::atan2(normalA.cross(normalB).dot(edge) / (na * nb * ne),
+                    normalA.dot(normalB) / (na * nb));
 }
 
 std::array<Vector3, 4> dihedralAngleGradient(const std::array<Vector3, 4>& x) {
@@ -70,10 +71,12 @@ BendingCorrection dihedralBendingPbd(const std::array<Vector3, 4>& x,
   if (std::isnan(angle)) return out;  // a degenerate triangle: no direction
   const std::array<Vector3, 4> g = dihedralAngleGradient(x);
   Real weightedNorm = 0;
-  for (std::size_t i = 0; i < 4; ++i) weightedNorm += inverseMasses[i] * g[i].squaredNorm();
+  for (std::size_t i = 0; i < 4; ++i)
+    weightedNorm += inverseMasses[i] * g[i].squaredNorm();
   if (!(weightedNorm > kEpsilon * kEpsilon)) return out;
   const Real s = wrappedDifference(angle, c.restAngle) / weightedNorm;
-  for (std::size_t i = 0; i < 4; ++i) out.positions[i] = -c.stiffness * s * inverseMasses[i] * g[i];
+  for (std::size_t i = 0; i < 4; ++i)
+    out.positions[i] = -c.stiffness * s * inverseMasses[i] * g[i];
   return out;
 }
 
@@ -86,7 +89,8 @@ std::vector<DihedralBendingConstraint> clothDihedralConstraints(const Scene& sce
       DihedralBendingConstraint c;
       const std::array<int, 4> local = {stencil.edge[0], stencil.edge[1], stencil.opposite[0],
                                         stencil.opposite[1]};
-      for (std::size_t i = 0; i < 4; ++i) c.particles[i] = model.firstParticle + local[i];
+      for (std::size_t i = 0; i < 4; ++i)
+        c.particles[i] = model.firstParticle + local[i];
       std::array<Vector3, 4> rest;
       const bool anyDynamic = restPositions(scene, c.particles, rest);
       c.restAngle = dihedralAngle(rest);
@@ -98,8 +102,7 @@ std::vector<DihedralBendingConstraint> clothDihedralConstraints(const Scene& sce
 }
 
 void solveDihedralBending(const std::vector<DihedralBendingConstraint>& constraints,
-                          ParticleStates& particles, std::size_t begin,
-    std::size_t end) {
+                          ParticleStates& particles, std::size_t begin, std::size_t end) {
   for (std::size_t k = begin, n = std::min(end, constraints.size()); k < n; ++k) {
     const DihedralBendingConstraint& c = constraints[k];
     std::array<Vector3, 4> x;

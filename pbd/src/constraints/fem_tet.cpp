@@ -1,10 +1,10 @@
 #include "pbd/constraints/fem_tet.h"
-#include "pbd/constraints/particle_stencil.h"
 
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 
+#include "pbd/constraints/particle_stencil.h"
 #include "pbd/model/scene.h"
 
 namespace pbd {
@@ -16,8 +16,8 @@ namespace pbd {
 LameParameters lameParameters(Real youngsModulus, Real poissonRatio) {
   LameParameters l;
   l.mu = youngsModulus / Real(2) / (Real(1) + poissonRatio);
-  l.lambda = youngsModulus * poissonRatio / (Real(1) + poissonRatio) /
-             (Real(1) - Real(2) * poissonRatio);
+  l.lambda =
+      youngsModulus * poissonRatio / (Real(1) + poissonRatio) / (Real(1) - Real(2) * poissonRatio);
   return l;
 }
 
@@ -70,12 +70,14 @@ FemTetEnergy energyAndGradients(const std::array<Vector3, 4>& x, const FemTetCon
   sigma = (f * sigma).eval();
   Real psi = 0;
   for (int j = 0; j < 3; ++j)
-    for (int k = 0; k < 3; ++k) psi += epsilon(j, k) * epsilon(j, k);
+    for (int k = 0; k < 3; ++k)
+      psi += epsilon(j, k) * epsilon(j, k);
   psi = lame.mu * psi + Real(0.5) * lame.lambda * trace * trace;
   out.energy = c.restVolume * psi;
   const Matrix3 restInverseTransposed = c.inverseRestMatrix.transpose();
   const Matrix3 h = sigma * restInverseTransposed * c.restVolume;
-  for (int i = 0; i < 3; ++i) out.gradients[std::size_t(i)] = h.col(i);
+  for (int i = 0; i < 3; ++i)
+    out.gradients[std::size_t(i)] = h.col(i);
   out.gradients[3] = -out.gradients[0] - out.gradients[1] - out.gradients[2];
   return out;
 }
@@ -168,11 +170,12 @@ std::vector<FemTetConstraint> solidFemConstraints(const Scene& scene) {
   for (const TetModelDesc& model : scene.tetModels)
     for (const auto& tet : model.mesh.tetrahedra) {
       FemTetConstraint c;
-      for (std::size_t i = 0; i < 4; ++i) c.particles[i] = model.firstParticle + int(tet[i]);
+      for (std::size_t i = 0; i < 4; ++i)
+        c.particles[i] = model.firstParticle + int(tet[i]);
       std::array<Vector3, 4> rest;
       const bool anyDynamic = restPositions(scene, c.particles, rest);
-      if (!anyDynamic || !femTetRestState(rest, c.inverseRestMatrix, c.restVolume,
-                                          femCutoffFor(scene.simulation)))
+      if (!anyDynamic ||
+          !femTetRestState(rest, c.inverseRestMatrix, c.restVolume, femCutoffFor(scene.simulation)))
         continue;
       c.cutoff = femCutoffFor(scene.simulation);
       c.youngsModulus = solidStiffnessFor(scene.simulation);
@@ -184,8 +187,7 @@ std::vector<FemTetConstraint> solidFemConstraints(const Scene& scene) {
 }
 
 void solveFemTets(std::vector<FemTetConstraint>& constraints, ParticleStates& particles,
-                  Real substepSize, bool firstIteration, std::size_t begin,
-    std::size_t end) {
+                  Real substepSize, bool firstIteration, std::size_t begin, std::size_t end) {
   for (std::size_t k = begin, n = std::min(end, constraints.size()); k < n; ++k) {
     FemTetConstraint& c = constraints[k];
     std::array<Vector3, 4> x;

@@ -1,9 +1,9 @@
 #include "pbd/constraints/fem_triangle.h"
-#include "pbd/constraints/particle_stencil.h"
 
 #include <algorithm>
 #include <cmath>
 
+#include "pbd/constraints/particle_stencil.h"
 #include "pbd/model/scene.h"
 
 namespace pbd {
@@ -49,7 +49,8 @@ Matrix2x2 secondPiolaKirchhoff(const Matrix2x2& e, const OrthotropicStiffness& k
 Real energyOf(const Matrix2x2& e, const Matrix2x2& s, Real area) {
   Real psi = 0;
   for (int j = 0; j < 2; ++j)
-    for (int k = 0; k < 2; ++k) psi += e(j, k) * s(j, k);
+    for (int k = 0; k < 2; ++k)
+      psi += e(j, k) * s(j, k);
   return area * (Real(0.5) * psi);
 }
 
@@ -85,7 +86,8 @@ bool femTriangleRest(const std::array<Vector3, 3>& rest, Real& area, Matrix2x2& 
   xAxis.normalize();
   // Material coordinates of the three vertices, then D_m = [X₀ − X₂, X₁ − X₂].
   std::array<Vector2, 3> p;
-  for (std::size_t i = 0; i < 3; ++i) p[i] = Vector2(rest[i].dot(xAxis), rest[i].dot(yAxis));
+  for (std::size_t i = 0; i < 3; ++i)
+    p[i] = Vector2(rest[i].dot(xAxis), rest[i].dot(yAxis));
   Matrix2x2 restEdges;
   restEdges(0, 0) = p[0][0] - p[2][0];
   restEdges(1, 0) = p[0][1] - p[2][1];
@@ -126,7 +128,8 @@ std::array<Vector3, 3> femTrianglePbd(const std::array<Vector3, 3>& x,
   weightedNorm += inverseMasses[2] * g[2].squaredNorm();
   if (!(std::abs(weightedNorm) > c.cutoff) || !(weightedNorm > 0)) return correction;
   const Real s = energyOf(e, stress, c.area) / weightedNorm;
-  for (std::size_t i = 0; i < 3; ++i) correction[i] = -(s * inverseMasses[i]) * g[i];
+  for (std::size_t i = 0; i < 3; ++i)
+    correction[i] = -(s * inverseMasses[i]) * g[i];
   return correction;
 }
 
@@ -140,10 +143,12 @@ std::vector<FemTriangleConstraint> femTriangleConstraints(const Scene& scene) {
   for (const TriangleModelDesc& model : scene.triangleModels) {
     for (const std::array<int, 3>& triangle : model.mesh.triangles) {
       FemTriangleConstraint c;
-      for (std::size_t i = 0; i < 3; ++i) c.particles[i] = model.firstParticle + triangle[i];
+      for (std::size_t i = 0; i < 3; ++i)
+        c.particles[i] = model.firstParticle + triangle[i];
       std::array<Vector3, 3> rest;
       const bool anyDynamic = restPositions(scene, c.particles, rest);
-      // The seed also drops a triangle whose |det D_m| is not above its 10⁻⁶ (init_FEMTriangleConstraint).
+      // The seed also drops a triangle whose |det D_m| is not above its 10⁻⁶
+      // (init_FEMTriangleConstraint).
       if (!anyDynamic || !femTriangleRest(rest, c.area, c.restInverse, femCutoffFor(settings)))
         continue;
       c.stiffness = stiffness;
@@ -155,8 +160,7 @@ std::vector<FemTriangleConstraint> femTriangleConstraints(const Scene& scene) {
 }
 
 void solveFemTriangles(const std::vector<FemTriangleConstraint>& constraints,
-                       ParticleStates& particles, std::size_t begin,
-    std::size_t end) {
+                       ParticleStates& particles, std::size_t begin, std::size_t end) {
   for (std::size_t k = begin, n = std::min(end, constraints.size()); k < n; ++k) {
     const FemTriangleConstraint& c = constraints[k];
     std::array<Vector3, 3> x;

@@ -50,9 +50,8 @@ Real pbfLambda(std::size_t i, Real constraint, const FluidSamples& samples,
   Vector3 own = Vector3::Zero();
   Real sumOfSquares = 0;
   for (int n = 0; n < neighbours.fluidCount; ++n) {
-    const Vector3 g = pbfGradientNeighbour(
-        xi, samples.positions[std::size_t(neighbours.fluid[n])], samples.particleMass,
-        restDensity, kernel);
+    const Vector3 g = pbfGradientNeighbour(xi, samples.positions[std::size_t(neighbours.fluid[n])],
+                                           samples.particleMass, restDensity, kernel);
     sumOfSquares += g.squaredNorm();
     own -= g;
   }
@@ -79,8 +78,8 @@ Vector3 pbfCorrection(std::size_t i, const Real* lambdas, const FluidSamples& sa
   }
   for (int n = 0; n < neighbours.boundaryCount; ++n) {
     const auto b = std::size_t(neighbours.boundary[n]);
-    sum += (lambdas[i] * samples.boundaryPsi[b]) *
-           kernel.gradient(xi - samples.boundaryPositions[b]);
+    sum +=
+        (lambdas[i] * samples.boundaryPsi[b]) * kernel.gradient(xi - samples.boundaryPositions[b]);
   }
   return sum / restDensity;
 }

@@ -1,12 +1,11 @@
 #include "pbd/constraints/generic_constraint.h"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 #include <utility>
-
-#include <Eigen/Cholesky>
 
 namespace pbd {
 namespace {
@@ -42,8 +41,8 @@ GenericParticleConstraint::GenericParticleConstraint(const std::vector<int>& par
                                   std::to_string(particles[i]));
     for (std::size_t j = 0; j < i; ++j)
       if (particles[j] == particles[i])
-        throw std::invalid_argument("generic constraint: particle " +
-                                    std::to_string(particles[i]) + " appears twice");
+        throw std::invalid_argument("generic constraint: particle " + std::to_string(particles[i]) +
+                                    " appears twice");
     particles_[i] = particles[i];
   }
   particleCount_ = int(particles.size());
@@ -75,9 +74,9 @@ void GenericParticleConstraint::jacobian(const GenericPositions& x,
     }
 }
 
-GenericCorrection genericConstraintPbd(const GenericParticleConstraint& constraint,
-                                       const GenericPositions& x,
-                                       const std::array<Real, kGenericMaxParticles>& inverseMasses) {
+GenericCorrection genericConstraintPbd(
+    const GenericParticleConstraint& constraint, const GenericPositions& x,
+    const std::array<Real, kGenericMaxParticles>& inverseMasses) {
   GenericCorrection correction;
   const int n = constraint.particleCount(), dim = constraint.componentCount();
   GenericValue value = GenericValue::Zero();
@@ -120,8 +119,8 @@ void solveGenericConstraints(std::vector<GenericParticleConstraint>& constraints
     for (int i = 0; i < n; ++i) {
       const auto index = std::size_t(constraint.particle(i));
       if (index >= particles.size())
-        throw std::out_of_range("generic constraint: particle " + std::to_string(index) +
-                                " of " + std::to_string(particles.size()));
+        throw std::out_of_range("generic constraint: particle " + std::to_string(index) + " of " +
+                                std::to_string(particles.size()));
       x.col(i) = particles.position[index];
       inverseMasses[std::size_t(i)] = particles.inverseMass[index];
     }

@@ -1,12 +1,11 @@
 #include "pbd/constraints/generic_rigid_constraint.h"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 #include <utility>
-
-#include <Eigen/Cholesky>
 
 #include "pbd/joints/joint_parts.h"
 
@@ -37,13 +36,13 @@ GenericRigidConstraint::GenericRigidConstraint(const std::vector<int>& bodies, i
       stiffness_(stiffness),
       compliance_(compliance) {
   if (bodies.empty() || bodies.size() > std::size_t(kGenericRigidMaxBodies))
-    throw std::invalid_argument("generic rigid-body constraint: " +
-                                std::to_string(bodies.size()) + " bodies; 1 to " +
-                                std::to_string(kGenericRigidMaxBodies) + " are supported");
+    throw std::invalid_argument("generic rigid-body constraint: " + std::to_string(bodies.size()) +
+                                " bodies; 1 to " + std::to_string(kGenericRigidMaxBodies) +
+                                " are supported");
   if (components < 1 || components > kGenericRigidMaxComponents)
     throw std::invalid_argument("generic rigid-body constraint: " + std::to_string(components) +
-                                " components; 1 to " +
-                                std::to_string(kGenericRigidMaxComponents) + " are supported");
+                                " components; 1 to " + std::to_string(kGenericRigidMaxComponents) +
+                                " are supported");
   if (!value_) throw std::invalid_argument("generic rigid-body constraint: no value function");
   if (!(stiffness >= 0 && stiffness <= 1))
     throw std::invalid_argument("generic rigid-body constraint: stiffness " +

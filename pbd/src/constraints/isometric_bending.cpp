@@ -1,9 +1,9 @@
+#include "pbd/constraints/isometric_bending.h"
+
 #include <algorithm>
 #include <cmath>
 
-#include "pbd/constraints/isometric_bending.h"
 #include "pbd/constraints/particle_stencil.h"
-
 #include "pbd/model/scene.h"
 
 namespace pbd {
@@ -23,7 +23,8 @@ struct Gradients {
 Gradients gradients(const std::array<Vector3, 4>& x, const std::array<Real, 4>& inverseMasses,
                     const IsometricBendingConstraint& c) {
   Vector3 h = Vector3::Zero();
-  for (std::size_t i = 0; i < 4; ++i) h += c.weights[i] * x[i];
+  for (std::size_t i = 0; i < 4; ++i)
+    h += c.weights[i] * x[i];
   Gradients out;
   for (std::size_t i = 0; i < 4; ++i) {
     out.g[i] = c.scale * c.weights[i] * h;
@@ -51,7 +52,8 @@ Eigen::Matrix<Real, 4, 4> seedBendingMatrix(const std::array<Vector3, 4>& x) {
   const Real k2[4] = {coef * k[0], coef * k[1], coef * k[2], coef * k[3]};
   Eigen::Matrix<Real, 4, 4> q;
   for (int j = 0; j < 4; ++j) {
-    for (int i = 0; i < j; ++i) q(j, i) = q(i, j) = k[j] * k2[i];
+    for (int i = 0; i < j; ++i)
+      q(j, i) = q(i, j) = k[j] * k2[i];
     q(j, j) = k[j] * k2[j];
   }
   return q;
@@ -76,7 +78,8 @@ bool isometricBendingStencil(const std::array<Vector3, 4>& rest, std::array<Real
 Real isometricBendingEnergy(const std::array<Vector3, 4>& x, const std::array<Real, 4>& weights,
                             Real scale) {
   Vector3 h = Vector3::Zero();
-  for (std::size_t i = 0; i < 4; ++i) h += weights[i] * x[i];
+  for (std::size_t i = 0; i < 4; ++i)
+    h += weights[i] * x[i];
   return scale * h.squaredNorm() / 2;
 }
 
@@ -88,11 +91,13 @@ BendingCorrection isometricBendingPbd(const std::array<Vector3, 4>& x,
     // The seed's solve_IsometricBendingConstraint, operation by operation.
     Real energy = 0;
     for (int k = 0; k < 4; ++k)
-      for (int j = 0; j < 4; ++j) energy += c.seedQ(j, k) * x[std::size_t(k)].dot(x[std::size_t(j)]);
+      for (int j = 0; j < 4; ++j)
+        energy += c.seedQ(j, k) * x[std::size_t(k)].dot(x[std::size_t(j)]);
     energy *= Real(0.5);
     std::array<Vector3, 4> g = {Vector3::Zero(), Vector3::Zero(), Vector3::Zero(), Vector3::Zero()};
     for (int k = 0; k < 4; ++k)
-      for (int j = 0; j < 4; ++j) g[std::size_t(j)] += c.seedQ(j, k) * x[std::size_t(k)];
+      for (int j = 0; j < 4; ++j)
+        g[std::size_t(j)] += c.seedQ(j, k) * x[std::size_t(k)];
     Real sum = 0;
     for (std::size_t j = 0; j < 4; ++j)
       if (inverseMasses[j] != 0) sum += inverseMasses[j] * g[j].squaredNorm();
@@ -106,7 +111,8 @@ BendingCorrection isometricBendingPbd(const std::array<Vector3, 4>& x,
   // At a flat state C and ∇C vanish together: nothing to do (and no direction).
   if (!(g.weightedNorm > kEpsilon * kEpsilon)) return out;
   const Real s = isometricBendingEnergy(x, c.weights, c.scale) / g.weightedNorm;
-  for (std::size_t i = 0; i < 4; ++i) out.positions[i] = -c.stiffness * s * inverseMasses[i] * g.g[i];
+  for (std::size_t i = 0; i < 4; ++i)
+    out.positions[i] = -c.stiffness * s * inverseMasses[i] * g.g[i];
   return out;
 }
 
@@ -119,7 +125,8 @@ BendingCorrection isometricBendingXpbd(const std::array<Vector3, 4>& x,
   const Real compliance = Real(1) / (c.stiffness * substepSize * substepSize);  // α̃
   out.multiplier = (-isometricBendingEnergy(x, c.weights, c.scale) - compliance * c.multiplier) /
                    (g.weightedNorm + compliance);
-  for (std::size_t i = 0; i < 4; ++i) out.positions[i] = out.multiplier * inverseMasses[i] * g.g[i];
+  for (std::size_t i = 0; i < 4; ++i)
+    out.positions[i] = out.multiplier * inverseMasses[i] * g.g[i];
   return out;
 }
 
@@ -133,7 +140,8 @@ std::vector<IsometricBendingConstraint> clothBendingConstraints(const Scene& sce
       IsometricBendingConstraint c;
       const std::array<int, 4> local = {stencil.edge[0], stencil.edge[1], stencil.opposite[0],
                                         stencil.opposite[1]};
-      for (std::size_t i = 0; i < 4; ++i) c.particles[i] = model.firstParticle + local[i];
+      for (std::size_t i = 0; i < 4; ++i)
+        c.particles[i] = model.firstParticle + local[i];
       std::array<Vector3, 4> rest;
       const bool anyDynamic = restPositions(scene, c.particles, rest);
       if (!anyDynamic || !isometricBendingStencil(rest, c.weights, c.scale)) continue;
@@ -148,8 +156,8 @@ std::vector<IsometricBendingConstraint> clothBendingConstraints(const Scene& sce
 }
 
 void solveIsometricBending(std::vector<IsometricBendingConstraint>& constraints,
-                           ParticleStates& particles, Real substepSize, bool firstIteration, std::size_t begin,
-    std::size_t end) {
+                           ParticleStates& particles, Real substepSize, bool firstIteration,
+                           std::size_t begin, std::size_t end) {
   for (std::size_t k = begin, n = std::min(end, constraints.size()); k < n; ++k) {
     IsometricBendingConstraint& c = constraints[k];
     std::array<Vector3, 4> x;

@@ -1,6 +1,6 @@
-#include <algorithm>
-
 #include "pbd/constraints/particle_distance.h"
+
+#include <algorithm>
 
 #include "pbd/model/body_states.h"
 #include "pbd/model/mesh.h"
@@ -84,8 +84,8 @@ std::vector<ParticleDistanceConstraint> deformableDistanceConstraints(const Scen
 }
 
 void solveParticleDistances(std::vector<ParticleDistanceConstraint>& constraints,
-                            ParticleStates& particles, Real substepSize, bool firstIteration, std::size_t begin,
-    std::size_t end) {
+                            ParticleStates& particles, Real substepSize, bool firstIteration,
+                            std::size_t begin, std::size_t end) {
   for (std::size_t k = begin, n = std::min(end, constraints.size()); k < n; ++k) {
     ParticleDistanceConstraint& c = constraints[k];
     const auto i = std::size_t(c.particle1), j = std::size_t(c.particle2);

@@ -14,16 +14,17 @@ Real clampUnit(Real x) {
 template <int N>
 ProximityCorrection<N> projectDifference(const std::array<Vector3, N>& positions,
                                          const std::array<Real, N>& inverseMasses,
-                                         const std::array<Real, N>& coefficients,
-                                         Real restDistance, ProximityStiffness stiffness) {
+                                         const std::array<Real, N>& coefficients, Real restDistance,
+                                         ProximityStiffness stiffness) {
   ProximityCorrection<N> correction;
-  for (Vector3& d : correction.delta) d.setZero();
+  for (Vector3& d : correction.delta)
+    d.setZero();
   Vector3 difference = Vector3::Zero();
   Real weightSum = 0;  // Σ wⱼ bⱼ²
   for (int i = 0; i < N; ++i) {
     difference += coefficients[std::size_t(i)] * positions[std::size_t(i)];
-    weightSum += inverseMasses[std::size_t(i)] * coefficients[std::size_t(i)] *
-                 coefficients[std::size_t(i)];
+    weightSum +=
+        inverseMasses[std::size_t(i)] * coefficients[std::size_t(i)] * coefficients[std::size_t(i)];
   }
   const Real distance = difference.norm();
   correction.value = distance - restDistance;
@@ -32,8 +33,8 @@ ProximityCorrection<N> projectDifference(const std::array<Vector3, N>& positions
   const Real k = correction.value < 0 ? stiffness.compression : stiffness.stretch;
   const Real scale = -k * correction.value / weightSum;
   for (int i = 0; i < N; ++i)
-    correction.delta[std::size_t(i)] = scale * inverseMasses[std::size_t(i)] *
-                                       coefficients[std::size_t(i)] * direction;
+    correction.delta[std::size_t(i)] =
+        scale * inverseMasses[std::size_t(i)] * coefficients[std::size_t(i)] * direction;
   correction.applied = true;
   return correction;
 }
@@ -119,7 +120,7 @@ SegmentPairParameters closestPointsOfSegments(const Vector3& a0, const Vector3& 
   const Real ab = da.dot(db);
   const Real determinant = aa * bb - ab * ab;
   r.s = determinant > kEpsilon * aa * bb ? clampUnit((ab * fb - ca * bb) / determinant)
-                                          : Real(0);  // parallel: any s; start at a₀
+                                         : Real(0);  // parallel: any s; start at a₀
   // The best t for that s, then the best s for a clamped t.
   const Real t = (ab * r.s + fb) / bb;
   if (t < 0) {
@@ -138,16 +139,15 @@ ProximityCorrection<3> pointEdgeDistancePbd(const std::array<Vector3, 3>& positi
                                             const std::array<Real, 3>& inverseMasses,
                                             Real restDistance, ProximityStiffness stiffness) {
   const Real t = closestPointOnSegment(positions[0], positions[1], positions[2]);
-  return projectDifference<3>(positions, inverseMasses, {1, -(1 - t), -t}, restDistance,
-                              stiffness);
+  return projectDifference<3>(positions, inverseMasses, {1, -(1 - t), -t}, restDistance, stiffness);
 }
 
 ProximityCorrection<4> pointTriangleDistancePbd(const std::array<Vector3, 4>& positions,
                                                 const std::array<Real, 4>& inverseMasses,
                                                 Real restDistance, ProximityStiffness stiffness) {
   const Vector3 b = closestPointOnTriangle(positions[0], positions[1], positions[2], positions[3]);
-  return projectDifference<4>(positions, inverseMasses, {1, -b.x(), -b.y(), -b.z()},
-                              restDistance, stiffness);
+  return projectDifference<4>(positions, inverseMasses, {1, -b.x(), -b.y(), -b.z()}, restDistance,
+                              stiffness);
 }
 
 ProximityCorrection<4> edgeEdgeDistancePbd(const std::array<Vector3, 4>& positions,

@@ -1,7 +1,7 @@
 #include "pbd/constraints/shape_matching.h"
 
-#include <algorithm>
 #include <Eigen/SVD>
+#include <algorithm>
 
 #include "pbd/constraints/strain_tet.h"
 #include "pbd/model/scene.h"
@@ -84,7 +84,8 @@ std::vector<ShapeMatchingConstraint> shapeMatchingConstraints(const Scene& scene
       if (!anyDynamic || !strainTetRest(rest, unused)) continue;
       c.restOffsets = shapeMatchingRestOffsets(rest, inverseMasses);
       c.stiffness = stiffness;
-      for (int p : c.particles) ++counts[std::size_t(p)];
+      for (int p : c.particles)
+        ++counts[std::size_t(p)];
       constraints.push_back(c);
     }
   for (ShapeMatchingConstraint& c : constraints)
@@ -94,8 +95,7 @@ std::vector<ShapeMatchingConstraint> shapeMatchingConstraints(const Scene& scene
 }
 
 void solveShapeMatching(const std::vector<ShapeMatchingConstraint>& constraints,
-                        ParticleStates& particles, std::size_t begin,
-    std::size_t end) {
+                        ParticleStates& particles, std::size_t begin, std::size_t end) {
   for (std::size_t k = begin, n = std::min(end, constraints.size()); k < n; ++k) {
     const ShapeMatchingConstraint& c = constraints[k];
     std::array<Vector3, 4> x;
@@ -105,7 +105,8 @@ void solveShapeMatching(const std::vector<ShapeMatchingConstraint>& constraints,
       w[i] = particles.inverseMass[std::size_t(c.particles[i])];
     }
     const std::array<Vector3, 4> d = shapeMatchingPbd(x, w, c);
-    for (std::size_t i = 0; i < 4; ++i) particles.position[std::size_t(c.particles[i])] += d[i];
+    for (std::size_t i = 0; i < 4; ++i)
+      particles.position[std::size_t(c.particles[i])] += d[i];
   }
 }
 

@@ -19,12 +19,27 @@ Matrix3 deformationGradient(const std::array<Vector3, 4>& x, const Matrix3& rest
 /// The material axes (a, b) of a component (a = b for a stretch).
 void axesOf(TetStrainComponent component, int& a, int& b) {
   switch (component) {
-    case TetStrainComponent::Xx: a = b = 0; return;
-    case TetStrainComponent::Yy: a = b = 1; return;
-    case TetStrainComponent::Zz: a = b = 2; return;
-    case TetStrainComponent::Xy: a = 0; b = 1; return;
-    case TetStrainComponent::Xz: a = 0; b = 2; return;
-    case TetStrainComponent::Yz: a = 1; b = 2; return;
+    case TetStrainComponent::Xx:
+      a = b = 0;
+      return;
+    case TetStrainComponent::Yy:
+      a = b = 1;
+      return;
+    case TetStrainComponent::Zz:
+      a = b = 2;
+      return;
+    case TetStrainComponent::Xy:
+      a = 0;
+      b = 1;
+      return;
+    case TetStrainComponent::Xz:
+      a = 0;
+      b = 2;
+      return;
+    case TetStrainComponent::Yz:
+      a = 1;
+      b = 2;
+      return;
   }
   a = b = 0;
 }
@@ -113,11 +128,13 @@ std::array<Vector3, 4> strainTetPbd(const std::array<Vector3, 4>& x,
     const Partials p = partials(deformationGradient(current, c.restInverse), c, component);
     const std::array<Vector3, 4> g = gradients(p, c.restInverse);
     Real weightedNorm = 0;
-    for (std::size_t i = 0; i < 4; ++i) weightedNorm += inverseMasses[i] * g[i].squaredNorm();
+    for (std::size_t i = 0; i < 4; ++i)
+      weightedNorm += inverseMasses[i] * g[i].squaredNorm();
     if (!(weightedNorm > 0)) continue;
     const Real k = isStretch(component) ? c.stretchStiffness : c.shearStiffness;
     const Real s = k * p.value / weightedNorm;
-    for (std::size_t i = 0; i < 4; ++i) correction[i] -= s * inverseMasses[i] * g[i];
+    for (std::size_t i = 0; i < 4; ++i)
+      correction[i] -= s * inverseMasses[i] * g[i];
   }
   return correction;
 }
@@ -148,9 +165,8 @@ std::vector<StrainTetConstraint> strainTetConstraints(const Scene& scene) {
   return constraints;
 }
 
-void solveStrainTets(const std::vector<StrainTetConstraint>& constraints,
-                     ParticleStates& particles, std::size_t begin,
-    std::size_t end) {
+void solveStrainTets(const std::vector<StrainTetConstraint>& constraints, ParticleStates& particles,
+                     std::size_t begin, std::size_t end) {
   for (std::size_t k = begin, n = std::min(end, constraints.size()); k < n; ++k) {
     const StrainTetConstraint& c = constraints[k];
     std::array<Vector3, 4> x;
@@ -160,7 +176,8 @@ void solveStrainTets(const std::vector<StrainTetConstraint>& constraints,
       w[i] = particles.inverseMass[std::size_t(c.particles[i])];
     }
     const std::array<Vector3, 4> d = strainTetPbd(x, w, c);
-    for (std::size_t i = 0; i < 4; ++i) particles.position[std::size_t(c.particles[i])] += d[i];
+    for (std::size_t i = 0; i < 4; ++i)
+      particles.position[std::size_t(c.particles[i])] += d[i];
   }
 }
 

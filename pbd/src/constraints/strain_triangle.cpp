@@ -1,9 +1,9 @@
 #include "pbd/constraints/strain_triangle.h"
-#include "pbd/constraints/particle_stencil.h"
 
 #include <algorithm>
 #include <cmath>
 
+#include "pbd/constraints/particle_stencil.h"
 #include "pbd/model/scene.h"
 
 namespace pbd {
@@ -72,9 +72,12 @@ std::array<Vector3, 3> gradients(const Partials& p, const Matrix2x2& restInverse
 
 Real stiffnessOf(const StrainTriangleConstraint& c, StrainComponent component) {
   switch (component) {
-    case StrainComponent::Xx: return c.xxStiffness;
-    case StrainComponent::Xy: return c.xyStiffness;
-    case StrainComponent::Yy: return c.yyStiffness;
+    case StrainComponent::Xx:
+      return c.xxStiffness;
+    case StrainComponent::Xy:
+      return c.xyStiffness;
+    case StrainComponent::Yy:
+      return c.yyStiffness;
   }
   return 0;
 }
@@ -110,16 +113,19 @@ std::array<Vector3, 3> strainTrianglePbd(const std::array<Vector3, 3>& x,
                                          const std::array<Real, 3>& inverseMasses,
                                          const StrainTriangleConstraint& c) {
   std::array<Vector3, 3> correction = {Vector3::Zero(), Vector3::Zero(), Vector3::Zero()};
-  for (StrainComponent component : {StrainComponent::Xx, StrainComponent::Xy, StrainComponent::Yy}) {
+  for (StrainComponent component :
+       {StrainComponent::Xx, StrainComponent::Xy, StrainComponent::Yy}) {
     const std::array<Vector3, 3> current = {x[0] + correction[0], x[1] + correction[1],
                                             x[2] + correction[2]};
     const Partials p = partials(deformationGradient(current, c.restInverse), c, component);
     const std::array<Vector3, 3> g = gradients(p, c.restInverse);
     Real weightedNorm = 0;
-    for (std::size_t i = 0; i < 3; ++i) weightedNorm += inverseMasses[i] * g[i].squaredNorm();
+    for (std::size_t i = 0; i < 3; ++i)
+      weightedNorm += inverseMasses[i] * g[i].squaredNorm();
     if (!(weightedNorm > 0)) continue;
     const Real s = stiffnessOf(c, component) * p.value / weightedNorm;
-    for (std::size_t i = 0; i < 3; ++i) correction[i] -= s * inverseMasses[i] * g[i];
+    for (std::size_t i = 0; i < 3; ++i)
+      correction[i] -= s * inverseMasses[i] * g[i];
   }
   return correction;
 }
@@ -131,7 +137,8 @@ std::vector<StrainTriangleConstraint> strainTriangleConstraints(const Scene& sce
   for (const TriangleModelDesc& model : scene.triangleModels) {
     for (const std::array<int, 3>& triangle : model.mesh.triangles) {
       StrainTriangleConstraint c;
-      for (std::size_t i = 0; i < 3; ++i) c.particles[i] = model.firstParticle + triangle[i];
+      for (std::size_t i = 0; i < 3; ++i)
+        c.particles[i] = model.firstParticle + triangle[i];
       std::array<Vector3, 3> rest;
       const bool anyDynamic = restPositions(scene, c.particles, rest);
       if (!anyDynamic || !strainTriangleRest(rest, c.restInverse)) continue;
@@ -147,8 +154,7 @@ std::vector<StrainTriangleConstraint> strainTriangleConstraints(const Scene& sce
 }
 
 void solveStrainTriangles(const std::vector<StrainTriangleConstraint>& constraints,
-                          ParticleStates& particles, std::size_t begin,
-    std::size_t end) {
+                          ParticleStates& particles, std::size_t begin, std::size_t end) {
   for (std::size_t k = begin, n = std::min(end, constraints.size()); k < n; ++k) {
     const StrainTriangleConstraint& c = constraints[k];
     std::array<Vector3, 3> x;

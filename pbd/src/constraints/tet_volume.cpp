@@ -1,8 +1,8 @@
+#include "pbd/constraints/tet_volume.h"
+
 #include <algorithm>
 
-#include "pbd/constraints/tet_volume.h"
 #include "pbd/constraints/particle_stencil.h"
-
 #include "pbd/model/scene.h"
 
 namespace pbd {
@@ -26,7 +26,8 @@ namespace {
 Real weightedGradientNorm(const std::array<Vector3, 4>& gradients,
                           const std::array<Real, 4>& inverseMasses) {
   Real sum = 0;
-  for (std::size_t i = 0; i < 4; ++i) sum += inverseMasses[i] * gradients[i].squaredNorm();
+  for (std::size_t i = 0; i < 4; ++i)
+    sum += inverseMasses[i] * gradients[i].squaredNorm();
   return sum;
 }
 
@@ -40,7 +41,8 @@ TetVolumeCorrection tetVolumePbd(const std::array<Vector3, 4>& p,
   const Real denominator = weightedGradientNorm(gradients, inverseMasses);
   if (!(denominator > 0)) return c;
   const Real s = (signedTetVolume(p) - restVolume) / denominator;
-  for (std::size_t i = 0; i < 4; ++i) c.positions[i] = -stiffness * s * inverseMasses[i] * gradients[i];
+  for (std::size_t i = 0; i < 4; ++i)
+    c.positions[i] = -stiffness * s * inverseMasses[i] * gradients[i];
   return c;
 }
 
@@ -53,9 +55,10 @@ TetVolumeCorrection tetVolumeXpbd(const std::array<Vector3, 4>& p,
   const Real denominator = weightedGradientNorm(gradients, inverseMasses);
   if (!(denominator > 0)) return c;
   const Real compliance = Real(1) / (stiffness * substepSize * substepSize);  // α̃
-  c.multiplier = (-(signedTetVolume(p) - restVolume) - compliance * multiplier) /
-                 (denominator + compliance);
-  for (std::size_t i = 0; i < 4; ++i) c.positions[i] = c.multiplier * inverseMasses[i] * gradients[i];
+  c.multiplier =
+      (-(signedTetVolume(p) - restVolume) - compliance * multiplier) / (denominator + compliance);
+  for (std::size_t i = 0; i < 4; ++i)
+    c.positions[i] = c.multiplier * inverseMasses[i] * gradients[i];
   return c;
 }
 
@@ -66,7 +69,8 @@ std::vector<TetVolumeConstraint> solidVolumeConstraints(const Scene& scene) {
   for (const TetModelDesc& model : scene.tetModels)
     for (const auto& tet : model.mesh.tetrahedra) {
       TetVolumeConstraint c;
-      for (std::size_t i = 0; i < 4; ++i) c.particles[i] = model.firstParticle + int(tet[i]);
+      for (std::size_t i = 0; i < 4; ++i)
+        c.particles[i] = model.firstParticle + int(tet[i]);
       std::array<Vector3, 4> rest;
       const bool anyDynamic = restPositions(scene, c.particles, rest);
       if (!anyDynamic) continue;
@@ -79,8 +83,7 @@ std::vector<TetVolumeConstraint> solidVolumeConstraints(const Scene& scene) {
 }
 
 void solveTetVolumes(std::vector<TetVolumeConstraint>& constraints, ParticleStates& particles,
-                     Real substepSize, bool firstIteration, std::size_t begin,
-    std::size_t end) {
+                     Real substepSize, bool firstIteration, std::size_t begin, std::size_t end) {
   for (std::size_t k = begin, n = std::min(end, constraints.size()); k < n; ++k) {
     TetVolumeConstraint& c = constraints[k];
     std::array<Vector3, 4> p;

@@ -83,8 +83,7 @@ Real pairInverseMass(const XpbdContact& c, const BodyStates& bodies, const Conta
 void applyPositionImpulse(const XpbdContact& c, BodyStates& bodies, const ContactFrame& f,
                           const Vector3& impulse) {
   if (c.pointIsParticle)
-    bodies.particles.position[at(c.point)] +=
-        bodies.particles.inverseMass[at(c.point)] * impulse;
+    bodies.particles.position[at(c.point)] += bodies.particles.inverseMass[at(c.point)] * impulse;
   else
     applyRigidPositionImpulse(bodies.rigid, c.point, f.pointLever, impulse);
   applyRigidPositionImpulse(bodies.rigid, c.body, f.surfaceLever, -impulse);
@@ -110,8 +109,8 @@ Vector3 relativeVelocity(const XpbdContact& c, const BodyStates& bodies, const C
 /// p₁ ← p₀ − (n·(p₀ − p₁)) n: the anchor moves under the point, keeping the separation.
 void reanchor(XpbdContact& c, const BodyStates& bodies, const ContactFrame& f) {
   const Vector3 anchor = f.point - f.normal.dot(f.point - f.surface) * f.normal;
-  c.surfaceLocal = bodies.rigid.rotation[at(c.body)].conjugate() *
-                   (anchor - bodies.rigid.position[at(c.body)]);
+  c.surfaceLocal =
+      bodies.rigid.rotation[at(c.body)].conjugate() * (anchor - bodies.rigid.position[at(c.body)]);
 }
 
 }  // namespace

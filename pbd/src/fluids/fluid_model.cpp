@@ -64,8 +64,7 @@ std::vector<Vector3> containerBoundaryParticles(const AxisAlignedBox& box, Real 
   for (int i = 0; i <= n[0]; ++i)
     for (int j = 0; j <= n[1]; ++j)
       for (int k = 0; k <= n[2]; ++k) {
-        const bool surface =
-            i == 0 || i == n[0] || j == 0 || j == n[1] || k == 0 || k == n[2];
+        const bool surface = i == 0 || i == n[0] || j == 0 || j == n[1] || k == 0 || k == n[2];
         if (!surface) continue;
         // The far faces exactly at max (not min + n·step, which may differ by rounding).
         const Vector3 p(i == n[0] ? box.max.x() : box.min.x() + Real(i) * step.x(),
@@ -92,9 +91,8 @@ Fluid buildFluid(const FluidModelDesc& model) {
   const Real support = 4 * model.particleRadius;  // the seed's support radius
   fluid.kernel = CubicSplineKernel(support);
   if (model.container)
-    fluid.boundaryPositions =
-        containerBoundaryParticles(containerWalls(*model.container, model.particleRadius),
-                                   model.particleRadius);
+    fluid.boundaryPositions = containerBoundaryParticles(
+        containerWalls(*model.container, model.particleRadius), model.particleRadius);
 
   const std::size_t boundaryCount = fluid.boundaryPositions.size();
   fluid.boundaryGrid = NeighbourSearch(support, boundaryCount);
@@ -107,10 +105,9 @@ Fluid buildFluid(const FluidModelDesc& model) {
   fluid.boundaryPsi.resize(boundaryCount);
   for (std::size_t b = 0; b < boundaryCount; ++b)
     fluid.boundaryPsi[b] =
-        model.density0 * akinciBoundaryVolume(fluid.boundaryPositions[b],
-                                              fluid.boundaryPositions.data(),
-                                              boundaryLists.begin(b), boundaryLists.count(b),
-                                              fluid.kernel);
+        model.density0 *
+        akinciBoundaryVolume(fluid.boundaryPositions[b], fluid.boundaryPositions.data(),
+                             boundaryLists.begin(b), boundaryLists.count(b), fluid.kernel);
 
   const auto n = std::size_t(model.particleCount);
   fluid.fluidGrid = NeighbourSearch(support, n);
@@ -153,9 +150,8 @@ void solveFluidDensity(Fluid& fluid, ParticleStates& particles) {
     for (std::size_t i = 0; i < n; ++i) {
       const FluidNeighbourhood neighbours = neighbourhoodOf(fluid, i);
       fluid.density[i] = pbfDensity(i, samples, neighbours, fluid.kernel);
-      fluid.lambda[i] =
-          pbfLambda(i, pbfConstraint(fluid.density[i], fluid.restDensity), samples, neighbours,
-                    fluid.kernel, fluid.restDensity, kPbfEpsilon);
+      fluid.lambda[i] = pbfLambda(i, pbfConstraint(fluid.density[i], fluid.restDensity), samples,
+                                  neighbours, fluid.kernel, fluid.restDensity, kPbfEpsilon);
     }
     for (std::size_t i = 0; i < n; ++i)
       fluid.delta[i] = pbfCorrection(i, fluid.lambda.data(), samples, neighbourhoodOf(fluid, i),

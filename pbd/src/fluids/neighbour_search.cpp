@@ -26,7 +26,8 @@ std::int64_t cellCoordinate(Real x, Real radius) {
 NeighbourSearch::NeighbourSearch(Real radius, std::size_t maxPoints) : radius_(radius) {
   if (!(radius > 0)) throw std::invalid_argument("NeighbourSearch: the radius must be > 0");
   std::size_t buckets = 16;
-  while (buckets < 2 * maxPoints) buckets *= 2;
+  while (buckets < 2 * maxPoints)
+    buckets *= 2;
   bucketMask_ = static_cast<std::uint32_t>(buckets - 1);
   pointBucket_.assign(maxPoints, 0);
   bucketStart_.assign(buckets + 1, 0);
@@ -99,7 +100,8 @@ void NeighbourSearch::query(const Vector3* queries, std::size_t queryCount, bool
             if (!((sortedPoints_[s] - x).squaredNorm() < radiusSquared)) continue;
             // Insertion into the sorted list; when full, the largest index falls out.
             int position = n;
-            while (position > 0 && list[position - 1] > j) --position;
+            while (position > 0 && list[position - 1] > j)
+              --position;
             if (n == capacity) {
               ++out.dropped;
               if (position == capacity) continue;

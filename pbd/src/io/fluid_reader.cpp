@@ -114,6 +114,8 @@ void readFluidModels(const JsonValue& block, Scene& scene) {
     scene.fluidModels.push_back(readFluidModel(element, scene));
 }
 
-KeyTable<FluidModelDesc> fluidModelKeys() { return fluidKeys(); }
+KeyTable<FluidModelDesc> fluidModelKeys() {
+  return fluidKeys();
+}
 
 }  // namespace pbd::scene_io

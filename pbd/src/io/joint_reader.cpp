@@ -95,9 +95,9 @@ KeyTable<JointInput> jointKeyTable(JointType type) {
     table.push_back(
         {"targetSequence", [](const JsonValue& v, J& j) { j.sequence = readTargetSequence(v); }});
     table.push_back({"repeatSequence", [](const JsonValue& v, J& j) {
-      j.repeat = v.boolean();
-      j.repeatGiven = true;
-    }});
+                       j.repeat = v.boolean();
+                       j.repeatGiven = true;
+                     }});
   }
   return table;
 }

@@ -181,7 +181,8 @@ template <class Target>
 KeyReader<Target> numberKey(std::string key, std::optional<Real> Target::*member,
                             Bounds bounds = {}) {
   return {key, [member, bounds](const JsonValue& v, Target& t) { t.*member = v.number(bounds); },
-          false, [key, member](const Target& t, Json& j) {
+          false,
+          [key, member](const Target& t, Json& j) {
             if (t.*member) writeNumber(j, key, *(t.*member));
           }};
 }

@@ -3,10 +3,10 @@
 #include <array>
 #include <charconv>
 #include <climits>
-#include <cstdint>
-#include <optional>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>

@@ -17,7 +17,8 @@ void putLittleEndian(std::ostream& out, T value) {
   unsigned char first;
   std::memcpy(&first, &probe, 1);
   if (first != 1)  // a big-endian host
-    for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(raw[i], raw[sizeof(T) - 1 - i]);
+    for (std::size_t i = 0; i < sizeof(T) / 2; ++i)
+      std::swap(raw[i], raw[sizeof(T) - 1 - i]);
   out.write(reinterpret_cast<const char*>(raw), sizeof(T));
 }
 
@@ -39,10 +40,12 @@ void writePly(std::ostream& out, const std::vector<Vector3>& vertices,
       << "element face " << triangles.size() << "\nproperty list uchar int vertex_indices\n"
       << "end_header\n";
   for (const Vector3& v : vertices)
-    for (int a = 0; a < 3; ++a) putLittleEndian<double>(out, double(v[a]));
+    for (int a = 0; a < 3; ++a)
+      putLittleEndian<double>(out, double(v[a]));
   for (const auto& t : triangles) {
     putLittleEndian<std::uint8_t>(out, 3);
-    for (int index : t) putLittleEndian<std::int32_t>(out, std::int32_t(index));
+    for (int index : t)
+      putLittleEndian<std::int32_t>(out, std::int32_t(index));
   }
 }
 

@@ -59,7 +59,9 @@ std::size_t sizeOf(PlyType type) {
   return 0;
 }
 
-bool isInteger(PlyType type) { return type != PlyType::Float32 && type != PlyType::Float64; }
+bool isInteger(PlyType type) {
+  return type != PlyType::Float32 && type != PlyType::Float64;
+}
 
 struct PlyProperty {
   std::string name;
@@ -96,7 +98,8 @@ class PlyData {
   /// Only whitespace (ASCII) or nothing (binary) may follow the last element.
   void expectEnd() {
     if (format_ == PlyFormat::Ascii) {
-      while (position_ < bytes_.size() && std::isspace(static_cast<unsigned char>(bytes_[position_])))
+      while (position_ < bytes_.size() &&
+             std::isspace(static_cast<unsigned char>(bytes_[position_])))
         ++position_;
     }
     if (position_ != bytes_.size())
@@ -109,7 +112,8 @@ class PlyData {
     while (position_ < bytes_.size() && std::isspace(static_cast<unsigned char>(bytes_[position_])))
       ++position_;
     const std::size_t begin = position_;
-    while (position_ < bytes_.size() && !std::isspace(static_cast<unsigned char>(bytes_[position_])))
+    while (position_ < bytes_.size() &&
+           !std::isspace(static_cast<unsigned char>(bytes_[position_])))
       ++position_;
     if (begin == position_) failPly(path_, what + ": the file ends early");
     const std::string token = bytes_.substr(begin, position_ - begin);
@@ -137,12 +141,36 @@ class PlyData {
     const bool hostIsLittle = first == 1;
     if (fileIsLittle != hostIsLittle) std::reverse(raw, raw + size);
     switch (type) {
-      case PlyType::Int8: { std::int8_t v; std::memcpy(&v, raw, 1); return v; }
-      case PlyType::UInt8: { std::uint8_t v; std::memcpy(&v, raw, 1); return v; }
-      case PlyType::Int16: { std::int16_t v; std::memcpy(&v, raw, 2); return v; }
-      case PlyType::UInt16: { std::uint16_t v; std::memcpy(&v, raw, 2); return v; }
-      case PlyType::Int32: { std::int32_t v; std::memcpy(&v, raw, 4); return v; }
-      case PlyType::UInt32: { std::uint32_t v; std::memcpy(&v, raw, 4); return v; }
+      case PlyType::Int8: {
+        std::int8_t v;
+        std::memcpy(&v, raw, 1);
+        return v;
+      }
+      case PlyType::UInt8: {
+        std::uint8_t v;
+        std::memcpy(&v, raw, 1);
+        return v;
+      }
+      case PlyType::Int16: {
+        std::int16_t v;
+        std::memcpy(&v, raw, 2);
+        return v;
+      }
+      case PlyType::UInt16: {
+        std::uint16_t v;
+        std::memcpy(&v, raw, 2);
+        return v;
+      }
+      case PlyType::Int32: {
+        std::int32_t v;
+        std::memcpy(&v, raw, 4);
+        return v;
+      }
+      case PlyType::UInt32: {
+        std::uint32_t v;
+        std::memcpy(&v, raw, 4);
+        return v;
+      }
       case PlyType::Float32: {
         float v;
         std::memcpy(&v, raw, 4);
@@ -191,7 +219,8 @@ PlyHeader readHeader(const std::string& bytes, const std::string& path) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     std::istringstream words(line);
     std::vector<std::string> tokens;
-    for (std::string word; words >> word;) tokens.push_back(word);
+    for (std::string word; words >> word;)
+      tokens.push_back(word);
     if (lineNumber == 1) {
       if (tokens.size() != 1 || tokens[0] != "ply") fail("a PLY file starts with the line 'ply'");
       continue;
@@ -203,10 +232,14 @@ PlyHeader readHeader(const std::string& bytes, const std::string& path) {
     if (keyword == "format") {
       if (tokens.size() != 3 || tokens[2] != "1.0")
         fail("expected 'format ascii|binary_little_endian|binary_big_endian 1.0'");
-      if (tokens[1] == "ascii") header.format = PlyFormat::Ascii;
-      else if (tokens[1] == "binary_little_endian") header.format = PlyFormat::BinaryLittleEndian;
-      else if (tokens[1] == "binary_big_endian") header.format = PlyFormat::BinaryBigEndian;
-      else fail("unknown format '" + tokens[1] + "' (ascii, binary_little_endian, binary_big_endian)");
+      if (tokens[1] == "ascii")
+        header.format = PlyFormat::Ascii;
+      else if (tokens[1] == "binary_little_endian")
+        header.format = PlyFormat::BinaryLittleEndian;
+      else if (tokens[1] == "binary_big_endian")
+        header.format = PlyFormat::BinaryBigEndian;
+      else
+        fail("unknown format '" + tokens[1] + "' (ascii, binary_little_endian, binary_big_endian)");
       sawFormat = true;
     } else if (keyword == "element") {
       if (tokens.size() != 3) fail("expected 'element <name> <count>'");
@@ -218,7 +251,8 @@ PlyHeader readHeader(const std::string& bytes, const std::string& path) {
       PlyProperty property;
       if (tokens.size() == 5 && tokens[1] == "list") {
         const std::optional<PlyType> countType = plyType(tokens[2]), itemType = plyType(tokens[3]);
-        if (!countType || !isInteger(*countType)) fail("a list's count type must be an integer type, got '" + tokens[2] + "'");
+        if (!countType || !isInteger(*countType))
+          fail("a list's count type must be an integer type, got '" + tokens[2] + "'");
         if (!itemType) fail("unknown type '" + tokens[3] + "'");
         property = {tokens[4], *itemType, true, *countType};
       } else if (tokens.size() == 3) {
@@ -251,8 +285,8 @@ TriangleMesh parsePly(const std::string& bytes, const std::string& sourceName) {
     // claims more values than the file has bytes is an error before anything is allocated.
     const std::uint64_t perItem = std::max<std::uint64_t>(1, element.properties.size());
     if (element.count > data.remaining() / (data.binary() ? 1 : 2) / perItem + 1)
-      failPly(sourceName, "element '" + element.name + "' claims " +
-                              std::to_string(element.count) + " items; the file is too short");
+      failPly(sourceName, "element '" + element.name + "' claims " + std::to_string(element.count) +
+                              " items; the file is too short");
     const bool isVertex = element.name == "vertex";
     const bool isFace = element.name == "face";
     std::array<int, 3> axis{-1, -1, -1};
@@ -292,7 +326,8 @@ TriangleMesh parsePly(const std::string& bytes, const std::string& sourceName) {
             if (isVertex && axis[std::size_t(a)] == int(p)) position[a] = Real(value);
           continue;
         }
-        const double count = data.next(property.countType, where + ", the count of " + property.name);
+        const double count =
+            data.next(property.countType, where + ", the count of " + property.name);
         if (count < 0 || count > double(data.remaining()))
           failPly(sourceName, where + ": a list of " + std::to_string(std::int64_t(count)) +
                                   " items does not fit in the file");
@@ -325,7 +360,8 @@ TriangleMesh parsePly(const std::string& bytes, const std::string& sourceName) {
 
 TriangleMesh loadSurfaceMesh(const std::string& path, ObjPrecision objPrecision) {
   std::string extension = path.size() >= 4 ? path.substr(path.size() - 4) : std::string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (char& c : extension)
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return extension == ".ply" ? loadPly(path) : loadObj(path, objPrecision);
 }
 

@@ -2,8 +2,8 @@
 // properties every engine uses (volume integration of the scaled mesh, or the closed forms of
 // the primitives).
 #include <cctype>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -198,7 +198,8 @@ DiscregridHeader readDiscregridHeader(const std::string& path, const JsonValue& 
   std::uint32_t cells[3] = {};
   in.read(reinterpret_cast<char*>(box), sizeof(box));
   in.read(reinterpret_cast<char*>(cells), sizeof(cells));
-  if (!in) key.fail("a Discregrid .csdf grid (its header: domain and resolution), got a file too short");
+  if (!in)
+    key.fail("a Discregrid .csdf grid (its header: domain and resolution), got a file too short");
   DiscregridHeader h;
   for (int i = 0; i < 3; ++i) {
     h.min(i) = Real(box[i]);
@@ -232,12 +233,15 @@ void readSignedDistanceFieldMesh(RigidBodyDesc& body, JsonObject& object, LoadCo
     if (!mesh)
       key.fail("a geometryFile beside a .csdf grid (pbdval rebuilds the grid from the mesh)");
     c.resolutionSDF = header.resolution;
-    key.warn("rebuilt: pbdval does not read Discregrid grids; the signed distance field is "
-             "built from geometryFile at the file's resolution " +
-             std::to_string(header.resolution.x()) + " x " + std::to_string(header.resolution.y()) +
-             " x " + std::to_string(header.resolution.z()) + " over the mesh's box padded by 0.1 "
-             "(the file's domain is " + formatVector(header.min) + " to " +
-             formatVector(header.max) + "); distances agree to the interpolation error");
+    key.warn(
+        "rebuilt: pbdval does not read Discregrid grids; the signed distance field is "
+        "built from geometryFile at the file's resolution " +
+        std::to_string(header.resolution.x()) + " x " + std::to_string(header.resolution.y()) +
+        " x " + std::to_string(header.resolution.z()) +
+        " over the mesh's box padded by 0.1 "
+        "(the file's domain is " +
+        formatVector(header.min) + " to " + formatVector(header.max) +
+        "); distances agree to the interpolation error");
     c.fileName.clear();
   } else if (!c.fileName.empty()) {
     meshKey = object.find("collisionObjectFileName");

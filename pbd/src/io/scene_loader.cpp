@@ -64,8 +64,9 @@ void readGravityAlias(JsonObject& object) {
   if (!gravity) return;
   const Vector3 value = gravity->vector3();  // still a value that was given: it must be well-formed
   if (object.has("gravitation")) {
-    gravity->warn("ignored: \"gravitation\" is also given (PositionBasedDynamics ignores "
-                  "\"gravity\" always)");
+    gravity->warn(
+        "ignored: \"gravitation\" is also given (PositionBasedDynamics ignores "
+        "\"gravity\" always)");
     return;
   }
   gravity->warn("ignored " + formatVector(value) +
@@ -98,7 +99,8 @@ void checkClothPoissonRatios(JsonObject& object, const SimulationSettings& setti
 /// The set {m₁, m₂, …} of method numbers as bits.
 constexpr unsigned methodSet(std::initializer_list<int> methods) {
   unsigned bits = 0;
-  for (int m : methods) bits |= 1u << m;
+  for (int m : methods)
+    bits |= 1u << m;
   return bits;
 }
 

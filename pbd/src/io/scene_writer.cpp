@@ -129,9 +129,9 @@ std::string writeSceneJson(const Scene& scene) {
   }
   writeKeys(viewerKeys(), scene.viewer, simulation);
   if (scene.lineModels.empty())  // they would only draw the "ignored" warning when read back
-    for (const char* key : {"rod_stretchingStiffness", "rod_shearingStiffnessX",
-                            "rod_shearingStiffnessY", "rod_bendingStiffnessX",
-                            "rod_bendingStiffnessY", "rod_twistingStiffness"})
+    for (const char* key :
+         {"rod_stretchingStiffness", "rod_shearingStiffnessX", "rod_shearingStiffnessY",
+          "rod_bendingStiffnessX", "rod_bendingStiffnessY", "rod_twistingStiffness"})
       simulation.erase(key);
   root["Simulation"] = simulation;
 
@@ -229,7 +229,8 @@ std::string writeSceneJson(const Scene& scene) {
   if (!scene.stiffRodTrees.empty()) {
     const auto bodyIds = [&](const std::vector<int>& indices) {
       Json ids = Json::array();
-      for (int b : indices) ids.push_back(scene.rigidBodies[static_cast<std::size_t>(b)].id);
+      for (int b : indices)
+        ids.push_back(scene.rigidBodies[static_cast<std::size_t>(b)].id);
       return ids;
     };
     Json trees = Json::array();
@@ -242,7 +243,8 @@ std::string writeSceneJson(const Scene& scene) {
       o["rbIds"] = bodyIds(tree.bodies);
       o["staticSegments"] = bodyIds(tree.staticSegments);
       Json jointIds = Json::array();
-      for (int j : tree.joints) jointIds.push_back(scene.joints[static_cast<std::size_t>(j)].stiffRod.id);
+      for (int j : tree.joints)
+        jointIds.push_back(scene.joints[static_cast<std::size_t>(j)].stiffRod.id);
       o["jIds"] = jointIds;
       trees.push_back(o);
     }

@@ -25,11 +25,14 @@ struct CosseratInput {
 KeyTable<CosseratInput> cosseratKeys() {
   using C = CosseratInput;
   return {
-      required(KeyReader<C>{"bodyID1", [](const JsonValue& v, C& c) { c.desc.bodyId1 = v.integer(); }}),
-      required(KeyReader<C>{"bodyID2", [](const JsonValue& v, C& c) { c.desc.bodyId2 = v.integer(); }}),
-      required(KeyReader<C>{"id", [](const JsonValue& v, C& c) { c.desc.stiffRod.id = v.integer(); }}),
       required(
-          KeyReader<C>{"position", [](const JsonValue& v, C& c) { c.desc.position = v.vector3(); }}),
+          KeyReader<C>{"bodyID1", [](const JsonValue& v, C& c) { c.desc.bodyId1 = v.integer(); }}),
+      required(
+          KeyReader<C>{"bodyID2", [](const JsonValue& v, C& c) { c.desc.bodyId2 = v.integer(); }}),
+      required(
+          KeyReader<C>{"id", [](const JsonValue& v, C& c) { c.desc.stiffRod.id = v.integer(); }}),
+      required(KeyReader<C>{"position",
+                            [](const JsonValue& v, C& c) { c.desc.position = v.vector3(); }}),
       {"stiffnessModifier",
        [](const JsonValue& v, C& c) { c.desc.stiffRod.stiffnessModifier = v.vector3(positive()); }},
   };
@@ -59,11 +62,13 @@ void readTree(const JsonValue& element, Scene& scene, const std::map<int, int>& 
   tree.jsonPath = element.path();
   if (auto v = object.find("id")) tree.id = v->integer();
   if (auto v = object.find("translation"); v && !v->vector3().isZero(0))
-    v->fail("[0, 0, 0] (a TreeModel transform is not supported: place the segments and joints "
-            "in world coordinates)");
+    v->fail(
+        "[0, 0, 0] (a TreeModel transform is not supported: place the segments and joints "
+        "in world coordinates)");
   if (auto v = object.find("rotationAngle"); v && v->number() != 0)
-    v->fail("0 (a TreeModel rotation is not supported: place the segments and joints in world "
-            "coordinates)");
+    v->fail(
+        "0 (a TreeModel rotation is not supported: place the segments and joints in world "
+        "coordinates)");
   if (auto v = object.find("rotationAxis")) v->vector3();
   tree.youngsModulus = object.require("youngsModulus").number(positive());
   tree.torsionModulus = object.require("torsionModulus").number(positive());

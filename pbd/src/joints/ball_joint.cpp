@@ -21,9 +21,8 @@ void BallJoint::solvePosition(BodyStates& bodies, Real /*substepSize*/) {
 
 Vector3 BallJoint::solvePositionCompliant(BodyStates& bodies, Real complianceTilde,
                                           const Vector3& lambda) {
-  return projectPointConstraint(bodies.rigid, frames_.body0, frames_.body1,
-                                frames_.anchor0.inBody, frames_.anchor1.inBody, complianceTilde,
-                                lambda);
+  return projectPointConstraint(bodies.rigid, frames_.body0, frames_.body1, frames_.anchor0.inBody,
+                                frames_.anchor1.inBody, complianceTilde, lambda);
 }
 
 JointError BallJoint::error(const BodyStates& bodies) const {

@@ -19,7 +19,8 @@ ConstraintRows<DamperJoint::kRows> DamperJoint::positionRows(const BodyStates& b
   if (model_ == JointModel::Seed) {
     // The seed's solve_DamperJoint: the linear rows move the centres of mass only (its
     // Jacobian is (±I, 0) in the joint frame), with no rotational coupling.
-    for (std::size_t k = 0; k < 2; ++k) rows.angular[k].topRows(3).setZero();
+    for (std::size_t k = 0; k < 2; ++k)
+      rows.angular[k].topRows(3).setZero();
   }
   frames_.setRotationRows(rows, 3, bodies.rigid, 0, 3);
   return rows;

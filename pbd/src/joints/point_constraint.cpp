@@ -13,11 +13,11 @@ namespace {
 
 /// One end of the constraint at the current pose.
 struct PointEnd {
-  Matrix3 rotation;                   // R_k
-  Vector3 arm;                        // r_k = R_k a_k
-  Matrix3 armRotation;                // S_k = [r_k]× R_k
-  Vector3 inverseInertia;             // D_k (zero for a static end)
-  Real inverseMass = 0;               // w_k
+  Matrix3 rotation;        // R_k
+  Vector3 arm;             // r_k = R_k a_k
+  Matrix3 armRotation;     // S_k = [r_k]× R_k
+  Vector3 inverseInertia;  // D_k (zero for a static end)
+  Real inverseMass = 0;    // w_k
   bool dynamic = false;
 };
 
@@ -44,7 +44,8 @@ PBD_INLINE PointEnd pointEnd(const RigidBodyStates& bodies, int body, const Vect
 PBD_INLINE void addArmTerm(const PointEnd& end, Matrix3& k) {
   const Matrix3& s = end.armRotation;
   Matrix3 sd;
-  for (int c = 0; c < 3; ++c) sd.col(c) = s.col(c) * end.inverseInertia(c);
+  for (int c = 0; c < 3; ++c)
+    sd.col(c) = s.col(c) * end.inverseInertia(c);
   for (int row = 0; row < 3; ++row)
     for (int column = row; column < 3; ++column)
       k(row, column) += sd.row(row).dot(s.row(column));
@@ -82,8 +83,8 @@ PBD_INLINE Vector3 angularCorrection(const PointEnd& end, const Vector3& multipl
 }  // namespace
 
 Vector3 projectPointConstraint(RigidBodyStates& bodies, int body0, int body1,
-                               const Vector3& anchor0, const Vector3& anchor1,
-                               Real complianceTilde, const Vector3& lambda) {
+                               const Vector3& anchor0, const Vector3& anchor1, Real complianceTilde,
+                               const Vector3& lambda) {
   const PointEnd end0 = pointEnd(bodies, body0, anchor0);
   const PointEnd end1 = pointEnd(bodies, body1, anchor1);
   if (!end0.dynamic && !end1.dynamic) return Vector3::Zero();

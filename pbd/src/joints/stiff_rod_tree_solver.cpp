@@ -10,7 +10,8 @@ StiffRodTreeSolver::StiffRodTreeSolver(const BodyStates& bodies,
                                        const std::vector<JointDesc>& joints, std::string name)
     : name_(std::move(name)) {
   joints_.reserve(joints.size());
-  for (const JointDesc& desc : joints) joints_.emplace_back(bodies, desc);
+  for (const JointDesc& desc : joints)
+    joints_.emplace_back(bodies, desc);
   buildOrder(bodies);
   const std::size_t n = nodes_.size();
   diagonal_.assign(n, Matrix6::Zero());
@@ -58,8 +59,9 @@ void StiffRodTreeSolver::buildOrder(const BodyStates& bodies) {
         if (next == parent[std::size_t(node)]) continue;
         if (visited[std::size_t(next)]) {
           throw std::invalid_argument(
-              name_ + ": the stiff-rod joints form a closed loop (the direct solver needs a "
-                      "tree); use the iterative solver (solverType 0)");
+              name_ +
+              ": the stiff-rod joints form a closed loop (the direct solver needs a "
+              "tree); use the iterative solver (solverType 0)");
         }
         visited[std::size_t(next)] = true;
         parent[std::size_t(next)] = node;
@@ -91,18 +93,22 @@ void StiffRodTreeSolver::buildOrder(const BodyStates& bodies) {
 
 std::vector<int> StiffRodTreeSolver::nodeOrder() const {
   std::vector<int> order;
-  for (const Node& node : nodes_) order.push_back(node.body >= 0 ? node.body : -1 - node.joint);
+  for (const Node& node : nodes_)
+    order.push_back(node.body >= 0 ? node.body : -1 - node.joint);
   return order;
 }
 
 void StiffRodTreeSolver::beginSubstep(Real substepSize) {
-  for (StretchBendingTwistingJoint& joint : joints_) joint.beginSubstep(substepSize);
-  for (Vector6& lambda : multipliers_) lambda.setZero();
+  for (StretchBendingTwistingJoint& joint : joints_)
+    joint.beginSubstep(substepSize);
+  for (Vector6& lambda : multipliers_)
+    lambda.setZero();
 }
 
 void StiffRodTreeSolver::solvePosition(BodyStates& bodies) {
   RigidBodyStates& b = bodies.rigid;
-  for (std::size_t j = 0; j < joints_.size(); ++j) rows_[j] = joints_[j].positionRows(bodies);
+  for (std::size_t j = 0; j < joints_.size(); ++j)
+    rows_[j] = joints_[j].positionRows(bodies);
   // Assemble H's blocks and b on the nodes.
   for (std::size_t i = 0; i < nodes_.size(); ++i) {
     const Node& node = nodes_[i];
@@ -138,8 +144,8 @@ void StiffRodTreeSolver::solvePosition(BodyStates& bodies) {
     const int parent = nodes_[i].parent;
     if (parent < 0) continue;
     const auto p = static_cast<std::size_t>(parent);
-    const Matrix6 coupling = toParent_[i];                 // H_{i,p}
-    toParent_[i] = factors_[i].solve(coupling);            // L_i = D_i⁻¹ H_{i,p}
+    const Matrix6 coupling = toParent_[i];                          // H_{i,p}
+    toParent_[i] = factors_[i].solve(coupling);                     // L_i = D_i⁻¹ H_{i,p}
     diagonal_[p].noalias() -= coupling.transpose() * toParent_[i];  // L_iᵀ D_i L_i
     rhs_[p].noalias() -= toParent_[i].transpose() * rhs_[i];
   }

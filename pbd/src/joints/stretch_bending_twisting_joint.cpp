@@ -18,7 +18,8 @@ Vector6 rowCompliance(const Vector3& stiffness, Real segmentLength, Real substep
   const Real inverseH2 = Real(1) / (substepSize * substepSize);
   Vector6 alpha;
   alpha.head<3>().setConstant(kStretchRegularisation * inverseH2);
-  for (int i = 0; i < 3; ++i) alpha(3 + i) = inverseH2 / (stiffness(i) * segmentLength);
+  for (int i = 0; i < 3; ++i)
+    alpha(3 + i) = inverseH2 / (stiffness(i) * segmentLength);
   return alpha;
 }
 
@@ -80,9 +81,9 @@ ConstraintRows<6> StretchBendingTwistingJoint::positionRows(const BodyStates& bo
   return rows;
 }
 
-stiff_rod::Vector6 StretchBendingTwistingJoint::project(BodyStates& bodies,
-                                                        const stiff_rod::Vector6& complianceTilde,
-                                                        const stiff_rod::Vector6& multiplier) const {
+stiff_rod::Vector6 StretchBendingTwistingJoint::project(
+    BodyStates& bodies, const stiff_rod::Vector6& complianceTilde,
+    const stiff_rod::Vector6& multiplier) const {
   return joint_parts::projectPositions(bodies.rigid, body0_, body1_, positionRows(bodies),
                                        complianceTilde, multiplier);
 }

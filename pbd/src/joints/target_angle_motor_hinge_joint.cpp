@@ -9,7 +9,8 @@ TargetAngleMotorHingeJoint::TargetAngleMotorHingeJoint(const BodyStates& bodies,
                                                        const JointDesc& desc)
     : frames_(
           PointAxisFrames::init(bodies.rigid, desc.body1, desc.body2, desc.position, desc.axis)),
-      target_(desc.target), model_(desc.model) {
+      target_(desc.target),
+      model_(desc.model) {
   updateTarget(0);
 }
 

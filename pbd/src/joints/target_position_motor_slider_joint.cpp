@@ -5,7 +5,8 @@ namespace pbd {
 TargetPositionMotorSliderJoint::TargetPositionMotorSliderJoint(const BodyStates& bodies,
                                                                const JointDesc& desc)
     : frames_(PointAxisFrames::initAtSecondBody(bodies.rigid, desc.body1, desc.body2, desc.axis)),
-      target_(desc.target), model_(desc.model) {
+      target_(desc.target),
+      model_(desc.model) {
   updateTarget(0);
 }
 

@@ -11,7 +11,8 @@ Eigen::Matrix<Real, T::kRows, 1> rowCompliance(const T& /*joint*/,
   Eigen::Matrix<Real, T::kRows, 1> compliance;
   for (int r = 0; r < T::kRows; ++r) {
     const bool rotational = rows.linear[0].row(r).isZero(0) && rows.linear[1].row(r).isZero(0);
-    compliance(r) = rotational ? settings.jointAngularCompliance / 4 : settings.jointLinearCompliance;
+    compliance(r) =
+        rotational ? settings.jointAngularCompliance / 4 : settings.jointLinearCompliance;
   }
   return compliance;
 }

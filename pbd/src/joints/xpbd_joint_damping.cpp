@@ -11,7 +11,8 @@ void dampJoint(RigidBodyStates& b, const JointDampingAnchor& anchor, Real linear
   const auto i1 = static_cast<std::size_t>(anchor.body1);
   const Matrix3 j0 = b.inverseInertiaWorld(i0), j1 = b.inverseInertiaWorld(i1);
   if (angularDamping > 0) {
-    const Vector3 delta = (b.angularVelocity[i1] - b.angularVelocity[i0]) * std::min(angularDamping * h, Real(1));
+    const Vector3 delta =
+        (b.angularVelocity[i1] - b.angularVelocity[i0]) * std::min(angularDamping * h, Real(1));
     const Real size = delta.norm();
     if (size > 0) {
       const Vector3 n = delta / size;

@@ -134,8 +134,10 @@ std::vector<Real> lumpedMasses(const TriangleMesh& mesh, Real arealDensity) {
   for (const auto& t : mesh.triangles) {
     const Vector3& a = mesh.vertices[std::size_t(t[0])];
     const Real area =
-        (mesh.vertices[std::size_t(t[1])] - a).cross(mesh.vertices[std::size_t(t[2])] - a).norm() / 2;
-    for (int v : t) masses[std::size_t(v)] += arealDensity * area / 3;
+        (mesh.vertices[std::size_t(t[1])] - a).cross(mesh.vertices[std::size_t(t[2])] - a).norm() /
+        2;
+    for (int v : t)
+      masses[std::size_t(v)] += arealDensity * area / 3;
   }
   return masses;
 }
@@ -146,11 +148,12 @@ std::vector<Real> lumpedMasses(const TetMesh& mesh, Real density) {
     const Vector3& a = mesh.vertices[std::size_t(t[0])];
     const Real volume = std::abs((mesh.vertices[std::size_t(t[1])] - a)
                                      .cross(mesh.vertices[std::size_t(t[2])] - a)
-                                     .dot(mesh.vertices[std::size_t(t[3])] - a)) / 6;
-    for (int v : t) masses[std::size_t(v)] += density * volume / 4;
+                                     .dot(mesh.vertices[std::size_t(t[3])] - a)) /
+                        6;
+    for (int v : t)
+      masses[std::size_t(v)] += density * volume / 4;
   }
   return masses;
 }
 
 }  // namespace pbd
-

@@ -51,7 +51,8 @@ std::vector<EdgeStencil> interiorEdgeStencils(const TriangleMesh& mesh) {
   for (const auto& edge : order) {
     const std::vector<int>& opposite =
         opposites[{std::min(edge.first, edge.second), std::max(edge.first, edge.second)}];
-    if (opposite.size() == 2) stencils.push_back({{edge.first, edge.second}, {opposite[0], opposite[1]}});
+    if (opposite.size() == 2)
+      stencils.push_back({{edge.first, edge.second}, {opposite[0], opposite[1]}});
   }
   return stencils;
 }
@@ -130,8 +131,8 @@ TetMesh tetLattice(int nx, int ny, int nz, const Vector3& step, const Vector3& o
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i)
-        mesh.vertices.push_back(origin + Vector3(Real(i) * step.x(), Real(j) * step.y(),
-                                                 Real(k) * step.z()));
+        mesh.vertices.push_back(
+            origin + Vector3(Real(i) * step.x(), Real(j) * step.y(), Real(k) * step.z()));
   constexpr std::array<std::array<int, 3>, 6> kAxisOrders = {
       {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}}};
   for (int k = 0; k + 1 < nz; ++k)
@@ -146,7 +147,8 @@ TetMesh tetLattice(int nx, int ny, int nz, const Vector3& step, const Vector3& o
             tet[axis + 1] = index(i + corner[0], j + corner[1], k + corner[2]);
           }
           const auto at = [&](std::size_t v) { return mesh.vertices[std::size_t(tet[v])]; };
-          if ((at(1) - at(0)).cross(at(2) - at(0)).dot(at(3) - at(0)) < 0) std::swap(tet[2], tet[3]);
+          if ((at(1) - at(0)).cross(at(2) - at(0)).dot(at(3) - at(0)) < 0)
+            std::swap(tet[2], tet[3]);
           mesh.tetrahedra.push_back(tet);
         }
   return mesh;
@@ -169,4 +171,3 @@ TriangleMesh triangleGrid(int nx, int nz, Real spacing, const Vector3& origin) {
 }
 
 }  // namespace pbd
-

@@ -93,9 +93,11 @@ Real MotorTarget::seedValueAt(Real time) const {
   Real t = time;
   const Real duration = times.back() - times.front();
   if ((repeatGiven ? repeat : true) && duration > 0)
-    while (t > duration) t -= duration;
+    while (t > duration)
+      t -= duration;
   std::size_t index = 0;
-  while (index < times.size() && times[index] <= t) ++index;
+  while (index < times.size() && times[index] <= t)
+    ++index;
   if (index == times.size()) return values.back();
   if (index == 0) return values.front();  // before the first sample (the seed reads out of range)
   const Real alpha = (t - times[index - 1]) / (times[index] - times[index - 1]);

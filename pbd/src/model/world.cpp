@@ -49,7 +49,8 @@ void addParticles(const Scene& scene, ParticleStates& p) {
 
 void addRodSegments(const Scene& scene, SegmentStates& segments) {
   std::size_t count = 0;
-  for (const LineModelDesc& model : scene.lineModels) count += model.segmentCount();
+  for (const LineModelDesc& model : scene.lineModels)
+    count += model.segmentCount();
   segments.resize(count);
   for (const LineModelDesc& model : scene.lineModels)
     for (std::size_t k = 0; k < model.segmentCount(); ++k) {
@@ -150,7 +151,8 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
   // motors, damper, spring, distance (the scene's own order within a block). The order decides
   // the colour groups and so the Gauss–Seidel order.
   std::vector<std::size_t> listOrder(scene.joints.size());
-  for (std::size_t k = 0; k < listOrder.size(); ++k) listOrder[k] = k;
+  for (std::size_t k = 0; k < listOrder.size(); ++k)
+    listOrder[k] = k;
   if (scene.simulation.stepMethod == StepMethod::Seed) {
     const auto seedRank = [](JointType type) {
       switch (type) {
@@ -188,7 +190,8 @@ World buildWorld(const Scene& scene, const CollisionShapeOptions& options) {
   for (const StiffRodTreeDesc& tree : scene.stiffRodTrees) {
     if (tree.solver != StiffRodSolver::Direct) continue;
     std::vector<JointDesc> treeJoints;
-    for (int j : tree.joints) treeJoints.push_back(scene.joints[static_cast<std::size_t>(j)]);
+    for (int j : tree.joints)
+      treeJoints.push_back(scene.joints[static_cast<std::size_t>(j)]);
     world.stiffRodTrees.emplace_back(world.bodies, treeJoints, tree.jsonPath);
   }
   world.constraints = ConstraintFamilies::fromScene(scene);

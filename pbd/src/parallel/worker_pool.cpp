@@ -20,7 +20,8 @@ WorkerPool::~WorkerPool() {
     stop_ = true;
   }
   wake_.notify_all();
-  for (std::thread& helper : helpers_) helper.join();
+  for (std::thread& helper : helpers_)
+    helper.join();
 }
 
 void WorkerPool::run(Task task, void* context) {

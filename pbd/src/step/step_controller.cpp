@@ -22,11 +22,13 @@ void detectTetContacts(World& world) {
 void projectPositions(World& world, Real h) {
   for (Joint& joint : world.joints)
     std::visit([&](auto& j) { j.beginSubstep(h); }, joint);
-  for (StiffRodTreeSolver& tree : world.stiffRodTrees) tree.beginSubstep(h);
+  for (StiffRodTreeSolver& tree : world.stiffRodTrees)
+    tree.beginSubstep(h);
   for (int iteration = 0; iteration < world.settings.maxIterations; ++iteration) {
     for (Joint& joint : world.joints)
       std::visit([&](auto& j) { j.solvePosition(world.bodies, h); }, joint);
-    for (StiffRodTreeSolver& tree : world.stiffRodTrees) tree.solvePosition(world.bodies);
+    for (StiffRodTreeSolver& tree : world.stiffRodTrees)
+      tree.solvePosition(world.bodies);
     world.constraints.solvePositions(world.bodies, h, iteration == 0);
     // Then, serially, the particle–tet contacts (the seed's place for them).
     world.tetContacts.solvePositions(world.bodies.particles, tetSchedule(world), 0);

@@ -41,8 +41,8 @@ void predictPositions(World& world, Real h) {
     r.oldRotation[i] = r.rotation[i];
     const Real wq = r.inverseMass[i];
     const Vector3 inertia = Vector3::Constant(wq > 0 ? Real(1) / (4 * wq) : Real(0));
-    integration::semiImplicitEulerRotation(h, wq, inertia, Vector3::Constant(4 * wq),
-                                           r.rotation[i], r.angularVelocity[i], r.torque[i]);
+    integration::semiImplicitEulerRotation(h, wq, inertia, Vector3::Constant(4 * wq), r.rotation[i],
+                                           r.angularVelocity[i], r.torque[i]);
   }
 }
 

@@ -47,9 +47,9 @@
 #include "pbd/collision/collision_shape.h"
 #include "pbd/collision/point_bvh.h"
 #include "pbd/collision/tet_contact_detection.h"
-#include "pbd/parallel/worker_pool.h"
 #include "pbd/model/body_states.h"
 #include "pbd/model/scene.h"
+#include "pbd/parallel/worker_pool.h"
 
 namespace pbd {
 
@@ -114,7 +114,7 @@ class CollisionDetector {
   struct RigidObject {
     CollisionShape shape;
     std::shared_ptr<const SampledSurface> surface;  ///< never null
-    std::vector<int> seedRank;  ///< the seed's report rank per sample (meshes only)
+    std::vector<int> seedRank;               ///< the seed's report rank per sample (meshes only)
     Eigen::AlignedBox<Real, 3> localBounds;  ///< samples ∪ shape bounds, scene frame
     bool testMesh = true;
     bool dynamic = false;
@@ -160,8 +160,7 @@ class CollisionDetector {
   };
   void collectDirection(const ObjectPair& direction, const ParticleStates& particles,
                         Real tolerance, std::vector<ContactPointGeometry>& rigidOut,
-                        std::vector<ContactPointGeometry>& particleOut,
-                        std::size_t& dropped) const;
+                        std::vector<ContactPointGeometry>& particleOut, std::size_t& dropped) const;
   void orderDirection(const ObjectPair& direction,
                       std::vector<ContactPointGeometry>::iterator begin,
                       std::vector<ContactPointGeometry>::iterator end, ContactOrder order) const;

@@ -23,8 +23,8 @@
 
 #include <vector>
 
-#include "pbd/model/mesh.h"
 #include "pbd/math/types.h"
+#include "pbd/model/mesh.h"
 
 namespace pbd {
 

@@ -15,8 +15,8 @@
 // Pure functions; nothing allocates.
 #pragma once
 
-#include <cstdint>
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "pbd/constraints/isometric_bending.h"
@@ -29,8 +29,8 @@ struct Scene;
 
 struct DihedralBendingConstraint {
   std::array<int, 4> particles{-1, -1, -1, -1};  ///< x₀, x₁ (the edge), x₂, x₃ (opposite)
-  Real restAngle = 0;                             ///< θ₀, signed
-  Real stiffness = 1;                             ///< k ∈ [0, 1]
+  Real restAngle = 0;                            ///< θ₀, signed
+  Real stiffness = 1;                            ///< k ∈ [0, 1]
 };
 
 /// θ of the stencil; NaN when a triangle or the edge is degenerate.
@@ -51,7 +51,7 @@ std::vector<DihedralBendingConstraint> clothDihedralConstraints(const Scene& sce
 
 /// One Gauss–Seidel sweep.
 void solveDihedralBending(const std::vector<DihedralBendingConstraint>& constraints,
-                          ParticleStates& particles,
-                  std::size_t begin = 0, std::size_t end = SIZE_MAX);
+                          ParticleStates& particles, std::size_t begin = 0,
+                          std::size_t end = SIZE_MAX);
 
 }  // namespace pbd

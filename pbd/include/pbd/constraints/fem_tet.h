@@ -1,8 +1,8 @@
 // Linear FEM tetrahedra with the St. Venant–Kirchhoff material, the energy used as the
 // constraint: the solids of solidSimulationMethod 2 (PBD, the seed's default) and 3 (XPBD)
 // (Bender, Koschier, Charrier, Weber 2014, "Position-based simulation of continuous materials";
-// docs/seed.md#fem-tets and #stiffness). For a tet (x₀, x₁, x₂, x₃) with D = [x₀ − x₃, x₁ − x₃, x₂ − x₃]
-// (the seed's edges, from x₃) and D_m the same at t = 0, V₀ = |det D_m| / 6 (every quantity
+// docs/seed.md#fem-tets and #stiffness). For a tet (x₀, x₁, x₂, x₃) with D = [x₀ − x₃, x₁ − x₃, x₂
+// − x₃] (the seed's edges, from x₃) and D_m the same at t = 0, V₀ = |det D_m| / 6 (every quantity
 // is evaluated in the seed's operation order, so that the `pbd` method follows the original's
 // round-off too):
 //   F = D D_m⁻¹,  ε = ½ (FᵀF − I)  (Green strain),
@@ -40,8 +40,8 @@
 // Pure functions (positions in, corrections out); nothing allocates (fixed-size SVD).
 #pragma once
 
-#include <cstdint>
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "pbd/math/types.h"
@@ -117,7 +117,7 @@ std::vector<FemTetConstraint> solidFemConstraints(const Scene& scene);
 /// One Gauss–Seidel sweep over `constraints` in order; the XPBD ones reset λ first when
 /// `firstIteration` (the start of a substep of size `substepSize`).
 void solveFemTets(std::vector<FemTetConstraint>& constraints, ParticleStates& particles,
-                  Real substepSize, bool firstIteration,
-                  std::size_t begin = 0, std::size_t end = SIZE_MAX);
+                  Real substepSize, bool firstIteration, std::size_t begin = 0,
+                  std::size_t end = SIZE_MAX);
 
 }  // namespace pbd

@@ -12,9 +12,9 @@
 //   normal stiffness (plane stress, the inverse of the compliance ε_xx = σ_xx/E_x − ν_yx σ_yy/E_y,
 //   ε_yy = −ν_xy σ_xx/E_x + σ_yy/E_y):  c_xx = E_x/(1 − ν_xy ν_yx), c_yy = E_y/(1 − ν_xy ν_yx),
 //   c_xy = ½ (E_x ν_yx + E_y ν_xy)/(1 − ν_xy ν_yx),
-//   S = [[c_xx E_xx + c_xy E_yy, G E_xy], [G E_xy, c_xy E_xx + c_yy E_yy]]  (second Piola–Kirchhoff),
-//   ψ = ½ E : S = ½ (c_xx E_xx² + 2 c_xy E_xx E_yy + c_yy E_yy²) + G E_xy²,
-//   C = A ψ ≥ 0,   [∇_{x₀}C, ∇_{x₁}C] = A F S Bᵀ,   ∇_{x₂}C = −∇_{x₀}C − ∇_{x₁}C
+//   S = [[c_xx E_xx + c_xy E_yy, G E_xy], [G E_xy, c_xy E_xx + c_yy E_yy]]  (second
+//   Piola–Kirchhoff), ψ = ½ E : S = ½ (c_xx E_xx² + 2 c_xy E_xx E_yy + c_yy E_yy²) + G E_xy², C = A
+//   ψ ≥ 0,   [∇_{x₀}C, ∇_{x₁}C] = A F S Bᵀ,   ∇_{x₂}C = −∇_{x₀}C − ∇_{x₁}C
 // (the gradients sum to zero, so w-weighted corrections conserve linear momentum; C is invariant
 // under rigid motions in 3D, out of the plane too, since it depends on FᵀF only).
 // The shear term G E_xy² is the seed's (its stress is G E_xy with the tensor shear strain E_xy):
@@ -28,12 +28,12 @@
 // femTriangleRest's minimumDeterminant, both femCutoffFor(settings) (10⁻⁶ for the `pbd`
 // method; 0 for `pbd.xpbd`: then only Σ w_i |∇_iC|² = 0 is skipped). The absolute threshold
 // makes a dead zone that depends on the moduli and the mesh size: a 1 m triangle of the
-// default moduli is left alone below a strain of about 2·10⁻³ (tests/pbd/test_seed_fidelity.cpp). Scaling E_x, E_y and G
-// together scales C and ∇C alike, so the correction does not depend on the moduli's absolute
-// scale (research §5.3 #7, tested): only their ratios and the Poisson ratios matter; stiffness
-// comes from the iteration and substep counts. Near rest C ∝ δ² (δ the strain), so a step to the
-// linearised C = 0 roughly halves δ and leaves at least ¼ of C (0.26–0.33 measured): cloth
-// converges geometrically, and iterations matter (tested).
+// default moduli is left alone below a strain of about 2·10⁻³ (tests/pbd/test_seed_fidelity.cpp).
+// Scaling E_x, E_y and G together scales C and ∇C alike, so the correction does not depend on the
+// moduli's absolute scale (research §5.3 #7, tested): only their ratios and the Poisson ratios
+// matter; stiffness comes from the iteration and substep counts. Near rest C ∝ δ² (δ the strain),
+// so a step to the linearised C = 0 roughly halves δ and leaves at least ¼ of C (0.26–0.33
+// measured): cloth converges geometrically, and iterations matter (tested).
 //
 // Deliberate differences from the seed:
 //  - c_xy is the mean of the seed's two off-diagonal entries E_x ν_yx and E_y ν_xy (over
@@ -45,8 +45,8 @@
 // Pure functions (positions in, corrections out); nothing allocates.
 #pragma once
 
-#include <cstdint>
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "pbd/math/types.h"
@@ -70,7 +70,7 @@ OrthotropicStiffness orthotropicStiffness(Real youngsX, Real youngsY, Real shear
 
 struct FemTriangleConstraint {
   std::array<int, 3> particles{-1, -1, -1};
-  Real area = 0;                                                    ///< A, at t = 0
+  Real area = 0;                                                              ///< A, at t = 0
   Eigen::Matrix<Real, 2, 2> restInverse = Eigen::Matrix<Real, 2, 2>::Zero();  ///< B = D_m⁻¹
   OrthotropicStiffness stiffness;
   /// No correction when Σ w_i |∇_iC|² ≤ cutoff (femCutoffFor: the seed's 10⁻⁶ in `pbd`).
@@ -107,7 +107,7 @@ std::vector<FemTriangleConstraint> femTriangleConstraints(const Scene& scene);
 
 /// One Gauss–Seidel sweep over `constraints` in order.
 void solveFemTriangles(const std::vector<FemTriangleConstraint>& constraints,
-                       ParticleStates& particles,
-                  std::size_t begin = 0, std::size_t end = SIZE_MAX);
+                       ParticleStates& particles, std::size_t begin = 0,
+                       std::size_t end = SIZE_MAX);
 
 }  // namespace pbd

@@ -96,8 +96,9 @@ class GenericRigidConstraint {
   /// differences); `stiffness` in [0, 1]; `compliance` α ≥ 0 (m/N for a C in metres; 0: hard).
   /// Throws std::invalid_argument otherwise.
   GenericRigidConstraint(const std::vector<int>& bodies, int components,
-                         GenericRigidValueFunction value, GenericRigidGradientFunction gradient = {},
-                         Real stiffness = 1, Real compliance = 0);
+                         GenericRigidValueFunction value,
+                         GenericRigidGradientFunction gradient = {}, Real stiffness = 1,
+                         Real compliance = 0);
 
   int bodyCount() const { return bodyCount_; }
   int componentCount() const { return componentCount_; }
@@ -132,8 +133,8 @@ using GenericRigidInverseMasses = std::array<EndInverseMass, kGenericRigidMaxBod
 
 /// The corrections of one projection (entries 0..N−1), and whether K was regular.
 struct GenericRigidCorrection {
-  std::array<Vector3, kGenericRigidMaxBodies> linear;   ///< Δxᵢ
-  std::array<Vector3, kGenericRigidMaxBodies> angular;  ///< Δθᵢ (world rotation vector)
+  std::array<Vector3, kGenericRigidMaxBodies> linear;        ///< Δxᵢ
+  std::array<Vector3, kGenericRigidMaxBodies> angular;       ///< Δθᵢ (world rotation vector)
   GenericRigidValue multiplier = GenericRigidValue::Zero();  ///< k Δλ, what λ gains
   bool applied = false;  ///< false: K singular (or C not finite), no correction
 

@@ -17,8 +17,8 @@
 // Pure functions; nothing allocates.
 #pragma once
 
-#include <cstdint>
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "pbd/math/types.h"
@@ -30,8 +30,8 @@ struct Scene;
 
 struct IsometricBendingConstraint {
   std::array<int, 4> particles{-1, -1, -1, -1};  ///< x₀, x₁ (the edge), x₂, x₃ (opposite)
-  std::array<Real, 4> weights{0, 0, 0, 0};        ///< K
-  Real scale = 0;                                 ///< 3/(A₀ + A₁)
+  std::array<Real, 4> weights{0, 0, 0, 0};       ///< K
+  Real scale = 0;                                ///< 3/(A₀ + A₁)
   bool xpbd = false;
   Real stiffness = 1;
   Real multiplier = 0;
@@ -76,6 +76,6 @@ std::vector<IsometricBendingConstraint> clothBendingConstraints(const Scene& sce
 /// One Gauss–Seidel sweep; XPBD ones reset λ when `firstIteration`.
 void solveIsometricBending(std::vector<IsometricBendingConstraint>& constraints,
                            ParticleStates& particles, Real substepSize, bool firstIteration,
-                  std::size_t begin = 0, std::size_t end = SIZE_MAX);
+                           std::size_t begin = 0, std::size_t end = SIZE_MAX);
 
 }  // namespace pbd

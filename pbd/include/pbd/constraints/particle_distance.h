@@ -67,9 +67,8 @@ std::vector<ParticleDistanceConstraint> deformableDistanceConstraints(const Scen
 /// One Gauss–Seidel sweep over `constraints` in order; the XPBD ones reset λ first when
 /// `firstIteration` (the start of a substep of size `substepSize`).
 void solveParticleDistances(std::vector<ParticleDistanceConstraint>& constraints,
-                            ParticleStates& particles, Real substepSize,
-                            bool firstIteration,
-                  std::size_t begin = 0, std::size_t end = SIZE_MAX);
+                            ParticleStates& particles, Real substepSize, bool firstIteration,
+                            std::size_t begin = 0, std::size_t end = SIZE_MAX);
 
 /// The tension (N, positive when stretched) of an XPBD distance constraint whose substep
 /// multiplier is λ: −λ/h_s².

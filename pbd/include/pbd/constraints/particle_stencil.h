@@ -41,7 +41,8 @@ void gatherParticles(const ParticleStates& particles, const std::array<int, N>& 
 template <std::size_t N>
 void applyCorrections(ParticleStates& particles, const std::array<int, N>& indices,
                       const std::array<Vector3, N>& corrections) {
-  for (std::size_t i = 0; i < N; ++i) particles.position[std::size_t(indices[i])] += corrections[i];
+  for (std::size_t i = 0; i < N; ++i)
+    particles.position[std::size_t(indices[i])] += corrections[i];
 }
 
 }  // namespace pbd

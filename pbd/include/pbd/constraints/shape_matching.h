@@ -23,8 +23,8 @@
 // Pure functions (positions in, corrections out); nothing allocates (a fixed-size 3 × 3 SVD).
 #pragma once
 
-#include <cstdint>
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "pbd/math/types.h"
@@ -67,7 +67,7 @@ std::vector<ShapeMatchingConstraint> shapeMatchingConstraints(const Scene& scene
 
 /// One Gauss–Seidel sweep over `constraints` in order.
 void solveShapeMatching(const std::vector<ShapeMatchingConstraint>& constraints,
-                        ParticleStates& particles,
-                  std::size_t begin = 0, std::size_t end = SIZE_MAX);
+                        ParticleStates& particles, std::size_t begin = 0,
+                        std::size_t end = SIZE_MAX);
 
 }  // namespace pbd

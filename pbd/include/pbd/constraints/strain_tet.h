@@ -27,8 +27,8 @@
 // Pure functions (positions in, corrections out); nothing allocates.
 #pragma once
 
-#include <cstdint>
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "pbd/math/types.h"
@@ -79,8 +79,7 @@ std::array<Vector3, 4> strainTetPbd(const std::array<Vector3, 4>& x,
 std::vector<StrainTetConstraint> strainTetConstraints(const Scene& scene);
 
 /// One Gauss–Seidel sweep over `constraints` in order.
-void solveStrainTets(const std::vector<StrainTetConstraint>& constraints,
-                     ParticleStates& particles,
-                  std::size_t begin = 0, std::size_t end = SIZE_MAX);
+void solveStrainTets(const std::vector<StrainTetConstraint>& constraints, ParticleStates& particles,
+                     std::size_t begin = 0, std::size_t end = SIZE_MAX);
 
 }  // namespace pbd

@@ -31,8 +31,8 @@
 // Pure functions (positions in, corrections out); nothing allocates.
 #pragma once
 
-#include <cstdint>
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "pbd/math/types.h"
@@ -56,8 +56,7 @@ struct StrainTriangleConstraint {
 };
 
 /// B of the rest triangle in the frame above. False for a degenerate triangle (zero area).
-bool strainTriangleRest(const std::array<Vector3, 3>& rest,
-                        Eigen::Matrix<Real, 2, 2>& restInverse);
+bool strainTriangleRest(const std::array<Vector3, 3>& rest, Eigen::Matrix<Real, 2, 2>& restInverse);
 
 /// C of one component (with the constraint's normalize flags).
 Real strainTriangleValue(const std::array<Vector3, 3>& x, const StrainTriangleConstraint& c,
@@ -82,7 +81,7 @@ std::vector<StrainTriangleConstraint> strainTriangleConstraints(const Scene& sce
 
 /// One Gauss–Seidel sweep over `constraints` in order.
 void solveStrainTriangles(const std::vector<StrainTriangleConstraint>& constraints,
-                          ParticleStates& particles,
-                  std::size_t begin = 0, std::size_t end = SIZE_MAX);
+                          ParticleStates& particles, std::size_t begin = 0,
+                          std::size_t end = SIZE_MAX);
 
 }  // namespace pbd

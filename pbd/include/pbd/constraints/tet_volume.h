@@ -16,8 +16,8 @@
 // Pure functions (positions in, corrections out); nothing allocates.
 #pragma once
 
-#include <cstdint>
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "pbd/math/types.h"
@@ -66,7 +66,7 @@ std::vector<TetVolumeConstraint> solidVolumeConstraints(const Scene& scene);
 /// One Gauss–Seidel sweep over `constraints` in order; the XPBD ones reset λ first when
 /// `firstIteration` (the start of a substep of size `substepSize`).
 void solveTetVolumes(std::vector<TetVolumeConstraint>& constraints, ParticleStates& particles,
-                     Real substepSize, bool firstIteration,
-                  std::size_t begin = 0, std::size_t end = SIZE_MAX);
+                     Real substepSize, bool firstIteration, std::size_t begin = 0,
+                     std::size_t end = SIZE_MAX);
 
 }  // namespace pbd

@@ -47,16 +47,16 @@
 namespace pbd {
 
 struct XpbdContact {
-  int point = -1;             ///< body 0: rigid body index, or global particle index
+  int point = -1;  ///< body 0: rigid body index, or global particle index
   bool pointIsParticle = false;
-  int body = -1;              ///< body 1 (the SDF side), rigid body index
+  int body = -1;                           ///< body 1 (the SDF side), rigid body index
   Vector3 pointLocal = Vector3::Zero();    ///< r₀ in body 0's principal frame (particle: unused)
   Vector3 surfaceLocal = Vector3::Zero();  ///< the anchor r₁ in body 1's principal frame
   Vector3 normalLocal = Vector3::UnitY();  ///< n in body 1's principal frame
   Real friction = 0, restitution = 0;
-  Real normalMultiplier = 0;    ///< λ_n of the current substep
-  Real tangentMultiplier = 0;   ///< |λ_t| of the static friction, current substep
-  Real approachVelocity = 0;    ///< ṽ_n of the current substep
+  Real normalMultiplier = 0;   ///< λ_n of the current substep
+  Real tangentMultiplier = 0;  ///< |λ_t| of the static friction, current substep
+  Real approachVelocity = 0;   ///< ṽ_n of the current substep
 
   /// Sets the contact up from its geometry at the current poses.
   void init(const ContactPointGeometry& geometry, bool particle, const BodyStates& bodies,

@@ -30,10 +30,10 @@ namespace pbd {
 
 /// Neighbour lists of a set of query points with a fixed capacity per query.
 struct NeighbourLists {
-  std::size_t capacity = 0;      ///< entries per query
-  std::vector<int> indices;      ///< query q's neighbours at [q · capacity, q · capacity + count[q])
-  std::vector<int> counts;       ///< per query
-  std::size_t dropped = 0;       ///< neighbours left out by the capacity in the last query()
+  std::size_t capacity = 0;  ///< entries per query
+  std::vector<int> indices;  ///< query q's neighbours at [q · capacity, q · capacity + count[q])
+  std::vector<int> counts;   ///< per query
+  std::size_t dropped = 0;   ///< neighbours left out by the capacity in the last query()
 
   NeighbourLists() = default;
   NeighbourLists(std::size_t queryCapacity, std::size_t neighbourCapacity)

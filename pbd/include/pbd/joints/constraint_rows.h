@@ -61,7 +61,8 @@ Eigen::Matrix<Real, Rows, Rows> effectiveMassMatrix(
                    n.row(i).dot(rows.angular[e].row(j));
   }
   for (int i = 0; i < Rows; ++i)
-    for (int j = 0; j < i; ++j) k(i, j) = k(j, i);
+    for (int j = 0; j < i; ++j)
+      k(i, j) = k(j, i);
   return k;
 }
 
@@ -76,21 +77,26 @@ bool solveSymmetricUnpivoted(Eigen::Matrix<Real, Rows, Rows> k,
   const Real floor = Real(1e-12) * k.diagonal().maxCoeff();
   for (int j = 0; j < Rows; ++j) {  // in place: D on the diagonal, L below it
     Real d = k(j, j);
-    for (int m = 0; m < j; ++m) d -= k(j, m) * k(j, m) * k(m, m);
+    for (int m = 0; m < j; ++m)
+      d -= k(j, m) * k(j, m) * k(m, m);
     if (!(d > floor)) return false;
     k(j, j) = d;
     for (int i = j + 1; i < Rows; ++i) {
       Real v = k(i, j);
-      for (int m = 0; m < j; ++m) v -= k(i, m) * k(j, m) * k(m, m);
+      for (int m = 0; m < j; ++m)
+        v -= k(i, m) * k(j, m) * k(m, m);
       k(i, j) = v / d;
     }
   }
   x = b;
   for (int i = 0; i < Rows; ++i)
-    for (int m = 0; m < i; ++m) x(i) -= k(i, m) * x(m);
-  for (int i = 0; i < Rows; ++i) x(i) /= k(i, i);
+    for (int m = 0; m < i; ++m)
+      x(i) -= k(i, m) * x(m);
+  for (int i = 0; i < Rows; ++i)
+    x(i) /= k(i, i);
   for (int i = Rows - 1; i >= 0; --i)
-    for (int m = i + 1; m < Rows; ++m) x(i) -= k(m, i) * x(m);
+    for (int m = i + 1; m < Rows; ++m)
+      x(i) -= k(m, i) * x(m);
   return true;
 }
 

@@ -67,13 +67,13 @@ class StiffRodTreeSolver {
 
   std::string name_;
   std::vector<StretchBendingTwistingJoint> joints_;
-  std::vector<Node> nodes_;               ///< elimination order: children before parents
-  std::vector<Matrix6> diagonal_;         ///< D_i
+  std::vector<Node> nodes_;        ///< elimination order: children before parents
+  std::vector<Matrix6> diagonal_;  ///< D_i
   std::vector<Eigen::LDLT<Matrix6>> factors_;
-  std::vector<Matrix6> toParent_;         ///< H_{i,parent}, then L_i = D_i⁻¹ H_{i,parent}
-  std::vector<Vector6> rhs_;              ///< b, b', then the solution x
-  std::vector<ConstraintRows<6>> rows_;   ///< C and ∇C of every joint at this iteration
-  std::vector<Vector6> multipliers_;      ///< λ_j of this substep
+  std::vector<Matrix6> toParent_;        ///< H_{i,parent}, then L_i = D_i⁻¹ H_{i,parent}
+  std::vector<Vector6> rhs_;             ///< b, b', then the solution x
+  std::vector<ConstraintRows<6>> rows_;  ///< C and ∇C of every joint at this iteration
+  std::vector<Vector6> multipliers_;     ///< λ_j of this substep
 };
 
 }  // namespace pbd

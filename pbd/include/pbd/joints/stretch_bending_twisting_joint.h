@@ -71,8 +71,8 @@ class StretchBendingTwistingJoint : public JointDefaults {
                              const stiff_rod::Vector6& multiplier) const;
   /// ½ L (Ω − Ω⁰)ᵀ K (Ω − Ω⁰), J.
   Real elasticEnergy(const BodyStates& bodies) const;
-  const Vector3& stiffness() const { return stiffness_; }  ///< K, N m²
-  Real segmentLength() const { return segmentLength_; }     ///< L, m
+  const Vector3& stiffness() const { return stiffness_; }               ///< K, N m²
+  Real segmentLength() const { return segmentLength_; }                 ///< L, m
   const stiff_rod::Vector6& compliance() const { return compliance_; }  ///< α̃ of this substep
   const stiff_rod::Vector6& multiplier() const { return multiplier_; }
 

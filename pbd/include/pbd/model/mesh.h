@@ -78,4 +78,3 @@ TetMesh tetLattice(int nx, int ny, int nz, const Vector3& step,
 TriangleMesh triangleGrid(int nx, int nz, Real spacing, const Vector3& origin = Vector3::Zero());
 
 }  // namespace pbd
-

@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "pbd/math/types.h"
 #include "pbd/collision/grid_interpolation.h"
+#include "pbd/math/types.h"
 #include "pbd/model/mass_properties.h"
 #include "pbd/model/mesh.h"
 
@@ -145,7 +145,8 @@ enum class JointType : int {
   TargetVelocityMotorHinge,
   TargetPositionMotorSlider,
   TargetVelocityMotorSlider,
-  StiffRod,  ///< `CosseratJoints` of the seed's stiff-rods loader (joints/stretch_bending_twisting_joint.h)
+  StiffRod,  ///< `CosseratJoints` of the seed's stiff-rods loader
+             ///< (joints/stretch_bending_twisting_joint.h)
 };
 inline constexpr int kJointTypeCount = 14;
 
@@ -179,11 +180,11 @@ struct MotorTarget {
 /// The loader fills it from the joint's TreeModel and the two segments' shapes
 /// (docs/scene-format.md#cosseratjoints-and-treemodels).
 struct StiffRodJointParams {
-  int id = -1;                  ///< the CosseratJoint's `id`
-  int tree = -1;                ///< index into Scene::stiffRodTrees
-  Real youngsModulus = 0;       ///< E, Pa
-  Real torsionModulus = 0;      ///< G, Pa
-  Real averageRadius = 0;       ///< r of the circular cross-section, m (I = π r⁴ / 4)
+  int id = -1;                    ///< the CosseratJoint's `id`
+  int tree = -1;                  ///< index into Scene::stiffRodTrees
+  Real youngsModulus = 0;         ///< E, Pa
+  Real torsionModulus = 0;        ///< G, Pa
+  Real averageRadius = 0;         ///< r of the circular cross-section, m (I = π r⁴ / 4)
   Real averageSegmentLength = 0;  ///< L, m: mean length of the two segments along their y axes
   Vector3 stiffnessModifier = Vector3::Ones();  ///< factors on (E I, 2 G I, E I)
 };
@@ -218,8 +219,9 @@ struct JointDesc {
 
 /// How the joints of a stiff-rod tree are solved (`TreeModels[i].solverType`).
 enum class StiffRodSolver : int {
-  Iterative = 0,  ///< pbdval extension: one StretchBendingTwisting constraint per joint (Gauss–Seidel)
-  Direct = 12,    ///< the seed's value: the tree-structured direct solver (stiff_rod_tree_solver.h)
+  Iterative =
+      0,  ///< pbdval extension: one StretchBendingTwisting constraint per joint (Gauss–Seidel)
+  Direct = 12,  ///< the seed's value: the tree-structured direct solver (stiff_rod_tree_solver.h)
 };
 
 /// A `TreeModels` entry of the seed's stiff-rods format: segments (rigid bodies) joined by
@@ -343,13 +345,13 @@ struct AxisAlignedBox {
 /// particles are not (the World keeps them with the fluid).
 struct FluidModelDesc {
   std::string jsonPath;
-  Real particleRadius = Real(0.025);  ///< r: lattice spacing 2r, kernel support 4r
-  Real density0 = 1000;               ///< rest density ρ₀, kg/m³
-  Real viscosity = Real(0.02);        ///< XSPH coefficient (dimensionless)
-  int iterations = 5;                 ///< Jacobi density iterations per substep
-  std::vector<AxisAlignedBox> blocks;        ///< filled on a lattice of spacing 2r
-  std::optional<AxisAlignedBox> container;   ///< walls sampled with boundary particles
-  int firstParticle = 0;  ///< index of its first particle in Scene::particles
+  Real particleRadius = Real(0.025);        ///< r: lattice spacing 2r, kernel support 4r
+  Real density0 = 1000;                     ///< rest density ρ₀, kg/m³
+  Real viscosity = Real(0.02);              ///< XSPH coefficient (dimensionless)
+  int iterations = 5;                       ///< Jacobi density iterations per substep
+  std::vector<AxisAlignedBox> blocks;       ///< filled on a lattice of spacing 2r
+  std::optional<AxisAlignedBox> container;  ///< walls sampled with boundary particles
+  int firstParticle = 0;                    ///< index of its first particle in Scene::particles
   int particleCount = 0;
 
   /// The seed's particle mass 0.8 (2r)³ ρ₀.
@@ -479,7 +481,6 @@ Real femCutoffFor(const SimulationSettings& settings);
 /// enough for XPBD's speculative contacts; docs/contacts.md#grid-sdfs).
 GridInterpolation distanceGridFor(const SimulationSettings& settings);
 
-
 /// Keys of the seed's viewer (DemoBase). Parsed and kept; a headless run ignores them, except
 /// that `pauseAt` > 0 serves as the default duration of `pbdval simulate`, and exportOBJ,
 /// exportPLY, exportFPS as the defaults of its mesh export (--export-dir).
@@ -511,7 +512,7 @@ struct Scene {
   /// All model vertices: triangle models first, then tets, then line models (rods), then the
   /// fluids' particles.
   std::vector<ParticleDesc> particles;
-  std::vector<ContactPairDesc> contactPairs;  ///< extension: explicit per-pair materials
+  std::vector<ContactPairDesc> contactPairs;    ///< extension: explicit per-pair materials
   std::vector<StiffRodTreeDesc> stiffRodTrees;  ///< `TreeModels` (stiff rods)
   /// The top-level `Validation` block as JSON text (empty when absent). The library does not
   /// read it; validation/ parses it (docs/scene-format.md).

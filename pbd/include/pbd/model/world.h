@@ -43,13 +43,13 @@ struct World {
   /// Position-based fluids (fluids/fluid_model.h), one per scene FluidModel: solved in every
   /// substep after the other particle constraints, XSPH after the velocity update.
   std::vector<Fluid> fluids;
-  CollisionDetector collision;       ///< shapes, surface samples, hierarchies, broad phase
-  ContactMaterials materials;        ///< friction and restitution per pair
-  ContactSet contacts;               ///< the contacts of the last step
+  CollisionDetector collision;  ///< shapes, surface samples, hierarchies, broad phase
+  ContactMaterials materials;   ///< friction and restitution per pair
+  ContactSet contacts;          ///< the contacts of the last step
   /// Particle–tet contacts between tet models (contacts/particle_tet_contact.h): those of the
   /// last detection (seed model: after the last step's substeps; else the last substep's).
   ParticleTetContactSet tetContacts;
-  XpbdState xpbd;                    ///< the XPBD step's contacts and multipliers
+  XpbdState xpbd;  ///< the XPBD step's contacts and multipliers
   Real time = 0;
   std::int64_t stepCount = 0;
 

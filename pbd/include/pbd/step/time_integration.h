@@ -48,7 +48,8 @@ inline void velocityUpdateSecondOrder(Real h, Real inverseMass, const Vector3& p
                                       const Vector3& oldPosition, const Vector3& lastPosition,
                                       Vector3& velocity) {
   if (inverseMass == 0) return;
-  velocity = (Real(1) / h) * (Real(1.5) * position - Real(2) * oldPosition + Real(0.5) * lastPosition);
+  velocity =
+      (Real(1) / h) * (Real(1.5) * position - Real(2) * oldPosition + Real(0.5) * lastPosition);
 }
 
 inline void angularVelocityUpdateFirstOrder(Real h, Real inverseMass, const Quaternion& rotation,
