@@ -4,7 +4,7 @@ wall time of one `pbdval run` of many short cases, per engine, the Python engine
 C++ twins (pybullet against bullet, mujoco-python against mujoco). Speed is measured here, never
 asserted in tests.
 
-    .venv/bin/python bench/bench_persistent.py [--binary PBDVAL] [--before PBDVAL]
+    scripts/bench persistent [--binary PBDVAL] [--before PBDVAL]
         [--cases A,B,...] [--jobs N] [--repeat N] [--out FILE.json]
 
 --before names another pbdval binary (e.g. a build without persistent engines) measured the same
@@ -22,17 +22,15 @@ import os
 import platform
 import socket
 import subprocess
-import sys
 import tempfile
 import time
 from collections import Counter
 from pathlib import Path
 from typing import Any
 
-REPO = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(REPO / "python"))
+from pbdval import protocol as pp  # scripts/bench puts this checkout's python/ on PYTHONPATH
 
-from pbdval import protocol as pp
+REPO = Path(__file__).resolve().parents[1]
 
 CASES = ["projectile", "free_tumbling_box", "joint_ball", "joint_hinge", "double_pendulum",
          "double_pendulum_boxes", "chain_10", "chain_mass_ratio", "contact_resting_box",

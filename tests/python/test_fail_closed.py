@@ -19,8 +19,9 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
-import pbdval
 import pytest
+
+import pbdval
 
 REPO = Path(__file__).resolve().parents[2]
 SCENE = REPO / "cases" / "free_tumbling_box.json"
