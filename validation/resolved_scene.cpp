@@ -97,7 +97,7 @@ json shapeJson(const pbd::RigidBodyDesc& body) {
   return shape;
 }
 
-json bodyJson(const pbd::RigidBodyDesc& body, int index) {
+json bodyJson(const pbd::RigidBodyDesc& body, int index, pbd::ObjPrecision objPrecision) {
   const pbd::MassProperties& m = body.massProperties;
   json b = {
       {"id", body.id},
@@ -119,8 +119,12 @@ json bodyJson(const pbd::RigidBodyDesc& body, int index) {
       {"material",
        {{"friction", double(body.friction)}, {"restitution", double(body.restitution)}}},
   };
+  // `precision`: how the scene's loader read the OBJ's coordinates (Simulation.objPrecision),
+  // so that a reader of the file gets the vertices the built-in engines got.
   if (!body.geometryFile.empty())
-    b["geometry"] = {{"file", absolutePath(body.geometryFile)}, {"scale", vec(body.scale)}};
+    b["geometry"] = {{"file", absolutePath(body.geometryFile)},
+                     {"scale", vec(body.scale)},
+                     {"precision", pbd::objPrecisionName(objPrecision)}};
   return b;
 }
 
@@ -351,7 +355,7 @@ json resolvedSceneJson(const pbd::Scene& scene, const std::string& methodName,
 
   json bodies = json::array();
   for (std::size_t i = 0; i < scene.rigidBodies.size(); ++i)
-    bodies.push_back(bodyJson(scene.rigidBodies[i], int(i)));
+    bodies.push_back(bodyJson(scene.rigidBodies[i], int(i), scene.simulation.objPrecision));
   json joints = json::array();
   for (const pbd::JointDesc& joint : scene.joints)
     joints.push_back(jointJson(scene, joint));

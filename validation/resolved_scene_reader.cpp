@@ -101,7 +101,16 @@ pbd::RigidBodyDesc body(const json& b, const std::string& path) {
     const json& geometry = b.at("geometry");
     body.geometryFile = at(geometry, path + "/geometry", "file").get<std::string>();
     body.scale = vec3(geometry, path + "/geometry", "scale");
-    pbd::TriangleMesh mesh = pbd::loadObj(body.geometryFile);
+    // As the scene's loader read it (older resolved scenes: the seed's single precision).
+    pbd::ObjPrecision precision = pbd::ObjPrecision::Single;
+    if (geometry.contains("precision")) {
+      const json& name = geometry.at("precision");
+      if (name == "double")
+        precision = pbd::ObjPrecision::Double;
+      else if (name != "single")
+        fail(path + "/geometry/precision", "\"single\" or \"double\"");
+    }
+    pbd::TriangleMesh mesh = pbd::loadObj(body.geometryFile, precision);
     for (Vector3& vertex : mesh.vertices)
       vertex = vertex.cwiseProduct(body.scale);  // as the scene loader scales it
     body.mesh = std::make_shared<const pbd::TriangleMesh>(std::move(mesh));
