@@ -255,11 +255,11 @@ def test_sphere_drop_rebounds_to_e_squared(export_scene: Export, run_engine: Run
     (PYBULLET, "joint_slider", "pybullet.si", "SliderJoints[0]: joint slider"),
     (PYBULLET, "contact_sphere_pile", "pybullet.si", "RigidBodies[0]: shape hollowBox"),
     (MUJOCO, "contact_sphere_pile", "mujoco-python.euler.newton",
-     "RigidBodies[0]: collisionObjectType 7 (hollow shape)"),
+     "RigidBodies[0]: hollow box (collisionObjectType 7)"),
     # Its constraint-free cloth is a flex (test_mujoco_flex.py); the particle joint is not: the
-    # built-in engine's writer names it.
+    # built-in engine's feature table names it (the rigid part is that engine's model).
     (MUJOCO, "joint_rigid_body_particle_ball", "mujoco-python.euler.newton",
-     "RigidBodyParticleBallJoints[0]: MuJoCo has no particles in this adapter"),
+     "RigidBodyParticleBallJoints[0]: rigid body–particle ball joint"),
     (PYBULLET, "projectile", "pybullet.nosuch", "method pybullet.nosuch"),
     (MUJOCO, "projectile", "mujoco-python.verlet.newton", "method mujoco-python.verlet.newton"),
 ])

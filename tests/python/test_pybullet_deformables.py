@@ -314,7 +314,7 @@ def test_the_runner_measures_pybullet_solids(pbdval_binary: Path, export_scene: 
                                              tmp_path: Path) -> None:
     out = tmp_path / "run"
     cases = [str(REPO / "cases" / f"{c}.json") for c in ("tet_bar", "solid_collision")]
-    result = subprocess.run([str(pbdval_binary), "run", *cases, "--engines", "pybullet",
+    result = subprocess.run([str(pbdval_binary), "run", *cases, "--methods", "pybullet.si",
                              "--out", str(out), "--no-trajectories"],
                             capture_output=True, text=True, cwd=REPO, check=False, timeout=600)
     assert result.returncode == 0, result.stdout + result.stderr

@@ -143,7 +143,8 @@ def test_pbdval_run_hands_its_runs_to_servers_and_leaves_nothing_behind(
                             env=dict(os.environ, TMPDIR=str(scratch)))
     assert result.returncode == 0, result.stderr
     runs = json.loads((tmp_path / "out" / "results.json").read_text())["runs"]
-    assert len(runs) == 6
+    # 3 cases × (pybullet's two run methods, maximal and reduced coordinates, + mujoco-python's).
+    assert len(runs) == 9
     assert all(run["status"] == "ok" for run in runs), [(r["case"], r["engine"], r["reason"]) for r in runs]
     # The servers' sockets and logs, the runs' scratch folders: all gone with the command.
     assert list(scratch.iterdir()) == []
