@@ -13,16 +13,16 @@ Records bench/results/<host>/cluster-<UTC stamp>.json with the machine and the b
 from __future__ import annotations
 
 import argparse
-import datetime as dt
 import json
 import os
 import signal
-import socket
 import subprocess
 import tempfile
 import time
 from pathlib import Path
 from typing import Any
+
+from bench_record import machine, write_record  # bench/, the script's own folder
 
 from pbdval.results import load_results, pbdval_binary
 
@@ -124,9 +124,7 @@ def main() -> int:
     args = parser.parse_args()
     version = subprocess.run([str(pbdval_binary()), "--version"], capture_output=True, text=True,
                              check=True).stdout.strip()
-    document: dict[str, Any] = {"context": {
-        "created": dt.datetime.now(dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"), "host": socket.gethostname(),
-        "cores": os.cpu_count(), "load_average": os.getloadavg(), "pbdval": version}}
+    document: dict[str, Any] = {"context": {**machine(), "pbdval": version}}
     with tempfile.TemporaryDirectory(prefix="pbdval-bench-cluster-") as tmp:
         folder = Path(tmp)
         if not args.skip_throughput:
@@ -134,11 +132,7 @@ def main() -> int:
         typical = typical_record(folder)
         document["record_bytes"] = len(json.dumps(typical, indent=1))
         document["plan_and_merge"] = [plan_and_merge(folder, copies, typical) for copies in (4, 16, 42)]
-    out = args.out or REPO / "bench" / "results" / socket.gethostname() / (
-        "cluster-" + dt.datetime.now(dt.UTC).strftime("%Y%m%dT%H%M%SZ") + ".json")
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(json.dumps(document, indent=1) + "\n")
-    print(f"wrote {out}")
+    write_record("cluster", document, args.out)
     return 0
 
 

@@ -16,11 +16,7 @@ adds time. The statuses of every run are recorded beside the times.
 from __future__ import annotations
 
 import argparse
-import datetime as dt
 import json
-import os
-import platform
-import socket
 import subprocess
 import tempfile
 import time
@@ -28,7 +24,7 @@ from collections import Counter
 from pathlib import Path
 from typing import Any
 
-from pbdval import protocol as pp  # scripts/bench puts this checkout's python/ on PYTHONPATH
+from bench_record import machine, write_record  # bench/, the script's own folder
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -73,18 +69,10 @@ def measure(binaries: dict[str, Path], cases: list[str], jobs: int, repeat: int)
 
 
 def context(binaries: dict[str, Path], cases: list[str], jobs: int, repeat: int) -> dict[str, Any]:
-    cpu = ""
-    try:
-        with open("/proc/cpuinfo") as info:
-            cpu = next(line.split(":", 1)[1].strip() for line in info if line.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
     commit = subprocess.run(["git", "-C", str(REPO), "rev-parse", "--short", "HEAD"],
                             capture_output=True, text=True, check=False).stdout.strip()
     return {
-        "created": dt.datetime.now(dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
-        "host": socket.gethostname(), "cpu": cpu, "cores": os.cpu_count(),
-        "load_average": os.getloadavg(), "python": platform.python_version(), "commit": commit,
+        **machine(), "commit": commit,
         "binaries": {label: {"path": str(b), "version": subprocess.run(
             [str(b), "--version"], capture_output=True, text=True, check=False).stdout.strip()}
             for label, b in binaries.items()},
@@ -110,11 +98,7 @@ def main() -> int:
                 **measure(binaries, cases, args.jobs, args.repeat)}
     for label, ratios in document["ratios"].items():
         print(label, {k: round(v, 2) for k, v in ratios.items()})
-    out = args.out or REPO / "bench" / "results" / socket.gethostname() / (
-        "persistent-" + dt.datetime.now(dt.UTC).strftime("%Y%m%dT%H%M%SZ") + ".json")
-    out.parent.mkdir(parents=True, exist_ok=True)
-    pp.write_json_atomically(out, document)
-    print(f"wrote {out}")
+    write_record("persistent", document, args.out)
     return 0
 
 

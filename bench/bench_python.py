@@ -25,13 +25,10 @@ whose other load only ever adds time.
 from __future__ import annotations
 
 import argparse
-import datetime as dt
 import functools
 import importlib
 import json
 import os
-import platform
-import socket
 import statistics
 import tempfile
 import time
@@ -40,6 +37,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from bench_record import machine, write_record  # bench/, the script's own folder
 
 import pbdval
 from pbdval import protocol as pp
@@ -149,16 +147,8 @@ def metadata() -> dict[str, Any]:
     import mujoco
     import pybullet  # noqa: F401
 
-    cpu = ""
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8") as cpuinfo:
-            cpu = next(line.split(":", 1)[1].strip() for line in cpuinfo if line.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
     return {
-        "created": dt.datetime.now(dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
-        "host": socket.gethostname(), "cpu": cpu, "cores": os.cpu_count(),
-        "load_average": os.getloadavg(), "python": platform.python_version(), "numpy": np.__version__,
+        **machine(), "numpy": np.__version__,
         "mujoco": mujoco.__version__, "pbdval": importlib.import_module("pbdval._core").version,
         "binary": os.popen(f"{pbdval.results.pbdval_binary()} --version").read().strip(),
         "duration_s": DURATION,
@@ -175,11 +165,7 @@ def main() -> int:
 
     document = {"context": metadata(), "protocol": protocol_overhead(args.repeat),
                 "read_states": [read_states(n, 2000) for n in (10, 100, 1000)]}
-    out = args.out or REPO / "bench" / "results" / socket.gethostname() / (
-        "python-" + dt.datetime.now(dt.UTC).strftime("%Y%m%dT%H%M%SZ") + ".json")
-    out.parent.mkdir(parents=True, exist_ok=True)
-    pp.write_json_atomically(out, document)
-    print(f"wrote {out}")
+    write_record("python", document, args.out)
     return 0
 
 

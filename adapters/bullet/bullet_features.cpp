@@ -7,8 +7,8 @@ namespace pbdval {
 FeatureTable bulletFeatures() {
   const Support N = Support::Native, A = Support::Approximated, U = Support::Unsupported;
   const char* rigidOnly =
-      "the Bullet adapter maps rigid bodies only (btSoftBody is not mapped; "
-      "Bullet's deformables run through pybullet)";
+      "the Bullet adapter maps rigid bodies only (btSoftBody is not mapped; Bullet's deformables "
+      "run through pybullet)";
   const char* noMesh = "built from the body's mesh in Bullet, and the body has no geometryFile";
   return {{
       {"shape.none", N, "btEmptyShape, broad-phase group and mask 0: no collision"},
@@ -19,20 +19,17 @@ FeatureTable bulletFeatures() {
        "btCylinderShape(r, h/2, r), axis y as the scene's; margin inside as the box"},
       {"shape.torus.mesh", A,
        "the body's mesh as a triangle mesh (btGImpactMeshShape if dynamic, btBvhTriangleMeshShape "
-       "if "
-       "static): faceted, surfaces thickened by the margin; the analytic (R, r) is not used"},
+       "if static): faceted, surfaces thickened by the margin; the analytic (R, r) is not used"},
       {"shape.torus.analytic", U, noMesh},
       {"shape.sdf.mesh", A,
        "the body's mesh: btConvexHullShape when convex (hull shrunk by the margin), else a "
-       "triangle "
-       "mesh as for the torus; the SDF grid is not used"},
+       "triangle mesh as for the torus; the SDF grid is not used"},
       {"shape.sdf.fileOnly", U, noMesh},
       {"shape.sdf.precomputedFile", A, "not used: Bullet collides the body's mesh"},
       {"shape.hollowSphere", U, "Bullet has no hollow-sphere shape"},
       {"shape.hollowBox", A,
        "btCompoundShape of six wall boxes 2 × thicknessSDF thick, centred on the faces (outer "
-       "edges "
-       "square instead of rounded)"},
+       "edges square instead of rounded)"},
       {"shape.invertSDF", U, "Bullet shapes collide on their outside only"},
       {"joint.ball", N, "btPoint2PointConstraint"},
       {"joint.ballOnLine", N,
@@ -63,8 +60,7 @@ FeatureTable bulletFeatures() {
        "the slider with a linear-x motor at v*(t+h), unlimited force"},
       {"joint.stiffRod", U,
        "stiff-rod joints (CosseratJoints, elastic bending and twisting between rod segments) are "
-       "not "
-       "mapped by the Bullet adapter"},
+       "not mapped by the Bullet adapter"},
       {"joint.closingLoop", N, "maximal coordinates: every joint is a constraint, loops included"},
       {"body.initialVelocityOfJointedBody", N, "setLinearVelocity, setAngularVelocity, as given"},
       {"contact.rigidPairs", N,

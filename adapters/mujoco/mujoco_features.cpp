@@ -7,8 +7,8 @@ namespace pbdval {
 FeatureTable mujocoFeatures() {
   const Support N = Support::Native, A = Support::Approximated, U = Support::Unsupported;
   const char* noParticles =
-      "MuJoCo has no particles in this adapter (flexes: through MuJoCo 4, "
-      "the mujoco-python engine)";
+      "MuJoCo has no particles in this adapter (flexes: through MuJoCo 4, the mujoco-python "
+      "engine)";
   return {{
       {"shape.none", N, "no geom"},
       {"shape.sphere", N, "sphere, radius"},
@@ -19,8 +19,7 @@ FeatureTable mujocoFeatures() {
        "MuJoCo has no torus, and a mesh collides as its convex hull, which fills the hole"},
       {"shape.sdf.mesh", A,
        "the mesh (× collisionObjectScale) as a MuJoCo mesh, which always collides as its convex "
-       "hull; "
-       "exact for convex meshes; recorded as a warning"},
+       "hull; exact for convex meshes; recorded as a warning"},
       {"shape.sdf.fileOnly", U, "MuJoCo needs the mesh (it cannot read SDF files)"},
       {"shape.sdf.precomputedFile", A, "not used: MuJoCo collides the body's mesh"},
       {"shape.hollowSphere", U, "MuJoCo collides meshes as convex hulls, which are solid"},
@@ -51,15 +50,13 @@ FeatureTable mujocoFeatures() {
       {"joint.targetVelocityMotorSlider", A, "slide + velocity servo"},
       {"joint.stiffRod", U,
        "stiff-rod joints (CosseratJoints, elastic bending and twisting between rod segments) are "
-       "not "
-       "mapped by the MuJoCo adapter"},
+       "not mapped by the MuJoCo adapter"},
       {"joint.closingLoop.ballOrHinge", A,
        "soft equality constraints (equalityTimeconst, solimp*): a ball is one connect, a hinge two "
        "connects along the axis"},
       {"joint.closingLoop.other", U,
        "MuJoCo has no equality constraint for this joint type (only ball and hinge joints can "
-       "close "
-       "loops in this adapter)"},
+       "close loops in this adapter)"},
       {"body.initialVelocityOfJointedBody", A,
        "the scene's velocities projected onto the joints' free motions in the kinetic-energy norm "
        "(reduced coordinates cannot hold a velocity that violates a joint); recorded as a warning"},

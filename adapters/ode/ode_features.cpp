@@ -15,8 +15,7 @@ FeatureTable odeFeatures() {
        "dCreateCylinder(r, h), turned by −90° about x: ODE's axis is z, the seed's y"},
       {"shape.torus.mesh", A,
        "the body's geometryFile mesh as a trimesh (dCreateTriMesh), assumed to be the same solid "
-       "as "
-       "the analytic torus (the models' size convention)"},
+       "as the analytic torus (the models' size convention)"},
       {"shape.torus.analytic", U,
        "ODE collides the body's geometryFile as a trimesh, and there is none"},
       {"shape.sdf.mesh", A, "the body's mesh as a trimesh instead of a distance field"},
@@ -32,10 +31,8 @@ FeatureTable odeFeatures() {
       {"joint.ballOnLine",
        A,
        "ODE has no point-on-line joint: an auxiliary carriage body (carriageMassRatio = 1e-3 of "
-       "the "
-       "lighter dynamic end) slides on a dJointCreateSlider along axis in body 0 and carries body "
-       "1 "
-       "on a ball joint; it adds 0.1 % of the mass to the motion along the line",
+       "the lighter dynamic end) slides on a dJointCreateSlider along axis in body 0 and carries "
+       "body 1 on a ball joint; it adds 0.1 % of the mass to the motion along the line",
        {"ode.step"}},
       {"joint.ballOnLine",
        U,
@@ -51,10 +48,8 @@ FeatureTable odeFeatures() {
       {"joint.rigidBodyParticleBall", U, noParticles},
       {"joint.rigidBodySpring", A,
        "dJointCreateDBall between position1 and position2, its row made a spring: ERP = h k/(h k + "
-       "c), "
-       "CFM = 1/(h k + c) with c = 0: implicit Euler on the spring (the seed's XPBD spring is "
-       "implicit "
-       "Euler per substep)"},
+       "c), CFM = 1/(h k + c) with c = 0: implicit Euler on the spring (the seed's XPBD spring is "
+       "implicit Euler per substep)"},
       {"joint.distance", N,
        "dJointCreateDBall, rest length ‖position2 − position1‖, joint ERP/CFM"},
       {"joint.damper", A,
@@ -62,8 +57,7 @@ FeatureTable odeFeatures() {
        "spring, no damping, as the seed's"},
       {"joint.targetAngleMotorHinge", A,
        "hinge motor as a servo: dParamVel = (set point at the end of the step − angle)/h, "
-       "dParamFMax = ∞; "
-       "ODE's rotation update lags the angle by (h ω)³/12 per step"},
+       "dParamFMax = ∞; ODE's rotation update lags the angle by (h ω)³/12 per step"},
       {"joint.targetVelocityMotorHinge", N,
        "hinge motor: dParamVel = the set point at the end of the step, dParamFMax = ∞"},
       {"joint.targetPositionMotorSlider", A, "slider motor as a servo, as the angle motor"},
@@ -71,8 +65,7 @@ FeatureTable odeFeatures() {
        "slider motor: dParamVel = the set point, dParamFMax = ∞"},
       {"joint.stiffRod", U,
        "stiff-rod joints (CosseratJoints, elastic bending and twisting between rod segments) are "
-       "not "
-       "mapped by the ODE adapter"},
+       "not mapped by the ODE adapter"},
       {"joint.closingLoop", N, "maximal coordinates: every joint is a constraint, loops included"},
       {"body.initialVelocityOfJointedBody", N, "dBodySetLinearVel / AngularVel, as given"},
       {"contact.rigidPairs", N,

@@ -51,19 +51,23 @@ constexpr double kRoundOffFloor = 1e-9;
 /// Past this twin distance (m) the scene is past its predictability horizon.
 constexpr double kHorizon = 1e-3;
 
+/// One row of a recording: its time, the body's scene id (or the particle's index) and the
+/// recorded position.
 struct RecordedRow {
   double t = 0;
   int id = 0;
   Vector3 position = Vector3::Zero();
 };
 
-std::vector<RecordedRow> readRecording(const std::string& path) {
+/// A recording: the line `header`, then rows of `columns` numbers whose first five are t, the id
+/// (or index), x, y, z.
+std::vector<RecordedRow> readRows(const std::string& path, const std::string& header,
+                                  std::size_t columns) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open");
   std::string line;
   std::getline(in, line);
-  if (line != "t,id,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz")
-    throw std::runtime_error(path + ": line 1: unexpected header");
+  if (line != header) throw std::runtime_error(path + ": line 1: unexpected header");
   std::vector<RecordedRow> rows;
   int lineNumber = 1;
   while (std::getline(in, line)) {
@@ -78,15 +82,39 @@ std::vector<RecordedRow> readRecording(const std::string& path) {
       if (end == field.c_str() || *end != '\0')
         throw std::runtime_error(path + ": line " + std::to_string(lineNumber) + ": bad number");
     }
-    if (values.size() != 15)
-      throw std::runtime_error(path + ": line " + std::to_string(lineNumber) + ": 15 columns");
-    RecordedRow row;
-    row.t = values[0];
-    row.id = static_cast<int>(values[1]);
-    row.position = Vector3(Real(values[2]), Real(values[3]), Real(values[4]));
-    rows.push_back(row);
+    if (values.size() != columns)
+      throw std::runtime_error(path + ": line " + std::to_string(lineNumber) + ": " +
+                               std::to_string(columns) + " columns");
+    rows.push_back(
+        {values[0], int(values[1]), Vector3(Real(values[2]), Real(values[3]), Real(values[4]))});
   }
   return rows;
+}
+
+/// A body recording (NAME.csv, the CSV of `pbdval simulate`).
+std::vector<RecordedRow> readRecording(const std::string& path) {
+  return readRows(path, "t,id,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz", 15);
+}
+
+/// The distinct step counts of a recording's samples, up to time `until` (s).
+std::vector<std::int64_t> recordedSteps(const std::vector<RecordedRow>& rows, double h,
+                                        double until = HUGE_VAL) {
+  std::vector<std::int64_t> steps;
+  for (const RecordedRow& r : rows) {
+    const std::int64_t s = std::llround(r.t / h);
+    if (r.t <= until + 1e-9 && (steps.empty() || steps.back() != s)) steps.push_back(s);
+  }
+  return steps;
+}
+
+/// The twin's start offset of the k-th moved item (a body or a particle): δ in a direction of its
+/// own, so that the twin also breaks the scene's symmetries (a stack of centred boxes, a vertical
+/// drop), as round-off does in both programs.
+Vector3 twinOffset(std::size_t k) {
+  const double x = double(k) + 1;
+  return Real(kPerturbation) *
+         Vector3(Real(std::sin(2.4 * x)), Real(std::cos(1.7 * x)), Real(std::sin(0.9 * x + 1)))
+             .normalized();
 }
 
 Scene loadSeedScene(const std::string& name) {
@@ -123,29 +151,11 @@ struct Comparison {
   double lastTime = 0;
 };
 
-Comparison compare(const std::string& name) {
-  const Scene scene = loadSeedScene(name);
-  const std::vector<RecordedRow> rows = readRecording(kReferenceDir + "/" + name + ".csv");
-  const double h = double(scene.simulation.timeStepSize);
-  std::vector<std::int64_t> steps;
-  for (const RecordedRow& r : rows) {
-    const std::int64_t s = std::llround(r.t / h);
-    if (steps.empty() || steps.back() != s) steps.push_back(s);
-  }
-  // Each body moves in its own direction, so that the twin also breaks the scene's symmetries
-  // (a stack of centred boxes, a vertical drop): round-off breaks them in both programs.
-  Scene twin = scene;
-  for (std::size_t b = 0; b < twin.rigidBodies.size(); ++b) {
-    if (!twin.rigidBodies[b].isDynamic) continue;
-    const double k = double(b) + 1;
-    const Vector3 direction =
-        Vector3(Real(std::sin(2.4 * k)), Real(std::cos(1.7 * k)), Real(std::sin(0.9 * k + 1)))
-            .normalized();
-    twin.rigidBodies[b].translation += Real(kPerturbation) * direction;
-  }
-  const Positions ours = run(scene, steps);
-  const Positions perturbed = run(twin, steps);
-
+/// Each recorded sample against `ours`, with the tolerance from the twin run's growth
+/// (`perturbed`) up to the horizon; `window` (s): samples after it are not compared (0: up to the
+/// horizon).
+Comparison compareWithTwin(const std::vector<RecordedRow>& rows, double h, const Positions& ours,
+                           const Positions& perturbed, double window) {
   Comparison c;
   double growth = 0;  // max twin distance so far
   std::int64_t lastStep = -1;
@@ -153,6 +163,7 @@ Comparison compare(const std::string& name) {
   for (const RecordedRow& r : rows) {
     const std::int64_t s = std::llround(r.t / h);
     c.lastTime = r.t;
+    if (window > 0 && r.t > window + 1e-9) continue;
     if (s != lastStep) {
       lastStep = s;
       for (const auto& [id, p] : ours.at(s))
@@ -176,55 +187,37 @@ Comparison compare(const std::string& name) {
   return c;
 }
 
-// --- Particle recordings (NAME.particles.csv: t,index,x,y,z,vx,vy,vz) --------------------------
-
-struct ParticleRow {
-  double t = 0;
-  int index = 0;
-  Vector3 position = Vector3::Zero();
-};
-
-std::vector<ParticleRow> readParticleRecording(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open");
-  std::string line;
-  std::getline(in, line);
-  if (line != "t,index,x,y,z,vx,vy,vz")
-    throw std::runtime_error(path + ": line 1: unexpected header");
-  std::vector<ParticleRow> rows;
-  int lineNumber = 1;
-  while (std::getline(in, line)) {
-    ++lineNumber;
-    if (line.empty()) continue;
-    std::vector<double> values;
-    std::stringstream fields(line);
-    std::string field;
-    while (std::getline(fields, field, ',')) {
-      char* end = nullptr;
-      values.push_back(std::strtod(field.c_str(), &end));
-      if (end == field.c_str() || *end != '\0')
-        throw std::runtime_error(path + ": line " + std::to_string(lineNumber) + ": bad number");
-    }
-    if (values.size() != 8)
-      throw std::runtime_error(path + ": line " + std::to_string(lineNumber) + ": 8 columns");
-    rows.push_back(
-        {values[0], int(values[1]), Vector3(Real(values[2]), Real(values[3]), Real(values[4]))});
-  }
-  return rows;
+Comparison compare(const std::string& name) {
+  const Scene scene = loadSeedScene(name);
+  const std::vector<RecordedRow> rows = readRecording(kReferenceDir + "/" + name + ".csv");
+  const double h = double(scene.simulation.timeStepSize);
+  const std::vector<std::int64_t> steps = recordedSteps(rows, h);
+  Scene twin = scene;
+  for (std::size_t b = 0; b < twin.rigidBodies.size(); ++b)
+    if (twin.rigidBodies[b].isDynamic) twin.rigidBodies[b].translation += twinOffset(b);
+  return compareWithTwin(rows, h, run(scene, steps), run(twin, steps), 0);
 }
 
-/// Every particle's position at each of the given step counts.
-std::map<std::int64_t, std::vector<Vector3>> runParticles(const Scene& scene,
-                                                          const std::vector<std::int64_t>& steps) {
+// --- Particle recordings (NAME.particles.csv: t,index,x,y,z,vx,vy,vz) --------------------------
+
+/// A particle recording (NAME.particles.csv).
+std::vector<RecordedRow> readParticleRecording(const std::string& path) {
+  return readRows(path, "t,index,x,y,z,vx,vy,vz", 8);
+}
+
+/// Every particle's position (by index) at each of the given step counts.
+Positions runParticles(const Scene& scene, const std::vector<std::int64_t>& steps) {
   World world = buildWorld(scene);
-  std::map<std::int64_t, std::vector<Vector3>> out;
+  Positions out;
   std::int64_t done = 0;
   for (std::int64_t target : steps) {
     while (done < target) {
       world.step();
       ++done;
     }
-    out[target] = world.bodies.particles.position;
+    const std::vector<Vector3>& positions = world.bodies.particles.position;
+    for (std::size_t i = 0; i < positions.size(); ++i)
+      out[target][int(i)] = positions[i];
   }
   return out;
 }
@@ -234,56 +227,14 @@ std::map<std::int64_t, std::vector<Vector3>> runParticles(const Scene& scene,
 /// `window` (s): samples after it are not compared (0: up to the horizon).
 Comparison compareParticles(const std::string& name, double window = 0) {
   const Scene scene = loadSeedScene(name);
-  const std::vector<ParticleRow> rows =
+  const std::vector<RecordedRow> rows =
       readParticleRecording(kReferenceDir + "/" + name + ".particles.csv");
   const double h = double(scene.simulation.timeStepSize);
-  std::vector<std::int64_t> steps;
-  for (const ParticleRow& r : rows) {
-    const std::int64_t s = std::llround(r.t / h);
-    if (steps.empty() || steps.back() != s) steps.push_back(s);
-  }
+  const std::vector<std::int64_t> steps = recordedSteps(rows, h);
   Scene twin = scene;
-  for (std::size_t i = 0; i < twin.particles.size(); ++i) {
-    if (!(twin.particles[i].mass > 0)) continue;
-    const double k = double(i) + 1;
-    twin.particles[i].position +=
-        Real(kPerturbation) *
-        Vector3(Real(std::sin(2.4 * k)), Real(std::cos(1.7 * k)), Real(std::sin(0.9 * k + 1)))
-            .normalized();
-  }
-  const auto ours = runParticles(scene, steps);
-  const auto perturbed = runParticles(twin, steps);
-  Comparison c;
-  double growth = 0;
-  std::int64_t lastStep = -1;
-  bool pastHorizon = false;
-  for (const ParticleRow& r : rows) {
-    const std::int64_t s = std::llround(r.t / h);
-    c.lastTime = r.t;
-    if (window > 0 && r.t > window + 1e-9) continue;
-    if (s != lastStep) {
-      lastStep = s;
-      const auto& a = ours.at(s);
-      const auto& b = perturbed.at(s);
-      for (std::size_t i = 0; i < a.size(); ++i)
-        growth = std::max(growth, double((a[i] - b[i]).norm()));
-      if (growth > kHorizon) pastHorizon = true;
-      if (!pastHorizon) {
-        c.horizon = r.t;
-        ++c.comparedSamples;
-      }
-    }
-    if (pastHorizon) continue;
-    const double tolerance = kGrowthMargin * growth + kRoundOffFloor;
-    const double deviation = double((ours.at(s).at(std::size_t(r.index)) - r.position).norm());
-    if (deviation / tolerance > c.worstRatio) {
-      c.worstRatio = deviation / tolerance;
-      c.worstDeviation = deviation;
-      c.worstTolerance = tolerance;
-      c.worstTime = r.t;
-    }
-  }
-  return c;
+  for (std::size_t i = 0; i < twin.particles.size(); ++i)
+    if (twin.particles[i].mass > 0) twin.particles[i].position += twinOffset(i);
+  return compareWithTwin(rows, h, runParticles(scene, steps), runParticles(twin, steps), window);
 }
 
 class SeedReferenceParticles : public ::testing::TestWithParam<const char*> {};
@@ -310,29 +261,20 @@ TEST(SeedReferenceFem, ClothAndTetScenesAgreeWithTheOriginalToAMicrometreOverThe
   if (sizeof(Real) != sizeof(double)) GTEST_SKIP() << "the recordings are double precision";
   for (const char* name : {"fem_cloth_10x10", "fem_tet_bar", "fem_tet_bar_xpbd"}) {
     const Scene scene = loadSeedScene(name);
-    const std::vector<ParticleRow> rows =
+    const std::vector<RecordedRow> rows =
         readParticleRecording(kReferenceDir + "/" + name + ".particles.csv");
     const double h = double(scene.simulation.timeStepSize);
-    std::vector<std::int64_t> steps;
-    for (const ParticleRow& r : rows) {
-      const std::int64_t s = std::llround(r.t / h);
-      if (r.t <= 1 + 1e-9 && (steps.empty() || steps.back() != s)) steps.push_back(s);
-    }
-    const auto ours = runParticles(scene, steps);
+    const Positions ours = runParticles(scene, recordedSteps(rows, h, 1.0));
+    const auto deviation = [&](const RecordedRow& r) {
+      return double((ours.at(std::llround(r.t / h)).at(r.id) - r.position).norm());
+    };
     double worst = 0;
-    for (const ParticleRow& r : rows)
-      if (r.t <= 1 + 1e-9)
-        worst = std::max(
-            worst,
-            double((ours.at(std::llround(r.t / h)).at(std::size_t(r.index)) - r.position).norm()));
+    for (const RecordedRow& r : rows)
+      if (r.t <= 1 + 1e-9) worst = std::max(worst, deviation(r));
     std::printf("  %-20s largest difference over the first second %.3e m\n", name, worst);
     if (std::getenv("PBDVAL_SEED_TRACE"))
-      for (const ParticleRow& r : rows)
-        if (r.t <= 1 + 1e-9)
-          std::printf(
-              "    t %.3f p %d dev %.3e\n", r.t, r.index,
-              double(
-                  (ours.at(std::llround(r.t / h)).at(std::size_t(r.index)) - r.position).norm()));
+      for (const RecordedRow& r : rows)
+        if (r.t <= 1 + 1e-9) std::printf("    t %.3f p %d dev %.3e\n", r.t, r.id, deviation(r));
     EXPECT_LE(worst, 1e-6) << name;
   }
 }

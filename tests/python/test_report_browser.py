@@ -148,18 +148,7 @@ def test_case_page_figures_render_and_the_replay_plays(browser: Browser, report:
     assert page.evaluate("window.pbdvalReplay.time()") == paused_at, "the replay did not pause"
     assert "t = " in page.locator("#replay-label").inner_text()
     # The canvas shows something other than the background.
-    coloured = page.evaluate("""() => {
-        const canvas = document.querySelector('#replay canvas');
-        const probe = document.createElement('canvas');
-        probe.width = canvas.width; probe.height = canvas.height;
-        const context = probe.getContext('2d');
-        context.drawImage(canvas, 0, 0);
-        const pixels = context.getImageData(0, 0, probe.width, probe.height).data;
-        let count = 0;
-        for (let i = 0; i < pixels.length; i += 4)
-            if (pixels[i] < 240 || pixels[i + 1] < 240 || pixels[i + 2] < 240) ++count;
-        return count;
-    }""")
+    coloured = page.evaluate(COLOURED_PIXELS)
     assert coloured > 500, "the replay canvas is blank"
     page.screenshot(path=str(screenshots_folder() / "case-double_pendulum.png"), full_page=True)
     page.locator("#replay").screenshot(path=str(screenshots_folder() / "replay-double_pendulum.png"))

@@ -209,6 +209,23 @@ def collision_shape(client: int, body: pp.Body,
     return shape, f"{body.json_path}: {s.type} as {note}"
 
 
+
+def point_in_principal_frames(scene: pp.ResolvedScene, joint: pp.Joint,
+                              offset: tuple[float, float, float]
+                              ) -> tuple[pp.Body, pp.Body, list[float], list[float]]:
+    """The joint's two bodies and the point anchor + offset (world, t = 0) in each body's
+    principal (centre-of-mass) frame, q_wp⁻¹ (x − c): how pybullet's point-to-point constraints
+    take their pivots."""
+    b1 = scene.body_by_id(joint.body1)  # type: ignore[arg-type]
+    b2 = scene.body_by_id(joint.body2)  # type: ignore[arg-type]
+    world = [a + o for a, o in zip(joint.points["anchor"].world, offset, strict=True)]
+
+    def local(body: pp.Body) -> list[float]:
+        d = [x - c for x, c in zip(world, body.position, strict=True)]
+        return list(pp.quat_rotate(pp.quat_conjugate(body.world_principal_rotation), d))
+
+    return b1, b2, local(b1), local(b2)
+
 class PybulletRun:
     def __init__(self, scene: pp.ResolvedScene, folder: str | None = None) -> None:
         """`folder`: a scratch folder for the soft bodies' mesh files (scenes with particles)."""
@@ -341,19 +358,10 @@ class PybulletRun:
             self.ids.append(body)
 
     def _point_to_point(self, joint: pp.Joint, offset: tuple[float, float, float]) -> None:
-        """A point-to-point constraint at the anchor + offset (world, t = 0), given to pybullet in
-        both bodies' principal (centre-of-mass) frames."""
-        b1 = self.scene.body_by_id(joint.body1)  # type: ignore[arg-type]
-        b2 = self.scene.body_by_id(joint.body2)  # type: ignore[arg-type]
-        world = [a + o for a, o in zip(joint.points["anchor"].world, offset)]
-
-        def local(body: pp.Body) -> list[float]:
-            # principal-frame coordinates: q_wp⁻¹ (x − c)
-            d = [x - c for x, c in zip(world, body.position)]
-            return list(pp.quat_rotate(pp.quat_conjugate(body.world_principal_rotation), d))
-
+        """A point-to-point constraint at the anchor + offset (world, t = 0)."""
+        b1, b2, local1, local2 = point_in_principal_frames(self.scene, joint, offset)
         cid = pb.createConstraint(self.ids[b1.index], -1, self.ids[b2.index], -1,
-                                  pb.JOINT_POINT2POINT, [0, 0, 0], local(b1), local(b2),
+                                  pb.JOINT_POINT2POINT, [0, 0, 0], local1, local2,
                                   physicsClientId=self.client)
         pb.changeConstraint(cid, maxForce=UNLIMITED_FORCE, physicsClientId=self.client)
 

@@ -639,17 +639,10 @@ class MultibodyRun(engine.PybulletRun):
         self._jointed_bodies_collide()
 
     def _point_to_point(self, joint: pp.Joint, offset: tuple[float, float, float]) -> None:
-        b1 = self.scene.body_by_id(joint.body1)  # type: ignore[arg-type]
-        b2 = self.scene.body_by_id(joint.body2)  # type: ignore[arg-type]
-        world = [a + o for a, o in zip(joint.points["anchor"].world, offset)]
-
-        def local(body: pp.Body) -> list[float]:
-            d = [x - c for x, c in zip(world, body.position)]
-            return list(pp.quat_rotate(pp.quat_conjugate(body.world_principal_rotation), d))
-
+        b1, b2, local1, local2 = engine.point_in_principal_frames(self.scene, joint, offset)
         h1, h2 = self.handles[b1.index], self.handles[b2.index]
         cid = pb.createConstraint(h1.body, h1.link, h2.body, h2.link, pb.JOINT_POINT2POINT,
-                                  [0, 0, 0], local(b1), local(b2), physicsClientId=self.client)
+                                  [0, 0, 0], local1, local2, physicsClientId=self.client)
         pb.changeConstraint(cid, maxForce=engine.UNLIMITED_FORCE, physicsClientId=self.client)
 
     def _jointed_bodies_collide(self) -> None:
