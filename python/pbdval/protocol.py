@@ -731,6 +731,29 @@ def _blow_up_reason(time: float, name: Callable[[int], str], positions: np.ndarr
     return None
 
 
+#: The columns of a state array (`simulate`'s `states` may return one, a row per body):
+#: the trajectory's columns after t and id.
+STATE_COLUMNS = 13
+
+
+def state_array_rows(time: float, ids: np.ndarray, states: np.ndarray) -> np.ndarray:
+    """The trajectory rows of one sample from a state array: `states` (len(ids), 13) float64,
+    columns x y z, qw qx qy qz, vx vy vz, wx wy wz per body in `ids`' order; the same rows,
+    bit for bit, as state_rows on BodyStates holding the same numbers (quaternions flipped to
+    w >= 0). The engines' fast path: a few array operations per sample instead of Python
+    objects per body (docs/benchmarks.md#persistent-engines)."""
+    if states.shape != (len(ids), STATE_COLUMNS):
+        raise ValueError(f"expected a state array of shape ({len(ids)}, {STATE_COLUMNS}), "
+                         f"got {states.shape}")
+    rows = np.empty((len(ids), 15))
+    rows[:, 0] = time
+    rows[:, 1] = ids
+    rows[:, 2:] = states
+    flip = rows[:, 5] < 0  # q and -q are one rotation
+    rows[flip, 5:9] *= -1.0
+    return rows
+
+
 def rows_divergence_reason(time: float, rows: np.ndarray) -> str | None:
     """divergence_reason on state_rows."""
     if not len(rows):
@@ -747,9 +770,13 @@ class _RowWriter:
     it whole to a reader)."""
 
     def __init__(self, out_dir: str | os.PathLike[str], *, binary: bool, npy_name: str,
-                 csv_name: str, header: str, columns: int) -> None:
+                 csv_name: str, header: str, columns: int, capacity: int = 0) -> None:
         self.binary = binary
         self.columns = columns
+        # Binary: the rows expected (`capacity`) go into one array allocated here, the rest
+        # (a run that writes more than it said) into a list after them.
+        self._buffer = np.empty((capacity if binary else 0, columns))
+        self._filled = 0
         self.path = Path(out_dir) / (npy_name if binary else csv_name)
         fd, temporary = tempfile.mkstemp(prefix=self.path.name + ".", suffix=".tmp",
                                          dir=str(self.path.parent))
@@ -765,7 +792,11 @@ class _RowWriter:
         if rows.ndim != 2 or rows.shape[1] != self.columns:
             raise ValueError(f"expected rows of shape (n, {self.columns}), got {rows.shape}")
         if self.binary:
-            self._rows.append(np.array(rows, dtype=np.float64))
+            if not self._rows and self._filled + len(rows) <= len(self._buffer):
+                self._buffer[self._filled:self._filled + len(rows)] = rows
+                self._filled += len(rows)
+            else:
+                self._rows.append(np.array(rows, dtype=np.float64))
         else:
             t = format_time(float(rows[0, 0])) if len(rows) else ""
             lines = [f"{t},{int(r[1])}," + ",".join(format_number(v) for v in r[2:]) + "\n" for r in rows]
@@ -777,7 +808,9 @@ class _RowWriter:
         if self._file.closed:
             return
         if self.binary:
-            data = np.concatenate(self._rows) if self._rows else np.empty((0, self.columns))
+            data = self._buffer[:self._filled]
+            if self._rows:
+                data = np.concatenate([data, *self._rows])
             np.save(self._file, np.ascontiguousarray(data, dtype="<f8"), allow_pickle=False)
         self._file.close()
         os.replace(self._temporary, self.path)
@@ -800,9 +833,11 @@ class TrajectoryWriter(_RowWriter):
     `binary=False` OUTDIR/trajectory.csv in the format of `pbdval simulate` (docs/cli.md#csv).
     Bodies in the resolved scene's order, quaternions with w >= 0."""
 
-    def __init__(self, out_dir: str | os.PathLike[str], *, binary: bool = True) -> None:
+    def __init__(self, out_dir: str | os.PathLike[str], *, binary: bool = True,
+                 capacity: int = 0) -> None:
         super().__init__(out_dir, binary=binary, npy_name=TRAJECTORY_NPY_FILE,
-                         csv_name=TRAJECTORY_FILE, header=TRAJECTORY_HEADER, columns=15)
+                         csv_name=TRAJECTORY_FILE, header=TRAJECTORY_HEADER, columns=15,
+                         capacity=capacity)
 
     def write(self, time: float, bodies: Sequence[BodyState]) -> None:
         self.write_rows(state_rows(time, bodies))
@@ -833,9 +868,11 @@ class ParticleTrajectoryWriter(_RowWriter):
     `binary=False` OUTDIR/particles.csv (header t,index,x,y,z,vx,vy,vz, docs/cli.md#particles):
     every particle of the resolved scene's `particles`, in order, at every sample."""
 
-    def __init__(self, out_dir: str | os.PathLike[str], *, binary: bool = True) -> None:
+    def __init__(self, out_dir: str | os.PathLike[str], *, binary: bool = True,
+                 capacity: int = 0) -> None:
         super().__init__(out_dir, binary=binary, npy_name=PARTICLES_NPY_FILE,
-                         csv_name=PARTICLES_FILE, header=PARTICLES_HEADER, columns=8)
+                         csv_name=PARTICLES_FILE, header=PARTICLES_HEADER, columns=8,
+                         capacity=capacity)
 
     def write(self, time: float, states: np.ndarray) -> None:
         self.write_rows(particle_rows(time, states))
@@ -925,12 +962,15 @@ def parse_arguments(argv: Sequence[str] | None, description: str) -> EngineArgum
 
 
 def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callable[[], None],
-             states: Callable[[float], list[BodyState]],
+             states: Callable[[float], list[BodyState] | np.ndarray],
              failure: Callable[[float], str | None] = lambda t: None,
              check: Callable[[float], str | None] | None = None,
              particles: Callable[[float], np.ndarray] | None = None) -> Status:
     """The run every engine makes: the state at t = 0, then `scene.steps` calls of `step`
     (one scene step each), writing the samples the runner asks for (`scene.sample_steps()`).
+
+    `states(t)` gives every body's state in scene order: BodyStates, or (cheaper) one state
+    array, (bodies, 13) float64 (state_array_rows), which `simulate` copies before the next call.
 
     `particles(t)`, for a scene with particles, returns the (P, 6) positions and velocities of
     every particle in scene order; they are written to particles.npy at the same samples and
@@ -946,10 +986,13 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
         raise ValueError(f"the scene has {len(scene.particles)} particles and the engine "
                          "reads none back (simulate's `particles`)")
     sampled = set(scene.sample_steps())
-    particle_writer = ParticleTrajectoryWriter(out_dir) if particles is not None and scene.particles else None
+    particle_writer = (ParticleTrajectoryWriter(out_dir, capacity=len(sampled) * len(scene.particles))
+                       if particles is not None and scene.particles else None)
+    ids = np.array([b.id for b in scene.bodies], dtype=np.float64)
 
     def sample(t: float) -> tuple[np.ndarray, np.ndarray | None, str | None]:
-        rows = state_rows(t, states(t))
+        given = states(t)
+        rows = state_array_rows(t, ids, given) if isinstance(given, np.ndarray) else state_rows(t, given)
         reason = rows_divergence_reason(t, rows)
         particle_sample = None
         if particle_writer is not None and particles is not None:
@@ -966,7 +1009,7 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
             particle_writer.write_rows(particle_sample)
 
     try:
-        with TrajectoryWriter(out_dir) as writer:
+        with TrajectoryWriter(out_dir, capacity=len(sampled) * len(scene.bodies)) as writer:
             rows, particle_sample, _ = sample(0.0)
             write(rows, particle_sample)
             for n in range(1, scene.steps + 1):
@@ -1305,6 +1348,37 @@ def quat_multiply(a: FloatVector, b: FloatVector) -> Quat:
             aw * bx + ax * bw + ay * bz - az * by,
             aw * by - ax * bz + ay * bw + az * bx,
             aw * bz + ax * by - ay * bx + az * bw)
+
+
+def quat_multiply_rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """quat_multiply row by row on (n, 4) arrays (w, x, y, z): the same products and sums in
+    the same order, so each row is bit for bit quat_multiply of the two rows."""
+    aw, ax, ay, az = a[:, 0], a[:, 1], a[:, 2], a[:, 3]
+    bw, bx, by, bz = b[:, 0], b[:, 1], b[:, 2], b[:, 3]
+    out = np.empty((len(a), 4))
+    out[:, 0] = aw * bw - ax * bx - ay * by - az * bz
+    out[:, 1] = aw * bx + ax * bw + ay * bz - az * by
+    out[:, 2] = aw * by - ax * bz + ay * bw + az * bx
+    out[:, 3] = aw * bz + ax * by - ay * bx + az * bw
+    return out
+
+
+def quat_conjugates(quaternions: Iterable[FloatVector]) -> np.ndarray:
+    """quat_conjugate of each, as an (n, 4) array."""
+    out = np.array([quat_conjugate(q) for q in quaternions], dtype=np.float64)
+    return out.reshape(-1, 4)
+
+
+def principal_to_scene_states(read: np.ndarray, principal_conjugates: np.ndarray) -> np.ndarray:
+    """State arrays (state_array_rows) from the states of the bodies' principal frames as
+    pybullet reports them, (bodies, 13): x y z, qx qy qz qw (pybullet's order), v, w. The
+    scene frame's rotation is q_principal * conj(principal_rotation) (`principal_conjugates`,
+    quat_conjugates of the bodies' principal_rotation), bit for bit quat_multiply's."""
+    out = np.empty_like(read)
+    out[:, 0:3] = read[:, 0:3]
+    out[:, 3:7] = quat_multiply_rows(read[:, [6, 3, 4, 5]], principal_conjugates)
+    out[:, 7:13] = read[:, 7:13]
+    return out
 
 
 def quat_conjugate(q: FloatVector) -> Quat:

@@ -236,6 +236,11 @@ class MujocoRun:
         self.data = mujoco.MjData(self.model)
         self.body_ids = [mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, n)
                          for n in self.mjcf["body_names"]]
+        # What states() reads into and with, allocated once.
+        self._body_index = np.array(self.body_ids, dtype=np.intp)
+        self._principal_conjugates = pp.quat_conjugates(b.principal_rotation for b in scene.bodies)
+        self._velocity = np.zeros((len(self.body_ids), 6))
+        self._state = np.empty((len(self.body_ids), pp.STATE_COLUMNS))
         mujoco.mj_forward(self.model, self.data)
         self._project_initial_velocities()
         self.layout.resolve(self.model)
@@ -331,22 +336,30 @@ class MujocoRun:
                 f"joint inertia={inertia:.6g}")
         return servos
 
-    def states(self) -> list[pp.BodyState]:
-        out = []
-        velocity = np.zeros(6)
-        for b, body_id in zip(self.scene.bodies, self.body_ids):
+    def states(self) -> np.ndarray:
+        """Every body's state (pp.state_array_rows' columns), read with array operations: the
+        positions and orientations of all bodies at once, one mj_objectVelocity per body
+        (MuJoCo has no batched form) into a row of one preallocated array."""
+        m, d = self.model, self.data
+        velocity = self._velocity
+        for i, body_id in enumerate(self.body_ids):
             # [w; v] at the body frame's origin (the centre of mass), world axes.
-            mujoco.mj_objectVelocity(self.model, self.data, mujoco.mjtObj.mjOBJ_XBODY, body_id,
-                                     velocity, 0)
-            q = pp.quat_multiply(self.data.xquat[body_id], pp.quat_conjugate(b.principal_rotation))
-            out.append(pp.BodyState(b.id, self.data.xpos[body_id].copy(), q,
-                                    [float(v) for v in velocity[3:]], [float(w) for w in velocity[:3]]))
-        return out
+            mujoco.mj_objectVelocity(m, d, mujoco.mjtObj.mjOBJ_XBODY, body_id, velocity[i], 0)
+        state = self._state
+        state[:, 0:3] = d.xpos[self._body_index]
+        # The principal frame's rotation → the scene frame's.
+        state[:, 3:7] = pp.quat_multiply_rows(d.xquat[self._body_index], self._principal_conjugates)
+        state[:, 7:10] = velocity[:, 3:]
+        state[:, 10:13] = velocity[:, :3]
+        return state
 
     def run(self, out_dir: Path) -> pp.Status:
         fatal = _fatal_warnings()
+        fatal_index = np.array(list(fatal), dtype=np.intp)
 
         def failure(t: float) -> str | None:
+            if not self.data.warning.number[fatal_index].any():  # one look at every warning
+                return None
             for warning, text in fatal.items():
                 if self.data.warning[warning].number > 0:
                     return f"MuJoCo at t = {t:g} s: {text}"
@@ -356,6 +369,12 @@ class MujocoRun:
             # Between samples: the runner's limits on the generalised state, vectorised (a free
             # body's qpos holds its position, its qvel its linear and angular velocity).
             qpos, qvel = self.data.qpos, self.data.qvel
+            # One cheap look first, as the runner's check (pp._blow_up_reason): every value
+            # within the limit (NaN fails the comparison); only a state that fails it is looked
+            # at closer, for the reason.
+            limit = pp.DIVERGENCE_LIMIT
+            if np.abs(qpos).max(initial=0.0) <= limit and np.abs(qvel).max(initial=0.0) <= limit:
+                return None
             if not (np.isfinite(qpos).all() and np.isfinite(qvel).all()):
                 return f"non-finite state at t = {t:g} s"
             if qpos.size and np.abs(qpos).max() > pp.DIVERGENCE_LIMIT:
@@ -364,7 +383,7 @@ class MujocoRun:
                 return f"a speed beyond {pp.DIVERGENCE_LIMIT:g} at t = {t:g} s"
             return None
 
-        def states(t: float) -> list[pp.BodyState]:
+        def states(t: float) -> np.ndarray:
             # mj_step leaves xpos, xquat and cvel at the start of the step (they are computed
             # before the integration); recompute them for the new state. mj_forward changes no
             # state and no warm start, so sampling does not change the trajectory.

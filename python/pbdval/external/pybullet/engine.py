@@ -232,6 +232,7 @@ class PybulletRun:
         self.scene = scene
         self.client = pb.connect(pb.DIRECT)
         self.ids: list[int] = []
+        self.principal_conjugates = pp.quat_conjugates(b.principal_rotation for b in scene.bodies)
         self.notes: list[str] = []
         self.soft: deformables.SoftBodies | None = None
         self.substeps = 1
@@ -391,15 +392,22 @@ class PybulletRun:
             f"yes (as in the seed): {len(pairs)} pairs of bodies connected by a joint "
             "(setCollisionFilterPair enableCollision=1)")
 
-    def states(self, time: float) -> list[pp.BodyState]:
-        out = []
-        for b, body in zip(self.scene.bodies, self.ids):
-            position, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=self.client)
-            velocity, angular = pb.getBaseVelocity(body, physicsClientId=self.client)
-            # pybullet reports the inertial (principal) frame; the CSV wants the scene frame.
-            q_scene = pp.quat_multiply(wxyz(orientation), pp.quat_conjugate(b.principal_rotation))
-            out.append(pp.BodyState(b.id, position, q_scene, velocity, angular))
-        return out
+    def states(self, time: float) -> np.ndarray:
+        """Every body's state (pp.state_array_rows' columns). pybullet reads a
+        maximal-coordinate body's state in two calls and has no batched form: the tuples are
+        gathered into one list, made an array once, and the frame change is one array
+        operation (pybullet reports the inertial (principal) frame; the rows want the scene
+        frame)."""
+        c = self.client
+        values: list[float] = []
+        for body in self.ids:
+            position, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=c)
+            velocity, angular = pb.getBaseVelocity(body, physicsClientId=c)
+            values += position
+            values += orientation
+            values += velocity
+            values += angular
+        return pp.principal_to_scene_states(np.array(values).reshape(-1, 13), self.principal_conjugates)
 
     def run(self, out_dir: Path) -> pp.Status:
         if self.soft is None:

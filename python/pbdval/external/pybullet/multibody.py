@@ -723,7 +723,8 @@ class MultibodyRun(engine.PybulletRun):
         pb.stepSimulation(physicsClientId=self.client)
         self.step_count += 1
 
-    def states(self, time: float) -> list[pp.BodyState]:
+    def states(self, time: float) -> np.ndarray:
+        """Every body's state (pp.state_array_rows' columns), gathered into one array."""
         c = self.client
         # Every multibody's links in one call (getLinkStates): the inertial (principal) frame
         # and its velocities, world (module docstring).
@@ -737,7 +738,7 @@ class MultibodyRun(engine.PybulletRun):
                     body, indices, computeLinkVelocity=1, computeForwardKinematics=1,
                     physicsClientId=c)):
                 read[(body, link)] = (s[0], s[1], s[6], s[7])
-        out = []
+        values: list[float] = []
         for b in self.scene.bodies:
             h = self.handles[b.index]
             if h.link < 0:
@@ -745,10 +746,11 @@ class MultibodyRun(engine.PybulletRun):
                 velocity, angular = pb.getBaseVelocity(h.body, physicsClientId=c)
             else:
                 position, orientation, velocity, angular = read[(h.body, h.link)]
-            q_scene = pp.quat_multiply(engine.wxyz(orientation),
-                                       pp.quat_conjugate(b.principal_rotation))
-            out.append(pp.BodyState(b.id, position, q_scene, velocity, angular))
-        return out
+            values += position
+            values += orientation
+            values += velocity
+            values += angular
+        return pp.principal_to_scene_states(np.array(values).reshape(-1, 13), self.principal_conjugates)
 
     def run(self, out_dir: Path) -> pp.Status:
         status = pp.simulate(self.scene, out_dir, self._step, self.states)
