@@ -1165,6 +1165,12 @@ class _Standby:
         sys.stdout.flush()
         sys.stderr.flush()
         server = os.getpid()
+        # Every object the server holds goes to the collector's permanent generation: the
+        # child's collections never walk them, so the pages it copies are those its run
+        # writes, not every page with an object on it (measured with served runs of three
+        # scenes, 24 runs: the CPU time of server and children 1.15 -> 1.02 s for
+        # mujoco-python, 1.24 -> 1.15 s for pybullet; docs/benchmarks.md#persistent-engines).
+        gc.freeze()
         self.pid = os.fork()
         if self.pid == 0:
             code = 1
@@ -1177,13 +1183,6 @@ class _Standby:
                 _die_with_parent()
                 if os.getppid() == server:  # else the server died before prctl
                     failure = None
-                    # Copy-on-write ahead: a run's first writes are the reference counts of the
-                    # interpreter's objects, each copying a page shared with the server. Touching
-                    # every tracked object now copies them while the child waits (measured,
-                    # mujoco-python projectile in a fresh child: median 42 -> 30 ms, min 35 ->
-                    # 16 ms, for about 10 ms spent here).
-                    for _ in gc.get_objects():
-                        pass
                     try:
                         if prepare is not None:
                             prepare()
@@ -1350,16 +1349,21 @@ def quat_multiply(a: FloatVector, b: FloatVector) -> Quat:
             aw * bz + ax * by - ay * bx + az * bw)
 
 
-def quat_multiply_rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """quat_multiply row by row on (n, 4) arrays (w, x, y, z): the same products and sums in
-    the same order, so each row is bit for bit quat_multiply of the two rows."""
-    aw, ax, ay, az = a[:, 0], a[:, 1], a[:, 2], a[:, 3]
-    bw, bx, by, bz = b[:, 0], b[:, 1], b[:, 2], b[:, 3]
-    out = np.empty((len(a), 4))
-    out[:, 0] = aw * bw - ax * bx - ay * by - az * bz
-    out[:, 1] = aw * bx + ax * bw + ay * bz - az * by
-    out[:, 2] = aw * by - ax * bz + ay * bw + az * bx
-    out[:, 3] = aw * bz + ax * by - ay * bx + az * bw
+def quat_right_factors(b: np.ndarray) -> np.ndarray:
+    """For quat_multiply_rows: the (4, n, 4) table F of the (n, 4) quaternions b (w, x, y, z)
+    with a * b = ((a_w F[0] + a_x F[1]) + a_y F[2]) + a_z F[3] row by row. Each product and sum
+    is quat_multiply's, in its order, a subtraction being the addition of the negated product
+    (exact in IEEE 754), so the rows are bit for bit quat_multiply's."""
+    bw, bx, by, bz = (np.asarray(b, dtype=np.float64).reshape(-1, 4)[:, k] for k in range(4))
+    return np.stack([np.stack(column, axis=1) for column in
+                     ((bw, bx, by, bz), (-bx, bw, -bz, by), (-by, bz, bw, -bx), (-bz, -by, bx, bw))])
+
+
+def quat_multiply_rows(a: np.ndarray, right_factors: np.ndarray) -> np.ndarray:
+    """quat_multiply(a[i], b[i]) for every row of the (n, 4) array a, b given as
+    quat_right_factors(b) (computed once for a run): four array operations whatever n."""
+    products = a.T[:, :, None] * right_factors
+    out: np.ndarray = ((products[0] + products[1]) + products[2]) + products[3]
     return out
 
 
@@ -1369,14 +1373,20 @@ def quat_conjugates(quaternions: Iterable[FloatVector]) -> np.ndarray:
     return out.reshape(-1, 4)
 
 
-def principal_to_scene_states(read: np.ndarray, principal_conjugates: np.ndarray) -> np.ndarray:
+def principal_to_scene_factors(scene: ResolvedScene) -> np.ndarray:
+    """quat_right_factors of the conjugates of the bodies' principal rotations: a body's scene
+    frame rotation is q_principal * conj(principal_rotation)."""
+    return quat_right_factors(quat_conjugates(b.principal_rotation for b in scene.bodies))
+
+
+def principal_to_scene_states(read: np.ndarray, principal_factors: np.ndarray) -> np.ndarray:
     """State arrays (state_array_rows) from the states of the bodies' principal frames as
-    pybullet reports them, (bodies, 13): x y z, qx qy qz qw (pybullet's order), v, w. The
-    scene frame's rotation is q_principal * conj(principal_rotation) (`principal_conjugates`,
-    quat_conjugates of the bodies' principal_rotation), bit for bit quat_multiply's."""
+    pybullet reports them, (bodies, 13): x y z, qx qy qz qw (pybullet's order), v, w; the
+    scene frame's rotation bit for bit quat_multiply's (`principal_factors`:
+    principal_to_scene_factors)."""
     out = np.empty_like(read)
     out[:, 0:3] = read[:, 0:3]
-    out[:, 3:7] = quat_multiply_rows(read[:, [6, 3, 4, 5]], principal_conjugates)
+    out[:, 3:7] = quat_multiply_rows(read[:, [6, 3, 4, 5]], principal_factors)
     out[:, 7:13] = read[:, 7:13]
     return out
 

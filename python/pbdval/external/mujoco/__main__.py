@@ -17,5 +17,10 @@ from pbdval.external.mujoco.engine import main
 if sys.argv[1:2] == ["--serve"]:
     from pbdval.protocol import serve_runs
 
+    try:  # the model writer, imported by every run (engine.rigid_model): once, in the server
+        from pbdval import _core  # noqa: F401
+    except ImportError:
+        pass  # each run reports it (engine.rigid_model)
+
     sys.exit(serve_runs(sys.argv[2:], main, "MuJoCo (Python) as a persistent pbdval external engine"))
 sys.exit(main())

@@ -238,7 +238,7 @@ class MujocoRun:
                          for n in self.mjcf["body_names"]]
         # What states() reads into and with, allocated once.
         self._body_index = np.array(self.body_ids, dtype=np.intp)
-        self._principal_conjugates = pp.quat_conjugates(b.principal_rotation for b in scene.bodies)
+        self._principal_factors = pp.principal_to_scene_factors(scene)
         self._velocity = np.zeros((len(self.body_ids), 6))
         self._state = np.empty((len(self.body_ids), pp.STATE_COLUMNS))
         mujoco.mj_forward(self.model, self.data)
@@ -348,7 +348,7 @@ class MujocoRun:
         state = self._state
         state[:, 0:3] = d.xpos[self._body_index]
         # The principal frame's rotation → the scene frame's.
-        state[:, 3:7] = pp.quat_multiply_rows(d.xquat[self._body_index], self._principal_conjugates)
+        state[:, 3:7] = pp.quat_multiply_rows(d.xquat[self._body_index], self._principal_factors)
         state[:, 7:10] = velocity[:, 3:]
         state[:, 10:13] = velocity[:, :3]
         return state

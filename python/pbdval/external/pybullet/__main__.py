@@ -35,6 +35,7 @@ def connect_ahead() -> None:
 
 
 if sys.argv[1:2] == ["--serve"]:
+    from pbdval.external.pybullet import multibody  # noqa: F401 -- once, not in each run's child
     from pbdval.protocol import serve_runs
 
     # A served run's output goes to its standard error too, as above.

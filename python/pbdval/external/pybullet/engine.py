@@ -232,7 +232,7 @@ class PybulletRun:
         self.scene = scene
         self.client = pb.connect(pb.DIRECT)
         self.ids: list[int] = []
-        self.principal_conjugates = pp.quat_conjugates(b.principal_rotation for b in scene.bodies)
+        self.principal_factors = pp.principal_to_scene_factors(scene)
         self.notes: list[str] = []
         self.soft: deformables.SoftBodies | None = None
         self.substeps = 1
@@ -407,7 +407,7 @@ class PybulletRun:
             values += orientation
             values += velocity
             values += angular
-        return pp.principal_to_scene_states(np.array(values).reshape(-1, 13), self.principal_conjugates)
+        return pp.principal_to_scene_states(np.array(values).reshape(-1, 13), self.principal_factors)
 
     def run(self, out_dir: Path) -> pp.Status:
         if self.soft is None:

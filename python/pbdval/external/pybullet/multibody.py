@@ -750,7 +750,7 @@ class MultibodyRun(engine.PybulletRun):
             values += orientation
             values += velocity
             values += angular
-        return pp.principal_to_scene_states(np.array(values).reshape(-1, 13), self.principal_conjugates)
+        return pp.principal_to_scene_states(np.array(values).reshape(-1, 13), self.principal_factors)
 
     def run(self, out_dir: Path) -> pp.Status:
         status = pp.simulate(self.scene, out_dir, self._step, self.states)
