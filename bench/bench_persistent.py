@@ -5,7 +5,7 @@ C++ twins (pybullet against bullet, mujoco-python against mujoco). Speed is meas
 asserted in tests.
 
     scripts/bench persistent [--binary PBDVAL] [--before PBDVAL]
-        [--cases A,B,...] [--jobs N] [--repeat N] [--out FILE.json]
+        [--cases A,B,...] [--jobs N] [--repeat N] [--all-methods] [--out FILE.json]
 
 --before names another pbdval binary (e.g. a build without persistent engines) measured the same
 way, interleaved with --binary, so that both see the same machine load. Each figure is the best
@@ -35,14 +35,21 @@ CASES = ["projectile", "free_tumbling_box", "joint_ball", "joint_hinge", "double
          "contact_pyramid", "contact_sphere_pile", "contact_bowling_ball", "xpbd_resting_box",
          "xpbd_bouncing_sphere", "xpbd_incline_slide", "xpbd_incline_stick", "xpbd_pendulum_hinge"]
 PAIRS = [("pybullet", "bullet"), ("mujoco-python", "mujoco")]
+#: One run per case on both sides of a pair: pybullet's catalogue runs two methods per case
+#: (runMethods: maximal coordinates and multibodies), bullet one; the pair compares pybullet.si,
+#: the maximal-coordinate method (btRigidBody, as the built-in engine). --all-methods times
+#: each engine's own run methods instead (pybullet then makes twice the runs).
+SAME_RUNS = {"pybullet": ["--methods", "pybullet.si"]}
 
 
-def run_once(binary: Path, engine: str, cases: list[str], jobs: int) -> tuple[float, dict[str, int]]:
-    """Wall seconds of one `pbdval run` of `cases` in `engine`, and its runs' statuses."""
+def run_once(binary: Path, engine: str, cases: list[str], jobs: int,
+             extra: list[str]) -> tuple[float, dict[str, int]]:
+    """Wall seconds of one `pbdval run` of `cases` in `engine` (`extra` arguments added), and
+    its runs' statuses."""
     with tempfile.TemporaryDirectory(prefix="pbdval-bench-persistent-") as folder:
         command = [str(binary), "run", *[str(REPO / "cases" / f"{c}.json") for c in cases],
                    "--engines", engine, "--jobs", str(jobs), "--out", str(Path(folder) / "out"),
-                   "--timeout", "600"]
+                   "--timeout", "600", *extra]
         start = time.perf_counter()
         result = subprocess.run(command, capture_output=True, text=True, check=False, cwd=folder)
         seconds = time.perf_counter() - start
@@ -52,14 +59,15 @@ def run_once(binary: Path, engine: str, cases: list[str], jobs: int) -> tuple[fl
         return seconds, dict(Counter(r["status"] for r in runs))
 
 
-def measure(binaries: dict[str, Path], cases: list[str], jobs: int, repeat: int) -> dict[str, Any]:
+def measure(binaries: dict[str, Path], cases: list[str], jobs: int, repeat: int,
+            extra: dict[str, list[str]]) -> dict[str, Any]:
     engines = [e for pair in PAIRS for e in pair]
     best: dict[str, dict[str, float]] = {label: {} for label in binaries}
     statuses: dict[str, dict[str, dict[str, int]]] = {label: {} for label in binaries}
     for attempt in range(repeat):
         for label, binary in binaries.items():
             for engine in engines:
-                seconds, counts = run_once(binary, engine, cases, jobs)
+                seconds, counts = run_once(binary, engine, cases, jobs, extra.get(engine, []))
                 best[label][engine] = min(seconds, best[label].get(engine, float("inf")))
                 statuses[label][engine] = counts
                 print(f"[{attempt + 1}/{repeat}] {label} {engine}: {seconds:.2f} s {counts}", flush=True)
@@ -68,7 +76,8 @@ def measure(binaries: dict[str, Path], cases: list[str], jobs: int, repeat: int)
     return {"best_wall_s": best, "statuses": statuses, "ratios": ratios}
 
 
-def context(binaries: dict[str, Path], cases: list[str], jobs: int, repeat: int) -> dict[str, Any]:
+def context(binaries: dict[str, Path], cases: list[str], jobs: int, repeat: int,
+            extra: dict[str, list[str]]) -> dict[str, Any]:
     commit = subprocess.run(["git", "-C", str(REPO), "rev-parse", "--short", "HEAD"],
                             capture_output=True, text=True, check=False).stdout.strip()
     return {
@@ -76,7 +85,7 @@ def context(binaries: dict[str, Path], cases: list[str], jobs: int, repeat: int)
         "binaries": {label: {"path": str(b), "version": subprocess.run(
             [str(b), "--version"], capture_output=True, text=True, check=False).stdout.strip()}
             for label, b in binaries.items()},
-        "cases": cases, "jobs": jobs, "repeat": repeat,
+        "cases": cases, "jobs": jobs, "repeat": repeat, "engine_arguments": extra,
     }
 
 
@@ -87,6 +96,8 @@ def main() -> int:
     parser.add_argument("--cases", default=",".join(CASES))
     parser.add_argument("--jobs", type=int, default=1)
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--all-methods", action="store_true",
+                        help="each engine's own run methods (pybullet: two runs per case)")
     parser.add_argument("--out", type=Path, default=None,
                         help="JSON file (default: bench/results/<host>/persistent-<UTC stamp>.json)")
     args = parser.parse_args()
@@ -94,8 +105,9 @@ def main() -> int:
     binaries = {"after": args.binary.resolve()}
     if args.before is not None:
         binaries["before"] = args.before.resolve()
-    document = {"context": context(binaries, cases, args.jobs, args.repeat),
-                **measure(binaries, cases, args.jobs, args.repeat)}
+    extra = {} if args.all_methods else SAME_RUNS
+    document = {"context": context(binaries, cases, args.jobs, args.repeat, extra),
+                **measure(binaries, cases, args.jobs, args.repeat, extra)}
     for label, ratios in document["ratios"].items():
         print(label, {k: round(v, 2) for k, v in ratios.items()})
     write_record("persistent", document, args.out)

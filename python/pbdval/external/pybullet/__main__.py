@@ -17,18 +17,22 @@ import pybullet as pb
 from pbdval.external.pybullet.engine import main
 
 
-def connect_ahead() -> None:
-    """Serve mode: the next run's child opens its DIRECT physics client while it waits for its
-    run (pb.connect costs 20-40 ms on its own), and the run's first pb.connect(pb.DIRECT) gets
-    that client: the same fresh client the single-shot run opens, opened earlier. Served and
-    single-shot runs are compared bit for bit (tests/python/test_serve.py,
-    ServedShippedEngines in tests/validation/test_external_engine.cpp)."""
-    opened = [pb.connect(pb.DIRECT)]
+def connect_in_the_server() -> None:
+    """Serve mode: the server opens one DIRECT physics client before it forks any run's child
+    (pb.connect costs 20-40 ms of CPU on its own), and each child's first
+    pb.connect(pb.DIRECT) gets its own copy of it, the fork's: a client as fresh as the one the
+    single-shot run opens, since the server never uses it (pybullet's DIRECT client is in the
+    process, without threads). Served and single-shot runs are compared bit for bit
+    (tests/python/test_serve.py, ServedShippedEngines in
+    tests/validation/test_external_engine.cpp)."""
+    opened = pb.connect(pb.DIRECT)
     connect = pb.connect
+    taken = [False]  # each child has its own copy, False when it is forked
 
     def connect_or_take_the_open_client(*args: Any, **kwargs: Any) -> Any:
-        if opened and args == (pb.DIRECT,) and not kwargs:
-            return opened.pop()
+        if not taken[0] and args == (pb.DIRECT,) and not kwargs:
+            taken[0] = True
+            return opened
         return connect(*args, **kwargs)
 
     pb.connect = connect_or_take_the_open_client
@@ -39,6 +43,7 @@ if sys.argv[1:2] == ["--serve"]:
     from pbdval.protocol import serve_runs
 
     # A served run's output goes to its standard error too, as above.
+    connect_in_the_server()
     sys.exit(serve_runs(sys.argv[2:], main, "pybullet as a persistent pbdval external engine",
-                        stdout_to_stderr=True, prepare=connect_ahead))
+                        stdout_to_stderr=True))
 sys.exit(main())
