@@ -10,13 +10,16 @@ asserted in tests.
 --before names another pbdval binary (e.g. a build without persistent engines) measured the same
 way, interleaved with --binary, so that both see the same machine load. Each figure is the best
 (minimum) of --repeat runs, the usual estimate of a cost on a machine whose other load only ever
-adds time. The statuses of every run are recorded beside the times.
+adds time. Beside the wall time, the CPU time of the whole command (every process it started:
+less sensitive to the other load of a shared machine than the wall time). The statuses of every
+run are recorded beside the times.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import resource
 import subprocess
 import tempfile
 import time
@@ -42,38 +45,52 @@ PAIRS = [("pybullet", "bullet"), ("mujoco-python", "mujoco")]
 SAME_RUNS = {"pybullet": ["--methods", "pybullet.si"]}
 
 
+def children_cpu_seconds() -> float:
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
 def run_once(binary: Path, engine: str, cases: list[str], jobs: int,
-             extra: list[str]) -> tuple[float, dict[str, int]]:
-    """Wall seconds of one `pbdval run` of `cases` in `engine` (`extra` arguments added), and
-    its runs' statuses."""
+             extra: list[str]) -> tuple[float, float, dict[str, int]]:
+    """Wall seconds of one `pbdval run` of `cases` in `engine` (`extra` arguments added), its
+    CPU seconds (user and system, its every process: runs, engine servers and their children),
+    and its runs' statuses."""
     with tempfile.TemporaryDirectory(prefix="pbdval-bench-persistent-") as folder:
         command = [str(binary), "run", *[str(REPO / "cases" / f"{c}.json") for c in cases],
                    "--engines", engine, "--jobs", str(jobs), "--out", str(Path(folder) / "out"),
                    "--timeout", "600", *extra]
+        cpu_before = children_cpu_seconds()
         start = time.perf_counter()
         result = subprocess.run(command, capture_output=True, text=True, check=False, cwd=folder)
         seconds = time.perf_counter() - start
+        cpu = children_cpu_seconds() - cpu_before
         if result.returncode not in (0, 1):  # 1: some run not ok (a gate of its own), still timed
             raise RuntimeError(f"{' '.join(command)} exited {result.returncode}: {result.stderr[-2000:]}")
         runs = json.loads((Path(folder) / "out" / "results.json").read_text())["runs"]
-        return seconds, dict(Counter(r["status"] for r in runs))
+        return seconds, cpu, dict(Counter(r["status"] for r in runs))
 
 
 def measure(binaries: dict[str, Path], cases: list[str], jobs: int, repeat: int,
             extra: dict[str, list[str]]) -> dict[str, Any]:
     engines = [e for pair in PAIRS for e in pair]
     best: dict[str, dict[str, float]] = {label: {} for label in binaries}
+    best_cpu: dict[str, dict[str, float]] = {label: {} for label in binaries}
     statuses: dict[str, dict[str, dict[str, int]]] = {label: {} for label in binaries}
     for attempt in range(repeat):
         for label, binary in binaries.items():
             for engine in engines:
-                seconds, counts = run_once(binary, engine, cases, jobs, extra.get(engine, []))
+                seconds, cpu, counts = run_once(binary, engine, cases, jobs, extra.get(engine, []))
                 best[label][engine] = min(seconds, best[label].get(engine, float("inf")))
+                best_cpu[label][engine] = min(cpu, best_cpu[label].get(engine, float("inf")))
                 statuses[label][engine] = counts
-                print(f"[{attempt + 1}/{repeat}] {label} {engine}: {seconds:.2f} s {counts}", flush=True)
+                print(f"[{attempt + 1}/{repeat}] {label} {engine}: {seconds:.2f} s (CPU {cpu:.2f} s) "
+                      f"{counts}", flush=True)
     ratios = {label: {f"{python}/{cpp}": best[label][python] / best[label][cpp] for python, cpp in PAIRS}
               for label in binaries}
-    return {"best_wall_s": best, "statuses": statuses, "ratios": ratios}
+    cpu_ratios = {label: {f"{python}/{cpp}": best_cpu[label][python] / best_cpu[label][cpp]
+                          for python, cpp in PAIRS} for label in binaries}
+    return {"best_wall_s": best, "best_cpu_s": best_cpu, "statuses": statuses, "ratios": ratios,
+            "cpu_ratios": cpu_ratios}
 
 
 def context(binaries: dict[str, Path], cases: list[str], jobs: int, repeat: int,
@@ -109,7 +126,8 @@ def main() -> int:
     document = {"context": context(binaries, cases, args.jobs, args.repeat, extra),
                 **measure(binaries, cases, args.jobs, args.repeat, extra)}
     for label, ratios in document["ratios"].items():
-        print(label, {k: round(v, 2) for k, v in ratios.items()})
+        print(label, "wall", {k: round(v, 2) for k, v in ratios.items()},
+              "CPU", {k: round(v, 2) for k, v in document["cpu_ratios"][label].items()})
     write_record("persistent", document, args.out)
     return 0
 
