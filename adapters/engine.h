@@ -255,6 +255,10 @@ class EngineServer {
   virtual ~EngineServer() = default;
   /// False once the process has ended (or never started listening).
   virtual bool running() const = 0;
+  /// Returns once the process listens, or has failed (running() is then false); at once when
+  /// it listened before. Servers are started without waiting, so that a pool's servers start
+  /// side by side (EngineEntry::startServer).
+  virtual void awaitListening() {}
 };
 
 /// What an engine is given when it is created (chosen by the command, never read from the
@@ -283,9 +287,9 @@ struct EngineEntry {
   FeatureTable features;
   std::function<std::unique_ptr<Engine>(const EngineOptions&)> make;
   /// For an engine that can serve many runs from one process (an external engine with a
-  /// `serve` command): starts that process listening in `serverFolder` (EngineOptions) and
-  /// returns once it listens, or has failed (then running() is false and the runs say why).
-  /// Empty for the others.
+  /// `serve` command): starts that process, to listen in `serverFolder` (EngineOptions), and
+  /// returns at once; EngineServer::awaitListening() waits until it listens, or has failed
+  /// (then running() is false and the runs say why). Empty for the others.
   std::function<std::unique_ptr<EngineServer>(const std::string& serverFolder)> startServer;
   /// Run when no engine is named (`pbdval run` without --engines); false for example engines,
   /// which run only by name.

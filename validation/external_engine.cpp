@@ -394,12 +394,15 @@ Exit runServed(const std::string& socketPath, const std::string& serverLog,
   return exit;
 }
 
-/// A server process (EngineEntry::startServer): started listening, stopped when it goes.
+/// A server process (EngineEntry::startServer): started, awaited until it listens, stopped
+/// when it goes.
 class ExternalServer final : public EngineServer {
  public:
   ExternalServer(const std::string& name, const ExternalCommand& serve, const std::string& folder,
                  double startLimit)
-      : socket_(serverSocketPath(folder, name)) {
+      : socket_(serverSocketPath(folder, name)),
+        logPath_(serverLogPath(folder, name)),
+        startLimit_(startLimit) {
     std::error_code ignored;
     fs::create_directories(folder, ignored);
     fs::remove(socket_, ignored);  // a socket an earlier server left
@@ -411,34 +414,35 @@ class ExternalServer final : public EngineServer {
       argv.push_back(a.data());
     argv.push_back(nullptr);
     const std::string pythonPath = pythonPathFor(serve);
-    const std::string logPath = serverLogPath(folder, name);
     std::fflush(nullptr);
     const pid_t parent = ::getpid();
     pid_ = ::fork();
     if (pid_ < 0) return;
     if (pid_ == 0) {
-      if (!prepareEngineChild(serve, pythonPath, logPath, parent)) ::_exit(127);
+      if (!prepareEngineChild(serve, pythonPath, logPath_, parent)) ::_exit(127);
       ::execvp(argv[0], argv.data());
       std::fprintf(stderr, "pbdval: cannot start %s: %s\n", argv[0], std::strerror(errno));
       ::_exit(127);
     }
     ::setpgid(pid_, pid_);
-    const Clock::time_point start = Clock::now();
-    while (running()) {
+  }
+
+  void awaitListening() override {
+    while (!listening_ && running()) {
       const int probe = connectToSocket(socket_);
       if (probe >= 0) {
         ::close(probe);  // an empty connection: the server reads no request and goes on
         listening_ = true;
         return;
       }
-      if (std::chrono::duration<double>(Clock::now() - start).count() > startLimit) {
-        std::ofstream(logPath, std::ios::app)
-            << "pbdval: the server did not listen within " << startLimit << " s; stopped\n";
+      if (std::chrono::duration<double>(Clock::now() - started_).count() > startLimit_) {
+        std::ofstream(logPath_, std::ios::app)
+            << "pbdval: the server did not listen within " << startLimit_ << " s; stopped\n";
         break;
       }
       ::usleep(2000);
     }
-    stop();
+    if (!listening_) stop();
   }
   ~ExternalServer() override {
     if (::getpid() == owner_) stop();  // a forked copy leaves the server to its owner
@@ -463,6 +467,9 @@ class ExternalServer final : public EngineServer {
   }
 
   std::string socket_;
+  std::string logPath_;
+  double startLimit_;
+  Clock::time_point started_ = Clock::now();
   pid_t owner_ = ::getpid();  ///< the process that started the server
   pid_t pid_ = -1;
   bool listening_ = false;
@@ -612,6 +619,16 @@ std::unique_ptr<EngineServer> startExternalServer(const std::string& name,
                                                   const ExternalCommand& serve,
                                                   const std::string& serverFolder,
                                                   double startLimit) {
+  std::unique_ptr<EngineServer> server =
+      launchExternalServer(name, serve, serverFolder, startLimit);
+  server->awaitListening();
+  return server;
+}
+
+std::unique_ptr<EngineServer> launchExternalServer(const std::string& name,
+                                                   const ExternalCommand& serve,
+                                                   const std::string& serverFolder,
+                                                   double startLimit) {
   return std::make_unique<ExternalServer>(name, serve, serverFolder, startLimit);
 }
 
@@ -996,7 +1013,7 @@ EngineEntry catalogueEntry(const std::string& file, const ProjectPython& python)
   };
   if (serve)
     entry.startServer = [name, serve](const std::string& serverFolder) {
-      return startExternalServer(name, *serve, serverFolder);
+      return launchExternalServer(name, *serve, serverFolder);
     };
   return entry;
 }

@@ -90,6 +90,13 @@ std::unique_ptr<EngineServer> startExternalServer(const std::string& name,
                                                   const ExternalCommand& serve,
                                                   const std::string& serverFolder,
                                                   double startLimit = 60);
+/// startExternalServer without the wait: returns as soon as the process is started;
+/// EngineServer::awaitListening() waits (the `startLimit` counted from here). What
+/// EngineEntry::startServer does, so that the servers of a pool's workers start side by side.
+std::unique_ptr<EngineServer> launchExternalServer(const std::string& name,
+                                                   const ExternalCommand& serve,
+                                                   const std::string& serverFolder,
+                                                   double startLimit = 60);
 
 /// Ends what the external-engine runs of process `owner` left when `owner` was killed before
 /// it could clean up (a wall-time limit or an interrupt of `pbdval run`): kills each run's

@@ -97,8 +97,11 @@ RunRecord collect(const Child& child, int waitStatus, const RunRequest& request,
 
 /// The engine servers of each worker (EngineEntry::startServer,
 /// docs/external-engines.md#persistent-engines): started when a worker first runs such an engine,
-/// kept for its next runs, restarted when one ended or a run of the worker ended abnormally
-/// (killed, crashed: its server may be busy with what that run left), all stopped with the pool.
+/// together with those of the other workers that will run it (side by side, each awaited when
+/// its worker first needs it: the interpreters' start is paid once in wall time, not once per
+/// worker), kept for their next runs, restarted when one ended or a run of the worker ended
+/// abnormally (killed, crashed: its server may be busy with what that run left), all stopped
+/// with the pool.
 /// Their sockets are in a folder of their own under $TMPDIR (a Unix socket path has at most 107
 /// bytes).
 class ServerPool {
@@ -123,24 +126,35 @@ class ServerPool {
   ServerPool(const ServerPool&) = delete;
   ServerPool& operator=(const ServerPool&) = delete;
 
-  /// The server folder of `worker` for a run of `engine`, its server started when needed;
-  /// empty when the engine has no server (or the pool has no folder: single-shot runs).
-  std::string prepare(std::size_t worker, const EngineEntry& engine) {
+  /// The server folder of `worker` for a run of `engine`, its server started when needed and
+  /// listening; empty when the engine has no server (or the pool has no folder: single-shot
+  /// runs). `runsOfEngine`: how many runs of `engine` are still to start, this one included;
+  /// up to that many workers get its server started now, this one first.
+  std::string prepare(std::size_t worker, const EngineEntry& engine, std::size_t runsOfEngine) {
     if (!engine.startServer || folder_.empty()) return "";
-    const std::string folder = folder_ + "/" + std::to_string(worker);
     // A socket path longer than a sockaddr_un holds (a long engine name): single-shot runs.
-    if (serverSocketPath(folder, engine.name).size() >= kMaxSocketPath) return "";
+    if (serverSocketPath(folderOf(worker), engine.name).size() >= kMaxSocketPath) return "";
     std::unique_ptr<EngineServer>& server = servers_[worker][engine.name];
     if (!server || !server->running()) {
       server.reset();
-      server = engine.startServer(folder);
+      server = engine.startServer(folderOf(worker));
     }
-    return folder;
+    std::size_t started = 1;
+    for (std::size_t other = 0; other < servers_.size() && started < runsOfEngine; ++other) {
+      if (other == worker) continue;
+      std::unique_ptr<EngineServer>& waiting = servers_[other][engine.name];
+      if (!waiting) waiting = engine.startServer(folderOf(other));
+      ++started;
+    }
+    server->awaitListening();
+    return folderOf(worker);
   }
   /// After a run of `worker` that ended abnormally.
   void restart(std::size_t worker) { servers_[worker].clear(); }
 
  private:
+  std::string folderOf(std::size_t worker) const { return folder_ + "/" + std::to_string(worker); }
+
   pid_t owner_ = ::getpid();
   std::string folder_;
   std::vector<std::map<std::string, std::unique_ptr<EngineServer>>> servers_;
@@ -231,7 +245,12 @@ std::vector<RunRecord> RunScheduler::runAll(
       const std::size_t worker = freeWorker();
       std::string serverFolder;
       try {
-        serverFolder = servers.prepare(worker, registry_.engine(requests[next].engine));
+        // The runs of this engine still to start, counted up to the number of workers.
+        std::size_t runsOfEngine = 0;
+        for (std::size_t k = next; k < requests.size() && runsOfEngine < std::size_t(jobs_); ++k)
+          if (requests[k].engine == requests[next].engine) ++runsOfEngine;
+        serverFolder =
+            servers.prepare(worker, registry_.engine(requests[next].engine), runsOfEngine);
       } catch (const std::invalid_argument&) {
         // an unknown engine: the run says so
       }

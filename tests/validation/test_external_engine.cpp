@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -921,6 +922,35 @@ TEST_F(ServedEngineTest, AServerThatCannotStartMakesItsRunsErrorsQuotingItsStand
       << outcome.reason;
 }
 
+TEST_F(ServedEngineTest, ServersLaunchedSideBySideStartTogetherAndServeOnceAwaited) {
+  // Each server first sleeps 2 s, then starts: awaited one after the other, as servers were
+  // started before, the two would take at least 4 s; launched side by side, about 2 s plus the
+  // interpreters' start.
+  server_.reset();  // the fixture's, on the same socket
+  ExternalCommand slow = command({"--serve"});
+  slow.argv.insert(slow.argv.begin(), {"sh", "-c", "sleep 2; exec \"$@\"", "server"});
+  const fs::path otherFolder = serverFolder_.string() + "-b";
+  const auto start = std::chrono::steady_clock::now();
+  std::unique_ptr<EngineServer> first = launchExternalServer("py", slow, serverFolder_.string());
+  std::unique_ptr<EngineServer> second = launchExternalServer("py", slow, otherFolder.string());
+  const double launched =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_LT(launched, 1.0);  // neither launch waited for its 2 s sleep
+  first->awaitListening();
+  second->awaitListening();
+  const double listening =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_TRUE(first->running());
+  EXPECT_TRUE(second->running());
+  EXPECT_GE(listening, 2.0);  // the sleep itself
+  EXPECT_LT(listening, 4.0);  // not one after the other
+  server_ = std::move(first);  // the fixture's runs go to the first
+  const RunOutcome outcome = served("ok");
+  EXPECT_EQ(outcome.status, RunStatus::Ok) << outcome.reason;
+  second.reset();
+  fs::remove_all(otherFolder);
+}
+
 /// The shipped Python engines, served and single-shot, on the same case: the same numbers, to
 /// the bit (the served run is the single-shot run in a forked child).
 TEST(ServedShippedEngines, PybulletAndMujocoGiveBitwiseTheSameTrajectoryServedAsSingleShot) {
@@ -934,6 +964,7 @@ TEST(ServedShippedEngines, PybulletAndMujocoGiveBitwiseTheSameTrajectoryServedAs
     const EngineEntry& entry = engines.engine(name);
     ASSERT_TRUE(entry.startServer) << name << " declares no serve command";
     const std::unique_ptr<EngineServer> server = entry.startServer(serverFolder.string());
+    server->awaitListening();
     ASSERT_TRUE(server->running()) << name;
     EngineOptions options;
     options.serverFolder = serverFolder.string();
