@@ -1170,6 +1170,8 @@ class _Standby:
         # writes, not every page with an object on it (measured with served runs of three
         # scenes, 24 runs: the CPU time of server and children 1.15 -> 1.02 s for
         # mujoco-python, 1.24 -> 1.15 s for pybullet; docs/benchmarks.md#persistent-engines).
+        # What the server makes later is frozen by the next call too: between runs it makes
+        # almost nothing (a request line, a reply), freed by reference counting, not the collector.
         gc.freeze()
         self.pid = os.fork()
         if self.pid == 0:

@@ -942,8 +942,8 @@ TEST_F(ServedEngineTest, ServersLaunchedSideBySideStartTogetherAndServeOnceAwait
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_TRUE(first->running());
   EXPECT_TRUE(second->running());
-  EXPECT_GE(listening, 2.0);  // the sleep itself
-  EXPECT_LT(listening, 4.0);  // not one after the other
+  EXPECT_GE(listening, 2.0);   // the sleep itself
+  EXPECT_LT(listening, 4.0);   // not one after the other
   server_ = std::move(first);  // the fixture's runs go to the first
   const RunOutcome outcome = served("ok");
   EXPECT_EQ(outcome.status, RunStatus::Ok) << outcome.reason;
