@@ -176,17 +176,18 @@ class DartRun:
         constraint_solver.setCollisionDetector(detectors[detector]())
         constraint_solver.getCollisionOption().maxNumContactsPerPair = per_pair
         if solver == "pgs":
-            pgs = dart.constraint.PgsBoxedLcpSolver()
+            # dartpy binds no constructor for the LCP solvers: the world's own PGS (its default
+            # fallback) becomes the primary solver, without a fallback.
+            pgs = constraint_solver.getSecondaryBoxedLcpSolver()
             option = dart.constraint.PgsBoxedLcpSolverOption()
             option.mMaxIteration = int(parameter("iterations"))
             if option.mMaxIteration < 1:
                 raise ValueError(f"parameter iterations: expected >= 1, got {option.mMaxIteration}")
             pgs.setOption(option)
-            constraint_solver.setBoxedLcpSolver(pgs)
             constraint_solver.setSecondaryBoxedLcpSolver(None)
+            constraint_solver.setBoxedLcpSolver(pgs)
             self.settings["iterations"] = option.mMaxIteration
-        # dart.dantzig: the world's default, Dantzig with PGS as the fallback when it fails
-        # (dartpy binds no constructor for DantzigBoxedLcpSolver).
+        # dart.dantzig: the world's default, Dantzig with PGS as the fallback when it fails.
         secondary = constraint_solver.getSecondaryBoxedLcpSolver()
         self.settings["boxedLcpSolver"] = constraint_solver.getBoxedLcpSolver().getType()
         self.settings["secondaryBoxedLcpSolver"] = secondary.getType() if secondary is not None else "none"
@@ -290,7 +291,8 @@ class DartRun:
         j = self.scene.joints[tree_joint.joint]
         kind = TREE_JOINTS[j.type]
         if kind == "BallJoint":
-            return skeleton.createBallJointAndBodyNodePair(parent)  # type: ignore[no-any-return]
+            pair: tuple[Any, Any] = skeleton.createBallJointAndBodyNodePair(parent)
+            return pair
         if kind == "UniversalJoint":
             joint, node = skeleton.createUniversalJointAndBodyNodePair(parent)
             first, second = ("axis2", "axis1") if tree_joint.flipped else ("axis1", "axis2")

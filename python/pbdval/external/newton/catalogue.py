@@ -17,12 +17,12 @@ NEWTON_VERSION = "1.8.0"
 WARP_VERSION = "1.19.0"
 #: method suffix → (Newton's solver class, description)
 SOLVERS = {
-    "xpbd": ("SolverXPBD", "extended position-based dynamics (Macklin et al. 2016; rigid bodies as in "
-                           "Müller et al. 2020), maximal coordinates"),
-    "featherstone": ("SolverFeatherstone", "Featherstone's articulated-body algorithm in reduced "
-                                           "coordinates, semi-implicit Euler, penalty contacts"),
-    "semiImplicit": ("SolverSemiImplicit", "semi-implicit Euler in maximal coordinates, joints and "
-                                           "contacts as penalty forces"),
+    "xpbd": ("SolverXPBD", ("extended position-based dynamics (Macklin et al. 2016; rigid bodies as in "
+                            "Müller et al. 2020), maximal coordinates")),
+    "featherstone": ("SolverFeatherstone", ("Featherstone's articulated-body algorithm in reduced "
+                                            "coordinates, semi-implicit Euler, penalty contacts")),
+    "semiImplicit": ("SolverSemiImplicit", ("semi-implicit Euler in maximal coordinates, joints and "
+                                            "contacts as penalty forces")),
     "mujoco": ("SolverMuJoCo", "MuJoCo-Warp: unsupported on this machine (" + MUJOCO_WARP_REASON + ")"),
 }
 DEFAULT_METHOD = f"{ENGINE}.xpbd"

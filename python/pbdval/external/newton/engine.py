@@ -17,7 +17,6 @@ State in float32, Warp's precision: positions carry ~6e-8 relative round-off.
 
 from __future__ import annotations
 
-import math
 import os
 from pathlib import Path
 from typing import Any
@@ -43,8 +42,7 @@ def _import_newton() -> tuple[Any, Any]:
     import warp as wp
 
     wp.config.kernel_cache_dir = str(KERNEL_CACHE)
-    wp.config.quiet = True
-    wp.config.verbose = False
+    wp.config.log_level = wp.LOG_WARNING  # no start-up banner, no per-module load lines
     import newton
 
     return wp, newton

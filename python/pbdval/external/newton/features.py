@@ -14,7 +14,7 @@ MUJOCO_WARP_REASON = ("SolverMuJoCo needs mujoco-warp~=3.17.0 and mujoco~=3.17.0
                       "`sim` extra), whose `mujoco` module conflicts with the pinned mujoco-core 4.0.0")
 _PENALTY = ["newton.featherstone", "newton.semiImplicit"]
 
-FEATURES: list[dict[str, Any]] = [
+_TABLE: list[dict[str, Any]] = [
     {"feature": "shape.none", "support": "native", "text": "a body without a shape"},
     {"feature": "shape.sphere", "support": "native", "text": "add_shape_sphere"},
     {"feature": "shape.box", "support": "native", "text": "add_shape_box, half extents"},
@@ -29,16 +29,23 @@ FEATURES: list[dict[str, Any]] = [
     {"feature": "joint.ball", "support": "native", "text": "add_joint_ball"},
     {"feature": "joint.universal", "support": "native",
      "text": "add_joint_d6 with two angular axes, axis1 first (fixed in the parent)"},
-    {"feature": "joint.ballOnLine", "support": "unsupported", "text": "not mapped (a d6 joint could carry it; not done)"},
-    {"feature": "joint.rigidBodyParticleBall", "support": "unsupported", "text": "the newton engine maps no particles"},
+    {"feature": "joint.ballOnLine", "support": "unsupported",
+     "text": "not mapped (a d6 joint could carry it; not done)"},
+    {"feature": "joint.rigidBodyParticleBall", "support": "unsupported",
+     "text": "the newton engine maps no particles"},
     {"feature": "joint.rigidBodySpring", "support": "unsupported", "text": "not mapped"},
     {"feature": "joint.distance", "support": "unsupported",
      "text": "not mapped (Newton's distance joint is a d6 with limits; not done)"},
-    {"feature": "joint.damper", "support": "unsupported", "text": "not mapped (a prismatic joint's stiffness; not done)"},
-    {"feature": "joint.targetAngleMotorHinge", "support": "unsupported", "text": "not mapped (Newton's joint targets; not done)"},
-    {"feature": "joint.targetVelocityMotorHinge", "support": "unsupported", "text": "not mapped (Newton's joint targets; not done)"},
-    {"feature": "joint.targetPositionMotorSlider", "support": "unsupported", "text": "not mapped (Newton's joint targets; not done)"},
-    {"feature": "joint.targetVelocityMotorSlider", "support": "unsupported", "text": "not mapped (Newton's joint targets; not done)"},
+    {"feature": "joint.damper", "support": "unsupported",
+     "text": "not mapped (a prismatic joint's stiffness; not done)"},
+    {"feature": "joint.targetAngleMotorHinge", "support": "unsupported",
+     "text": "not mapped (Newton's joint targets; not done)"},
+    {"feature": "joint.targetVelocityMotorHinge", "support": "unsupported",
+     "text": "not mapped (Newton's joint targets; not done)"},
+    {"feature": "joint.targetPositionMotorSlider", "support": "unsupported",
+     "text": "not mapped (Newton's joint targets; not done)"},
+    {"feature": "joint.targetVelocityMotorSlider", "support": "unsupported",
+     "text": "not mapped (Newton's joint targets; not done)"},
     {"feature": "joint.stiffRod", "support": "unsupported", "text": "the newton engine maps no rods"},
     {"feature": "joint.closingLoop", "support": "unsupported",
      "text": "Newton's articulations are trees; a loop-closing joint is not mapped"},
@@ -61,5 +68,10 @@ FEATURES: list[dict[str, Any]] = [
      "text": "not mapped by the newton engine (Newton's add_soft_mesh takes tets; not done)"},
     {"feature": "rod", "support": "unsupported", "text": "not mapped by the newton engine"},
     {"feature": "fluid", "support": "unsupported", "text": "Newton has no position-based fluid"},
-] + [{"feature": group, "support": "unsupported", "methods": [MUJOCO_WARP], "text": MUJOCO_WARP_REASON}
-     for group in ("shape", "joint", "body", "contact", "particle", "cloth", "solid", "rod", "fluid")]
+
+]
+#: newton.mujoco: every feature group unsupported, for the reason measured here.
+_UNAVAILABLE: list[dict[str, Any]] = [
+    {"feature": group, "support": "unsupported", "methods": [MUJOCO_WARP], "text": MUJOCO_WARP_REASON}
+    for group in ("shape", "joint", "body", "contact", "particle", "cloth", "solid", "rod", "fluid")]
+FEATURES: list[dict[str, Any]] = _TABLE + _UNAVAILABLE
