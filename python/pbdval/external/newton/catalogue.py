@@ -80,6 +80,9 @@ def catalogue() -> dict[str, Any]:
                        "(python/pbdval/external/newton/, run as python -m pbdval.external.newton; "
                        "docs/engine-newton.md): float32 state, kernels compiled once into "
                        "build/cache/warp",
+        # Warp's CPU kernels make newton.xpbd take 158 s for the case library with 2 jobs (DART:
+        # 15 s): named with --engines, not in the routine run (docs/engine-newton.md#cost).
+        "runByDefault": False,
         "command": ["{python}", "-m", "pbdval.external.newton"],
         "serve": {"protocol": 1, "command": ["{python}", "-m", "pbdval.external.newton", "--serve"]},
         "defaultMethod": DEFAULT_METHOD,
