@@ -65,8 +65,12 @@ def friction_per_body(scene: pp.ResolvedScene) -> list[float] | None:
 def restitution_per_body(scene: pp.ResolvedScene) -> list[float] | None:
     """Per-body restitution whose products are the pairs' (DART multiplies the two)."""
     index = {b.id: b.index for b in scene.bodies}
-    return per_body_factors(len(scene.bodies), [(index[p.bodies[0]], index[p.bodies[1]], p.restitution)
-                                                 for p in scene.contact_pairs])
+    factors = per_body_factors(len(scene.bodies), [(index[p.bodies[0]], index[p.bodies[1]], p.restitution)
+                                                    for p in scene.contact_pairs])
+    if factors is None or any(f > 1 + 1e-9 for f in factors):
+        return None  # DART takes restitution coefficients in [0, 1]
+    # exp(log) round-off can leave 1 + 2e-16, which DART would not take as a restitution
+    return [min(f, 1.0) for f in factors]
 
 
 def unsupported_features(scene: pp.ResolvedScene) -> list[str]:
@@ -92,7 +96,7 @@ def unsupported_features(scene: pp.ResolvedScene) -> list[str]:
                        "(DART takes the minimum of the two bodies' friction)")
     if restitution_per_body(scene) is None:
         missing.append("contact restitution: the pairs' values are not products of per-body values "
-                       "(DART multiplies the two bodies' restitution)")
+                       "(DART multiplies the two bodies' restitution, each in [0, 1])")
     return missing
 
 
