@@ -209,3 +209,11 @@ def test_dart_friction_per_body_reproduces_every_pairs_minimum(export_scene: Exp
         for p in scene.contact_pairs:
             # min of two stored values is one of them: exact
             assert min(values[index[p.bodies[0]]], values[index[p.bodies[1]]]) == p.friction
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_dart_ends_ok_or_unsupported_on_every_case(export_scene: Export, run_engine: Run, case: str) -> None:
+    """A short run of every case ends ok or unsupported, never in an error."""
+    status, out = run_engine(DART, export_scene(case, method="dart.dantzig", duration=0.02))
+    assert status["status"] in ("ok", "unsupported"), status["reason"]
+    assert (status["status"] == "ok") == trajectory_written(out)
