@@ -41,7 +41,8 @@ FEATURES: list[dict[str, Any]] = [
     {"feature": "joint.rigidBodySpring", "support": "unsupported",
      "text": "not mapped (a force between the two points applied every step could carry it; not done)"},
     {"feature": "joint.distance", "support": "unsupported",
-     "text": "not mapped: dartpy's joint constraints (ball, cylindrical, revolute, weld) include no distance constraint"},
+     "text": "not mapped: dartpy's joint constraints (ball, cylindrical, revolute, weld) include no "
+             "distance constraint"},
     {"feature": "joint.targetAngleMotorHinge", "support": "unsupported",
      "text": "not mapped: DART's SERVO actuator sets a velocity, not a position"},
     {"feature": "joint.targetVelocityMotorHinge", "support": "unsupported",
