@@ -22,7 +22,7 @@ NEWTON = "newton"
 #: Warp's float32 unit round-off (2^-24).
 FLOAT32_EPSILON = 2.0**-24
 CASES = sorted(p.stem for p in (REPO / "cases").glob("*.json"))
-METHODS = ["newton.xpbd", "newton.featherstone", "newton.semiImplicit", "newton.mujoco"]
+METHODS = ["newton.xpbd", "newton.featherstone", "newton.semiImplicit"]
 
 Export = Callable[..., Path]
 Run = Callable[[str, Path], tuple[dict[str, Any], Path]]

@@ -10,7 +10,7 @@ from __future__ import annotations
 import json
 from typing import Any
 
-from pbdval.external.newton.features import FEATURES, MUJOCO_WARP_REASON
+from pbdval.external.newton.features import FEATURES
 
 ENGINE = "newton"
 NEWTON_VERSION = "1.8.0"
@@ -23,7 +23,6 @@ SOLVERS = {
                                             "coordinates, semi-implicit Euler, penalty contacts")),
     "semiImplicit": ("SolverSemiImplicit", ("semi-implicit Euler in maximal coordinates, joints and "
                                             "contacts as penalty forces")),
-    "mujoco": ("SolverMuJoCo", "MuJoCo-Warp: unsupported on this machine (" + MUJOCO_WARP_REASON + ")"),
 }
 DEFAULT_METHOD = f"{ENGINE}.xpbd"
 
@@ -59,7 +58,6 @@ _PER_SOLVER: dict[str, list[dict[str, Any]]] = {
         {"name": "jointDamping", "kind": "real", "default": 100.0, "min": 0.0, "max": 1e12, "unit": "",
          "description": "joint attachment damping (SolverSemiImplicit joint_attach_kd, its default)"},
     ],
-    "mujoco": [],
 }
 
 

@@ -10,8 +10,8 @@ static bodies are static shapes (body -1) at their pose. Joints follow the spann
 pbdval.external.joint_trees: a free joint at each tree of dynamic bodies' root, each tree joint
 from its parent (or the world) at the anchor, its frame world-aligned at t = 0 so that every
 joint coordinate starts at 0. Contacts: Newton's collision pipeline once per scene step.
-Methods: newton.xpbd (SolverXPBD), newton.featherstone, newton.semiImplicit; newton.mujoco
-(SolverMuJoCo) is declared unsupported (features.MUJOCO_WARP_REASON).
+Methods: newton.xpbd (SolverXPBD), newton.featherstone, newton.semiImplicit; a run naming
+newton.mujoco (SolverMuJoCo) is `unsupported` with features.MUJOCO_WARP_REASON.
 State in float32, Warp's precision: positions carry ~6e-8 relative round-off.
 """
 
@@ -84,11 +84,10 @@ def average_per_body(scene: pp.ResolvedScene, which: str) -> list[float] | None:
 
 
 def unsupported_features(scene: pp.ResolvedScene) -> list[str]:
-    solver = solver_of(scene.method.name)
-    if solver is None:
-        return [f"method {scene.method.name}"]
     if scene.method.name == MUJOCO_WARP:
         return [f"method {MUJOCO_WARP}: {MUJOCO_WARP_REASON}"]
+    if solver_of(scene.method.name) is None:
+        return [f"method {scene.method.name}"]
     missing: list[str] = []
     for b in scene.bodies:
         if b.shape.type not in SHAPES:

@@ -8,7 +8,9 @@ from typing import Any
 #: Seed joint type → Newton's joint (engine.py builds them; joint_trees.py plans the forest).
 TREE_JOINTS = {"hinge": "revolute", "slider": "prismatic", "ball": "ball", "universal": "d6 (two angular axes)"}
 SHAPES = ("none", "sphere", "box", "cylinder")
-#: The method Newton 1.8.0 offers but this machine cannot run (docs/engine-newton.md#mujoco-warp).
+#: Newton 1.8.0's fourth solver, which this machine cannot run: not in the catalogue (a method no
+#: scene can run); the engine answers a run that names it `unsupported` with this reason
+#: (docs/engine-newton.md#methods).
 MUJOCO_WARP = "newton.mujoco"
 MUJOCO_WARP_REASON = ("SolverMuJoCo needs mujoco-warp~=3.17.0 and mujoco~=3.17.0 (newton 1.8.0's "
                       "`sim` extra), whose `mujoco` module conflicts with the pinned mujoco-core 4.0.0")
@@ -70,8 +72,4 @@ _TABLE: list[dict[str, Any]] = [
     {"feature": "fluid", "support": "unsupported", "text": "Newton has no position-based fluid"},
 
 ]
-#: newton.mujoco: every feature group unsupported, for the reason measured here.
-_UNAVAILABLE: list[dict[str, Any]] = [
-    {"feature": group, "support": "unsupported", "methods": [MUJOCO_WARP], "text": MUJOCO_WARP_REASON}
-    for group in ("shape", "joint", "body", "contact", "particle", "cloth", "solid", "rod", "fluid")]
-FEATURES: list[dict[str, Any]] = _TABLE + _UNAVAILABLE
+FEATURES: list[dict[str, Any]] = _TABLE
