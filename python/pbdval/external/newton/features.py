@@ -37,7 +37,7 @@ _TABLE: list[dict[str, Any]] = [
      "text": "the newton engine maps no particles"},
     {"feature": "joint.rigidBodySpring", "support": "unsupported", "text": "not mapped"},
     {"feature": "joint.distance", "support": "unsupported",
-     "text": "not mapped (Newton's distance joint is a d6 with limits; not done)"},
+     "text": "not mapped (Newton has add_joint_distance; not done)"},
     {"feature": "joint.damper", "support": "unsupported",
      "text": "not mapped (a prismatic joint's stiffness; not done)"},
     {"feature": "joint.targetAngleMotorHinge", "support": "unsupported",
