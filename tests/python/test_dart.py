@@ -217,3 +217,28 @@ def test_dart_ends_ok_or_unsupported_on_every_case(export_scene: Export, run_eng
     status, out = run_engine(DART, export_scene(case, method="dart.dantzig", duration=0.02))
     assert status["status"] in ("ok", "unsupported"), status["reason"]
     assert (status["status"] == "ok") == trajectory_written(out)
+
+
+def test_the_joint_forest_orients_trees_from_the_world_flags_flipped_joints_and_finds_loops(
+        export_scene: Export) -> None:
+    import dataclasses
+
+    from pbdval.external import joint_trees
+
+    scene = pp.read_resolved_scene(export_scene("double_pendulum"))
+    first, second = scene.joints  # static base - link 1, link 1 - link 2
+    forest = joint_trees.plan_forest(scene, ["hinge"])
+    links = [b.index for b in scene.bodies if b.dynamic]
+    assert forest.order == links and forest.loops == [] and forest.free_roots() == []
+    assert forest.parent_joint[links[0]].parent == joint_trees.WORLD
+    assert forest.parent_joint[links[1]] == joint_trees.TreeJoint(1, links[0], links[1], flipped=False)
+    # the second joint written the other way round: the same tree, the joint flipped
+    swapped = dataclasses.replace(second, body1=second.body2, body2=second.body1)
+    flipped = joint_trees.plan_forest(dataclasses.replace(scene, joints=(first, swapped)), ["hinge"])
+    assert flipped.parent_joint[links[1]].flipped
+    # a third joint between the same links closes a loop; without tree joints every link is free
+    looped = dataclasses.replace(scene, joints=(first, second, second))
+    assert joint_trees.plan_forest(looped, ["hinge"]).loops == [2]
+    assert "closes a kinematic loop" in joint_trees.loop_messages(looped, joint_trees.plan_forest(looped, ["hinge"]),
+                                                                   "DART")[0]
+    assert joint_trees.plan_forest(scene, []).free_roots() == links
