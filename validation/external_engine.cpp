@@ -949,8 +949,8 @@ EngineEntry catalogueEntry(const std::string& file, const ProjectPython& python)
   if (document.is_discarded()) throw std::invalid_argument(file + ": not valid JSON");
   if (!document.is_object()) root.fail("a JSON object");
   if (root.at("protocol").json != kExternalProtocolVersion) root.at("protocol").fail("1");
-  onlyKeys(root, {"protocol", "name", "description", "example", "command", "serve", "defaultMethod",
-                  "runMethods", "version", "methods", "features"});
+  onlyKeys(root, {"protocol", "name", "description", "example", "runByDefault", "command", "serve",
+                  "defaultMethod", "runMethods", "version", "methods", "features"});
   EngineEntry entry;
   entry.name = root.at("name").text();
   const std::string folder = fs::absolute(fs::path(file)).parent_path().lexically_normal().string();
@@ -1004,7 +1004,15 @@ EngineEntry catalogueEntry(const std::string& file, const ProjectPython& python)
       methodNames.push_back(info.name);
     entry.features = catalogueFeatures(root.at("features"), methodNames);
   }
-  entry.runByDefault = !(root.has("example") && root.at("example").json == true);
+  // Run by `pbdval run` without --engines unless an example or "runByDefault": false (an engine
+  // too slow for the case library's routine run, docs/external-engines.md#the-catalogue).
+  bool runByDefault = true;
+  if (root.has("runByDefault")) {
+    const CatalogueNode node = root.at("runByDefault");
+    if (!node.json.is_boolean()) node.fail("true or false");
+    runByDefault = node.json == true;
+  }
+  entry.runByDefault = runByDefault && !(root.has("example") && root.at("example").json == true);
   const std::string name = entry.name;
   const FeatureTable features = entry.features;
   entry.make = [name, command, serve, features](const EngineOptions& options) {

@@ -28,6 +28,8 @@ ENGINE_PAGES = {
     "mujoco": "parity-mujoco.md",
     "pybullet": "parity-pybullet.md",
     "mujoco-python": "parity-mujoco-python.md",
+    "dart": "engine-dart.md",
+    "newton": "engine-newton.md",
 }
 OVERVIEW_PAGE = "parity.md"
 #: Sections of the tables: key prefix → title, in order.
