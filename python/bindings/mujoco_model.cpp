@@ -20,7 +20,7 @@
 #include "adapters/mujoco/mujoco_engine.h"
 #include "adapters/mujoco/mujoco_model_fields.h"
 #include "adapters/mujoco/mujoco_settings.h"
-#include "validation/resolved_scene_reader.h"
+#include "validation/external/resolved_scene_reader.h"
 
 namespace py = pybind11;
 

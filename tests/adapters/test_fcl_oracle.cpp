@@ -15,8 +15,8 @@
 #include "common/scene_fixtures.h"
 #include "pbd/io/mesh_loader.h"
 #include "pbd/model/mass_properties.h"
-#include "validation/oracle/distance_oracle.h"
-#include "validation/oracle/mesh_geometry.h"
+#include "validation/measure/oracle/distance_oracle.h"
+#include "validation/measure/oracle/mesh_geometry.h"
 
 namespace pbdval::test {
 namespace {

@@ -27,12 +27,12 @@
 #include "fuzz_support.h"
 #include "fuzz_targets.h"
 #include "pbd/io/scene_loader.h"
-#include "validation/case_spec.h"
-#include "validation/measure_trajectory.h"
-#include "validation/results.h"
-#include "validation/shard_files.h"
-#include "validation/sharding.h"
-#include "validation/simulation.h"
+#include "validation/io/results.h"
+#include "validation/measure/measure_trajectory.h"
+#include "validation/run/case_spec.h"
+#include "validation/run/shard_files.h"
+#include "validation/run/sharding.h"
+#include "validation/run/simulation.h"
 
 namespace pbdval::fuzz {
 namespace {

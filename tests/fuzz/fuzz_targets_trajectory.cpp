@@ -5,7 +5,7 @@
 
 #include "fuzz_support.h"
 #include "fuzz_targets.h"
-#include "validation/trajectory.h"
+#include "validation/io/trajectory.h"
 
 namespace pbdval::fuzz {
 

@@ -9,10 +9,10 @@
 
 #include "engines/selftest_engine.h"
 #include "tests/validation/fixtures.h"
-#include "validation/case_spec.h"
-#include "validation/deformation.h"
-#include "validation/mechanics.h"
-#include "validation/metrics.h"
+#include "validation/measure/deformation.h"
+#include "validation/measure/mechanics.h"
+#include "validation/measure/metrics.h"
+#include "validation/run/case_spec.h"
 
 namespace pbdval {
 namespace {

@@ -16,11 +16,11 @@
 #include "common/text_assertions.h"
 #include "pbd/io/scene_loader.h"
 #include "pbdval/build_info.h"
-#include "validation/engines/standard_engines.h"
-#include "validation/external_engine.h"
-#include "validation/interrupts.h"
-#include "validation/simulation.h"
-#include "validation/trajectory.h"
+#include "validation/external/external_engine.h"
+#include "validation/external/standard_engines.h"
+#include "validation/io/trajectory.h"
+#include "validation/run/interrupts.h"
+#include "validation/run/simulation.h"
 
 namespace pbdval {
 namespace {

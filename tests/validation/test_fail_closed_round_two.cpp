@@ -17,12 +17,12 @@
 
 #include "adapters/built_in_engines.h"
 #include "pbd/io/scene_loader.h"
-#include "validation/case_spec.h"
-#include "validation/measure_trajectory.h"
-#include "validation/process_reaper.h"
-#include "validation/run_execution.h"
-#include "validation/shard_files.h"
-#include "validation/sharding.h"
+#include "validation/external/process_reaper.h"
+#include "validation/measure/measure_trajectory.h"
+#include "validation/run/case_spec.h"
+#include "validation/run/run_execution.h"
+#include "validation/run/shard_files.h"
+#include "validation/run/sharding.h"
 
 namespace pbdval {
 namespace {

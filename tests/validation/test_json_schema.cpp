@@ -7,7 +7,7 @@
 
 #include "common/text_assertions.h"
 #include "pbdval/build_info.h"
-#include "validation/json_schema.h"
+#include "validation/io/json_schema.h"
 
 namespace pbdval {
 namespace {

@@ -14,8 +14,8 @@
 #include "pbd/io/mesh_writer.h"
 #include "pbd/io/scene_loader.h"
 #include "tests/validation/fixtures.h"
-#include "validation/mechanics.h"
-#include "validation/mesh_export.h"
+#include "validation/io/mesh_export.h"
+#include "validation/measure/mechanics.h"
 
 namespace pbdval {
 namespace {

@@ -13,7 +13,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "validation/atomic_file.h"
+#include "validation/io/atomic_file.h"
 
 namespace pbdval {
 namespace {

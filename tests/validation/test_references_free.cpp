@@ -6,9 +6,9 @@
 #include <functional>
 
 #include "tests/validation/fixtures.h"
-#include "validation/numerics.h"
-#include "validation/references/pendulum.h"
-#include "validation/references/reference.h"
+#include "validation/measure/numerics.h"
+#include "validation/measure/references/pendulum.h"
+#include "validation/measure/references/reference.h"
 
 namespace pbdval {
 namespace {

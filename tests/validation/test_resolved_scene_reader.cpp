@@ -14,8 +14,8 @@
 #include "adapters/mujoco/mujoco_engine.h"
 #include "adapters/mujoco/mujoco_settings.h"
 #include "pbd/io/scene_loader.h"
-#include "validation/resolved_scene.h"
-#include "validation/resolved_scene_reader.h"
+#include "validation/external/resolved_scene.h"
+#include "validation/external/resolved_scene_reader.h"
 
 namespace pbdval {
 namespace {

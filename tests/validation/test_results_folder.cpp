@@ -12,9 +12,9 @@
 #include "adapters/registry.h"
 #include "engines/selftest_engine.h"
 #include "pbd/io/suggestion.h"
-#include "validation/atomic_file.h"
-#include "validation/overrides.h"
-#include "validation/results_folder.h"
+#include "validation/io/atomic_file.h"
+#include "validation/io/results_folder.h"
+#include "validation/run/overrides.h"
 
 namespace pbdval {
 namespace {

@@ -14,11 +14,11 @@
 
 #include "engines/selftest_engine.h"
 #include "tests/validation/fixtures.h"
-#include "validation/deformation.h"
-#include "validation/mechanics.h"
-#include "validation/metrics.h"
-#include "validation/simulation.h"
-#include "validation/trajectory.h"
+#include "validation/io/trajectory.h"
+#include "validation/measure/deformation.h"
+#include "validation/measure/mechanics.h"
+#include "validation/measure/metrics.h"
+#include "validation/run/simulation.h"
 
 namespace pbdval {
 namespace {

@@ -7,8 +7,8 @@
 #include <cmath>
 
 #include "fixtures.h"
-#include "validation/sanity.h"
-#include "validation/simulation.h"
+#include "validation/measure/sanity.h"
+#include "validation/run/simulation.h"
 
 namespace pbdval {
 namespace {

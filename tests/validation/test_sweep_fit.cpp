@@ -9,7 +9,7 @@
 
 #include "engines/selftest_engine.h"
 #include "pbdval/build_info.h"
-#include "validation/sweep.h"
+#include "validation/studies/sweep.h"
 
 namespace pbdval {
 namespace {

@@ -5,11 +5,11 @@
 #include <iostream>
 
 #include "pbd/io/scene_loader.h"
-#include "validation/atomic_file.h"
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
-#include "validation/json_text.h"
-#include "validation/resolved_scene.h"
+#include "validation/external/resolved_scene.h"
+#include "validation/io/atomic_file.h"
+#include "validation/io/json_text.h"
 
 namespace pbdval::cli {
 namespace {
