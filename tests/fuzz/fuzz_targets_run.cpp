@@ -1,5 +1,5 @@
 // The targets that drive what a run does with its inputs, beyond the readers (issue 25):
-//   measure      what pbdval.measure does (validation/measure_trajectory.h) with a trajectory
+//   measure      what pbdval.measure does (validation/measure/measure_trajectory.h) with a trajectory
 //                built from the bytes: NaN/Inf/huge positions, quaternions of any norm, empty
 //                trajectories, NaN or decreasing times, NaN margins; scenes with collision
 //                shapes, joints and an analytic reference;

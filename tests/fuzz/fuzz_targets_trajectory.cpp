@@ -1,4 +1,4 @@
-// The trajectory readers' targets (CSV and NPY): validation/trajectory.cpp needs only the pbd
+// The trajectory readers' targets (CSV and NPY): validation/io/trajectory.cpp needs only the pbd
 // library, so its fuzz program is built from it directly, without the engines
 // (tests/fuzz/CMakeLists.txt).
 #include <stdexcept>

@@ -399,7 +399,7 @@ TEST_F(ExternalEngineTest, WrongRowCountsTimesOrBodiesAreErrors) {
 }
 
 TEST_F(ExternalEngineTest, ProtocolMistakesAreErrorsNamingTheCheckAndTheBody) {
-  // The boundary checks (validation/sanity.h) hold an external engine's samples like a
+  // The boundary checks (validation/measure/sanity.h) hold an external engine's samples like a
   // built-in engine's: each of these mistakes leaves the first sample off the scene's state.
   const auto mistake = [&](const std::function<void(BodyState&)>& edit) {
     return run("cp " + restingTrajectory([&](std::vector<State>& samples) {

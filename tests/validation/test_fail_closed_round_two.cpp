@@ -1,8 +1,8 @@
 // Issue 25, "fail closed, round two", the library side of what its fuzz targets found and
-// guard: measuring a trajectory given from outside (validation/measure_trajectory.h), merging
-// shards whose results.json points anywhere (validation/shard_files.h, mergeShards), and
+// guard: measuring a trajectory given from outside (validation/measure/measure_trajectory.h), merging
+// shards whose results.json points anywhere (validation/run/shard_files.h, mergeShards), and
 // ending the processes an external engine started outside its process group
-// (validation/process_reaper.h).
+// (validation/external/process_reaper.h).
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>

@@ -1,5 +1,5 @@
 // The JSON Schema subset the runner validates other programs' documents with
-// (validation/json_schema.h): each violation named by its JSON path, unknown keywords refused.
+// (validation/io/json_schema.h): each violation named by its JSON path, unknown keywords refused.
 #include <gtest/gtest.h>
 
 #include <fstream>

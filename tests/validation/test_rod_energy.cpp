@@ -1,4 +1,4 @@
-// The Cosserat rods' energy as the metrics measure it (validation/deformation.h, mechanics.h):
+// The Cosserat rods' energy as the metrics measure it (validation/measure/deformation.h, mechanics.h):
 // the XPBD stretch–shear and bend–twist energies ½ Cᵀ α⁻¹ C of a rod deformed by hand against
 // their closed forms (computed here from the constraints' definitions: ½ EA ℓ ε², ½ κGA ℓ γ²,
 // (2 EI/ℓ̄) sin²(θ/2), (2 GJ/ℓ̄) sin²(φ/2)), a spinning segment's kinetic energy ½ I |ω|² with

@@ -1,6 +1,6 @@
 // pbdval export-scene SCENE.json [--out FILE] [--method NAME] [--duration T]
 //                                [--sample-interval S] [--strict] [--quiet]
-// Writes the resolved scene (validation/resolved_scene.h, docs/external-engines.md).
+// Writes the resolved scene (validation/external/resolved_scene.h, docs/external-engines.md).
 #include <cstdio>
 #include <iostream>
 

@@ -230,7 +230,7 @@ Exit runProcess(const ExternalCommand& command, const std::vector<std::string>& 
       break;
     }
   }
-  reaper.killRemaining(pid);  // e.g. a child that called setsid() (validation/process_reaper.h)
+  reaper.killRemaining(pid);  // e.g. a child that called setsid() (validation/external/process_reaper.h)
   ::kill(-pid, SIGKILL);
   int status = 0;
   ::waitpid(pid, &status, 0);

@@ -5,7 +5,7 @@
 // bodies, a hang) becomes the run's status with a reason, never a failure of the runner. The
 // engine runs in a process group of its own, killed after every run (whatever it started ends
 // with it); SIGINT, SIGTERM or SIGHUP during a run stop it and throw SignalInterrupt
-// (validation/interrupts.h), its scratch folder removed.
+// (validation/run/interrupts.h), its scratch folder removed.
 #pragma once
 
 #include <sys/types.h>

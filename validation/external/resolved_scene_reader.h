@@ -1,4 +1,4 @@
-// The rigid part of a resolved scene (validation/resolved_scene.h) read back into a pbd::Scene:
+// The rigid part of a resolved scene (validation/external/resolved_scene.h) read back into a pbd::Scene:
 // bodies (pose, principal frame, mass properties, velocities, collision shape, mesh), joints
 // (type, bodies, anchors and axes in world coordinates at t = 0, stiffness, motor target),
 // every contact pair's friction and restitution (as explicit pairs, so Scene::pairMaterial

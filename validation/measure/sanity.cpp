@@ -1,4 +1,4 @@
-// Boundary checks and sanity bounds of a run's states (validation/sanity.h; derivations in
+// Boundary checks and sanity bounds of a run's states (validation/measure/sanity.h; derivations in
 // docs/metrics.md §Boundary checks and §Sanity bounds).
 #include "validation/measure/sanity.h"
 

@@ -19,7 +19,7 @@ inline constexpr int kValidationSchemaVersion = 1;
 struct ReferenceSpec {
   enum class Kind { None, Analytic, Fine, Engine };
   Kind kind = Kind::None;
-  /// Analytic: the model name ("projectile", "pendulum", ...; validation/references/) and its
+  /// Analytic: the model name ("projectile", "pendulum", ...; validation/measure/references/) and its
   /// parameters as JSON object text (the model parses and validates them).
   std::string model;
   std::string parametersJson = "{}";

@@ -247,7 +247,7 @@ RunOutcome runSimulation(Engine& engine, const pbd::Scene& scene, const Method& 
     checks.finish();
     if (result.stateHash) outcome.stateHash = *result.stateHash;
   } catch (const SignalInterrupt&) {
-    throw;  // not the engine's failure: the command stops (validation/interrupts.h)
+    throw;  // not the engine's failure: the command stops (validation/run/interrupts.h)
   } catch (const EngineDivergence& e) {
     outcome.status = RunStatus::Diverged;
     outcome.reason = e.what();

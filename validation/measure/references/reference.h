@@ -1,6 +1,6 @@
 // Analytic references (docs/references.md): small documented models that give the exact (or
 // high-accuracy) motion of a case's bodies, sampled at a run's sample times. Models (one
-// header each in validation/references/, formula and literature at its top): projectile and
+// header each in validation/measure/references/, formula and literature at its top): projectile and
 // free_fall (ballistic.h), pendulum and simple_pendulum (pendulum.h), harmonic_oscillator,
 // torque_free_symmetric and torque_free_asymmetric (torque_free.h), sliding_block,
 // rolling_sphere and bowling_ball (contact_motion.h), bouncing_ball.
