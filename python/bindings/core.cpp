@@ -387,9 +387,10 @@ class Stepper {
     if (count < 0)
       throw std::invalid_argument("step: count must be >= 0, got " + std::to_string(count));
     if (double(count) > kMaxStepsPerRun)
-      throw std::invalid_argument("step: count must be at most " + formatNumber(kMaxStepsPerRun) +
-                                  " (the most steps of one run, validation/run/simulation.h), got " +
-                                  std::to_string(count));
+      throw std::invalid_argument(
+          "step: count must be at most " + formatNumber(kMaxStepsPerRun) +
+          " (the most steps of one run, validation/run/simulation.h), got " +
+          std::to_string(count));
     bool interrupted = false;
     {
       py::gil_scoped_release release;

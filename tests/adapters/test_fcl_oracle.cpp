@@ -1,5 +1,5 @@
-// The FCL distance oracle (validation/measure/oracle/distance_oracle.h) against closed forms: signed
-// distances, penetration depths and witness points of primitive and mesh pairs, placement of
+// The FCL distance oracle (validation/measure/oracle/distance_oracle.h) against closed forms:
+// signed distances, penetration depths and witness points of primitive and mesh pairs, placement of
 // bodies from their states, and the whole-state penetration query behind the validation metrics
 // penetration_max / penetration_mean.
 #include <gtest/gtest.h>

@@ -242,11 +242,11 @@ def upward_imports(files: dict[str, str]) -> list[Reach]:
 
 def test_the_layer_rules_find_an_upward_include_link_and_import() -> None:
     headers = {"pbd/include/pbd/model/world.h": '#include <vector>\n#include "pbd/core.h"\n'
-                                                '#include <validation/measure/metrics.h>\n',
-               "pbd/include/pbd/core.h": "", "validation/measure/metrics.h": '#include "adapters/engine.h"\n',
+                                                '#include <validation/metrics.h>\n',
+               "pbd/include/pbd/core.h": "", "validation/metrics.h": '#include "adapters/engine.h"\n',
                "adapters/engine.h": '#include "pbdval/build_info.h"\n'}  # generated: not a file here
     assert [str(r) for r in upward_includes(headers)] == [
-        'pbd/include/pbd/model/world.h:3: #include "validation/measure/metrics.h" (pbd uses validation, a higher layer)']
+        'pbd/include/pbd/model/world.h:3: #include "validation/metrics.h" (pbd uses validation, a higher layer)']
     cmake = {"adapters/CMakeLists.txt": "add_library(engine STATIC e.cpp)\n"
                                         "target_link_libraries(engine PUBLIC pbd  # the library\n  checks)\n",
              "pbd/CMakeLists.txt": "add_library(pbd STATIC x.cpp)\ntarget_link_libraries(pbd PUBLIC Eigen3::Eigen)\n",

@@ -1,7 +1,7 @@
 // Issue 25, "fail closed, round two", the library side of what its fuzz targets found and
-// guard: measuring a trajectory given from outside (validation/measure/measure_trajectory.h), merging
-// shards whose results.json points anywhere (validation/run/shard_files.h, mergeShards), and
-// ending the processes an external engine started outside its process group
+// guard: measuring a trajectory given from outside (validation/measure/measure_trajectory.h),
+// merging shards whose results.json points anywhere (validation/run/shard_files.h, mergeShards),
+// and ending the processes an external engine started outside its process group
 // (validation/external/process_reaper.h).
 #include <gtest/gtest.h>
 #include <signal.h>

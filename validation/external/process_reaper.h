@@ -3,8 +3,8 @@
 // fork, a new process group) is found by a mark in its environment that every descendant
 // inherits: PBDVAL_ENGINE_RUN=<pid>-<counter>-<nanoseconds>, one value per engine run.
 //
-// Used by the external-engine launcher (validation/external/external_engine.cpp runProcess): a reaper
-// is made before the fork, mark() is called in the child before exec, and killRemaining()
+// Used by the external-engine launcher (validation/external/external_engine.cpp runProcess): a
+// reaper is made before the fork, mark() is called in the child before exec, and killRemaining()
 // after the engine was reaped. While the reaper lives, this process is a child subreaper
 // (PR_SET_CHILD_SUBREAPER), so the engine's orphans are re-parented to it rather than to init,
 // and the ones it kills are reaped here instead of staying zombies.

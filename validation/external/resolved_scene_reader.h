@@ -1,6 +1,6 @@
-// The rigid part of a resolved scene (validation/external/resolved_scene.h) read back into a pbd::Scene:
-// bodies (pose, principal frame, mass properties, velocities, collision shape, mesh), joints
-// (type, bodies, anchors and axes in world coordinates at t = 0, stiffness, motor target),
+// The rigid part of a resolved scene (validation/external/resolved_scene.h) read back into a
+// pbd::Scene: bodies (pose, principal frame, mass properties, velocities, collision shape, mesh),
+// joints (type, bodies, anchors and axes in world coordinates at t = 0, stiffness, motor target),
 // every contact pair's friction and restitution (as explicit pairs, so Scene::pairMaterial
 // returns the resolved values whatever the combination rule), gravity and the step. It is the
 // inverse of resolvedSceneJson for what an engine adapter reads of the rigid part: a scene

@@ -6,9 +6,9 @@
 // `pbdval sweep --metric` come from); when each is present: docs/metrics.md.
 // The runner adds wall_time_s, steps, real_time_factor and, for PBD, state_hash.
 //
-// The building blocks (energy and momenta of a state: validation/measure/mechanics.h; per-joint error:
-// validation/measure/joint_error.h; slope, geodesic angle, resampling: validation/measure/numerics.h) are
-// public for the runner and the reports.
+// The building blocks (energy and momenta of a state: validation/measure/mechanics.h; per-joint
+// error: validation/measure/joint_error.h; slope, geodesic angle, resampling:
+// validation/measure/numerics.h) are public for the runner and the reports.
 #pragma once
 
 #include <functional>

@@ -19,8 +19,8 @@ inline constexpr int kValidationSchemaVersion = 1;
 struct ReferenceSpec {
   enum class Kind { None, Analytic, Fine, Engine };
   Kind kind = Kind::None;
-  /// Analytic: the model name ("projectile", "pendulum", ...; validation/measure/references/) and its
-  /// parameters as JSON object text (the model parses and validates them).
+  /// Analytic: the model name ("projectile", "pendulum", ...; validation/measure/references/) and
+  /// its parameters as JSON object text (the model parses and validates them).
   std::string model;
   std::string parametersJson = "{}";
   /// Analytic: the scene ids of the bodies the model describes (empty: all dynamic bodies).

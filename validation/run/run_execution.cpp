@@ -1,6 +1,6 @@
 // Runs one request in this process: loads the case, resolves the method and the `--set`
-// assignments, runs the engine, builds the reference, computes the metrics (validation/measure/metrics.h,
-// the one measurement path) and writes the trajectory.
+// assignments, runs the engine, builds the reference, computes the metrics
+// (validation/measure/metrics.h, the one measurement path) and writes the trajectory.
 #include "validation/run/run_execution.h"
 
 #include <algorithm>

@@ -51,9 +51,9 @@ struct RunCallbacks {
 inline constexpr double kDivergenceLimit = 1e6;
 
 /// Runs `scene` in `engine` with `method` (Engine::run, the same for every engine), checking
-/// every state it reports: divergence, the boundary checks (validation/measure/sanity.h). Never throws for
-/// engine failures: unsupported features, EngineError and other exceptions, NaN/inf or blow-ups,
-/// and `wallTimeLimit` (seconds, 0 = none) become the outcome's status and reason. Only a
+/// every state it reports: divergence, the boundary checks (validation/measure/sanity.h). Never
+/// throws for engine failures: unsupported features, EngineError and other exceptions, NaN/inf or
+/// blow-ups, and `wallTimeLimit` (seconds, 0 = none) become the outcome's status and reason. Only a
 /// SignalInterrupt (validation/run/interrupts.h: an external engine's run or a callback took
 /// SIGINT, SIGTERM or SIGHUP) passes through: the command is being stopped.
 RunOutcome runSimulation(Engine& engine, const pbd::Scene& scene, const Method& method,

@@ -5,8 +5,9 @@
 // (exact distance within [−band/4, band]), the PBD distance is what its collision detection
 // sees — the smallest signed distance of either body's surface samples (mesh vertices, the
 // seed's vertex side) in the other body's SDF — and the reference is FCL's exact signed
-// distance of the two shapes (validation/measure/oracle). Error = PBD − exact: positive where vertex
-// sampling misses the closest features (edges, faces), negative where an SDF is conservative.
+// distance of the two shapes (validation/measure/oracle). Error = PBD − exact: positive where
+// vertex sampling misses the closest features (edges, faces), negative where an SDF is
+// conservative.
 //
 // Grid study. For a type-5 (grid SDF) shape, the SDF value at random points outside the mesh
 // near its surface against FCL's exact point-to-mesh distance, at several resolutionSDF values;
