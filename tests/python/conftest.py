@@ -74,7 +74,7 @@ def export_scene(pbdval_binary: Path, tmp_path_factory: pytest.TempPathFactory) 
 
 def engine_command(name: str) -> list[str]:
     """The command of catalogue entry engines/<name>.json as the runner runs it: "{python}"
-    replaced by the venv's interpreter (validation/external/external_engine.cpp)."""
+    replaced by the venv's interpreter (validation/external/engine_catalogue.cpp)."""
     command = json.loads((REPO / "engines" / f"{name}.json").read_text())["command"]
     return [str(VENV_PYTHON) if word == "{python}" else word for word in command]
 

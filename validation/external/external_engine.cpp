@@ -24,7 +24,6 @@
 #include <thread>
 
 #include "pbd/io/number_text.h"
-#include "pbdval/build_info.h"
 #include "validation/external/process_reaper.h"
 #include "validation/external/resolved_scene.h"
 #include "validation/io/json_schema.h"
@@ -230,7 +229,8 @@ Exit runProcess(const ExternalCommand& command, const std::vector<std::string>& 
       break;
     }
   }
-  reaper.killRemaining(pid);  // e.g. a child that called setsid() (validation/external/process_reaper.h)
+  // e.g. a child that called setsid() (validation/external/process_reaper.h)
+  reaper.killRemaining(pid);
   ::kill(-pid, SIGKILL);
   int status = 0;
   ::waitpid(pid, &status, 0);
@@ -477,14 +477,11 @@ RunStatus statusNamed(const std::string& name) {
 
 /// The schema of status.json (docs/schemas/status.schema.json), read from the source tree.
 Json statusSchema() {
-  const std::string path = std::string(PBDVAL_SOURCE_DIR) + "/docs/schemas/status.schema.json";
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  const Json schema = Json::parse(text.str(), nullptr, false);
-  if (!in || schema.is_discarded() || !schema.is_object())
-    throw EngineError("cannot read the status schema " + path);
-  return schema;
+  try {
+    return projectSchema("status.schema.json");
+  } catch (const std::runtime_error& e) {
+    throw EngineError(e.what());
+  }
 }
 
 /// Reads status.json into `run`, validated against its schema; throws std::invalid_argument
@@ -772,248 +769,6 @@ void removeEngineLeftovers(pid_t owner) {
     std::error_code ignored;
     fs::remove_all(folder, ignored);
   }
-}
-
-// --- The catalogue ---------------------------------------------------------------------------
-
-namespace {
-
-struct CatalogueNode {
-  const Json& json;
-  std::string path;
-  const std::string& file;
-
-  [[noreturn]] void fail(const std::string& expected) const {
-    std::string got = json.is_discarded() ? "nothing" : jsonText(json, -1);
-    if (got.size() > 60) got = got.substr(0, 57) + "...";
-    throw std::invalid_argument(file + ": " + path + ": expected " + expected + ", got " + got);
-  }
-  CatalogueNode at(const std::string& key) const {
-    static const Json missing(nlohmann::json::value_t::discarded);
-    const std::string p = path.empty() ? key : path + "." + key;
-    return {json.is_object() && json.contains(key) ? json.at(key) : missing, p, file};
-  }
-  CatalogueNode at(std::size_t i) const {
-    return {json.at(i), path + "[" + std::to_string(i) + "]", file};
-  }
-  bool has(const std::string& key) const { return json.is_object() && json.contains(key); }
-  std::string text() const {
-    if (!json.is_string() || json.get<std::string>().empty()) fail("a non-empty string");
-    return json.get<std::string>();
-  }
-  double number() const {
-    if (!json.is_number()) fail("a number");
-    return json.get<double>();
-  }
-  const Json& array() const {
-    if (!json.is_array()) fail("an array");
-    return json;
-  }
-};
-
-/// Refuses a key outside `allowed` (docs/schemas/catalogue.schema.json: no other keys), naming
-/// its JSON path and the keys that are allowed.
-void onlyKeys(const CatalogueNode& node, std::initializer_list<const char*> allowed) {
-  if (!node.json.is_object()) node.fail("a JSON object");
-  for (const auto& item : node.json.items()) {
-    bool known = false;
-    std::string list;
-    for (const char* key : allowed) {
-      known = known || item.key() == key;
-      list += (list.empty() ? "" : ", ") + std::string(key);
-    }
-    if (!known) node.at(item.key()).fail("no such key (allowed: " + list + ")");
-  }
-}
-
-ParameterSpec catalogueParameter(const CatalogueNode& node, const std::string& method) {
-  onlyKeys(node, {"name", "kind", "default", "min", "max", "choices", "unit", "description"});
-  ParameterSpec p;
-  p.name = node.at("name").text();
-  const std::string kind = node.at("kind").text();
-  const CatalogueNode value = node.at("default");
-  if (kind == "real") {
-    p.kind = ParameterKind::Real;
-    p.defaultValue = pbd::formatReal(value.number());
-  } else if (kind == "integer") {
-    p.kind = ParameterKind::Integer;
-    if (!value.json.is_number_integer()) value.fail("an integer");
-    p.defaultValue = std::to_string(value.json.get<std::int64_t>());
-  } else if (kind == "bool") {
-    p.kind = ParameterKind::Bool;
-    if (!value.json.is_boolean()) value.fail("true or false");
-    p.defaultValue = value.json.get<bool>() ? "true" : "false";
-  } else if (kind == "choice") {
-    p.kind = ParameterKind::Choice;
-    p.defaultValue = value.text();
-    const CatalogueNode choices = node.at("choices");
-    for (std::size_t i = 0; i < choices.array().size(); ++i)
-      p.choices.push_back(choices.at(i).text());
-  } else {
-    node.at("kind").fail("one of real, integer, bool, choice");
-  }
-  if (node.has("min")) p.minimum = node.at("min").number();
-  if (node.has("max")) p.maximum = node.at("max").number();
-  if (node.has("unit") && node.at("unit").json.is_string())
-    p.unit = node.at("unit").json.get<std::string>();
-  p.description = node.has("description") ? node.at("description").text() : "";
-  try {
-    parseParameter(p, p.defaultValue, method);
-  } catch (const std::invalid_argument& e) {
-    value.fail(std::string("a default within its own declaration (") + e.what() + ")");
-  }
-  return p;
-}
-
-/// The catalogue's feature table (adapters/features.h; docs/external-engines.md#features):
-/// every entry checked, then the table as a whole (each problem named by its JSON path).
-FeatureTable catalogueFeatures(const CatalogueNode& node, const std::vector<std::string>& methods) {
-  FeatureTable table;
-  for (std::size_t i = 0; i < node.array().size(); ++i) {
-    const CatalogueNode e = node.at(i);
-    onlyKeys(e, {"feature", "support", "text", "methods"});
-    FeatureSupport support;
-    support.key = e.at("feature").text();
-    const std::string level = e.at("support").text();
-    try {
-      support.support = supportNamed(level);
-    } catch (const std::invalid_argument&) {
-      e.at("support").fail("one of native, approximated, unsupported");
-    }
-    if (e.has("text")) {
-      if (!e.at("text").json.is_string()) e.at("text").fail("a string");
-      support.text = e.at("text").json.get<std::string>();
-    }
-    if (e.has("methods")) {
-      const CatalogueNode list = e.at("methods");
-      if (list.array().empty())
-        list.fail("a non-empty array of method names (leave it out for every method)");
-      for (std::size_t k = 0; k < list.json.size(); ++k)
-        support.methods.push_back(list.at(k).text());
-    }
-    table.entries.push_back(std::move(support));
-  }
-  const std::vector<std::string> problems = checkFeatureTable(table, methods);
-  if (!problems.empty()) {
-    std::string text = problems.front();
-    // checkFeatureTable names entries "features[3]..." and the table "features: ...".
-    throw std::invalid_argument(node.file + ": " + text +
-                                (problems.size() > 1
-                                     ? " (and " + std::to_string(problems.size() - 1) + " more)"
-                                     : std::string()));
-  }
-  return table;
-}
-
-/// A catalogue command (`command`, `serve.command`): "{python}" replaced, run in the catalogue's
-/// folder (relative paths in it are relative to the catalogue file).
-ExternalCommand catalogueCommand(const CatalogueNode& argv, const ProjectPython& python,
-                                 const std::string& folder) {
-  ExternalCommand command;
-  command.workingFolder = folder;
-  if (argv.array().empty()) argv.fail("a non-empty array of strings");
-  for (std::size_t i = 0; i < argv.json.size(); ++i) {
-    std::string word = argv.at(i).text();
-    if (word == "{python}") {
-      word = python.interpreter;
-      command.pythonPackageFolder = python.packageFolder;
-    }
-    command.argv.push_back(word);
-  }
-  return command;
-}
-
-EngineEntry catalogueEntry(const std::string& file, const ProjectPython& python) {
-  std::ifstream in(file);
-  std::stringstream text;
-  text << in.rdbuf();
-  const Json document = Json::parse(text.str(), nullptr, false);
-  const CatalogueNode root{document, "", file};
-  if (document.is_discarded()) throw std::invalid_argument(file + ": not valid JSON");
-  if (!document.is_object()) root.fail("a JSON object");
-  if (root.at("protocol").json != kExternalProtocolVersion) root.at("protocol").fail("1");
-  onlyKeys(root, {"protocol", "name", "description", "example", "command", "serve", "defaultMethod",
-                  "runMethods", "version", "methods", "features"});
-  EngineEntry entry;
-  entry.name = root.at("name").text();
-  const std::string folder = fs::absolute(fs::path(file)).parent_path().lexically_normal().string();
-  const ExternalCommand command = catalogueCommand(root.at("command"), python, folder);
-  // A persistent process that serves many runs (docs/external-engines.md#persistent-engines).
-  std::optional<ExternalCommand> serve;
-  if (root.has("serve")) {
-    const CatalogueNode node = root.at("serve");
-    if (!node.json.is_object()) node.fail("an object {\"protocol\": 1, \"command\": [...]}");
-    if (node.at("protocol").json != kExternalServeProtocolVersion)
-      node.at("protocol").fail(std::to_string(kExternalServeProtocolVersion));
-    serve = catalogueCommand(node.at("command"), python, folder);
-  }
-  entry.defaultMethod = root.at("defaultMethod").text();
-  const CatalogueNode methods = root.at("methods");
-  for (std::size_t i = 0; i < methods.array().size(); ++i) {
-    const CatalogueNode m = methods.at(i);
-    onlyKeys(m, {"name", "description", "parameters"});
-    MethodInfo info;
-    info.name = m.at("name").text();
-    if (info.name.rfind(entry.name + ".", 0) != 0)
-      m.at("name").fail("a name starting with \"" + entry.name + ".\"");
-    info.engine = entry.name;
-    info.description = m.has("description") ? m.at("description").text() : "";
-    if (m.has("parameters")) {
-      const CatalogueNode parameters = m.at("parameters");
-      for (std::size_t k = 0; k < parameters.array().size(); ++k)
-        info.parameters.push_back(catalogueParameter(parameters.at(k), info.name));
-    }
-    entry.methods.push_back(std::move(info));
-  }
-  entry.honouredSettings = {"timeStepSize", "gravitation"};
-  // The methods `pbdval run` uses when none is named (default: defaultMethod alone).
-  if (root.has("runMethods")) {
-    const CatalogueNode list = root.at("runMethods");
-    if (list.array().empty()) list.fail("a non-empty array of method names");
-    for (std::size_t k = 0; k < list.json.size(); ++k) {
-      const std::string method = list.at(k).text();
-      const bool known = std::any_of(entry.methods.begin(), entry.methods.end(),
-                                     [&](const MethodInfo& info) { return info.name == method; });
-      if (!known) list.at(k).fail("one of this entry's methods");
-      if (std::find(entry.runMethods.begin(), entry.runMethods.end(), method) !=
-          entry.runMethods.end())
-        list.at(k).fail("a method not already listed");
-      entry.runMethods.push_back(method);
-    }
-  }
-  if (root.has("features")) {
-    std::vector<std::string> methodNames;
-    for (const MethodInfo& info : entry.methods)
-      methodNames.push_back(info.name);
-    entry.features = catalogueFeatures(root.at("features"), methodNames);
-  }
-  entry.runByDefault = !(root.has("example") && root.at("example").json == true);
-  const std::string name = entry.name;
-  const FeatureTable features = entry.features;
-  entry.make = [name, command, serve, features](const EngineOptions& options) {
-    return std::unique_ptr<Engine>(
-        new ExternalEngine(name, command, features, serve ? options.serverFolder : std::string()));
-  };
-  if (serve)
-    entry.startServer = [name, serve](const std::string& serverFolder) {
-      return startExternalServer(name, *serve, serverFolder);
-    };
-  return entry;
-}
-
-}  // namespace
-
-std::vector<EngineEntry> readEngineCatalogue(const std::string& folder,
-                                             const ProjectPython& python) {
-  std::vector<std::string> files;
-  std::error_code error;
-  for (const auto& item : fs::directory_iterator(folder, error))
-    if (item.path().extension() == ".json") files.push_back(item.path().string());
-  std::sort(files.begin(), files.end());
-  std::vector<EngineEntry> entries;
-  for (const std::string& file : files)
-    entries.push_back(catalogueEntry(file, python));
-  return entries;
 }
 
 }  // namespace pbdval

@@ -33,14 +33,6 @@ struct ExternalCommand {
   std::string pythonPackageFolder;
 };
 
-/// The Python that runs the catalogue commands naming "{python}": the interpreter, by path, and
-/// the folder put first on those engines' PYTHONPATH, so that `python -m pbdval.external.<name>`
-/// imports pbdval from this source tree whatever the interpreter's own path says.
-struct ProjectPython {
-  std::string interpreter;
-  std::string packageFolder;
-};
-
 /// An external engine. Each run is a fresh process: the engine's command started for it
 /// (single-shot), or, when the engine declares a `serve` command and `serverFolder` holds this
 /// worker's server for it (EngineEntry::startServer), a child the server forks for it
@@ -96,15 +88,5 @@ std::unique_ptr<EngineServer> startExternalServer(const std::string& name,
 /// engine process group and removes its scratch folder ($TMPDIR/pbdval-engine-<owner>-*).
 /// For the process that started `owner`, after `owner` has ended.
 void removeEngineLeftovers(pid_t owner);
-
-/// The engines of a catalogue folder: one `<name>.json` per engine
-/// (docs/external-engines.md#the-catalogue), each command's "{python}" replaced by
-/// `python.interpreter` (and such a command run with `python.packageFolder` first on its
-/// PYTHONPATH). Every command runs in the catalogue's folder, so that relative paths in it (a
-/// program, a script) are relative to the catalogue file. An entry with `serve` (its protocol and
-/// command) gets EngineEntry::startServer. Throws std::invalid_argument naming the file and JSON
-/// path of anything malformed. A missing folder has no engines.
-std::vector<EngineEntry> readEngineCatalogue(const std::string& folder,
-                                             const ProjectPython& python);
 
 }  // namespace pbdval

@@ -8,7 +8,7 @@
 
 #include "adapters/built_in_engines.h"
 #include "pbdval/build_info.h"
-#include "validation/external/external_engine.h"
+#include "validation/external/engine_catalogue.h"
 
 namespace pbdval {
 
