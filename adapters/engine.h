@@ -102,7 +102,8 @@ struct RunFacts {
   /// penetration metric subtracts it. 0 when contacts are meant to close exactly.
   double contactMargin = 0;
   /// Relative tolerance of the first sample against the Scene's initial state (the boundary
-  /// check of validation/sanity.h): 1e-9 unless the engine states why its read-back differs.
+  /// check of validation/measure/sanity.h): 1e-9 unless the engine states why its read-back
+  /// differs.
   double initialStateTolerance = 1e-9;
   /// The engine's generalised coordinates cannot hold a velocity that violates a joint: it
   /// starts from the scene's velocities projected onto the joints' free motions (MuJoCo), so
@@ -111,7 +112,7 @@ struct RunFacts {
   /// The largest speed (m/s) the method reports for a body that holds still, with its reason:
   /// a velocity pass that changes velocities after the positions are set (the seed's PBD step)
   /// leaves a body resting in contact with a velocity its positions do not show. 0: a body at
-  /// rest reports rest (validation/sanity.h, check velocity_at_rest).
+  /// rest reports rest (validation/measure/sanity.h, check velocity_at_rest).
   double restVelocityAllowance = 0;
   std::string restVelocityReason;
   /// Bodies (indices into Scene::rigidBodies) whose reported velocities the method sets apart
@@ -131,8 +132,8 @@ struct RunLength {
 
 /// A run's status. `Suspect`: the run completed, but its states break a physics sanity bound
 /// that the scene implies (energy created in a passive scene, momentum changed without an
-/// external force, a speed the scene's energy cannot reach; validation/sanity.h) or a check at
-/// the engine's boundary (initial state, unit quaternions, velocities consistent with the
+/// external force, a speed the scene's energy cannot reach; validation/measure/sanity.h) or a check
+/// at the engine's boundary (initial state, unit quaternions, velocities consistent with the
 /// motion). Its metrics are kept; the gate fails it unless the baseline knows it.
 enum class RunStatus { Ok, Suspect, Diverged, Timeout, Unsupported, Error };
 /// Every status, in the order summaries list them (the one declaration the parsers use).
@@ -151,7 +152,8 @@ std::optional<RunStatus> runStatusNamed(std::string_view name);
 std::string runStatusNameList();
 
 /// The steps of one run and when it is sampled: `steps` scene steps, a sample at step 0, every
-/// `stride`-th step and the last (validation/simulation.h planSteps derives it from a RunLength).
+/// `stride`-th step and the last (validation/run/simulation.h planSteps derives it from a
+/// RunLength).
 struct StepPlan {
   long steps = 0;
   long stride = 1;
@@ -165,7 +167,7 @@ enum class StateCadence {
 };
 
 /// Receives a run's states as the engine produces them: the runner's checks and outputs
-/// (validation/simulation.h). An engine never judges its own states.
+/// (validation/run/simulation.h). An engine never judges its own states.
 class RunObserver {
  public:
   virtual ~RunObserver() = default;

@@ -31,7 +31,7 @@
 #include "pbd/constraints/particle_distance.h"
 #include "pbd/model/world.h"
 #include "pbdval/build_info.h"
-#include "validation/atomic_file.h"
+#include "validation/io/atomic_file.h"
 
 namespace {
 

@@ -1,6 +1,6 @@
 // pbdval._core: the C++ side of `import pbdval` (docs/python.md#import-pbdval). It exposes the
-// same scene loader, engine registry, stepping loop (validation/simulation.h) and measurement
-// path (validation/run_execution.h measureSamples) that the pbdval command uses; nothing here
+// same scene loader, engine registry, stepping loop (validation/run/simulation.h) and measurement
+// path (validation/run/run_execution.h measureSamples) that the pbdval command uses; nothing here
 // computes a metric or interprets a scene of its own. The pure-Python parts (python/pbdval/)
 // wrap these functions in typed classes; this module's names start with an underscore where
 // only they are meant to call them.
@@ -27,20 +27,20 @@
 #include "pbd/io/suggestion.h"
 #include "pbdval/build_info.h"
 #include "python/bindings/mujoco_model.h"
-#include "validation/case_spec.h"
-#include "validation/engines/standard_engines.h"
-#include "validation/gate.h"
-#include "validation/interrupts.h"
-#include "validation/measure_trajectory.h"
-#include "validation/mechanics.h"
-#include "validation/metrics.h"
-#include "validation/overrides.h"
-#include "validation/references/reference.h"
-#include "validation/resolved_scene.h"
-#include "validation/results.h"
-#include "validation/run_execution.h"
-#include "validation/simulation.h"
-#include "validation/trajectory.h"
+#include "validation/external/resolved_scene.h"
+#include "validation/external/standard_engines.h"
+#include "validation/io/results.h"
+#include "validation/io/trajectory.h"
+#include "validation/measure/measure_trajectory.h"
+#include "validation/measure/mechanics.h"
+#include "validation/measure/metrics.h"
+#include "validation/measure/references/reference.h"
+#include "validation/run/case_spec.h"
+#include "validation/run/interrupts.h"
+#include "validation/run/overrides.h"
+#include "validation/run/run_execution.h"
+#include "validation/run/simulation.h"
+#include "validation/verdict/gate.h"
 
 namespace py = pybind11;
 
@@ -387,9 +387,10 @@ class Stepper {
     if (count < 0)
       throw std::invalid_argument("step: count must be >= 0, got " + std::to_string(count));
     if (double(count) > kMaxStepsPerRun)
-      throw std::invalid_argument("step: count must be at most " + formatNumber(kMaxStepsPerRun) +
-                                  " (the most steps of one run, validation/simulation.h), got " +
-                                  std::to_string(count));
+      throw std::invalid_argument(
+          "step: count must be at most " + formatNumber(kMaxStepsPerRun) +
+          " (the most steps of one run, validation/run/simulation.h), got " +
+          std::to_string(count));
     bool interrupted = false;
     {
       py::gil_scoped_release release;
@@ -659,7 +660,7 @@ void raiseAs(const char* name, const std::exception& e) {
   PyErr_SetObject(cls.ptr(), cls(std::string(e.what())).ptr());
 }
 
-/// An external engine's run took SIGINT, SIGTERM or SIGHUP (validation/interrupts.h) and
+/// An external engine's run took SIGINT, SIGTERM or SIGHUP (validation/run/interrupts.h) and
 /// stopped the engine. SIGINT is Python's KeyboardInterrupt; the others are raised again, now
 /// that the engine is gone, so that they do what they would have done (end the interpreter,
 /// or run the handler Python code installed).
@@ -805,7 +806,7 @@ PYBIND11_MODULE(_core, m) {
   m.def("_simulate", &simulate);
   m.def("_measure", &measure);
   m.def("_energy", &energy);
-  // Every metric's unit (validation/metrics.h, metric::declared()): the report's headers.
+  // Every metric's unit (validation/measure/metrics.h, metric::declared()): the report's headers.
   m.def("_metric_units", [] {
     py::dict units;
     for (const pv::metric::Declared& d : pv::metric::declared())
@@ -813,7 +814,7 @@ PYBIND11_MODULE(_core, m) {
     return units;
   });
   // The cases' own checks (Validation.checks) on a results.json, judged without a baseline by
-  // the gate's own function (validation/gate.h evaluateCaseChecks): the report's bounds.
+  // the gate's own function (validation/verdict/gate.h evaluateCaseChecks): the report's bounds.
   m.def("_case_checks", [](const std::string& path) {
     if (path.find('\0') != std::string::npos)
       throw ResultsFileError("a file name cannot contain a NUL character");

@@ -1,7 +1,7 @@
 // pbdval._core's MuJoCo functions: the built-in adapter's MJCF (adapters/mujoco/mjcf_writer.h)
-// of a resolved scene's rigid part (validation/resolved_scene_reader.h) for the mujoco-python
-// engine, which compiles it with MuJoCo 4, and MuJoCo 2.2.2's compile of
-// any MJCF as numbers, for the test that compares the two versions' models field by field
+// of a resolved scene's rigid part (validation/external/resolved_scene_reader.h) for the
+// mujoco-python engine, which compiles it with MuJoCo 4, and MuJoCo 2.2.2's compile of any MJCF as
+// numbers, for the test that compares the two versions' models field by field
 // (docs/external-engines.md#one-model-description).
 #include "python/bindings/mujoco_model.h"
 
@@ -20,7 +20,7 @@
 #include "adapters/mujoco/mujoco_engine.h"
 #include "adapters/mujoco/mujoco_model_fields.h"
 #include "adapters/mujoco/mujoco_settings.h"
-#include "validation/resolved_scene_reader.h"
+#include "validation/external/resolved_scene_reader.h"
 
 namespace py = pybind11;
 

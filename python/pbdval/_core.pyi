@@ -6,7 +6,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 version: str
-default_wall_time_limit: float  # s, kDefaultWallTimeLimit (validation/simulation.h)
+default_wall_time_limit: float  # s, kDefaultWallTimeLimit (validation/run/simulation.h)
 max_steps_per_run: float  # kMaxStepsPerRun
 
 class _Scene: ...

@@ -2,8 +2,8 @@
 
 Everything here goes through the same C++ code as the pbdval command: the scene loader, the
 engine registry (built-in engines and the external-engine catalogue), the stepping loop with its
-divergence checks (validation/simulation.h) and the one measurement path
-(validation/run_execution.h ``measureSamples``). Nothing in Python computes a metric.
+divergence checks (validation/run/simulation.h) and the one measurement path
+(validation/run/run_execution.h ``measureSamples``). Nothing in Python computes a metric.
 
 Conventions (docs/python.md): SI units; world frame; quaternions in (w, x, y, z) order, the
 body's scene frame to world; bodies in scene order; a trajectory stacks samples on axis 0.
@@ -712,7 +712,7 @@ class Energy:
 
 
 def energy(scene: Scene, trajectory: Trajectory, *, engines: Engines | None = None) -> Energy:
-    """The energy of every sample (validation/mechanics.h). Raises :class:`pbdval.ArgumentError`
+    """The energy of every sample (validation/measure/mechanics.h). Raises :class:`pbdval.ArgumentError`
     for an empty trajectory or a NaN or infinite time."""
     _instance("scene", scene, Scene)
     _check_trajectory("trajectory", trajectory)

@@ -55,7 +55,7 @@ PARTICLES_HEADER = "t,index,x,y,z,vx,vy,vz"
 TRAJECTORY_HEADER = "t,id,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz"
 STATUSES = ("ok", "unsupported", "diverged", "error")
 #: Positions beyond this many metres or speeds beyond this many m/s count as a blow-up
-#: (validation/simulation.h, kDivergenceLimit).
+#: (validation/run/simulation.h, kDivergenceLimit).
 DIVERGENCE_LIMIT = 1e6
 
 Vec3 = tuple[float, float, float]
@@ -347,7 +347,7 @@ class ResolvedScene:
 
     def sample_steps(self) -> list[int]:
         """The step numbers after which a sample is written (0: the initial state): every
-        `sample_stride`-th step and the last (validation/simulation.cpp)."""
+        `sample_stride`-th step and the last (validation/run/simulation.cpp)."""
         return [n for n in range(self.steps + 1)
                 if n == 0 or n % self.sample_stride == 0 or n == self.steps]
 
@@ -668,13 +668,13 @@ def unsupported_particle_models(scene: ResolvedScene, engine: str, cloth_methods
 
 
 def format_number(value: float) -> str:
-    """The shortest decimal text that reads back to `value` exactly, as validation/trajectory.cpp
+    """The shortest decimal text that reads back to `value` exactly, as validation/io/trajectory.cpp
     writes it (integral values without ".0", so 2.0 is "2")."""
     return repr(float(value)).removesuffix(".0")
 
 
 def format_time(time: float) -> str:
-    """Sample times to 12 significant digits, so that 0.3 is 0.3 (validation/trajectory.cpp)."""
+    """Sample times to 12 significant digits, so that 0.3 is 0.3 (validation/io/trajectory.cpp)."""
     return f"{time:.12g}"
 
 
@@ -692,7 +692,7 @@ class BodyState:
 
 def divergence_reason(time: float, bodies: Iterable[BodyState]) -> str | None:
     """Why a state counts as diverged (non-finite, |x| or |v| above DIVERGENCE_LIMIT), or None;
-    the same test as validation/simulation.cpp."""
+    the same test as validation/run/simulation.cpp."""
     return rows_divergence_reason(time, state_rows(time, list(bodies)))
 
 
@@ -712,7 +712,7 @@ def state_rows(time: float, bodies: Sequence[BodyState]) -> np.ndarray:
 
 def _blow_up_reason(time: float, name: Callable[[int], str], positions: np.ndarray,
                     velocities: np.ndarray, state: np.ndarray) -> str | None:
-    """The runner's divergence test (validation/simulation.cpp) on the states named by `name`
+    """The runner's divergence test (validation/run/simulation.cpp) on the states named by `name`
     (row index → "body 3", "particle 5"): any of `state` (every value, row per state)
     non-finite, or |x| or |v| above DIVERGENCE_LIMIT. First one cheap look, sufficient but not
     necessary: every value finite and below half the limit in magnitude (so |x|, |v| <=
@@ -857,7 +857,7 @@ def particle_rows(time: float, states: np.ndarray) -> np.ndarray:
 
 
 def particle_rows_divergence_reason(time: float, rows: np.ndarray) -> str | None:
-    """The runner's divergence test on particle rows (validation/simulation.cpp)."""
+    """The runner's divergence test on particle rows (validation/run/simulation.cpp)."""
     if not len(rows):
         return None
     return _blow_up_reason(time, lambda i: f"particle {i}", rows[:, 2:5], rows[:, 5:8], rows[:, 2:])

@@ -11,7 +11,7 @@ R², the local orders, the points left out and the flags; error against wall tim
 Pareto front), every figure a standalone SVG file in one palette (python/pbdval/palette.py);
 and `report.md`, the same overview for a pull request. Nothing here computes a metric or
 decides a check: the numbers come from results.json, the series from the suite's own code
-(`pbdval.measure`), the units from validation/metrics.h, every verdict and every bound from the
+(`pbdval.measure`), the units from validation/measure/metrics.h, every verdict and every bound from the
 gate's functions (`pbdval gate --json`, or `evaluateCaseChecks` through pbdval._core).
 """
 
@@ -118,7 +118,7 @@ class Colours:
 
 @functools.lru_cache(maxsize=1)
 def metric_units() -> dict[str, str]:
-    """Every metric's unit, as validation/metrics.h declares it (metric::declared())."""
+    """Every metric's unit, as validation/measure/metrics.h declares it (metric::declared())."""
     from pbdval import _core  # the C++ core, imported only here
 
     return {str(k): str(v) for k, v in _core._metric_units().items()}
@@ -438,7 +438,7 @@ DECIDING_METRICS = ("trajectory_error_max", "particle_trajectory_error_max", "st
 #: A value within a bound but closer to it than this fraction of the bound is "near" it.
 NEAR_FRACTION = 0.2
 #: Two values within this relative difference are equally good (round-off; the gate's own
-#: kRoundOffRelative, validation/gate.h).
+#: kRoundOffRelative, validation/verdict/gate.h).
 SAME_RELATIVE = 1e-9
 #: The gate's verdicts on a run, most severe first (the badge shows the worst).
 VERDICT_ORDER = ("regression", "missing", "known_failure", "tolerated_change", "improvement", "new", "pass")
@@ -449,7 +449,7 @@ BOUND_TEXT = {"within": "within the case's bounds", "near": f"within {NEAR_FRACT
 def case_checks(results: Results, gate: GateVerdicts | None) -> tuple[list[dict[str, Any]], str]:
     """The case checks (Validation.checks) judged on these results: the gate's (as the baseline
     pins them) when it ran, else the gate's own function on the results' checks (pbdval._core
-    _case_checks, validation/gate.h evaluateCaseChecks). Each: case, run, metric, holds, now,
+    _case_checks, validation/verdict/gate.h evaluateCaseChecks). Each: case, run, metric, holds, now,
     allowed, message. With a note when they cannot be judged (results the gate's reader refuses:
     the report then colours no bound, and says why)."""
     if gate is not None and gate.document is not None:

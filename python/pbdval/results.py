@@ -82,7 +82,7 @@ class RunResult:
         return f"{base} [{','.join(self.assignments)}]" if self.assignments else base
 
     def _beside_trajectory(self, infix: str) -> Path | None:
-        """ENGINE-METHOD<infix>.csv/.npy beside the trajectory (validation/run_plan.h), or None
+        """ENGINE-METHOD<infix>.csv/.npy beside the trajectory (validation/run/run_plan.h), or None
         when the run wrote none."""
         if self.trajectory_path is None:
             return None

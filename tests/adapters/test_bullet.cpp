@@ -16,7 +16,7 @@
 #include "engines/selftest_engine.h"
 #include "pbd/io/mesh_loader.h"
 #include "pbd/io/scene_loader.h"
-#include "validation/simulation.h"
+#include "validation/run/simulation.h"
 
 namespace pbdval::test {
 namespace {

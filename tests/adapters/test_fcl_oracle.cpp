@@ -1,5 +1,5 @@
-// The FCL distance oracle (validation/oracle/distance_oracle.h) against closed forms: signed
-// distances, penetration depths and witness points of primitive and mesh pairs, placement of
+// The FCL distance oracle (validation/measure/oracle/distance_oracle.h) against closed forms:
+// signed distances, penetration depths and witness points of primitive and mesh pairs, placement of
 // bodies from their states, and the whole-state penetration query behind the validation metrics
 // penetration_max / penetration_mean.
 #include <gtest/gtest.h>
@@ -15,8 +15,8 @@
 #include "common/scene_fixtures.h"
 #include "pbd/io/mesh_loader.h"
 #include "pbd/model/mass_properties.h"
-#include "validation/oracle/distance_oracle.h"
-#include "validation/oracle/mesh_geometry.h"
+#include "validation/measure/oracle/distance_oracle.h"
+#include "validation/measure/oracle/mesh_geometry.h"
 
 namespace pbdval::test {
 namespace {

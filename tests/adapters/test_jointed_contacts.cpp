@@ -22,8 +22,8 @@
 #include "adapters/engine.h"
 #include "engines/selftest_engine.h"
 #include "pbd/io/scene_loader.h"
-#include "validation/case_spec.h"
-#include "validation/simulation.h"
+#include "validation/run/case_spec.h"
+#include "validation/run/simulation.h"
 
 namespace pbdval::test {
 namespace {

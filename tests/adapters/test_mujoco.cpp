@@ -16,8 +16,8 @@
 #include "common/scene_fixtures.h"
 #include "engines/selftest_engine.h"
 #include "pbd/io/scene_loader.h"
-#include "validation/case_spec.h"
-#include "validation/simulation.h"
+#include "validation/run/case_spec.h"
+#include "validation/run/simulation.h"
 
 namespace pbdval::test {
 namespace {

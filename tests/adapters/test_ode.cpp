@@ -14,7 +14,7 @@
 #include "engines/selftest_engine.h"
 #include "pbd/io/scene_loader.h"
 #include "pbd/math/quaternion.h"
-#include "validation/simulation.h"
+#include "validation/run/simulation.h"
 
 namespace pbdval::test {
 namespace {

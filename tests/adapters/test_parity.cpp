@@ -11,7 +11,7 @@
 #include "common/scene_fixtures.h"
 #include "engines/selftest_engine.h"
 #include "parity_profiles.h"
-#include "validation/simulation.h"
+#include "validation/run/simulation.h"
 
 namespace pbdval::test {
 namespace {

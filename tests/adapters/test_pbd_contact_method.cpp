@@ -12,7 +12,7 @@
 #include "common/scene_fixtures.h"
 #include "engines/selftest_engine.h"
 #include "pbd/io/scene_loader.h"
-#include "validation/overrides.h"
+#include "validation/run/overrides.h"
 
 namespace pbdval::test {
 namespace {

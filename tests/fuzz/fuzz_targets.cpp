@@ -8,9 +8,9 @@
 #include "adapters/built_in_engines.h"
 #include "fuzz_support.h"
 #include "pbd/io/scene_loader.h"
-#include "validation/case_spec.h"
-#include "validation/gate.h"
-#include "validation/results.h"
+#include "validation/io/results.h"
+#include "validation/run/case_spec.h"
+#include "validation/verdict/gate.h"
 
 namespace pbdval::fuzz {
 void caseSpecTarget(const std::uint8_t* data, std::size_t size) {

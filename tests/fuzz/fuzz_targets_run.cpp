@@ -1,8 +1,8 @@
 // The targets that drive what a run does with its inputs, beyond the readers (issue 25):
-//   measure      what pbdval.measure does (validation/measure_trajectory.h) with a trajectory
-//                built from the bytes: NaN/Inf/huge positions, quaternions of any norm, empty
-//                trajectories, NaN or decreasing times, NaN margins; scenes with collision
-//                shapes, joints and an analytic reference;
+//   measure      what pbdval.measure does (validation/measure/measure_trajectory.h) with
+//                a trajectory built from the bytes: NaN/Inf/huge positions, quaternions of
+//                any norm, empty trajectories, NaN or decreasing times, NaN margins; scenes
+//                with collision shapes, joints and an analytic reference;
 //   simulate     a small scene whose numbers are overwritten from the bytes, loaded and run for
 //                a few steps in a built-in engine the first byte chooses (pbd, pbd.xpbd,
 //                bullet, ode, mujoco: runSimulation, as `pbdval simulate`);
@@ -27,12 +27,12 @@
 #include "fuzz_support.h"
 #include "fuzz_targets.h"
 #include "pbd/io/scene_loader.h"
-#include "validation/case_spec.h"
-#include "validation/measure_trajectory.h"
-#include "validation/results.h"
-#include "validation/shard_files.h"
-#include "validation/sharding.h"
-#include "validation/simulation.h"
+#include "validation/io/results.h"
+#include "validation/measure/measure_trajectory.h"
+#include "validation/run/case_spec.h"
+#include "validation/run/shard_files.h"
+#include "validation/run/sharding.h"
+#include "validation/run/simulation.h"
 
 namespace pbdval::fuzz {
 namespace {

@@ -1,11 +1,11 @@
-// The trajectory readers' targets (CSV and NPY): validation/trajectory.cpp needs only the pbd
+// The trajectory readers' targets (CSV and NPY): validation/io/trajectory.cpp needs only the pbd
 // library, so its fuzz program is built from it directly, without the engines
 // (tests/fuzz/CMakeLists.txt).
 #include <stdexcept>
 
 #include "fuzz_support.h"
 #include "fuzz_targets.h"
-#include "validation/trajectory.h"
+#include "validation/io/trajectory.h"
 
 namespace pbdval::fuzz {
 

@@ -74,14 +74,14 @@ def export_scene(pbdval_binary: Path, tmp_path_factory: pytest.TempPathFactory) 
 
 def engine_command(name: str) -> list[str]:
     """The command of catalogue entry engines/<name>.json as the runner runs it: "{python}"
-    replaced by the venv's interpreter (validation/external_engine.cpp)."""
+    replaced by the venv's interpreter (validation/external/engine_catalogue.cpp)."""
     command = json.loads((REPO / "engines" / f"{name}.json").read_text())["command"]
     return [str(VENV_PYTHON) if word == "{python}" else word for word in command]
 
 
 def engine_environment() -> dict[str, str]:
     """The environment the runner gives a "{python}" engine: PBDVAL_PROTOCOL=1 and this source
-    tree's python/ and the build's first on PYTHONPATH (validation/engines/standard_engines.cpp)."""
+    tree's python/ and the build's first on PYTHONPATH (validation/external/standard_engines.cpp)."""
     inherited = os.environ.get("PYTHONPATH", "")
     path = os.pathsep.join([str(REPO / "python"), str(BUILD / "python")]) + (
         os.pathsep + inherited if inherited else "")

@@ -83,7 +83,7 @@ def test_resolved_scene_is_what_export_scene_writes(tmp_path: Path) -> None:
 
 def test_stepping_matches_pbdval_simulate_bit_for_bit(tmp_path: Path) -> None:
     # Same engine, same scene, same steps: the binding must hand back exactly the CSV's numbers
-    # (the CSV round-trips doubles exactly, validation/trajectory.h).
+    # (the CSV round-trips doubles exactly, validation/io/trajectory.h).
     case = REPO / "cases/chain_10.json"
     scene = pbdval.load_scene(case)
     h = scene.time_step

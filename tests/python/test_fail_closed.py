@@ -293,7 +293,7 @@ def test_an_engines_child_ends_with_a_normal_run_and_its_scratch_is_removed(
 def test_a_process_that_left_the_engines_process_group_ends_with_simulate(
         engine_catalogue: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     # setsid() takes it out of the engine's process group, which pbdval kills after the run;
-    # the mark its environment inherits still finds it (validation/process_reaper.h).
+    # the mark its environment inherits still finds it (validation/external/process_reaper.h).
     scratch = tmp_path / "tmp"
     scratch.mkdir()
     monkeypatch.setenv("PBDVAL_ENGINE_CATALOGUE", str(engine_catalogue))

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "common/scene_fixtures.h"
-#include "validation/case_spec.h"
-#include "validation/mechanics.h"
+#include "validation/measure/mechanics.h"
+#include "validation/run/case_spec.h"
 
 namespace pbdval::test {
 

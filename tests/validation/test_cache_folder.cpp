@@ -5,7 +5,7 @@
 #include <map>
 #include <string>
 
-#include "validation/cache_folder.h"
+#include "validation/io/cache_folder.h"
 
 namespace pbdval {
 namespace {

@@ -1,7 +1,7 @@
-// Particle-model measurements (validation/deformation.h) against closed forms: a uniformly scaled
-// cloth stretches every edge by the scale, a scaled solid changes every tet's volume by its cube,
-// the XPBD constraints' energy is ½ k C² of those, a symmetric fold's isometric bending energy is
-// ½ k ((6/d) sin²(φ/2))², and computeMetrics reports them for a run.
+// Particle-model measurements (validation/measure/deformation.h) against closed forms: a uniformly
+// scaled cloth stretches every edge by the scale, a scaled solid changes every tet's volume by its
+// cube, the XPBD constraints' energy is ½ k C² of those, a symmetric fold's isometric bending
+// energy is ½ k ((6/d) sin²(φ/2))², and computeMetrics reports them for a run.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,10 +9,10 @@
 
 #include "engines/selftest_engine.h"
 #include "tests/validation/fixtures.h"
-#include "validation/case_spec.h"
-#include "validation/deformation.h"
-#include "validation/mechanics.h"
-#include "validation/metrics.h"
+#include "validation/measure/deformation.h"
+#include "validation/measure/mechanics.h"
+#include "validation/measure/metrics.h"
+#include "validation/run/case_spec.h"
 
 namespace pbdval {
 namespace {

@@ -5,7 +5,7 @@
 #include <random>
 
 #include "pbd/collision/surface_samples.h"
-#include "validation/distance_study.h"
+#include "validation/studies/distance_study.h"
 
 namespace pbdval {
 namespace {

@@ -8,10 +8,10 @@
 #include "engines/selftest_engine.h"
 #include "pbd/io/scene_loader.h"
 #include "tests/validation/fixtures.h"
-#include "validation/case_spec.h"
-#include "validation/metrics.h"
-#include "validation/references/reference.h"
-#include "validation/simulation.h"
+#include "validation/measure/metrics.h"
+#include "validation/measure/references/reference.h"
+#include "validation/run/case_spec.h"
+#include "validation/run/simulation.h"
 
 namespace pbdval {
 namespace {

@@ -17,11 +17,13 @@
 #include "common/text_assertions.h"
 #include "pbd/io/scene_loader.h"
 #include "pbdval/build_info.h"
-#include "validation/engines/standard_engines.h"
-#include "validation/external_engine.h"
-#include "validation/interrupts.h"
-#include "validation/simulation.h"
-#include "validation/trajectory.h"
+#include "validation/external/engine_catalogue.h"
+#include "validation/external/external_engine.h"
+#include "validation/external/standard_engines.h"
+#include "validation/io/json_schema.h"
+#include "validation/io/trajectory.h"
+#include "validation/run/interrupts.h"
+#include "validation/run/simulation.h"
 
 namespace pbdval {
 namespace {
@@ -400,7 +402,7 @@ TEST_F(ExternalEngineTest, WrongRowCountsTimesOrBodiesAreErrors) {
 }
 
 TEST_F(ExternalEngineTest, ProtocolMistakesAreErrorsNamingTheCheckAndTheBody) {
-  // The boundary checks (validation/sanity.h) hold an external engine's samples like a
+  // The boundary checks (validation/measure/sanity.h) hold an external engine's samples like a
   // built-in engine's: each of these mistakes leaves the first sample off the scene's state.
   const auto mistake = [&](const std::function<void(BodyState&)>& edit) {
     return run("cp " + restingTrajectory([&](std::vector<State>& samples) {
@@ -637,8 +639,9 @@ TEST(EngineCatalogue, EntriesAreTypedAndBadFilesNameTheirPath) {
     readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"});
     FAIL() << "a bad kind was accepted";
   } catch (const std::invalid_argument& e) {
-    EXPECT_TRUE(containsAll(
-        e.what(), {"zbad.json", "methods[0].parameters[0].kind", "real, integer, bool, choice"}))
+    EXPECT_TRUE(containsAll(e.what(),
+                            {"zbad.json", "methods[0].parameters[0].kind",
+                             R"("real", "integer", "bool" or "choice")", "catalogue.schema.json"}))
         << e.what();
   }
   fs::remove_all(folder);
@@ -697,9 +700,9 @@ TEST(EngineCatalogue, AFeatureTableIsCheckedAndDecidesUnsupportedRunsBeforeTheEn
       {everything, {"probe.json", "no entry covers \"joint.ball\""}},
       {everything + R"(, {"feature": "joint", "support": "approximated"})", {"features[8].text"}},
       {everything + R"(, {"feature": "joint", "support": "partly", "text": "t"})",
-       {"features[8].support", "native, approximated, unsupported"}},
+       {"features[8].support", R"("native", "approximated" or "unsupported")"}},
       {everything + R"(, {"feature": "joint", "support": "native", "method": ["probe.a"]})",
-       {"features[8].method", "no such key"}},
+       {"features[8].method", "not a known key"}},
       {everything + R"(, {"feature": "joint", "support": "native", "methods": ["probe.c"]})",
        {"features[8].methods", "probe.c"}},
   };
@@ -715,6 +718,59 @@ TEST(EngineCatalogue, AFeatureTableIsCheckedAndDecidesUnsupportedRunsBeforeTheEn
     }
   }
   fs::remove_all(folder);
+}
+
+TEST(EngineCatalogue, EveryRuleOfAnEntryIsRefusedNamingTheFileAndTheJsonPath) {
+  const fs::path folder =
+      fs::temp_directory_path() / ("pbdval-catalogue-rules-" + std::to_string(::getpid()));
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  // A sound entry, its top-level keys extended by `extra` and its first method given `parameter`.
+  const auto entry = [](const std::string& name, const std::string& extra,
+                        const std::string& parameter) {
+    return R"({"protocol": 1, "name": ")" + name + R"(", "command": ["x"], "defaultMethod": "e.a",
+      "methods": [{"name": "e.a", "parameters": [)" +
+           parameter + R"(]}, {"name": "e.b"}])" + extra + "}";
+  };
+  const std::string integer = R"({"name": "n", "kind": "integer", "default": 3, "min": 1})";
+  std::ofstream(folder / "e.json") << entry("e", R"(, "runMethods": ["e.b", "e.a"])", integer);
+  ASSERT_EQ(readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"}).size(), 1u);
+  // Rules of docs/schemas/catalogue.schema.json, then the ones only the reader can check.
+  const std::vector<std::pair<std::string, std::vector<std::string>>> faults = {
+      {entry("My Engine", "", integer), {"name: expected a string matching"}},
+      {entry("e", R"(, "colour": "red")", integer), {"colour: not a known key"}},
+      {entry("e", R"(, "runMethods": ["e.a", "e.a"])", integer),
+       {"runMethods[1]: expected a value not already in runMethods[0]"}},
+      {entry("e", "", R"({"name": "c", "kind": "choice", "default": "x"})"),
+       {"methods[0].parameters[0].choices: missing (required)"}},
+      {entry("e", "", R"({"name": "n", "kind": "integer", "default": 1.5})"),
+       {"methods[0].parameters[0].default: expected an integer, got 1.5"}},
+      {entry("e", "", R"({"name": "n", "kind": "integer", "default": 0, "min": 1})"),
+       {"methods[0].parameters[0].default: expected a default within its own declaration"}},
+      {entry("f", "", integer), {R"(methods[0].name: expected a name starting with "f.")"}},
+      {entry("e", R"(, "runMethods": ["e.c"])", integer),
+       {R"(runMethods[0]: expected one of this entry's methods, got "e.c")"}},
+  };
+  for (const auto& [text, expected] : faults) {
+    std::ofstream(folder / "e.json") << text;
+    try {
+      readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"});
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const std::invalid_argument& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(message.rfind((folder / "e.json").string() + ": ", 0), 0u) << message;
+      for (const std::string& part : expected)
+        EXPECT_NE(message.find(part), std::string::npos) << part << " in " << message;
+    }
+  }
+  fs::remove_all(folder);
+}
+
+TEST(EngineCatalogue, TheSchemaDeclaresTheProtocolVersionsTheHostSpeaks) {
+  const nlohmann::json schema = projectSchema("catalogue.schema.json");
+  EXPECT_EQ(schema.at("properties").at("protocol").at("const"), kExternalProtocolVersion);
+  EXPECT_EQ(schema.at("properties").at("serve").at("properties").at("protocol").at("const"),
+            kExternalServeProtocolVersion);
 }
 
 TEST(EngineCatalogue, TheVariableAddsEnginesToTheShippedOnes) {

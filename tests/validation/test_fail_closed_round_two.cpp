@@ -1,8 +1,8 @@
 // Issue 25, "fail closed, round two", the library side of what its fuzz targets found and
-// guard: measuring a trajectory given from outside (validation/measure_trajectory.h), merging
-// shards whose results.json points anywhere (validation/shard_files.h, mergeShards), and
-// ending the processes an external engine started outside its process group
-// (validation/process_reaper.h).
+// guard: measuring a trajectory given from outside (validation/measure/measure_trajectory.h),
+// merging shards whose results.json points anywhere (validation/run/shard_files.h, mergeShards),
+// and ending the processes an external engine started outside its process group
+// (validation/external/process_reaper.h).
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -17,12 +17,12 @@
 
 #include "adapters/built_in_engines.h"
 #include "pbd/io/scene_loader.h"
-#include "validation/case_spec.h"
-#include "validation/measure_trajectory.h"
-#include "validation/process_reaper.h"
-#include "validation/run_execution.h"
-#include "validation/shard_files.h"
-#include "validation/sharding.h"
+#include "validation/external/process_reaper.h"
+#include "validation/measure/measure_trajectory.h"
+#include "validation/run/case_spec.h"
+#include "validation/run/run_execution.h"
+#include "validation/run/shard_files.h"
+#include "validation/run/sharding.h"
 
 namespace pbdval {
 namespace {

@@ -10,10 +10,10 @@
 #include <nlohmann/json.hpp>
 
 #include "engines/selftest_engine.h"
-#include "validation/gate.h"
-#include "validation/sha256.h"
-#include "validation/sharding.h"
-#include "validation/sweep.h"
+#include "validation/io/sha256.h"
+#include "validation/run/sharding.h"
+#include "validation/studies/sweep.h"
+#include "validation/verdict/gate.h"
 
 namespace pbdval {
 namespace {

@@ -6,8 +6,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "validation/results.h"
-#include "validation/trajectory.h"
+#include "validation/io/results.h"
+#include "validation/io/trajectory.h"
 
 namespace pbdval {
 namespace {

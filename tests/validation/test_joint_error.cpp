@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "tests/validation/fixtures.h"
-#include "validation/joint_error.h"
-#include "validation/numerics.h"
+#include "validation/measure/joint_error.h"
+#include "validation/measure/numerics.h"
 
 namespace pbdval {
 namespace {

@@ -1,5 +1,5 @@
 // The JSON Schema subset the runner validates other programs' documents with
-// (validation/json_schema.h): each violation named by its JSON path, unknown keywords refused.
+// (validation/io/json_schema.h): each violation named by its JSON path, unknown keywords refused.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -7,7 +7,7 @@
 
 #include "common/text_assertions.h"
 #include "pbdval/build_info.h"
-#include "validation/json_schema.h"
+#include "validation/io/json_schema.h"
 
 namespace pbdval {
 namespace {
@@ -81,7 +81,7 @@ TEST(JsonSchema, TheRulesBetweenFieldsHold) {
   unsupported["status"] = "unsupported";
   unsupported["reason"] = "r";  // but names no feature
   EXPECT_NE(joined(schemaViolations(statusSchema(), unsupported))
-                .find("unsupported: expected an array of at least 1 items"),
+                .find("unsupported: expected a non-empty array"),
             std::string::npos);
   Json diverged = validStatus();
   diverged["status"] = "diverged";
@@ -96,8 +96,63 @@ TEST(JsonSchema, TheRulesBetweenFieldsHold) {
 }
 
 TEST(JsonSchema, AKeywordOutsideTheSubsetIsRefusedRatherThanIgnored) {
-  const Json schema = Json::parse(R"({"type": "string", "pattern": "^a"})");
-  EXPECT_THROW(schemaViolations(schema, Json("b")), std::invalid_argument);
+  const Json schema = Json::parse(R"({"type": "string", "maxLength": 1})");
+  EXPECT_THROW(schemaViolations(schema, Json("bc")), std::invalid_argument);
+}
+
+TEST(JsonSchema, AReferenceIntoDefsChecksTheValueWhereItStandsAndNamesItsPath) {
+  const Json schema = Json::parse(R"({"type": "object", "properties": {
+      "parameters": {"type": "array", "items": {"$ref": "#/$defs/parameter"}}},
+    "$defs": {"parameter": {"type": "object", "required": ["name"],
+                            "properties": {"name": {"type": "string", "minLength": 1}}}}})");
+  EXPECT_TRUE(schemaViolations(schema, Json::parse(R"({"parameters": [{"name": "a"}]})")).empty());
+  const std::string text = joined(
+      schemaViolations(schema, Json::parse(R"({"parameters": [{"name": "a"}, {}, {"name": 2}]})")));
+  EXPECT_TRUE(containsAll(text, {"parameters[1].name: missing (required)",
+                                 "parameters[2].name: expected a string, got 2"}))
+      << text;
+  // $defs alone checks nothing: a document unlike the definitions still conforms.
+  EXPECT_TRUE(schemaViolations(schema, Json::parse(R"({"other": 1})")).empty());
+}
+
+TEST(JsonSchema, AReferenceThatNamesNothingOrLoopsIsRefusedAsASchemaError) {
+  EXPECT_THROW(schemaViolations(Json::parse(R"({"$ref": "#/$defs/none"})"), Json(1)),
+               std::invalid_argument);
+  EXPECT_THROW(schemaViolations(Json::parse(R"({"$ref": "other.json#/x"})"), Json(1)),
+               std::invalid_argument);
+  EXPECT_THROW(schemaViolations(Json::parse(R"({"$ref": "#"})"), Json(1)), std::invalid_argument);
+}
+
+TEST(JsonSchema, APatternIsAnEcmaScriptExpressionSearchedInTheString) {
+  const Json anchored = Json::parse(R"({"pattern": "^[a-z][a-z0-9-]*$"})");
+  EXPECT_TRUE(schemaViolations(anchored, Json("mujoco-python")).empty());
+  const std::vector<std::string> violations = schemaViolations(anchored, Json("My Engine"));
+  ASSERT_EQ(violations.size(), 1u);
+  EXPECT_EQ(violations[0],
+            "(document): expected a string matching ^[a-z][a-z0-9-]*$, got \"My Engine\"");
+  // Unanchored, a pattern may match anywhere (JSON Schema); it applies to strings only.
+  const Json unanchored = Json::parse(R"({"pattern": "b"})");
+  EXPECT_TRUE(schemaViolations(unanchored, Json("abc")).empty());
+  EXPECT_TRUE(schemaViolations(unanchored, Json(3)).empty());
+  EXPECT_EQ(schemaViolations(unanchored, Json("ac")).size(), 1u);
+}
+
+TEST(JsonSchema, UniqueItemsNamesEachRepeatAndTheItemItRepeats) {
+  const Json schema = Json::parse(R"({"properties": {"m": {"uniqueItems": true}}})");
+  EXPECT_TRUE(schemaViolations(schema, Json::parse(R"({"m": ["a", "b", 1, "1"]})")).empty());
+  const std::vector<std::string> violations =
+      schemaViolations(schema, Json::parse(R"({"m": ["a", "b", "a", {"x": 1}, {"x": 1}]})"));
+  EXPECT_EQ(joined(violations),
+            "m[2]: expected a value not already in m[0], got \"a\"\n"
+            "m[4]: expected a value not already in m[3], got {\"x\":1}\n");
+}
+
+TEST(JsonSchema, AnIntegerIsANumberWithoutAFractionalPart) {
+  const Json schema = Json::parse(R"({"type": "integer"})");
+  EXPECT_TRUE(schemaViolations(schema, Json::parse("10")).empty());
+  EXPECT_TRUE(schemaViolations(schema, Json::parse("10.0")).empty());  // JSON Schema: 1.0 is one
+  EXPECT_TRUE(schemaViolations(schema, Json::parse("1e20")).empty());  // beyond int64, still whole
+  EXPECT_EQ(schemaViolations(schema, Json::parse("1.5")).size(), 1u);
 }
 
 }  // namespace

@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/validation/fixtures.h"
-#include "validation/mechanics.h"
+#include "validation/measure/mechanics.h"
 
 namespace pbdval {
 namespace {

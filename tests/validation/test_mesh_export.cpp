@@ -1,4 +1,4 @@
-// Mesh export (validation/mesh_export.h, pbd/model/mesh.h, pbd/io/mesh_writer.h): a tet mesh's
+// Mesh export (validation/io/mesh_export.h, pbd/model/mesh.h, pbd/io/mesh_writer.h): a tet mesh's
 // boundary is closed and turned outwards, barycentric attachment carries points exactly through
 // any affine map of the tets (barycentric coordinates are affine invariant), the exported files
 // read back to the placed geometry, and frames fall on the frame-rate grid.
@@ -14,8 +14,8 @@
 #include "pbd/io/mesh_writer.h"
 #include "pbd/io/scene_loader.h"
 #include "tests/validation/fixtures.h"
-#include "validation/mechanics.h"
-#include "validation/mesh_export.h"
+#include "validation/io/mesh_export.h"
+#include "validation/measure/mechanics.h"
 
 namespace pbdval {
 namespace {

@@ -5,8 +5,8 @@
 #include <algorithm>
 
 #include "tests/validation/fixtures.h"
-#include "validation/metrics.h"
-#include "validation/numerics.h"
+#include "validation/measure/metrics.h"
+#include "validation/measure/numerics.h"
 
 namespace pbdval {
 namespace {

@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/validation/fixtures.h"
-#include "validation/numerics.h"
+#include "validation/measure/numerics.h"
 
 namespace pbdval {
 namespace {

@@ -1,4 +1,4 @@
-// OutputFile (validation/atomic_file.h): regular files are replaced atomically, everything else
+// OutputFile (validation/io/atomic_file.h): regular files are replaced atomically, everything else
 // is written in place or refused, never replaced. The device cases run against device nodes made
 // in a temporary folder (mknod), so that a wrong implementation cannot destroy /dev/null.
 #include <fcntl.h>
@@ -13,7 +13,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "validation/atomic_file.h"
+#include "validation/io/atomic_file.h"
 
 namespace pbdval {
 namespace {

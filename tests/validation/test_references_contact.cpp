@@ -7,9 +7,9 @@
 #include <functional>
 
 #include "tests/validation/fixtures.h"
-#include "validation/numerics.h"
-#include "validation/references/bouncing_ball.h"
-#include "validation/references/reference.h"
+#include "validation/measure/numerics.h"
+#include "validation/measure/references/bouncing_ball.h"
+#include "validation/measure/references/reference.h"
 
 namespace pbdval {
 namespace {

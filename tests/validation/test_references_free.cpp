@@ -6,9 +6,9 @@
 #include <functional>
 
 #include "tests/validation/fixtures.h"
-#include "validation/numerics.h"
-#include "validation/references/pendulum.h"
-#include "validation/references/reference.h"
+#include "validation/measure/numerics.h"
+#include "validation/measure/references/pendulum.h"
+#include "validation/measure/references/reference.h"
 
 namespace pbdval {
 namespace {
@@ -68,7 +68,8 @@ TEST(ProjectileReference, SemiImplicitEulerFormMatchesTheSteppedScheme) {
     // 1500 steps of O(10) numbers: accumulated round-off ~1e-13.
     EXPECT_NEAR((r.samples[k].bodies[0].position - x).norm(), 0, 1e-11) << "t = " << times[k];
   }
-  // The bias against the parabola is ½ g h t (validation/references/ballistic.h): 7.4 mm at 1.5 s.
+  // The bias against the parabola is ½ g h t (validation/measure/references/ballistic.h): 7.4 mm
+  // at 1.5 s.
   const ReferenceTrajectory continuous =
       buildAnalyticReference(scene, analytic("free_fall"), times, h);
   const double bias =

@@ -1,6 +1,6 @@
-// The rigid part of a resolved scene read back (validation/resolved_scene_reader.h): for every
-// case of the library, the MuJoCo adapter writes the same MJCF text from the scene read back as
-// from the loaded scene (every number the writer prints, in the shortest form that reads back
+// The rigid part of a resolved scene read back (validation/external/resolved_scene_reader.h): for
+// every case of the library, the MuJoCo adapter writes the same MJCF text from the scene read back
+// as from the loaded scene (every number the writer prints, in the shortest form that reads back
 // exactly, so equal text means bitwise equal inputs). That is what lets mujoco-python compile
 // the built-in engine's model from the document it is given (docs/external-engines.md).
 #include <gtest/gtest.h>
@@ -14,8 +14,8 @@
 #include "adapters/mujoco/mujoco_engine.h"
 #include "adapters/mujoco/mujoco_settings.h"
 #include "pbd/io/scene_loader.h"
-#include "validation/resolved_scene.h"
-#include "validation/resolved_scene_reader.h"
+#include "validation/external/resolved_scene.h"
+#include "validation/external/resolved_scene_reader.h"
 
 namespace pbdval {
 namespace {

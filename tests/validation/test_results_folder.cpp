@@ -1,7 +1,7 @@
-// Results folders written as one transaction (validation/results_folder.h), outputs that would
-// overwrite inputs (validation/atomic_file.h checkOutputsAreNotInputs), the one "did you mean"
+// Results folders written as one transaction (validation/io/results_folder.h), outputs that would
+// overwrite inputs (validation/io/atomic_file.h checkOutputsAreNotInputs), the one "did you mean"
 // (pbd/io/suggestion.h) and the --set checks against what each engine honours
-// (validation/overrides.h checkAssignments).
+// (validation/run/overrides.h checkAssignments).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -12,9 +12,9 @@
 #include "adapters/registry.h"
 #include "engines/selftest_engine.h"
 #include "pbd/io/suggestion.h"
-#include "validation/atomic_file.h"
-#include "validation/overrides.h"
-#include "validation/results_folder.h"
+#include "validation/io/atomic_file.h"
+#include "validation/io/results_folder.h"
+#include "validation/run/overrides.h"
 
 namespace pbdval {
 namespace {

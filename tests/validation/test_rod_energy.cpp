@@ -1,9 +1,9 @@
-// The Cosserat rods' energy as the metrics measure it (validation/deformation.h, mechanics.h):
-// the XPBD stretch–shear and bend–twist energies ½ Cᵀ α⁻¹ C of a rod deformed by hand against
-// their closed forms (computed here from the constraints' definitions: ½ EA ℓ ε², ½ κGA ℓ γ²,
-// (2 EI/ℓ̄) sin²(θ/2), (2 GJ/ℓ̄) sin²(φ/2)), a spinning segment's kinetic energy ½ I |ω|² with
-// I = 1/(4 w_q), and a run of an XPBD cantilever released at rest, whose energy is conserved up to
-// XPBD's dissipation once the rod's terms are measured.
+// The Cosserat rods' energy as the metrics measure it (validation/measure/deformation.h,
+// mechanics.h): the XPBD stretch–shear and bend–twist energies ½ Cᵀ α⁻¹ C of a rod deformed by
+// hand against their closed forms (computed here from the constraints' definitions:
+// ½ EA ℓ ε², ½ κGA ℓ γ², (2 EI/ℓ̄) sin²(θ/2), (2 GJ/ℓ̄) sin²(φ/2)), a spinning segment's kinetic
+// energy ½ I |ω|² with I = 1/(4 w_q), and a run of an XPBD cantilever released at rest, whose
+// energy is conserved up to XPBD's dissipation once the rod's terms are measured.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,11 +14,11 @@
 
 #include "engines/selftest_engine.h"
 #include "tests/validation/fixtures.h"
-#include "validation/deformation.h"
-#include "validation/mechanics.h"
-#include "validation/metrics.h"
-#include "validation/simulation.h"
-#include "validation/trajectory.h"
+#include "validation/io/trajectory.h"
+#include "validation/measure/deformation.h"
+#include "validation/measure/mechanics.h"
+#include "validation/measure/metrics.h"
+#include "validation/run/simulation.h"
 
 namespace pbdval {
 namespace {

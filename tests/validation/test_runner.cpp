@@ -12,12 +12,12 @@
 #include <thread>
 
 #include "engines/selftest_engine.h"
-#include "validation/results.h"
-#include "validation/run_execution.h"
-#include "validation/run_plan.h"
-#include "validation/run_record.h"
-#include "validation/run_scheduler.h"
-#include "validation/trajectory.h"
+#include "validation/io/results.h"
+#include "validation/io/trajectory.h"
+#include "validation/run/run_execution.h"
+#include "validation/run/run_plan.h"
+#include "validation/run/run_record.h"
+#include "validation/run/run_scheduler.h"
 
 namespace pbdval {
 namespace {

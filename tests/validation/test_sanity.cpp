@@ -1,4 +1,4 @@
-// The boundary checks and sanity bounds every run is held to (validation/sanity.h,
+// The boundary checks and sanity bounds every run is held to (validation/measure/sanity.h,
 // docs/metrics.md §Boundary checks, §Sanity bounds). The engine here is the tests' own: it moves
 // free bodies along the exact solution (a parabola, a constant spin of an isotropic body) and
 // can make each of the mistakes an engine written from the protocol's docs makes.
@@ -7,8 +7,8 @@
 #include <cmath>
 
 #include "fixtures.h"
-#include "validation/sanity.h"
-#include "validation/simulation.h"
+#include "validation/measure/sanity.h"
+#include "validation/run/simulation.h"
 
 namespace pbdval {
 namespace {

@@ -1,4 +1,4 @@
-// Convergence numbers a reader can trust (validation/sweep.h): local orders, the asymptotic
+// Convergence numbers a reader can trust (validation/studies/sweep.h): local orders, the asymptotic
 // range, the flags, on manufactured error sequences of known order; and the whole path (runs,
 // fine reference, resampling, fit) on a case where the method's order is known from theory.
 #include <gtest/gtest.h>
@@ -9,7 +9,7 @@
 
 #include "engines/selftest_engine.h"
 #include "pbdval/build_info.h"
-#include "validation/sweep.h"
+#include "validation/studies/sweep.h"
 
 namespace pbdval {
 namespace {

@@ -7,7 +7,7 @@
 
 #include "pbd/io/number_text.h"
 #include "pbd/io/suggestion.h"
-#include "validation/overrides.h"
+#include "validation/run/overrides.h"
 
 namespace pbdval::cli {
 

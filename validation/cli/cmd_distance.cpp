@@ -5,11 +5,11 @@
 
 #include "pbd/io/scene_loader.h"
 #include "pbdval/build_info.h"
-#include "validation/atomic_file.h"
-#include "validation/case_library.h"
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
-#include "validation/distance_study.h"
+#include "validation/io/atomic_file.h"
+#include "validation/run/case_library.h"
+#include "validation/studies/distance_study.h"
 
 namespace pbdval::cli {
 

@@ -1,15 +1,15 @@
 // pbdval export-scene SCENE.json [--out FILE] [--method NAME] [--duration T]
 //                                [--sample-interval S] [--strict] [--quiet]
-// Writes the resolved scene (validation/resolved_scene.h, docs/external-engines.md).
+// Writes the resolved scene (validation/external/resolved_scene.h, docs/external-engines.md).
 #include <cstdio>
 #include <iostream>
 
 #include "pbd/io/scene_loader.h"
-#include "validation/atomic_file.h"
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
-#include "validation/json_text.h"
-#include "validation/resolved_scene.h"
+#include "validation/external/resolved_scene.h"
+#include "validation/io/atomic_file.h"
+#include "validation/io/json_text.h"
 
 namespace pbdval::cli {
 namespace {

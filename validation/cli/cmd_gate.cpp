@@ -8,13 +8,13 @@
 #include <sstream>
 
 #include "pbd/io/scene_loader.h"
-#include "validation/atomic_file.h"
-#include "validation/case_library.h"
-#include "validation/case_spec.h"
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
-#include "validation/gate.h"
-#include "validation/sha256.h"
+#include "validation/io/atomic_file.h"
+#include "validation/io/sha256.h"
+#include "validation/run/case_library.h"
+#include "validation/run/case_spec.h"
+#include "validation/verdict/gate.h"
 
 namespace pbdval::cli {
 namespace {

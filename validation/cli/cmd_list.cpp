@@ -3,10 +3,10 @@
 #include <iostream>
 
 #include "pbd/io/scene_loader.h"
-#include "validation/case_library.h"
-#include "validation/case_spec.h"
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
+#include "validation/run/case_library.h"
+#include "validation/run/case_spec.h"
 
 namespace pbdval::cli {
 namespace {

@@ -10,12 +10,12 @@
 
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
-#include "validation/results.h"
-#include "validation/results_folder.h"
-#include "validation/run_plan.h"
-#include "validation/shard_files.h"
-#include "validation/sharding.h"
-#include "validation/summary.h"
+#include "validation/io/results.h"
+#include "validation/io/results_folder.h"
+#include "validation/run/run_plan.h"
+#include "validation/run/shard_files.h"
+#include "validation/run/sharding.h"
+#include "validation/verdict/summary.h"
 
 namespace pbdval::cli {
 namespace {

@@ -4,7 +4,7 @@
 // (python/pbdval/report.py, the project's virtual environment): this command hands over to it.
 #include "validation/cli/commands.h"
 #include "validation/cli/python_module.h"
-#include "validation/engines/standard_engines.h"
+#include "validation/external/standard_engines.h"
 
 namespace pbdval::cli {
 

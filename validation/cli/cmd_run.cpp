@@ -13,20 +13,20 @@
 #include <thread>
 
 #include "pbdval/build_info.h"
-#include "validation/atomic_file.h"
-#include "validation/case_library.h"
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
 #include "validation/cli/executors.h"
-#include "validation/overrides.h"
-#include "validation/results.h"
-#include "validation/results_folder.h"
-#include "validation/run_plan.h"
-#include "validation/run_scheduler.h"
-#include "validation/sha256.h"
-#include "validation/sharding.h"
-#include "validation/simulation.h"
-#include "validation/summary.h"
+#include "validation/io/atomic_file.h"
+#include "validation/io/results.h"
+#include "validation/io/results_folder.h"
+#include "validation/io/sha256.h"
+#include "validation/run/case_library.h"
+#include "validation/run/overrides.h"
+#include "validation/run/run_plan.h"
+#include "validation/run/run_scheduler.h"
+#include "validation/run/sharding.h"
+#include "validation/run/simulation.h"
+#include "validation/verdict/summary.h"
 
 namespace pbdval::cli {
 namespace {

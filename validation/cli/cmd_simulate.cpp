@@ -11,15 +11,15 @@
 
 #include "adapters/engine.h"
 #include "pbd/io/scene_loader.h"
-#include "validation/atomic_file.h"
-#include "validation/case_spec.h"
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
-#include "validation/interrupts.h"
-#include "validation/mesh_export.h"
-#include "validation/overrides.h"
-#include "validation/simulation.h"
-#include "validation/trajectory.h"
+#include "validation/io/atomic_file.h"
+#include "validation/io/mesh_export.h"
+#include "validation/io/trajectory.h"
+#include "validation/run/case_spec.h"
+#include "validation/run/interrupts.h"
+#include "validation/run/overrides.h"
+#include "validation/run/simulation.h"
 
 namespace pbdval::cli {
 namespace {

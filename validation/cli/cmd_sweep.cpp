@@ -7,21 +7,21 @@
 #include <sstream>
 #include <thread>
 
-#include "validation/atomic_file.h"
-#include "validation/case_library.h"
 #include "validation/cli/args.h"
 #include "validation/cli/commands.h"
 #include "validation/cli/executors.h"
 #include "validation/cli/python_module.h"
-#include "validation/engines/standard_engines.h"
-#include "validation/overrides.h"
-#include "validation/results.h"
-#include "validation/results_folder.h"
-#include "validation/run_scheduler.h"
-#include "validation/sharding.h"
-#include "validation/simulation.h"
-#include "validation/summary.h"
-#include "validation/sweep.h"
+#include "validation/external/standard_engines.h"
+#include "validation/io/atomic_file.h"
+#include "validation/io/results.h"
+#include "validation/io/results_folder.h"
+#include "validation/run/case_library.h"
+#include "validation/run/overrides.h"
+#include "validation/run/run_scheduler.h"
+#include "validation/run/sharding.h"
+#include "validation/run/simulation.h"
+#include "validation/studies/sweep.h"
+#include "validation/verdict/summary.h"
 
 namespace pbdval::cli {
 

@@ -4,9 +4,9 @@
 #include <nlohmann/json.hpp>
 
 #include "validation/cli/python_module.h"
-#include "validation/engines/standard_engines.h"
-#include "validation/json_text.h"
-#include "validation/sharding.h"
+#include "validation/external/standard_engines.h"
+#include "validation/io/json_text.h"
+#include "validation/run/sharding.h"
 
 namespace pbdval::cli {
 

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "validation/cli/args.h"
-#include "validation/run_plan.h"
+#include "validation/run/run_plan.h"
 
 namespace pbdval::cli {
 

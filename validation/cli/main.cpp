@@ -10,8 +10,8 @@
 #include "pbd/math/types.h"
 #include "pbdval/build_info.h"
 #include "validation/cli/commands.h"
-#include "validation/engines/standard_engines.h"
-#include "validation/run_scheduler.h"
+#include "validation/external/standard_engines.h"
+#include "validation/run/run_scheduler.h"
 
 namespace pbdval::cli {
 

@@ -20,7 +20,7 @@ namespace pbd::scene_io {
 // the key's JSON path.
 
 /// |x| of a position component (m): the runner counts positions beyond 10⁶ m as a blow-up
-/// (validation/simulation.h, kDivergenceLimit), and there double's spacing is 1.2·10⁻¹⁰ m, the
+/// (validation/run/simulation.h, kDivergenceLimit), and there double's spacing is 1.2·10⁻¹⁰ m, the
 /// scale of the contact sinks the methods resolve (g h_s² = 6·10⁻⁷ m at h_s = 0.25 ms).
 inline constexpr double kMaxCoordinate = 1e6;
 /// |v| of a velocity component (m/s): the runner's blow-up limit for speeds (kDivergenceLimit).

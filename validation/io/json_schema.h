@@ -1,0 +1,28 @@
+// JSON Schema validation for the documents the runner reads from other programs (an external
+// engine's status.json, the engine catalogue; docs/schemas/): every violation named by its JSON
+// path.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace pbdval {
+
+/// The violations of `document` against `schema`, each "PATH: expected ..., got ..." with PATH
+/// as the catalogue errors write it (`effectiveSettings.solver`, `unsupported[0]`; `(document)`
+/// for the whole). Empty when it conforms. `schema` is a JSON Schema (draft 2020-12) using only
+/// the keywords the project's schemas need: type, const, enum, required, properties,
+/// additionalProperties, items, minimum, minLength, minItems, uniqueItems, pattern (ECMA-262),
+/// if/then/else, allOf, $ref into the same schema ("#/$defs/parameter") with $defs (and the
+/// annotations $schema, $id, title, description, $comment, default, examples). Throws
+/// std::invalid_argument for any other keyword, a $ref that names nothing or one that loops,
+/// so that a schema never checks silently less than it says.
+std::vector<std::string> schemaViolations(const nlohmann::json& schema,
+                                          const nlohmann::json& document);
+
+/// The project's schema docs/schemas/`name` ("status.schema.json"), read from the source tree.
+/// Throws std::runtime_error naming the path when it cannot be read or is not a JSON object.
+nlohmann::json projectSchema(const std::string& name);
+
+}  // namespace pbdval
