@@ -146,7 +146,8 @@ struct Comparison {
   double worstDeviation = 0;  ///< at that sample (m)
   double worstTolerance = 0;
   double worstTime = 0;
-  double horizon = 0;  ///< last compared time (s)
+  double largestDeviation = 0;  ///< the largest deviation over the compared samples (m)
+  double horizon = 0;           ///< last compared time (s)
   int comparedSamples = 0;
   double lastTime = 0;
 };
@@ -177,6 +178,7 @@ Comparison compareWithTwin(const std::vector<RecordedRow>& rows, double h, const
     if (pastHorizon) continue;
     const double tolerance = kGrowthMargin * growth + kRoundOffFloor;
     const double deviation = double((ours.at(s).at(r.id) - r.position).norm());
+    c.largestDeviation = std::max(c.largestDeviation, deviation);
     if (deviation / tolerance > c.worstRatio) {
       c.worstRatio = deviation / tolerance;
       c.worstDeviation = deviation;
@@ -187,6 +189,16 @@ Comparison compareWithTwin(const std::vector<RecordedRow>& rows, double h, const
   return c;
 }
 
+/// Scenes compared over a window (s) that ends before their horizon: a difference from the
+/// original starts after it, found and not yet explained (docs/methods.md, "Fidelity to the seed:
+/// particle models, damper, motors"). 0: up to the horizon.
+double knownDifferenceWindow(const std::string& name) {
+  // The FEM solid lands on the torus between 0.88 and 0.90 s: 5 mm from the original at 0.90 s,
+  // while twins 10 nm apart stay within 4·10⁻⁸ m up to 1 s.
+  if (name == "deformable_solid_collision_scene") return 0.88;
+  return 0;
+}
+
 Comparison compare(const std::string& name) {
   const Scene scene = loadSeedScene(name);
   const std::vector<RecordedRow> rows = readRecording(kReferenceDir + "/" + name + ".csv");
@@ -195,7 +207,8 @@ Comparison compare(const std::string& name) {
   Scene twin = scene;
   for (std::size_t b = 0; b < twin.rigidBodies.size(); ++b)
     if (twin.rigidBodies[b].isDynamic) twin.rigidBodies[b].translation += twinOffset(b);
-  return compareWithTwin(rows, h, run(scene, steps), run(twin, steps), 0);
+  return compareWithTwin(rows, h, run(scene, steps), run(twin, steps),
+                         knownDifferenceWindow(name));
 }
 
 // --- Particle recordings (NAME.particles.csv: t,index,x,y,z,vx,vy,vz) --------------------------
@@ -224,8 +237,8 @@ Positions runParticles(const Scene& scene, const std::vector<std::int64_t>& step
 
 /// The particle version of compare(): the twin moves every dynamic particle's start (and so its
 /// rest shape, as the single-precision reading of a mesh does) by δ in its own direction.
-/// `window` (s): samples after it are not compared (0: up to the horizon).
-Comparison compareParticles(const std::string& name, double window = 0) {
+Comparison compareParticles(const std::string& name) {
+  const double window = knownDifferenceWindow(name);
   const Scene scene = loadSeedScene(name);
   const std::vector<RecordedRow> rows =
       readParticleRecording(kReferenceDir + "/" + name + ".particles.csv");
@@ -252,6 +265,26 @@ TEST_P(SeedReferenceParticles, PbdMethodFollowsTheOriginalsParticles) {
                                << " m";
 }
 
+/// The largest particle deviation from the recording over every sample of its first second, past
+/// the twin horizon too (PBDVAL_SEED_TRACE prints every sample's).
+double largestParticleDeviationOverFirstSecond(const std::string& name) {
+  const Scene scene = loadSeedScene(name);
+  const std::vector<RecordedRow> rows =
+      readParticleRecording(kReferenceDir + "/" + name + ".particles.csv");
+  const double h = double(scene.simulation.timeStepSize);
+  const Positions ours = runParticles(scene, recordedSteps(rows, h, 1.0));
+  const auto deviation = [&](const RecordedRow& r) {
+    return double((ours.at(std::llround(r.t / h)).at(r.id) - r.position).norm());
+  };
+  double worst = 0;
+  for (const RecordedRow& r : rows)
+    if (r.t <= 1 + 1e-9) worst = std::max(worst, deviation(r));
+  if (std::getenv("PBDVAL_SEED_TRACE"))
+    for (const RecordedRow& r : rows)
+      if (r.t <= 1 + 1e-9) std::printf("    t %.3f p %d dev %.3e\n", r.t, r.id, deviation(r));
+  return worst;
+}
+
 // The issue's target (issue 28): the FEM cloth and FEM tet scenes agree with the original to
 // 1 µm over their first second. Their twin horizon is short (the seed's absolute FEM cut-off
 // makes the step discontinuous: a 10⁻⁸ m nudge flips an element's skip decision), but the
@@ -260,21 +293,8 @@ TEST_P(SeedReferenceParticles, PbdMethodFollowsTheOriginalsParticles) {
 TEST(SeedReferenceFem, ClothAndTetScenesAgreeWithTheOriginalToAMicrometreOverTheFirstSecond) {
   if (sizeof(Real) != sizeof(double)) GTEST_SKIP() << "the recordings are double precision";
   for (const char* name : {"fem_cloth_10x10", "fem_tet_bar", "fem_tet_bar_xpbd"}) {
-    const Scene scene = loadSeedScene(name);
-    const std::vector<RecordedRow> rows =
-        readParticleRecording(kReferenceDir + "/" + name + ".particles.csv");
-    const double h = double(scene.simulation.timeStepSize);
-    const Positions ours = runParticles(scene, recordedSteps(rows, h, 1.0));
-    const auto deviation = [&](const RecordedRow& r) {
-      return double((ours.at(std::llround(r.t / h)).at(r.id) - r.position).norm());
-    };
-    double worst = 0;
-    for (const RecordedRow& r : rows)
-      if (r.t <= 1 + 1e-9) worst = std::max(worst, deviation(r));
+    const double worst = largestParticleDeviationOverFirstSecond(name);
     std::printf("  %-20s largest difference over the first second %.3e m\n", name, worst);
-    if (std::getenv("PBDVAL_SEED_TRACE"))
-      for (const RecordedRow& r : rows)
-        if (r.t <= 1 + 1e-9) std::printf("    t %.3f p %d dev %.3e\n", r.t, r.id, deviation(r));
     EXPECT_LE(worst, 1e-6) << name;
   }
 }
@@ -282,7 +302,9 @@ TEST(SeedReferenceFem, ClothAndTetScenesAgreeWithTheOriginalToAMicrometreOverThe
 // The particle scenes the `pbd` method reproduces (tests/data/seed_reference/README.md).
 INSTANTIATE_TEST_SUITE_P(Recorded, SeedReferenceParticles,
                          ::testing::Values("fem_cloth_10x10", "fem_tet_bar", "fem_tet_bar_xpbd",
-                                           "cloth_on_sphere"),
+                                           "cloth_on_sphere", "cloth_collision_scene",
+                                           "deformable_solid_collision_scene",
+                                           "armadillo_collision_scene"),
                          [](const ::testing::TestParamInfo<const char*>& param) {
                            return std::string(param.param);
                          });
@@ -315,7 +337,10 @@ INSTANTIATE_TEST_SUITE_P(
                       "spheres_in_hollow_box", "sphere_on_grid_torus",
                       "sphere_on_grid_torus_off_cell", "contact_stack_5", "stack_5_in_shell",
                       "damper_on_pendulum", "joint_target_velocity_motor_hinge",
-                      "joint_target_angle_motor_hinge"),
+                      "joint_target_angle_motor_hinge", "car_scene", "cloth_collision_scene",
+                      "pile_scene",
+                      "stiff_rod_cantilever", "deformable_solid_collision_scene",
+                      "wilberforce_spring"),
     [](const ::testing::TestParamInfo<const char*>& param) { return std::string(param.param); });
 
 // The motors' schedule: the seed's motors act on the set point f(t − 2h) during the step that
@@ -385,6 +410,107 @@ TEST(SeedReferenceMotors, TheOriginalAndThePbdMethodLagTwoStepsAndTheCorrectedMo
     EXPECT_NEAR(double(corrected.sceneFrameState(1).angularVelocity.z()), velocityMotorSetPoint(t),
                 1e-9)
         << "pbd (jointModel corrected), t = " << t;
+  }
+}
+
+// --- The table of docs/methods.md -------------------------------------------------------------
+
+/// A row of the table in docs/methods.md ("Fidelity to the seed: particle models, damper,
+/// motors"): the recording's name (the first cell's first `name`), the window and the largest
+/// difference as written.
+struct DocumentedRow {
+  std::string name, window, largest;
+};
+
+std::vector<DocumentedRow> documentedRows() {
+  const std::string path = std::string(PBDVAL_SOURCE_DIR) + "/docs/methods.md";
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open");
+  std::string line;
+  const std::string section = "### Fidelity to the seed: particle models, damper, motors";
+  while (std::getline(in, line) && line != section) {
+  }
+  std::vector<DocumentedRow> rows;
+  bool inTable = false;
+  while (std::getline(in, line)) {
+    if (line.rfind("|", 0) != 0) {
+      if (inTable) break;
+      continue;
+    }
+    inTable = true;
+    std::vector<std::string> cells;
+    std::stringstream fields(line.substr(1));
+    std::string cell;
+    while (std::getline(fields, cell, '|')) {
+      const std::size_t first = cell.find_first_not_of(' ');
+      cells.push_back(first == std::string::npos ? std::string() : cell.substr(first));
+    }
+    if (cells.size() != 3 || cells[0].rfind("`", 0) != 0) continue;  // header, rule, prose rows
+    rows.push_back({cells[0].substr(1, cells[0].find('`', 1) - 1), cells[1], cells[2]});
+  }
+  return rows;
+}
+
+/// "0 (bit for bit)", or "m·10⁻ⁿ m" (superscript digits) as a number.
+double documentedNumber(const std::string& text) {
+  if (text.rfind("0 ", 0) == 0) return 0;
+  const std::size_t dot = text.find("\u00b710");
+  if (dot == std::string::npos) throw std::runtime_error("not a documented number: " + text);
+  const double mantissa = std::stod(text.substr(0, dot));
+  static const char* const digits[] = {"\u2070", "\u00b9", "\u00b2", "\u00b3", "\u2074",
+                                       "\u2075", "\u2076", "\u2077", "\u2078", "\u2079"};
+  std::size_t at = dot + std::string("\u00b710").size();
+  int sign = 1, exponent = 0;
+  if (text.compare(at, std::string("\u207b").size(), "\u207b") == 0) {
+    sign = -1;
+    at += std::string("\u207b").size();
+  }
+  for (bool more = true; more;) {
+    more = false;
+    for (int d = 0; d < 10; ++d)
+      if (text.compare(at, std::string(digits[d]).size(), digits[d]) == 0) {
+        exponent = 10 * exponent + d;
+        at += std::string(digits[d]).size();
+        more = true;
+      }
+  }
+  return mantissa * std::pow(10.0, sign * exponent);
+}
+
+// The table's numbers are measurements of these recordings: each row's largest difference (over
+// the first second, or up to the twin horizon / the whole recording, as its window says) is
+// recomputed here and must be the documented number to its two significant digits (half a unit
+// in the last digit), and the documented horizon the compared one.
+TEST(SeedReferenceTable, TheDocumentedLargestDifferencesAreTheMeasuredOnes) {
+  if (sizeof(Real) != sizeof(double)) GTEST_SKIP() << "the recordings are double precision";
+  const std::vector<DocumentedRow> rows = documentedRows();
+  ASSERT_GE(rows.size(), 10u) << "the table in docs/methods.md";
+  for (const DocumentedRow& row : rows) {
+    const bool particles =
+        std::ifstream(kReferenceDir + "/" + row.name + ".particles.csv").good();
+    double measured = 0;
+    if (row.window.rfind("first second", 0) == 0) {
+      measured = largestParticleDeviationOverFirstSecond(row.name);
+    } else {
+      const Comparison c = particles ? compareParticles(row.name) : compare(row.name);
+      measured = c.largestDeviation;
+      const double window = std::stod(row.window);
+      if (row.window.find("(twin horizon)") != std::string::npos) {
+        EXPECT_NEAR(window, c.horizon, 1e-9) << row.name << ": the documented horizon";
+      } else if (row.window.find("(whole") != std::string::npos) {
+        EXPECT_NEAR(window, c.lastTime, 1e-9) << row.name << ": the whole recording";
+        EXPECT_NEAR(c.horizon, c.lastTime, 1e-9) << row.name << ": compared to its end";
+      } else {
+        EXPECT_NEAR(window, knownDifferenceWindow(row.name), 1e-9) << row.name << ": the window";
+        EXPECT_NEAR(c.horizon, window, 1e-9) << row.name << ": compared to the window";
+      }
+    }
+    const double documented = documentedNumber(row.largest);
+    const double halfUnit =
+        documented == 0 ? 0 : 0.05 * std::pow(10.0, std::floor(std::log10(documented)));
+    std::printf("  %-38s measured %.2e m, documented %s\n", row.name.c_str(), measured,
+                row.largest.c_str());
+    EXPECT_LE(std::abs(measured - documented), halfUnit) << row.name << ": " << row.largest;
   }
 }
 

@@ -35,6 +35,11 @@ CachedGrid buildGrid(const RigidBodyDesc& body, const CollisionShapeOptions& opt
   bounds.setEmpty();
   for (const Vector3& v : mesh.vertices)
     bounds.extend(v);
+  if (options.gridInterpolation == GridInterpolation::CubicLagrange &&
+      body.collision.discregridGrid) {
+    // The seed's grid read from its Discregrid file (collisionObjectFileName .csdf).
+    return {body.collision.discregridGrid, GridCacheOutcome::Disabled, ""};
+  }
   if (options.gridInterpolation == GridInterpolation::CubicLagrange) {
     // The seed's grid: the unscaled mesh's box padded by 0.1 (SceneLoaderDemo's generateSDF).
     const TriangleMesh unscaled = collisionMesh(body, /*scaled=*/false);

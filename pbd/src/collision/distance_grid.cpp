@@ -68,6 +68,15 @@ std::size_t DistanceGrid::nodeCount(const Vector3i& cells, GridInterpolation int
   return std::size_t(cells.x() + 3) * std::size_t(cells.y() + 3) * std::size_t(cells.z() + 3);
 }
 
+std::size_t DistanceGrid::lagrangeCornerIndex(const Vector3i& cells, int i, int j, int k) {
+  return LagrangeLayout(cells).corner(std::size_t(i), std::size_t(j), std::size_t(k));
+}
+
+std::size_t DistanceGrid::lagrangeEdgeIndex(const Vector3i& cells, int axis, int i, int j, int k,
+                                            int side) {
+  return LagrangeLayout(cells).edge(axis, std::size_t(i), std::size_t(j), std::size_t(k), side);
+}
+
 Vector3 DistanceGrid::nodePosition(const Vector3& domainMin, const Vector3& spacing,
                                    const Vector3i& cells, GridInterpolation interpolation,
                                    std::size_t index) {

@@ -43,6 +43,12 @@ BendTwistCorrection bendTwistStep(const Quaternion& q0, Real wq0, const Quaterni
   return c;
 }
 
+/// The seed's regularisation of its PBD rod solves (PositionBasedCosseratRods: `eps` = 10⁻⁶ added
+/// to the stretch–shear denominator Σ w |∇C|² ℓ and to the bend–twist one w_q₀ + w_q₁). It leaves
+/// a stretch–shear residual of 10⁻⁶ ℓ/(w₀ + w₁) of the correction (3·10⁻¹² m on a 0.5 m
+/// segment under gravity at h_s = 1 ms), which the recordings of the original show.
+constexpr Real kSeedRodRegularisation = Real(1e-6);
+
 /// Σ w |∇C|² per row of the stretch–shear constraint (the same for all three rows).
 Real stretchShearWeight(Real w0, Real w1, Real wq, Real restLength) {
   return (w0 + w1) / (restLength * restLength) + 4 * wq;
@@ -98,7 +104,9 @@ StretchShearCorrection stretchShearPbd(const Vector3& p0, Real w0, const Vector3
   if (!(weight > 0)) return {};
   const Matrix3 director = q.normalized().toRotationMatrix();
   const Vector3 local = director.transpose() * stretchShearValue(p0, p1, q, restLength);
-  const Vector3 deltaLocal = -fractions.cwiseProduct(local) / weight;
+  // Δλ = −k C ℓ/(Σ w |∇C|² ℓ + ε): the seed's γ = C/((w₀ + w₁)/ℓ + 4 w_q ℓ + ε), scaled by ℓ.
+  const Vector3 deltaLocal = -fractions.cwiseProduct(local) * restLength /
+                             (weight * restLength + kSeedRodRegularisation);
   return stretchShearStep(w0, w1, q, wq, restLength, director * deltaLocal);
 }
 
@@ -128,7 +136,8 @@ BendTwistCorrection bendTwistPbd(const Quaternion& q0, Real wq0, const Quaternio
                                  const Quaternion& restDarboux, const Vector3& fractions) {
   const Real weight = wq0 + wq1;
   if (!(weight > 0)) return {};
-  const Vector3 delta = -fractions.cwiseProduct(bendTwistValue(q0, q1, restDarboux)) / weight;
+  const Vector3 delta = -fractions.cwiseProduct(bendTwistValue(q0, q1, restDarboux)) /
+                        (weight + kSeedRodRegularisation);
   return bendTwistStep(q0, wq0, q1, wq1, delta);
 }
 

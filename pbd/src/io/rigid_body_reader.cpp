@@ -8,6 +8,9 @@
 #include <fstream>
 #include <map>
 
+#include "pbd/collision/distance_grid.h"
+#include "pbd/io/discregrid_file.h"
+#include "pbd/io/scene_loader.h"
 #include "scene_reading.h"
 
 namespace pbd::scene_io {
@@ -184,38 +187,10 @@ std::string lowerCaseExtension(const std::string& path) {
   return extension;
 }
 
-/// The header of a Discregrid grid file (`.csdf`, CubicLagrangeDiscreteGrid::save): the domain
-/// (an Eigen::AlignedBox3d, min then max, 6 doubles) and the cells per axis (3 unsigned 32-bit
-/// integers), native byte order, as Discregrid writes them. Fails at `key` for anything else.
-struct DiscregridHeader {
-  Vector3 min = Vector3::Zero(), max = Vector3::Zero();
-  Vector3i resolution = Vector3i::Zero();
-};
-
-DiscregridHeader readDiscregridHeader(const std::string& path, const JsonValue& key) {
-  std::ifstream in(path, std::ios::binary);
-  double box[6] = {};
-  std::uint32_t cells[3] = {};
-  in.read(reinterpret_cast<char*>(box), sizeof(box));
-  in.read(reinterpret_cast<char*>(cells), sizeof(cells));
-  if (!in)
-    key.fail("a Discregrid .csdf grid (its header: domain and resolution), got a file too short");
-  DiscregridHeader h;
-  for (int i = 0; i < 3; ++i) {
-    h.min(i) = Real(box[i]);
-    h.max(i) = Real(box[3 + i]);
-    if (!std::isfinite(box[i]) || !std::isfinite(box[3 + i]) || !(box[i] < box[3 + i]) ||
-        cells[i] < 1 || cells[i] > std::uint32_t(kMaxGridCellsPerAxis))
-      key.fail("a Discregrid .csdf grid (a finite domain min < max and 1 to " +
-               std::to_string(kMaxGridCellsPerAxis) + " cells per axis in its header)");
-    h.resolution(i) = int(cells[i]);
-  }
-  return h;
-}
-
 /// Type 5 builds a grid from a closed mesh: collisionObjectFileName's OBJ, else the geometry. A
-/// Discregrid `.csdf` (the seed reads its grid from it) is rebuilt from the geometry at the
-/// file's resolution, with a note.
+/// Discregrid `.csdf` (the seed reads its grid from it) is read (io/discregrid_file.h): the
+/// cubic Lagrange grid is the file's; the Catmull-Rom grid is rebuilt from the geometry at the
+/// file's resolution.
 void readSignedDistanceFieldMesh(RigidBodyDesc& body, JsonObject& object, LoadContext& context) {
   CollisionObjectDesc& c = body.collision;
   const Vector3i& r = c.resolutionSDF;
@@ -229,19 +204,17 @@ void readSignedDistanceFieldMesh(RigidBodyDesc& body, JsonObject& object, LoadCo
   std::optional<JsonValue> meshKey = object.find("geometryFile");
   if (!c.fileName.empty() && lowerCaseExtension(c.fileName) == ".csdf") {
     const JsonValue key = *object.find("collisionObjectFileName");
-    const DiscregridHeader header = readDiscregridHeader(c.fileName, key);
     if (!mesh)
-      key.fail("a geometryFile beside a .csdf grid (pbdval rebuilds the grid from the mesh)");
-    c.resolutionSDF = header.resolution;
-    key.warn(
-        "rebuilt: pbdval does not read Discregrid grids; the signed distance field is "
-        "built from geometryFile at the file's resolution " +
-        std::to_string(header.resolution.x()) + " x " + std::to_string(header.resolution.y()) +
-        " x " + std::to_string(header.resolution.z()) +
-        " over the mesh's box padded by 0.1 "
-        "(the file's domain is " +
-        formatVector(header.min) + " to " + formatVector(header.max) +
-        "); distances agree to the interpolation error");
+      key.fail(
+          "a geometryFile beside a .csdf grid (its mass properties, and the Catmull-Rom grid, "
+          "come from the mesh)");
+    try {
+      c.discregridGrid = std::make_shared<const DistanceGrid>(readDiscregridGrid(c.fileName));
+    } catch (const SceneError& e) {
+      key.error(e.what());
+    }
+    c.resolutionSDF = c.discregridGrid->cells();
+    c.discregridFile = c.fileName;
     c.fileName.clear();
   } else if (!c.fileName.empty()) {
     meshKey = object.find("collisionObjectFileName");

@@ -64,6 +64,12 @@ class DistanceGrid {
   const std::vector<Real>& nodes() const { return nodes_; }
 
   static std::size_t nodeCount(const Vector3i& cells, GridInterpolation interpolation);
+  /// Cubic Lagrange layout: the index of the corner node at lattice point (i, j, k).
+  static std::size_t lagrangeCornerIndex(const Vector3i& cells, int i, int j, int k);
+  /// Cubic Lagrange layout: the index of the node at 1/3 (side 0) or 2/3 (side 1) of the lattice
+  /// edge from (i, j, k) along `axis`.
+  static std::size_t lagrangeEdgeIndex(const Vector3i& cells, int axis, int i, int j, int k,
+                                       int side);
   /// The position of the node stored at `index`.
   static Vector3 nodePosition(const Vector3& domainMin, const Vector3& spacing,
                               const Vector3i& cells, GridInterpolation interpolation,

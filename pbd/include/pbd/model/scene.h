@@ -80,12 +80,20 @@ struct ContactPairDesc {
 };
 
 /// The collision keys shared by rigid bodies and tet models.
+class DistanceGrid;
+
 struct CollisionObjectDesc {
   CollisionObjectType type = CollisionObjectType::None;
   std::string fileName;  ///< resolved path of `collisionObjectFileName`; empty: use the geometry
   /// The OBJ mesh of `fileName` as in the file (unscaled; collisionObjectScale applies). Null
   /// without `fileName`.
   std::shared_ptr<const TriangleMesh> mesh;
+  /// A Discregrid `.csdf` given as `collisionObjectFileName` (type 5): its resolved path and its
+  /// distance field, read by the loader (io/discregrid_file.h). The cubic Lagrange grid (the
+  /// `pbd` method) is this one; the Catmull-Rom grid is rebuilt from the geometry at the file's
+  /// resolution. Empty / null without such a file.
+  std::string discregridFile;
+  std::shared_ptr<const DistanceGrid> discregridGrid;
   bool testMesh = true;
   /// Meaning by type: sphere radius = [0]; box full extents; cylinder (radius, height);
   /// torus (R, r); hollow sphere radius [0]; hollow box extents; SDF scale.
