@@ -22,7 +22,8 @@ SCHEMA = json.loads((REPO / "docs" / "schemas" / "catalogue.schema.json").read_t
 BASELINE = REPO / "reports" / "baselines" / "main.json"
 #: The engines that run in another process and whose own support check can be called here
 #: (engine → the module with unsupported_features(ResolvedScene)).
-EXTERNAL_CHECKS = {"pybullet": "pbdval.external.pybullet.engine", "mujoco-python": "pbdval.external.mujoco.engine"}
+EXTERNAL_CHECKS = {"pybullet": "pbdval.external.pybullet.engine", "mujoco-python": "pbdval.external.mujoco.engine",
+                   "drake": "pbdval.external.drake.engine"}
 
 
 def test_the_catalogue_schema_is_a_valid_draft_2020_12_schema() -> None:
