@@ -231,6 +231,19 @@ def _frame_with_axes(x_axis: np.ndarray, y_axis: np.ndarray | None = None) -> Ro
     return RotationMatrix(np.column_stack([x, y, np.cross(x, y)]))
 
 
+def _ball_frame(up: np.ndarray, arm: np.ndarray) -> RotationMatrix:
+    """The frame of a ball joint (BallRpyJoint, R = Rz(yaw) Ry(pitch) Rx(roll)): its
+    coordinates are singular where the child's x axis meets the parent's ±z (pitch ±π/2). With
+    z up and x horizontal across the arm (anchor → the child's centre of mass), the swing in
+    the vertical plane of the arm is a roll about x, which never nears that: a chain or pendulum
+    released in its plane stays regular at any angle; a swing out of the plane by π/2 does not."""
+    across = np.cross(up, arm)
+    if np.linalg.norm(across) < 1e-9 * max(1.0, float(np.linalg.norm(arm))):  # arm vertical: any
+        return RotationMatrix.MakeFromOneVector(up, 2)
+    x = across / np.linalg.norm(across)
+    return RotationMatrix(np.column_stack([x, np.cross(up, x), up]))
+
+
 def _shape(shape: pp.Shape) -> tuple[Shape, RigidTransform] | None:
     """The Drake shape of a scene shape and its pose in the scene frame (None: no geometry)."""
     if shape.type == "sphere":
@@ -386,10 +399,8 @@ class DrakeRun:
                         assert j.stiffness is not None
                         self.plant.AddForceElement(PrismaticSpring(prismatic, 0.0, j.stiffness))
             elif j.type == "ball":
-                # z up: the pitch axis (y) is horizontal, so a hanging body swings and spins
-                # about the vertical far from the coordinates' singularity at pitch ±π/2.
-                rotation = RotationMatrix.MakeFromOneVector(up, 2)
-                parent_frame, child_frame = self._joint_frames(edge, rotation, anchor)
+                parent_frame, child_frame = self._joint_frames(edge, _ball_frame(up, np.array(child.position) - anchor),
+                                                               anchor)
                 self.plant.AddJoint(BallRpyJoint(name, parent_frame, child_frame))
             elif j.type == "universal":
                 first = np.array(j.axes["axis1"].world, dtype=float)  # fixed in body1

@@ -46,8 +46,8 @@ FEATURES: list[dict[str, Any]] = [
     {"feature": "joint.hinge", "support": "native", "text": "RevoluteJoint about the hinge axis"},
     {"feature": "joint.slider", "support": "native", "text": "PrismaticJoint along the slider axis"},
     {"feature": "joint.ball", "support": "native",
-     "text": "BallRpyJoint at the anchor, pitch axis horizontal (its coordinates are singular at pitch "
-             "±π/2: Drake stops the run there with an error)"},
+     "text": "BallRpyJoint at the anchor, roll axis horizontal across the arm: regular for any swing in the "
+             "arm's vertical plane; its coordinates are singular at pitch ±π/2 (a swing of π/2 out of that plane)"},
     {"feature": "joint.universal", "support": "native",
      "text": "UniversalJoint: the parent's axis as its first (x), the child's as its second (y)"},
     {"feature": "joint.damper", "support": "native",
@@ -71,10 +71,11 @@ FEATURES: list[dict[str, Any]] = [
      "text": "the scene's velocities projected onto the joints' free motions in the kinetic-energy norm "
              "(reduced coordinates cannot hold a velocity that violates a joint); recorded in the settings"},
     {"feature": "contact.rigidPairs", "support": "approximated",
-     "text": "compliant point contact with the pair's friction (per-geometry values whose harmonic "
-             "combination is the pair's); stiffness and dissipation from Drake's penetration allowance "
-             "(parameter penetrationAllowance), so the pair's restitution is not used; regularised "
-             "friction below stictionTolerance in the continuous methods"},
+     "text": "compliant point contact, one point per pair (the deepest: a box on a face rocks on a corner), "
+             "with the pair's friction (per-geometry values whose harmonic combination is the pair's); "
+             "stiffness and dissipation from Drake's penetration allowance (parameter penetrationAllowance), "
+             "so the pair's restitution is not used; regularised friction below stictionTolerance in the "
+             "continuous methods and TAMSI"},
     {"feature": "contact.nonSeparableMaterials", "support": "unsupported",
      "text": "the pairs' friction is not the harmonic combination 2ab/(a+b) of per-geometry values "
              "(Drake combines the geometries' friction so)"},
