@@ -28,6 +28,7 @@ ENGINE_PAGES = {
     "mujoco": "parity-mujoco.md",
     "pybullet": "parity-pybullet.md",
     "mujoco-python": "parity-mujoco-python.md",
+    "drake": "parity-drake.md",
 }
 OVERVIEW_PAGE = "parity.md"
 #: Sections of the tables: key prefix → title, in order.
