@@ -160,8 +160,8 @@ EngineReference parseEngineReference(const std::string& text, const EngineRegist
   try {
     info = &registry.method(reference.method);
   } catch (const std::invalid_argument& e) {
-    throw OptionError(option + " " + text + ": expected fine, case, none or METHOD[:KEY=VALUE,...]; " +
-                      e.what());
+    throw OptionError(option + " " + text +
+                      ": expected fine, case, none or METHOD[:KEY=VALUE,...]; " + e.what());
   }
   if (colon == std::string::npos) return reference;
   std::vector<std::string> keys;

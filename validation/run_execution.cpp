@@ -87,7 +87,8 @@ std::optional<ReferenceTrajectory> buildReference(
     std::optional<ReferenceTrajectory> trajectory =
         referenceRun(referenceCase, registry, info.engine, method, h, length, h, notes);
     if (trajectory && !reference.assignments.empty())
-      trajectory->description += " (" + request.referenceMode.substr(reference.method.size() + 1) + ")";
+      trajectory->description +=
+          " (" + request.referenceMode.substr(reference.method.size() + 1) + ")";
     return trajectory;
   }
   if (request.referenceMode == "fine")
