@@ -22,6 +22,7 @@
 
 #include "validation/atomic_file.h"
 #include "validation/external_engine.h"
+#include "validation/overrides.h"
 #include "validation/run_execution.h"
 #include "validation/run_plan.h"
 
@@ -232,8 +233,17 @@ std::vector<RunRecord> RunScheduler::runAll(
       std::string serverFolder;
       try {
         serverFolder = servers.prepare(worker, registry_.engine(requests[next].engine));
+        // An engine reference runs in the same worker: its engine's server too (one folder
+        // per worker, a socket per engine).
+        const std::string& reference = requests[next].referenceMode;
+        if (isEngineReference(reference)) {
+          const EngineReference engineReference = parseEngineReference(reference, registry_);
+          const std::string referenceFolder = servers.prepare(
+              worker, registry_.engine(registry_.method(engineReference.method).engine));
+          if (serverFolder.empty()) serverFolder = referenceFolder;
+        }
       } catch (const std::invalid_argument&) {
-        // an unknown engine: the run says so
+        // an unknown engine or reference: the run says so
       }
       std::fflush(nullptr);  // nothing buffered may be written twice
       const std::string file = resultFile(scratchFolder_, next);
