@@ -30,6 +30,7 @@ ENGINE_PAGES = {
     "mujoco-python": "parity-mujoco-python.md",
     "dart": "engine-dart.md",
     "newton": "engine-newton.md",
+    "drake": "parity-drake.md",
 }
 OVERVIEW_PAGE = "parity.md"
 #: Sections of the tables: key prefix → title, in order.

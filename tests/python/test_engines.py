@@ -298,7 +298,8 @@ def test_method_parameters_reach_the_engine(export_scene: Export, run_engine: Ru
 # --- the catalogues ------------------------------------------------------------------------
 
 def test_there_is_a_catalogue_per_engine() -> None:
-    assert sorted(p.stem for p in CATALOGUES) == ["dart", "example-euler", "mujoco-python", "newton", "pybullet"]
+    assert sorted(p.stem for p in CATALOGUES) == ["dart", "drake", "example-euler", "mujoco-python", "newton",
+                                                  "pybullet"]
 
 
 @pytest.mark.parametrize("path", CATALOGUES, ids=lambda p: p.stem)

@@ -23,7 +23,8 @@ BASELINE = REPO / "reports" / "baselines" / "main.json"
 #: The engines that run in another process and whose own support check can be called here
 #: (engine → the module with unsupported_features(ResolvedScene)).
 EXTERNAL_CHECKS = {"pybullet": "pbdval.external.pybullet.engine", "mujoco-python": "pbdval.external.mujoco.engine",
-                   "dart": "pbdval.external.dart.engine"}
+                   "dart": "pbdval.external.dart.engine",
+                   "drake": "pbdval.external.drake.engine"}
 
 
 def test_the_catalogue_schema_is_a_valid_draft_2020_12_schema() -> None:

@@ -68,11 +68,11 @@ def request(path: Path, document: Any) -> list[dict[str, Any]]:
     return [json.loads(line) for line in data.decode().splitlines()]
 
 
-@pytest.mark.parametrize("engine", ["pybullet", "mujoco-python"])
+@pytest.mark.parametrize("engine", ["pybullet", "mujoco-python", "drake"])
 def test_a_served_run_writes_the_single_shot_files_bit_for_bit(
         engine: str, server: Callable[[str], Path], export_scene: Callable[..., Path],
         run_engine: Callable[[str, Path], tuple[dict[str, Any], Path]], tmp_path: Path) -> None:
-    method = {"pybullet": "pybullet.si", "mujoco-python": "mujoco-python.euler.newton"}[engine]
+    method = {"pybullet": "pybullet.si", "mujoco-python": "mujoco-python.euler.newton", "drake": "drake.sap"}[engine]
     scene = export_scene("double_pendulum", method=method, duration=0.5)
     status, single = run_engine(engine, scene)
     assert status["status"] == "ok", status

@@ -53,6 +53,11 @@ ArgParser runParser() {
               "a method parameter or Simulation setting for every run; every run of the plan "
               "must honour it",
               true)
+      .option("reference", "case|none|fine|METHOD[:KEY=VALUE,...]",
+              "what every run is measured against: case (default) the case's "
+              "Validation.reference; none; fine the same method at h/16; a method: its run of "
+              "the same scene at the same step with these parameters (the converged reference: "
+              "drake.rk3:targetAccuracy=1e-10, docs/convergence.md)")
       .option("shard", "K/N",
               "run only the K-th of N slices of the plan (batch schedulers; join the folders "
               "with 'pbdval merge', docs/cluster.md)")
@@ -122,6 +127,10 @@ int runCommand(const Context& context, const Arguments& arguments) {
     checkNames(context.engines, "--engines", options.engines);
     checkNames(context.engines, "--methods", options.methods);
     options.assignments = args.values("set");
+    const std::string reference = args.value("reference", "case");
+    if (reference != "case" && reference != "none" && reference != "fine")
+      parseEngineReference(reference, context.engines);  // throws naming what was expected
+    options.referenceMode = reference == "case" ? "" : reference;
     options.outFolder = withoutTrailingSlashes(args.value("out", "out"));
     options.writeTrajectories = !args.flags.count("no-trajectories");
     const std::string format = args.value("trajectory-format", "csv");

@@ -1,5 +1,6 @@
 // pbdval sweep CASE --param NAME=v1,v2,... [--param ...] [--methods LIST] [--metric NAME]
-//                   [--reference fine] [--out DIR] [--jobs N] [--timeout S]
+//                   [--reference fine|case|METHOD[:KEY=VALUE,...]] [--out DIR] [--jobs N]
+//                   [--timeout S]
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -41,9 +42,11 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
       .option("metric", "NAME",
               "the error metric (default: trajectory_error_max with a reference, else "
               "energy_drift_max)")
-      .option("reference", "fine|case",
+      .option("reference", "fine|case|METHOD[:KEY=VALUE,...]",
               "fine: compare with the same method at a tiny step (consistency, Erez et al. 2015); "
-              "case (default): the case's Validation.reference")
+              "case (default): the case's Validation.reference; a method: its run of the same "
+              "scene at each point's step with these parameters (the converged reference: "
+              "drake.rk3:targetAccuracy=1e-10)")
       .option("fine-divisor", "N",
               "with --reference fine: the reference step is the smallest swept step / N, N from 2 "
               "to 1024 (default 16)")
@@ -88,8 +91,8 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
     options.metric = args.value("metric");
     const std::string reference = args.value("reference", "case");
     if (reference != "fine" && reference != "case")
-      throw UsageError("--reference: expected fine or case, got '" + reference + "'");
-    options.referenceMode = reference == "fine" ? "fine" : "";
+      parseEngineReference(reference, context.engines);  // throws naming what was expected
+    options.referenceMode = reference == "case" ? "" : reference;
     if (args.has("fine-divisor") && reference != "fine")
       throw UsageError(
           "--fine-divisor sets the step of --reference fine; without it there is no "

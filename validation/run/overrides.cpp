@@ -147,4 +147,51 @@ void checkAssignments(const std::vector<std::string>& assignments,
   }
 }
 
+bool isEngineReference(const std::string& referenceMode) {
+  return !referenceMode.empty() && referenceMode != "fine" && referenceMode != "none";
+}
+
+EngineReference parseEngineReference(const std::string& text, const EngineRegistry& registry,
+                                     const std::string& option) {
+  EngineReference reference;
+  const auto colon = text.find(':');
+  reference.method = text.substr(0, colon);
+  const MethodInfo* info = nullptr;
+  try {
+    info = &registry.method(reference.method);
+  } catch (const std::invalid_argument& e) {
+    throw OptionError(option + " " + text +
+                      ": expected fine, case, none or METHOD[:KEY=VALUE,...]; " + e.what());
+  }
+  if (colon == std::string::npos) return reference;
+  std::vector<std::string> keys;
+  std::string rest = text.substr(colon + 1);
+  while (true) {
+    const auto comma = rest.find(',');
+    const std::string assignment = rest.substr(0, comma);
+    std::pair<std::string, std::string> split;
+    try {
+      split = splitAssignment(assignment);
+    } catch (const std::invalid_argument& e) {
+      throw OptionError(option + " " + text + ": " + e.what());
+    }
+    if (info->find(split.first) == nullptr) {
+      std::vector<std::string> known;
+      for (const ParameterSpec& p : info->parameters)
+        known.push_back(p.name);
+      throw OptionError(option + " " + text + ": '" + split.first + "' is not a parameter of " +
+                        reference.method + " (" + pbd::nameList(known) + ")" +
+                        pbd::didYouMean(split.first, known));
+    }
+    if (contains(keys, split.first))
+      throw OptionError(option + " " + text + ": '" + split.first + "' is given twice");
+    keys.push_back(split.first);
+    checkAssignmentValue(split.first, split.second, *info, option + " " + text);
+    reference.assignments.push_back(assignment);
+    if (comma == std::string::npos) break;
+    rest = rest.substr(comma + 1);
+  }
+  return reference;
+}
+
 }  // namespace pbdval

@@ -60,4 +60,22 @@ void checkAssignmentValue(const std::string& key, const std::string& value,
 std::string unknownSettingMessage(const std::string& key, const std::vector<std::string>& methods,
                                   const EngineRegistry& registry);
 
+/// A reference engine (`pbdval run` and `pbdval sweep` `--reference METHOD[:KEY=VALUE,...]`,
+/// docs/convergence.md#a-converged-reference): every run is measured against METHOD's run of the
+/// same scene, at the run's step and sample times, with these method parameters (drake.rk3 at
+/// targetAccuracy=1e-10: the converged reference).
+struct EngineReference {
+  std::string method;
+  std::vector<std::string> assignments;  ///< KEY=VALUE, parameters of `method`
+};
+
+/// Whether a RunRequest::referenceMode names an engine reference (not "", "fine" or "none").
+bool isEngineReference(const std::string& referenceMode);
+
+/// Parses `text` (METHOD[:KEY=VALUE,...]): METHOD a registered method, each KEY one of its
+/// parameters, given once, with a value its declaration accepts. Throws OptionError naming
+/// `option`, the text and what was expected.
+EngineReference parseEngineReference(const std::string& text, const EngineRegistry& registry,
+                                     const std::string& option = "--reference");
+
 }  // namespace pbdval

@@ -78,6 +78,19 @@ std::optional<ReferenceTrajectory> buildReference(
   const double h = double(c.scene.simulation.timeStepSize);
   const RunLength length = lengthOf(c, request);
   if (request.referenceMode == "none") return std::nullopt;
+  if (isEngineReference(request.referenceMode)) {
+    const EngineReference reference = parseEngineReference(request.referenceMode, registry);
+    const MethodInfo& info = registry.method(reference.method);
+    LoadedCase referenceCase = c;
+    const Method method =
+        resolveMethod(info, applyAssignments(reference.assignments, info, referenceCase.scene));
+    std::optional<ReferenceTrajectory> trajectory =
+        referenceRun(referenceCase, registry, info.engine, method, h, length, h, notes);
+    if (trajectory && !reference.assignments.empty())
+      trajectory->description +=
+          " (" + request.referenceMode.substr(reference.method.size() + 1) + ")";
+    return trajectory;
+  }
   if (request.referenceMode == "fine")
     return referenceRun(
         c, registry, request.engine, c.method,

@@ -112,6 +112,7 @@ RunPlan planRuns(const std::vector<std::string>& caseFiles, const PlanOptions& o
         r.engine = engine;
         r.method = method;
         r.assignments = options.assignments;
+        r.referenceMode = options.referenceMode;
         r.strictScene = options.strictScene;
         if (options.writeTrajectories)
           r.trajectoryPath =

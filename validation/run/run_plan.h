@@ -21,6 +21,7 @@ struct PlanOptions {
   std::vector<std::string> engines;      ///< empty: all
   std::vector<std::string> methods;      ///< empty: the case's, else the engines' defaults
   std::vector<std::string> assignments;  ///< --set, passed to every run
+  std::string referenceMode;             ///< --reference: RunRequest::referenceMode of every run
   std::string outFolder = "out";
   bool writeTrajectories = true;
   TrajectoryFormat trajectoryFormat = TrajectoryFormat::Csv;

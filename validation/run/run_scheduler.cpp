@@ -22,6 +22,7 @@
 
 #include "validation/external/external_engine.h"
 #include "validation/io/atomic_file.h"
+#include "validation/run/overrides.h"
 #include "validation/run/run_execution.h"
 #include "validation/run/run_plan.h"
 
@@ -251,8 +252,17 @@ std::vector<RunRecord> RunScheduler::runAll(
           if (requests[k].engine == requests[next].engine) ++runsOfEngine;
         serverFolder =
             servers.prepare(worker, registry_.engine(requests[next].engine), runsOfEngine);
+        // An engine reference runs in the same worker: its engine's server too (one folder
+        // per worker, a socket per engine).
+        const std::string& reference = requests[next].referenceMode;
+        if (isEngineReference(reference)) {
+          const EngineReference engineReference = parseEngineReference(reference, registry_);
+          const std::string referenceFolder = servers.prepare(
+              worker, registry_.engine(registry_.method(engineReference.method).engine), 1);
+          if (serverFolder.empty()) serverFolder = referenceFolder;
+        }
       } catch (const std::invalid_argument&) {
-        // an unknown engine: the run says so
+        // an unknown engine or reference: the run says so
       }
       std::fflush(nullptr);  // nothing buffered may be written twice
       const std::string file = resultFile(scratchFolder_, next);

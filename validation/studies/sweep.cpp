@@ -320,8 +320,9 @@ SweepPlan planSweep(const SweepOptions& options, const EngineRegistry& registry)
     if (plan.metric.empty()) plan.metric = declared.metric;
   }
   if (plan.methods.empty()) plan.methods = defaultMethods(spec, registry);
-  const bool hasReference =
-      options.referenceMode == "fine" || spec.reference.kind != ReferenceSpec::Kind::None;
+  const bool hasReference = options.referenceMode == "fine" ||
+                            isEngineReference(options.referenceMode) ||
+                            spec.reference.kind != ReferenceSpec::Kind::None;
   if (plan.metric.empty()) plan.metric = hasReference ? "trajectory_error_max" : "energy_drift_max";
 
   // Swept step sizes share one sample interval, a whole number of every step (so that every run

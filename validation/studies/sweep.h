@@ -32,7 +32,8 @@ struct SweepOptions {
   std::vector<std::pair<std::string, std::vector<std::string>>> parameters;  ///< name → values
   std::vector<std::string> methods;  ///< empty: the case's, else every engine's default
   std::string metric;  ///< empty: trajectory_error_max with a reference, else energy_drift_max
-  std::string referenceMode;  ///< "" the case's reference; "fine": same method at a tiny step
+  std::string referenceMode;  ///< "" the case's reference; "fine": same method at a tiny step;
+                              ///< else METHOD[:KEY=VALUE,...], an engine reference
   int fineDivisor = 16;
   int jobs = 1;
   double timeout = 600;
