@@ -7,7 +7,6 @@ with the original file loaded by the same engine."""
 from __future__ import annotations
 
 import json
-import math
 import subprocess
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -16,7 +15,7 @@ from typing import Any
 import mujoco
 import numpy as np
 import pybullet as pb
-import pybullet_data
+import pybullet_data  # type: ignore[import-untyped]
 import pytest
 from test_engines import assert_ok, trajectory
 
@@ -133,16 +132,16 @@ def test_the_cartpoles_limits_damping_and_actuator_are_listed_not_dropped_silent
 @pytest.mark.parametrize(("text", "expected"), [
     ("<robot name='x'><link name='a'/>", "not well-formed XML"),
     ("<model/>", "expected a <robot> root element"),
-    ("<robot name='x'><link name='a'/><joint name='j' type='revolute'><parent link='a'/>"
-     "<child link='nope'/></joint></robot>", "joint 'j'/child: no link named 'nope'"),
-    ("<robot name='x'><link name='a'/><link name='b'/><joint name='j' type='planar'><parent link='a'/>"
-     "<child link='b'/></joint></robot>", "joint 'j': type 'planar'"),
+    (("<robot name='x'><link name='a'/><joint name='j' type='revolute'><parent link='a'/>"
+     "<child link='nope'/></joint></robot>"), "joint 'j'/child: no link named 'nope'"),
+    (("<robot name='x'><link name='a'/><link name='b'/><joint name='j' type='planar'><parent link='a'/>"
+     "<child link='b'/></joint></robot>"), "joint 'j': type 'planar'"),
     ("<robot name='x'><link name='a'><inertial><mass value='abc'/></inertial></link></robot>",
      "link 'a'/inertial/mass: attribute value=\"abc\""),
-    ("<robot name='x'><link name='a'><collision><geometry><mesh filename='m.dae'/></geometry></collision>"
-     "</link></robot>", "COLLADA (.dae)"),
-    ("<robot name='x'><link name='a'/><link name='b'/><joint name='j' type='revolute'><parent link='a'/>"
-     "<child link='b'/></joint></robot>", "'b': mass 0.0 kg is outside"),
+    (("<robot name='x'><link name='a'><collision><geometry><mesh filename='m.dae'/></geometry></collision>"
+     "</link></robot>"), "COLLADA (.dae)"),
+    (("<robot name='x'><link name='a'/><link name='b'/><joint name='j' type='revolute'><parent link='a'/>"
+     "<child link='b'/></joint></robot>"), "'b': mass 0.0 kg is outside"),
 ])
 def test_bad_urdf_is_refused_naming_the_file_and_the_element(tmp_path: Path, text: str, expected: str) -> None:
     (tmp_path / "m.dae").write_text("<COLLADA/>")
@@ -308,14 +307,23 @@ def mujoco_reference(xml: Path, h: float, steps: int, sample_every: int, names: 
     return samples
 
 
-#: Start positions away from the models' equilibria (both stand upright at qpos0).
-MJCF_STARTS = {"acrobot.xml": {"shoulder": 0.4, "elbow": 0.3}, "cartpole.xml": {"hinge_1": 0.3}}
+#: A body on two perpendicular hinges through one point (the seed's universal joint) carrying a
+#: body on three (its ball joint), base fixed: the joint combinations the importer maps.
+HINGE_SETS = """<mujoco model="hinge_sets"><worldbody>
+  <body name="a" pos="0 0 1"><joint name="u1" axis="1 0 0"/><joint name="u2" axis="0 1 0"/>
+    <geom type="capsule" fromto="0 0 0 0.3 0 -0.4" size="0.05"/>
+    <body name="b" pos="0.3 0 -0.4"><joint name="b1" axis="1 0 0"/><joint name="b2" axis="0 1 0"/>
+      <joint name="b3" axis="0 0 1"/><geom type="box" size="0.1 0.05 0.2" pos="0.05 0.02 -0.2"/></body>
+  </body></worldbody></mujoco>"""
+#: Start positions away from the models' equilibria (acrobot and cartpole stand upright at qpos0).
+MJCF_STARTS = {"acrobot.xml": {"shoulder": 0.4, "elbow": 0.3}, "cartpole.xml": {"hinge_1": 0.3},
+               "hinge_sets.xml": {"u1": 0.3, "u2": 0.2, "b1": 0.4, "b3": 0.5}}
 
 
 @pytest.mark.parametrize("model", sorted(MJCF_STARTS))
 def test_an_mjcf_imported_runs_in_mujoco_as_its_original_file(model: str, pbdval_binary: Path, tmp_path: Path,
                                                              run_engine: Any) -> None:
-    xml = SUITE / model
+    xml = SUITE / model if model != "hinge_sets.xml" else write(tmp_path, model, HINGE_SETS)
     scene = tmp_path / "scene.json"
     result = import_model(xml, scene, positions=MJCF_STARTS[model])
     scene_document = json.loads(scene.read_text())
@@ -351,3 +359,11 @@ def test_every_pybullet_urdf_and_suite_model_imports_or_is_refused_by_name() -> 
                            str(REPO / "docs/models.md")], capture_output=True, text=True, check=False,
                           cwd=REPO, env={"PYTHONPATH": str(REPO / "python"), "PATH": "/usr/bin:/bin"})
     assert done.returncode == 0, done.stdout + done.stderr
+
+
+def test_the_robot_cases_are_the_import_of_their_models() -> None:
+    """cases/robot_*.json and their meshes are what python -m pbdval.import_model_cases generates."""
+    done = subprocess.run([str(VENV_PYTHON), "-m", "pbdval.import_model_cases", "--check"], capture_output=True,
+                          text=True, check=False, cwd=REPO, env={"PYTHONPATH": str(REPO / "python"),
+                                                                 "PATH": "/usr/bin:/bin"})
+    assert done.returncode == 0, done.stderr
