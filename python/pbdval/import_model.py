@@ -338,8 +338,11 @@ def _unused_positions(positions: dict[str, float], used: set[str], path: Path, n
         raise ImportModelError(f"{path}: --joint {unknown[0]}: no hinge or slider joint of this name")
 
 
-def read_urdf(path: Path, fixed_base: bool = False, positions: dict[str, float] | None = None) -> Model:
-    """The model at the joint positions `positions` (joint name → rad or m; 0 for the others)."""
+def read_urdf(path: Path, fixed_base: bool = False, positions: dict[str, float] | None = None,
+              inertia_from_collision: bool = False) -> Model:
+    """The model at the joint positions `positions` (joint name → rad or m; 0 for the others).
+    With `inertia_from_collision`, every link with collision shapes takes their inertia (as
+    pybullet's loadURDF does without URDF_USE_INERTIA_FROM_FILE), not the file's."""
     positions = positions or {}
     try:
         root = ET.parse(path).getroot()
@@ -395,8 +398,13 @@ def read_urdf(path: Path, fixed_base: bool = False, positions: dict[str, float] 
         frame = frames[name]
         mass, com, inertia = _urdf_inertial(element, frame, path)
         shapes = _urdf_shapes(element, frame, path, notes)
-        if mass > 0 and shapes and not np.all(np.linalg.eigvalsh(inertia) > 0):
-            inertia = _inertia_from_shapes(shapes, mass, f"{path}: link '{name}'")
+        if mass > 0 and shapes and inertia_from_collision:
+            com, inertia = _inertia_from_shapes(shapes, mass, f"{path}: link '{name}'")
+            notes.append(f"link '{name}': --inertia-from-collision: the centre of mass and inertia of its "
+                         "collision shapes as a uniform solid of its mass (approximated; pybullet's loadURDF "
+                         "takes the shapes' inertia by default, at the file's inertial origin)")
+        elif mass > 0 and shapes and not np.all(np.linalg.eigvalsh(inertia) > 0):
+            inertia = _inertia_from_shapes(shapes, mass, f"{path}: link '{name}'")[1]
             notes.append(f"link '{name}': inertia not positive definite in the file: the inertia of its "
                          "collision shapes as a uniform solid of its mass, about their centroid, placed at "
                          "its centre of mass (approximated, as pybullet's loadURDF does by default)")
@@ -713,9 +721,9 @@ def _tessellate(shape: Shape, notes: list[str] | None = None) -> tuple[np.ndarra
     return vertices, np.asarray(mesh.faces, dtype=np.int64)
 
 
-def _inertia_from_shapes(shapes: list[Shape], mass: float, where: str) -> np.ndarray:
-    """The inertia tensor (world axes, about the centroid) of the shapes' union as a uniform solid
-    of `mass`."""
+def _inertia_from_shapes(shapes: list[Shape], mass: float, where: str) -> tuple[np.ndarray, np.ndarray]:
+    """The centroid and the inertia tensor about it (world axes) of the shapes' union as a uniform
+    solid of `mass`."""
     import trimesh
 
     parts = [_tessellate(shape) for shape in shapes]
@@ -725,7 +733,18 @@ def _inertia_from_shapes(shapes: list[Shape], mass: float, where: str) -> np.nda
     if not mesh.volume > 0:
         raise ImportModelError(f"{where}: no inertia in the file and its collision shapes enclose no volume")
     tensor: np.ndarray = np.asarray(mesh.moment_inertia, dtype=np.float64) * (mass / float(mesh.volume))
-    return tensor
+    return np.asarray(mesh.center_mass, dtype=np.float64), tensor
+
+
+def _centroid_at_origin(vertices: np.ndarray, faces: np.ndarray, extent: float) -> bool:
+    """Whether the solid a closed mesh encloses has its centroid at the origin (to FRAME_TOLERANCE
+    of the model's size), as the scene loader integrates it (additively over the triangles)."""
+    import trimesh
+
+    mesh = trimesh.Trimesh(vertices, faces, process=False)
+    if not float(mesh.volume) > 0:
+        return False
+    return bool(np.linalg.norm(np.asarray(mesh.center_mass, dtype=np.float64)) <= FRAME_TOLERANCE * extent)
 
 
 def _write_obj(path: Path, vertices: np.ndarray, faces: np.ndarray) -> None:
@@ -748,10 +767,18 @@ def _vector(values: np.ndarray) -> list[float]:
 
 
 def build_scene(model: Model, scene_path: Path, mesh_folder: Path | None = None,
-                collisions: bool = True) -> ImportResult:
+                collisions: bool = True, collision_links: set[str] | None = None) -> ImportResult:
     """The scene of `model`; mesh collision shapes are written as OBJ files to `mesh_folder`
     (default: SCENE.meshes next to the scene) and referenced relative to the scene's folder."""
     notes = list(model.notes)
+    if collision_links is not None:
+        unknown = sorted(collision_links - {link.name for link in model.links})
+        if unknown:
+            raise ImportModelError(f"{model.path}: --collision-links: no link named '{unknown[0]}'")
+        for link in model.links:
+            if link.shapes and link.name not in collision_links:
+                notes.append(f"link '{link.name}': collision shapes left out (not in --collision-links)")
+                link.shapes = []
     groups, group_of = _merge(model)
     for joint in model.joints:
         if joint.kind == "fixed" and joint.parent is not None:
@@ -811,6 +838,16 @@ def build_scene(model: Model, scene_path: Path, mesh_folder: Path | None = None,
             shape_type = 5
             entry["collisionObjectFileName"] = os.path.relpath(mesh_file, scene_path.parent)
             entry["resolutionSDF"] = [SDF_RESOLUTION] * 3
+            if static or _centroid_at_origin(local, np.vstack(faces), extent):
+                # The loader puts the centre of mass at the mesh's centroid: here it is the body's
+                # (or the body is static), so the mesh can be the geometry too: its vertices are
+                # tested for contacts, and the engines that build shapes from geometryFile take it.
+                entry["geometryFile"] = entry.pop("collisionObjectFileName")
+            else:
+                notes.append(f"body of {label}: its collision mesh's centroid is not its centre of mass, so "
+                             "the mesh is its SDF only (collisionObjectFileName, no geometryFile): its "
+                             "vertices are not tested for contacts, and engines that need a geometryFile "
+                             "report the body unsupported")
         entry["collisionObjectType"] = shape_type
         entry["translation"] = _vector(com)
         axis, angle = axis_angle(rotation)
@@ -847,7 +884,7 @@ def build_scene(model: Model, scene_path: Path, mesh_folder: Path | None = None,
                 mesh_file = mesh_folder / f"world_{shape.name}.obj"
                 _write_obj(mesh_file, v - center, f)
                 entry = {"id": body_id, "isDynamic": False, "collisionObjectType": 5,
-                         "collisionObjectFileName": os.path.relpath(mesh_file, scene_path.parent),
+                         "geometryFile": os.path.relpath(mesh_file, scene_path.parent),
                          "resolutionSDF": [SDF_RESOLUTION] * 3, "translation": _vector(center),
                          "mass": 1.0, "inertia": [1.0, 1.0, 1.0]}
                 angle = 0.0
@@ -895,7 +932,8 @@ def build_scene(model: Model, scene_path: Path, mesh_folder: Path | None = None,
             blocks["SliderJoints"].append(row)
     scene: dict[str, Any] = {
         "Name": model.name,
-        "Simulation": {"timeStepSize": model.time_step, "gravitation": model.gravity},
+        # OBJ coordinates read with every digit: a mesh's centroid is the body's centre of mass.
+        "Simulation": {"timeStepSize": model.time_step, "gravitation": model.gravity, "objPrecision": "double"},
         "RigidBodies": entries,
     }
     scene.update({k: v for k, v in blocks.items() if v})
@@ -909,12 +947,14 @@ def build_scene(model: Model, scene_path: Path, mesh_folder: Path | None = None,
 
 def import_model(model_path: str | Path, scene_path: str | Path | None = None, *, fixed_base: bool = False,
                  collisions: bool = True, mesh_folder: str | Path | None = None,
-                 positions: dict[str, float] | None = None) -> ImportResult:
+                 positions: dict[str, float] | None = None, collision_links: set[str] | None = None,
+                 inertia_from_collision: bool = False) -> ImportResult:
     """Read a URDF (.urdf) or MJCF (.xml, .mjcf) model and build its scene; with `scene_path`, write
     it (and its collision meshes) there. Errors name the model's file."""
     path = Path(model_path)
     try:
-        return _import(path, scene_path, fixed_base, collisions, mesh_folder, positions or {})
+        return _import(path, scene_path, fixed_base, collisions, mesh_folder, positions or {}, collision_links,
+                       inertia_from_collision)
     except ImportModelError as error:
         if str(error).startswith(str(path)):
             raise
@@ -922,28 +962,29 @@ def import_model(model_path: str | Path, scene_path: str | Path | None = None, *
 
 
 def _import(path: Path, scene_path: str | Path | None, fixed_base: bool, collisions: bool,
-            mesh_folder: str | Path | None, positions: dict[str, float]) -> ImportResult:
+            mesh_folder: str | Path | None, positions: dict[str, float], collision_links: set[str] | None,
+            inertia_from_collision: bool) -> ImportResult:
     if not path.is_file():
         raise ImportModelError(f"{path}: no such file")
     suffix = path.suffix.lower()
     if suffix == ".urdf":
-        model = read_urdf(path, fixed_base, positions)
+        model = read_urdf(path, fixed_base, positions, inertia_from_collision)
     elif suffix in (".xml", ".mjcf"):
-        if fixed_base:
-            raise ImportModelError(f"{path}: --fixed-base is for URDF; an MJCF body without a joint is "
-                                   "already welded")
+        if fixed_base or inertia_from_collision:
+            raise ImportModelError(f"{path}: --fixed-base and --inertia-from-collision are for URDF (an MJCF "
+                                   "body without a joint is welded; MuJoCo computes inertias from geoms itself)")
         model = read_mjcf(path, positions)
     else:
         raise ImportModelError(f"{path}: expected a URDF (.urdf) or MJCF (.xml) file")
     out = Path(scene_path) if scene_path is not None else path.with_suffix(".json")
-    return _build_and_write(model, out, scene_path is not None, collisions, mesh_folder)
+    return _build_and_write(model, out, scene_path is not None, collisions, mesh_folder, collision_links)
 
 
-def _build_and_write(model: Model, out: Path, write: bool, collisions: bool,
-                     mesh_folder: str | Path | None) -> ImportResult:
+def _build_and_write(model: Model, out: Path, write: bool, collisions: bool, mesh_folder: str | Path | None,
+                     collision_links: set[str] | None) -> ImportResult:
     with tempfile.TemporaryDirectory() as scratch:
         folder = Path(mesh_folder) if mesh_folder is not None else (None if write else Path(scratch))
-        result = build_scene(model, out, folder, collisions)
+        result = build_scene(model, out, folder, collisions, collision_links)
         if write:
             _write_atomically(out, json.dumps(result.scene, indent=2) + "\n")
     return result
@@ -958,6 +999,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--mesh-folder", help="where collision meshes go (default: SCENE.meshes/)")
     parser.add_argument("--fixed-base", action="store_true", help="URDF: the root link is static")
     parser.add_argument("--no-collision", action="store_true", help="write no collision shapes")
+    parser.add_argument("--inertia-from-collision", action="store_true",
+                        help="URDF: links take their collision shapes' centre of mass and inertia (pybullet's "
+                             "loadURDF takes their inertia without URDF_USE_INERTIA_FROM_FILE)")
+    parser.add_argument("--collision-links", metavar="A,B,...",
+                        help="only these links keep their collision shapes (the others are noted)")
     parser.add_argument("--joint", action="append", default=[], metavar="NAME=VALUE",
                         help="start with this hinge (rad) or slider (m) moved from the model's zero "
                              "configuration (MJCF: from qpos0); repeatable")
@@ -975,7 +1021,9 @@ def main(argv: list[str] | None = None) -> int:
     out = Path(args.out) if args.out else Path(args.model).with_suffix(".json")
     try:
         result = import_model(args.model, out, fixed_base=args.fixed_base, collisions=not args.no_collision,
-                              mesh_folder=args.mesh_folder, positions=positions)
+                              mesh_folder=args.mesh_folder, positions=positions,
+                              collision_links=set(args.collision_links.split(",")) if args.collision_links else None,
+                              inertia_from_collision=args.inertia_from_collision)
     except ImportModelError as error:
         print(f"pbdval import: {error}", file=sys.stderr)
         return 1
