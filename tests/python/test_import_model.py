@@ -106,6 +106,49 @@ def test_mjcf_bodies_keep_the_compiled_models_masses_and_principal_moments() -> 
         assert np.allclose(sorted(body.moments), sorted(model.body_inertia[b]), rtol=0, atol=64 * EPSILON * scale)
 
 
+def test_inertia_from_collision_gives_a_boxs_centre_and_closed_form_inertia(tmp_path: Path) -> None:
+    """A 2 kg link whose file says 1 kg m² everywhere, with a 0.4 x 0.2 x 0.1 m collision box centred
+    at (0, 0, 0.1): with --inertia-from-collision its centre of mass is the box's centre and its
+    moments m/12 (b² + c²), ... (closed form), and it becomes the seed's box."""
+    urdf = write(tmp_path, "b.urdf", '<robot name="b">' + link(
+        "a", 2.0, 'ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"',
+        collision='<collision><origin xyz="0 0 0.1"/><geometry><box size="0.4 0.2 0.1"/></geometry></collision>')
+        + "</robot>")
+    result = import_model(urdf, inertia_from_collision=True)
+    body = result.bodies[0]
+    assert np.allclose(body.com, [0, 0, 0.1], rtol=0, atol=1e-15)  # the mean of 8 corners: round-off
+    expected = sorted([2 / 12 * (0.04 + 0.01), 2 / 12 * (0.16 + 0.01), 2 / 12 * (0.16 + 0.04)])
+    # trimesh integrates the 12 triangles: a few epsilon of the largest moment
+    assert np.allclose(sorted(body.moments), expected, rtol=0, atol=64 * EPSILON * 0.04)
+    assert result.scene["RigidBodies"][0]["collisionObjectType"] == 2
+    assert result.scene["RigidBodies"][0]["collisionObjectScale"] == [0.4, 0.2, 0.1]
+
+
+def test_a_mesh_is_the_geometry_only_when_its_centroid_is_the_centre_of_mass(tmp_path: Path) -> None:
+    """Two boxes symmetric about the centre of mass: one mesh, the body's geometryFile. One box off
+    the centre of mass: its SDF only, noted (the format puts the centre of mass at the geometry's
+    centroid)."""
+    inertia = 'ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"'
+    box = '<collision><origin xyz="{} 0 0"/><geometry><box size="0.1 0.1 0.1"/></geometry></collision>'
+    pair = write(tmp_path, "pair.urdf", '<robot name="p">' + link(
+        "a", 1.0, inertia, collision=box.format(0.3) + box.format(-0.3)) + "</robot>")
+    entry = import_model(pair, tmp_path / "pair.json").scene["RigidBodies"][0]
+    assert entry["collisionObjectType"] == 5 and "geometryFile" in entry
+    off = write(tmp_path, "off.urdf", '<robot name="o">' + link("a", 1.0, inertia, collision=box.format(0.3))
+                + "</robot>")
+    result = import_model(off, tmp_path / "off.json")
+    entry = result.scene["RigidBodies"][0]
+    assert entry["collisionObjectType"] == 5 and "geometryFile" not in entry and "collisionObjectFileName" in entry
+    assert any("is not its centre of mass" in note for note in result.notes)
+
+
+def test_an_unknown_collision_link_or_start_joint_is_refused(tmp_path: Path) -> None:
+    with pytest.raises(ImportModelError, match=r"pendulum5.urdf: --collision-links: no link named 'nope'"):
+        import_model(PYBULLET_DATA / "pendulum5.urdf", collision_links={"nope"})
+    with pytest.raises(ImportModelError, match=r"acrobot.xml: --joint nope: no hinge or slider joint"):
+        import_model(SUITE / "acrobot.xml", positions={"nope": 1.0})
+
+
 # --- joints and notes -------------------------------------------------------------------------
 
 def test_pendulum5_maps_its_continuous_joints_to_hinges_and_lists_what_it_drops() -> None:
