@@ -261,8 +261,7 @@ def read_mesh(file: Path, scale: np.ndarray, where: str) -> tuple[np.ndarray, np
     return vertices, faces
 
 
-def _urdf_shapes(link_element: ET.Element, frame: tuple[np.ndarray, np.ndarray], path: Path,
-                 notes: list[str]) -> list[Shape]:
+def _urdf_shapes(link_element: ET.Element, frame: tuple[np.ndarray, np.ndarray], path: Path) -> list[Shape]:
     name = link_element.get("name", "")
     shapes: list[Shape] = []
     for index, collision in enumerate(link_element.findall("collision")):
@@ -397,7 +396,7 @@ def read_urdf(path: Path, fixed_base: bool = False, positions: dict[str, float] 
         element = link_elements[name]
         frame = frames[name]
         mass, com, inertia = _urdf_inertial(element, frame, path)
-        shapes = _urdf_shapes(element, frame, path, notes)
+        shapes = _urdf_shapes(element, frame, path)
         if mass > 0 and shapes and inertia_from_collision:
             com, inertia = _inertia_from_shapes(shapes, mass, f"{path}: link '{name}'")
             notes.append(f"link '{name}': --inertia-from-collision: the centre of mass and inertia of its "
@@ -553,7 +552,6 @@ def read_mjcf(path: Path, positions: dict[str, float] | None = None) -> Model:
                      "collision shape")
     links: list[Link] = []
     joints: list[Joint] = []
-    world_shapes: list[Shape] = []
     geom_kinds = {int(mujoco.mjtGeom.mjGEOM_SPHERE): "sphere", int(mujoco.mjtGeom.mjGEOM_BOX): "box",
                   int(mujoco.mjtGeom.mjGEOM_CYLINDER): "cylinder",
                   int(mujoco.mjtGeom.mjGEOM_CAPSULE): "capsule",
@@ -594,7 +592,7 @@ def read_mjcf(path: Path, positions: dict[str, float] | None = None) -> Model:
             notes.append(f"{where}: contype {m.geom_contype[g]} / conaffinity {m.geom_conaffinity[g]}: "
                          "collision filtering dropped (every pair of bodies may collide)")
         shapes_of[int(m.geom_bodyid[g])].append(shape)
-    world_shapes = shapes_of[0]
+    world_shapes: list[Shape] = shapes_of[0]
     for b in range(1, m.nbody):
         tensor = d.ximat[b].reshape(3, 3) @ np.diag(m.body_inertia[b]) @ d.ximat[b].reshape(3, 3).T
         links.append(Link(names[b], float(m.body_mass[b]), d.xipos[b].copy(), tensor, shapes_of[b]))
@@ -711,7 +709,6 @@ def _tessellate(shape: Shape, notes: list[str] | None = None) -> tuple[np.ndarra
         mesh = trimesh.creation.icosphere(subdivisions=3, radius=shape.size[0])
     elif shape.kind == "ellipsoid":
         mesh = trimesh.creation.icosphere(subdivisions=3, radius=1.0)
-        mesh.apply_scale(1.0)
         mesh.vertices = mesh.vertices * np.array(shape.size)
     elif shape.kind == "cylinder":
         mesh = trimesh.creation.cylinder(radius=shape.size[0], height=shape.size[1], sections=32)
