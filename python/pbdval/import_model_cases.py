@@ -92,8 +92,8 @@ ROBOT_CASES = [
         "Ghost Robotics Minitaur (pybullet_data), a free quadruped of 17 bodies (fixed links merged), legs "
         "turned down (motor joints at pi), dropped with its feet 0.19 m above a static ground box with "
         "its legs passive; inertias from the collision shapes, as pybullet loads it (the file's are "
-        "placeholders: 1 kg m^2 on a 50 g leg); the chassis and lower legs collide (SDF meshes: the engines "
-        "that need a geometryFile report them unsupported)",
+        "placeholders: 1 kg m^2 on a 50 g leg); the chassis (one mesh of its three boxes) and the lower legs "
+        "(boxes) collide",
         {"duration": 1.5, "sampleInterval": 0.01, "checks": [
             {"metric": "penetration_max", "max": 0.1,
              "description": "no foot passes through the ground: penetration below half a lower leg (0.2 m); "
