@@ -1016,6 +1016,8 @@ def main(argv: list[str] | None = None) -> int:
         if not name or not math.isfinite(positions[name]):
             parser.error(f"--joint {item}: expected NAME=VALUE with a finite number")
     out = Path(args.out) if args.out else Path(args.model).with_suffix(".json")
+    if out.exists() and Path(args.model).exists() and os.path.samefile(out, args.model):
+        parser.error(f"--out {out} is the model: it would overwrite its own input")
     try:
         result = import_model(args.model, out, fixed_base=args.fixed_base, collisions=not args.no_collision,
                               mesh_folder=args.mesh_folder, positions=positions,

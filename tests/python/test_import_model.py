@@ -439,3 +439,14 @@ def test_the_robot_cases_are_the_import_of_their_models() -> None:
                           text=True, check=False, cwd=REPO, env={"PYTHONPATH": str(REPO / "python"),
                                                                  "PATH": "/usr/bin:/bin"})
     assert done.returncode == 0, done.stderr
+
+
+def test_pbdval_import_refuses_to_overwrite_its_model(pbdval_binary: Path, tmp_path: Path) -> None:
+    model = tmp_path / "r.urdf"
+    model.write_text('<robot name="r">' + link("a", 1.0, 'ixx="1" iyy="1" izz="1"') + "</robot>")
+    (tmp_path / "link.urdf").symlink_to(model)
+    for out in (model, tmp_path / "link.urdf"):
+        done = subprocess.run([str(pbdval_binary), "import", str(model), "--out", str(out)], capture_output=True,
+                              text=True, check=False, env=engine_environment())
+        assert done.returncode == 2 and "is the model" in done.stderr, done.stderr
+    assert model.read_text().startswith('<robot name="r">')
