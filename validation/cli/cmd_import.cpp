@@ -1,4 +1,6 @@
-// pbdval import MODEL.urdf|MODEL.xml [--out SCENE.json] [--fixed-base] [--no-collision] [--quiet]
+// pbdval import MODEL.urdf|MODEL.xml [--out SCENE.json] [--mesh-folder DIR] [--fixed-base]
+//               [--no-collision] [--collision-links A,B] [--inertia-from-collision]
+//               [--joint NAME=VALUE ...] [--quiet]
 //
 // A URDF or MJCF robot as a scene in the seed's format (docs/models.md). Written in Python
 // (python/pbdval/import_model.py, the project's virtual environment): this command hands over
