@@ -7,7 +7,7 @@
 // to it.
 #include "validation/cli/commands.h"
 #include "validation/cli/python_module.h"
-#include "validation/engines/standard_engines.h"
+#include "validation/external/standard_engines.h"
 
 namespace pbdval::cli {
 
