@@ -31,6 +31,7 @@ int baselineCommand(const Context& context, const Arguments& args);
 int exportSceneCommand(const Context& context, const Arguments& args);
 int mergeCommand(const Context& context, const Arguments& args);
 int reportCommand(const Context& context, const Arguments& args);
+int importCommand(const Context& context, const Arguments& args);
 
 /// The scene named on a command's command line, loaded with `--strict` honoured and its
 /// warnings printed unless `--quiet`; nullopt after printing the error (the command exits 2).

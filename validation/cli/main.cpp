@@ -33,6 +33,8 @@ const std::vector<Command>& commands() {
        &simulateCommand},
       {"methods", "list the solver methods of every engine, with parameters and defaults",
        &methodsCommand},
+      {"import", "a URDF or MJCF robot as a scene in the seed's format (docs/models.md)",
+       &importCommand},
       {"export-scene", "write a scene resolved for an external engine (docs/external-engines.md)",
        &exportSceneCommand},
   };

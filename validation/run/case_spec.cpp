@@ -258,13 +258,15 @@ CaseSpec parseCaseSpec(const pbd::Scene& scene, const EngineRegistry& registry) 
   const Node root{block, "Validation", scene.sourceFile};
   root.requireObject({"schema", "description", "duration", "sampleInterval", "energyScale",
                       "conserved", "engines", "methods", "reference", "checks", "tolerances",
-                      "sweeps", "staticDisplacement"});
+                      "sweeps", "staticDisplacement", "notes"});
   if (block.contains("schema")) {
     const Node schema = root.at("schema");
     if (!schema.json.is_number_integer() || schema.json.get<int>() != kValidationSchemaVersion)
       schema.fail("schema version " + std::to_string(kValidationSchemaVersion));
   }
   if (block.contains("description")) spec.description = root.at("description").text();
+  // Notes for the reader (what an imported model lost, docs/models.md): strings, not read.
+  if (block.contains("notes")) (void)root.at("notes").texts();
   if (block.contains("duration")) spec.duration = root.at("duration").positive();
   if (block.contains("sampleInterval")) spec.sampleInterval = root.at("sampleInterval").positive();
   if (block.contains("energyScale")) spec.energyScale = root.at("energyScale").positive();
