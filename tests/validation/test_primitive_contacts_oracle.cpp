@@ -3,6 +3,7 @@
 // configurations.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -112,18 +113,21 @@ TEST(PrimitiveContactsOracle, SpherePairsMatchTheOraclesClosedFormsInDistanceNor
 // distance, with equality when the closest features are two faces or two edges, so every
 // contact's separation is ≤ the oracle's distance (GJK, within its 10⁻⁶ m: docs/fcl-oracle.md)
 // and no contact is missed. Penetrating: the oracle's depth is its own separating-axis test
-// over the same 15 axes (DistanceMethod::BoxBoxSat); our deepest contact is on that axis
-// unless its deepest incident corner is clipped away, so −(deepest separation) ≤ depth.
-TEST(PrimitiveContactsOracle, BoxPairsNeverReportMoreGapOrMoreDepthThanTheOracle) {
+// over the same 15 axes (DistanceMethod::BoxBoxSat). Ours is a face axis unless an edge axis
+// beats the faces by 10⁻² of the smallest half extent (box_contacts.cpp), so the face chosen
+// is at most that much deeper than the oracle's axis, and every contact lies on the incident
+// box, no deeper along n than its support corner: −(deepest separation) ≤ depth + 10⁻² b_min.
+TEST(PrimitiveContactsOracle, BoxPairsNeverReportMoreGapOrMoreDepthThanTheOracleAllows) {
   constexpr double kGjk = 1e-6;        // FCL's GJK at distance_tolerance 1e-9 (fcl-oracle.md)
   constexpr double kRoundOff = 1e-12;  // both sides' separating-axis arithmetic in double
   std::mt19937_64 random(30);
   std::uniform_real_distribution<double> size(0.1, 0.8), offset(-0.7, 0.7);
   int separated = 0, penetrating = 0;
   for (int trial = 0; trial < 1500; ++trial) {
-    const pbd::Scene scene =
-        twoBodies(2, Vector3(size(random), size(random), size(random)), 2,
-                  Vector3(size(random), size(random), size(random)));
+    const Vector3 sizeA(size(random), size(random), size(random));
+    const Vector3 sizeB(size(random), size(random), size(random));
+    const pbd::Scene scene = twoBodies(2, sizeA, 2, sizeB);
+    const double faceBias = 1e-2 * std::min(sizeA.minCoeff(), sizeB.minCoeff()) / 2;
     const Placement a{randomRotation(random),
                       Vector3(offset(random), offset(random), offset(random))};
     const Placement b{randomRotation(random), Vector3::Zero()};
@@ -140,7 +144,7 @@ TEST(PrimitiveContactsOracle, BoxPairsNeverReportMoreGapOrMoreDepthThanTheOracle
     } else {
       ++penetrating;
       ASSERT_EQ(exact.method, DistanceMethod::BoxBoxSat);
-      EXPECT_GE(ours, exact.distance - kRoundOff) << "trial " << trial;
+      EXPECT_GE(ours, exact.distance - faceBias - kRoundOff) << "trial " << trial;
     }
     for (int i = 0; i < manifold.count; ++i) {
       const pbd::PrimitiveContact& c = manifold.contacts[std::size_t(i)];

@@ -21,7 +21,9 @@
 //     reference face, (p − c_ref)·R_u ≤ h_u and ≥ −h_u for the two other axes u; each clipped
 //     point p with s = n_ref·(p − c_ref) − h_i ≤ maxSeparation is a contact, p on the incident
 //     box and p − s n_ref on the reference face. More than 4 are reduced to 4 (the deepest,
-//     the farthest from it, then the two spanning the largest triangles on either side).
+//     the farthest from it, then the two spanning the largest triangles on either side). When
+//     nothing is left (boxes apart sideways), the incident box's support corner along −n_ref
+//     is the one contact, with s = σ (a lower bound of the distance).
 //   - edge axis A_i × B_j, oriented from A to B: the supporting edges are A's edge along A_i
 //     through c_A + Σ_{k≠i} a_k sgn(L·A_k) A_k and B's along B_j through
 //     c_B − Σ_{k≠j} b_k sgn(L·B_k) B_k; their closest points q_A, q_B (the lines' common
@@ -108,6 +110,19 @@ void faceContacts(const PlacedPrimitive& reference, int axis, const PlacedPrimit
     const Vector3& p = polygon.points[std::size_t(i)];
     const Real separation = normal.dot(p - reference.center) - reference.size[axis];
     if (separation <= maxSeparation) kept[std::size_t(count++)] = {p, separation};
+  }
+  if (count == 0) {
+    // Nothing of the incident face lies over the reference face (boxes apart sideways, in
+    // reach of maxSeparation): one contact at the incident box's support corner along −n_ref,
+    // whose separation is the axis' σ, a lower bound of the distance (the reference face taken
+    // as its plane): a speculative contact that is never late.
+    Vector3 support = incident.center;
+    for (int j = 0; j < 3; ++j) {
+      const Vector3 axisJ = incident.rotation.col(j);
+      support -= (axisJ.dot(normal) < 0 ? Real(-1) : Real(1)) * incident.size[j] * axisJ;
+    }
+    const Real separation = normal.dot(support - reference.center) - reference.size[axis];
+    if (separation <= maxSeparation) kept[std::size_t(count++)] = {support, separation};
   }
   // Reduce to 4: the deepest, the farthest from it, then the largest triangles on either side
   // of the line through them (signed area along n_ref).

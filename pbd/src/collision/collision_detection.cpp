@@ -222,6 +222,7 @@ bool CollisionDetector::primitivePair(int a, int b, Real tolerance, ContactGeome
   out.droppedContacts += std::size_t(manifold_.dropped);
   // The body whose face carries the normal is the SDF side (n out of it).
   const bool sdfIsA = manifold_.normalFixedInA;
+  const std::size_t first = out.rigid.size();
   for (int k = 0; k < manifold_.count; ++k) {
     const PrimitiveContact& c = manifold_.contacts[std::size_t(k)];
     ContactPointGeometry contact;
@@ -238,6 +239,8 @@ bool CollisionDetector::primitivePair(int a, int b, Real tolerance, ContactGeome
     }
     out.rigid.push_back(contact);
   }
+  // Deepest first, ties by their index in the manifold, as a direction of samples (step 5).
+  deepestFirst(out.rigid.begin() + static_cast<std::ptrdiff_t>(first), out.rigid.end());
   return true;
 }
 
