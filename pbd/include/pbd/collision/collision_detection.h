@@ -32,7 +32,7 @@
 // With Simulation.contactGeometry "primitives" (contactGeometryFor; the default of `pbd.xpbd`),
 // step 2 first offers every pair of rigid bodies to the closed forms (primitive_contacts.h): a
 // pair that has one (sphere–sphere, sphere–box, box–box, ...) reports its few exact contacts,
-// in the pair order (each pair's deepest first), before every sampled direction, with the body whose face carries the
+// in the pair order, before every sampled direction, with the body whose face carries the
 // normal as the SDF side; the distance is the separation minus the tolerance and the surface
 // point lies on the tolerance shell, as for a sample. The other pairs keep steps 2–5.
 // Everything is sized when the detector is built; a detection allocates nothing. Contacts or
