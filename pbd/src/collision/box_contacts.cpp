@@ -23,7 +23,9 @@
 //     box and p − s n_ref on the reference face. More than 4 are reduced to 4 (the deepest,
 //     the farthest from it, then the two spanning the largest triangles on either side). When
 //     nothing is left (boxes apart sideways), the incident box's support corner along −n_ref
-//     is the one contact, with s = σ (a lower bound of the distance).
+//     is the one contact, with s = σ (a lower bound of the distance). The contacts come in
+//     the order of the incident box's corner numbering (x fastest, its surface samples'), so
+//     that equally deep corners are solved in the order the samples were.
 //   - edge axis A_i × B_j, oriented from A to B: the supporting edges are A's edge along A_i
 //     through c_A + Σ_{k≠i} a_k sgn(L·A_k) A_k and B's along B_j through
 //     c_B − Σ_{k≠j} b_k sgn(L·B_k) B_k; their closest points q_A, q_B (the lines' common
@@ -37,6 +39,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "pbd/collision/primitive_contacts.h"
 
@@ -65,8 +68,9 @@ void clip(const Polygon& in, const Vector3& origin, const Vector3& axis, Real li
 }
 
 struct FaceCandidate {
-  Vector3 incident;   ///< point on the incident box
-  Real separation;    ///< s
+  Vector3 incident;  ///< point on the incident box
+  Real separation;   ///< s
+  int rank;          ///< a corner of the incident box: its index (x fastest); else 8 + position
 };
 
 /// A face contact: reference box (c, R, h) with face axis i, the other box (c, R, h).
@@ -96,6 +100,19 @@ void faceContacts(const PlacedPrimitive& reference, int axis, const PlacedPrimit
   polygon.points = {faceCenter + eu + ev, faceCenter - eu + ev, faceCenter - eu - ev,
                     faceCenter + eu - ev};
   polygon.count = 4;
+  // The corners' indices in the box (x fastest, as its surface samples are numbered), so that
+  // equally deep corners come in the samples' order.
+  std::array<int, 4> cornerIndex{};
+  const Real cornerSigns[4][2] = {{1, 1}, {-1, 1}, {-1, -1}, {1, -1}};
+  for (int c = 0; c < 4; ++c) {
+    Vector3 signs;
+    signs[k] = faceSign;
+    signs[u] = cornerSigns[c][0];
+    signs[v] = cornerSigns[c][1];
+    cornerIndex[std::size_t(c)] = (signs.x() > 0 ? 1 : 0) + (signs.y() > 0 ? 2 : 0) +
+                                  (signs.z() > 0 ? 4 : 0);
+  }
+  const std::array<Vector3, 8> corners = polygon.points;
   // Clip to the reference face's four side planes.
   const int ru = (axis + 1) % 3, rv = (axis + 2) % 3;
   for (const int side : {ru, rv})
@@ -109,8 +126,16 @@ void faceContacts(const PlacedPrimitive& reference, int axis, const PlacedPrimit
   for (int i = 0; i < polygon.count; ++i) {
     const Vector3& p = polygon.points[std::size_t(i)];
     const Real separation = normal.dot(p - reference.center) - reference.size[axis];
-    if (separation <= maxSeparation) kept[std::size_t(count++)] = {p, separation};
+    if (!(separation <= maxSeparation)) continue;
+    int rank = 8 + i;
+    for (int c = 0; c < 4; ++c)
+      if (p == corners[std::size_t(c)]) rank = cornerIndex[std::size_t(c)];
+    kept[std::size_t(count++)] = {p, separation, rank};
   }
+  // In rank order (insertion sort of at most 8).
+  for (int i = 1; i < count; ++i)
+    for (int j = i; j > 0 && kept[std::size_t(j)].rank < kept[std::size_t(j - 1)].rank; --j)
+      std::swap(kept[std::size_t(j)], kept[std::size_t(j - 1)]);
   if (count == 0) {
     // Nothing of the incident face lies over the reference face (boxes apart sideways, in
     // reach of maxSeparation): one contact at the incident box's support corner along −n_ref,
@@ -122,7 +147,7 @@ void faceContacts(const PlacedPrimitive& reference, int axis, const PlacedPrimit
       support -= (axisJ.dot(normal) < 0 ? Real(-1) : Real(1)) * incident.size[j] * axisJ;
     }
     const Real separation = normal.dot(support - reference.center) - reference.size[axis];
-    if (separation <= maxSeparation) kept[std::size_t(count++)] = {support, separation};
+    if (separation <= maxSeparation) kept[std::size_t(count++)] = {support, separation, 0};
   }
   // Reduce to 4: the deepest, the farthest from it, then the largest triangles on either side
   // of the line through them (signed area along n_ref).
