@@ -22,8 +22,10 @@
 //     point p with s = n_ref·(p − c_ref) − h_i ≤ maxSeparation is a contact, p on the incident
 //     box and p − s n_ref on the reference face. More than 4 are reduced to 4 (the deepest,
 //     the farthest from it, then the two spanning the largest triangles on either side). When
-//     nothing is left (boxes apart sideways), the incident box's support corner along −n_ref
-//     is the one contact, with s = σ (a lower bound of the distance). The contacts come in
+//     nothing is left (boxes apart sideways), or the boxes are apart and every clipped point
+//     is farther than the incident box's support corner along −n_ref (the closest corner lies
+//     beyond the rim), that corner is a contact too, with s = σ (a lower bound of the
+//     distance: a speculative contact is never late). The contacts come in
 //     the order of the incident box's corner numbering (x fastest, its surface samples'), so
 //     that equally deep corners are solved in the order the samples were.
 //   - edge axis A_i × B_j, oriented from A to B: the supporting edges are A's edge along A_i
@@ -136,19 +138,26 @@ void faceContacts(const PlacedPrimitive& reference, int axis, const PlacedPrimit
   for (int i = 1; i < count; ++i)
     for (int j = i; j > 0 && kept[std::size_t(j)].rank < kept[std::size_t(j - 1)].rank; --j)
       std::swap(kept[std::size_t(j)], kept[std::size_t(j - 1)]);
-  if (count == 0) {
-    // Nothing of the incident face lies over the reference face (boxes apart sideways, in
-    // reach of maxSeparation): one contact at the incident box's support corner along −n_ref,
-    // whose separation is the axis' σ, a lower bound of the distance (the reference face taken
-    // as its plane): a speculative contact that is never late.
-    Vector3 support = incident.center;
-    for (int j = 0; j < 3; ++j) {
-      const Vector3 axisJ = incident.rotation.col(j);
-      support -= (axisJ.dot(normal) < 0 ? Real(-1) : Real(1)) * incident.size[j] * axisJ;
-    }
-    const Real separation = normal.dot(support - reference.center) - reference.size[axis];
-    if (separation <= maxSeparation) kept[std::size_t(count++)] = {support, separation, 0};
+  // The incident box's support corner along −n_ref: its separation is the axis' σ, a lower
+  // bound of the distance. It becomes a contact when nothing of the incident face lies over
+  // the reference face (boxes apart sideways), and when the boxes are apart and every clipped
+  // point is farther than it (the closest corner lies beyond the reference face's rim): the
+  // reference face is then taken as its plane, a speculative contact that is never late. (A
+  // nanometre of slack: the clipped corner and the support corner are the same point computed
+  // twice.)
+  Vector3 support = incident.center;
+  for (int j = 0; j < 3; ++j) {
+    const Vector3 axisJ = incident.rotation.col(j);
+    support -= (axisJ.dot(normal) < 0 ? Real(-1) : Real(1)) * incident.size[j] * axisJ;
   }
+  const Real supportSeparation = normal.dot(support - reference.center) - reference.size[axis];
+  Real closestKept = std::numeric_limits<Real>::infinity();
+  for (int i = 0; i < count; ++i)
+    closestKept = std::min(closestKept, kept[std::size_t(i)].separation);
+  const bool supportIsCloser =
+      supportSeparation > 0 && closestKept > supportSeparation + Real(1e-9);
+  if (supportSeparation <= maxSeparation && (count == 0 || supportIsCloser) && count < 8)
+    kept[std::size_t(count++)] = {support, supportSeparation, 16};
   // Reduce to 4: the deepest, the farthest from it, then the largest triangles on either side
   // of the line through them (signed area along n_ref).
   std::array<int, 4> chosen{};
