@@ -157,6 +157,7 @@ std::map<std::string, std::string> PbdEngine::effectiveSettings() const {
           {"contactModel", pbd::contactModelName(s.contactModel)},
           {"distanceGrid", pbd::gridInterpolationName(pbd::distanceGridFor(s))},
           {"jointModel", pbd::jointModelName(pbd::jointModelFor(s))},
+          {"contactGeometry", pbd::contactGeometryName(pbd::contactGeometryFor(s))},
           {"femCutoff", number(pbd::femCutoffFor(s))},
           {"objPrecision", pbd::objPrecisionName(s.objPrecision)},
           {"contactCombineRule", pbd::contactCombineRuleName(s.contactCombineRule)},

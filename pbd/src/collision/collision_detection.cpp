@@ -51,6 +51,7 @@ CollisionDetector::CollisionDetector(const Scene& scene,
                                      const CollisionShapeOptions& givenOptions) {
   CollisionShapeOptions options = givenOptions;
   options.gridInterpolation = distanceGridFor(scene.simulation);
+  primitives_ = contactGeometryFor(scene.simulation) == ContactGeometry::Primitives;
   rigid_.resize(scene.rigidBodies.size());
   std::size_t shapedBodies = 0, rigidPoints = 0, particlePoints = 0;
   // Samples depend only on the mesh (shared by the loader) or on the primitive's type and
@@ -183,7 +184,7 @@ bool CollisionDetector::canBeVertexSide(int object) const {
   return body.testMesh && !body.surface->samples.empty();
 }
 
-void CollisionDetector::collectDirections() {
+void CollisionDetector::collectDirections(Real tolerance, ContactGeometryBuffer& out) {
   const int rigidCount = static_cast<int>(rigid_.size());
   directions_.clear();
   auto add = [&](int vertexObject, int sdfObject) {
@@ -194,10 +195,53 @@ void CollisionDetector::collectDirections() {
     directions_.emplace_back(vertexObject, sdfObject);
   };
   for (const ObjectPair& pair : broadPhase_.pairs()) {
+    // The pairs come sorted (a < b): the closed-form contacts are in pair order.
+    if (primitives_ && pair.second < rigidCount &&
+        primitivePair(pair.first, pair.second, tolerance, out))
+      continue;
     add(pair.first, pair.second);
     add(pair.second, pair.first);
   }
   std::sort(directions_.begin(), directions_.end());  // in place: no allocation
+}
+
+bool CollisionDetector::primitivePair(int a, int b, Real tolerance, ContactGeometryBuffer& out) {
+  const RigidObject& objectA = rigid_[std::size_t(a)];
+  const RigidObject& objectB = rigid_[std::size_t(b)];
+  if (!hasPrimitiveContacts(objectA.shape.type(), objectB.shape.type())) return false;
+  // The pair's contacts exist where a sampled direction would: static–static pairs and pairs
+  // of which neither side tests its points have none.
+  if (!objectA.dynamic && !objectB.dynamic) return true;
+  if (!canBeVertexSide(a) && !canBeVertexSide(b)) return true;
+  const Frame& frameA = frames_[std::size_t(a)];
+  const Frame& frameB = frames_[std::size_t(b)];
+  if (!primitiveContacts(placePrimitive(objectA.shape, frameA.rotation, frameA.origin),
+                         placePrimitive(objectB.shape, frameB.rotation, frameB.origin), tolerance,
+                         manifold_))
+    return false;
+  out.droppedContacts += std::size_t(manifold_.dropped);
+  // The body whose face carries the normal is the SDF side (n out of it).
+  const bool sdfIsA = manifold_.normalFixedInA;
+  const std::size_t first = out.rigid.size();
+  for (int k = 0; k < manifold_.count; ++k) {
+    const PrimitiveContact& c = manifold_.contacts[std::size_t(k)];
+    ContactPointGeometry contact;
+    contact.vertexSide = sdfIsA ? b : a;
+    contact.sdfBody = sdfIsA ? a : b;
+    contact.sample = k;
+    contact.normal = sdfIsA ? Vector3(-c.normal) : c.normal;
+    contact.vertexPoint = sdfIsA ? c.pointOnB : c.pointOnA;
+    contact.surfacePoint = (sdfIsA ? c.pointOnA : c.pointOnB) + tolerance * contact.normal;
+    contact.distance = c.separation - tolerance;
+    if (out.rigid.size() == out.rigid.capacity()) {
+      ++out.droppedContacts;
+      continue;
+    }
+    out.rigid.push_back(contact);
+  }
+  // Deepest first, ties by their index in the manifold, as a direction of samples (step 5).
+  deepestFirst(out.rigid.begin() + static_cast<std::ptrdiff_t>(first), out.rigid.end());
+  return true;
 }
 
 bool CollisionDetector::sphereMayTouch(const Vector3& centerWorld, Real radius, int sdfBody,
@@ -300,7 +344,7 @@ void CollisionDetector::detect(const BodyStates& bodies, Real tolerance, Contact
   updateFrames(bodies.rigid);
   updateBoxes(bodies, tolerance);
   out.droppedPairs = broadPhase_.findPairs(boxes_);
-  collectDirections();
+  collectDirections(tolerance, out);
   if (workers_) {
     detectInParallel(bodies, tolerance, out, order);
     return;

@@ -40,6 +40,14 @@ JointModel jointModel(const JsonValue& value) {
   value.fail("one of \"seed\", \"corrected\"");
 }
 
+/// Extension: "samples" | "primitives".
+ContactGeometry contactGeometry(const JsonValue& value) {
+  const std::string name = value.string();
+  for (ContactGeometry geometry : {ContactGeometry::Samples, ContactGeometry::Primitives})
+    if (name == contactGeometryName(geometry)) return geometry;
+  value.fail("one of \"samples\", \"primitives\"");
+}
+
 /// Extension: "single" | "double".
 ObjPrecision objPrecision(const JsonValue& value) {
   const std::string name = value.string();
@@ -180,6 +188,12 @@ KeyTable<SimulationSettings> simulationKeys() {
       {"jointModel", [](const JsonValue& v, S& s) { s.jointModel = jointModel(v); }, false,
        [](const S& s, Json& j) {
          if (s.jointModel) writeString(j, "jointModel", jointModelName(*s.jointModel));
+       }},
+      {"contactGeometry", [](const JsonValue& v, S& s) { s.contactGeometry = contactGeometry(v); },
+       false,
+       [](const S& s, Json& j) {
+         if (s.contactGeometry)
+           writeString(j, "contactGeometry", contactGeometryName(*s.contactGeometry));
        }},
       {"objPrecision", [](const JsonValue& v, S& s) { s.objPrecision = objPrecision(v); }, false,
        [](const S& s, Json& j) {

@@ -160,6 +160,16 @@ JointModel jointModelFor(const SimulationSettings& settings) {
   return settings.stepMethod == StepMethod::Xpbd ? JointModel::Corrected : JointModel::Seed;
 }
 
+const char* contactGeometryName(ContactGeometry geometry) {
+  return geometry == ContactGeometry::Samples ? "samples" : "primitives";
+}
+
+ContactGeometry contactGeometryFor(const SimulationSettings& settings) {
+  if (settings.contactGeometry) return *settings.contactGeometry;
+  return settings.stepMethod == StepMethod::Xpbd ? ContactGeometry::Primitives
+                                                 : ContactGeometry::Samples;
+}
+
 Real femCutoffFor(const SimulationSettings& settings) {
   if (settings.femCutoff) return *settings.femCutoff;
   return settings.stepMethod == StepMethod::Xpbd ? Real(0) : kSeedFemCutoff;

@@ -29,6 +29,12 @@
 //      without spin, where an off-centre point first spins the sphere and lets the
 //      restitution targets and penalties of the others add energy (the seed's sphere dropped
 //      1 m with e = 0.8 rebounds to 0.740 of the drop instead of e² = 0.64; test_seed_reference).
+// With Simulation.contactGeometry "primitives" (contactGeometryFor; the default of `pbd.xpbd`),
+// step 2 first offers every pair of rigid bodies to the closed forms (primitive_contacts.h): a
+// pair that has one (sphere–sphere, sphere–box, box–box, ...) reports its few exact contacts,
+// in the pair order, before every sampled direction, with the body whose face carries the
+// normal as the SDF side; the distance is the separation minus the tolerance and the surface
+// point lies on the tolerance shell, as for a sample. The other pairs keep steps 2–5.
 // Everything is sized when the detector is built; a detection allocates nothing. Contacts or
 // pairs beyond the capacity are dropped and counted (see ContactGeometryBuffer).
 //
@@ -46,6 +52,7 @@
 #include "pbd/collision/broad_phase.h"
 #include "pbd/collision/collision_shape.h"
 #include "pbd/collision/point_bvh.h"
+#include "pbd/collision/primitive_contacts.h"
 #include "pbd/collision/tet_contact_detection.h"
 #include "pbd/model/body_states.h"
 #include "pbd/model/scene.h"
@@ -131,7 +138,11 @@ class CollisionDetector {
 
   void updateFrames(const RigidBodyStates& bodies);
   void updateBoxes(const BodyStates& bodies, Real tolerance);
-  void collectDirections();
+  /// The directions of step 2; with primitive contacts, the closed-form pairs' contacts first.
+  void collectDirections(Real tolerance, ContactGeometryBuffer& out);
+  /// The closed-form contacts of rigid bodies a < b, appended to `out`; false when the pair has
+  /// none (it keeps its samples).
+  bool primitivePair(int a, int b, Real tolerance, ContactGeometryBuffer& out);
   bool canBeVertexSide(int object) const;
   void rigidAgainstRigid(int vertexBody, int sdfBody, Real tolerance,
                          std::vector<ContactPointGeometry>& out, std::size_t& dropped) const;
@@ -143,6 +154,8 @@ class CollisionDetector {
   bool sphereMayTouch(const Vector3& centerWorld, Real radius, int sdfBody, Real tolerance) const;
 
   std::vector<RigidObject> rigid_;
+  bool primitives_ = false;  ///< contactGeometryFor(scene) == Primitives
+  PrimitiveManifold manifold_;  ///< scratch of primitivePair
   bool seedGridDistance_ = false;  ///< the seed's unscaled grid distance (step 4), per detection
   std::vector<ParticleModel> particleModels_;
   TetContactDetector tetContacts_;  ///< tet model against tet model

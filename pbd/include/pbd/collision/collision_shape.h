@@ -69,6 +69,15 @@ class CollisionShape {
   }
   DistanceSample evaluate(const Vector3& pointInSceneFrame) const;
 
+  /// The shape's size parameters as the formulas use them: the radius in [0] (sphere, hollow
+  /// sphere, cylinder), half extents (box, hollow box), half height in [1] (cylinder), the
+  /// radii (R, r) (torus), the grid's scale (type 5).
+  const Vector3& size() const { return size_; }
+  /// Hollow shapes: the wall's half thickness (thicknessSDF).
+  Real thickness() const { return thickness_; }
+  /// invertSDF: the inside and the outside swapped.
+  bool inverted() const { return sign_ < 0; }
+
   /// The grid of a type-5 shape (null otherwise), and how it was obtained.
   const DistanceGrid* grid() const { return grid_.get(); }
   /// The frame the grid is sampled in: a point p of the scene frame is looked up at

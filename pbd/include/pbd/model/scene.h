@@ -69,6 +69,16 @@ enum class ContactModel : int { Seed, Corrected };
 
 const char* contactModelName(ContactModel model);
 
+/// Which geometry generates the contacts between rigid bodies (`Simulation.contactGeometry`, an
+/// extension; docs/contacts.md#primitive-contacts). `Samples` is the seed's: the surface
+/// samples of one body against the signed distance function of the other, both ways.
+/// `Primitives` gives the pairs with a closed form (sphere–sphere, sphere against a box,
+/// cylinder or hollow shape, box–box, a sphere or box inside a hollow box) their exact contacts
+/// (collision/primitive_contacts.h), and keeps the samples for every other pair.
+enum class ContactGeometry : int { Samples, Primitives };
+
+const char* contactGeometryName(ContactGeometry geometry);
+
 /// Explicit values for one pair of bodies (`ContactPairs` block); a missing value falls back to
 /// the combination rule.
 struct ContactPairDesc {
@@ -417,6 +427,8 @@ struct SimulationSettings {
   std::optional<Real> femCutoff;
   /// Extension; unset: the method's own (jointModelFor).
   std::optional<JointModel> jointModel;
+  /// Extension; unset: the method's own (contactGeometryFor).
+  std::optional<ContactGeometry> contactGeometry;
   /// Extension: how the scene's OBJ meshes are read (model/mesh.h); `single` as the seed.
   /// Read before the meshes, so a scene-file key only (`--set` refuses it).
   ObjPrecision objPrecision = ObjPrecision::Single;
@@ -473,6 +485,10 @@ Real solidVolumeStiffnessFor(const SimulationSettings& settings);
 /// `Simulation.jointModel` when the scene gives it, else the method's own: `seed` for `pbd`,
 /// `corrected` for `pbd.xpbd`.
 JointModel jointModelFor(const SimulationSettings& settings);
+
+/// `Simulation.contactGeometry` when the scene gives it, else the method's own: the seed's
+/// `samples` for `pbd` (its fidelity to PositionBasedDynamics), `primitives` for `pbd.xpbd`.
+ContactGeometry contactGeometryFor(const SimulationSettings& settings);
 
 /// The seed's absolute threshold 10⁻⁶ of its FEM solves (PositionBasedDynamics.cpp, XPBD.cpp).
 inline constexpr Real kSeedFemCutoff = Real(1e-6);

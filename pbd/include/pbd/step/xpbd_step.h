@@ -3,7 +3,10 @@
 //
 // One step of size h with n = XpbdSettings::substeps substeps of h_s = h/n:
 //   1. accelerations of dynamic bodies and particles := gravitation (torques are kept);
-//   2. collision detection once, at the step's start poses, for points within
+//   2. collision detection once, at the step's start poses (closed-form contacts for the
+//      primitive pairs that have one with Simulation.contactGeometry "primitives", this
+//      method's default: collision/primitive_contacts.h; samples against SDFs otherwise), for
+//      points within
 //      contactTolerance + speculativeMargin · h · max_i(|v_i| + |ω_i| ρ_i + h |a_i|) (ρ_i the
 //      largest distance of body i's surface samples from its centre of mass, a_i its
 //      acceleration; particles: |v| + h |a|) — the distance any point can travel in the step,
