@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
 
@@ -88,8 +88,8 @@ Json parseJsonTextStreaming(const std::string& text, const std::string& sourceNa
       streaming = false;
       return true;
     }
-    const bool elementRead = event == Event::value || event == Event::object_end ||
-                             event == Event::array_end;
+    const bool elementRead =
+        event == Event::value || event == Event::object_end || event == Event::array_end;
     if (!streaming || depth != 2 || !elementRead) return true;
     onElement(key, index++, parsed);
     return false;  // dropped: the document keeps an empty array

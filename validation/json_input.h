@@ -26,10 +26,10 @@ using StreamedElement =
 /// parseJsonText for documents too big to hold whole (results.json of 10,000 runs): each element
 /// of the array under a top-level key named in `streamedKeys` is handed to `onElement` as soon as
 /// it has been read, then dropped (`onArray` is called with the key when such an array opens: a
-/// key given twice opens twice, and its last value counts, as in parseJsonText's document); the document returned holds those keys with empty arrays
-/// (a value that is not an array is kept as it is, for the caller's error message). The same
-/// limits and messages as parseJsonText: an error of syntax or depth anywhere in the text throws,
-/// even after elements were handed over.
+/// key given twice opens twice, and its last value counts, as in parseJsonText's document); the
+/// document returned holds those keys with empty arrays (a value that is not an array is kept as it
+/// is, for the caller's error message). The same limits and messages as parseJsonText: an error of
+/// syntax or depth anywhere in the text throws, even after elements were handed over.
 nlohmann::json parseJsonTextStreaming(const std::string& text, const std::string& sourceName,
                                       const std::vector<std::string>& streamedKeys,
                                       const std::function<void(const std::string& key)>& onArray,

@@ -316,7 +316,6 @@ TEST(Results, RoundTripKeepsEveryField) {
   fs::remove_all(folder);
 }
 
-
 /// Records that exercise every branch of a run's JSON form: angular and motor joint errors,
 /// non-finite metrics, strings that need escaping or are not valid UTF-8, empty lists and maps.
 std::vector<RunRecord> variedRecords() {
@@ -340,10 +339,10 @@ std::vector<RunRecord> variedRecords() {
   full.facts.engineVersion = "PBD 1.0";
   full.facts.integratorStepsPerSceneStep = 10;
   full.facts.contactMargin = -0.0;
-  full.metrics.values = {{"a", 1.0},      {"b", -2.5e-17},         {"c", 123456789.0},
-                         {"d", 1e21},     {"e", std::nan("")},     {"f", HUGE_VAL},
-                         {"g", 0.1},      {"h", 5e-324},           {"i", -1.7976931348623157e308},
-                         {"j", 100.0},    {"wall_time_s", 0.0123}, {"\x01 control", 2.0}};
+  full.metrics.values = {{"a", 1.0},   {"b", -2.5e-17},         {"c", 123456789.0},
+                         {"d", 1e21},  {"e", std::nan("")},     {"f", HUGE_VAL},
+                         {"g", 0.1},   {"h", 5e-324},           {"i", -1.7976931348623157e308},
+                         {"j", 100.0}, {"wall_time_s", 0.0123}, {"\x01 control", 2.0}};
   JointErrorSummary hinge;
   hinge.linearMax = 1e-3;
   hinge.linearRms = 5e-4;
@@ -395,7 +394,8 @@ TEST(Results, TheWrittenFileHasTheBytesOfTheWholeDocumentDumpedByNlohmann) {
     const fs::path folder = scratch("results-bytes");
     writeResults((folder / "results.json").string(), file);
     std::ifstream in(folder / "results.json", std::ios::binary);
-    const std::string written((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string written((std::istreambuf_iterator<char>(in)),
+                              std::istreambuf_iterator<char>());
     EXPECT_EQ(written, expected) << count << " runs";
     fs::remove_all(folder);
   }
@@ -427,10 +427,12 @@ TEST(Results, TheReaderReportsTheDocumentBeforeItsRunsAndTheFirstBadRunInOrder) 
   const auto read = [](const std::string& text) {
     return errorOf([&] { (void)parseResultsText(text, "r.json"); });
   };
-  EXPECT_NE(read(resultsText("[" + good + "," + bad + "]", "other")).find("expected a pbdval results file"),
+  EXPECT_NE(read(resultsText("[" + good + "," + bad + "]", "other"))
+                .find("expected a pbdval results file"),
             std::string::npos);
-  EXPECT_NE(read(resultsText("[" + good + "," + bad + "]")).find("r.json: runs[1]: status: unknown"),
-            std::string::npos);
+  EXPECT_NE(
+      read(resultsText("[" + good + "," + bad + "]")).find("r.json: runs[1]: status: unknown"),
+      std::string::npos);
   EXPECT_NE(read(resultsText("[" + otherCase + "," + bad + "]"))
                 .find("r.json: runs[0]: case \"no_case\" has no entry"),
             std::string::npos);
@@ -450,7 +452,8 @@ TEST(Results, TheReaderReportsTheDocumentBeforeItsRunsAndTheFirstBadRunInOrder) 
 TEST(Results, ARunsKeyGivenTwiceKeepsItsLastValueAsTheWholeDocumentDoes) {
   const std::string good = toJsonText(variedRecords()[0]);
   const std::string twice = "{\"cases\": {\"joint_hinge\": {}}, \"runs\": [" + good + "," + good +
-                            "], \"runs\": [" + good + "], \"schema\": \"pbdval-results\", "
+                            "], \"runs\": [" + good +
+                            "], \"schema\": \"pbdval-results\", "
                             "\"schemaVersion\": 1}";
   // nlohmann's document keeps the last value of a repeated key.
   ASSERT_EQ(nlohmann::json::parse(twice).at("runs").size(), 1u);
