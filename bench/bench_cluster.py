@@ -2,7 +2,10 @@
 against a Dask cluster of 2 workers (one thread each) on the same machine, in one sitting; and
 the planner's and the merger's cost for plans of growing size (about 1,000 to 10,000 runs).
 
-    scripts/bench cluster [--out FILE.json] [--skip-throughput]
+    scripts/bench cluster [--out FILE.json] [--skip-throughput] [--binary PATH] [--copies N ...]
+
+--binary times another build's pbdval (e.g. the main checkout's, for a before/after pair in one
+sitting); --copies sets the plan sizes (the case library repeated N times).
 
 scripts/bench runs it with .venv/bin/python and PYTHONPATH=python:build/release/python (this
 checkout's package and extension; no edit of sys.path here).
@@ -37,8 +40,7 @@ def timed(command: list[str]) -> float:
     return time.perf_counter() - start
 
 
-def throughput(folder: Path) -> dict[str, Any]:
-    binary = str(pbdval_binary())
+def throughput(folder: Path, binary: str) -> dict[str, Any]:
     local_s = timed([binary, "run", "--out", str(folder / "local"), "--jobs", "2", "--quiet"])
     runs = len(load_results(folder / "local"))
     scheduler_file = folder / "scheduler.json"
@@ -75,19 +77,18 @@ def throughput(folder: Path) -> dict[str, Any]:
     return row
 
 
-def typical_record(folder: Path) -> dict[str, Any]:
+def typical_record(folder: Path, binary: str) -> dict[str, Any]:
     """The record of a real run (metrics, per-joint errors, effective settings, notes): the
     merger is measured on records of realistic size, not on bare error records."""
     out = folder / "typical"
-    subprocess.run([str(pbdval_binary()), "run", str(REPO / "cases" / "car.json"), "--engines", "bullet",
+    subprocess.run([binary, "run", str(REPO / "cases" / "car.json"), "--engines", "bullet",
                     "--out", str(out), "--quiet", "--no-trajectories"], check=True, capture_output=True)
     record: dict[str, Any] = json.loads((out / "results.json").read_text())["runs"][0]
     return record
 
 
-def plan_and_merge(folder: Path, copies: int, typical: dict[str, Any]) -> dict[str, Any]:
+def plan_and_merge(folder: Path, copies: int, typical: dict[str, Any], binary: str) -> dict[str, Any]:
     """A plan of `copies` × the case library (each case file linked `copies` times)."""
-    binary = str(pbdval_binary())
     cases = folder / f"cases-{copies}"
     cases.mkdir()
     (cases / "models").symlink_to(REPO / "cases" / "models")
@@ -110,28 +111,40 @@ def plan_and_merge(folder: Path, copies: int, typical: dict[str, Any]) -> dict[s
                     run[key] = typical[key]
         (out / "results.json").write_text(json.dumps(document, indent=1))
         shards.append(str(out))
-    merger_s = min(timed([binary, "merge", *shards, "--out", str(folder / f"merged-{copies}"), "--quiet"])
-                   for _ in range(3))
+    # Each merge into a new folder (a merge into a folder holding results reads them first, to
+    # refuse another plan's: `merger_again_s` is that case).
+    merger_s = min(timed([binary, "merge", *shards, "--out", str(folder / f"merged-{copies}-{k}"), "--quiet"])
+                   for k in range(3))
+    merger_again_s = min(timed([binary, "merge", *shards, "--out", str(folder / f"merged-{copies}-0"), "--quiet"])
+                         for _ in range(3))
     size = int(plan["planSize"])
-    print(f"plan of {size} runs: planner {planner_s:.3f} s, merger {merger_s:.3f} s", flush=True)
-    return {"runs": size, "planner_s": planner_s, "merger_s": merger_s}
+    results_bytes = (folder / f"merged-{copies}-0" / "results.json").stat().st_size
+    print(f"plan of {size} runs: planner {planner_s:.3f} s, merger {merger_s:.3f} s "
+          f"(into a folder holding them: {merger_again_s:.3f} s), results.json {results_bytes / 1e6:.1f} MB",
+          flush=True)
+    return {"runs": size, "planner_s": planner_s, "merger_s": merger_s, "merger_again_s": merger_again_s,
+            "results_bytes": results_bytes}
 
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=None)
     parser.add_argument("--skip-throughput", action="store_true")
+    parser.add_argument("--binary", type=Path, default=None, help="the pbdval to time (default: this build's)")
+    parser.add_argument("--copies", type=int, nargs="+", default=[4, 16, 42],
+                        help="plan sizes: the case library repeated this many times")
     args = parser.parse_args()
-    version = subprocess.run([str(pbdval_binary()), "--version"], capture_output=True, text=True,
+    binary = str(args.binary or pbdval_binary())
+    version = subprocess.run([binary, "--version"], capture_output=True, text=True,
                              check=True).stdout.strip()
-    document: dict[str, Any] = {"context": {**machine(), "pbdval": version}}
+    document: dict[str, Any] = {"context": {**machine(), "pbdval": version, "binary": binary}}
     with tempfile.TemporaryDirectory(prefix="pbdval-bench-cluster-") as tmp:
         folder = Path(tmp)
         if not args.skip_throughput:
-            document["throughput"] = throughput(folder)
-        typical = typical_record(folder)
+            document["throughput"] = throughput(folder, binary)
+        typical = typical_record(folder, binary)
         document["record_bytes"] = len(json.dumps(typical, indent=1))
-        document["plan_and_merge"] = [plan_and_merge(folder, copies, typical) for copies in (4, 16, 42)]
+        document["plan_and_merge"] = [plan_and_merge(folder, copies, typical, binary) for copies in args.copies]
     write_record("cluster", document, args.out)
     return 0
 

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <stdexcept>
 
 #include "adapters/built_in_engines.h"
@@ -33,6 +34,26 @@ void caseSpecTarget(const std::uint8_t* data, std::size_t size) {
 void resultsTarget(const std::uint8_t* data, std::size_t size) {
   try {
     const ResultsFile results = parseResultsText(text(data, size), "results.json");
+    // What results.json's writer streams is the document nlohmann dumps whole.
+    nlohmann::json runs = nlohmann::json::array();
+    for (const RunRecord& r : results.runs)
+      runs.push_back(recordJson(r));
+    nlohmann::json cases = nlohmann::json::object();
+    for (const auto& [name, gateData] : results.cases)
+      cases[name] = caseGateDataJson(gateData);
+    const nlohmann::json document = {
+        {"schema", "pbdval-results"},
+        {"schemaVersion", results.schemaVersion},
+        {"metadata", nlohmann::json::parse(metadataJsonText(results.metadata))},
+        {"cases", cases},
+        {"runs", runs}};
+    std::ostringstream streamed;
+    writeResultsText(streamed, results);
+    if (streamed.str() !=
+        document.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n") {
+      std::fprintf(stderr, "results: the streamed text differs from the whole document's\n");
+      std::abort();
+    }
     // What the gate does with it next (against its own baseline): nothing may throw there.
     try {
       (void)evaluateGate(baselineFromResults(results), results);

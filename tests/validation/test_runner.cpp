@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
 #include <thread>
 
 #include "engines/selftest_engine.h"
@@ -312,6 +314,154 @@ TEST(Results, RoundTripKeepsEveryField) {
   std::ofstream(folder / "garbage.json") << "{\"schema\": \"something else\"}";
   EXPECT_THROW(readResults((folder / "garbage.json").string()), std::invalid_argument);
   fs::remove_all(folder);
+}
+
+/// Records that exercise every branch of a run's JSON form: angular and motor joint errors,
+/// non-finite metrics, strings that need escaping or are not valid UTF-8, empty lists and maps.
+std::vector<RunRecord> variedRecords() {
+  std::vector<RunRecord> records;
+  RunRecord plain;
+  plain.request = request("bullet", "bullet");
+  plain.status = RunStatus::Ok;
+  records.push_back(plain);  // empty assignments, maps, notes and joint errors
+  RunRecord full;
+  full.request = request("pbd", "pbd.xpbd");
+  full.request.assignments = {"subSteps=10", "timeStepSize=0.001"};
+  full.request.trajectoryPath = "out/trajectories/joint_hinge/pbd-pbd.xpbd.csv";
+  full.request.referenceMode = "fine";
+  full.request.fineDivisor = 32;
+  full.request.referenceStepSize = 1.0 / 3.0;
+  full.request.sampleInterval = 1e-300;
+  full.status = RunStatus::Suspect;
+  full.reason = "quote \" backslash \\ tab \t newline \n bell \a é ✓ bad \xff\xfe byte";
+  full.methodParameters = {{"subSteps", "10"}, {"Z-upper before lower", "x"}, {"é", "ü"}};
+  full.settings = {{"timeStepSize", "0.005"}, {"gravity", "0 0 -9.81"}};
+  full.facts.engineVersion = "PBD 1.0";
+  full.facts.integratorStepsPerSceneStep = 10;
+  full.facts.contactMargin = -0.0;
+  full.metrics.values = {{"a", 1.0},   {"b", -2.5e-17},         {"c", 123456789.0},
+                         {"d", 1e21},  {"e", std::nan("")},     {"f", HUGE_VAL},
+                         {"g", 0.1},   {"h", 5e-324},           {"i", -1.7976931348623157e308},
+                         {"j", 100.0}, {"wall_time_s", 0.0123}, {"\x01 control", 2.0}};
+  JointErrorSummary hinge;
+  hinge.linearMax = 1e-3;
+  hinge.linearRms = 5e-4;
+  hinge.hasAngular = true;
+  hinge.angularMax = 2e-2;
+  hinge.angularRms = std::nan("");
+  hinge.joints = 3;
+  JointErrorSummary motor = hinge;
+  motor.trackingQuantity = "angular_velocity";
+  motor.trackingMax = 0.25;
+  motor.trackingRms = 0.125;
+  JointErrorSummary ball;
+  ball.linearMax = 7.0;
+  ball.joints = 1;
+  full.metrics.jointErrorByType = {{"hinge", hinge}, {"motor_hinge", motor}, {"ball", ball}};
+  full.metrics.notes = {"first note", "second \"quoted\" note"};
+  full.stateHash = "0123456789abcdef";
+  full.reference = "fine: pbd.xpbd at h/32";
+  records.push_back(full);
+  return records;
+}
+
+TEST(Results, TheWrittenFileHasTheBytesOfTheWholeDocumentDumpedByNlohmann) {
+  // The writer streams each record's text; the expected bytes are the whole document built as
+  // one JSON value from recordJson and dumped by nlohmann (the form results.json always had).
+  for (const std::size_t count : {std::size_t(0), std::size_t(1), std::size_t(5)}) {
+    ResultsFile file;
+    file.metadata = currentMetadata("pbdval run test");
+    file.metadata.planDigest = "abc";
+    file.cases["joint_hinge"].file = kHinge;
+    file.cases["joint_hinge"].tolerances = {{"energy_drift_max", 1e-3}};
+    const std::vector<RunRecord> varied = variedRecords();
+    for (std::size_t i = 0; i < count; ++i)
+      file.runs.push_back(varied[i % varied.size()]);
+    nlohmann::json runs = nlohmann::json::array();
+    for (const RunRecord& r : file.runs)
+      runs.push_back(recordJson(r));
+    nlohmann::json cases = nlohmann::json::object();
+    for (const auto& [name, data] : file.cases)
+      cases[name] = caseGateDataJson(data);
+    const nlohmann::json document = {
+        {"schema", "pbdval-results"},
+        {"schemaVersion", file.schemaVersion},
+        {"metadata", nlohmann::json::parse(metadataJsonText(file.metadata))},
+        {"cases", cases},
+        {"runs", runs}};
+    const std::string expected =
+        document.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+    const fs::path folder = scratch("results-bytes");
+    writeResults((folder / "results.json").string(), file);
+    std::ifstream in(folder / "results.json", std::ios::binary);
+    const std::string written((std::istreambuf_iterator<char>(in)),
+                              std::istreambuf_iterator<char>());
+    EXPECT_EQ(written, expected) << count << " runs";
+    fs::remove_all(folder);
+  }
+}
+
+/// A results document around `runs` (JSON text of the array), with `schema`.
+std::string resultsText(const std::string& runs, const std::string& schema = "pbdval-results") {
+  return "{\"cases\": {\"joint_hinge\": {}}, \"runs\": " + runs + ", \"schema\": \"" + schema +
+         "\", \"schemaVersion\": 1}";
+}
+
+std::string errorOf(const std::function<void()>& read) {
+  try {
+    read();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(Results, TheReaderReportsTheDocumentBeforeItsRunsAndTheFirstBadRunInOrder) {
+  // The runs are converted while the text is parsed, before the keys after them ("schema"):
+  // their errors still come in the order of a reader that sees the whole document first.
+  const std::string good = toJsonText(variedRecords()[0]);
+  std::string bad = good;
+  bad.replace(bad.find("\"ok\""), 4, "\"fine\"");  // an unknown status
+  std::string otherCase = good;
+  otherCase.replace(otherCase.find("\"joint_hinge\""), 13, "\"no_case\"");
+  const auto read = [](const std::string& text) {
+    return errorOf([&] { (void)parseResultsText(text, "r.json"); });
+  };
+  EXPECT_NE(read(resultsText("[" + good + "," + bad + "]", "other"))
+                .find("expected a pbdval results file"),
+            std::string::npos);
+  EXPECT_NE(
+      read(resultsText("[" + good + "," + bad + "]")).find("r.json: runs[1]: status: unknown"),
+      std::string::npos);
+  EXPECT_NE(read(resultsText("[" + otherCase + "," + bad + "]"))
+                .find("r.json: runs[0]: case \"no_case\" has no entry"),
+            std::string::npos);
+  EXPECT_NE(read(resultsText("[" + good + ", 7]")).find("r.json: runs[1]"), std::string::npos);
+  EXPECT_NE(read(resultsText("{\"x\": 1}")).find("r.json: runs: expected an array"),
+            std::string::npos);
+  // A syntax error after good and bad runs is reported as such.
+  EXPECT_NE(read(resultsText("[" + good + "," + bad + "]") + "}").find("r.json: not valid JSON"),
+            std::string::npos);
+  // So is nesting past the limit inside a run.
+  const std::string deep = std::string(300, '[') + std::string(300, ']');
+  std::string nested = good;
+  nested.replace(nested.find("\"notes\": []"), 11, "\"notes\": " + deep);
+  EXPECT_NE(read(resultsText("[" + nested + "]")).find("nested deeper than"), std::string::npos);
+}
+
+TEST(Results, ARunsKeyGivenTwiceKeepsItsLastValueAsTheWholeDocumentDoes) {
+  const std::string good = toJsonText(variedRecords()[0]);
+  const std::string twice = "{\"cases\": {\"joint_hinge\": {}}, \"runs\": [" + good + "," + good +
+                            "], \"runs\": [" + good +
+                            "], \"schema\": \"pbdval-results\", "
+                            "\"schemaVersion\": 1}";
+  // nlohmann's document keeps the last value of a repeated key.
+  ASSERT_EQ(nlohmann::json::parse(twice).at("runs").size(), 1u);
+  EXPECT_EQ(parseResultsText(twice, "r.json").runs.size(), 1u);
+  const std::string thenEmpty = "{\"cases\": {\"joint_hinge\": {}}, \"runs\": [" + good +
+                                "], \"runs\": [], \"schema\": \"pbdval-results\", "
+                                "\"schemaVersion\": 1}";
+  EXPECT_EQ(parseResultsText(thenEmpty, "r.json").runs.size(), 0u);
 }
 
 }  // namespace

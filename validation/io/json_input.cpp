@@ -1,7 +1,9 @@
 #include "validation/io/json_input.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
 
@@ -22,13 +24,15 @@ std::string excerpt(const Json& value) {
   return text;
 }
 
-}  // namespace
-
-Json parseJsonText(const std::string& text, const std::string& sourceName) {
+/// nlohmann's parse with a callback: the depth limit, and `keep` deciding on each event (the
+/// callback's contract: false drops the value); the messages of parseJsonText.
+Json parseWithLimits(const std::string& text, const std::string& sourceName,
+                     const std::function<bool(int, Json::parse_event_t, Json&)>& keep) {
   bool tooDeep = false;
   // The callback sees the depth of every value as it is read: stop at the limit rather than
   // build an arbitrarily deep document.
-  const Json::parser_callback_t limitDepth = [&](int depth, Json::parse_event_t event, Json&) {
+  const Json::parser_callback_t limitDepth = [&](int depth, Json::parse_event_t event,
+                                                 Json& parsed) {
     // `depth` of an array or object start is the number of containers around it.
     const bool opens =
         event == Json::parse_event_t::array_start || event == Json::parse_event_t::object_start;
@@ -36,7 +40,7 @@ Json parseJsonText(const std::string& text, const std::string& sourceName) {
       tooDeep = true;
       throw std::invalid_argument("nesting");
     }
-    return true;
+    return !keep || keep(depth, event, parsed);
   };
   try {
     return Json::parse(text, limitDepth);
@@ -53,14 +57,71 @@ Json parseJsonText(const std::string& text, const std::string& sourceName) {
   }
 }
 
-Json readJsonFile(const std::string& path, const std::string& what) {
+}  // namespace
+
+Json parseJsonText(const std::string& text, const std::string& sourceName) {
+  return parseWithLimits(text, sourceName, nullptr);
+}
+
+Json parseJsonTextStreaming(const std::string& text, const std::string& sourceName,
+                            const std::vector<std::string>& streamedKeys,
+                            const std::function<void(const std::string& key)>& onArray,
+                            const StreamedElement& onElement) {
+  // The callback's depths: the top-level object opens at 0, its keys and their values are at
+  // 1, the elements of a top-level array at 2 (their object_end and array_end events too).
+  std::string key;         // the top-level key being read
+  bool streaming = false;  // inside the array of a streamed key
+  std::size_t index = 0;
+  const auto keep = [&](int depth, Json::parse_event_t event, Json& parsed) {
+    using Event = Json::parse_event_t;
+    if (depth == 1 && event == Event::key) {
+      key = parsed.get<std::string>();
+      return true;
+    }
+    if (depth == 1 && event == Event::array_start) {
+      streaming = std::find(streamedKeys.begin(), streamedKeys.end(), key) != streamedKeys.end();
+      index = 0;
+      if (streaming) onArray(key);
+      return true;
+    }
+    if (depth == 1 && event == Event::array_end) {
+      streaming = false;
+      return true;
+    }
+    const bool elementRead =
+        event == Event::value || event == Event::object_end || event == Event::array_end;
+    if (!streaming || depth != 2 || !elementRead) return true;
+    onElement(key, index++, parsed);
+    return false;  // dropped: the document keeps an empty array
+  };
+  return parseWithLimits(text, sourceName, keep);
+}
+
+std::string readJsonFileText(const std::string& path, const std::string& what) {
   const std::string problem = pbd::inputFileProblem(path, what);
   if (!problem.empty()) fail(path, problem);
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot be read");
-  std::stringstream text;
-  text << in.rdbuf();
-  return parseJsonText(text.str(), path);
+  // Read in one piece, the size known: a 40 MB results.json is not copied through a stream.
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  in.seekg(0, std::ios::beg);
+  std::string text;
+  if (size < 0) {  // not seekable: read it as a stream
+    in.clear();
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    return bytes.str();
+  }
+  text.resize(std::size_t(size));
+  in.read(text.data(), size);
+  text.resize(std::size_t(in.gcount()));
+  if (in.bad()) fail(path, "cannot be read");
+  return text;
+}
+
+Json readJsonFile(const std::string& path, const std::string& what) {
+  return parseJsonText(readJsonFileText(path, what), path);
 }
 
 JsonField::JsonField(const Json& value, std::string file, std::string path)

@@ -4,6 +4,8 @@
 // wrong type is reported as "runs[2].metrics.energy_drift_max: expected a number, got "abc"".
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -15,6 +17,26 @@ namespace pbdval {
 nlohmann::json readJsonFile(const std::string& path, const std::string& what);
 /// Parses `text` (named `sourceName` in messages) with the same limits.
 nlohmann::json parseJsonText(const std::string& text, const std::string& sourceName);
+
+/// An element of a streamed array (parseJsonTextStreaming): the top-level key that holds the
+/// array, the element's index in it and its value (the receiver may move from it).
+using StreamedElement =
+    std::function<void(const std::string& key, std::size_t index, nlohmann::json& element)>;
+
+/// parseJsonText for documents too big to hold whole (results.json of 10,000 runs): each element
+/// of the array under a top-level key named in `streamedKeys` is handed to `onElement` as soon as
+/// it has been read, then dropped (`onArray` is called with the key when such an array opens: a
+/// key given twice opens twice, and its last value counts, as in parseJsonText's document); the
+/// document returned holds those keys with empty arrays (a value that is not an array is kept as it
+/// is, for the caller's error message). The same limits and messages as parseJsonText: an error of
+/// syntax or depth anywhere in the text throws, even after elements were handed over.
+nlohmann::json parseJsonTextStreaming(const std::string& text, const std::string& sourceName,
+                                      const std::vector<std::string>& streamedKeys,
+                                      const std::function<void(const std::string& key)>& onArray,
+                                      const StreamedElement& onElement);
+/// The file's bytes, for parseJsonTextStreaming, after the checks readJsonFile makes (a regular
+/// file, readable); throws std::invalid_argument "PATH: what is wrong".
+std::string readJsonFileText(const std::string& path, const std::string& what);
 
 /// A value of a document with its JSON path; every accessor throws std::invalid_argument
 /// "FILE: PATH: expected ..., got ..." on a missing key or a wrong type.

@@ -2,10 +2,15 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <ctime>
+#include <exception>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <stdexcept>
 #include <thread>
 
 #include "pbd/math/types.h"
@@ -117,6 +122,154 @@ CheckSpec checkFrom(const JsonField& j) {
   return c;
 }
 
+// ---- results.json's runs, written straight to text ------------------------------------------
+// A record's text is exactly what jsonText(recordJson(record)) gives at the runs array's depth
+// (tests/validation/test_runner.cpp and the results fuzz target compare them byte for byte):
+// the keys in nlohmann's order (its objects are std::maps: byte-wise), its number and string
+// forms. Written directly, 10,000 records cost a fraction of building and dumping their JSON
+// values (docs/cluster.md#measured).
+
+/// A JSON string as nlohmann dumps it (ensure_ascii off, bad UTF-8 replaced by U+FFFD).
+void appendString(std::string& out, const std::string& text) {
+  const bool plain = std::all_of(text.begin(), text.end(), [](char c) {
+    return c >= 0x20 && c < 0x7f && c != '"' && c != '\\';
+  });
+  if (!plain) {
+    out += jsonText(Json(text), -1);
+    return;
+  }
+  out += '"';
+  out += text;
+  out += '"';
+}
+
+/// A double as nlohmann dumps it: its shortest round-trip form (nlohmann's own to_chars, the
+/// function its serializer calls), null when not finite (recordJson's number()).
+void appendNumber(std::string& out, double value) {
+  if (!std::isfinite(value)) {
+    out += "null";
+    return;
+  }
+  std::array<char, 64> buffer{};
+  const char* end = nlohmann::detail::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+  out.append(buffer.data(), std::size_t(end - buffer.data()));
+}
+
+/// An object's members, one line each at `indent`, its braces at `indent` − 2; `members` append
+/// each member's value after its key (empty: "{}", as nlohmann writes it).
+class ObjectText {
+ public:
+  ObjectText(std::string& out, std::string indent) : out_(out), indent_(std::move(indent)) {
+    out_ += '{';
+  }
+  /// Starts the member `key`; its value is appended next.
+  std::string& key(const std::string& name) {
+    out_ += first_ ? "\n" : ",\n";
+    first_ = false;
+    out_ += indent_;
+    appendString(out_, name);
+    out_ += ": ";
+    return out_;
+  }
+  void close() {
+    if (!first_) {
+      out_ += '\n';
+      out_.append(indent_, 0, indent_.size() - 2);
+    }
+    out_ += '}';
+  }
+  const std::string& indent() const { return indent_; }
+
+ private:
+  std::string& out_;
+  std::string indent_;
+  bool first_ = true;
+};
+
+void appendStrings(std::string& out, const std::vector<std::string>& items,
+                   const std::string& indent) {
+  if (items.empty()) {
+    out += "[]";
+    return;
+  }
+  out += '[';
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    out += i == 0 ? "\n" : ",\n";
+    out += indent;
+    appendString(out, items[i]);
+  }
+  out += '\n';
+  out.append(indent, 0, indent.size() - 2);
+  out += ']';
+}
+
+void appendStringMap(std::string& out, const std::map<std::string, std::string>& items,
+                     const std::string& indent) {
+  ObjectText object(out, indent);
+  for (const auto& [name, value] : items)
+    appendString(object.key(name), value);
+  object.close();
+}
+
+/// One record (recordJson's members) with its opening brace at `indent` − 2 spaces.
+void appendRecordText(std::string& out, const RunRecord& record, const std::string& indent) {
+  const RunRequest& r = record.request;
+  const std::string inner = indent + "  ";
+  ObjectText j(out, indent);
+  appendStrings(j.key("assignments"), r.assignments, inner);
+  appendString(j.key("case"), r.caseName);
+  appendString(j.key("caseFile"), r.caseFile);
+  appendString(j.key("engine"), r.engine);
+  {
+    ObjectText facts(j.key("facts"), inner);
+    appendNumber(facts.key("contactMargin"), record.facts.contactMargin);
+    appendString(facts.key("engineVersion"), record.facts.engineVersion);
+    facts.key("integratorStepsPerSceneStep") +=
+        std::to_string(record.facts.integratorStepsPerSceneStep);
+    facts.close();
+  }
+  j.key("fineDivisor") += std::to_string(r.fineDivisor);
+  {
+    ObjectText byType(j.key("joint_error_by_type"), inner);
+    for (const auto& [type, summary] : record.metrics.jointErrorByType) {
+      ObjectText s(byType.key(type), inner + "  ");
+      if (summary.hasAngular) {
+        appendNumber(s.key("joint_error_angular_max"), summary.angularMax);
+        appendNumber(s.key("joint_error_angular_rms"), summary.angularRms);
+      }
+      appendNumber(s.key("joint_error_linear_max"), summary.linearMax);
+      appendNumber(s.key("joint_error_linear_rms"), summary.linearRms);
+      s.key("joints") += std::to_string(summary.joints);
+      if (!summary.trackingQuantity.empty()) {
+        appendNumber(s.key("motor_tracking_max"), summary.trackingMax);
+        appendString(s.key("motor_tracking_quantity"), summary.trackingQuantity);
+        appendNumber(s.key("motor_tracking_rms"), summary.trackingRms);
+      }
+      s.close();
+    }
+    byType.close();
+  }
+  appendString(j.key("method"), r.method);
+  {
+    ObjectText metrics(j.key("metrics"), inner);
+    for (const auto& [name, value] : record.metrics.values)
+      appendNumber(metrics.key(name), value);
+    metrics.close();
+  }
+  appendStrings(j.key("notes"), record.metrics.notes, inner);
+  appendStringMap(j.key("parameters"), record.methodParameters, inner);
+  appendString(j.key("reason"), record.reason);
+  appendString(j.key("reference"), record.reference);
+  appendString(j.key("referenceMode"), r.referenceMode);
+  appendNumber(j.key("referenceStepSize"), r.referenceStepSize);
+  appendNumber(j.key("sampleInterval"), r.sampleInterval);
+  appendStringMap(j.key("settings"), record.settings, inner);
+  appendString(j.key("state_hash"), record.stateHash);
+  appendString(j.key("status"), runStatusName(record.status));
+  appendString(j.key("trajectory"), r.trajectoryPath);
+  j.close();
+}
+
 }  // namespace
 
 Json caseGateDataJson(const CaseGateData& data) {
@@ -172,35 +325,84 @@ std::string metadataJsonText(const RunMetadata& metadata) {
   return jsonText(metadataJson(metadata), -1);
 }
 
-void writeResults(const std::string& path, const ResultsFile& results) {
-  Json runs = Json::array();
-  for (const RunRecord& r : results.runs)
-    runs.push_back(recordJson(r));
+void writeResultsText(std::ostream& out, const ResultsFile& results) {
   Json cases = Json::object();
   for (const auto& [name, data] : results.cases)
     cases[name] = caseGateDataJson(data);
+  // The document without its runs, then each run's record written into it in place of the
+  // empty array: the bytes of the whole document dumped at once (nlohmann orders the keys, so
+  // "runs" lies between "metadata" and "schema"), without holding every record as JSON.
   const Json document = {{"schema", "pbdval-results"},
                          {"schemaVersion", results.schemaVersion},
                          {"metadata", metadataJson(results.metadata)},
                          {"cases", cases},
-                         {"runs", runs}};
-  writeFileAtomically(path, jsonText(document) + "\n");
+                         {"runs", Json::array()}};
+  const std::string frame = jsonText(document);
+  const std::string emptyRuns = "\n  \"runs\": []";  // a top-level key: indented by 2
+  const std::size_t at = frame.find(emptyRuns);
+  if (at == std::string::npos) throw std::logic_error("results.json: no top-level runs key");
+  out.write(frame.data(), std::streamsize(at + emptyRuns.size() - 1));
+  std::string record;
+  for (std::size_t i = 0; i < results.runs.size(); ++i) {
+    record = i == 0 ? "\n    " : ",\n    ";
+    appendRecordText(record, results.runs[i], "      ");
+    out.write(record.data(), std::streamsize(record.size()));
+  }
+  if (!results.runs.empty()) out << "\n  ";
+  out << ']';
+  out.write(frame.data() + at + emptyRuns.size(),
+            std::streamsize(frame.size() - at - emptyRuns.size()));
+  out << '\n';
+}
+
+void writeResults(const std::string& path, const ResultsFile& results) {
+  OutputFile file(path);
+  writeResultsText(file.stream(), results);
+  file.commit();
 }
 
 namespace {
-ResultsFile parseResults(const nlohmann::json& document, const std::string& path);
+
+/// The runs of a results document, converted as the parser hands them over; the first record
+/// that cannot be converted is kept to be thrown in its turn, after the checks of the document
+/// around the runs (a file that is not a results file is reported as such, whatever its runs).
+struct StreamedRuns {
+  std::vector<RunRecord> records;
+  std::exception_ptr firstError;  ///< of the record at index records.size()
+};
+
+ResultsFile parseResults(const nlohmann::json& document, StreamedRuns& streamed,
+                         const std::string& path);
+
+ResultsFile parseResultsStreaming(const std::string& text, const std::string& path) {
+  StreamedRuns streamed;
+  const Json document = parseJsonTextStreaming(
+      text, path, {"runs"}, [&](const std::string&) { streamed = {}; },
+      [&](const std::string&, std::size_t index, Json& run) {
+        if (streamed.firstError) return;
+        try {
+          streamed.records.push_back(
+              recordFromJson(run, path + ": runs[" + std::to_string(index) + "]"));
+        } catch (const std::invalid_argument&) {
+          streamed.firstError = std::current_exception();
+        }
+      });
+  return parseResults(document, streamed, path);
+}
+
 }  // namespace
 
 ResultsFile readResults(const std::string& path) {
-  return parseResults(readJsonFile(path, "results"), path);
+  return parseResultsStreaming(readJsonFileText(path, "results"), path);
 }
 
 ResultsFile parseResultsText(const std::string& text, const std::string& sourceName) {
-  return parseResults(parseJsonText(text, sourceName), sourceName);
+  return parseResultsStreaming(text, sourceName);
 }
 
 namespace {
-ResultsFile parseResults(const nlohmann::json& document, const std::string& path) {
+ResultsFile parseResults(const nlohmann::json& document, StreamedRuns& streamed,
+                         const std::string& path) {
   JsonField root(document, path);
   if (!document.is_object() || !document.contains("schema") || !document.at("schema").is_string() ||
       document.at("schema").get<std::string>() != "pbdval-results")
@@ -218,15 +420,15 @@ ResultsFile parseResults(const nlohmann::json& document, const std::string& path
   for (const std::string& name : cases.keys()) {
     results.cases[name] = caseGateDataFrom(cases.at(name).expectObject());
   }
-  const JsonField runs = root.at("runs").expectArray();
-  for (std::size_t i = 0; i < runs.size(); ++i) {
-    const std::string where = path + ": runs[" + std::to_string(i) + "]";
-    results.runs.push_back(recordFromJson(runs.at(i).json(), where));
-    const std::string& caseName = results.runs.back().request.caseName;
+  root.at("runs").expectArray();  // its elements were streamed
+  results.runs = std::move(streamed.records);
+  for (std::size_t i = 0; i < results.runs.size(); ++i) {
+    const std::string& caseName = results.runs[i].request.caseName;
     if (!results.cases.count(caseName))
-      throw std::invalid_argument(where + ": case \"" + caseName +
+      throw std::invalid_argument(path + ": runs[" + std::to_string(i) + "]: case \"" + caseName +
                                   "\" has no entry in \"cases\" (its checks would be skipped)");
   }
+  if (streamed.firstError) std::rethrow_exception(streamed.firstError);
   return results;
 }
 

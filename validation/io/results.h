@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -64,6 +65,9 @@ struct ResultsFile {
 };
 
 void writeResults(const std::string& path, const ResultsFile& results);
+/// The bytes writeResults writes: the document of every record as nlohmann dumps it (2-space
+/// indent), each record written as it comes rather than held as one JSON value.
+void writeResultsText(std::ostream& out, const ResultsFile& results);
 /// Throws std::invalid_argument naming the file and the field on bad input.
 ResultsFile readResults(const std::string& path);
 /// The same on the file's text; `sourceName` names it in messages.

@@ -16,6 +16,7 @@
 #include <tuple>
 
 #include "validation/io/atomic_file.h"
+#include "validation/io/json_input.h"
 
 namespace pbdval {
 namespace {
@@ -169,20 +170,38 @@ std::optional<std::string> foreignResults(const std::string& manifestPath,
   if (!exists(manifestPath)) return std::nullopt;
   std::vector<RunKey> held;
   try {
-    std::ifstream in(manifestPath);
+    std::ifstream in(manifestPath, std::ios::binary);
     if (!in) return "it cannot be read";
-    const nlohmann::json document = nlohmann::json::parse(in);
-    std::vector<const nlohmann::json*> runs;
-    if (document.contains("runs"))
-      for (const nlohmann::json& r : document.at("runs"))
-        runs.push_back(&r);
-    else
-      for (const nlohmann::json& p : document.at("points"))
-        runs.push_back(&p.at("run"));
-    for (const nlohmann::json* r : runs)
-      held.push_back({r->at("case").get<std::string>(), r->at("engine").get<std::string>(),
-                      r->at("method").get<std::string>(),
-                      r->value("assignments", std::vector<std::string>{})});
+    std::ostringstream text;
+    text << in.rdbuf();
+    // Only each run's key is kept (results.json's runs, sweep.json's points[].run), read as the
+    // parser streams them: a results.json of 10,000 runs is never held whole.
+    std::map<std::string, std::vector<RunKey>> keys;  // by top-level key: "runs", "points"
+    std::map<std::string, std::string> problems;      // the first bad element's, by the same
+    const auto keyOf = [](const nlohmann::json& r) {
+      return RunKey{r.at("case").get<std::string>(), r.at("engine").get<std::string>(),
+                    r.at("method").get<std::string>(),
+                    r.value("assignments", std::vector<std::string>{})};
+    };
+    const nlohmann::json document = parseJsonTextStreaming(
+        text.str(), manifestPath, {"runs", "points"},
+        [&](const std::string& key) {
+          keys[key].clear();
+          problems.erase(key);
+        },
+        [&](const std::string& key, std::size_t, nlohmann::json& element) {
+          if (problems.count(key)) return;
+          try {
+            keys[key].push_back(keyOf(key == "runs" ? element : element.at("run")));
+          } catch (const std::exception& e) {
+            problems[key] = e.what();
+          }
+        });
+    const std::string key = document.contains("runs") ? "runs" : "points";
+    if (!document.contains(key)) document.at(key);  // throws: neither
+    if (!document.at(key).is_array()) throw std::invalid_argument(key + " is not an array");
+    if (problems.count(key)) throw std::invalid_argument(problems.at(key));
+    held = std::move(keys[key]);
   } catch (const std::exception& e) {
     return std::string("it is not a pbdval results file (") + e.what() + ")";
   }

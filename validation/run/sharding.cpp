@@ -175,11 +175,12 @@ ResultsFile mergeShards(const std::vector<ShardResults>& shards, const std::stri
                                 std::to_string(plan.count));
 
   // The unreadable cases are shard 1's records of status error with engine "-".
-  std::vector<std::vector<RunRecord>> runs(byIndex.size());
-  std::vector<RunRecord> unreadable;
+  // (pointers into the shards: each record is copied once, into the merged results)
+  std::vector<std::vector<const RunRecord*>> runs(byIndex.size());
+  std::vector<const RunRecord*> unreadable;
   for (std::size_t k = 0; k < byIndex.size(); ++k)
     for (const RunRecord& r : byIndex[k]->results.runs)
-      (k == 0 && r.request.engine == "-" ? unreadable : runs[k]).push_back(r);
+      (k == 0 && r.request.engine == "-" ? unreadable : runs[k]).push_back(&r);
   const std::size_t requests = plan.planSize - unreadable.size();
   for (std::size_t k = 0; k < byIndex.size(); ++k) {
     const std::size_t expected = sliceSize(requests, int(k + 1), plan.count);
@@ -198,9 +199,11 @@ ResultsFile mergeShards(const std::vector<ShardResults>& shards, const std::stri
   merged.metadata.hostname.clear();
   for (const std::string& h : hosts)
     merged.metadata.hostname += (merged.metadata.hostname.empty() ? "" : ",") + h;
-  merged.runs = unreadable;
+  merged.runs.reserve(unreadable.size() + requests);
+  for (const RunRecord* r : unreadable)
+    merged.runs.push_back(*r);
   for (std::size_t p = 0; p < requests; ++p)
-    merged.runs.push_back(runs[p % byIndex.size()][p / byIndex.size()]);
+    merged.runs.push_back(*runs[p % byIndex.size()][p / byIndex.size()]);
   // The runs must be the plan's, in its order: `pbdval run --shard` records the whole plan's
   // runsDigest in every shard (metadata.planDigest); a run relabelled (another engine, method,
   // case or assignments), swapped with another or edited out of order changes the digest of the
