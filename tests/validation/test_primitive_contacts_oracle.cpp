@@ -10,7 +10,7 @@
 
 #include "pbd/collision/primitive_contacts.h"
 #include "pbd/io/scene_loader.h"
-#include "validation/oracle/distance_oracle.h"
+#include "validation/measure/oracle/distance_oracle.h"
 
 namespace pbdval {
 namespace {
