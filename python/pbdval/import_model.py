@@ -240,21 +240,20 @@ def _mesh_file(filename: str, model_path: Path, where: str) -> Path:
 
 
 def read_mesh(file: Path, scale: np.ndarray, where: str) -> tuple[np.ndarray, np.ndarray]:
-    """Vertices (scaled) and triangles of an STL or OBJ file, read with trimesh. DAE (COLLADA) is
-    refused: reading it needs pycollada, which pbdval does not install."""
+    """Vertices (scaled) and triangles of an STL, OBJ or DAE (COLLADA) file, read with trimesh
+    (COLLADA through pycollada); a DAE file's scenes are flattened into one mesh, each geometry
+    placed by its node's transform, as trimesh's loader does."""
     suffix = file.suffix.lower()
-    if suffix == ".dae":
-        raise ImportModelError(f"{where}: mesh {file}: COLLADA (.dae) is not read by pbdval's "
-                               "importer; convert it to OBJ or STL")
-    if suffix not in (".stl", ".obj"):
-        raise ImportModelError(f"{where}: mesh {file}: expected an STL or OBJ file")
+    if suffix not in (".stl", ".obj", ".dae"):
+        raise ImportModelError(f"{where}: mesh {file}: expected an STL, OBJ or DAE file")
     import trimesh
 
     try:
         loaded: Any = trimesh.load(file, force="mesh", process=False)
         vertices = np.asarray(loaded.vertices, dtype=np.float64) * scale
         faces = np.asarray(loaded.faces, dtype=np.int64)
-    except (ValueError, IndexError, KeyError, TypeError, AttributeError, OSError) as error:
+    except Exception as error:  # noqa: BLE001 - a third-party reader: pycollada raises its own
+        # DaeError kinds and AttributeError on a document without scenes; every failure is the file's
         raise ImportModelError(f"{where}: mesh {file}: cannot be read: {error}") from None
     if len(vertices) == 0 or len(faces) == 0:
         raise ImportModelError(f"{where}: mesh {file}: has no triangles")

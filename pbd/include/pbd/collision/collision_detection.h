@@ -29,7 +29,7 @@
 //      without spin, where an off-centre point first spins the sphere and lets the
 //      restitution targets and penalties of the others add energy (the seed's sphere dropped
 //      1 m with e = 0.8 rebounds to 0.740 of the drop instead of e² = 0.64; test_seed_reference).
-// With Simulation.contactGeometry "primitives" (contactGeometryFor; the default of `pbd.xpbd`),
+// With Simulation.contactGeometry "primitives" (contactGeometryFor; an option of both methods),
 // step 2 first offers every pair of rigid bodies to the closed forms (primitive_contacts.h): a
 // pair that has one (sphere–sphere, sphere–box, box–box, ...) reports its few exact contacts,
 // in the pair order, before every sampled direction, with the body whose face carries the

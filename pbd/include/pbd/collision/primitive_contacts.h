@@ -1,5 +1,5 @@
-// Closed-form contacts of primitive pairs (Simulation.contactGeometry "primitives", the default
-// of `pbd.xpbd`; docs/contacts.md#primitive-contacts).
+// Closed-form contacts of primitive pairs (Simulation.contactGeometry "primitives", an option
+// of both methods; docs/contacts.md#primitive-contacts).
 //
 // The seed finds contacts by testing the surface samples of one body against the signed
 // distance function of the other, both ways (collision_detection.h): a sphere of the default
