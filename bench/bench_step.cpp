@@ -119,8 +119,9 @@ void stepParticleScaling(benchmark::State& state, const pbdval::EngineRegistry& 
 
 int main(int argc, char** argv) {
   const std::vector<std::string> cases = {
-      "chain_10",        "chain_100",    "double_pendulum", "contact_stack_5",
-      "contact_sphere_pile", "contact_pyramid", "xpbd_pyramid_15", "contact_pile", "car"};
+      "chain_10",        "chain_100",           "double_pendulum",
+      "contact_stack_5", "contact_sphere_pile", "contact_pyramid",
+      "xpbd_pyramid_15", "contact_pile",        "car"};
   const std::vector<std::string> methods = {
       "pbd", "pbd.xpbd", "bullet.si", "ode.quickstep", "ode.step", "mujoco.euler", "mujoco.rk4"};
   // No grid cache: built in memory.

@@ -119,9 +119,9 @@ std::string discregridBytes(const std::array<double, 3>& lo, const std::array<do
             return std::uint32_t(nv + 2 * (nex + ney) + 2 * (nz * (nx + 1) * b + nz * a + k));
           };
           const std::uint32_t edges[12] = {
-              xEdge(j, k),     xEdge(j, k + 1), xEdge(j + 1, k),     xEdge(j + 1, k + 1),
-              yEdge(i, k),     yEdge(i + 1, k), yEdge(i, k + 1),     yEdge(i + 1, k + 1),
-              zEdge(i, j),     zEdge(i, j + 1), zEdge(i + 1, j),     zEdge(i + 1, j + 1)};
+              xEdge(j, k), xEdge(j, k + 1), xEdge(j + 1, k), xEdge(j + 1, k + 1),
+              yEdge(i, k), yEdge(i + 1, k), yEdge(i, k + 1), yEdge(i + 1, k + 1),
+              zEdge(i, j), zEdge(i, j + 1), zEdge(i + 1, j), zEdge(i + 1, j + 1)};
           for (int e = 0; e < 12; ++e) {
             c[std::size_t(8 + 2 * e)] = edges[e];
             c[std::size_t(9 + 2 * e)] = edges[e] + 1;
@@ -158,16 +158,14 @@ TEST(DiscregridFile, AGridInDiscregridsNumberingIsReadNodeForNode) {
   const std::array<double, 3> lo = {-0.5, 0.25, -1.0}, hi = {1.0, 1.25, 1.5};
   const DistanceGrid grid = parseDiscregridGrid(discregridBytes(lo, hi, {3, 4, 5}), "cubic");
   ASSERT_EQ(grid.cells(), Vector3i(3, 4, 5));
-  const Vector3 min(static_cast<Real>(lo[0]), static_cast<Real>(lo[1]),
-                    static_cast<Real>(lo[2]));
-  const Vector3 max(static_cast<Real>(hi[0]), static_cast<Real>(hi[1]),
-                    static_cast<Real>(hi[2]));
+  const Vector3 min(static_cast<Real>(lo[0]), static_cast<Real>(lo[1]), static_cast<Real>(lo[2]));
+  const Vector3 max(static_cast<Real>(hi[0]), static_cast<Real>(hi[1]), static_cast<Real>(hi[2]));
   const Vector3 spacing = (max - min).cwiseQuotient(Vector3(3, 4, 5));
   // Every node holds the polynomial at its own position in pbdval's layout; 1e-12: the two
   // node positions are computed in different orders (a few ulps of coordinates ≤ 1.5).
   for (std::size_t k = 0; k < grid.nodes().size(); ++k) {
-    const Vector3 p = DistanceGrid::nodePosition(min, spacing, grid.cells(),
-                                                 GridInterpolation::CubicLagrange, k);
+    const Vector3 p =
+        DistanceGrid::nodePosition(min, spacing, grid.cells(), GridInterpolation::CubicLagrange, k);
     ASSERT_NEAR(grid.nodes()[k], cubic(p.x(), p.y(), p.z()), 1e-12) << "node " << k;
   }
   // And the interpolant reproduces the cubic inside every cell; 1e-12: round-off of the
@@ -208,9 +206,9 @@ TEST(DiscregridFile, TheOriginalsTorusGridMatchesPbdvalsOwnSamplingOfTheMesh) {
 TEST(DiscregridFile, ATruncatedFileIsAnErrorNamingTheFileAndTheOffset) {
   const std::string bytes = fileBytes(kTorusGrid);
   ASSERT_GT(bytes.size(), 1000u);
-  for (std::size_t length : {std::size_t(0), std::size_t(20), std::size_t(50), std::size_t(100),
-                             std::size_t(130), bytes.size() / 3, bytes.size() / 2,
-                             bytes.size() - 1}) {
+  for (std::size_t length :
+       {std::size_t(0), std::size_t(20), std::size_t(50), std::size_t(100), std::size_t(130),
+        bytes.size() / 3, bytes.size() / 2, bytes.size() - 1}) {
     const std::string message = errorOf(bytes.substr(0, length), "torus_8.csdf");
     EXPECT_EQ(message.rfind("torus_8.csdf: Discregrid grid (.csdf): truncated", 0), 0u)
         << length << ": " << message;
@@ -225,7 +223,9 @@ TEST(DiscregridFile, TrailingBytesAreAnError) {
 
 /// The byte offset of the first cell's first node index in a single-field file of `nodeCount`
 /// nodes: the 124-byte header, the node table (2 counts + values), the cell table's 2 counts.
-std::size_t firstCellOffset(std::size_t nodeCount) { return 124 + 16 + 8 * nodeCount + 16; }
+std::size_t firstCellOffset(std::size_t nodeCount) {
+  return 124 + 16 + 8 * nodeCount + 16;
+}
 
 TEST(DiscregridFile, ACorruptCellTableIsAnError) {
   const std::string good = discregridBytes({0, 0, 0}, {1, 1, 1}, {2, 2, 2});
@@ -293,8 +293,7 @@ TEST(DiscregridFile, ADamagedGridNamesTheSceneKeyAndTheFile) {
     ADD_FAILURE() << "no error";
   } catch (const SceneError& e) {
     const std::string message = e.what();
-    EXPECT_NE(message.find("RigidBodies[0].collisionObjectFileName"), std::string::npos)
-        << message;
+    EXPECT_NE(message.find("RigidBodies[0].collisionObjectFileName"), std::string::npos) << message;
     EXPECT_NE(message.find(path + ": Discregrid grid (.csdf): truncated"), std::string::npos)
         << message;
   }

@@ -34,8 +34,8 @@ TEST(PrimitiveContacts, SphereInAHollowBoxCornerTouchesThreeWalls) {
   const PlacedPrimitive box =
       primitive(CollisionObjectType::HollowBox, Vector3::Constant(Real(0.5)), Vector3::Zero(),
                 Matrix3::Identity(), Real(0.05));
-  const PlacedPrimitive sphere = primitive(CollisionObjectType::Sphere, Vector3::Constant(0.1),
-                                           Vector3(0.355, -0.355, -0.33));
+  const PlacedPrimitive sphere =
+      primitive(CollisionObjectType::Sphere, Vector3::Constant(0.1), Vector3(0.355, -0.355, -0.33));
   PrimitiveManifold m;
   ASSERT_TRUE(primitiveContacts(sphere, box, Real(0.03), m));
   ASSERT_EQ(m.count, 3);
@@ -53,8 +53,8 @@ TEST(PrimitiveContacts, BoxRestingFlatOnABoxHasItsFourBottomCorners) {
   // A 0.2 m cube 0.001 m into a 4 × 1 × 4 slab whose top is y = 0.
   const PlacedPrimitive slab =
       primitive(CollisionObjectType::Box, Vector3(2, 0.5, 2), Vector3(0, -0.5, 0));
-  const PlacedPrimitive cube = primitive(CollisionObjectType::Box, Vector3::Constant(Real(0.1)),
-                                         Vector3(0.3, 0.099, -0.2));
+  const PlacedPrimitive cube =
+      primitive(CollisionObjectType::Box, Vector3::Constant(Real(0.1)), Vector3(0.3, 0.099, -0.2));
   for (const bool cubeFirst : {true, false}) {
     PrimitiveManifold m;
     ASSERT_TRUE(cubeFirst ? primitiveContacts(cube, slab, Real(0.01), m)
@@ -79,8 +79,10 @@ TEST(PrimitiveContacts, CrossedEdgesGiveOneContactOnTheirCommonPerpendicular) {
   // Two unit cubes turned 45° about z and about x: their edges cross, A's lowest edge (along
   // z, at y = −√2/2 from A's centre) over B's highest edge (along x, at y = +√2/2), 0.01 apart.
   const Real s = std::sqrt(Real(0.5));
-  const Matrix3 aboutZ = Eigen::AngleAxis<Real>(std::atan(Real(1)), Vector3::UnitZ()).toRotationMatrix();
-  const Matrix3 aboutX = Eigen::AngleAxis<Real>(std::atan(Real(1)), Vector3::UnitX()).toRotationMatrix();
+  const Matrix3 aboutZ =
+      Eigen::AngleAxis<Real>(std::atan(Real(1)), Vector3::UnitZ()).toRotationMatrix();
+  const Matrix3 aboutX =
+      Eigen::AngleAxis<Real>(std::atan(Real(1)), Vector3::UnitX()).toRotationMatrix();
   const PlacedPrimitive a = primitive(CollisionObjectType::Box, Vector3::Constant(Real(0.5)),
                                       Vector3(0, 2 * s + Real(0.01), 0), aboutZ);
   const PlacedPrimitive b =

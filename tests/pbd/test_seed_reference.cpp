@@ -207,8 +207,7 @@ Comparison compare(const std::string& name) {
   Scene twin = scene;
   for (std::size_t b = 0; b < twin.rigidBodies.size(); ++b)
     if (twin.rigidBodies[b].isDynamic) twin.rigidBodies[b].translation += twinOffset(b);
-  return compareWithTwin(rows, h, run(scene, steps), run(twin, steps),
-                         knownDifferenceWindow(name));
+  return compareWithTwin(rows, h, run(scene, steps), run(twin, steps), knownDifferenceWindow(name));
 }
 
 // --- Particle recordings (NAME.particles.csv: t,index,x,y,z,vx,vy,vz) --------------------------
@@ -338,8 +337,7 @@ INSTANTIATE_TEST_SUITE_P(
                       "sphere_on_grid_torus_off_cell", "contact_stack_5", "stack_5_in_shell",
                       "damper_on_pendulum", "joint_target_velocity_motor_hinge",
                       "joint_target_angle_motor_hinge", "car_scene", "cloth_collision_scene",
-                      "pile_scene",
-                      "stiff_rod_cantilever", "deformable_solid_collision_scene",
+                      "pile_scene", "stiff_rod_cantilever", "deformable_solid_collision_scene",
                       "wilberforce_spring"),
     [](const ::testing::TestParamInfo<const char*>& param) { return std::string(param.param); });
 
@@ -486,8 +484,7 @@ TEST(SeedReferenceTable, TheDocumentedLargestDifferencesAreTheMeasuredOnes) {
   const std::vector<DocumentedRow> rows = documentedRows();
   ASSERT_GE(rows.size(), 10u) << "the table in docs/methods.md";
   for (const DocumentedRow& row : rows) {
-    const bool particles =
-        std::ifstream(kReferenceDir + "/" + row.name + ".particles.csv").good();
+    const bool particles = std::ifstream(kReferenceDir + "/" + row.name + ".particles.csv").good();
     double measured = 0;
     if (row.window.rfind("first second", 0) == 0) {
       measured = largestParticleDeviationOverFirstSecond(row.name);

@@ -56,12 +56,12 @@ def test_a_real_run_renders_every_case_and_run(real_results: Path, tmp_path: Pat
     assert "p = " in convergence and "slope 4" in convergence
     # Error against wall time with the sweep's Pareto front (marked by pbdval sweep).
     assert "Pareto front" in convergence and (report / "figures/sweep-joint_hinge-timestep-cost.svg").is_file()
-    # The parity matrix from the engines' feature tables: Bullet alone lacks distance joints (ODE
-    # and pbd have them, the MuJoCos approximate them with a tendon); pybullet has them, and
+    # The parity matrix from the engines' feature tables: Bullet, DART and Drake lack distance
+    # joints (ODE and pbd have them, the MuJoCos approximate them with a tendon); pybullet has them, and
     # universal joints, only in its reduced-coordinate methods, which its cell names.
     parity = (report / "parity.html").read_text()
     distance_row = parity[parity.index("<td title='joint.distance'>"):].split("</tr>")[0]
-    assert distance_row.count(">unsupported<") == 1 and ">native<" in distance_row
+    assert distance_row.count(">unsupported<") == 3 and ">native<" in distance_row
     assert ">unsupported; native: pybullet.multibody.si, pybullet.multibody.dantzig<" in distance_row
     universal_row = parity[parity.index("<td title='joint.universal'>"):].split("</tr>")[0]
     assert universal_row.count(">unsupported<") == 0

@@ -21,12 +21,12 @@ using pbd::CollisionObjectType;
 /// the shape's frame and its origin the centre of mass).
 pbd::Scene twoBodies(int typeA, const Vector3& scaleA, int typeB, const Vector3& scaleB) {
   auto body = [](int id, int type, const Vector3& s) {
-    return "{\"id\": " + std::to_string(id) + ", \"collisionObjectType\": " +
-           std::to_string(type) + ", \"collisionObjectScale\": [" + std::to_string(s.x()) + ", " +
-           std::to_string(s.y()) + ", " + std::to_string(s.z()) + "]}";
+    return "{\"id\": " + std::to_string(id) + ", \"collisionObjectType\": " + std::to_string(type) +
+           ", \"collisionObjectScale\": [" + std::to_string(s.x()) + ", " + std::to_string(s.y()) +
+           ", " + std::to_string(s.z()) + "]}";
   };
-  const std::string json = "{\"RigidBodies\": [" + body(0, typeA, scaleA) + ", " +
-                           body(1, typeB, scaleB) + "]}";
+  const std::string json =
+      "{\"RigidBodies\": [" + body(0, typeA, scaleA) + ", " + body(1, typeB, scaleB) + "]}";
   return pbd::parseScene(json, "primitive_pair.json").scene;
 }
 
@@ -76,14 +76,14 @@ TEST(PrimitiveContactsOracle, SpherePairsMatchTheOraclesClosedFormsInDistanceNor
     int a, b;
   };
   int checked = 0, penetrating = 0;
-  for (const PairType types : {PairType{1, 1}, PairType{1, 2}, PairType{2, 1}, PairType{1, 3},
-                               PairType{3, 1}}) {
+  for (const PairType types :
+       {PairType{1, 1}, PairType{1, 2}, PairType{2, 1}, PairType{1, 3}, PairType{3, 1}}) {
     for (int trial = 0; trial < 400; ++trial) {
       const Vector3 scaleA(size(random), size(random), size(random));
       const Vector3 scaleB(size(random), size(random), size(random));
       const pbd::Scene scene = twoBodies(types.a, scaleA, types.b, scaleB);
-      const Placement a{randomRotation(random), Vector3(offset(random), offset(random),
-                                                        offset(random))};
+      const Placement a{randomRotation(random),
+                        Vector3(offset(random), offset(random), offset(random))};
       const Placement b{randomRotation(random), Vector3::Zero()};
       pbd::PrimitiveManifold manifold;
       ASSERT_TRUE(pbd::primitiveContacts(place(scene, 0, a), place(scene, 1, b), kReachEverything,
@@ -132,8 +132,8 @@ TEST(PrimitiveContactsOracle, BoxPairsNeverReportMoreGapOrMoreDepthThanTheOracle
                       Vector3(offset(random), offset(random), offset(random))};
     const Placement b{randomRotation(random), Vector3::Zero()};
     pbd::PrimitiveManifold manifold;
-    ASSERT_TRUE(pbd::primitiveContacts(place(scene, 0, a), place(scene, 1, b), kReachEverything,
-                                       manifold));
+    ASSERT_TRUE(
+        pbd::primitiveContacts(place(scene, 0, a), place(scene, 1, b), kReachEverything, manifold));
     ASSERT_GE(manifold.count, 1);
     ASSERT_LE(manifold.count, 4);
     const PairDistance exact = oracleDistance(scene, a, b);
@@ -157,9 +157,10 @@ TEST(PrimitiveContactsOracle, BoxPairsNeverReportMoreGapOrMoreDepthThanTheOracle
 }
 
 // Box B resting on box A's top face (the configurations of a stack or a pile): tilted by 1° to
-// 15° (below 1° A's own face would compete with B's as the reference), its lowest corners over A's face. The deepest contact is then on the separating axis
-// that gives the oracle's depth or distance: equal to it, with the normal along A's face normal
-// (the oracle's witness points differ by the depth along it).
+// 15° (below 1° A's own face would compete with B's as the reference), its lowest corners over A's
+// face. The deepest contact is then on the separating axis that gives the oracle's depth or
+// distance: equal to it, with the normal along A's face normal (the oracle's witness points differ
+// by the depth along it).
 TEST(PrimitiveContactsOracle, StackedBoxesHaveTheOraclesDepthAndFaceNormal) {
   constexpr double kGjk = 1e-6;
   constexpr double kRoundOff = 1e-12;
@@ -168,7 +169,7 @@ TEST(PrimitiveContactsOracle, StackedBoxesHaveTheOraclesDepthAndFaceNormal) {
   const double pi = std::acos(-1.0);
   for (int trial = 0; trial < 500; ++trial) {
     const Vector3 lower(1.0, 0.2, 1.0), upper(0.3, 0.2, 0.25);  // full extents
-    const pbd::Scene scene = twoBodies(2, upper, 2, lower);    // A: upper, B: lower
+    const pbd::Scene scene = twoBodies(2, upper, 2, lower);     // A: upper, B: lower
     const Vector3 axis = Vector3(unit(random), unit(random), unit(random)).normalized();
     const Quaternion tilt(Eigen::AngleAxisd((1 + 14 * std::abs(unit(random))) * pi / 180, axis));
     // Place the upper box's lowest corner `gap` above the lower box's top face (y = 0.1).
@@ -176,11 +177,11 @@ TEST(PrimitiveContactsOracle, StackedBoxesHaveTheOraclesDepthAndFaceNormal) {
     const double lowest = (r.cwiseAbs() * (upper / 2)).y();
     const double clearance = gap(random);
     const Placement b{Quaternion::Identity(), Vector3::Zero()};
-    const Placement a{tilt, Vector3(0.2 * unit(random), 0.1 + lowest + clearance,
-                                    0.2 * unit(random))};
+    const Placement a{tilt,
+                      Vector3(0.2 * unit(random), 0.1 + lowest + clearance, 0.2 * unit(random))};
     pbd::PrimitiveManifold manifold;
-    ASSERT_TRUE(pbd::primitiveContacts(place(scene, 0, a), place(scene, 1, b), kReachEverything,
-                                       manifold));
+    ASSERT_TRUE(
+        pbd::primitiveContacts(place(scene, 0, a), place(scene, 1, b), kReachEverything, manifold));
     ASSERT_GE(manifold.count, 1);
     const PairDistance exact = oracleDistance(scene, a, b);
     const pbd::PrimitiveContact& c = deepest(manifold);

@@ -186,8 +186,8 @@ EngineEntry catalogueEntry(const std::string& file, const ProjectPython& python,
   // Run by `pbdval run` without --engines unless an example or "runByDefault": false (an engine
   // too slow for the case library's routine run, docs/external-engines.md#the-catalogue); the
   // schema has checked that both are booleans.
-  entry.runByDefault = root.value("runByDefault", true) &&
-                       !(root.contains("example") && root.at("example") == true);
+  entry.runByDefault =
+      root.value("runByDefault", true) && !(root.contains("example") && root.at("example") == true);
   const std::string name = entry.name;
   const FeatureTable features = entry.features;
   entry.make = [name, command, serve, features](const EngineOptions& options) {

@@ -55,8 +55,7 @@ struct Polygon {
 };
 
 /// Keeps the part of `in` with (p − origin)·axis ≤ limit.
-void clip(const Polygon& in, const Vector3& origin, const Vector3& axis, Real limit,
-          Polygon& out) {
+void clip(const Polygon& in, const Vector3& origin, const Vector3& axis, Real limit, Polygon& out) {
   out.count = 0;
   for (int i = 0; i < in.count; ++i) {
     const Vector3& p = in.points[std::size_t(i)];
@@ -80,8 +79,8 @@ void faceContacts(const PlacedPrimitive& reference, int axis, const PlacedPrimit
                   Real maxSeparation, bool referenceIsA, PrimitiveManifold& out) {
   const Vector3 toIncident = incident.center - reference.center;
   const Vector3 referenceAxis = reference.rotation.col(axis);
-  const Vector3 normal = referenceAxis.dot(toIncident) < 0 ? Vector3(-referenceAxis)
-                                                           : referenceAxis;  // n_ref
+  const Vector3 normal =
+      referenceAxis.dot(toIncident) < 0 ? Vector3(-referenceAxis) : referenceAxis;  // n_ref
   // The incident face: the other box's face most opposed to n_ref.
   int k = 0;
   Real best = -1;
@@ -111,8 +110,8 @@ void faceContacts(const PlacedPrimitive& reference, int axis, const PlacedPrimit
     signs[k] = faceSign;
     signs[u] = cornerSigns[c][0];
     signs[v] = cornerSigns[c][1];
-    cornerIndex[std::size_t(c)] = (signs.x() > 0 ? 1 : 0) + (signs.y() > 0 ? 2 : 0) +
-                                  (signs.z() > 0 ? 4 : 0);
+    cornerIndex[std::size_t(c)] =
+        (signs.x() > 0 ? 1 : 0) + (signs.y() > 0 ? 2 : 0) + (signs.z() > 0 ? 4 : 0);
   }
   const std::array<Vector3, 8> corners = polygon.points;
   // Clip to the reference face's four side planes.
@@ -168,11 +167,10 @@ void faceContacts(const PlacedPrimitive& reference, int axis, const PlacedPrimit
       if (kept[std::size_t(i)].separation < kept[std::size_t(first)].separation) first = i;
     int second = first == 0 ? 1 : 0;
     for (int i = 0; i < count; ++i)
-      if (i != first && (kept[std::size_t(i)].incident - kept[std::size_t(first)].incident)
-                                .squaredNorm() >
-                            (kept[std::size_t(second)].incident -
-                             kept[std::size_t(first)].incident)
-                                .squaredNorm())
+      if (i != first &&
+          (kept[std::size_t(i)].incident - kept[std::size_t(first)].incident).squaredNorm() >
+              (kept[std::size_t(second)].incident - kept[std::size_t(first)].incident)
+                  .squaredNorm())
         second = i;
     const Vector3 p0 = kept[std::size_t(first)].incident, p1 = kept[std::size_t(second)].incident;
     int third = -1, fourth = -1;
@@ -252,8 +250,8 @@ void boxBoxContacts(const PlacedPrimitive& a, const PlacedPrimitive& b, Real max
       const Real squared = axis.squaredNorm();
       if (squared < Real(1e-12)) continue;  // parallel edges: a face axis covers them
       const Vector3 l = axis / std::sqrt(squared);
-      const Real s = std::abs(l.dot(dA)) - (ha.dot(l.cwiseAbs()) + hb.dot((c.transpose() * l)
-                                                                               .cwiseAbs()));
+      const Real s =
+          std::abs(l.dot(dA)) - (ha.dot(l.cwiseAbs()) + hb.dot((c.transpose() * l).cwiseAbs()));
       if (s > maxSeparation) return;
       if (s > edge) {
         edge = s;
@@ -313,8 +311,8 @@ bool boxInHollowBoxContacts(const PlacedPrimitive& box, const PlacedPrimitive& h
         if (separation > maxSeparation) continue;
         const Vector3 onWall = v + (sign * cavity[k] - v[k]) * Vector3::Unit(k);
         out.add({hollowBox.rotation * v + hollowBox.center,
-                 hollowBox.rotation * onWall + hollowBox.center,
-                 -sign * hollowBox.rotation.col(k), separation});
+                 hollowBox.rotation * onWall + hollowBox.center, -sign * hollowBox.rotation.col(k),
+                 separation});
       }
   return true;
 }

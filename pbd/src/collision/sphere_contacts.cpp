@@ -63,8 +63,8 @@ bool sphereInHollowBoxContacts(const PlacedPrimitive& sphere, const PlacedPrimit
       if (separation > maxSeparation) continue;
       const Vector3 axis = hollowBox.rotation.col(k);
       const Vector3 onWall = c + (sign * cavity[k] - c[k]) * Vector3::Unit(k);
-      out.add({sphere.center + sign * radius * axis,
-               hollowBox.rotation * onWall + hollowBox.center, -sign * axis, separation});
+      out.add({sphere.center + sign * radius * axis, hollowBox.rotation * onWall + hollowBox.center,
+               -sign * axis, separation});
     }
   return true;
 }

@@ -105,8 +105,8 @@ StretchShearCorrection stretchShearPbd(const Vector3& p0, Real w0, const Vector3
   const Matrix3 director = q.normalized().toRotationMatrix();
   const Vector3 local = director.transpose() * stretchShearValue(p0, p1, q, restLength);
   // Δλ = −k C ℓ/(Σ w |∇C|² ℓ + ε): the seed's γ = C/((w₀ + w₁)/ℓ + 4 w_q ℓ + ε), scaled by ℓ.
-  const Vector3 deltaLocal = -fractions.cwiseProduct(local) * restLength /
-                             (weight * restLength + kSeedRodRegularisation);
+  const Vector3 deltaLocal =
+      -fractions.cwiseProduct(local) * restLength / (weight * restLength + kSeedRodRegularisation);
   return stretchShearStep(w0, w1, q, wq, restLength, director * deltaLocal);
 }
 

@@ -54,10 +54,10 @@ class ByteReader {
       : bytes_(bytes), source_(source) {}
 
   [[noreturn]] void fail(const std::string& message) const {
-    throw SceneError(SceneDiagnostic{
-        source_, "",
-        "Discregrid grid (.csdf): " + message + " (at byte " + std::to_string(offset_) + " of " +
-            std::to_string(bytes_.size()) + ")"});
+    throw SceneError(SceneDiagnostic{source_, "",
+                                     "Discregrid grid (.csdf): " + message + " (at byte " +
+                                         std::to_string(offset_) + " of " +
+                                         std::to_string(bytes_.size()) + ")"});
   }
 
   template <typename T>
@@ -172,14 +172,13 @@ DistanceGrid parseDiscregridGrid(const std::string& bytes, const std::string& so
       fieldError("cell " + std::to_string(l) +
                  " was discarded (a reduced grid); pbdval needs every cell");
     if (row >= cellTable.size())
-      fieldError("the cell map sends cell " + std::to_string(l) + " to row " +
-                 std::to_string(row) + " of a cell table of " +
-                 std::to_string(cellTable.size()));
+      fieldError("the cell map sends cell " + std::to_string(l) + " to row " + std::to_string(row) +
+                 " of a cell table of " + std::to_string(cellTable.size()));
     for (std::size_t m = 0; m < 32; ++m) {
       const std::uint32_t source = cellTable[row][m];
       if (source >= nodes.size())
-        fieldError("cell " + std::to_string(l) + " names node " + std::to_string(source) +
-                   " of " + std::to_string(nodes.size()));
+        fieldError("cell " + std::to_string(l) + " names node " + std::to_string(source) + " of " +
+                   std::to_string(nodes.size()));
       const double value = nodes[source];
       if (!std::isfinite(value) || value == std::numeric_limits<double>::max())
         fieldError("node " + std::to_string(source) +
@@ -188,10 +187,11 @@ DistanceGrid parseDiscregridGrid(const std::string& bytes, const std::string& so
       const LocalNode& n = local[m];
       const std::size_t target =
           n.axis < 0 ? DistanceGrid::lagrangeCornerIndex(cells, i + n.di, j + n.dj, k + n.dk)
-                     : DistanceGrid::lagrangeEdgeIndex(cells, n.axis, i + n.di, j + n.dj,
-                                                       k + n.dk, n.side);
+                     : DistanceGrid::lagrangeEdgeIndex(cells, n.axis, i + n.di, j + n.dj, k + n.dk,
+                                                       n.side);
       if (filled[target] && filledWith[target] != value)
-        fieldError("cell " + std::to_string(l) + " gives a node it shares with another cell a "
+        fieldError("cell " + std::to_string(l) +
+                   " gives a node it shares with another cell a "
                    "different value (a corrupt cell table)");
       filled[target] = 1;
       filledWith[target] = value;

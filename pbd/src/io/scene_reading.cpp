@@ -122,8 +122,7 @@ KeyTable<CollisionObjectDesc> collisionKeys(const LoadContext& context) {
        false,
        [](const C& c, Json& j) {
          if (!c.fileName.empty()) writeString(j, "collisionObjectFileName", c.fileName);
-         if (!c.discregridFile.empty())
-           writeString(j, "collisionObjectFileName", c.discregridFile);
+         if (!c.discregridFile.empty()) writeString(j, "collisionObjectFileName", c.discregridFile);
        }},
       booleanKey("testMesh", &C::testMesh),
       vectorKey("collisionObjectScale", &C::scale),

@@ -154,8 +154,8 @@ class CollisionDetector {
   bool sphereMayTouch(const Vector3& centerWorld, Real radius, int sdfBody, Real tolerance) const;
 
   std::vector<RigidObject> rigid_;
-  bool primitives_ = false;  ///< contactGeometryFor(scene) == Primitives
-  PrimitiveManifold manifold_;  ///< scratch of primitivePair
+  bool primitives_ = false;        ///< contactGeometryFor(scene) == Primitives
+  PrimitiveManifold manifold_;     ///< scratch of primitivePair
   bool seedGridDistance_ = false;  ///< the seed's unscaled grid distance (step 4), per detection
   std::vector<ParticleModel> particleModels_;
   TetContactDetector tetContacts_;  ///< tet model against tet model

@@ -40,9 +40,9 @@ namespace pbd {
 /// A primitive shape and the world pose of the frame its formula is written in.
 struct PlacedPrimitive {
   CollisionObjectType type = CollisionObjectType::None;
-  Vector3 size = Vector3::Zero();  ///< CollisionShape::size(): radius, half extents, ...
-  Real thickness = 0;              ///< hollow shapes: the wall's half thickness
-  bool inverted = false;           ///< invertSDF: never a closed form
+  Vector3 size = Vector3::Zero();          ///< CollisionShape::size(): radius, half extents, ...
+  Real thickness = 0;                      ///< hollow shapes: the wall's half thickness
+  bool inverted = false;                   ///< invertSDF: never a closed form
   Matrix3 rotation = Matrix3::Identity();  ///< shape frame → world
   Vector3 center = Vector3::Zero();        ///< world origin of the shape frame
 
