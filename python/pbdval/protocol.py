@@ -965,12 +965,20 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
              states: Callable[[float], list[BodyState] | np.ndarray],
              failure: Callable[[float], str | None] = lambda t: None,
              check: Callable[[float], str | None] | None = None,
-             particles: Callable[[float], np.ndarray] | None = None) -> Status:
+             particles: Callable[[float], np.ndarray] | None = None,
+             finish_states: Callable[[np.ndarray], np.ndarray] | None = None) -> Status:
     """The run every engine makes: the state at t = 0, then `scene.steps` calls of `step`
     (one scene step each), writing the samples the runner asks for (`scene.sample_steps()`).
 
     `states(t)` gives every body's state in scene order: BodyStates, or (cheaper) one state
     array, (bodies, 13) float64 (state_array_rows), which `simulate` copies before the next call.
+    The samples are kept and the trajectory's rows made from all of them at once when the run
+    ends (the same rows, bit for bit, as state_array_rows of each: element-wise operations).
+    `finish_states`, with state arrays: what turns the stacked (samples, bodies, 13) arrays
+    `states` gave into the state arrays' columns, once for the whole trajectory instead of once
+    per sample (e.g. principal_to_scene_states: a frame change). The divergence test is made on
+    what `states` gave, so `finish_states` must keep the positions (columns 0-2) and velocities
+    (7-12) as they are and a quaternion (3-6) finite exactly when it was.
 
     `particles(t)`, for a scene with particles, returns the (P, 6) positions and velocities of
     every particle in scene order; they are written to particles.npy at the same samples and
@@ -989,11 +997,28 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
     particle_writer = (ParticleTrajectoryWriter(out_dir, capacity=len(sampled) * len(scene.particles))
                        if particles is not None and scene.particles else None)
     ids = np.array([b.id for b in scene.bodies], dtype=np.float64)
+    body_count = len(ids)
+    # Every sample written (a diverged run's last one may fall between samples: one more).
+    kept = np.empty((len(sampled) + 1, body_count, STATE_COLUMNS))
+    kept_times: list[float] = []
+
+    def body_name(i: int) -> str:
+        return f"body {int(ids[i])}"
 
     def sample(t: float) -> tuple[np.ndarray, np.ndarray | None, str | None]:
         given = states(t)
-        rows = state_array_rows(t, ids, given) if isinstance(given, np.ndarray) else state_rows(t, given)
-        reason = rows_divergence_reason(t, rows)
+        if isinstance(given, np.ndarray):
+            if given.shape != (body_count, STATE_COLUMNS):
+                raise ValueError(f"expected a state array of shape ({body_count}, {STATE_COLUMNS}), "
+                                 f"got {given.shape}")
+            state = given
+        else:
+            if finish_states is not None:
+                raise TypeError("simulate's `finish_states` takes state arrays; `states` gave BodyStates")
+            state = state_rows(t, given)[:, 2:]
+        # The runner's test on the state (the rows' columns after t and id; the flip of a
+        # quaternion's sign changes no magnitude).
+        reason = _blow_up_reason(t, body_name, state[:, 0:3], state[:, 7:10], state) if body_count else None
         particle_sample = None
         if particle_writer is not None and particles is not None:
             particle_sample = particle_rows(t, particles(t))
@@ -1001,31 +1026,48 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
                 raise ValueError(f"particles({t:g}) gave {len(particle_sample)} particles, "
                                  f"the scene has {len(scene.particles)}")
             reason = reason or particle_rows_divergence_reason(t, particle_sample)
-        return rows, particle_sample, reason or failure(t)
+        return state, particle_sample, reason or failure(t)
 
-    def write(rows: np.ndarray, particle_sample: np.ndarray | None) -> None:
-        writer.write_rows(rows)
+    def write(t: float, state: np.ndarray, particle_sample: np.ndarray | None) -> None:
+        kept[len(kept_times)] = state
+        kept_times.append(t)
         if particle_writer is not None and particle_sample is not None:
             particle_writer.write_rows(particle_sample)
 
+    def trajectory_rows() -> np.ndarray:
+        """The rows of every sample kept, as state_array_rows makes them one sample at a time."""
+        count = len(kept_times)
+        final = kept[:count] if finish_states is None else finish_states(kept[:count])
+        per_sample = np.empty((count, body_count, 15))
+        per_sample[:, :, 0] = np.array(kept_times)[:, None]
+        per_sample[:, :, 1] = ids
+        per_sample[:, :, 2:] = final
+        rows = per_sample.reshape(count * body_count, 15)
+        flip = rows[:, 5] < 0  # q and -q are one rotation
+        rows[flip, 5:9] *= -1.0
+        return rows
+
     try:
-        with TrajectoryWriter(out_dir, capacity=len(sampled) * len(scene.bodies)) as writer:
-            rows, particle_sample, _ = sample(0.0)
-            write(rows, particle_sample)
-            for n in range(1, scene.steps + 1):
-                step()
-                t = n * scene.time_step_size
-                if n in sampled:
-                    rows, particle_sample, reason = sample(t)
-                else:
-                    reason = (check(t) if check is not None else None) or failure(t)
+        with TrajectoryWriter(out_dir, capacity=len(sampled) * body_count) as writer:
+            try:
+                state, particle_sample, _ = sample(0.0)
+                write(0.0, state, particle_sample)
+                for n in range(1, scene.steps + 1):
+                    step()
+                    t = n * scene.time_step_size
+                    if n in sampled:
+                        state, particle_sample, reason = sample(t)
+                    else:
+                        reason = (check(t) if check is not None else None) or failure(t)
+                        if reason:
+                            state, particle_sample, _ = sample(t)
                     if reason:
-                        rows, particle_sample, _ = sample(t)
-                if reason:
-                    write(rows, particle_sample)
-                    return Status("diverged", reason=reason, diverged_at=t)
-                if n in sampled:
-                    write(rows, particle_sample)
+                        write(t, state, particle_sample)
+                        return Status("diverged", reason=reason, diverged_at=t)
+                    if n in sampled:
+                        write(t, state, particle_sample)
+            finally:
+                writer.write_rows(trajectory_rows())
         return Status("ok")
     except BaseException:
         if particle_writer is not None:
@@ -1363,8 +1405,11 @@ def quat_right_factors(b: np.ndarray) -> np.ndarray:
 
 def quat_multiply_rows(a: np.ndarray, right_factors: np.ndarray) -> np.ndarray:
     """quat_multiply(a[i], b[i]) for every row of the (n, 4) array a, b given as
-    quat_right_factors(b) (computed once for a run): four array operations whatever n."""
-    products = a.T[:, :, None] * right_factors
+    quat_right_factors(b) (computed once for a run): four array operations whatever n. `a` may
+    also be (samples, n, 4), the same n quaternions b for every sample (the products of a whole
+    trajectory at once, each element's the same as one sample's)."""
+    batch = (slice(None),) + (None,) * (a.ndim - 2)
+    products = np.moveaxis(a, -1, 0)[..., None] * right_factors[batch]
     out: np.ndarray = ((products[0] + products[1]) + products[2]) + products[3]
     return out
 
@@ -1383,13 +1428,14 @@ def principal_to_scene_factors(scene: ResolvedScene) -> np.ndarray:
 
 def principal_to_scene_states(read: np.ndarray, principal_factors: np.ndarray) -> np.ndarray:
     """State arrays (state_array_rows) from the states of the bodies' principal frames as
-    pybullet reports them, (bodies, 13): x y z, qx qy qz qw (pybullet's order), v, w; the
-    scene frame's rotation bit for bit quat_multiply's (`principal_factors`:
-    principal_to_scene_factors)."""
+    pybullet reports them, (bodies, 13) or a whole trajectory's (samples, bodies, 13): x y z,
+    qx qy qz qw (pybullet's order), v, w; the scene frame's rotation bit for bit
+    quat_multiply's (`principal_factors`: principal_to_scene_factors). Positions and velocities
+    are kept as they are, a quaternion's finiteness too (simulate's `finish_states`)."""
     out = np.empty_like(read)
-    out[:, 0:3] = read[:, 0:3]
-    out[:, 3:7] = quat_multiply_rows(read[:, [6, 3, 4, 5]], principal_factors)
-    out[:, 7:13] = read[:, 7:13]
+    out[..., 0:3] = read[..., 0:3]
+    out[..., 3:7] = quat_multiply_rows(read[..., [6, 3, 4, 5]], principal_factors)
+    out[..., 7:13] = read[..., 7:13]
     return out
 
 

@@ -127,3 +127,52 @@ def test_the_preallocated_trajectory_keeps_every_row_in_order_past_its_capacity(
                 writer.write_rows(rows)
         written = np.load(out / pp.TRAJECTORY_NPY_FILE)
         assert written.tobytes() == np.vstack(samples).tobytes(), capacity
+
+
+@pytest.mark.parametrize("blow_up", [None, "speed", "nan-quaternion"])
+def test_a_frame_change_made_once_after_the_run_writes_what_one_made_per_sample_writes(
+        tmp_path: Path, blow_up: str | None) -> None:
+    """pybullet's path: `states` gives the principal frames (pybullet's quaternion order) and
+    `finish_states` turns the whole trajectory into scene frames when the run ends; the file and
+    the status (divergence found on the states as read: same time, same reason) are those of
+    the per-sample frame change."""
+    scene = two_body_scene(steps=12)
+    principal = awkward_quaternions(2, seed=8)[-2:]  # two unit quaternions, one with w < 0
+    factors = pp.quat_right_factors(pp.quat_conjugates(principal))
+
+    def read(t: float) -> np.ndarray:
+        states = toy_state(t)
+        raw = states.copy()
+        raw[:, 3:7] = states[:, [4, 5, 6, 3]]  # x y z w: pybullet's order
+        if blow_up == "speed" and t >= 0.05:
+            raw[1, 8] = 3.0 * pp.DIVERGENCE_LIMIT
+        if blow_up == "nan-quaternion" and t >= 0.05:
+            raw[0, 4] = math.nan
+        return raw
+
+    outcomes = {}
+    for form in ("per-sample", "after-the-run"):
+        out = tmp_path / form
+        out.mkdir()
+        if form == "per-sample":
+            status = pp.simulate(scene, out, lambda: None,
+                                 lambda t: pp.principal_to_scene_states(read(t), factors))
+        else:
+            status = pp.simulate(scene, out, lambda: None, read,
+                                 finish_states=lambda s: pp.principal_to_scene_states(s, factors))
+        outcomes[form] = (status, (out / pp.TRAJECTORY_NPY_FILE).read_bytes())
+    assert outcomes["per-sample"] == outcomes["after-the-run"]
+    status, _ = outcomes["after-the-run"]
+    expected_reason = {None: None, "speed": "body 9 blew up", "nan-quaternion": "non-finite state of body 4"}[blow_up]
+    if expected_reason is None:
+        assert status.status == "ok"
+    else:  # the first sample from 0.05 s on: samples every 3 steps of h, step 6
+        assert status.status == "diverged" and status.diverged_at == 6 * scene.time_step_size
+        assert expected_reason in status.reason
+
+
+def test_finish_states_with_body_states_is_refused(tmp_path: Path) -> None:
+    scene = two_body_scene()
+    with pytest.raises(TypeError, match="finish_states"):
+        pp.simulate(scene, tmp_path, lambda: None, lambda t: as_body_states(scene, toy_state(t)),
+                    finish_states=lambda s: s)

@@ -337,9 +337,11 @@ class MujocoRun:
         return servos
 
     def states(self) -> np.ndarray:
-        """Every body's state (pp.state_array_rows' columns), read with array operations: the
-        positions and orientations of all bodies at once, one mj_objectVelocity per body
-        (MuJoCo has no batched form) into a row of one preallocated array."""
+        """Every body's state (pp.state_array_rows' columns) but the rotation, which is the
+        principal frame's (finish_states turns a whole trajectory's into the scene frame's),
+        read with array operations: the positions and orientations of all bodies at once, one
+        mj_objectVelocity per body (MuJoCo has no batched form) into a row of one preallocated
+        array."""
         m, d = self.model, self.data
         velocity = self._velocity
         for i, body_id in enumerate(self.body_ids):
@@ -347,11 +349,17 @@ class MujocoRun:
             mujoco.mj_objectVelocity(m, d, mujoco.mjtObj.mjOBJ_XBODY, body_id, velocity[i], 0)
         state = self._state
         state[:, 0:3] = d.xpos[self._body_index]
-        # The principal frame's rotation → the scene frame's.
-        state[:, 3:7] = pp.quat_multiply_rows(d.xquat[self._body_index], self._principal_factors)
+        state[:, 3:7] = d.xquat[self._body_index]
         state[:, 7:10] = velocity[:, 3:]
         state[:, 10:13] = velocity[:, :3]
         return state
+
+    def finish_states(self, read: np.ndarray) -> np.ndarray:
+        """The scene frames' state arrays from `states`' (a whole trajectory's at once,
+        pp.simulate's `finish_states`): the principal frame's rotation → the scene frame's."""
+        out = read.copy()
+        out[..., 3:7] = pp.quat_multiply_rows(read[..., 3:7], self._principal_factors)
+        return out
 
     def run(self, out_dir: Path) -> pp.Status:
         fatal = _fatal_warnings()
@@ -400,7 +408,8 @@ class MujocoRun:
                 mujoco.mj_step(self.model, self.data)
 
         particles = (lambda t: self.layout.state(self.data)) if self.scene.particles else None
-        status = pp.simulate(self.scene, out_dir, step, states, failure, check, particles=particles)
+        status = pp.simulate(self.scene, out_dir, step, states, failure, check, particles=particles,
+                             finish_states=self.finish_states)
         status.engine_version = engine_version()
         status.effective_settings = self.settings
         inertia_warnings = self.data.warning[int(mujoco.mjtWarning.mjWARN_INERTIA)].number

@@ -393,11 +393,11 @@ class PybulletRun:
             "(setCollisionFilterPair enableCollision=1)")
 
     def states(self, time: float) -> np.ndarray:
-        """Every body's state (pp.state_array_rows' columns). pybullet reads a
+        """Every body's state as pybullet reports it: the inertial (principal) frame, x y z,
+        qx qy qz qw, v, w; finish_states turns the whole trajectory's into the scene frame's
+        state arrays (pp.state_array_rows' columns) when the run ends. pybullet reads a
         maximal-coordinate body's state in two calls and has no batched form: the tuples are
-        gathered into one list, made an array once, and the frame change is one array
-        operation (pybullet reports the inertial (principal) frame; the rows want the scene
-        frame)."""
+        gathered into one list, made an array once."""
         c = self.client
         values: list[float] = []
         for body in self.ids:
@@ -407,13 +407,19 @@ class PybulletRun:
             values += orientation
             values += velocity
             values += angular
-        return pp.principal_to_scene_states(np.array(values).reshape(-1, 13), self.principal_factors)
+        return np.array(values).reshape(-1, 13)
+
+    def finish_states(self, read: np.ndarray) -> np.ndarray:
+        """The scene frames' state arrays from `states`' (a whole trajectory's at once, pp.simulate's
+        `finish_states`): the rotation of the principal frame times the conjugate of the
+        principal rotation, position and velocities as they are."""
+        return pp.principal_to_scene_states(read, self.principal_factors)
 
     def run(self, out_dir: Path) -> pp.Status:
         if self.soft is None:
             status = pp.simulate(self.scene, out_dir,
                                  lambda: pb.stepSimulation(physicsClientId=self.client),
-                                 self.states)
+                                 self.states, finish_states=self.finish_states)
         else:
             status = self._run_with_particles(out_dir)
         status.engine_version = engine_version()
@@ -452,7 +458,8 @@ class PybulletRun:
                 v = np.full_like(x, np.nan)
             return np.hstack([x, v])
 
-        return pp.simulate(self.scene, out_dir, step, self.states, particles=particles)
+        return pp.simulate(self.scene, out_dir, step, self.states, particles=particles,
+                           finish_states=self.finish_states)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -724,7 +724,8 @@ class MultibodyRun(engine.PybulletRun):
         self.step_count += 1
 
     def states(self, time: float) -> np.ndarray:
-        """Every body's state (pp.state_array_rows' columns), gathered into one array."""
+        """Every body's state as pybullet reports it (the principal frame, pybullet's
+        quaternion order: engine.PybulletRun.states), gathered into one array."""
         c = self.client
         # Every multibody's links in one call (getLinkStates): the inertial (principal) frame
         # and its velocities, world (module docstring).
@@ -750,10 +751,11 @@ class MultibodyRun(engine.PybulletRun):
             values += orientation
             values += velocity
             values += angular
-        return pp.principal_to_scene_states(np.array(values).reshape(-1, 13), self.principal_factors)
+        return np.array(values).reshape(-1, 13)
 
     def run(self, out_dir: Path) -> pp.Status:
-        status = pp.simulate(self.scene, out_dir, self._step, self.states)
+        status = pp.simulate(self.scene, out_dir, self._step, self.states,
+                             finish_states=self.finish_states)
         status.engine_version = engine.engine_version()
         status.effective_settings = self.settings
         status.initial_velocities_projected = bool(self.plan.roots)
