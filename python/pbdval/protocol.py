@@ -1199,7 +1199,7 @@ class _Standby:
     reports its exit status on a second pipe before it exits, so that the reply need not wait
     for the kernel to tear down a large process (milliseconds)."""
 
-    def __init__(self, inherited: Sequence[socket.socket], main: Callable[[list[str]], int],
+    def __init__(self, inherited: Sequence[int], main: Callable[[list[str]], int],
                  prepare: Callable[[], None] | None, stdout_to_stderr: bool) -> None:
         read_end, self._write_end = os.pipe()
         self._report_read, report_write = os.pipe()
@@ -1221,8 +1221,8 @@ class _Standby:
             try:
                 os.close(self._write_end)
                 os.close(self._report_read)
-                for inherited_socket in inherited:  # the server's, not the run's
-                    inherited_socket.close()
+                for inherited_fd in inherited:  # the server's and the other runs', not this run's
+                    os.close(inherited_fd)
                 os.setpgid(0, 0)
                 _die_with_parent()
                 if os.getppid() == server:  # else the server died before prctl
@@ -1258,23 +1258,29 @@ class _Standby:
             os.close(self._write_end)
             self._write_end_open = False
 
-    def await_end(self) -> int | None:
-        """Waits until the run is over: its exit status as the child reported it, or None when
-        the child ended without one (a crash, a kill; it is then a zombie, not reaped)."""
-        while True:
-            readable, _, _ = select.select([self._report_read], [], [], 0.02)
-            if readable:
-                report = os.read(self._report_read, 1)
-                if report:
-                    return report[0]
-                os.waitid(os.P_PID, self.pid, os.WEXITED | os.WNOWAIT)
-                return None
-            ended = os.waitid(os.P_PID, self.pid, os.WEXITED | os.WNOHANG | os.WNOWAIT)
-            if ended is not None and ended.si_pid == self.pid:
-                # A process the run left may hold the pipe open: the child's end decides.
-                readable, _, _ = select.select([self._report_read], [], [], 0)
-                report = os.read(self._report_read, 1) if readable else b""
-                return report[0] if report else None
+    @property
+    def report_fd(self) -> int:
+        """The pipe on which the child reports its exit status (readable when its run is over)."""
+        return self._report_read
+
+    def poll_end(self) -> tuple[bool, int | None]:
+        """Whether the run is over, without waiting for it, and then its exit status as the
+        child reported it, or None when the child ended without one (a crash, a kill; it is
+        then a zombie, not reaped)."""
+        readable, _, _ = select.select([self._report_read], [], [], 0)
+        if readable:
+            report = os.read(self._report_read, 1)
+            if report:
+                return True, report[0]
+            os.waitid(os.P_PID, self.pid, os.WEXITED | os.WNOWAIT)  # it is ending: its pipe closed
+            return True, None
+        ended = os.waitid(os.P_PID, self.pid, os.WEXITED | os.WNOHANG | os.WNOWAIT)
+        if ended is not None and ended.si_pid == self.pid:
+            # A process the run left may hold the pipe open: the child's end decides.
+            readable, _, _ = select.select([self._report_read], [], [], 0)
+            report = os.read(self._report_read, 1) if readable else b""
+            return True, report[0] if report else None
+        return False, None
 
     def alive(self) -> bool:
         """False once it has ended (it is then reaped)."""
@@ -1285,14 +1291,18 @@ class _Standby:
         self.reaped = pid != 0
         return not self.reaped
 
-    def discard(self) -> None:
-        """Ends it, unless it was reaped already (its group id may then be another's)."""
+    def close_pipes(self) -> None:
+        """Closes the server's ends of its pipes (its run is over, or it is being discarded)."""
         if self._write_end_open:
             os.close(self._write_end)
             self._write_end_open = False
         if self._report_read >= 0:
             os.close(self._report_read)
             self._report_read = -1
+
+    def discard(self) -> None:
+        """Ends it, unless it was reaped already (its group id may then be another's)."""
+        self.close_pipes()
         if self.reaped:
             return
         try:
@@ -1306,78 +1316,139 @@ class _Standby:
         self.reaped = True
 
 
-def _serve_one(connection: socket.socket, standby: _Standby) -> bool:
-    """One connection. Returns whether `standby` ran (a new one is then needed)."""
-    line = _read_request(connection)
-    if not line:
-        return False
-    try:
-        _request_fields(line)
-    except (ValueError, TypeError) as e:
-        _send(connection, {"error": str(e)})
-        return False
-    pid = standby.pid
-    standby.start(line)
-    _send(connection, {"started": pid})
-    code = standby.await_end()
-    # The run's whole process group goes before the reply: whatever the run left running ends
-    # with it. Its child is not reaped yet, so the group id is still the run's.
+#: How long the server waits for a connection's request line, s: the runner sends it as soon as
+#: it is connected; a connection that sends none in time is answered with an error, so that it
+#: cannot hold up the other runs' replies.
+_REQUEST_TIMEOUT = 10.0
+#: How often the server looks at its runs' children when no pipe or socket wakes it, s: a run
+#: whose child ended while a process it left holds its report pipe open.
+_POLL_INTERVAL = 0.02
+
+
+@dataclass
+class _ServedRun:
+    """A run in progress: the runner's connection and the child running it."""
+
+    connection: socket.socket
+    child: _Standby
+    runner_gone: bool = False  # the runner closed its connection: the child was killed
+
+
+def _finish(run: _ServedRun, code: int | None) -> None:
+    """The run is over (`code`: its reported exit status, or None): its whole process group
+    killed before the reply (whatever the run left running ends with it; the child is not
+    reaped yet, so the group id is still the run's), then the reply."""
+    pid = run.child.pid
     try:
         os.killpg(pid, signal.SIGKILL)
     except OSError:
         pass
     if code is not None:
-        _send(connection, {"exited": code})
-        return True
+        _send(run.connection, {"exited": code})
+        return
     _, status = os.waitpid(pid, 0)
-    standby.reaped = True
+    run.child.reaped = True
     if os.WIFSIGNALED(status):
-        _send(connection, {"signaled": os.WTERMSIG(status)})
+        _send(run.connection, {"signaled": os.WTERMSIG(status)})
     else:
-        _send(connection, {"exited": os.waitstatus_to_exitcode(status)})
-    return True
+        _send(run.connection, {"exited": os.waitstatus_to_exitcode(status)})
 
 
 def serve_runs(argv: Sequence[str] | None, main: Callable[[list[str]], int], description: str,
                *, stdout_to_stderr: bool = False, prepare: Callable[[], None] | None = None) -> int:
     """A persistent engine process: the whole serve loop of a catalogue's `serve` command.
 
-    Listens on the Unix socket `--socket PATH` and serves one connection at a time: the runner
-    sends one line, {"protocol": 1, "scene": S, "out": O, "stderr": E}; a child forked from
-    this process runs `main(["--scene", S, "--out", O])` exactly as the single-shot command
-    would (in a process group of its own, standard error to E, standard input and output
-    /dev/null, or output to E with `stdout_to_stderr`); the server replies {"started": pid},
-    waits for the run to end, kills the child's process group and replies {"exited": code}
-    or {"signaled": signal} (the child reaped before the next run). A bad request gets
-    {"error": reason}.
+    Listens on the Unix socket `--socket PATH` and serves every connection, several at a time
+    (one server serves all the workers of a `pbdval run`): the runner sends one line,
+    {"protocol": 1, "scene": S, "out": O, "stderr": E}; a child forked from this process runs
+    `main(["--scene", S, "--out", O])` exactly as the single-shot command would (in a process
+    group of its own, standard error to E, standard input and output /dev/null, or output to E
+    with `stdout_to_stderr`); the server replies {"started": pid}, and when the run is over
+    kills the child's process group and replies {"exited": code} or {"signaled": signal}. A
+    runner that closes its connection before that (it was stopped) has its run's process group
+    killed. A bad request gets {"error": reason}.
 
-    Each run's child is forked ahead, when the previous run has ended (or at start), and waits
-    for its request; `prepare()`, when given, is what it does meanwhile: work every run does
+    One child always waits for the next run, forked ahead (at start, and as soon as the waiting
+    one takes a run); `prepare()`, when given, is what it does meanwhile: work every run does
     first whatever its scene (connecting to a physics server). Everything the engine imports
     before calling this is paid once; nothing a run does (a crash, a leak, a hang the runner
-    kills) reaches the next run. Returns only on an error (bad usage exits 2)."""
+    kills) reaches another run: each is a fresh child of the pristine server, which runs no
+    engine code itself. Returns only on an error (bad usage exits 2)."""
     parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--socket", required=True, help="the Unix socket to listen on")
     args = parser.parse_args(argv)
     _die_with_parent()
     listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     listener.bind(args.socket)
-    listener.listen(4)
-    standby = _Standby([listener], main, prepare, stdout_to_stderr)
+    listener.listen(16)
+    runs: list[_ServedRun] = []
+    unreaped: list[_Standby] = []  # runs over and replied to, their children not yet reaped
+
+    def server_fds() -> list[int]:
+        """What a new child must close: the listener, every run's connection and report pipe."""
+        fds = [listener.fileno()]
+        for run in runs:
+            fds += [run.connection.fileno(), run.child.report_fd]
+        return fds
+
+    def new_standby() -> _Standby:
+        return _Standby(server_fds(), main, prepare, stdout_to_stderr)
+
+    standby = new_standby()
     while True:
-        connection, _ = listener.accept()
-        with connection:
+        watched: list[Any] = [listener]
+        watched += [run.child.report_fd for run in runs]
+        watched += [run.connection for run in runs if not run.runner_gone]
+        timeout = _POLL_INTERVAL if runs or unreaped else None
+        readable, _, _ = select.select(watched, [], [], timeout)
+        for child in list(unreaped):
+            if not child.alive():
+                unreaped.remove(child)
+        for run in [r for r in runs if r.connection in readable]:
+            try:
+                gone = not run.connection.recv(4096)
+            except OSError:
+                gone = True
+            if gone:  # the runner went away (stopped): so does its run
+                run.runner_gone = True
+                try:
+                    os.killpg(run.child.pid, signal.SIGKILL)
+                except OSError:
+                    pass
+        for run in list(runs):
+            over, code = run.child.poll_end()
+            if not over:
+                continue
+            _finish(run, code)
+            runs.remove(run)
+            run.connection.close()
+            run.child.close_pipes()
+            if not run.child.reaped:  # killed with its group: reaped as soon as it is gone
+                unreaped.append(run.child)
+        if listener in readable:
+            connection, _ = listener.accept()
+            try:
+                connection.settimeout(_REQUEST_TIMEOUT)
+                line = _read_request(connection)
+                connection.settimeout(None)
+                if line:
+                    _request_fields(line)
+            except (ValueError, TypeError) as e:
+                _send(connection, {"error": str(e)})
+                line = b""
+            except OSError as e:  # a connection that broke or sent nothing: serve the others
+                print(f"pbdval serve: {e}", file=sys.stderr)
+                line = b""
+            if not line:  # the runner's probe, or a request answered with an error
+                connection.close()
+                continue
             if not standby.alive():  # it died while waiting (killed from outside): a new one
                 standby.discard()
-                standby = _Standby([listener, connection], main, prepare, stdout_to_stderr)
-            try:
-                ran = _serve_one(connection, standby)
-            except OSError as e:  # a connection that broke: the runner is gone, serve the next
-                print(f"pbdval serve: {e}", file=sys.stderr)
-                ran = True
-        if ran:  # the next run's child, once this run's connection is closed
-            standby.discard()  # reaped already, or killed if its run never started
-            standby = _Standby([listener], main, prepare, stdout_to_stderr)
+                standby = new_standby()
+            standby.start(line)
+            _send(connection, {"started": standby.pid})
+            runs.append(_ServedRun(connection, standby))
+            standby = new_standby()  # the next run's child, while this one runs
 
 
 # ---------------------------------------------------------------------------------------------

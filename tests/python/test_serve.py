@@ -156,23 +156,33 @@ sys.path.insert(0, {examples!r})
 from euler_engine import run as euler_run  # the template engine's integrator
 from pbdval import protocol as pp
 
+LEFT_BY_EARLIER_RUNS = []
+
 def main(argv=None):
     def run(scene, out):
+        if LEFT_BY_EARLIER_RUNS or pp.DIVERGENCE_LIMIT != 1e6:
+            raise RuntimeError(f"state left by an earlier run: {{LEFT_BY_EARLIER_RUNS}}")
         if "hang" in scene.name:
             time.sleep(300)
         if "crash" in scene.name:
             os.kill(os.getpid(), signal.SIGSEGV)
-        return euler_run(scene, out)
+        result = euler_run(scene, out)
+        if "leak" in scene.name:  # globals of the engine and of the protocol module changed
+            LEFT_BY_EARLIER_RUNS.append(scene.name)
+            pp.DIVERGENCE_LIMIT = 1e-9
+        return result
     return pp.serve(argv, "toy", lambda scene: [], run, "toy 1")
 
 if sys.argv[1:2] == ["--serve"]:
+    with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "servers.txt"), "a") as f:
+        f.write(f"{{os.getpid()}}\\n")
     sys.exit(pp.serve_runs(sys.argv[2:], main, "toy, persistent"))
 sys.exit(main())
 """
 
 
-def test_a_hang_and_a_crash_in_pbdval_run_do_not_reach_the_next_runs_of_the_server(
-        pbdval_binary: Path, tmp_path: Path) -> None:
+def toy_catalogue(tmp_path: Path) -> Path:
+    """A catalogue folder with the toy engine (TOY_ENGINE) as `toy`, single-shot and served."""
     catalogue = tmp_path / "catalogue"
     catalogue.mkdir()
     (catalogue / "toy.py").write_text(TOY_ENGINE.format(examples=str(REPO / "examples")))
@@ -180,17 +190,24 @@ def test_a_hang_and_a_crash_in_pbdval_run_do_not_reach_the_next_runs_of_the_serv
         "protocol": 1, "name": "toy", "command": ["{python}", "toy.py"],
         "serve": {"protocol": 1, "command": ["{python}", "toy.py", "--serve"]},
         "defaultMethod": "toy.a", "methods": [{"name": "toy.a", "parameters": []}]}))
+    return catalogue
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_a_hang_a_crash_and_a_leak_in_pbdval_run_do_not_reach_the_other_runs_of_its_one_server(
+        pbdval_binary: Path, tmp_path: Path, jobs: int) -> None:
+    catalogue = toy_catalogue(tmp_path)
     cases = tmp_path / "cases"
     cases.mkdir()
     (cases / "models").symlink_to(REPO / "cases" / "models")  # the meshes the case names
     projectile = (REPO / "cases" / "projectile.json").read_text()
-    order = ["a_first", "b_hang", "c_next", "d_crash", "e_last"]
+    order = ["a_first", "b_hang", "c_leak", "d_next", "e_crash", "f_leak", "g_last"]
     for name in order:
         (cases / f"{name}.json").write_text(projectile.replace('"Name": "projectile"', f'"Name": "{name}"'))
     scratch = tmp_path / "tmp"
     scratch.mkdir()
     result = subprocess.run([str(pbdval_binary), "run", *[str(cases / f"{n}.json") for n in order],
-                             "--engines", "toy", "--jobs", "1", "--timeout", "3",
+                             "--engines", "toy", "--jobs", str(jobs), "--timeout", "3",
                              "--out", str(tmp_path / "out")],
                             capture_output=True, text=True, cwd=tmp_path, check=False, timeout=600,
                             env=dict(os.environ, TMPDIR=str(scratch),
@@ -198,14 +215,76 @@ def test_a_hang_and_a_crash_in_pbdval_run_do_not_reach_the_next_runs_of_the_serv
     assert result.returncode == 0, result.stderr
     runs = {r["case"]: r for r in json.loads((tmp_path / "out" / "results.json").read_text())["runs"]}
     assert runs["b_hang"]["status"] == "timeout", runs["b_hang"]
-    assert runs["d_crash"]["status"] == "error" and "signal 11" in runs["d_crash"]["reason"], runs["d_crash"]
-    for name in ("a_first", "c_next", "e_last"):
+    assert runs["e_crash"]["status"] == "error" and "signal 11" in runs["e_crash"]["reason"], runs["e_crash"]
+    # Every other run saw a pristine engine (the toy raises on what a leak run left).
+    for name in ("a_first", "c_leak", "d_next", "f_leak", "g_last"):
         assert runs[name]["status"] == "ok", runs[name]
+    # One server for the whole command, whatever the number of workers, and it outlived the
+    # hang and the crash (they are not restarts).
+    assert len((catalogue / "servers.txt").read_text().split()) == 1
     # Nothing left: no scratch folder, no socket, no process of the engine.
     assert list(scratch.iterdir()) == []
     still = [p.name for p in Path("/proc").iterdir() if p.name.isdigit()
              and str(catalogue) in _cmdline(p)]
     assert still == []
+
+
+def named_scene(export_scene: Callable[..., Path], name: str) -> Path:
+    """The projectile's resolved scene under another scene name (the toy engine's mode)."""
+    path = export_scene("projectile", method="toy.a", duration=0.1)
+    document = json.loads(path.read_text())
+    document["name"] = name
+    named = path.with_name(f"{name}.json")
+    named.write_text(json.dumps(document))
+    return named
+
+
+def test_one_server_runs_a_second_run_while_the_first_hangs_and_kills_a_run_whose_runner_left(
+        export_scene: Callable[..., Path], tmp_path: Path) -> None:
+    catalogue = toy_catalogue(tmp_path)
+    socket_path = tmp_path / "toy.socket"
+    log = tmp_path / "toy.stderr"
+    with log.open("wb") as errors:
+        process = subprocess.Popen([str(VENV_PYTHON), "toy.py", "--serve", "--socket", str(socket_path)],
+                                   cwd=catalogue, env=engine_environment(), stdin=subprocess.DEVNULL,
+                                   stdout=subprocess.DEVNULL, stderr=errors)
+    try:
+        deadline = time.monotonic() + 60  # the runner's start limit
+        while not socket_path.exists():
+            assert process.poll() is None and time.monotonic() < deadline, log.read_text()
+            time.sleep(0.01)
+
+        def request_line(scene: Path, out: Path) -> bytes:
+            out.mkdir()
+            return (json.dumps({"protocol": 1, "scene": str(scene), "out": str(out),
+                                "stderr": str(out / "stderr")}) + "\n").encode()
+
+        hanging = socket.socket(socket.AF_UNIX)
+        hanging.connect(str(socket_path))
+        hanging.sendall(request_line(named_scene(export_scene, "hang"), tmp_path / "hang"))
+        started = json.loads(hanging.makefile().readline())
+        hanging_pid = started["started"]
+        # While that run hangs, the same server runs others to their end: a leak, then one
+        # that would see it.
+        for name in ("leak", "next"):
+            out = tmp_path / name
+            replies = request(socket_path, json.loads(request_line(named_scene(export_scene, name), out)))
+            assert replies[-1] == {"exited": 0}, (out / "stderr").read_text()
+            assert json.loads((out / "status.json").read_text())["status"] == "ok", (out / "status.json").read_text()
+        assert Path(f"/proc/{hanging_pid}").exists()  # still hanging meanwhile
+        # Its runner leaves (a stopped `pbdval run`): the server kills the run's process group.
+        hanging.close()
+        deadline = time.monotonic() + 10  # the server looks every 20 ms; generous on a loaded machine
+        while hanging_pid in children(process.pid) and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert hanging_pid not in children(process.pid)
+        assert process.poll() is None  # and serves on
+        out = tmp_path / "after"
+        replies = request(socket_path, json.loads(request_line(named_scene(export_scene, "after"), out)))
+        assert replies[-1] == {"exited": 0}, (out / "stderr").read_text()
+    finally:
+        process.kill()
+        process.wait()
 
 
 def _cmdline(process: Path) -> str:

@@ -35,7 +35,7 @@ struct ExternalCommand {
 
 /// An external engine. Each run is a fresh process: the engine's command started for it
 /// (single-shot), or, when the engine declares a `serve` command and `serverFolder` holds this
-/// worker's server for it (EngineEntry::startServer), a child the server forks for it
+/// command's server for it (EngineEntry::startServer), a child the server forks for it
 /// (docs/external-engines.md#persistent-engines). Either way the run is checked the same way.
 struct WholeRun;
 
@@ -68,7 +68,7 @@ class ExternalEngine final : public Engine {
   std::string serverFolder_;
 };
 
-/// Where the server of engine `name` listens in a worker's `serverFolder` (a Unix socket), and
+/// Where the server of engine `name` listens in `serverFolder` (a Unix socket), and
 /// where its own standard error goes.
 std::string serverSocketPath(const std::string& serverFolder, const std::string& name);
 std::string serverLogPath(const std::string& serverFolder, const std::string& name);
@@ -84,7 +84,7 @@ std::unique_ptr<EngineServer> startExternalServer(const std::string& name,
                                                   double startLimit = 60);
 /// startExternalServer without the wait: returns as soon as the process is started;
 /// EngineServer::awaitListening() waits (the `startLimit` counted from here). What
-/// EngineEntry::startServer does, so that the servers of a pool's workers start side by side.
+/// EngineEntry::startServer does, so that servers can start side by side.
 std::unique_ptr<EngineServer> launchExternalServer(const std::string& name,
                                                    const ExternalCommand& serve,
                                                    const std::string& serverFolder,

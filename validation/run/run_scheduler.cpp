@@ -34,7 +34,6 @@ using Clock = std::chrono::steady_clock;
 struct Child {
   pid_t pid = -1;
   std::size_t index = 0;
-  std::size_t worker = 0;  ///< which of the `jobs` workers runs it (its engine servers)
   Clock::time_point start;
   bool killedForTimeout = false;  ///< over the wall-time limit (stopped, or ended past it)
 };
@@ -96,20 +95,20 @@ RunRecord collect(const Child& child, int waitStatus, const RunRequest& request,
 
 }  // namespace
 
-/// The engine servers of each worker (EngineEntry::startServer,
-/// docs/external-engines.md#persistent-engines): started when a worker first runs such an engine,
-/// together with those of the other workers that will run it (side by side, each awaited when
-/// its worker first needs it: the interpreters' start is paid once in wall time, not once per
-/// worker), kept for their next runs, restarted when one ended or a run of the worker ended
-/// abnormally (killed, crashed: its server may be busy with what that run left), all stopped
-/// with the pool.
-/// Their sockets are in a folder of their own under $TMPDIR (a Unix socket path has at most 107
-/// bytes).
+/// The engine servers of a scheduler (EngineEntry::startServer,
+/// docs/external-engines.md#persistent-engines): one per engine, started when a run first needs
+/// it and shared by every worker (a server runs several runs at a time, each in a child of its
+/// own: the interpreter's start is paid once per command), restarted when it ended, all
+/// stopped with the pool. A run that ended abnormally (killed, crashed) leaves the server
+/// serving: its child's process group is killed by the run's engine (or by the server when the
+/// run's connection closes, or by removeEngineLeftovers), never by stopping the server, which
+/// may be running another worker's run. Their sockets are in a folder of their own under
+/// $TMPDIR (a Unix socket path has at most 107 bytes).
 class ServerPool {
  public:
   static constexpr std::size_t kMaxSocketPath = 108;  ///< sizeof(sockaddr_un::sun_path) on Linux
 
-  explicit ServerPool(std::size_t workers) : servers_(workers) {
+  ServerPool() {
     std::string pattern = (std::filesystem::temp_directory_path() /
                            ("pbdval-serve-" + std::to_string(::getpid()) + "-XXXXXX"))
                               .string();
@@ -117,8 +116,7 @@ class ServerPool {
   }
   ~ServerPool() {
     if (::getpid() != owner_) return;  // a forked copy: the servers are the scheduler's
-    for (auto& worker : servers_)
-      worker.clear();
+    servers_.clear();
     if (!folder_.empty()) {
       std::error_code ignored;
       std::filesystem::remove_all(folder_, ignored);
@@ -127,38 +125,25 @@ class ServerPool {
   ServerPool(const ServerPool&) = delete;
   ServerPool& operator=(const ServerPool&) = delete;
 
-  /// The server folder of `worker` for a run of `engine`, its server started when needed and
-  /// listening; empty when the engine has no server (or the pool has no folder: single-shot
-  /// runs). `runsOfEngine`: how many runs of `engine` are still to start, this one included;
-  /// up to that many workers get its server started now, this one first.
-  std::string prepare(std::size_t worker, const EngineEntry& engine, std::size_t runsOfEngine) {
+  /// The server folder for a run of `engine`, its server started when needed and listening;
+  /// empty when the engine has no server (or the pool has no folder: single-shot runs).
+  std::string prepare(const EngineEntry& engine) {
     if (!engine.startServer || folder_.empty()) return "";
     // A socket path longer than a sockaddr_un holds (a long engine name): single-shot runs.
-    if (serverSocketPath(folderOf(worker), engine.name).size() >= kMaxSocketPath) return "";
-    std::unique_ptr<EngineServer>& server = servers_[worker][engine.name];
+    if (serverSocketPath(folder_, engine.name).size() >= kMaxSocketPath) return "";
+    std::unique_ptr<EngineServer>& server = servers_[engine.name];
     if (!server || !server->running()) {
       server.reset();
-      server = engine.startServer(folderOf(worker));
-    }
-    std::size_t started = 1;
-    for (std::size_t other = 0; other < servers_.size() && started < runsOfEngine; ++other) {
-      if (other == worker) continue;
-      std::unique_ptr<EngineServer>& waiting = servers_[other][engine.name];
-      if (!waiting) waiting = engine.startServer(folderOf(other));
-      ++started;
+      server = engine.startServer(folder_);
     }
     server->awaitListening();
-    return folderOf(worker);
+    return folder_;
   }
-  /// After a run of `worker` that ended abnormally.
-  void restart(std::size_t worker) { servers_[worker].clear(); }
 
  private:
-  std::string folderOf(std::size_t worker) const { return folder_ + "/" + std::to_string(worker); }
-
   pid_t owner_ = ::getpid();
   std::string folder_;
-  std::vector<std::map<std::string, std::unique_ptr<EngineServer>>> servers_;
+  std::map<std::string, std::unique_ptr<EngineServer>> servers_;
 };
 
 RunScheduler::RunScheduler(const EngineRegistry& registry, int jobs, double timeout,
@@ -220,13 +205,7 @@ std::vector<RunRecord> RunScheduler::runAll(
   createFolders(scratchFolder_);
   std::vector<RunRecord> records(requests.size());
   std::vector<Child> running;
-  ServerPool servers{std::size_t(jobs_)};
-  const auto freeWorker = [&]() {
-    for (std::size_t w = 0;; ++w)
-      if (std::none_of(running.begin(), running.end(),
-                       [w](const Child& c) { return c.worker == w; }))
-        return w;
-  };
+  ServerPool servers;
   std::size_t next = 0, done = 0;
   const auto stopAll = [&](int signal) {
     for (const Child& child : running)
@@ -243,22 +222,16 @@ std::vector<RunRecord> RunScheduler::runAll(
   };
   while (done < requests.size()) {
     while (static_cast<int>(running.size()) < jobs_ && next < requests.size()) {
-      const std::size_t worker = freeWorker();
       std::string serverFolder;
       try {
-        // The runs of this engine still to start, counted up to the number of workers.
-        std::size_t runsOfEngine = 0;
-        for (std::size_t k = next; k < requests.size() && runsOfEngine < std::size_t(jobs_); ++k)
-          if (requests[k].engine == requests[next].engine) ++runsOfEngine;
-        serverFolder =
-            servers.prepare(worker, registry_.engine(requests[next].engine), runsOfEngine);
-        // An engine reference runs in the same worker: its engine's server too (one folder
-        // per worker, a socket per engine).
+        serverFolder = servers.prepare(registry_.engine(requests[next].engine));
+        // An engine reference runs in the same worker: its engine's server too (one folder,
+        // a socket per engine).
         const std::string& reference = requests[next].referenceMode;
         if (isEngineReference(reference)) {
           const EngineReference engineReference = parseEngineReference(reference, registry_);
-          const std::string referenceFolder = servers.prepare(
-              worker, registry_.engine(registry_.method(engineReference.method).engine), 1);
+          const std::string referenceFolder =
+              servers.prepare(registry_.engine(registry_.method(engineReference.method).engine));
           if (serverFolder.empty()) serverFolder = referenceFolder;
         }
       } catch (const std::invalid_argument&) {
@@ -291,7 +264,7 @@ std::vector<RunRecord> RunScheduler::runAll(
         ::_exit(0);
       }
       ::setpgid(pid, pid);  // also here: whichever of the two runs first
-      running.push_back({pid, next, worker, Clock::now(), false});
+      running.push_back({pid, next, Clock::now(), false});
       ++next;
     }
     if (const int signal = interrupts.wait(0)) stopAll(signal);
@@ -310,8 +283,6 @@ std::vector<RunRecord> RunScheduler::runAll(
       if (timeout_ > 0 && elapsed > timeout_) child.killedForTimeout = true;
       records[child.index] = collect(child, status, requests[child.index],
                                      resultFile(scratchFolder_, child.index), timeout_);
-      if (child.killedForTimeout || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
-        servers.restart(child.worker);
       ++done;
       if (onFinished) onFinished(records[child.index], done, requests.size());
       continue;
