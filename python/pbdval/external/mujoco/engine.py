@@ -240,6 +240,7 @@ class MujocoRun:
         self._body_index = np.array(self.body_ids, dtype=np.intp)
         self._principal_factors = pp.principal_to_scene_factors(scene)
         self._velocity = np.zeros((len(self.body_ids), 6))
+        self._velocity_rows = [(body_id, self._velocity[i]) for i, body_id in enumerate(self.body_ids)]
         self._state = np.empty((len(self.body_ids), pp.STATE_COLUMNS))
         mujoco.mj_forward(self.model, self.data)
         self._project_initial_velocities()
@@ -344,9 +345,10 @@ class MujocoRun:
         array."""
         m, d = self.model, self.data
         velocity = self._velocity
-        for i, body_id in enumerate(self.body_ids):
+        body_frame, object_velocity = mujoco.mjtObj.mjOBJ_XBODY, mujoco.mj_objectVelocity
+        for body_id, row in self._velocity_rows:
             # [w; v] at the body frame's origin (the centre of mass), world axes.
-            mujoco.mj_objectVelocity(m, d, mujoco.mjtObj.mjOBJ_XBODY, body_id, velocity[i], 0)
+            object_velocity(m, d, body_frame, body_id, row, 0)
         state = self._state
         state[:, 0:3] = d.xpos[self._body_index]
         state[:, 3:7] = d.xquat[self._body_index]
@@ -364,9 +366,15 @@ class MujocoRun:
     def run(self, out_dir: Path) -> pp.Status:
         fatal = _fatal_warnings()
         fatal_index = np.array(list(fatal), dtype=np.intp)
+        # Views of the run's MjData arrays, taken once: every step looks at them (MjData's
+        # buffers stay where they are for the whole run), and a view made per step costs more
+        # than MuJoCo's step of a small scene.
+        warning_counts = self.data.warning.number
+        qpos, qvel = self.data.qpos, self.data.qvel
+        largest = np.maximum.reduce  # of |q|: ndarray.max without its Python wrapper
 
         def failure(t: float) -> str | None:
-            if not self.data.warning.number[fatal_index].any():  # one look at every warning
+            if not warning_counts[fatal_index].any():  # one look at every warning
                 return None
             for warning, text in fatal.items():
                 if self.data.warning[warning].number > 0:
@@ -376,12 +384,12 @@ class MujocoRun:
         def check(t: float) -> str | None:
             # Between samples: the runner's limits on the generalised state, vectorised (a free
             # body's qpos holds its position, its qvel its linear and angular velocity).
-            qpos, qvel = self.data.qpos, self.data.qvel
             # One cheap look first, as the runner's check (pp._blow_up_reason): every value
             # within the limit (NaN fails the comparison); only a state that fails it is looked
             # at closer, for the reason.
             limit = pp.DIVERGENCE_LIMIT
-            if np.abs(qpos).max(initial=0.0) <= limit and np.abs(qvel).max(initial=0.0) <= limit:
+            if (largest(np.abs(qpos), initial=0.0) <= limit
+                    and largest(np.abs(qvel), initial=0.0) <= limit):
                 return None
             if not (np.isfinite(qpos).all() and np.isfinite(qvel).all()):
                 return f"non-finite state at t = {t:g} s"
@@ -393,22 +401,39 @@ class MujocoRun:
 
         def states(t: float) -> np.ndarray:
             # mj_step leaves xpos, xquat and cvel at the start of the step (they are computed
-            # before the integration); recompute them for the new state. mj_forward changes no
-            # state and no warm start, so sampling does not change the trajectory.
+            # before the integration); recompute them for the new state. What states() reads
+            # (xpos, xquat; cvel and subtree_com for mj_objectVelocity) is made by the first
+            # stages of mj_forward alone, the same functions on the same qpos and qvel: the
+            # same numbers, without the collision and constraint solve of a whole mj_forward
+            # (most of a sample's cost). They change no state and no warm start, so sampling
+            # does not change the trajectory. Scenes with particles keep the whole mj_forward.
             if t > 0:
-                mujoco.mj_forward(self.model, self.data)
+                if self.scene.particles:
+                    mujoco.mj_forward(self.model, self.data)
+                else:
+                    mujoco.mj_kinematics(self.model, self.data)
+                    mujoco.mj_comPos(self.model, self.data)
+                    mujoco.mj_comVel(self.model, self.data)
             return self.states()
+
+        model, data = self.model, self.data
+        mj_step = mujoco.mj_step
 
         def step() -> None:
             for _ in range(self.substeps):
                 # Set points for the end of the step being taken, as the PBD motors use them.
-                end = self.data.time + self.model.opt.timestep
+                end = data.time + model.opt.timestep
                 for actuator, target in self.servos:
-                    self.data.ctrl[actuator] = target.value_at(end)
-                mujoco.mj_step(self.model, self.data)
+                    data.ctrl[actuator] = target.value_at(end)
+                mj_step(model, data)
+
+        def step_once() -> None:  # step() of one substep without servos
+            mj_step(model, data)
 
         particles = (lambda t: self.layout.state(self.data)) if self.scene.particles else None
-        status = pp.simulate(self.scene, out_dir, step, states, failure, check, particles=particles,
+        status = pp.simulate(self.scene, out_dir,
+                             step_once if self.substeps == 1 and not self.servos else step,
+                             states, failure, check, particles=particles,
                              finish_states=self.finish_states)
         status.engine_version = engine_version()
         status.effective_settings = self.settings
