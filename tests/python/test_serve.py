@@ -6,8 +6,10 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import socket
 import subprocess
+import tempfile
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -204,14 +206,19 @@ def test_a_hang_a_crash_and_a_leak_in_pbdval_run_do_not_reach_the_other_runs_of_
     order = ["a_first", "b_hang", "c_leak", "d_next", "e_crash", "f_leak", "g_last"]
     for name in order:
         (cases / f"{name}.json").write_text(projectile.replace('"Name": "projectile"', f'"Name": "{name}"'))
-    scratch = tmp_path / "tmp"
-    scratch.mkdir()
-    result = subprocess.run([str(pbdval_binary), "run", *[str(cases / f"{n}.json") for n in order],
-                             "--engines", "toy", "--jobs", str(jobs), "--timeout", "3",
-                             "--out", str(tmp_path / "out")],
-                            capture_output=True, text=True, cwd=tmp_path, check=False, timeout=600,
-                            env=dict(os.environ, TMPDIR=str(scratch),
-                                     PBDVAL_ENGINE_CATALOGUE=str(catalogue)))
+    # A short $TMPDIR: under pytest's long one the servers' socket paths would not fit a Unix
+    # socket's 107 bytes and every run would be single-shot (run_scheduler.cpp, ServerPool).
+    scratch = Path(tempfile.mkdtemp(prefix="pbdval-t-", dir="/tmp"))
+    try:
+        result = subprocess.run([str(pbdval_binary), "run", *[str(cases / f"{n}.json") for n in order],
+                                 "--engines", "toy", "--jobs", str(jobs), "--timeout", "3",
+                                 "--out", str(tmp_path / "out")],
+                                capture_output=True, text=True, cwd=tmp_path, check=False, timeout=600,
+                                env=dict(os.environ, TMPDIR=str(scratch),
+                                         PBDVAL_ENGINE_CATALOGUE=str(catalogue)))
+        left = list(scratch.iterdir())
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
     assert result.returncode == 0, result.stderr
     runs = {r["case"]: r for r in json.loads((tmp_path / "out" / "results.json").read_text())["runs"]}
     assert runs["b_hang"]["status"] == "timeout", runs["b_hang"]
@@ -223,7 +230,7 @@ def test_a_hang_a_crash_and_a_leak_in_pbdval_run_do_not_reach_the_other_runs_of_
     # hang and the crash (they are not restarts).
     assert len((catalogue / "servers.txt").read_text().split()) == 1
     # Nothing left: no scratch folder, no socket, no process of the engine.
-    assert list(scratch.iterdir()) == []
+    assert left == []
     still = [p.name for p in Path("/proc").iterdir() if p.name.isdigit()
              and str(catalogue) in _cmdline(p)]
     assert still == []
