@@ -250,8 +250,8 @@ class SteppingEngine : public Engine {
 };
 
 /// A process an engine keeps for many runs (an external engine's server,
-/// docs/external-engines.md#persistent-engines), started by a worker of `pbdval run` and ended
-/// (its process group killed and reaped) when this is destroyed.
+/// docs/external-engines.md#persistent-engines), started once by `pbdval run` for all its
+/// workers and ended (its process group killed and reaped) when this is destroyed.
 class EngineServer {
  public:
   virtual ~EngineServer() = default;
@@ -267,7 +267,7 @@ class EngineServer {
 /// environment by an engine).
 struct EngineOptions {
   std::string gridCacheFolder;  ///< the PBD library's grid SDF cache; empty: none
-  /// The folder where the servers of this worker listen (EngineEntry::startServer); empty:
+  /// The folder where the command's engine servers listen (EngineEntry::startServer); empty:
   /// every run of an external engine starts its own process.
   std::string serverFolder;
 };
