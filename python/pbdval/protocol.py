@@ -1199,7 +1199,7 @@ class _Standby:
     reports its exit status on a second pipe before it exits, so that the reply need not wait
     for the kernel to tear down a large process (milliseconds)."""
 
-    def __init__(self, inherited: Sequence[int], main: Callable[[list[str]], int],
+    def __init__(self, inherited: Sequence[socket.socket | int], main: Callable[[list[str]], int],
                  prepare: Callable[[], None] | None, stdout_to_stderr: bool) -> None:
         read_end, self._write_end = os.pipe()
         self._report_read, report_write = os.pipe()
@@ -1221,8 +1221,11 @@ class _Standby:
             try:
                 os.close(self._write_end)
                 os.close(self._report_read)
-                for inherited_fd in inherited:  # the server's and the other runs', not this run's
-                    os.close(inherited_fd)
+                for inherited_end in inherited:  # the server's and the other runs', not this run's
+                    if isinstance(inherited_end, socket.socket):
+                        inherited_end.close()  # the object knows it is closed: nothing closes its number again
+                    else:
+                        os.close(inherited_end)
                 os.setpgid(0, 0)
                 _die_with_parent()
                 if os.getppid() == server:  # else the server died before prctl
@@ -1384,15 +1387,15 @@ def serve_runs(argv: Sequence[str] | None, main: Callable[[list[str]], int], des
     runs: list[_ServedRun] = []
     unreaped: list[_Standby] = []  # runs over and replied to, their children not yet reaped
 
-    def server_fds() -> list[int]:
+    def server_ends() -> list[socket.socket | int]:
         """What a new child must close: the listener, every run's connection and report pipe."""
-        fds = [listener.fileno()]
+        ends: list[socket.socket | int] = [listener]
         for run in runs:
-            fds += [run.connection.fileno(), run.child.report_fd]
-        return fds
+            ends += [run.connection, run.child.report_fd]
+        return ends
 
     def new_standby() -> _Standby:
-        return _Standby(server_fds(), main, prepare, stdout_to_stderr)
+        return _Standby(server_ends(), main, prepare, stdout_to_stderr)
 
     standby = new_standby()
     while True:
