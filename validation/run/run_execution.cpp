@@ -41,6 +41,20 @@ LoadedCase loadCase(const RunRequest& request, const EngineRegistry& registry) {
   return c;
 }
 
+}  // namespace
+
+std::string referenceEngineOf(const RunRequest& request, const EngineRegistry& registry) {
+  if (isEngineReference(request.referenceMode))
+    return registry.method(parseEngineReference(request.referenceMode, registry).method).engine;
+  if (!request.referenceMode.empty()) return "";  // "fine", "none"
+  pbd::LoadOptions options;
+  options.strict = request.strictScene;
+  const CaseSpec spec = parseCaseSpec(pbd::loadScene(request.caseFile, options).scene, registry);
+  return spec.reference.kind == ReferenceSpec::Kind::Engine ? spec.reference.engine : "";
+}
+
+namespace {
+
 RunLength lengthOf(const LoadedCase& c, const RunRequest& request) {
   return {defaultDuration(c.scene, c.spec),
           request.sampleInterval > 0 ? request.sampleInterval : c.spec.sampleInterval.value_or(0)};

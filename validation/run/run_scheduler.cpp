@@ -221,6 +221,7 @@ std::vector<RunRecord> RunScheduler::runAll(
   std::vector<RunRecord> records(requests.size());
   std::vector<Child> running;
   ServerPool servers{std::size_t(jobs_)};
+  std::map<std::string, std::string> caseReferenceEngines;  ///< case file → referenceEngineOf
   const auto freeWorker = [&]() {
     for (std::size_t w = 0;; ++w)
       if (std::none_of(running.begin(), running.end(),
@@ -252,17 +253,25 @@ std::vector<RunRecord> RunScheduler::runAll(
           if (requests[k].engine == requests[next].engine) ++runsOfEngine;
         serverFolder =
             servers.prepare(worker, registry_.engine(requests[next].engine), runsOfEngine);
-        // An engine reference runs in the same worker: its engine's server too (one folder
-        // per worker, a socket per engine).
-        const std::string& reference = requests[next].referenceMode;
-        if (isEngineReference(reference)) {
-          const EngineReference engineReference = parseEngineReference(reference, registry_);
-          const std::string referenceFolder = servers.prepare(
-              worker, registry_.engine(registry_.method(engineReference.method).engine), 1);
+        // An engine reference (--reference METHOD, or the case's of type "engine") runs in
+        // the same worker: its engine's server too (one folder per worker, a socket per
+        // engine). The case's is read once per case file.
+        const RunRequest& request = requests[next];
+        const auto known = request.referenceMode.empty()
+                               ? caseReferenceEngines.find(request.caseFile)
+                               : caseReferenceEngines.end();
+        const std::string referenceEngine = known != caseReferenceEngines.end()
+                                                ? known->second
+                                                : referenceEngineOf(request, registry_);
+        if (request.referenceMode.empty())
+          caseReferenceEngines[request.caseFile] = referenceEngine;
+        if (!referenceEngine.empty()) {
+          const std::string referenceFolder =
+              servers.prepare(worker, registry_.engine(referenceEngine), 1);
           if (serverFolder.empty()) serverFolder = referenceFolder;
         }
-      } catch (const std::invalid_argument&) {
-        // an unknown engine or reference: the run says so
+      } catch (const std::exception&) {
+        // an unknown engine or reference, an unreadable case: the run says so
       }
       std::fflush(nullptr);  // nothing buffered may be written twice
       const std::string file = resultFile(scratchFolder_, next);
