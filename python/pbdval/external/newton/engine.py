@@ -9,8 +9,8 @@ body whose frame is its principal frame (centre of mass at the origin, the princ
 static bodies are static shapes (body -1) at their pose. Joints follow the spanning forest of
 pbdval.external.joint_trees: a free joint at each tree of dynamic bodies' root, each tree joint
 from its parent (or the world) at the anchor (a slider's at its child's centre), its frame
-world-aligned at t = 0 (a hinge's or slider's turned so that its x is the joint's axis: Newton's
-XPBD bounds each coordinate of the axis in that frame) so that every joint coordinate starts
+world-aligned at t = 0 (a slider's, and under SolverXPBD a hinge's, turned so that its x is the
+joint's axis: Newton's XPBD bounds each coordinate of the axis in that frame) so that every joint coordinate starts
 at 0. Contacts: Newton's collision pipeline once per scene step.
 Methods: newton.xpbd (SolverXPBD), newton.featherstone, newton.semiImplicit; a run naming
 newton.mujoco (SolverMuJoCo) is `unsupported` with features.MUJOCO_WARP_REASON.
@@ -270,13 +270,17 @@ class NewtonRun:
             # moves the box alone.
             anchor = child_body.position
 
-        # The joint frame: at the anchor; for a hinge or slider its x along the joint's axis,
-        # else the world's axes. SolverXPBD bounds each joint coordinate by the box
-        # [min(a·lower, a·upper), max(a·lower, a·upper)] per component of the axis a in this
-        # frame (solve_body_joints): an axis off the frame's x, y or z, e.g. joint_slider's
-        # (1, -1, 0)/√2, unlimited, frees both components it has — the slider then falls 3.5 m
-        # off its line in 1 s — and an axis along x frees x alone.
-        frame = _x_to(j.axes["axis"].world) if j.type in ("hinge", "slider") else identity
+        # The joint frame: at the anchor; for a slider, and a hinge under SolverXPBD, its x
+        # along the joint's axis, else the world's axes. SolverXPBD bounds each joint
+        # coordinate by the box [min(a·lower, a·upper), max(a·lower, a·upper)] per component of
+        # the axis a in this frame (solve_body_joints): an axis off the frame's x, y or z, e.g.
+        # joint_slider's (1, -1, 0)/√2, unlimited, frees both components it has — the slider
+        # then fell 3.2 m off its line in 1 s — and an axis along x frees x alone.
+        # SolverSemiImplicit's revolute joint diverged within three steps in a turned frame on
+        # double_pendulum (world-aligned: ok; its penalty form has no box), so its hinges keep
+        # the world's axes.
+        turned = j.type == "slider" or (j.type == "hinge" and self.solver_name == "xpbd")
+        frame = _x_to(j.axes["axis"].world) if turned else identity
 
         def local(body: pp.Body) -> Any:  # the joint frame in the body's frame
             rotation = _rotation(body.world_principal_rotation)
@@ -290,7 +294,8 @@ class NewtonRun:
         common = {"parent_xform": parent_xform, "child_xform": local(child_body), "collision_filter_parent": False}
         if j.type in ("hinge", "slider"):
             add = builder.add_joint_revolute if j.type == "hinge" else builder.add_joint_prismatic
-            return int(add(parent, child, axis=wp.vec3(1.0, 0.0, 0.0), **common))
+            axis = wp.vec3(1.0, 0.0, 0.0) if turned else wp.vec3(*(float(a) for a in j.axes["axis"].world))
+            return int(add(parent, child, axis=axis, **common))
         if j.type == "ball":
             return int(builder.add_joint_ball(parent, child, **common))
         first, second = ("axis2", "axis1") if tree_joint.flipped else ("axis1", "axis2")
