@@ -263,8 +263,7 @@ std::vector<RunRecord> RunScheduler::runAll(
         const std::string referenceEngine = known != caseReferenceEngines.end()
                                                 ? known->second
                                                 : referenceEngineOf(request, registry_);
-        if (request.referenceMode.empty())
-          caseReferenceEngines[request.caseFile] = referenceEngine;
+        if (request.referenceMode.empty()) caseReferenceEngines[request.caseFile] = referenceEngine;
         if (!referenceEngine.empty()) {
           const std::string referenceFolder =
               servers.prepare(worker, registry_.engine(referenceEngine), 1);
