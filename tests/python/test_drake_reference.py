@@ -73,3 +73,25 @@ def test_a_sweep_against_the_converged_reference_fits_semi_implicit_eulers_first
     assert sweep["metric"] == "trajectory_error_max"
     order = sweep["fits"][0]["orders"]["timeStepSize"]["order"]
     assert abs(order - 1.0) < 0.1, order  # first order; the pendulum's fits are within 0.06 of 1
+
+
+def test_a_case_reference_of_type_engine_runs_its_served_engine_beside_a_served_engine(
+        pbdval_binary: Path, tmp_path: Path) -> None:
+    """A case whose Validation.reference is {"type": "engine", "method": "drake.rk3"}, run in
+    pybullet (a served engine): the worker starts Drake's server too, as for `--reference
+    drake.rk3`. Without it the reference run found no Drake socket in the worker's server folder
+    and the run had no reference. Both routes run the same reference (drake.rk3 at its default
+    targetAccuracy, at the run's step), so they measure the same error, bit for bit."""
+    scene = json.loads((REPO / "cases" / "joint_hinge.json").read_text())
+    scene["Validation"]["reference"] = {"type": "engine", "method": "drake.rk3"}
+    scene["Validation"]["duration"] = 0.5
+    case = tmp_path / "case" / "joint_hinge.json"
+    case.parent.mkdir()
+    case.write_text(json.dumps(scene))
+    (case.parent / "models").symlink_to(REPO / "cases" / "models")
+    from_case = run_records(pbdval_binary, tmp_path / "c", str(case), "--methods", "pybullet.si,mujoco.euler")
+    from_option = run_records(pbdval_binary, tmp_path / "o", str(case), "--methods", "pybullet.si,mujoco.euler",
+                              "--reference", "drake.rk3")
+    for c, o in zip(from_case, from_option, strict=True):
+        assert c["status"] == "ok" and "drake/drake.rk3" in c["reference"], c
+        assert c["metrics"]["trajectory_error_max"] == o["metrics"]["trajectory_error_max"], (c, o)

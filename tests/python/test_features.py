@@ -69,6 +69,18 @@ def test_the_generated_parity_pages_are_current() -> None:
                        f"regenerate them with {REGENERATE}")
 
 
+def test_the_cross_engine_table_compares_every_engine_with_a_page_opt_in_ones_included() -> None:
+    from pbdval.parity import ENGINE_PAGES
+
+    text = (REPO / "docs" / "parity.md").read_text(encoding="utf-8")
+    header = next(line for line in text.splitlines() if line.startswith("| feature |"))
+    columns = [c.strip() for c in header.strip("|").split("|")][1:]
+    # The reference engines (DART, Drake, and Newton, which runs only when named) are columns.
+    for engine in ENGINE_PAGES:
+        assert engine in columns, (engine, columns)
+    assert "example-euler" not in columns  # the catalogue's example is no engine to compare
+
+
 def test_the_mujoco_python_catalogue_carries_the_generators_feature_table() -> None:
     from pbdval.external.mujoco.features import FEATURES
 

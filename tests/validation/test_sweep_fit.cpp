@@ -104,6 +104,24 @@ TEST(ConvergenceFit, CountLikeParametersRefineUpwards) {
   EXPECT_EQ(fit.excluded.size(), 2u);  // 8 and 16
 }
 
+// An error-controlled integrator (Drake's continuous plant) is refined by shrinking its target
+// accuracy: the global error of a tolerance-proportional integrator falls as tol¹, and the
+// order is that exponent, positive, as for a step. Counted like a count, the same errors would
+// give −1 and every point would be "on a floor".
+TEST(ConvergenceFit, TargetAccuracyIsRefinedDownwardsLikeAStep) {
+  std::vector<std::vector<double>> tolerances;
+  std::vector<double> errors;
+  for (double tolerance : {1e-3, 1e-4, 1e-5, 1e-6}) {
+    tolerances.push_back({tolerance});
+    errors.push_back(40 * tolerance);
+  }
+  const SweepFit fit = fitConvergence("drake.rk3", {"targetAccuracy"}, tolerances, errors);
+  EXPECT_NEAR(fit.orders[0], 1, 1e-9);  // an exact power law: round-off only
+  ASSERT_EQ(fit.localOrders.size(), 3u);
+  EXPECT_EQ(fit.localOrders[0].from, 1e-3);  // coarse to fine: the largest tolerance first
+  EXPECT_TRUE(fit.flags.empty());
+}
+
 // Noise of 5 % on an order-2 sequence: the fit is flagged only when R² < 0.99; a sequence that
 // is no power law at all (errors alternating) is flagged.
 TEST(ConvergenceFit, PoorFitsAreFlagged) {

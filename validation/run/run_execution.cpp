@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <optional>
 
 #include "pbd/io/scene_loader.h"
@@ -40,6 +42,32 @@ LoadedCase loadCase(const RunRequest& request, const EngineRegistry& registry) {
   c.method = resolveMethod(info, applyAssignments(request.assignments, info, c.scene));
   return c;
 }
+
+}  // namespace
+
+std::string referenceEngineOf(const RunRequest& request, const EngineRegistry& registry) {
+  if (isEngineReference(request.referenceMode))
+    return registry.method(parseEngineReference(request.referenceMode, registry).method).engine;
+  if (!request.referenceMode.empty()) return "";  // "fine", "none"
+  // Cheap first: a case whose Validation.reference is no engine's (nearly all) is not loaded
+  // (a scene's meshes take 0.1-0.3 s); the others are read the one way executeRun reads them.
+  std::ifstream file(request.caseFile);
+  const nlohmann::json root = nlohmann::json::parse(file, nullptr, false);
+  if (!root.is_discarded()) {
+    const nlohmann::json* type = nullptr;
+    if (root.is_object() && root.contains("Validation") && root["Validation"].is_object() &&
+        root["Validation"].contains("reference") && root["Validation"]["reference"].is_object() &&
+        root["Validation"]["reference"].contains("type"))
+      type = &root["Validation"]["reference"]["type"];
+    if (!type || *type != "engine") return "";
+  }
+  pbd::LoadOptions options;
+  options.strict = request.strictScene;
+  const CaseSpec spec = parseCaseSpec(pbd::loadScene(request.caseFile, options).scene, registry);
+  return spec.reference.kind == ReferenceSpec::Kind::Engine ? spec.reference.engine : "";
+}
+
+namespace {
 
 RunLength lengthOf(const LoadedCase& c, const RunRequest& request) {
   return {defaultDuration(c.scene, c.spec),

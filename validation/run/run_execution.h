@@ -13,6 +13,13 @@ namespace pbdval {
 /// the record's status and reason.
 RunRecord executeRun(const RunRequest& request, const EngineRegistry& registry);
 
+/// The engine whose run is the reference of `request` — the engine of `--reference METHOD`, or,
+/// with the case's reference (an empty referenceMode), the engine of its Validation.reference of
+/// type "engine" — so that the scheduler starts that engine's server in the run's worker too;
+/// "" when the reference is no other engine's run. Reads the case file for the latter; throws
+/// (std::invalid_argument, pbd::SceneError) on what executeRun would report as the run's error.
+std::string referenceEngineOf(const RunRequest& request, const EngineRegistry& registry);
+
 /// The largest contact margin, in magnitude, that the penetration metrics take (m). Engines
 /// declare millimetres to centimetres; the FCL oracle's broad phase inflates every box by a
 /// negative margin, and a margin of -1.8e308 overflowed its AABB tree (a segfault, found by the

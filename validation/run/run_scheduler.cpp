@@ -206,6 +206,7 @@ std::vector<RunRecord> RunScheduler::runAll(
   std::vector<RunRecord> records(requests.size());
   std::vector<Child> running;
   ServerPool servers;
+  std::map<std::string, std::string> caseReferenceEngines;  ///< case file → referenceEngineOf
   std::size_t next = 0, done = 0;
   const auto stopAll = [&](int signal) {
     for (const Child& child : running)
@@ -225,17 +226,23 @@ std::vector<RunRecord> RunScheduler::runAll(
       std::string serverFolder;
       try {
         serverFolder = servers.prepare(registry_.engine(requests[next].engine));
-        // An engine reference runs in the same worker: its engine's server too (one folder,
-        // a socket per engine).
-        const std::string& reference = requests[next].referenceMode;
-        if (isEngineReference(reference)) {
-          const EngineReference engineReference = parseEngineReference(reference, registry_);
-          const std::string referenceFolder =
-              servers.prepare(registry_.engine(registry_.method(engineReference.method).engine));
+        // An engine reference (--reference METHOD, or the case's of type "engine") runs in
+        // the same command: its engine's server too (one folder, a socket per engine). The
+        // case's is read once per case file.
+        const RunRequest& request = requests[next];
+        const auto known = request.referenceMode.empty()
+                               ? caseReferenceEngines.find(request.caseFile)
+                               : caseReferenceEngines.end();
+        const std::string referenceEngine = known != caseReferenceEngines.end()
+                                                ? known->second
+                                                : referenceEngineOf(request, registry_);
+        if (request.referenceMode.empty()) caseReferenceEngines[request.caseFile] = referenceEngine;
+        if (!referenceEngine.empty()) {
+          const std::string referenceFolder = servers.prepare(registry_.engine(referenceEngine));
           if (serverFolder.empty()) serverFolder = referenceFolder;
         }
-      } catch (const std::invalid_argument&) {
-        // an unknown engine or reference: the run says so
+      } catch (const std::exception&) {
+        // an unknown engine or reference, an unreadable case: the run says so
       }
       std::fflush(nullptr);  // nothing buffered may be written twice
       const std::string file = resultFile(scratchFolder_, next);

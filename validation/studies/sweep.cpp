@@ -23,9 +23,10 @@
 namespace pbdval {
 namespace {
 
-/// Step-like parameters improve as they shrink; the others as they grow.
+/// Step-like parameters improve as they shrink; the others as they grow. An error-controlled
+/// integrator's target accuracy (Drake's continuous plant) is refined by shrinking it.
 bool isStepLike(const std::string& parameter) {
-  return parameter == "timeStepSize" || parameter == "tolerance";
+  return parameter == "timeStepSize" || parameter == "tolerance" || parameter == "targetAccuracy";
 }
 
 std::vector<std::vector<std::pair<std::string, std::string>>> grid(

@@ -8,8 +8,10 @@ the source tree's build/cache/warp (KERNEL_CACHE), not $HOME. Every dynamic body
 body whose frame is its principal frame (centre of mass at the origin, the principal inertia);
 static bodies are static shapes (body -1) at their pose. Joints follow the spanning forest of
 pbdval.external.joint_trees: a free joint at each tree of dynamic bodies' root, each tree joint
-from its parent (or the world) at the anchor, its frame world-aligned at t = 0 so that every
-joint coordinate starts at 0. Contacts: Newton's collision pipeline once per scene step.
+from its parent (or the world) at the anchor (a slider's at its child's centre), its frame
+world-aligned at t = 0 (a slider's, and under SolverXPBD a hinge's, turned so that its x is the
+joint's axis: Newton's XPBD bounds each coordinate of the axis in that frame) so that every joint coordinate starts
+at 0. Contacts: Newton's collision pipeline once per scene step.
 Methods: newton.xpbd (SolverXPBD), newton.featherstone, newton.semiImplicit; a run naming
 newton.mujoco (SolverMuJoCo) is `unsupported` with features.MUJOCO_WARP_REASON.
 State in float32, Warp's precision: positions carry ~6e-8 relative round-off.
@@ -123,6 +125,18 @@ def _z_to(axis: pp.FloatVector) -> pp.Quat:
     if c < -1 + 1e-12:
         return (0.0, 1.0, 0.0, 0.0)
     v = np.cross([0.0, 0.0, 1.0], a)
+    return pp.quat_normalized((1 + c, float(v[0]), float(v[1]), float(v[2])))
+
+
+def _x_to(axis: pp.FloatVector) -> pp.Quat:
+    """w, x, y, z of the shortest rotation taking x to `axis`: the frame of a hinge or slider
+    joint, whose axis Newton is given as the frame's x (see NewtonRun._joint)."""
+    a = np.asarray(axis, dtype=float)
+    a = a / np.linalg.norm(a)
+    c = float(a[0])
+    if c < -1 + 1e-12:
+        return (0.0, 0.0, 0.0, 1.0)
+    v = np.cross([1.0, 0.0, 0.0], a)
     return pp.quat_normalized((1 + c, float(v[0]), float(v[1]), float(v[2])))
 
 
@@ -247,20 +261,40 @@ class NewtonRun:
         identity = (1.0, 0.0, 0.0, 0.0)
         child_body = self.scene.bodies[tree_joint.child]
         child = self.body_of[tree_joint.child]
+        if j.type == "slider":
+            # A slider locks the relative rotation, so every point of the child moves on a line
+            # parallel to the axis: the line through the child's centre is the same joint. With
+            # the scene's anchor (joint_slider's is the origin, 1.7 m from the box) SolverXPBD's
+            # position row acts through that lever arm on the rotation its angular row holds,
+            # and two iterations leave the box 7 cm off the line in 1 s; at the centre the row
+            # moves the box alone.
+            anchor = child_body.position
 
-        def local(body: pp.Body) -> Any:  # the joint frame (anchor, world axes) in the body's frame
+        # The joint frame: at the anchor; for a slider, and a hinge under SolverXPBD, its x
+        # along the joint's axis, else the world's axes. SolverXPBD bounds each joint
+        # coordinate by the box [min(a·lower, a·upper), max(a·lower, a·upper)] per component of
+        # the axis a in this frame (solve_body_joints): an axis off the frame's x, y or z, e.g.
+        # joint_slider's (1, -1, 0)/√2, unlimited, frees both components it has — the slider
+        # then fell 3.2 m off its line in 1 s — and an axis along x frees x alone.
+        # SolverSemiImplicit's revolute joint diverged within three steps in a turned frame on
+        # double_pendulum (world-aligned: ok; its penalty form has no box), so its hinges keep
+        # the world's axes.
+        turned = j.type == "slider" or (j.type == "hinge" and self.solver_name == "xpbd")
+        frame = _x_to(j.axes["axis"].world) if turned else identity
+
+        def local(body: pp.Body) -> Any:  # the joint frame in the body's frame
             rotation = _rotation(body.world_principal_rotation)
             point = rotation.T @ (np.asarray(anchor, dtype=float) - np.asarray(body.position, dtype=float))
-            return self._transform(point, pp.quat_conjugate(body.world_principal_rotation))
+            return self._transform(point, pp.quat_multiply(pp.quat_conjugate(body.world_principal_rotation), frame))
 
         if tree_joint.parent == joint_trees.WORLD:
-            parent, parent_xform = -1, self._transform(anchor, identity)
+            parent, parent_xform = -1, self._transform(anchor, frame)
         else:
             parent, parent_xform = self.body_of[tree_joint.parent], local(self.scene.bodies[tree_joint.parent])
         common = {"parent_xform": parent_xform, "child_xform": local(child_body), "collision_filter_parent": False}
         if j.type in ("hinge", "slider"):
-            axis = wp.vec3(*(float(a) for a in j.axes["axis"].world))
             add = builder.add_joint_revolute if j.type == "hinge" else builder.add_joint_prismatic
+            axis = wp.vec3(1.0, 0.0, 0.0) if turned else wp.vec3(*(float(a) for a in j.axes["axis"].world))
             return int(add(parent, child, axis=axis, **common))
         if j.type == "ball":
             return int(builder.add_joint_ball(parent, child, **common))
