@@ -33,10 +33,12 @@ from __future__ import annotations
 
 import argparse
 import copy
+import datetime as dt
 import json
 import math
 import os
 import re
+import socket
 import statistics
 import subprocess
 import sys
@@ -236,12 +238,18 @@ def analyse(points: list[dict[str, Any]]) -> tuple[list[int], dict[str, dict[str
         distances[method] = {"on_front": d.on_front, "best_ratio": d.best_ratio, "best_error": d.best_error,
                              "points": [{"parameters": json.loads(p.setting), "error": p.error, "wall_time_s": p.time,
                                          "time_ratio": r} for p, r in zip(mine, d.point_ratios, strict=True)],
+                             "front_errors": sorted(points[i]["error"] for i in on if points[i]["method"] == method),
                              "front_methods": front_methods, "ok_points": len(mine)}
     return on, distances
 
 
-def figure(family: Family, points: list[dict[str, Any]], front: list[int], duration: float) -> str:
+def figure(record: dict[str, Any]) -> str:
+    """The family's error against time per method, PBD points labelled with their substeps,
+    and the front as a black line."""
     from pbdval.palette import style_of
+
+    points: list[dict[str, Any]] = record["points"]
+    front: list[int] = record["front"]
 
     series: list[Series] = []
     for method in sorted({p["method"] for p in points}, key=lambda m: (m.split(".")[0] != PBD_ENGINE, m)):
@@ -257,10 +265,10 @@ def figure(family: Family, points: list[dict[str, Any]], front: list[int], durat
     frontier = sorted((points[i] for i in front), key=lambda p: p["wall_time_s"])
     series.append(Series("Pareto front", [p["time_per_simulated_s"] for p in frontier],
                          [max(p["error"], pareto.ERROR_FLOOR) for p in frontier], "#000000"))
-    return line_plot(series, title=f"{family.name}: {family.case}, {duration:g} s simulated "
+    return line_plot(series, title=f"{record['family']}: {record['case']}, {record['duration_s']:g} s simulated "
                                    f"(PBD points labelled with substeps per {FRAME_STEP * 1e3:g} ms)",
                      xlabel="wall time per simulated second (s/s, median of the passes)",
-                     ylabel=f"{family.metric}", logx=True, logy=True, width=760, height=440)
+                     ylabel=record["metric"], logx=True, logy=True, width=760, height=440)
 
 
 def ratio_text(r: float | None) -> str:
@@ -273,7 +281,7 @@ def substep_count(parameters: dict[str, str]) -> str:
 
 
 def markdown(families: list[dict[str, Any]]) -> str:
-    lines = [("| family (case) | PBD method | on the front | best time ratio at equal error (at error) | "
+    lines = [("| family (case) | PBD method | on the front (at errors) | best time ratio at equal error (at error) | "
               "time ratio at each substep count | built for it | front held by |"),
              "|---|---|---|---|---|---|---|"]
     for f in families:
@@ -286,7 +294,9 @@ def markdown(families: list[dict[str, Any]]) -> str:
                 best += f" ({d['best_error']:.2g})"
             built = "yes" if method in f["built_for"] else ""
             holders = ", ".join(f"`{m}`" for m in d["front_methods"])
-            lines.append(f"| {f['family']} (`{f['case']}`) | `{method}` | {'yes' if d['on_front'] else 'no'} | "
+            errors = d.get("front_errors", [])
+            on = (f"yes, at {errors[0]:.2g}" + (f"–{errors[-1]:.2g}" if len(errors) > 1 else "")) if errors else "no"
+            lines.append(f"| {f['family']} (`{f['case']}`) | `{method}` | {on} | "
                          f"{best} | {per_point or 'no ok point'} | {built} | {holders} |")
     return "\n".join(lines) + "\n"
 
@@ -303,7 +313,16 @@ def main() -> int:
     parser.add_argument("--svg-dir", type=Path, help="write pareto-<family>.svg here")
     parser.add_argument("--markdown", type=Path, help="write the table of distances here")
     parser.add_argument("--out", type=Path, help="the JSON (default bench/results/<host>/pareto-<stamp>.json)")
+    parser.add_argument("--from", dest="source", type=Path,
+                        help="render --svg-dir and --markdown from a recorded JSON, running nothing")
     args = parser.parse_args()
+    if args.source:
+        recorded_document = json.loads(args.source.read_text())
+        if recorded_document.get("schema") != "pbdval-bench-pareto":
+            parser.error(f"--from: {args.source} is no pbdval-bench-pareto record (its schema: "
+                         f"{recorded_document.get('schema')!r})")
+        render(recorded_document["families"], args.svg_dir, args.markdown)
+        return 0
     if args.repeat < 3:
         parser.error("--repeat: at least 3 (each time is the median of the passes)")
     if args.jobs < 1:
@@ -331,8 +350,29 @@ def main() -> int:
     substeps = SUBSTEPS[:2] if args.quick else SUBSTEPS
     methods = {e: m for e, m in declared if e in chosen}
 
+    commit = subprocess.run(["git", "-C", str(REPO), "rev-parse", "HEAD"], capture_output=True, text=True,
+                            check=False).stdout.strip()
+    dirty = subprocess.run(["git", "-C", str(REPO), "status", "--porcelain", "--untracked-files=no"],
+                           capture_output=True, text=True, check=False).stdout.strip() != ""
+    out = args.out or REPO / "bench" / "results" / socket.gethostname() / (
+        "pareto-" + dt.datetime.now(dt.UTC).strftime("%Y%m%dT%H%M%SZ") + ".json")
     recorded: list[dict[str, Any]] = []
     metadata: dict[str, Any] = {}
+    started = machine()
+
+    def save(complete: bool) -> None:
+        """The record so far (after each family: an interrupted run keeps the families it
+        finished; `complete` says whether every family of the plan is in)."""
+        document = {"schema": "pbdval-bench-pareto", "schemaVersion": 1, "complete": complete,
+                    "machine": started, "finished": machine() if complete else None,
+                    "commit": commit, "dirty": dirty, "build": metadata,
+                    "parameters": {"families": [f.name for f in families], "engines": chosen,
+                                   "repeat": args.repeat, "jobs": args.jobs, "quick": args.quick,
+                                   "frame_step_s": FRAME_STEP, "steps_s": list(steps), "substeps": list(substeps),
+                                   "substep_parameter": SUBSTEP_PARAMETER, "binary": str(args.binary)},
+                    "families": recorded}
+        write_record("pareto", document, out)
+
     with tempfile.TemporaryDirectory(prefix="pbdval-bench-pareto-") as scratch:
         folder = Path(scratch)
         for family in families:
@@ -367,29 +407,26 @@ def main() -> int:
                       "referenceOverride": family.reference, "why": family.why, "built_for": list(family.built_for),
                       "points": points, "front": front, "distances": distances, "notes": sorted(set(notes))}
             recorded.append(record)
+            save(complete=False)
             statuses = statistics.multimode([p["status"] for p in points]) if points else []
             print(f"[{family.name}] {len(points)} points ({', '.join(map(str, statuses))} most), front: "
                   + ", ".join(f"{points[i]['method']}@{points[i]['effective_step_s']:.3g}" for i in front),
                   file=sys.stderr, flush=True)
-            if args.svg_dir:
-                args.svg_dir.mkdir(parents=True, exist_ok=True)
-                svg = args.svg_dir / f"pareto-{family.name}.svg"
-                write_text_atomically(svg, figure(family, points, front, duration) + "\n")
-    commit = subprocess.run(["git", "-C", str(REPO), "rev-parse", "HEAD"], capture_output=True, text=True,
-                            check=False).stdout.strip()
-    document = {"schema": "pbdval-bench-pareto", "schemaVersion": 1, "machine": machine(), "commit": commit,
-                "build": metadata,
-                "parameters": {"families": [f.name for f in families], "engines": chosen, "repeat": args.repeat,
-                               "jobs": args.jobs, "quick": args.quick, "frame_step_s": FRAME_STEP,
-                               "steps_s": list(steps), "substeps": list(substeps),
-                               "substep_parameter": SUBSTEP_PARAMETER, "binary": str(args.binary)},
-                "families": recorded}
-    write_record("pareto", document, args.out)
+    save(complete=True)
+    render(recorded, args.svg_dir, args.markdown)
+    return 0
+
+
+def render(recorded: list[dict[str, Any]], svg_dir: Path | None, markdown_file: Path | None) -> None:
+    """The figures (one per family) and the table of distances, from the recorded families."""
+    if svg_dir:
+        svg_dir.mkdir(parents=True, exist_ok=True)
+        for f in recorded:
+            write_text_atomically(svg_dir / f"pareto-{f['family']}.svg", figure(f) + "\n")
     table = markdown(recorded)
     print(table)
-    if args.markdown:
-        write_text_atomically(args.markdown, table)
-    return 0
+    if markdown_file:
+        write_text_atomically(markdown_file, table)
 
 
 if __name__ == "__main__":
