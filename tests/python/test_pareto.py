@@ -4,10 +4,16 @@ so log-log interpolation between their points is exact and every ratio is known.
 
 from __future__ import annotations
 
+import json
 import math
+import os
+import statistics
+import subprocess
+from pathlib import Path
 
 import pytest
 
+from conftest import BUILD, REPO, VENV_PYTHON
 from pbdval import pareto
 from pbdval.pareto import Point
 
@@ -127,3 +133,35 @@ def test_a_zero_error_counts_as_the_round_off_floor() -> None:
     points = [Point(0.0, 2.0, "exact"), Point(1e-3, 1.0, "approximate")]
     assert pareto.front(points) == [1, 0]
     assert pareto.front_time(points, pareto.ERROR_FLOOR) == pytest.approx(2.0, rel=REL)
+
+
+def test_the_quick_benchmark_records_every_point_and_a_front_no_point_beats(
+        pbdval_binary: Path, tmp_path: Path) -> None:
+    """`scripts/bench --pareto --quick` end to end (two families, the C++ engines, 0.2 s): the
+    front it records is checked against a brute-force dominance test written here, and each
+    time against the median of its passes."""
+    out = tmp_path / "pareto.json"
+    environment = dict(os.environ, PYTHONPATH=f"{REPO / 'python'}:{BUILD / 'python'}")
+    subprocess.run([str(VENV_PYTHON), str(REPO / "bench" / "bench_pareto.py"), "--quick", "--binary",
+                    str(pbdval_binary), "--out", str(out), "--svg-dir", str(tmp_path), "--markdown",
+                    str(tmp_path / "table.md")], check=True, env=environment, capture_output=True, text=True)
+    record = json.loads(out.read_text())
+    assert record["complete"] and record["schema"] == "pbdval-bench-pareto"
+    assert [f["family"] for f in record["families"]] == ["pendulum", "stack"]
+    table = (tmp_path / "table.md").read_text()
+    for family in record["families"]:
+        points = family["points"]
+        ok = [i for i, p in enumerate(points) if p["status"] == "ok" and p["error"] is not None]
+        assert {points[i]["method"] for i in ok} >= {"pbd", "pbd.xpbd", "ode.quickstep", "bullet.si"}
+        for p in points:  # each time the median of three passes (--repeat 3, the default)
+            assert len(p["wall_times_s"]) == 3
+            assert p["wall_time_s"] == statistics.median(p["wall_times_s"])
+        pairs = [(points[i]["error"], points[i]["wall_time_s"]) for i in ok]
+        unbeaten = [i for i, (e, t) in zip(ok, pairs, strict=True)
+                    if not any(f <= e and u <= t and (f, u) != (e, t) for f, u in pairs)]
+        assert sorted(family["front"]) == unbeaten
+        assert set(family["distances"]) == {"pbd", "pbd.xpbd"}
+        for method, d in family["distances"].items():
+            assert d["on_front"] == any(points[i]["method"] == method for i in family["front"])
+            assert f"| {family['family']} (`{family['case']}`) | `{method}` |" in table
+        assert "Pareto front" in (tmp_path / f"pareto-{family['family']}.svg").read_text()
