@@ -3,6 +3,7 @@
 
     scripts/bench --pareto [--families A,B,...] [--engines A,B,...] [--repeat N] [--jobs N]
         [--binary PBDVAL] [--include-newton] [--quick] [--svg-dir DIR] [--markdown FILE] [--out FILE.json]
+    scripts/bench --pareto --from RECORD.json... [--svg-dir DIR] [--markdown FILE]
 
 For every family (FAMILIES: pendulum, chain, stack, pile, resting contact, sliding contact,
 cloth) `pbdval sweep` runs the family's case, shortened to the family's duration, with every
@@ -313,15 +314,21 @@ def main() -> int:
     parser.add_argument("--svg-dir", type=Path, help="write pareto-<family>.svg here")
     parser.add_argument("--markdown", type=Path, help="write the table of distances here")
     parser.add_argument("--out", type=Path, help="the JSON (default bench/results/<host>/pareto-<stamp>.json)")
-    parser.add_argument("--from", dest="source", type=Path,
-                        help="render --svg-dir and --markdown from a recorded JSON, running nothing")
+    parser.add_argument("--from", dest="sources", type=Path, nargs="+",
+                        help="render --svg-dir and --markdown from recorded JSON files (their families in "
+                             "order; a family recorded twice: the later file's), running nothing")
     args = parser.parse_args()
-    if args.source:
-        recorded_document = json.loads(args.source.read_text())
-        if recorded_document.get("schema") != "pbdval-bench-pareto":
-            parser.error(f"--from: {args.source} is no pbdval-bench-pareto record (its schema: "
-                         f"{recorded_document.get('schema')!r})")
-        render(recorded_document["families"], args.svg_dir, args.markdown)
+    if args.sources:
+        by_family: dict[str, dict[str, Any]] = {}
+        for source in args.sources:
+            recorded_document = json.loads(source.read_text())
+            if recorded_document.get("schema") != "pbdval-bench-pareto":
+                parser.error(f"--from: {source} is no pbdval-bench-pareto record (its schema: "
+                             f"{recorded_document.get('schema')!r})")
+            by_family.update((f["family"], f) for f in recorded_document["families"])
+        order = [f.name for f in FAMILIES]
+        render(sorted(by_family.values(), key=lambda f: order.index(f["family"]) if f["family"] in order
+                      else len(order)), args.svg_dir, args.markdown)
         return 0
     if args.repeat < 3:
         parser.error("--repeat: at least 3 (each time is the median of the passes)")
