@@ -65,6 +65,11 @@ STEPS = (0.01, 0.005, 0.0025, 0.00125)
 SUBSTEPS = (5, 10, 20, 40)
 #: The substep parameter of each PBD method (`pbdval methods`).
 SUBSTEP_PARAMETER = {"pbd": "subSteps", "pbd.xpbd": "substeps"}
+#: Wall seconds a run may take (`pbdval sweep --timeout`): a 1–2 s simulation that takes longer
+#: runs 10–20× slower than real time, three orders of magnitude behind the fastest engines on
+#: every family, so it is on no front; Drake's error-controlled integrators on the contact
+#: families take minutes per run (stiff contact forces, tiny steps) and would take hours.
+TIMEOUT = 20.0
 #: The engine whose methods' distances from the front are reported.
 PBD_ENGINE = "pbd"
 
@@ -189,11 +194,11 @@ def shortened_case(family: Family, duration: float, folder: Path) -> Path:
 
 
 def sweep(binary: Path, case: Path, methods: list[str], parameters: list[str], family: Family,
-          repeat: int, jobs: int, out: Path) -> dict[str, Any]:
+          repeat: int, jobs: int, timeout: float, out: Path) -> dict[str, Any]:
     command = [str(binary), "sweep", str(case), *[a for p in parameters for a in ("--param", p)],
                "--methods", ",".join(methods), "--metric", family.metric,
                "--reference", family.sweep_reference, "--repeat", str(repeat), "--jobs", str(jobs),
-               "--timeout", "600", "--out", str(out), "--force"]
+               "--timeout", f"{timeout:g}", "--out", str(out), "--force"]
     result = subprocess.run(command, capture_output=True, text=True, check=False)
     if result.returncode != 0 or not (out / "sweep.json").exists():
         raise RuntimeError(f"{' '.join(command)} exited {result.returncode}: {result.stderr[-3000:]}")
@@ -310,6 +315,9 @@ def main() -> int:
     parser.add_argument("--include-newton", action="store_true", help="add newton (runByDefault false)")
     parser.add_argument("--repeat", type=int, default=3, help="passes per point, the time is their median (≥ 3)")
     parser.add_argument("--jobs", type=int, default=1, help="pbdval sweep --jobs (1: points timed one at a time)")
+    parser.add_argument("--timeout", type=float, default=TIMEOUT,
+                        help=f"wall seconds a run may take before it is stopped (a `timeout` point, on no front; "
+                             f"default {TIMEOUT:g})")
     parser.add_argument("--quick", action="store_true", help="a small plan for the test of this script")
     parser.add_argument("--svg-dir", type=Path, help="write pareto-<family>.svg here")
     parser.add_argument("--markdown", type=Path, help="write the table of distances here")
@@ -332,6 +340,8 @@ def main() -> int:
         return 0
     if args.repeat < 3:
         parser.error("--repeat: at least 3 (each time is the median of the passes)")
+    if not args.timeout > 0:
+        parser.error("--timeout: seconds > 0")
     if args.jobs < 1:
         parser.error("--jobs: at least 1")
     if not args.binary.exists():
@@ -374,7 +384,8 @@ def main() -> int:
                     "machine": started, "finished": machine() if complete else None,
                     "commit": commit, "dirty": dirty, "build": metadata,
                     "parameters": {"families": [f.name for f in families], "engines": chosen,
-                                   "repeat": args.repeat, "jobs": args.jobs, "quick": args.quick,
+                                   "repeat": args.repeat, "jobs": args.jobs, "timeout_s": args.timeout,
+                                   "quick": args.quick,
                                    "frame_step_s": FRAME_STEP, "steps_s": list(steps), "substeps": list(substeps),
                                    "substep_parameter": SUBSTEP_PARAMETER, "binary": str(args.binary)},
                     "families": recorded}
@@ -402,7 +413,7 @@ def main() -> int:
             for k, (plan_methods, parameters) in enumerate(plans):
                 print(f"[{family.name}] {', '.join(plan_methods)}: {' '.join(parameters)}", file=sys.stderr, flush=True)
                 document = sweep(args.binary, case, plan_methods, parameters, family, args.repeat, args.jobs,
-                                 folder / f"{family.name}-{k}")
+                                 args.timeout, folder / f"{family.name}-{k}")
                 metadata = metadata or document.get("metadata", {})
                 notes.extend(document.get("notes", []))
                 points.extend(point_record(p, engine_of.get(p["method"], ""), duration) for p in document["points"])
