@@ -258,16 +258,24 @@ def figure(record: dict[str, Any]) -> str:
     front: list[int] = record["front"]
 
     series: list[Series] = []
-    for method in sorted({p["method"] for p in points}, key=lambda m: (m.split(".")[0] != PBD_ENGINE, m)):
+    front_methods = {points[i]["method"] for i in front}
+    methods = sorted({p["method"] for p in points if on_front_candidate(p)},
+                     key=lambda m: (m.split(".")[0] == PBD_ENGINE, m in front_methods, m))  # PBD drawn last, on top
+    others = [m for m in methods if m.split(".")[0] != PBD_ENGINE and m not in front_methods]
+    for method in methods:
         mine = sorted((p for p in points if p["method"] == method and on_front_candidate(p)),
                       key=lambda p: p["error"])
-        if not mine:
+        pbd = mine[0]["engine"] == PBD_ENGINE
+        labels = [f"{int(p['substeps'])}" for p in mine] if pbd else []
+        x = [p["time_per_simulated_s"] for p in mine]
+        y = [max(p["error"], pareto.ERROR_FLOOR) for p in mine]
+        if method in others:  # on no front and no PBD method: grey, one legend entry for all
+            series.append(Series(f"{len(others)} other methods", x, y, "#c4c4c4", markers=True, marker="circle",
+                                 legend=method == others[0]))
             continue
         style = style_of(mine[0]["engine"], method)
-        labels = ([f"{int(p['substeps'])}" for p in mine] if mine[0]["engine"] == PBD_ENGINE else [])
-        series.append(Series(method, [p["time_per_simulated_s"] for p in mine],
-                             [max(p["error"], pareto.ERROR_FLOOR) for p in mine], style.colour,
-                             markers=True, dash=style.dash, marker=style.marker, point_labels=labels))
+        series.append(Series(method, x, y, style.colour, markers=True, dash=style.dash, marker=style.marker,
+                             point_labels=labels))
     frontier = sorted((points[i] for i in front), key=lambda p: p["wall_time_s"])
     series.append(Series("Pareto front", [p["time_per_simulated_s"] for p in frontier],
                          [max(p["error"], pareto.ERROR_FLOOR) for p in frontier], "#000000"))

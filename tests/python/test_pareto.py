@@ -165,3 +165,13 @@ def test_the_quick_benchmark_records_every_point_and_a_front_no_point_beats(
             assert d["on_front"] == any(points[i]["method"] == method for i in family["front"])
             assert f"| {family['family']} (`{family['case']}`) | `{method}` |" in table
         assert "Pareto front" in (tmp_path / f"pareto-{family['family']}.svg").read_text()
+
+
+def test_a_series_left_out_of_the_legend_is_drawn_but_not_named() -> None:
+    from pbdval.svg import Series, line_plot
+
+    svg = line_plot([Series("named", [1.0, 2.0], [1.0, 2.0], "#000000"),
+                     Series("unnamed", [1.0, 2.0], [2.0, 1.0], "#c4c4c4", legend=False)],
+                    title="t", xlabel="x", ylabel="y")
+    assert svg.count('class="legend"') == 1 and ">named<" in svg and ">unnamed<" not in svg
+    assert svg.count("<path ") == 2  # both curves drawn
