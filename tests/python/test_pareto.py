@@ -175,3 +175,18 @@ def test_a_series_left_out_of_the_legend_is_drawn_but_not_named() -> None:
                     title="t", xlabel="x", ylabel="y")
     assert svg.count('class="legend"') == 1 and ">named<" in svg and ">unnamed<" not in svg
     assert svg.count("<path ") == 2  # both curves drawn
+
+
+@pytest.mark.parametrize(("arguments", "named"), [
+    (["--repeat", "2"], "--repeat: at least 3"),
+    (["--timeout", "0"], "--timeout: seconds > 0"),
+    (["--families", "pendulum,chian"], "unknown family 'chian'"),
+    (["--engines", "pbd,odee"], "unknown engine(s) odee"),
+])
+def test_bad_options_are_refused_with_the_option_named(pbdval_binary: Path, arguments: list[str],
+                                                       named: str) -> None:
+    environment = dict(os.environ, PYTHONPATH=f"{REPO / 'python'}:{BUILD / 'python'}")
+    done = subprocess.run([str(VENV_PYTHON), str(REPO / "bench" / "bench_pareto.py"), "--binary", str(pbdval_binary),
+                           *arguments], env=environment, capture_output=True, text=True, check=False)
+    assert done.returncode != 0
+    assert named in done.stderr
