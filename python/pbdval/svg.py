@@ -36,6 +36,7 @@ class Series:
     marker: str = ""  # the palette's marker shape ("" none)
     point_labels: Sequence[str] = field(default_factory=list)  # per point: text beside it
     x_spread: Sequence[tuple[float, float]] = field(default_factory=list)  # per point: a bar from..to in x
+    legend: bool = True  # an entry in the legend (False: one of a group another series names)
 
 
 def marker_svg(shape: str, x: float, y: float, colour: str, fill: str, size: float = 3.8) -> str:
@@ -90,10 +91,10 @@ def line_plot(series: Sequence[Series], *, title: str, xlabel: str, ylabel: str,
     a plot with no drawable point says so instead of failing. The legend is at least
     `legend_width` wide and as wide as its longest name (the figure grows to the right: the
     page scales it down to fit)."""
-    longest = max((len(s.label) for s in series), default=0)
+    longest = max((len(s.label) for s in series if s.legend), default=0)
     right = max(legend_width, int(48 + CHAR_WIDTH * longest))
     left, top, bottom = 78, 34, 48
-    height = max(height, top + 18 * len(series) + 24)  # every legend entry inside the figure
+    height = max(height, top + 18 * sum(s.legend for s in series) + 24)  # every legend entry inside
     pw, ph = width - left - legend_width, height - top - bottom
     width = left + pw + right
 
@@ -139,6 +140,7 @@ def line_plot(series: Sequence[Series], *, title: str, xlabel: str, ylabel: str,
     out.append(f'<text transform="translate(16 {top + ph / 2}) rotate(-90)" text-anchor="middle">'
                f'{escape(ylabel)}</text>')
     count = len(series)
+    entry = 0  # legend entries so far
     for k, s in enumerate(series):
         points = [(tx(x), ty(y), (s.hollow[i] if i < len(s.hollow) else False),
                    (s.point_labels[i] if i < len(s.point_labels) else ""))
@@ -170,7 +172,10 @@ def line_plot(series: Sequence[Series], *, title: str, xlabel: str, ylabel: str,
             if text:
                 out.append(f'<text x="{px + 6:.1f}" y="{py - 6:.1f}" font-size="10" fill="{s.color}">'
                            f'{escape(text)}</text>')
-        ly = top + 14 + 18 * k
+        if not s.legend:
+            continue
+        ly = top + 14 + 18 * entry
+        entry += 1
         out.append(f'<line x1="{left + pw + 12}" y1="{ly - 4}" x2="{left + pw + 40}" y2="{ly - 4}" '
                    f'stroke="{s.color}" stroke-width="2"{dash_attribute}/>')
         if shape:
