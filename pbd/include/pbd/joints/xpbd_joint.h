@@ -37,9 +37,9 @@ using XpbdJointMultipliers = Eigen::Matrix<Real, 6, 1>;
 
 /// One position iteration of the substep: every joint of `joints` in order, its λ
 /// (`multipliers[j]`, sized like `joints`) reset to zero and then accumulated by one XPBD
-/// projection (see above). One call per substep, so that the per-joint dispatch is inlined into
-/// the loop (bench/callgrind_step.py measures the loop against the operation count,
-/// docs/benchmarks.md#the-xpbd-substep-at-its-operation-count).
+/// projection (see above). One call per substep: the joints are dispatched inside one loop, ball
+/// joints without the variant's call table (bench/callgrind_step.py measures the loop against
+/// the operation count, docs/benchmarks.md#the-xpbd-substep-at-its-operation-count-issue-30).
 void solveJointPositionsXpbd(std::vector<Joint>& joints, BodyStates& bodies, Real substepSize,
                              const XpbdSettings& settings,
                              std::vector<XpbdJointMultipliers>& multipliers);
