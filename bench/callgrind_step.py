@@ -35,7 +35,9 @@ PARTS = {
     "predict": "pbd::predictPositions(",
     "velocity_update": "pbd::updateVelocities(",
     "detection": "pbd::CollisionDetector::detect(",
-    "joint_position": "pbd::solveJointPositionXpbd(",
+    "joint_positions": "pbd::solveJointPositionsXpbd(",
+    "point_constraint": "pbd::projectPointConstraint(",
+    "rotation_prediction": "pbd::integration::semiImplicitEulerRotation(",
 }
 
 

@@ -19,12 +19,6 @@ void BallJoint::solvePosition(BodyStates& bodies, Real /*substepSize*/) {
                          frames_.anchor1.inBody);
 }
 
-Vector3 BallJoint::solvePositionCompliant(BodyStates& bodies, Real complianceTilde,
-                                          const Vector3& lambda) {
-  return projectPointConstraint(bodies.rigid, frames_.body0, frames_.body1, frames_.anchor0.inBody,
-                                frames_.anchor1.inBody, complianceTilde, lambda);
-}
-
 JointError BallJoint::error(const BodyStates& bodies) const {
   return {positionRows(bodies).value.norm(), 0};
 }

@@ -43,11 +43,7 @@ Real detectionTolerance(const World& world) {
 
 void solvePositions(World& world, Real h) {
   const XpbdSettings& settings = world.settings.xpbd;
-  for (std::size_t j = 0; j < world.joints.size(); ++j) {
-    XpbdJointMultipliers& lambda = world.xpbd.jointMultipliers[j];
-    lambda.setZero();
-    solveJointPositionXpbd(world.joints[j], world.bodies, h, settings, lambda);
-  }
+  solveJointPositionsXpbd(world.joints, world.bodies, h, settings, world.xpbd.jointMultipliers);
   // Stiff-rod trees: their own compliances, one direct solve per substep.
   for (StiffRodTreeSolver& tree : world.stiffRodTrees) {
     tree.beginSubstep(h);
@@ -63,8 +59,7 @@ void solvePositions(World& world, Real h) {
 }
 
 void solveVelocities(World& world, Real h) {
-  for (Joint& joint : world.joints)
-    solveJointVelocityXpbd(joint, world.bodies);
+  solveJointVelocitiesXpbd(world.joints, world.bodies);
   const XpbdSettings& settings = world.settings.xpbd;
   if (settings.jointLinearDamping > 0 || settings.jointAngularDamping > 0)
     for (const JointDampingAnchor& anchor : world.xpbd.jointAnchors)

@@ -9,6 +9,7 @@
 #pragma once
 
 #include "pbd/joints/joint_common.h"
+#include "pbd/joints/point_constraint.h"
 
 namespace pbd {
 
@@ -20,7 +21,12 @@ class BallJoint : public JointDefaults {
   BallJoint(const BodyStates& bodies, const JointDesc& desc);
   void solvePosition(BodyStates& bodies, Real substepSize);
   /// XPBD: one projection with compliance α̃ = α/h² and the accumulated λ; returns Δλ.
-  Vector3 solvePositionCompliant(BodyStates& bodies, Real complianceTilde, const Vector3& lambda);
+  /// Defined here so that the XPBD joint loop calls the point-constraint solve directly.
+  Vector3 solvePositionCompliant(BodyStates& bodies, Real complianceTilde, const Vector3& lambda) {
+    return projectPointConstraint(bodies.rigid, frames_.body0, frames_.body1,
+                                  frames_.anchor0.inBody, frames_.anchor1.inBody, complianceTilde,
+                                  lambda);
+  }
   ConstraintRows<kRows> positionRows(const BodyStates& bodies) const;
   JointError error(const BodyStates& bodies) const;
   JointEnds ends() const { return frames_.ends(); }

@@ -26,6 +26,8 @@
 // Nothing here allocates.
 #pragma once
 
+#include <vector>
+
 #include "pbd/joints/joint.h"
 
 namespace pbd {
@@ -33,11 +35,16 @@ namespace pbd {
 /// λ of one joint (rows beyond the joint's kRows unused).
 using XpbdJointMultipliers = Eigen::Matrix<Real, 6, 1>;
 
-/// One XPBD projection of `joint` (see above); λ accumulates in `multipliers`.
-void solveJointPositionXpbd(Joint& joint, BodyStates& bodies, Real substepSize,
-                            const XpbdSettings& settings, XpbdJointMultipliers& multipliers);
+/// One position iteration of the substep: every joint of `joints` in order, its λ
+/// (`multipliers[j]`, sized like `joints`) reset to zero and then accumulated by one XPBD
+/// projection (see above). One call per substep: the joints are dispatched inside one loop, ball
+/// joints without the variant's call table (bench/callgrind_step.py measures the loop against
+/// the operation count, docs/benchmarks.md#the-xpbd-substep-at-its-operation-count-issue-30).
+void solveJointPositionsXpbd(std::vector<Joint>& joints, BodyStates& bodies, Real substepSize,
+                             const XpbdSettings& settings,
+                             std::vector<XpbdJointMultipliers>& multipliers);
 
-/// The joint's velocity pass (velocity motors; nothing for the others).
-void solveJointVelocityXpbd(Joint& joint, BodyStates& bodies);
+/// The joints' velocity pass, in order (velocity motors; nothing for the others).
+void solveJointVelocitiesXpbd(std::vector<Joint>& joints, BodyStates& bodies);
 
 }  // namespace pbd
