@@ -197,7 +197,7 @@ double knownDifferenceWindow(const std::string& name) {
   // with the seed's box (the bounds of the mesh's vertices; the analytic torus reaches 0.25 m
   // past its mesh and the original misses contacts there) the landing agrees: 1.1·10⁻¹⁶ m at
   // 0.90 s, where it was 5 mm. From 0.92 s a particle parts (3.4·10⁻⁶ m, 1.6 mm at 0.94 s),
-  // while twins 10 nm apart stay within 2·10⁻⁷ m: not yet explained.
+  // while twins 10 nm apart stay within 2·10⁻⁸ m: not yet explained.
   if (name == "deformable_solid_collision_scene") return 0.90;
   return 0;
 }
