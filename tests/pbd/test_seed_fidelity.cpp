@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "pbd/constraints/fem_tet.h"
@@ -15,6 +16,7 @@
 #include "pbd/io/mesh_loader.h"
 #include "pbd/io/scene_loader.h"
 #include "pbd/joints/damper_joint.h"
+#include "pbd/joints/target_velocity_motor_slider_joint.h"
 #include "pbd/model/world.h"
 
 namespace pbd {
@@ -227,6 +229,39 @@ TEST(DamperJointModel, TheTwoModelsTurnASpinningFirstBodyDifferently) {
   a.step();
   b.step();
   EXPECT_GT((a.bodies.rigid.angularVelocity[0] - b.bodies.rigid.angularVelocity[0]).norm(), 1e-6);
+}
+
+// --- The target-velocity motor slider -----------------------------------------------------------
+
+/// A static body and a unit-inertia box (isotropic, so R I⁻¹ Rᵀ = I⁻¹ for every frame R) on a
+/// velocity motor slider along `axis`, set point 0; the box spins at ω about (1, 2, 3).
+World spinningSliderWorld(const char* jointModel) {
+  const std::string json = std::string(R"({"Simulation": {"jointModel": ")") + jointModel +
+                           R"(", "gravitation": [0, 0, 0]}, "RigidBodies": [
+      {"id": 1, "collisionObjectType": 0, "isDynamic": false, "mass": 1, "inertia": [1, 1, 1],
+       "translation": [0, 0, 0]},
+      {"id": 2, "collisionObjectType": 0, "mass": 2, "inertia": [1, 1, 1],
+       "translation": [1, 0.2, 0], "angularVelocity": [0.01, 0.02, 0.03]}],
+    "TargetVelocityMotorSliderJoints": [{"bodyID1": 1, "bodyID2": 2, "axis": [0.6, 0.8, 0],
+       "targetSequence": [0, 0, 1, 0]}]})";
+  return buildWorld(parseScene(json, kInline).scene);
+}
+
+TEST(VelocityMotorSliderModel, TheSeedsAngularRowsTurnARelativeSpinIntoMinusThreeTimesItself) {
+  // velocitySolve_TargetVelocityMotorSliderJoint: K_ang = t I⁻¹ tᵀ with t the slider's rotation
+  // Jacobian, ½ R (a rotation R) while the joint's frames are aligned, so K_ang = ¼ I⁻¹ for an
+  // isotropic I; λ = −K⁻¹ (ω₀ − ω₁) and Δω₁ = −I⁻¹ λ = −4 ω₁: one velocity iteration leaves
+  // −3 ω₁. The corrected rows (K = I⁻¹, consistent) leave 0. Round-off: 10 ε of ω.
+  for (const char* model : {"seed", "corrected"}) {
+    World world = spinningSliderWorld(model);
+    const Vector3 spin = world.bodies.rigid.angularVelocity[1];
+    ASSERT_EQ(world.joints.size(), 1u);
+    std::visit([&](auto& joint) { joint.solveVelocity(world.bodies); }, world.joints[0]);
+    const Vector3 expected = std::string(model) == "seed" ? Vector3(-3 * spin) : Vector3::Zero();
+    EXPECT_NEAR((world.bodies.rigid.angularVelocity[1] - expected).norm(), 0,
+                10 * kEpsilon * spin.norm())
+        << model;
+  }
 }
 
 TEST(DamperJointModel, IsSeedInThePbdMethodAndCorrectedInXpbdUnlessTheSceneSaysSo) {

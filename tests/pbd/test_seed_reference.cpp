@@ -193,9 +193,12 @@ Comparison compareWithTwin(const std::vector<RecordedRow>& rows, double h, const
 /// original starts after it, found and not yet explained (docs/methods.md, "Fidelity to the seed:
 /// particle models, damper, motors"). 0: up to the horizon.
 double knownDifferenceWindow(const std::string& name) {
-  // The FEM solid lands on the torus between 0.88 and 0.90 s: 5 mm from the original at 0.90 s,
-  // while twins 10 nm apart stay within 4·10⁻⁸ m up to 1 s.
-  if (name == "deformable_solid_collision_scene") return 0.88;
+  // The FEM solid lands on the torus between 0.88 and 0.90 s. Since the seed contact model prunes
+  // with the seed's box (the bounds of the mesh's vertices; the analytic torus reaches 0.25 m
+  // past its mesh and the original misses contacts there) the landing agrees: 1.1·10⁻¹⁶ m at
+  // 0.90 s, where it was 5 mm. From 0.92 s a particle parts (3.4·10⁻⁶ m, 1.6 mm at 0.94 s),
+  // while twins 10 nm apart stay within 2·10⁻⁸ m: not yet explained.
+  if (name == "deformable_solid_collision_scene") return 0.90;
   return 0;
 }
 
@@ -303,7 +306,8 @@ INSTANTIATE_TEST_SUITE_P(Recorded, SeedReferenceParticles,
                          ::testing::Values("fem_cloth_10x10", "fem_tet_bar", "fem_tet_bar_xpbd",
                                            "cloth_on_sphere", "cloth_collision_scene",
                                            "deformable_solid_collision_scene",
-                                           "armadillo_collision_scene"),
+                                           "armadillo_collision_scene", "cosserat_helix",
+                                           "cloth_on_bunny"),
                          [](const ::testing::TestParamInfo<const char*>& param) {
                            return std::string(param.param);
                          });
@@ -336,9 +340,11 @@ INSTANTIATE_TEST_SUITE_P(
                       "spheres_in_hollow_box", "sphere_on_grid_torus",
                       "sphere_on_grid_torus_off_cell", "contact_stack_5", "stack_5_in_shell",
                       "damper_on_pendulum", "joint_target_velocity_motor_hinge",
-                      "joint_target_angle_motor_hinge", "car_scene", "cloth_collision_scene",
+                      "joint_target_angle_motor_hinge", "joint_target_position_motor_slider",
+                      "joint_target_velocity_motor_slider", "position_motor_slider_on_pendulum",
+                      "velocity_motor_slider_on_pendulum", "car_scene", "cloth_collision_scene",
                       "pile_scene", "stiff_rod_cantilever", "deformable_solid_collision_scene",
-                      "wilberforce_spring"),
+                      "wilberforce_spring", "cloth_on_bunny"),
     [](const ::testing::TestParamInfo<const char*>& param) { return std::string(param.param); });
 
 // The motors' schedule: the seed's motors act on the set point f(t − 2h) during the step that

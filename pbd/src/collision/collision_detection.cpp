@@ -154,6 +154,22 @@ void CollisionDetector::updateBoxes(const BodyStates& bodies, Real tolerance) {
     Aabb& box = boxes_[i];
     box.active = rigid_[i].shape.exists();
     if (!box.active) continue;
+    if (seedGridDistance_ && !rigid_[i].seedRank.empty()) {
+      // The seed's box (CollisionDetection::updateAABB): the bounds of the mesh's vertices in
+      // the world, without the collision shape's, which can reach past them (an analytic torus
+      // fatter than its mesh): the seed prunes points there (docs/methods.md, "Fidelity to the
+      // seed: particle models, damper, motors").
+      const std::vector<Vector3>& vertices = rigid_[i].surface->samples;
+      box.min = box.max = frames_[i].rotation * vertices[0] + frames_[i].origin;
+      for (std::size_t v = 1; v < vertices.size(); ++v) {
+        const Vector3 world = frames_[i].rotation * vertices[v] + frames_[i].origin;
+        box.min = box.min.cwiseMin(world);
+        box.max = box.max.cwiseMax(world);
+      }
+      box.min -= margin;
+      box.max += margin;
+      continue;
+    }
     const Eigen::AlignedBox<Real, 3>& local = rigid_[i].localBounds;
     const Vector3 center = frames_[i].rotation * local.center() + frames_[i].origin;
     const Vector3 half = frames_[i].rotation.cwiseAbs() * (local.sizes() / 2);

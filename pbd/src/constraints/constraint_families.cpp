@@ -73,6 +73,7 @@ void ConstraintFamilies::solvePositions(BodyStates& bodies, Real substepSize, bo
 }
 
 void ConstraintFamilies::orderAsTheSeed(const Scene& scene) {
+  orderRodsAsTheSeed(rods);
   // The model of every particle: triangle models first, then tet models (the seed's order).
   std::vector<int> modelOf(scene.particles.size(), -1);
   int model = 0;

@@ -1,5 +1,7 @@
 #include "pbd/constraints/cosserat_rod.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "pbd/math/quaternion.h"
@@ -180,7 +182,8 @@ RodConstraints rodConstraints(const Scene& scene) {
                                  s.rod_stretchingStiffness);
   const Vector3 bendFractions(s.rod_bendingStiffnessX, s.rod_bendingStiffnessY,
                               s.rod_twistingStiffness);
-  for (const LineModelDesc& model : scene.lineModels) {
+  for (std::size_t m = 0; m < scene.lineModels.size(); ++m) {
+    const LineModelDesc& model = scene.lineModels[m];
     const bool xpbd = model.usesModuli();
     Vector3 stretchStiffness = stretchFractions, bendStiffness = bendFractions;
     if (xpbd) {
@@ -196,6 +199,7 @@ RodConstraints rodConstraints(const Scene& scene) {
     const std::size_t segments = model.segmentCount();
     for (std::size_t k = 0; k < segments; ++k) {
       RodStretchShearConstraint c;
+      c.model = int(m);
       c.particles = {model.firstParticle + int(k), model.firstParticle + int(k) + 1};
       c.segment = model.firstSegment + int(k);
       c.restLength = (model.points[k + 1] - model.points[k]).norm();
@@ -205,6 +209,7 @@ RodConstraints rodConstraints(const Scene& scene) {
     }
     for (std::size_t k = 0; k + 1 < segments; ++k) {
       RodBendTwistConstraint c;
+      c.model = int(m);
       c.segments = {model.firstSegment + int(k), model.firstSegment + int(k) + 1};
       c.restDarboux = restDarbouxQuaternion(model.frames[k], model.frames[k + 1]);
       c.meanLength = Real(0.5) * ((model.points[k + 1] - model.points[k]).norm() +
@@ -217,49 +222,132 @@ RodConstraints rodConstraints(const Scene& scene) {
   return rods;
 }
 
-void solveRods(RodConstraints& rods, ParticleStates& particles, SegmentStates& segments,
-               Real substepSize, bool firstIteration) {
-  for (RodStretchShearConstraint& c : rods.stretchShear) {
-    const auto i0 = std::size_t(c.particles[0]), i1 = std::size_t(c.particles[1]);
-    const auto s = std::size_t(c.segment);
-    Quaternion& q = segments.rotation[s];
-    StretchShearCorrection d;
-    if (c.xpbd) {
-      if (firstIteration) c.multiplier.setZero();
-      d = stretchShearXpbd(particles.position[i0], particles.inverseMass[i0],
-                           particles.position[i1], particles.inverseMass[i1], q,
-                           segments.inverseMass[s], c.restLength, c.stiffness, substepSize,
-                           c.multiplier);
-      c.multiplier += d.multiplier;
-    } else {
-      d = stretchShearPbd(particles.position[i0], particles.inverseMass[i0], particles.position[i1],
-                          particles.inverseMass[i1], q, segments.inverseMass[s], c.restLength,
-                          c.stiffness);
-    }
-    particles.position[i0] += d.position0;
-    particles.position[i1] += d.position1;
+namespace {
+
+void solveStretchShear(RodStretchShearConstraint& c, ParticleStates& particles,
+                       SegmentStates& segments, Real substepSize, bool firstIteration) {
+  const auto i0 = std::size_t(c.particles[0]), i1 = std::size_t(c.particles[1]);
+  const auto s = std::size_t(c.segment);
+  Quaternion& q = segments.rotation[s];
+  const Real w0 = particles.inverseMass[i0], w1 = particles.inverseMass[i1];
+  const Real wq = segments.inverseMass[s];
+  StretchShearCorrection d;
+  if (c.xpbd) {
+    if (firstIteration) c.multiplier.setZero();
+    d = stretchShearXpbd(particles.position[i0], w0, particles.position[i1], w1, q, wq,
+                         c.restLength, c.stiffness, substepSize, c.multiplier);
+    c.multiplier += d.multiplier;
+  } else {
+    d = stretchShearPbd(particles.position[i0], w0, particles.position[i1], w1, q, wq,
+                        c.restLength, c.stiffness);
+  }
+  if (w0 != 0) particles.position[i0] += d.position0;
+  if (w1 != 0) particles.position[i1] += d.position1;
+  if (wq != 0) {
     q.coeffs() += d.quaternion;
     q.normalize();
   }
-  for (RodBendTwistConstraint& c : rods.bendTwist) {
-    const auto s0 = std::size_t(c.segments[0]), s1 = std::size_t(c.segments[1]);
-    Quaternion& q0 = segments.rotation[s0];
-    Quaternion& q1 = segments.rotation[s1];
-    BendTwistCorrection d;
-    if (c.xpbd) {
-      if (firstIteration) c.multiplier.setZero();
-      d = bendTwistXpbd(q0, segments.inverseMass[s0], q1, segments.inverseMass[s1], c.restDarboux,
-                        c.stiffness, c.meanLength, substepSize, c.multiplier);
-      c.multiplier += d.multiplier;
-    } else {
-      d = bendTwistPbd(q0, segments.inverseMass[s0], q1, segments.inverseMass[s1], c.restDarboux,
-                       c.stiffness);
-    }
+}
+
+void solveBendTwist(RodBendTwistConstraint& c, SegmentStates& segments, Real substepSize,
+                    bool firstIteration) {
+  const auto s0 = std::size_t(c.segments[0]), s1 = std::size_t(c.segments[1]);
+  Quaternion& q0 = segments.rotation[s0];
+  Quaternion& q1 = segments.rotation[s1];
+  const Real wq0 = segments.inverseMass[s0], wq1 = segments.inverseMass[s1];
+  BendTwistCorrection d;
+  if (c.xpbd) {
+    if (firstIteration) c.multiplier.setZero();
+    d = bendTwistXpbd(q0, wq0, q1, wq1, c.restDarboux, c.stiffness, c.meanLength, substepSize,
+                      c.multiplier);
+    c.multiplier += d.multiplier;
+  } else {
+    d = bendTwistPbd(q0, wq0, q1, wq1, c.restDarboux, c.stiffness);
+  }
+  if (wq0 != 0) {
     q0.coeffs() += d.quaternion0;
     q0.normalize();
+  }
+  if (wq1 != 0) {
     q1.coeffs() += d.quaternion1;
     q1.normalize();
   }
+}
+
+}  // namespace
+
+void orderRodsAsTheSeed(RodConstraints& rods) {
+  // The seed's list: per line model its stretch–shear constraints, then its bend–twist ones
+  // (both families are built model by model, in segment order).
+  std::vector<int> list;
+  std::size_t ss = 0, bt = 0;
+  while (ss < rods.stretchShear.size() || bt < rods.bendTwist.size()) {
+    const int model = ss < rods.stretchShear.size() ? rods.stretchShear[ss].model
+                                                    : rods.bendTwist[bt].model;
+    for (; ss < rods.stretchShear.size() && rods.stretchShear[ss].model == model; ++ss)
+      list.push_back(int(ss));
+    for (; bt < rods.bendTwist.size() && rods.bendTwist[bt].model == model; ++bt)
+      list.push_back(-int(bt) - 1);
+  }
+  // Greedy colouring in list order, over the seed's one index space.
+  int largest = 0;
+  const auto indices = [&](int k, std::array<int, 3>& out) {
+    if (k >= 0) {
+      const RodStretchShearConstraint& c = rods.stretchShear[std::size_t(k)];
+      out = {c.particles[0], c.particles[1], c.segment};
+      return 3;
+    }
+    const RodBendTwistConstraint& c = rods.bendTwist[std::size_t(-k - 1)];
+    out = {c.segments[0], c.segments[1], -1};
+    return 2;
+  };
+  std::array<int, 3> idx{};
+  for (int k : list) {
+    const int n = indices(k, idx);
+    for (int i = 0; i < n; ++i)
+      largest = std::max(largest, idx[std::size_t(i)]);
+  }
+  std::vector<std::vector<char>> used;
+  std::vector<std::vector<int>> groups;
+  for (int k : list) {
+    const int n = indices(k, idx);
+    std::size_t g = 0;
+    for (; g < used.size(); ++g) {
+      bool free = true;
+      for (int i = 0; i < n; ++i)
+        if (used[g][std::size_t(idx[std::size_t(i)])]) free = false;
+      if (free) break;
+    }
+    if (g == used.size()) {
+      used.emplace_back(std::size_t(largest) + 1, char(0));
+      groups.emplace_back();
+    }
+    for (int i = 0; i < n; ++i)
+      used[g][std::size_t(idx[std::size_t(i)])] = 1;
+    groups[g].push_back(k);
+  }
+  rods.seedOrder.clear();
+  for (const std::vector<int>& group : groups)
+    rods.seedOrder.insert(rods.seedOrder.end(), group.begin(), group.end());
+}
+
+void solveRods(RodConstraints& rods, ParticleStates& particles, SegmentStates& segments,
+               Real substepSize, bool firstIteration) {
+  if (!rods.seedOrder.empty()) {
+    for (int k : rods.seedOrder) {
+      if (k >= 0)
+        solveStretchShear(rods.stretchShear[std::size_t(k)], particles, segments, substepSize,
+                          firstIteration);
+      else
+        solveBendTwist(rods.bendTwist[std::size_t(-k - 1)], segments, substepSize,
+                       firstIteration);
+    }
+    return;
+  }
+  for (RodStretchShearConstraint& c : rods.stretchShear)
+    solveStretchShear(c, particles, segments, substepSize, firstIteration);
+  for (RodBendTwistConstraint& c : rods.bendTwist)
+    solveBendTwist(c, segments, substepSize, firstIteration);
 }
 
 Real rodElasticEnergy(const RodConstraints& rods, const ParticleStates& particles,

@@ -6,14 +6,25 @@ TargetPositionMotorSliderJoint::TargetPositionMotorSliderJoint(const BodyStates&
                                                                const JointDesc& desc)
     : frames_(PointAxisFrames::initAtSecondBody(bodies.rigid, desc.body1, desc.body2, desc.axis)),
       target_(desc.target),
-      model_(desc.model) {
+      model_(desc.model),
+      initialOffset_(frames_.x0(bodies.rigid) - frames_.x1(bodies.rigid)) {
   updateTarget(0);
 }
 
 ConstraintRows<TargetPositionMotorSliderJoint::kRows> TargetPositionMotorSliderJoint::positionRows(
     const BodyStates& bodies) const {
   ConstraintRows<kRows> rows;
-  frames_.setAxisRows(rows, 0, bodies.rigid, 0, 3, offset_);
+  if (model_ == JointModel::Seed) {
+    const RigidBodyStates& b = bodies.rigid;
+    const Vector3 axis = frames_.worldFrame0(b) * Vector3::UnitX();
+    rows.value.head<3>() = frames_.x1(b) - frames_.x0(b) + initialOffset_ - offset_ * axis;
+    rows.linear[0].topRows<3>() = -Matrix3::Identity();
+    rows.linear[1].topRows<3>() = Matrix3::Identity();
+    rows.angular[0].topRows<3>().setZero();
+    rows.angular[1].topRows<3>().setZero();
+  } else {
+    frames_.setAxisRows(rows, 0, bodies.rigid, 0, 3, offset_);
+  }
   frames_.setRotationRows(rows, 3, bodies.rigid, 0, 3);
   return rows;
 }

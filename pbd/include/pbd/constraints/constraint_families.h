@@ -137,7 +137,8 @@ struct ConstraintFamilies {
   /// (per triangle model its cloth elements, then its bending elements; then per tet model its
   /// solid elements — method 1 and 6: edges, then volumes) split greedily into groups of
   /// elements that share no particle (SimulationModel::initConstraintGroups), solved group by
-  /// group. Each family's array is permuted into that order and seedOrder lists the runs.
+  /// group. Each family's array is permuted into that order and seedOrder lists the runs. The
+  /// rods, still swept last, are put in the seed's order among themselves (orderRodsAsTheSeed).
   void orderAsTheSeed(const Scene& scene);
 
   /// Every family with a scene key built from `scene`, in list order (the families' own

@@ -109,6 +109,7 @@ Real bendTwistEnergy(const Quaternion& q0, const Quaternion& q1, const Quaternio
                      const Vector3& stiffness, Real meanLength);
 
 struct RodStretchShearConstraint {
+  int model = 0;  ///< the line model's index in scene order
   std::array<int, 2> particles{-1, -1};
   int segment = -1;
   Real restLength = 0;
@@ -118,6 +119,7 @@ struct RodStretchShearConstraint {
 };
 
 struct RodBendTwistConstraint {
+  int model = 0;  ///< the line model's index in scene order
   std::array<int, 2> segments{-1, -1};
   Quaternion restDarboux = Quaternion::Identity();
   Real meanLength = 0;  ///< ℓ̄, the mean rest length of the two segments
@@ -126,12 +128,27 @@ struct RodBendTwistConstraint {
   Vector3 multiplier = Vector3::Zero();
 };
 
-/// The rods of a world: their constraints in solve order (all stretch–shear, then all
-/// bend–twist, each in model and segment order).
+/// The rods of a world: their constraints, and the order in which a sweep solves them.
 struct RodConstraints {
   std::vector<RodStretchShearConstraint> stretchShear;
   std::vector<RodBendTwistConstraint> bendTwist;
+  /// The seed's solve order (set by orderRodsAsTheSeed): k ≥ 0 is stretchShear[k], k < 0 is
+  /// bendTwist[−k − 1]. Empty: all stretch–shear, then all bend–twist, each in model and
+  /// segment order.
+  std::vector<int> seedOrder;
 };
+
+/// Puts the rods' constraints in PositionBasedDynamics' Gauss–Seidel order: its constraint list
+/// (per line model, every stretch–shear constraint, then every bend–twist constraint) split
+/// greedily into groups (SimulationModel::initConstraintGroups: a constraint joins the first
+/// group in which none of its indices is marked), solved group by group. The seed marks a
+/// constraint's `m_bodies` in one index space: a stretch–shear constraint marks its two particle
+/// indices and its quaternion's index, a bend–twist constraint its two quaternions' indices, so
+/// quaternion k and particle k block each other. On a rod of N segments (particles and
+/// quaternions numbered from 0) that solves the stretch–shear constraints of even segments, then
+/// those of odd segments, then the bend–twist constraints of even, then odd pairs. The rods are
+/// coloured among themselves (the seed colours them with every other constraint of its list).
+void orderRodsAsTheSeed(RodConstraints& rods);
 
 /// The constraints of every line model of the scene, segments numbered across the models in
 /// scene order (as World::bodies.segments). A model with youngsModulus and shearModulus gets
@@ -139,8 +156,10 @@ struct RodConstraints {
 /// model's shearFactor); otherwise the PBD one with the Simulation block's rod_* fractions.
 RodConstraints rodConstraints(const Scene& scene);
 
-/// One Gauss–Seidel sweep: every stretch–shear constraint, then every bend–twist constraint;
-/// XPBD multipliers are reset when `firstIteration`.
+/// One Gauss–Seidel sweep: in the seed's order when rods.seedOrder is set, else every
+/// stretch–shear constraint, then every bend–twist constraint; XPBD multipliers are reset when
+/// `firstIteration`. As the seed, a correction is applied to a particle or quaternion of nonzero
+/// inverse mass only (a static segment's quaternion is not renormalised).
 void solveRods(RodConstraints& rods, ParticleStates& particles, SegmentStates& segments,
                Real substepSize, bool firstIteration);
 
