@@ -232,9 +232,11 @@ EnergyChanges energyChanges(const CantileverRun& run) {
   return c;
 }
 
-// The seed step with the Gauss–Seidel converged (200 iterations of one substep h = 1 ms) is
-// XPBD's implicit (backward) Euler step, which only dissipates. Euler–Bernoulli with the clamp at
-// the midpoint of the clamped segment (L_eff = 0.95 m, tests/pbd/test_cosserat_rod.cpp):
+// The seed step with the Gauss–Seidel converged (1000 iterations of one substep h = 1 ms: the
+// seed's red–black order of the rod's constraints, even segments then odd, moves a correction along
+// the rod more slowly per sweep than segment order, and 200 sweeps left a transient gain of 2e-3 J)
+// is XPBD's implicit (backward) Euler step, which only dissipates. Euler–Bernoulli with the clamp
+// at the midpoint of the clamped segment (L_eff = 0.95 m, tests/pbd/test_cosserat_rod.cpp):
 //   static sag energy  ½ k δ² = q² L⁵/(40 EI) = 0.0234 J  (q = ρπr²g, I = πr⁴/4);
 //   released at rest, the rod swings to twice the sag, storing 4 × that (0.094 J): what the
 //   measure without the rod's terms misses at the bottom of a swing;
@@ -242,7 +244,7 @@ EnergyChanges energyChanges(const CantileverRun& run) {
 //   (1 + h²ω₁²)⁻¹ per step, ω₁² = 3.516² EI/(ρA L⁴): after N = 1000 steps E(1 s) − E(0) =
 //   −q² L⁵/(40 EI) (1 − (1 + h²ω₁²)^−N) = −0.0074 J.
 TEST(RodEnergy, ConvergedXpbdCantileverOnlyDissipates) {
-  const CantileverRun run = runCantilever("pbd", 200);
+  const CantileverRun run = runCantilever("pbd", 1000);
   ASSERT_EQ(run.samples.size(), 201u);
   const EnergyChanges c = energyChanges(run);
   const double q = 1000 * kPi * 1e-4 * 9.81, ei = 1e9 * kPi * 1e-8 / 4, length = 0.95;
@@ -257,7 +259,7 @@ TEST(RodEnergy, ConvergedXpbdCantileverOnlyDissipates) {
   // half-swing's dissipation takes ≈ 6 % of the oscillation energy; measured −0.091 J).
   EXPECT_LT(c.downBefore, -3 * sagEnergy);
   // After: never above the start (backward Euler is dissipative; measured exactly 0, the
-  // 200-iteration Gauss–Seidel residual and round-off included) — 10⁻³ of what was missed.
+  // 1000-iteration Gauss–Seidel residual and round-off included) — 10⁻³ of what was missed.
   EXPECT_LE(c.upAfter, 1e-3 * -c.downBefore);
   // And it loses what backward Euler's damping of the first mode predicts, within 10 % (the
   // higher modes the release excites carry a few % of the energy and are damped faster;
