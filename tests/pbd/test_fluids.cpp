@@ -3,7 +3,9 @@
 // the neighbour search against brute force, the density against an independent lattice sum,
 // ∇C against central differences, momentum of the position and XSPH corrections, rigid-motion
 // invariance; in the world a hydrostatic column (density error, containment, rest) and a dam
-// break (front against Martin & Moyce 1952); the FluidModels scene keys and their errors.
+// break (front against Martin & Moyce 1952); the FluidModels scene keys and their errors; the
+// seed formulation's kernel, neighbour order and wall sampling (its agreement with the original
+// itself is tests/pbd/test_seed_reference.cpp, SeedReferenceFluid).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,6 +17,7 @@
 
 #include "common/tolerances.h"
 #include "pbd/constraints/fluid_density.h"
+#include "pbd/constraints/seed_fluid_density.h"
 #include "pbd/fluids/fluid_lattice.h"
 #include "pbd/fluids/fluid_model.h"
 #include "pbd/fluids/neighbour_search.h"
@@ -723,6 +726,149 @@ TEST(FluidScene, BadInputNamesTheFileThePathAndWhatWasExpected) {
                                         "/tmp/f.json", LoadOptions{});
   ASSERT_EQ(loaded.warnings.size(), 1u);
   EXPECT_NE(loaded.warnings.front().jsonPath.find("FluidModels[0]"), std::string::npos);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The seed formulation (FluidFormulation::Seed)
+
+TEST(FluidSeedFormulation, SeedKernelIsTheSplineInsideItsSupportAndItsCubicContinuedBeyond) {
+  const double h = 0.1;
+  const SeedCubicKernel seed{Real(h)};
+  const double sigma = 8.0 / (M_PI * h * h * h);
+  for (double q = 0; q <= 1.3; q += 0.01) {
+    const Vector3 r(Real(q * h), 0, 0);
+    // Inside the support: the independent spline to round-off (a few ε of σ). Beyond it: the
+    // outer piece 2σ(1 − q)³ continued (the seed compiles out its support test), < 0.
+    const double expected =
+        q <= 1 ? independentCubicSpline(q * h, h) : sigma * 2 * (1 - q) * (1 - q) * (1 - q);
+    EXPECT_NEAR(double(seed.value(r)), expected, 16 * kEpsilon * sigma) << "q = " << q;
+    if (q > 1.001) {
+      EXPECT_LT(double(seed.value(r)), 0) << "q = " << q;
+    }
+  }
+  EXPECT_EQ(seed.valueAtZero(), seed.value(Vector3::Zero()));
+  // ∇W against central differences of W along a skew direction, inside and beyond the support
+  // (step 10⁻⁶ h: truncation ~ |W'''| h² 10⁻¹² ~ 10⁻¹¹ σ/h and round-off ~ ε σ / 10⁻⁶ ~
+  // 10⁻¹⁰ σ/h, both far below the 10⁻⁶ σ/h asked).
+  const Vector3 direction = Vector3(1, 2, -0.5).normalized();
+  for (double q : {0.2, 0.49, 0.51, 0.8, 0.99, 1.05, 1.2}) {
+    const Vector3 r = Real(q * h) * direction;
+    const double step = 1e-6 * h;
+    for (int a = 0; a < 3; ++a) {
+      Vector3 e = Vector3::Zero();
+      e(a) = Real(step);
+      const double difference = double(seed.value(r + e) - seed.value(r - e)) / (2 * step);
+      EXPECT_NEAR(double(seed.gradient(r)(a)), difference, 1e-6 * sigma / h)
+          << "q = " << q << ", axis " << a;
+    }
+  }
+  EXPECT_EQ(seed.gradient(Vector3(Real(1e-7), 0, 0)), Vector3::Zero());
+}
+
+TEST(FluidSeedFormulation, NeighbourOrderIsTheSeedsCellOrderFluidBeforeBoundaryCappedAt60) {
+  // Points on a jittered lattice around a query, half of them "boundary" (index ≥ n).
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  const Real support = Real(0.1);
+  std::vector<Vector3> fluid, boundary;
+  for (int i = -3; i <= 3; ++i)
+    for (int j = -3; j <= 3; ++j)
+      for (int k = -3; k <= 3; ++k) {
+        const Vector3 p = Real(0.03) * Vector3(Real(i + jitter(random)), Real(j + jitter(random)),
+                                               Real(k + jitter(random))) +
+                          Vector3(Real(0.31), Real(0.52), Real(-0.17));
+        ((i + j + k + 9) % 2 == 0 ? fluid : boundary).push_back(p);
+      }
+  const std::size_t n = fluid.size();
+  const Vector3 query = fluid[n / 2];
+  // The seed's loop written out: its cell coordinates, the 27 cells x slowest, z fastest, each
+  // cell's fluid then boundary points by index, closer than the support, itself excluded.
+  const auto cell = [&](const Vector3& p, int a) {
+    return int(double(p(a)) * (1.0 / double(support)) + 32768.0) - 32768;
+  };
+  std::vector<int> expected;
+  for (int dx = -1; dx <= 1; ++dx)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dz = -1; dz <= 1; ++dz) {
+        const auto inCell = [&](const Vector3& p) {
+          return cell(p, 0) == cell(query, 0) + dx && cell(p, 1) == cell(query, 1) + dy &&
+                 cell(p, 2) == cell(query, 2) + dz &&
+                 (p - query).squaredNorm() < support * support;
+        };
+        for (std::size_t j = 0; j < n; ++j)
+          if (j != n / 2 && inCell(fluid[j])) expected.push_back(int(j));
+        for (std::size_t b = 0; b < boundary.size(); ++b)
+          if (inCell(boundary[b])) expected.push_back(int(n + b));
+      }
+  ASSERT_GT(expected.size(), 60u);  // the cap is exercised
+  // Candidates in increasing merged index, as the fluid step passes them.
+  std::vector<int> candidates;
+  for (std::size_t j = 0; j < n; ++j)
+    if (j != n / 2 && (fluid[j] - query).squaredNorm() < support * support)
+      candidates.push_back(int(j));
+  for (std::size_t b = 0; b < boundary.size(); ++b)
+    if ((boundary[b] - query).squaredNorm() < support * support) candidates.push_back(int(n + b));
+  ASSERT_LE(candidates.size(), 2 * kMaxFluidNeighbours);
+  std::vector<int> ordered(candidates.size());
+  std::size_t dropped = 0;
+  const int count =
+      seedOrderNeighbours(query, support, candidates.data(), int(candidates.size()), fluid.data(),
+                          n, boundary.data(), ordered.data(), dropped);
+  ASSERT_EQ(count, kSeedMaxNeighbours);
+  EXPECT_EQ(dropped, expected.size() - std::size_t(kSeedMaxNeighbours));
+  for (int k = 0; k < count; ++k)
+    EXPECT_EQ(ordered[std::size_t(k)], expected[std::size_t(k)]) << "entry " << k;
+}
+
+TEST(FluidScene, ListedParticlesSeedWallsAndTheFormulationAreReadAsGiven) {
+  const LoadedScene loaded = parseScene(R"({"FluidModels": [
+      {"formulation": "seed",
+       "particles": [[0.1, 0.2, 0.3], [0.15, 0.2, 0.3]],
+       "boundaryWalls": [{"min": [0, 0, 0], "max": [0.1, 0, 0.05]},
+                         {"min": [0, 0, 0], "max": [0, 0.05, 0]}]},
+      {"blocks": [{"min": [0, 0, 0], "max": [0.05, 0.05, 0.05]}], "particles": [[1, 1, 1]]}
+    ]})",
+                                        "/tmp/fluid_keys.json", LoadOptions{});
+  EXPECT_TRUE(loaded.warnings.empty());
+  const Scene& scene = loaded.scene;
+  ASSERT_EQ(scene.fluidModels.size(), 2u);
+  const FluidModelDesc& a = scene.fluidModels[0];
+  EXPECT_EQ(a.formulation, FluidFormulation::Seed);
+  ASSERT_EQ(a.particleCount, 2);  // no blocks: the listed particles only
+  EXPECT_EQ(scene.particles[0].position, Vector3(Real(0.1), Real(0.2), Real(0.3)));  // exactly
+  EXPECT_EQ(scene.particles[1].position, Vector3(Real(0.15), Real(0.2), Real(0.3)));
+  // The walls as the seed's addWall samples them: floor(extent / 2r) + 1 points per axis from
+  // min, spacing 2r = 0.05: 3 × 1 × 2 on the first wall, 1 × 2 × 1 on the second, the shared
+  // corner (0, 0, 0) twice.
+  const Fluid fluid = buildFluid(a);
+  ASSERT_EQ(fluid.boundaryPositions.size(), 8u);
+  const Real d = 2 * Real(0.025);
+  EXPECT_EQ(fluid.boundaryPositions[0], Vector3::Zero());
+  EXPECT_EQ(fluid.boundaryPositions[1], Vector3(0, 0, d));
+  EXPECT_EQ(fluid.boundaryPositions[5], Vector3(2 * d, 0, d));
+  EXPECT_EQ(fluid.boundaryPositions[6], Vector3::Zero());
+  EXPECT_EQ(fluid.boundaryPositions[7], Vector3(0, d, 0));
+  // ψ_b = ρ₀ / Σ W over b's boundary neighbours: the corner counts its coincident twin (W(0)
+  // twice), so its ψ is below that of particle 1, which has no twin and fewer close neighbours.
+  EXPECT_LT(fluid.boundaryPsi[0], fluid.boundaryPsi[1]);
+  const FluidModelDesc& b = scene.fluidModels[1];
+  EXPECT_EQ(b.formulation, FluidFormulation::Symmetric);  // the default
+  ASSERT_EQ(b.particleCount, 2);                          // the block's, then the listed one
+  EXPECT_EQ(scene.particles[std::size_t(b.firstParticle) + 1].position, Vector3(1, 1, 1));
+  // The errors name the path and what was expected.
+  EXPECT_TRUE(containsAllOf(fluidError(R"({"particles": [[0, 0, 0]], "formulation": "pbf"})"),
+                            {"FluidModels[0].formulation", "\"symmetric\"", "\"seed\""}))
+      << fluidError(R"({"particles": [[0, 0, 0]], "formulation": "pbf"})");
+  EXPECT_TRUE(containsAllOf(
+      fluidError(R"({"particles": [[0, 0, 0]],
+                     "boundaryWalls": [{"min": [0, 0, 0], "max": [1, -1, 1]}]})"),
+      {"FluidModels[0].boundaryWalls[0]", "an inverted wall", "along y"}));
+  EXPECT_TRUE(
+      containsAllOf(fluidError(R"({"particles": [[0, 0]]})"), {"FluidModels[0].particles[0]"}));
+  EXPECT_TRUE(containsAllOf(
+      fluidError(R"({"particles": [[0, 0, 0]],
+                     "boundaryWalls": [{"min": [0, 0, 0], "max": [100, 100, 100]}]})"),
+      {"FluidModels[0].boundaryWalls[0]", "more than 10000000 boundary particles"}));
 }
 
 }  // namespace

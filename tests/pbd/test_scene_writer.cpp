@@ -214,6 +214,15 @@ void expectSameScene(const Scene& a, const Scene& b) {
     }
     EXPECT_EQ(x.firstParticle, y.firstParticle);
     EXPECT_EQ(x.particleCount, y.particleCount);
+    EXPECT_EQ(x.formulation, y.formulation);
+    ASSERT_EQ(x.particles.size(), y.particles.size());
+    for (std::size_t k = 0; k < x.particles.size(); ++k)
+      EXPECT_VEC_EQ(x.particles[k], y.particles[k], x.jsonPath);
+    ASSERT_EQ(x.boundaryWalls.size(), y.boundaryWalls.size());
+    for (std::size_t k = 0; k < x.boundaryWalls.size(); ++k) {
+      EXPECT_VEC_EQ(x.boundaryWalls[k].min, y.boundaryWalls[k].min, x.jsonPath);
+      EXPECT_VEC_EQ(x.boundaryWalls[k].max, y.boundaryWalls[k].max, x.jsonPath);
+    }
   }
   ASSERT_EQ(a.particles.size(), b.particles.size());
   for (std::size_t i = 0; i < a.particles.size(); ++i) {

@@ -16,6 +16,8 @@ namespace {
 /// More particles than this in one model is a mistake in the scene (a block in metres meant in
 /// centimetres), not a simulation this library runs.
 constexpr std::size_t kMaxFluidParticles = 1000000;
+/// The same for the boundary particles of a model's boundaryWalls.
+constexpr std::size_t kMaxBoundaryParticles = 10000000;
 
 const char* axisName(int axis) {
   static const char* const names[] = {"x", "y", "z"};
@@ -37,6 +39,30 @@ AxisAlignedBox readBox(const JsonValue& value) {
   return box;
 }
 
+/// A wall {"min": [..], "max": [..]} with min ≤ max in every component (flat walls allowed).
+AxisAlignedBox readWall(const JsonValue& value) {
+  JsonObject object = value.object();
+  AxisAlignedBox box;
+  box.min = object.require("min").vector3();
+  box.max = object.require("max").vector3();
+  for (int a = 0; a < 3; ++a)
+    if (!(box.min(a) <= box.max(a)))
+      value.error(std::string("an inverted wall: min ≤ max is needed in every component, but "
+                              "along ") +
+                  axisName(a) + " min = " + formatNumber(double(box.min(a))) +
+                  " and max = " + formatNumber(double(box.max(a))));
+  object.warnUnknownKeys();
+  return box;
+}
+
+/// Extension: "symmetric" | "seed".
+FluidFormulation fluidFormulation(const JsonValue& value) {
+  const std::string name = value.string();
+  for (FluidFormulation f : {FluidFormulation::Symmetric, FluidFormulation::Seed})
+    if (name == fluidFormulationName(f)) return f;
+  value.fail("one of \"symmetric\", \"seed\"");
+}
+
 bool contains(const AxisAlignedBox& outer, const AxisAlignedBox& inner) {
   return (inner.min.array() >= outer.min.array()).all() &&
          (inner.max.array() <= outer.max.array()).all();
@@ -54,6 +80,11 @@ KeyTable<FluidModelDesc> fluidKeys() {
       // XSPH blends a particle's velocity towards its neighbours': c > 1 overshoots.
       numberKey("viscosity", &F::viscosity, between(0, 1)),
       integerKey("iterations", &F::iterations, between(1, kMaxIterations)),
+      {"formulation", [](const JsonValue& v, F& f) { f.formulation = fluidFormulation(v); },
+       false,
+       [](const F& f, Json& j) {
+         writeString(j, "formulation", fluidFormulationName(f.formulation));
+       }},
   };
 }
 
@@ -64,11 +95,32 @@ FluidModelDesc readFluidModel(const JsonValue& element, Scene& scene) {
   readKeys(object, fluidKeys(), model);
   if (auto container = object.find("container")) model.container = readBox(*container);
 
-  const JsonValue blocks = object.require("blocks");
-  const std::vector<JsonValue> blockValues = blocks.elements("fluid blocks {\"min\", \"max\"}");
-  if (blockValues.empty()) blocks.fail("at least one block {\"min\", \"max\"}");
-  const Real spacing = 2 * model.particleRadius;
   std::vector<Vector3> positions;
+  if (auto listed = object.find("particles")) {
+    for (const JsonValue& p : listed->elements("particle positions [x, y, z]"))
+      model.particles.push_back(p.vector3());
+    if (model.particles.size() > kMaxFluidParticles)
+      listed->error("more than " + std::to_string(kMaxFluidParticles) + " particles");
+  }
+  if (auto walls = object.find("boundaryWalls")) {
+    long double boundaryCount = 0;
+    for (const JsonValue& wall : walls->elements("walls {\"min\", \"max\"}")) {
+      model.boundaryWalls.push_back(readWall(wall));
+      boundaryCount += seedWallParticleCount(model.boundaryWalls.back(), model.particleRadius);
+      if (boundaryCount > (long double)kMaxBoundaryParticles)
+        wall.error("the walls hold more than " + std::to_string(kMaxBoundaryParticles) +
+                   " boundary particles; check the units of the wall and particleRadius");
+    }
+  }
+  // `blocks` may be left out when particles are listed.
+  const std::optional<JsonValue> blocks =
+      model.particles.empty() ? std::optional<JsonValue>(object.require("blocks"))
+                              : object.find("blocks");
+  const std::vector<JsonValue> blockValues =
+      blocks ? blocks->elements("fluid blocks {\"min\", \"max\"}") : std::vector<JsonValue>{};
+  if (blocks && blockValues.empty() && model.particles.empty())
+    blocks->fail("at least one block {\"min\", \"max\"} (or listed particles)");
+  const Real spacing = 2 * model.particleRadius;
   for (std::size_t i = 0; i < blockValues.size(); ++i) {
     const AxisAlignedBox block = readBox(blockValues[i]);
     for (int a = 0; a < 3; ++a)
@@ -97,6 +149,11 @@ FluidModelDesc readFluidModel(const JsonValue& element, Scene& scene) {
     const std::vector<Vector3> filled = fluidBlockParticles(block, model.particleRadius);
     positions.insert(positions.end(), filled.begin(), filled.end());
   }
+  if ((long double)positions.size() + (long double)model.particles.size() >
+      (long double)kMaxFluidParticles)
+    element.error("the model holds more than " + std::to_string(kMaxFluidParticles) +
+                  " particles");
+  positions.insert(positions.end(), model.particles.begin(), model.particles.end());
   object.warnUnknownKeys();
 
   model.firstParticle = static_cast<int>(scene.particles.size());

@@ -203,6 +203,18 @@ std::string writeSceneJson(const Scene& scene) {
         blocks.push_back(boxJson(block));
       o["blocks"] = blocks;
       if (m.container) o["container"] = boxJson(*m.container);
+      if (!m.particles.empty()) {
+        Json listed = Json::array();
+        for (const Vector3& x : m.particles)
+          listed.push_back(Json{double(x.x()), double(x.y()), double(x.z())});
+        o["particles"] = listed;
+      }
+      if (!m.boundaryWalls.empty()) {
+        Json walls = Json::array();
+        for (const AxisAlignedBox& wall : m.boundaryWalls)
+          walls.push_back(boxJson(wall));
+        o["boundaryWalls"] = walls;
+      }
       models.push_back(o);
     }
     root["FluidModels"] = models;

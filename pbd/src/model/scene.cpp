@@ -151,6 +151,10 @@ Real solidVolumeStiffnessFor(const SimulationSettings& settings) {
   return settings.solidSimulationMethod == 6 ? Real(1e5) : Real(1);
 }
 
+const char* fluidFormulationName(FluidFormulation formulation) {
+  return formulation == FluidFormulation::Seed ? "seed" : "symmetric";
+}
+
 const char* jointModelName(JointModel model) {
   return model == JointModel::Seed ? "seed" : "corrected";
 }

@@ -506,6 +506,54 @@ def cloth_on_bunny() -> Json:
     }
 
 
+def fluid_dam_break_seed() -> Json:
+    """The fluid demo's breaking dam, smaller: a block of 6 x 10 x 4 particles (x, y, z) in the
+    demo's container for that block (width (6 + 1) 10 r, depth (4 + 1) 2 r), 1 m high instead
+    of the demo's 4 m. Particles and walls are computed with the demo's own expressions
+    (createBreakingDam, initBoundaryData: Python floats are IEEE doubles evaluated in the same
+    order), so both programs start from the same numbers; the walls are given as the demo's
+    addWall boxes (`boundaryWalls`), the particles listed. The seed formulation of pbdval's
+    fluid (`formulation` "seed"), one substep of the demo's 5 ms (its CFL cap; the driver checks
+    that the demo's CFL rule keeps it)."""
+    width, height, depth, container_height = 6, 10, 4, 1.0
+    radius = 0.025
+    container_width = (width + 1) * radius * (2.0 * 5.0)
+    container_depth = (depth + 1) * radius * 2.0
+    diam = 2.0 * radius
+    start = [-0.5 * container_width + diam, diam, -0.5 * container_depth + diam]
+    particles = [[diam * i + start[0], diam * j + start[1], diam * k + start[2]]
+                 for i in range(width) for j in range(height) for k in range(depth)]
+    x1, x2 = -container_width / 2.0, container_width / 2.0
+    y1, y2 = 0.0, container_height
+    z1, z2 = -container_depth / 2.0, container_depth / 2.0
+    walls = [([x1, y1, z1], [x2, y1, z2]),  # floor
+             ([x1, y2, z1], [x2, y2, z2]),  # top
+             ([x1, y1, z1], [x1, y2, z2]),  # left
+             ([x2, y1, z1], [x2, y2, z2]),  # right
+             ([x1, y1, z1], [x2, y2, z1]),  # back
+             ([x1, y1, z2], [x2, y2, z2])]  # front
+    return {
+        "Name": "fluid_dam_break_seed",
+        "Simulation": {
+            "timeStepSize": 0.005,
+            "subSteps": 1,
+            "maxIterations": 1,
+            "maxIterationsV": 5,
+            "velocityUpdateMethod": 0,
+            "gravitation": [0, -9.81, 0],
+        },
+        "FluidModels": [{
+            "formulation": "seed",
+            "particleRadius": radius,
+            "density0": 1000,
+            "viscosity": 0.02,
+            "iterations": 5,
+            "particles": particles,
+            "boundaryWalls": [{"min": low, "max": high} for low, high in walls],
+        }],
+    }
+
+
 def plane_obj(count: int) -> str:
     """A count x count grid of vertices over [-0.5, 0.5]² in the xz plane, two triangles per
     cell (vertex index i + count j is at x = i/(count-1) - 0.5, z = j/(count-1) - 0.5)."""
@@ -543,7 +591,8 @@ def main() -> None:
                         ("deformable_solid_collision_scene", deformable_solid_collision_scene()),
                         ("armadillo_collision_scene", armadillo_collision_scene()),
                         ("wilberforce_spring", wilberforce_spring()),
-                        ("cloth_on_bunny", cloth_on_bunny())]:
+                        ("cloth_on_bunny", cloth_on_bunny()),
+                        ("fluid_dam_break_seed", fluid_dam_break_seed())]:
         write_atomically(HERE / "scenes" / f"{name}.json", json.dumps(scene, indent=2) + "\n")
 
 

@@ -31,6 +31,9 @@ namespace pbd {
 /// Neighbour-list capacity (fluid and boundary lists each): four times the 32 neighbours of an
 /// interior lattice particle at rest density (neighbour_search.h).
 inline constexpr std::size_t kMaxFluidNeighbours = 128;
+/// The seed's neighbour cap (NeighborhoodSearchSpatialHashing's maxNeighbors): the seed
+/// formulation keeps the first 60 entries of a list in the seed's order, as the seed does.
+inline constexpr int kSeedMaxNeighbours = 60;
 /// The seed's ε in the denominator of λ.
 inline constexpr Real kPbfEpsilon = Real(1e-6);
 
@@ -41,13 +44,18 @@ struct Fluid {
   Real restDensity = 1000;
   Real viscosity = 0;
   int iterations = 5;
+  FluidFormulation formulation = FluidFormulation::Symmetric;
   CubicSplineKernel kernel;
-  std::vector<Vector3> boundaryPositions;  ///< the container's walls (static)
+  SeedCubicKernel seedKernel;  ///< the seed formulation's kernel
+  /// The container's walls, then the boundaryWalls' particles (static).
+  std::vector<Vector3> boundaryPositions;
   std::vector<Real> boundaryPsi;           ///< ψ_b = ρ₀ V_b (Akinci 2012)
   NeighbourSearch fluidGrid;
   NeighbourSearch boundaryGrid;  ///< indexed once at build
   NeighbourLists fluidNeighbours;
   NeighbourLists boundaryNeighbours;
+  /// The seed formulation's lists: fluid (j < n) and boundary (n + b) mixed, in the seed's order.
+  NeighbourLists seedNeighbours;
   std::vector<Real> density;
   std::vector<Real> lambda;
   std::vector<Vector3> delta;  ///< Δx, then Δv
@@ -63,6 +71,26 @@ std::vector<Vector3> fluidBlockParticles(const AxisAlignedBox& block, Real parti
 /// Boundary particles on the six faces of `box`: the surface points of a lattice with
 /// ceil(extent / 2r) intervals per axis (spacing ≤ 2r), each point once.
 std::vector<Vector3> containerBoundaryParticles(const AxisAlignedBox& box, Real particleRadius);
+
+/// The boundary particles of one wall as the seed's FluidDemo samples it (addWall):
+/// min + (j, k, l) 2r for j < floor(extent_x / 2r) + 1, … (x slowest, z fastest).
+std::vector<Vector3> seedWallParticles(const AxisAlignedBox& wall, Real particleRadius);
+/// How many particles seedWallParticles makes (each factor capped at 2^30).
+long double seedWallParticleCount(const AxisAlignedBox& wall, Real particleRadius);
+
+/// The seed formulation's neighbour order (NeighborhoodSearchSpatialHashing::neighborhoodSearch
+/// of PositionBasedDynamics 2.2.2): the seed hashes cells of edge h (the support) with
+/// coordinates c(v) = (int)(v · (1/h) + 32768) − 32768 and lists, for the 3 × 3 × 3 cells
+/// around the query's cell (x slowest, z fastest), each cell's points in the order they were
+/// inserted (fluid particles by index, then boundary particles by index), keeping the first
+/// kSeedMaxNeighbours. `candidates` (count `candidateCount`) are the points closer than h in
+/// increasing merged index (fluid j, boundary n + b), `positionOf` maps a merged index to its
+/// point. Writes the ordered list to `out` and returns its length; `dropped` counts entries
+/// past the cap. Cells that the seed's 32-bit cell hash merges are not merged here (their
+/// absence is checked for each recording by its driver).
+int seedOrderNeighbours(const Vector3& query, Real support, const int* candidates,
+                        int candidateCount, const Vector3* fluidPositions, std::size_t fluidCount,
+                        const Vector3* boundaryPositions, int* out, std::size_t& dropped);
 
 /// Where a container's boundary particles lie: its faces moved out by r. A block filling the
 /// container then has its outer particle centres at r from the faces and 2r from the walls,

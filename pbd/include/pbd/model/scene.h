@@ -356,6 +356,16 @@ struct AxisAlignedBox {
   Vector3 max = Vector3::Zero();
 };
 
+/// How a fluid's step is computed (`FluidModels[].formulation`, docs/methods.md#fluids).
+/// `Symmetric`: pbdval's (neighbour lists by index, symmetric XSPH on fresh densities, kernels
+/// zero beyond their support). `Seed`: the seed's FluidDemo (TimeStepFluidModel,
+/// PositionBasedFluids, CubicKernel) operation for operation: one list per particle, fluid and
+/// boundary mixed in its spatial hash's cell order, capped at 60; its kernel expressions without
+/// the support test; XSPH updated in place with m/ρ_j and the last iteration's densities.
+enum class FluidFormulation : int { Symmetric, Seed };
+
+const char* fluidFormulationName(FluidFormulation formulation);
+
 /// Extension (pbdval's; the seed's fluids are demo-only, without a scene key): a
 /// position-based fluid (`FluidModels[]`, docs/scene-format.md#fluidmodels; the solver in
 /// constraints/fluid_density.h and fluids/fluid_model.h). Its particles are ordinary particles
@@ -369,6 +379,12 @@ struct FluidModelDesc {
   int iterations = 5;                       ///< Jacobi density iterations per substep
   std::vector<AxisAlignedBox> blocks;       ///< filled on a lattice of spacing 2r
   std::optional<AxisAlignedBox> container;  ///< walls sampled with boundary particles
+  /// Listed particles (after the blocks'), at exactly the given positions.
+  std::vector<Vector3> particles;
+  /// Boxes sampled with boundary particles as the seed's FluidDemo samples its walls (addWall):
+  /// min + 2r (j, k, l) for j ≤ floor(extent_x / 2r) …, overlaps kept.
+  std::vector<AxisAlignedBox> boundaryWalls;
+  FluidFormulation formulation = FluidFormulation::Symmetric;
   int firstParticle = 0;                    ///< index of its first particle in Scene::particles
   int particleCount = 0;
 
