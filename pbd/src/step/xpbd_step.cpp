@@ -140,9 +140,9 @@ void stepWorldXpbd(World& world) {
     const Real substepEnd = startTime + static_cast<Real>(s + 1) * hs;
     for (Joint& joint : world.joints)
       std::visit([&](auto& j) { j.updateTarget(substepEnd); }, joint);
-    predictPositions(world, hs);
     for (XpbdContact& contact : world.xpbd.contacts.contacts)
-      contact.beginSubstep(world.bodies);
+      contact.followSupportPoint(world.bodies);  // spheres: the rolling contact's new point
+    predictPositions(world, hs);
     // Particle–tet contacts: detected on the predicted positions of every substep.
     world.collision.detectParticleTet(world.bodies.particles, world.tetContacts.geometry);
     world.tetContacts.initialise(world.bodies.particles, world.materials);
