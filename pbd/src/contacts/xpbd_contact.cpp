@@ -216,17 +216,20 @@ void XpbdContact::followSupportPoint(const BodyStates& bodies) {
   surfaceLocal = b.rotation[at(body)].conjugate() * (anchor - b.position[at(body)]);
 }
 
-void XpbdContact::solvePosition(BodyStates& bodies, Real substepSize, Real compliance) {
-  normalMultiplier = 0;  // one iteration per substep: λ from zero
+void XpbdContact::beginSubstep(const BodyStates& bodies) {
+  normalMultiplier = 0;
   tangentMultiplier = 0;
+  const ContactFrame f = currentFrame(*this, bodies);
+  approachVelocity = f.normal.dot(relativeVelocity(*this, bodies, f));
+}
+
+void XpbdContact::solvePosition(BodyStates& bodies, Real substepSize, Real compliance) {
   ContactFrame f = currentFrame(*this, bodies);
   const Real c = f.normal.dot(f.point - f.surface);
   if (!(c < 0)) {
     reanchor(*this, bodies, f);  // not touching: the anchor follows the point
     return;
   }
-  // ṽ_n: the velocities are still the prediction's (the position iteration moves only positions).
-  approachVelocity = f.normal.dot(relativeVelocity(*this, bodies, f));
   // Normal row.
   const Real scaledCompliance = compliance / (substepSize * substepSize);  // α̃ = α/h²
   const PairResponse normalResponse =

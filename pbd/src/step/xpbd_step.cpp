@@ -143,6 +143,8 @@ void stepWorldXpbd(World& world) {
     for (XpbdContact& contact : world.xpbd.contacts.contacts)
       contact.followSupportPoint(world.bodies);  // spheres: the rolling contact's new point
     predictPositions(world, hs);
+    for (XpbdContact& contact : world.xpbd.contacts.contacts)
+      contact.beginSubstep(world.bodies);
     // Particle–tet contacts: detected on the predicted positions of every substep.
     world.collision.detectParticleTet(world.bodies.particles, world.tetContacts.geometry);
     world.tetContacts.initialise(world.bodies.particles, world.materials);

@@ -78,7 +78,7 @@ struct XpbdContact {
   Real friction = 0, restitution = 0;
   Real normalMultiplier = 0;   ///< λ_n of the current substep
   Real tangentMultiplier = 0;  ///< |λ_t| of the static friction, current substep
-  Real approachVelocity = 0;   ///< ṽ_n of the current substep (set when active)
+  Real approachVelocity = 0;   ///< ṽ_n of the current substep
 
   /// Sets the contact up from its geometry at the current poses.
   void init(const ContactPointGeometry& geometry, bool particle, const BodyStates& bodies,
@@ -86,8 +86,9 @@ struct XpbdContact {
   /// Sphere contacts: makes the current support point the friction point and moves the anchor
   /// with it, keeping the slip not yet undone (call before the prediction). Others: nothing.
   void followSupportPoint(const BodyStates& bodies);
-  /// Resets λ; when touching, records ṽ_n, then the normal projection and static friction
-  /// (moves the anchor when the point slides). Once per substep, after the prediction.
+  /// Resets λ and records ṽ_n (call after the prediction).
+  void beginSubstep(const BodyStates& bodies);
+  /// Normal projection and static friction (moves the anchor when the point slides).
   void solvePosition(BodyStates& bodies, Real substepSize, Real compliance);
   /// Restitution and dynamic friction.
   void solveVelocity(BodyStates& bodies, Real substepSize, Real restitutionThreshold) const;
