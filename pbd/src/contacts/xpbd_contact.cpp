@@ -73,38 +73,62 @@ struct ContactFrame {
   Vector3 normal;
 };
 
-ContactFrame currentFrame(const XpbdContact& c, const BodyStates& bodies) {
+/// The contact's frame at the current poses. `frictionPoints`: also the friction point and the
+/// anchor of a sphere's contact (the normal row and the velocity pass do not need them; for
+/// every other contact they are the normal row's points anyway).
+ContactFrame currentFrame(const XpbdContact& c, const BodyStates& bodies,
+                          bool frictionPoints = true) {
   const RigidBodyStates& b = bodies.rigid;
   ContactFrame f;
   const Quaternion& q1 = b.rotation[at(c.body)];
   const Vector3& x1 = b.position[at(c.body)];
-  f.anchorLever = q1 * c.surfaceLocal;
-  f.anchor = x1 + f.anchorLever;
-  if (c.pointIsParticle) {
-    f.material = bodies.particles.position[at(c.point)];
-    f.materialLever = Vector3::Zero();
-  } else {
-    f.materialLever = b.rotation[at(c.point)] * c.pointLocal;
-    f.material = b.position[at(c.point)] + f.materialLever;
+  if (!(c.pointRadius > 0)) {
+    f.anchorLever = q1 * c.surfaceLocal;
+    f.anchor = x1 + f.anchorLever;
+    if (c.pointIsParticle) {
+      f.material = bodies.particles.position[at(c.point)];
+      f.materialLever = Vector3::Zero();
+    } else {
+      f.materialLever = b.rotation[at(c.point)] * c.pointLocal;
+      f.material = b.position[at(c.point)] + f.materialLever;
+    }
+    f.normal = q1 * c.normalLocal;
+    f.surface = f.anchor;
+    f.surfaceLever = f.anchorLever;
+    f.point = f.material;
+    f.pointLever = f.materialLever;
+    return f;
   }
-  f.normal = q1 * c.normalLocal;
-  f.surface = f.anchor;
-  f.surfaceLever = f.anchorLever;
-  f.point = f.material;
-  f.pointLever = f.materialLever;
-  if (!(c.pointRadius > 0)) return f;
+  // A sphere (body 0): its centre, usually its centre of mass (no rotation needed then).
+  const Quaternion& q0 = b.rotation[at(c.point)];
   const Vector3& x0 = b.position[at(c.point)];
-  const Vector3 center0 = x0 + b.rotation[at(c.point)] * c.pointCenterLocal;
+  const Vector3 center0 = c.pointCenterLocal.isZero(0) ? x0 : Vector3(x0 + q0 * c.pointCenterLocal);
   if (c.bodyRadius > 0) {
-    const Vector3 center1 = x1 + q1 * c.bodyCenterLocal;
+    const Vector3 center1 =
+        c.bodyCenterLocal.isZero(0) ? x1 : Vector3(x1 + q1 * c.bodyCenterLocal);
     const Vector3 between = center0 - center1;
     const Real length = between.norm();
-    if (length > 0) f.normal = between / length;  // coincident centres: keep the detected one
+    // Coincident centres: the detected normal.
+    f.normal = length > 0 ? Vector3(between / length) : Vector3(q1 * c.normalLocal);
     f.surface = center1 + c.bodyRadius * f.normal;
     f.surfaceLever = f.surface - x1;
+    if (frictionPoints) {
+      f.anchorLever = q1 * c.surfaceLocal;
+      f.anchor = x1 + f.anchorLever;
+    }
+  } else {
+    f.normal = q1 * c.normalLocal;
+    f.anchorLever = q1 * c.surfaceLocal;
+    f.anchor = x1 + f.anchorLever;
+    f.surface = f.anchor;
+    f.surfaceLever = f.anchorLever;
   }
   f.point = center0 - c.pointRadius * f.normal;
   f.pointLever = f.point - x0;
+  if (frictionPoints) {
+    f.materialLever = q0 * c.pointLocal;
+    f.material = x0 + f.materialLever;
+  }
   return f;
 }
 
@@ -190,15 +214,13 @@ void XpbdContact::init(const ContactPointGeometry& geometry, bool particle,
   // A sphere's centre, from its support point (docs in the header: "Spheres").
   pointRadius = particle ? Real(0) : geometry.vertexRadius;
   bodyRadius = pointRadius > 0 ? geometry.sdfRadius : Real(0);
-  pointCenterLocal =
-      pointRadius > 0 ? Vector3(b.rotation[at(point)].conjugate() *
-                                (geometry.vertexPoint + pointRadius * geometry.normal -
-                                 b.position[at(point)]))
-                      : Vector3::Zero();
-  bodyCenterLocal =
-      bodyRadius > 0 ? Vector3(inverse1 * (surface - bodyRadius * geometry.normal -
-                                           b.position[at(body)]))
-                     : Vector3::Zero();
+  // A sphere's centre is its scene frame's origin (its SDF |x| − r), in the principal frame:
+  // exactly zero when it is the centre of mass, which spares the frame a rotation.
+  const auto sceneOrigin = [&b](int i) -> Vector3 {
+    return b.principalInScene[at(i)].conjugate() * Vector3(-b.centerOfMassInScene[at(i)]);
+  };
+  pointCenterLocal = pointRadius > 0 ? sceneOrigin(point) : Vector3::Zero();
+  bodyCenterLocal = bodyRadius > 0 ? sceneOrigin(body) : Vector3::Zero();
   friction = material.friction;
   restitution = material.restitution;
   normalMultiplier = 0;
@@ -219,15 +241,16 @@ void XpbdContact::followSupportPoint(const BodyStates& bodies) {
 void XpbdContact::beginSubstep(const BodyStates& bodies) {
   normalMultiplier = 0;
   tangentMultiplier = 0;
-  const ContactFrame f = currentFrame(*this, bodies);
+  const ContactFrame f = currentFrame(*this, bodies, /*frictionPoints=*/false);
   approachVelocity = f.normal.dot(relativeVelocity(*this, bodies, f));
 }
 
 void XpbdContact::solvePosition(BodyStates& bodies, Real substepSize, Real compliance) {
-  ContactFrame f = currentFrame(*this, bodies);
+  ContactFrame f = currentFrame(*this, bodies, /*frictionPoints=*/false);
   const Real c = f.normal.dot(f.point - f.surface);
   if (!(c < 0)) {
-    reanchor(*this, bodies, f);  // not touching: the anchor follows the point
+    // Not touching: the anchor follows the point.
+    reanchor(*this, bodies, pointRadius > 0 ? currentFrame(*this, bodies) : f);
     return;
   }
   // Normal row.
@@ -263,7 +286,7 @@ void XpbdContact::solvePosition(BodyStates& bodies, Real substepSize, Real compl
 void XpbdContact::solveVelocity(BodyStates& bodies, Real substepSize,
                                 Real restitutionThreshold) const {
   if (!(normalMultiplier > 0)) return;
-  const ContactFrame f = currentFrame(*this, bodies);
+  const ContactFrame f = currentFrame(*this, bodies, /*frictionPoints=*/false);
   // Restitution: the normal velocity becomes max(−e ṽ_n, 0), by a normal impulse P_n.
   const Real normalVelocity = f.normal.dot(relativeVelocity(*this, bodies, f));
   const Real e = std::abs(approachVelocity) <= restitutionThreshold ? Real(0) : restitution;
