@@ -30,6 +30,7 @@ from bench_record import REPO, machine, write_record
 PARTS = {
     "step": "pbd::World::step()",
     "contact_approach": "pbd::XpbdContact::beginSubstep(",
+    "contact_follow": "pbd::XpbdContact::followSupportPoint(",
     "contact_position": "pbd::XpbdContact::solvePosition(",
     "contact_velocity": "pbd::XpbdContact::solveVelocity(",
     "predict": "pbd::predictPositions(",

@@ -135,12 +135,17 @@ TEST(PrimitiveContacts, PairsWithoutAClosedFormAreLeftToTheSamples) {
       Real(0.1), m));
 }
 
-// The selection: both methods keep the seed's samples unless the scene asks for primitives
-// (docs/contacts.md#primitive-contacts says why `pbd.xpbd` does not default to them yet).
+// The selection: `pbd` keeps the seed's samples, `pbd.xpbd` takes the closed forms, unless the
+// scene says (docs/contacts.md#primitive-contacts).
 TEST(PrimitiveContacts, ContactGeometryIsTheMethodsOwnUnlessTheSceneGivesIt) {
   SimulationSettings settings;
   EXPECT_EQ(contactGeometryFor(settings), ContactGeometry::Samples);
+  settings.contactGeometry = ContactGeometry::Primitives;
+  EXPECT_EQ(contactGeometryFor(settings), ContactGeometry::Primitives);
+  settings.contactGeometry.reset();
   settings.stepMethod = StepMethod::Xpbd;
+  EXPECT_EQ(contactGeometryFor(settings), ContactGeometry::Primitives);
+  settings.contactGeometry = ContactGeometry::Samples;
   EXPECT_EQ(contactGeometryFor(settings), ContactGeometry::Samples);
   settings.contactGeometry = ContactGeometry::Primitives;
   EXPECT_EQ(contactGeometryFor(settings), ContactGeometry::Primitives);
@@ -185,6 +190,38 @@ TEST(PrimitiveContacts, DetectorReportsOneContactForASphereOnABox) {
     EXPECT_TRUE(c.normal.isApprox(Vector3::UnitY()));
     EXPECT_NEAR(c.vertexPoint.y(), -0.002, kRoundOff);
     EXPECT_NEAR(c.surfacePoint.y(), tolerance, kRoundOff);
+  }
+}
+
+// Jointed bodies keep their samples. A link whose end lies inside the static box around its
+// pivot (double_pendulum_boxes: a 0.5 × 0.05 × 0.05 m link, its end 2.5 cm deep in a 0.1 m box):
+// as a free pair the clipped manifold pushes the whole overlap out along its separating axis,
+// x (overlap 0.05 m against 0.075 m in y and z), along the link; jointed, the link's corners
+// inside the box are pushed out of the box's nearest faces, y or z (2.5 cm away), not along x.
+TEST(PrimitiveContacts, JointedPairsKeepTheirSamples) {
+  Scene scene;
+  scene.rigidBodies.push_back(
+      test::boxBody(0, Vector3::Constant(Real(0.1)), Vector3::Zero(), 1, false));
+  scene.rigidBodies.push_back(
+      test::boxBody(1, Vector3(0.5, 0.05, 0.05), Vector3(Real(0.25), 0, 0), 1000));
+  scene.simulation.contactGeometry = ContactGeometry::Primitives;
+  for (const bool jointed : {false, true}) {
+    if (jointed) {
+      JointDesc hinge = test::makeJointDesc(JointType::Hinge, 0, 1);
+      hinge.axis = Vector3::UnitZ();
+      scene.joints.push_back(hinge);
+    }
+    World world = buildWorld(scene);
+    ContactGeometryBuffer found;
+    world.collision.reserve(found);
+    world.collision.detect(world.bodies, Real(0.01), found);
+    ASSERT_FALSE(found.rigid.empty()) << "jointed " << jointed;
+    for (const ContactPointGeometry& c : found.rigid) {
+      if (jointed)
+        EXPECT_LT(std::abs(c.normal.x()), kRoundOff) << "a sample pushed along the link";
+      else
+        EXPECT_NEAR(std::abs(c.normal.x()), 1, kRoundOff) << "the manifold's axis is x";
+    }
   }
 }
 

@@ -248,5 +248,65 @@ TEST(XpbdContacts, PyramidOfFifteenStands) {
   EXPECT_LE(worst, 1e-2);
 }
 
+// A sphere (r = 0.1 m) rolling without slipping at v = 2 m/s on the ground, with closed-form
+// contacts. Its one contact is its support point (xpbd_contact.h, "Spheres"), so:
+// - the normal velocity is the centre's, and the height holds: every substep the prediction
+//   lowers the centre by g h_s² and the projection puts it back at y = r, so (y − y_old)/h_s is
+//   round-off: a few ulps of coordinates below L = 2 m, divided by h_s; 64 ε L/h_s allows 64
+//   (5e-10 m/s in double). A point fixed on the ball instead turns by ω h = 0.1 rad per step,
+//   leaves the ground and lets the ball fall through the rest of the step (cm/s).
+// - it rolls: the contact point's tangential velocity v + ω × r₀ stays at round-off;
+// - the rolling energy E = ½ m v² + ½ I ω² falls only by the first-order angular velocity
+//   update: ω ← 2 vec(Δq)/h_s with Δq = normalize(1, ½ h_s ω) returns ω/√(1 + θ²/4), θ = |ω| h_s,
+//   so each substep takes θ²/4 of the rotational energy; friction then restores rolling keeping
+//   the angular momentum about the contact point, m r v + I ω, which leaves the rolling ball
+//   (I = 2/5 m r²) the fraction 1 − (2/7)(θ²/4) = 1 − θ²/14 of E per substep: after N substeps
+//   ΔE/E = N θ²/14 (3.6e-3 here) to first order in it. The friction point's own slip, r (θ − sin θ)
+//   per substep, and the rolling error of the rotation, r (θ − 2 atan(θ/2)), are O(θ³): 10 % of
+//   the loss holds them and the second-order terms.
+TEST(XpbdContacts, SphereRollingOnClosedFormContactKeepsHeightAndRollingEnergy) {
+  const Real radius = Real(0.1), speed = 2, friction = Real(0.5);
+  Scene s = groundScene();
+  s.simulation.contactGeometry = ContactGeometry::Primitives;
+  RigidBodyDesc ball = test::sphereBody(1, radius, Vector3(-1, radius, 0), 1000);
+  ball.velocity = Vector3(speed, 0, 0);
+  ball.angularVelocity = Vector3(0, 0, -speed / radius);  // v + ω × (−r e_y) = 0
+  s.rigidBodies.push_back(ball);
+  s.contactPairs.push_back(test::contactPair(0, 1, friction, 0));
+  World world = buildWorld(s);
+  const auto& b = world.bodies.rigid;
+  const Real mass = 1 / b.inverseMass[1];
+  const Real inertia = Real(0.4) * mass * radius * radius;
+  const auto energy = [&] {
+    return Real(0.5) * mass * b.velocity[1].squaredNorm() +
+           Real(0.5) * inertia * b.angularVelocity[1].squaredNorm();
+  };
+  const Real initialEnergy = energy();
+  const Real substep = s.simulation.timeStepSize / Real(s.simulation.xpbd.substeps);
+  const Real roundOff = 64 * kEpsilon * 2 / substep;  // m/s; see above
+  Real worstNormalSpeed = 0, worstHeight = 0, worstSlip = 0, expectedLoss = 0;
+  const int steps = 100;  // 0.5 s, 1 m
+  for (int n = 0; n < steps; ++n) {
+    const Real theta = b.angularVelocity[1].norm() * substep;
+    expectedLoss += s.simulation.xpbd.substeps * theta * theta / 14;
+    world.step();
+    worstNormalSpeed = std::max(worstNormalSpeed, std::abs(b.velocity[1].y()));
+    worstHeight = std::max(worstHeight, std::abs(b.position[1].y() - radius));
+    worstSlip = std::max(
+        worstSlip, std::abs(b.velocity[1].x() + b.angularVelocity[1].z() * radius));  // v − ω r
+  }
+  const Real loss = 1 - energy() / initialEnergy;
+  std::printf("  rolling ball, 0.5 s: |v_n| %.3e m/s, |y - r| %.3e m, slip %.3e m/s, energy loss "
+              "%.4e (N theta^2/14 = %.4e)\n",
+              double(worstNormalSpeed), double(worstHeight), double(worstSlip), double(loss),
+              double(expectedLoss));
+  EXPECT_LE(worstNormalSpeed, roundOff);
+  EXPECT_LE(worstHeight, roundOff * substep);
+  // It rolls: the velocity pass's dynamic friction cancels the slip v θ²/8 the angular update
+  // leaves each substep (6e-6 m/s) whole, its Coulomb budget μ g h_s (1.2e-3 m/s) being larger.
+  EXPECT_LE(worstSlip, roundOff);
+  EXPECT_NEAR(loss, expectedLoss, Real(0.1) * expectedLoss);
+}
+
 }  // namespace
 }  // namespace pbd

@@ -45,6 +45,11 @@ void seedOrder(std::vector<ContactPointGeometry>::iterator begin,
   });
 }
 
+/// The radius of a sphere's shape, 0 for any other shape.
+Real sphereRadius(const CollisionShape& shape) {
+  return shape.type() == CollisionObjectType::Sphere ? shape.size().x() : Real(0);
+}
+
 }  // namespace
 
 CollisionDetector::CollisionDetector(const Scene& scene,
@@ -52,6 +57,11 @@ CollisionDetector::CollisionDetector(const Scene& scene,
   CollisionShapeOptions options = givenOptions;
   options.gridInterpolation = distanceGridFor(scene.simulation);
   primitives_ = contactGeometryFor(scene.simulation) == ContactGeometry::Primitives;
+  for (const JointDesc& joint : scene.joints)
+    if (joint.body1 >= 0 && joint.body2 >= 0 && joint.body1 != joint.body2)
+      jointedPairs_.emplace_back(std::min(joint.body1, joint.body2),
+                                 std::max(joint.body1, joint.body2));
+  std::sort(jointedPairs_.begin(), jointedPairs_.end());
   rigid_.resize(scene.rigidBodies.size());
   std::size_t shapedBodies = 0, rigidPoints = 0, particlePoints = 0;
   // Samples depend only on the mesh (shared by the loader) or on the primitive's type and
@@ -225,6 +235,11 @@ bool CollisionDetector::primitivePair(int a, int b, Real tolerance, ContactGeome
   const RigidObject& objectA = rigid_[std::size_t(a)];
   const RigidObject& objectB = rigid_[std::size_t(b)];
   if (!hasPrimitiveContacts(objectA.shape.type(), objectB.shape.type())) return false;
+  // Jointed bodies overlap at their joint by design (the seed lets them collide): samples push
+  // each point of the overlap out of its nearest face and largely cancel, where a manifold's
+  // one separating axis pushes the whole overlap against the joint (contacts.md).
+  if (std::binary_search(jointedPairs_.begin(), jointedPairs_.end(), ObjectPair(a, b)))
+    return false;
   // The pair's contacts exist where a sampled direction would: static–static pairs and pairs
   // of which neither side tests its points have none.
   if (!objectA.dynamic && !objectB.dynamic) return true;
@@ -249,6 +264,9 @@ bool CollisionDetector::primitivePair(int a, int b, Real tolerance, ContactGeome
     contact.vertexPoint = sdfIsA ? c.pointOnB : c.pointOnA;
     contact.surfacePoint = (sdfIsA ? c.pointOnA : c.pointOnB) + tolerance * contact.normal;
     contact.distance = c.separation - tolerance;
+    contact.vertexRadius = sphereRadius((sdfIsA ? objectB : objectA).shape);
+    contact.sdfRadius =
+        contact.vertexRadius > 0 ? sphereRadius((sdfIsA ? objectA : objectB).shape) : Real(0);
     if (out.rigid.size() == out.rigid.capacity()) {
       ++out.droppedContacts;
       continue;

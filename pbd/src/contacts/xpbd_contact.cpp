@@ -12,111 +12,183 @@ std::size_t at(int index) {
   return static_cast<std::size_t>(index);
 }
 
-/// I_w⁻¹ v = R (I⁻¹ ⊙ (Rᵀ v)) with R the principal frame's rotation q: two quaternion
-/// rotations (2 × 30 operations) instead of building R diag(I⁻¹) Rᵀ (about 110).
-Vector3 inverseInertiaTimes(const RigidBodyStates& b, std::size_t i, const Vector3& v) {
+/// One body's response to a unit impulse along the unit direction d at lever r: the inverse
+/// mass w = m⁻¹ + uᵀ I⁻¹ u with u = Rᵀ (r × d) in the principal frame (R the body's rotation q),
+/// and the rotation per unit impulse R (I⁻¹ ⊙ u) = I_w⁻¹ (r × d). Both from one evaluation of
+/// u: a row takes two quaternion rotations per body where computing w and then applying
+/// I_w⁻¹ (r × P) = R (I⁻¹ ⊙ Rᵀ (r × P)) took three. Zero for static bodies.
+struct Response {
+  bool dynamic = false;
+  Real inverseMass = 0;             ///< m⁻¹
+  Real generalizedInverseMass = 0;  ///< w
+  Vector3 rotationPerImpulse = Vector3::Zero();
+};
+
+Response rigidResponse(const RigidBodyStates& b, int body, const Vector3& lever,
+                       const Vector3& direction) {
+  const std::size_t i = at(body);
+  Response r;
+  if (!b.isDynamic(i)) return r;
   const Quaternion& q = b.rotation[i];
-  return q * Vector3(b.inverseInertia[i].cwiseProduct(q.conjugate() * v));
+  const Vector3 u = q.conjugate() * lever.cross(direction);
+  const Vector3 scaled = b.inverseInertia[i].cwiseProduct(u);
+  r.dynamic = true;
+  r.inverseMass = b.inverseMass[i];
+  r.generalizedInverseMass = r.inverseMass + u.dot(scaled);
+  r.rotationPerImpulse = q * scaled;
+  return r;
 }
 
-/// m⁻¹ + (r × d)ᵀ I⁻¹ (r × d): the inverse mass of a rigid body at lever r along unit d, with
-/// u = Rᵀ (r × d) in the principal frame: m⁻¹ + Σ_k I⁻¹_k u_k².
-Real rigidInverseMass(const RigidBodyStates& b, int body, const Vector3& lever,
-                      const Vector3& direction) {
+/// A positional impulse λ d on a rigid body: x += m⁻¹ λ d, q ← normalize(q + ½ [0, θ] ⊗ q)
+/// with θ = λ I_w⁻¹ (r × d).
+void applyRigidPosition(RigidBodyStates& b, int body, const Response& r, const Vector3& direction,
+                        Real magnitude) {
+  if (!r.dynamic) return;
   const std::size_t i = at(body);
-  if (!b.isDynamic(i)) return 0;
-  const Vector3 u = b.rotation[i].conjugate() * lever.cross(direction);
-  return b.inverseMass[i] + u.dot(b.inverseInertia[i].cwiseProduct(u));
+  b.position[i] += (magnitude * r.inverseMass) * direction;
+  addAngularDisplacement(b.rotation[i], magnitude * r.rotationPerImpulse);
 }
 
-/// A positional impulse P at lever r: x += m⁻¹ P, q ← normalize(q + ½ [0, I⁻¹ (r × P)] ⊗ q).
-void applyRigidPositionImpulse(RigidBodyStates& b, int body, const Vector3& lever,
-                               const Vector3& impulse) {
+/// A velocity impulse λ d on a rigid body: v += m⁻¹ λ d, ω += λ I_w⁻¹ (r × d).
+void applyRigidVelocity(RigidBodyStates& b, int body, const Response& r, const Vector3& direction,
+                        Real magnitude) {
+  if (!r.dynamic) return;
   const std::size_t i = at(body);
-  if (!b.isDynamic(i)) return;
-  const Vector3 angular = inverseInertiaTimes(b, i, lever.cross(impulse));
-  b.position[i] += b.inverseMass[i] * impulse;
-  addAngularDisplacement(b.rotation[i], angular);
-}
-
-void applyRigidVelocityImpulse(RigidBodyStates& b, int body, const Vector3& lever,
-                               const Vector3& impulse) {
-  const std::size_t i = at(body);
-  if (!b.isDynamic(i)) return;
-  b.velocity[i] += b.inverseMass[i] * impulse;
-  b.angularVelocity[i] += inverseInertiaTimes(b, i, lever.cross(impulse));
+  b.velocity[i] += (magnitude * r.inverseMass) * direction;
+  b.angularVelocity[i] += magnitude * r.rotationPerImpulse;
 }
 
 Vector3 rigidPointVelocity(const RigidBodyStates& b, int body, const Vector3& lever) {
   return b.velocity[at(body)] + b.angularVelocity[at(body)].cross(lever);
 }
 
-/// World positions of p₀ and of its anchor p₁, their levers, and n, at the current poses.
+/// The contact at the current poses. The normal row acts between p₀ and p₁ (for spheres their
+/// support points), the static friction between the friction point p₀ᵐ and the anchor; for
+/// every contact but a sphere's they are the same points.
 struct ContactFrame {
-  Vector3 point, surface;            ///< p₀, p₁
+  Vector3 point, surface;            ///< p₀, p₁ (normal row)
   Vector3 pointLever, surfaceLever;  ///< r₀ (zero for a particle), r₁
+  Vector3 material, anchor;          ///< p₀ᵐ, the anchor (static friction)
+  Vector3 materialLever, anchorLever;
   Vector3 normal;
 };
 
-ContactFrame currentFrame(const XpbdContact& c, const BodyStates& bodies) {
+/// The contact's frame at the current poses. `frictionPoints`: also the friction point and the
+/// anchor of a sphere's contact (the normal row and the velocity pass do not need them; for
+/// every other contact they are the normal row's points anyway).
+ContactFrame currentFrame(const XpbdContact& c, const BodyStates& bodies,
+                          bool frictionPoints = true) {
   const RigidBodyStates& b = bodies.rigid;
   ContactFrame f;
   const Quaternion& q1 = b.rotation[at(c.body)];
-  f.surfaceLever = q1 * c.surfaceLocal;
-  f.surface = b.position[at(c.body)] + f.surfaceLever;
-  f.normal = q1 * c.normalLocal;
-  if (c.pointIsParticle) {
-    f.point = bodies.particles.position[at(c.point)];
-    f.pointLever = Vector3::Zero();
+  const Vector3& x1 = b.position[at(c.body)];
+  if (!(c.pointRadius > 0)) {
+    f.anchorLever = q1 * c.surfaceLocal;
+    f.anchor = x1 + f.anchorLever;
+    if (c.pointIsParticle) {
+      f.material = bodies.particles.position[at(c.point)];
+      f.materialLever = Vector3::Zero();
+    } else {
+      f.materialLever = b.rotation[at(c.point)] * c.pointLocal;
+      f.material = b.position[at(c.point)] + f.materialLever;
+    }
+    f.normal = q1 * c.normalLocal;
+    f.surface = f.anchor;
+    f.surfaceLever = f.anchorLever;
+    f.point = f.material;
+    f.pointLever = f.materialLever;
+    return f;
+  }
+  // A sphere (body 0): its centre, usually its centre of mass (no rotation needed then).
+  const Quaternion& q0 = b.rotation[at(c.point)];
+  const Vector3& x0 = b.position[at(c.point)];
+  const Vector3 center0 = c.pointCenterLocal.isZero(0) ? x0 : Vector3(x0 + q0 * c.pointCenterLocal);
+  if (c.bodyRadius > 0) {
+    const Vector3 center1 =
+        c.bodyCenterLocal.isZero(0) ? x1 : Vector3(x1 + q1 * c.bodyCenterLocal);
+    const Vector3 between = center0 - center1;
+    const Real length = between.norm();
+    // Coincident centres: the detected normal.
+    f.normal = length > 0 ? Vector3(between / length) : Vector3(q1 * c.normalLocal);
+    f.surface = center1 + c.bodyRadius * f.normal;
+    f.surfaceLever = f.surface - x1;
+    if (frictionPoints) {
+      f.anchorLever = q1 * c.surfaceLocal;
+      f.anchor = x1 + f.anchorLever;
+    }
   } else {
-    f.pointLever = b.rotation[at(c.point)] * c.pointLocal;
-    f.point = b.position[at(c.point)] + f.pointLever;
+    f.normal = q1 * c.normalLocal;
+    f.anchorLever = q1 * c.surfaceLocal;
+    f.anchor = x1 + f.anchorLever;
+    f.surface = f.anchor;
+    f.surfaceLever = f.anchorLever;
+  }
+  f.point = center0 - c.pointRadius * f.normal;
+  f.pointLever = f.point - x0;
+  if (frictionPoints) {
+    f.materialLever = q0 * c.pointLocal;
+    f.material = x0 + f.materialLever;
   }
   return f;
 }
 
-Real pointInverseMass(const XpbdContact& c, const BodyStates& bodies, const ContactFrame& f,
-                      const Vector3& direction) {
-  if (c.pointIsParticle) return bodies.particles.inverseMass[at(c.point)];
-  return rigidInverseMass(bodies.rigid, c.point, f.pointLever, direction);
+/// The responses of body 0 at lever r₀ and body 1 at r₁ along d (a particle: m⁻¹, no rotation).
+struct PairResponse {
+  Response point, surface;
+  Real inverseMass() const {
+    return point.generalizedInverseMass + surface.generalizedInverseMass;
+  }
+};
+
+PairResponse pairResponse(const XpbdContact& c, const BodyStates& bodies, const Vector3& pointLever,
+                          const Vector3& surfaceLever, const Vector3& direction) {
+  PairResponse r;
+  if (c.pointIsParticle) {
+    r.point.inverseMass = r.point.generalizedInverseMass =
+        bodies.particles.inverseMass[at(c.point)];
+  } else {
+    r.point = rigidResponse(bodies.rigid, c.point, pointLever, direction);
+  }
+  r.surface = rigidResponse(bodies.rigid, c.body, surfaceLever, direction);
+  return r;
 }
 
-Real pairInverseMass(const XpbdContact& c, const BodyStates& bodies, const ContactFrame& f,
-                     const Vector3& direction) {
-  return pointInverseMass(c, bodies, f, direction) +
-         rigidInverseMass(bodies.rigid, c.body, f.surfaceLever, direction);
-}
-
-/// +P at p₀ on body 0, −P at p₁ on body 1 (positions).
-void applyPositionImpulse(const XpbdContact& c, BodyStates& bodies, const ContactFrame& f,
-                          const Vector3& impulse) {
+/// +λ d on body 0, −λ d on body 1 (positions).
+void applyPositionImpulse(const XpbdContact& c, BodyStates& bodies, const PairResponse& r,
+                          const Vector3& direction, Real magnitude) {
   if (c.pointIsParticle)
-    bodies.particles.position[at(c.point)] += bodies.particles.inverseMass[at(c.point)] * impulse;
+    bodies.particles.position[at(c.point)] += (magnitude * r.point.inverseMass) * direction;
   else
-    applyRigidPositionImpulse(bodies.rigid, c.point, f.pointLever, impulse);
-  applyRigidPositionImpulse(bodies.rigid, c.body, f.surfaceLever, -impulse);
+    applyRigidPosition(bodies.rigid, c.point, r.point, direction, magnitude);
+  applyRigidPosition(bodies.rigid, c.body, r.surface, direction, -magnitude);
 }
 
-/// +P at p₀ on body 0, −P at p₁ on body 1 (velocities).
-void applyVelocityImpulse(const XpbdContact& c, BodyStates& bodies, const ContactFrame& f,
-                          const Vector3& impulse) {
+/// +λ d on body 0, −λ d on body 1 (velocities).
+void applyVelocityImpulse(const XpbdContact& c, BodyStates& bodies, const PairResponse& r,
+                          const Vector3& direction, Real magnitude) {
   if (c.pointIsParticle)
-    bodies.particles.velocity[at(c.point)] += bodies.particles.inverseMass[at(c.point)] * impulse;
+    bodies.particles.velocity[at(c.point)] += (magnitude * r.point.inverseMass) * direction;
   else
-    applyRigidVelocityImpulse(bodies.rigid, c.point, f.pointLever, impulse);
-  applyRigidVelocityImpulse(bodies.rigid, c.body, f.surfaceLever, -impulse);
+    applyRigidVelocity(bodies.rigid, c.point, r.point, direction, magnitude);
+  applyRigidVelocity(bodies.rigid, c.body, r.surface, direction, -magnitude);
 }
 
-/// u = (v₀ + ω₀ × r₀) − (v₁ + ω₁ × r₁).
+/// u = (v₀ + ω₀ × r₀) − (v₁ + ω₁ × r₁) at p₀ and p₁.
 Vector3 relativeVelocity(const XpbdContact& c, const BodyStates& bodies, const ContactFrame& f) {
   const Vector3 u0 = c.pointIsParticle ? bodies.particles.velocity[at(c.point)]
                                        : rigidPointVelocity(bodies.rigid, c.point, f.pointLever);
   return u0 - rigidPointVelocity(bodies.rigid, c.body, f.surfaceLever);
 }
 
-/// p₁ ← p₀ − (n·(p₀ − p₁)) n: the anchor moves under the point, keeping the separation.
+/// The tangential part of v for the unit normal n.
+Vector3 tangentialPart(const Vector3& v, const Vector3& normal) {
+  return v - normal.dot(v) * normal;
+}
+
+/// Anchor ← p₀ᵐ − (n·(p₀ᵐ − p₁)) n: the anchor moves under the friction point, keeping the
+/// separation from the surface point p₁.
 void reanchor(XpbdContact& c, const BodyStates& bodies, const ContactFrame& f) {
-  const Vector3 anchor = f.point - f.normal.dot(f.point - f.surface) * f.normal;
+  const Vector3 anchor = f.material - f.normal.dot(f.material - f.surface) * f.normal;
   c.surfaceLocal =
       bodies.rigid.rotation[at(c.body)].conjugate() * (anchor - bodies.rigid.position[at(c.body)]);
 }
@@ -139,6 +211,16 @@ void XpbdContact::init(const ContactPointGeometry& geometry, bool particle,
   pointLocal = particle ? Vector3::Zero()
                         : Vector3(b.rotation[at(point)].conjugate() *
                                   (geometry.vertexPoint - b.position[at(point)]));
+  // A sphere's centre, from its support point (docs in the header: "Spheres").
+  pointRadius = particle ? Real(0) : geometry.vertexRadius;
+  bodyRadius = pointRadius > 0 ? geometry.sdfRadius : Real(0);
+  // A sphere's centre is its scene frame's origin (its SDF |x| − r), in the principal frame:
+  // exactly zero when it is the centre of mass, which spares the frame a rotation.
+  const auto sceneOrigin = [&b](int i) -> Vector3 {
+    return b.principalInScene[at(i)].conjugate() * Vector3(-b.centerOfMassInScene[at(i)]);
+  };
+  pointCenterLocal = pointRadius > 0 ? sceneOrigin(point) : Vector3::Zero();
+  bodyCenterLocal = bodyRadius > 0 ? sceneOrigin(body) : Vector3::Zero();
   friction = material.friction;
   restitution = material.restitution;
   normalMultiplier = 0;
@@ -146,71 +228,89 @@ void XpbdContact::init(const ContactPointGeometry& geometry, bool particle,
   approachVelocity = 0;
 }
 
+void XpbdContact::followSupportPoint(const BodyStates& bodies) {
+  if (!(pointRadius > 0)) return;
+  const ContactFrame f = currentFrame(*this, bodies);
+  const Vector3 slip = tangentialPart(f.material - f.anchor, f.normal);  // not yet undone
+  const Vector3 anchor = f.point - slip - f.normal.dot(f.point - f.surface) * f.normal;
+  const RigidBodyStates& b = bodies.rigid;
+  pointLocal = b.rotation[at(point)].conjugate() * (f.point - b.position[at(point)]);
+  surfaceLocal = b.rotation[at(body)].conjugate() * (anchor - b.position[at(body)]);
+}
+
 void XpbdContact::beginSubstep(const BodyStates& bodies) {
   normalMultiplier = 0;
   tangentMultiplier = 0;
-  const ContactFrame f = currentFrame(*this, bodies);
+  const ContactFrame f = currentFrame(*this, bodies, /*frictionPoints=*/false);
   approachVelocity = f.normal.dot(relativeVelocity(*this, bodies, f));
 }
 
 void XpbdContact::solvePosition(BodyStates& bodies, Real substepSize, Real compliance) {
-  ContactFrame f = currentFrame(*this, bodies);
+  ContactFrame f = currentFrame(*this, bodies, /*frictionPoints=*/false);
   const Real c = f.normal.dot(f.point - f.surface);
   if (!(c < 0)) {
-    reanchor(*this, bodies, f);  // not touching: the anchor follows the point
+    // Not touching: the anchor follows the point.
+    reanchor(*this, bodies, pointRadius > 0 ? currentFrame(*this, bodies) : f);
     return;
   }
   // Normal row.
   const Real scaledCompliance = compliance / (substepSize * substepSize);  // α̃ = α/h²
-  const Real w = pairInverseMass(*this, bodies, f, f.normal);
+  const PairResponse normalResponse =
+      pairResponse(*this, bodies, f.pointLever, f.surfaceLever, f.normal);
+  const Real w = normalResponse.inverseMass();
   if (!(w + scaledCompliance > 0)) return;
   const Real deltaNormal = (-c - scaledCompliance * normalMultiplier) / (w + scaledCompliance);
   normalMultiplier += deltaNormal;
-  applyPositionImpulse(*this, bodies, f, deltaNormal * f.normal);
+  applyPositionImpulse(*this, bodies, normalResponse, f.normal, deltaNormal);
 
-  // Static friction: the tangential offset of p₀ from its anchor p₁, C_t = |d_t|, removed by
+  // Static friction: the tangential offset of p₀ᵐ from its anchor, C_t = |d_t|, removed by
   // Δλ_t = C_t / w_t, clamped to the cone μ λ_n; when clamped the point slides and the anchor
   // moves under it.
   f = currentFrame(*this, bodies);
-  const Vector3 offset = f.point - f.surface;
-  const Vector3 tangential = offset - f.normal.dot(offset) * f.normal;
+  const Vector3 tangential = tangentialPart(f.material - f.anchor, f.normal);
   const Real slip = tangential.norm();
   if (!(slip > 0)) return;
   const Vector3 direction = tangential / slip;
-  const Real wt = pairInverseMass(*this, bodies, f, direction);
+  const PairResponse tangentResponse =
+      pairResponse(*this, bodies, f.materialLever, f.anchorLever, direction);
+  const Real wt = tangentResponse.inverseMass();
   if (!(wt > 0)) return;
   const Real budget = std::max(Real(0), friction * normalMultiplier - tangentMultiplier);
   const Real wanted = slip / wt;
   const Real deltaTangent = std::min(wanted, budget);
   tangentMultiplier += deltaTangent;
-  applyPositionImpulse(*this, bodies, f, -deltaTangent * direction);
+  applyPositionImpulse(*this, bodies, tangentResponse, direction, -deltaTangent);
   if (wanted > budget) reanchor(*this, bodies, currentFrame(*this, bodies));
 }
 
 void XpbdContact::solveVelocity(BodyStates& bodies, Real substepSize,
                                 Real restitutionThreshold) const {
   if (!(normalMultiplier > 0)) return;
-  const ContactFrame f = currentFrame(*this, bodies);
+  const ContactFrame f = currentFrame(*this, bodies, /*frictionPoints=*/false);
   // Restitution: the normal velocity becomes max(−e ṽ_n, 0), by a normal impulse P_n.
   const Real normalVelocity = f.normal.dot(relativeVelocity(*this, bodies, f));
   const Real e = std::abs(approachVelocity) <= restitutionThreshold ? Real(0) : restitution;
   const Real target = std::max(-e * approachVelocity, Real(0));
-  const Real wn = pairInverseMass(*this, bodies, f, f.normal);
+  const PairResponse normalResponse =
+      pairResponse(*this, bodies, f.pointLever, f.surfaceLever, f.normal);
+  const Real wn = normalResponse.inverseMass();
   const Real normalImpulse = wn > 0 ? (target - normalVelocity) / wn : Real(0);
-  applyVelocityImpulse(*this, bodies, f, normalImpulse * f.normal);
+  applyVelocityImpulse(*this, bodies, normalResponse, f.normal, normalImpulse);
 
   // Dynamic friction against the sliding velocity, within what the substep's Coulomb bound
   // μ (λ_n/h + P_n) leaves after the static friction impulse λ_t/h.
   const Real budget = (friction * normalMultiplier - tangentMultiplier) / substepSize;
   if (!(budget > 0)) return;
   const Vector3 u = relativeVelocity(*this, bodies, f);
-  const Vector3 sliding = u - f.normal.dot(u) * f.normal;
+  const Vector3 sliding = tangentialPart(u, f.normal);
   const Real speed = sliding.norm();
   if (!(speed > 0)) return;
   const Vector3 direction = sliding / speed;
-  const Real wt = pairInverseMass(*this, bodies, f, direction);
+  const PairResponse tangentResponse =
+      pairResponse(*this, bodies, f.pointLever, f.surfaceLever, direction);
+  const Real wt = tangentResponse.inverseMass();
   if (!(wt > 0)) return;
-  applyVelocityImpulse(*this, bodies, f, -std::min(budget, speed / wt) * direction);
+  applyVelocityImpulse(*this, bodies, tangentResponse, direction, -std::min(budget, speed / wt));
 }
 
 void XpbdContactSet::reserve(const ContactGeometryBuffer& geometry) {

@@ -169,10 +169,11 @@ const char* contactGeometryName(ContactGeometry geometry) {
 }
 
 ContactGeometry contactGeometryFor(const SimulationSettings& settings) {
-  // Samples in both methods unless the scene asks: with primitives by default, `pbd.xpbd` was
-  // worse on four cases of the library (docs/contacts.md#primitive-contacts: car, a bowling ball,
-  // double_pendulum_boxes, xpbd_stack_10), so the closed forms stay an option until they are not.
-  return settings.contactGeometry.value_or(ContactGeometry::Samples);
+  // `pbd` keeps the seed's samples; `pbd.xpbd` finds the pairs that have one in closed form
+  // (docs/contacts.md#primitive-contacts).
+  if (settings.contactGeometry) return *settings.contactGeometry;
+  return settings.stepMethod == StepMethod::Xpbd ? ContactGeometry::Primitives
+                                                 : ContactGeometry::Samples;
 }
 
 Real femCutoffFor(const SimulationSettings& settings) {

@@ -135,6 +135,8 @@ void stepWorldXpbd(World& world) {
     const Real substepEnd = startTime + static_cast<Real>(s + 1) * hs;
     for (Joint& joint : world.joints)
       std::visit([&](auto& j) { j.updateTarget(substepEnd); }, joint);
+    for (XpbdContact& contact : world.xpbd.contacts.contacts)
+      contact.followSupportPoint(world.bodies);  // spheres: the rolling contact's new point
     predictPositions(world, hs);
     for (XpbdContact& contact : world.xpbd.contacts.contacts)
       contact.beginSubstep(world.bodies);

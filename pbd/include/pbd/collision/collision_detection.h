@@ -69,6 +69,14 @@ struct ContactPointGeometry {
   Vector3 surfacePoint = Vector3::Zero();  ///< world: on the SDF body's tolerance shell (cp₁)
   Vector3 normal = Vector3::UnitY();       ///< world, unit, out of the SDF body
   Real distance = 0;                       ///< φ(vertexPoint) − contactTolerance (< 0)
+  /// Closed-form contacts of a sphere (primitive_contacts.h): the vertex side's radius when it
+  /// is a sphere, whose vertexPoint is then its support point c − r n, not a point fixed on it
+  /// (0 for samples and every other shape). A solver that follows the contact through the step
+  /// recomputes the support point from the centre c = vertexPoint + r n.
+  Real vertexRadius = 0;
+  /// The SDF side's radius when both sides are spheres: the normal is then the line of centres,
+  /// c_sdf = (the surface point on the body) − r n (0 otherwise).
+  Real sdfRadius = 0;
 };
 
 struct ContactGeometryBuffer {
@@ -155,6 +163,8 @@ class CollisionDetector {
 
   std::vector<RigidObject> rigid_;
   bool primitives_ = false;        ///< contactGeometryFor(scene) == Primitives
+  /// Rigid body pairs (a < b) joined by a joint, sorted: they keep their samples (contacts.md).
+  std::vector<ObjectPair> jointedPairs_;
   PrimitiveManifold manifold_;     ///< scratch of primitivePair
   bool seedGridDistance_ = false;  ///< the seed's unscaled grid distance (step 4), per detection
   std::vector<ParticleModel> particleModels_;

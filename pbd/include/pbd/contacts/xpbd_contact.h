@@ -37,6 +37,23 @@
 //   - the paper writes the dynamic friction as Δv = −u_t/|u_t| min(h μ f_n, |u_t|), an
 //     impulse compared with a velocity; here it is the impulse, bounded by Coulomb's law.
 // One friction coefficient μ serves as static and dynamic (the scene has one per pair).
+//
+// Spheres (closed-form contacts, Simulation.contactGeometry "primitives"). A point fixed on a
+// sphere leaves the contact as the sphere rolls: turned by θ = ω t it stands r (1 − cos θ)
+// above the plane and moves along n at |ω| r sin θ, so a ball rolling at 8 m/s (r = 0.108 m,
+// ω = 74 rad/s) had its only contact point 0.3 mm above the ground by the step's end, fell
+// freely meanwhile, and the velocity pass measured the normal velocity of that turned point.
+// A sphere's contact is therefore its support point, recomputed at every evaluation:
+//   p₀ = c₀ − r₀ n (c₀ the centre, fixed in body 0), lever r₀ = p₀ − x₀;
+//   when body 1 is a sphere too, n = (c₀ − c₁)/|c₀ − c₁| and p₁ = c₁ + r₁ n;
+// so C = n·(p₀ − p₁) is the exact separation (plane: n·(c₀ − p₁) − r₀), a normal impulse acts
+// through the centre, and the normal velocity at p₀ is the centre's (n·(ω × r₀) = 0).
+// Static friction needs a material point instead (the support point of a ball rolling without
+// slip moves at its speed, yet nothing slides): before each prediction the current support
+// point becomes the friction point p₀ᵐ, fixed in body 0 for that substep, and the anchor moves
+// with it tangentially, keeping the offset t(p₀ᵐ − p₁) that static friction has not yet undone.
+// Within a substep the friction point of a ball rolling without slip moves by r (θ − sin θ)
+// ≈ r θ³/6 along the motion (θ = |ω| h_s): what static friction sees, instead of v h_s.
 #pragma once
 
 #include "pbd/collision/collision_detection.h"
@@ -53,6 +70,11 @@ struct XpbdContact {
   Vector3 pointLocal = Vector3::Zero();    ///< r₀ in body 0's principal frame (particle: unused)
   Vector3 surfaceLocal = Vector3::Zero();  ///< the anchor r₁ in body 1's principal frame
   Vector3 normalLocal = Vector3::UnitY();  ///< n in body 1's principal frame
+  /// Closed-form sphere contacts (ContactPointGeometry::vertexRadius, sdfRadius): body 0 is a
+  /// sphere of radius pointRadius > 0 centred at pointCenterLocal (its principal frame); body 1
+  /// too when bodyRadius > 0. See "Spheres" above.
+  Real pointRadius = 0, bodyRadius = 0;
+  Vector3 pointCenterLocal = Vector3::Zero(), bodyCenterLocal = Vector3::Zero();
   Real friction = 0, restitution = 0;
   Real normalMultiplier = 0;   ///< λ_n of the current substep
   Real tangentMultiplier = 0;  ///< |λ_t| of the static friction, current substep
@@ -61,6 +83,9 @@ struct XpbdContact {
   /// Sets the contact up from its geometry at the current poses.
   void init(const ContactPointGeometry& geometry, bool particle, const BodyStates& bodies,
             const ContactMaterial& material, Real contactTolerance);
+  /// Sphere contacts: makes the current support point the friction point and moves the anchor
+  /// with it, keeping the slip not yet undone (call before the prediction). Others: nothing.
+  void followSupportPoint(const BodyStates& bodies);
   /// Resets λ and records ṽ_n (call after the prediction).
   void beginSubstep(const BodyStates& bodies);
   /// Normal projection and static friction (moves the anchor when the point slides).
