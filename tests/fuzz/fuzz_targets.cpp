@@ -32,6 +32,8 @@ void caseSpecTarget(const std::uint8_t* data, std::size_t size) {
   }
 }
 
+namespace {
+
 /// The file a results reader's results are written as, or its error.
 std::string resultsOutcome(const std::function<ResultsFile()>& read) {
   try {
@@ -42,6 +44,8 @@ std::string resultsOutcome(const std::function<ResultsFile()>& read) {
     return std::string("error: ") + e.what();
   }
 }
+
+}  // namespace
 
 void resultsTarget(const std::uint8_t* data, std::size_t size) {
   // pbdval merge's reader, which copies each record's text, gives the bytes or the error of the
