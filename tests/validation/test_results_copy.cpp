@@ -56,10 +56,18 @@ std::vector<RunRecord> records() {
   full.facts.engineVersion = "PBD 1.0 \"quoted\"";
   full.facts.integratorStepsPerSceneStep = 10;
   full.facts.contactMargin = -0.0;
-  full.metrics.values = {{"a", 1.0},        {"b", -2.5e-17},       {"c", 123456789.0},
-                         {"d", 1e21},       {"e", std::nan("")},   {"f", HUGE_VAL},
-                         {"g", 0.1},        {"h", 5e-324},         {"i", -1.7976931348623157e308},
-                         {"steps", 1000.0}, {"wall_time_s", 0.0123}, {"energy_drift_max", 0.25},
+  full.metrics.values = {{"a", 1.0},
+                         {"b", -2.5e-17},
+                         {"c", 123456789.0},
+                         {"d", 1e21},
+                         {"e", std::nan("")},
+                         {"f", HUGE_VAL},
+                         {"g", 0.1},
+                         {"h", 5e-324},
+                         {"i", -1.7976931348623157e308},
+                         {"steps", 1000.0},
+                         {"wall_time_s", 0.0123},
+                         {"energy_drift_max", 0.25},
                          {"real_time_factor", 812.5}};
   JointErrorSummary hinge;
   hinge.linearMax = 1e-3;
@@ -296,7 +304,8 @@ TEST(ResultsCopyingRecords, EveryTruncationAndSeededMutationGivesTheValueReaders
   for (int k = 0; k < 3000; ++k) {
     std::string changed = text;
     const std::size_t at = std::uniform_int_distribution<std::size_t>(0, text.size() - 1)(random);
-    const char byte = bytes[std::uniform_int_distribution<std::size_t>(0, bytes.size() - 1)(random)];
+    const char byte =
+        bytes[std::uniform_int_distribution<std::size_t>(0, bytes.size() - 1)(random)];
     switch (k % 3) {
       case 0:
         changed[at] = byte;
@@ -317,9 +326,9 @@ TEST(ResultsCopyingRecords, MergedShardsReadEitherWayGiveTheSameFile) {
   RunPlan plan;
   const std::vector<RunRecord> kinds = records();
   for (int k = 0; k < 5; ++k)
-    plan.requests.push_back(requestFor("c", kinds[std::size_t(k) % kinds.size()].request.engine,
-                                       kinds[std::size_t(k) % kinds.size()].request.method +
-                                           std::to_string(k)));
+    plan.requests.push_back(
+        requestFor("c", kinds[std::size_t(k) % kinds.size()].request.engine,
+                   kinds[std::size_t(k) % kinds.size()].request.method + std::to_string(k)));
   std::vector<std::string> shardTexts;
   for (int index = 1; index <= 2; ++index) {
     ShardInfo info;
