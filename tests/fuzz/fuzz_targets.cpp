@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
@@ -31,7 +32,32 @@ void caseSpecTarget(const std::uint8_t* data, std::size_t size) {
   }
 }
 
+namespace {
+
+/// The file a results reader's results are written as, or its error.
+std::string resultsOutcome(const std::function<ResultsFile()>& read) {
+  try {
+    std::ostringstream written;
+    writeResultsText(written, read());
+    return written.str();
+  } catch (const std::invalid_argument& e) {
+    return std::string("error: ") + e.what();
+  }
+}
+
+}  // namespace
+
 void resultsTarget(const std::uint8_t* data, std::size_t size) {
+  // pbdval merge's reader, which copies each record's text, gives the bytes or the error of the
+  // reader of values.
+  const std::string input = text(data, size);
+  if (resultsOutcome([&] { return parseResultsText(input, "results.json"); }) !=
+      resultsOutcome([&] {
+        return parseResultsTextCopyingRecords(input, "results.json", {"energy_drift_max"});
+      })) {
+    std::fprintf(stderr, "results: the copying reader's outcome differs from the value reader's\n");
+    std::abort();
+  }
   try {
     const ResultsFile results = parseResultsText(text(data, size), "results.json");
     // What results.json's writer streams is the document nlohmann dumps whole.

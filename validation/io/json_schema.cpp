@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <sstream>
 #include <stdexcept>
@@ -76,9 +77,28 @@ const Json& referenced(const Json& root, const Json& reference) {
   }
 }
 
-/// Checks `value` (at `path`) against `schema`, a part of `root`; `chained` counts the `$ref`s
-/// followed since the document last moved to a child value.
-void check(const Json& root, const Json& schema, const Json& value, const std::string& path,
+/// One validation: the root schema, and each `pattern` compiled once (compiling an ECMAScript
+/// expression is costly: compiled for every string it checks, the engine catalogue's patterns
+/// took 200 M instructions of every command's start, docs/benchmarks.md).
+struct Validation {
+  const Json& root;
+  std::map<std::string, std::regex> patterns;
+
+  const std::regex& pattern(const std::string& text, const std::string& path) {
+    const auto found = patterns.find(text);
+    if (found != patterns.end()) return found->second;
+    try {
+      return patterns.emplace(text, std::regex(text, std::regex::ECMAScript)).first->second;
+    } catch (const std::regex_error&) {
+      throw std::invalid_argument("schema: pattern \"" + text + "\" at " + shown(path) +
+                                  " is not a regular expression");
+    }
+  }
+};
+
+/// Checks `value` (at `path`) against `schema`, a part of the validation's root; `chained`
+/// counts the `$ref`s followed since the document last moved to a child value.
+void check(Validation& validation, const Json& schema, const Json& value, const std::string& path,
            int chained, std::vector<std::string>& violations) {
   if (schema.is_boolean()) {
     if (!schema.get<bool>()) violations.push_back(shown(path) + ": not allowed here");
@@ -100,7 +120,8 @@ void check(const Json& root, const Json& schema, const Json& value, const std::s
     if (chained >= kMaxChainedReferences)
       throw std::invalid_argument("schema: $ref " + schema.at("$ref").dump() + " at " +
                                   shown(path) + " loops without reaching a value");
-    check(root, referenced(root, schema.at("$ref")), value, path, chained + 1, violations);
+    check(validation, referenced(validation.root, schema.at("$ref")), value, path, chained + 1,
+          violations);
   }
   if (schema.contains("type")) {
     const Json& type = schema.at("type");
@@ -142,14 +163,7 @@ void check(const Json& root, const Json& schema, const Json& value, const std::s
   if (schema.contains("pattern") && value.is_string()) {
     // ECMA-262 regular expressions, as JSON Schema specifies; matched anywhere unless anchored.
     const std::string pattern = schema.at("pattern").get<std::string>();
-    std::regex expression;
-    try {
-      expression = std::regex(pattern, std::regex::ECMAScript);
-    } catch (const std::regex_error&) {
-      throw std::invalid_argument("schema: pattern \"" + pattern + "\" at " + shown(path) +
-                                  " is not a regular expression");
-    }
-    if (!std::regex_search(value.get<std::string>(), expression))
+    if (!std::regex_search(value.get<std::string>(), validation.pattern(pattern, path)))
       fail("a string matching " + pattern);
   }
   if (schema.contains("minItems") && value.is_array() &&
@@ -171,44 +185,47 @@ void check(const Json& root, const Json& schema, const Json& value, const std::s
       for (const Json& key : schema.at("required"))
         if (!value.contains(key.get<std::string>()))
           violations.push_back(childPath(path, key.get<std::string>()) + ": missing (required)");
-    const Json properties = schema.value("properties", Json::object());
+    const Json* properties = schema.contains("properties") ? &schema.at("properties") : nullptr;
     for (const auto& item : value.items()) {
       const std::string member = childPath(path, item.key());
-      if (properties.contains(item.key())) {
-        check(root, properties.at(item.key()), item.value(), member, 0, violations);
+      if (properties && properties->contains(item.key())) {
+        check(validation, properties->at(item.key()), item.value(), member, 0, violations);
       } else if (schema.contains("additionalProperties")) {
         const Json& extra = schema.at("additionalProperties");
         if (extra.is_boolean() && !extra.get<bool>()) {
           std::vector<std::string> names;
-          for (const auto& p : properties.items())
-            names.push_back(p.key());
+          if (properties)
+            for (const auto& p : properties->items())
+              names.push_back(p.key());
           violations.push_back(member + ": not a known key (known: " + alternatives(names) + ")");
         } else {
-          check(root, extra, item.value(), member, 0, violations);
+          check(validation, extra, item.value(), member, 0, violations);
         }
       }
     }
   }
   if (value.is_array() && schema.contains("items"))
     for (std::size_t i = 0; i < value.size(); ++i)
-      check(root, schema.at("items"), value.at(i), path + "[" + std::to_string(i) + "]", 0,
+      check(validation, schema.at("items"), value.at(i), path + "[" + std::to_string(i) + "]", 0,
             violations);
   if (schema.contains("if")) {
     std::vector<std::string> ignored;
-    check(root, schema.at("if"), value, path, chained, ignored);
+    check(validation, schema.at("if"), value, path, chained, ignored);
     const char* branch = ignored.empty() ? "then" : "else";
-    if (schema.contains(branch)) check(root, schema.at(branch), value, path, chained, violations);
+    if (schema.contains(branch))
+      check(validation, schema.at(branch), value, path, chained, violations);
   }
   if (schema.contains("allOf"))
     for (const Json& part : schema.at("allOf"))
-      check(root, part, value, path, chained, violations);
+      check(validation, part, value, path, chained, violations);
 }
 
 }  // namespace
 
 std::vector<std::string> schemaViolations(const Json& schema, const Json& document) {
   std::vector<std::string> violations;
-  check(schema, schema, document, "", 0, violations);
+  Validation validation{schema, {}};
+  check(validation, schema, document, "", 0, violations);
   return violations;
 }
 

@@ -4,13 +4,16 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
+#include <cstring>
 #include <ctime>
 #include <exception>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 #include <thread>
 
 #include "pbd/math/types.h"
@@ -345,7 +348,17 @@ void writeResultsText(std::ostream& out, const ResultsFile& results) {
   std::string record;
   for (std::size_t i = 0; i < results.runs.size(); ++i) {
     record = i == 0 ? "\n    " : ",\n    ";
-    appendRecordText(record, results.runs[i], "      ");
+    if (i < results.recordTexts.size() && !results.recordTexts[i].empty()) {
+      // The record's text as read (readResultsCopyingRecords), up to its trajectory's value.
+      out.write(record.data(), std::streamsize(record.size()));
+      const std::string& text = results.recordTexts[i];
+      out.write(text.data(), std::streamsize(text.size()));
+      record.clear();
+      appendString(record, results.runs[i].request.trajectoryPath);
+      record += "\n    }";
+    } else {
+      appendRecordText(record, results.runs[i], "      ");
+    }
     out.write(record.data(), std::streamsize(record.size()));
   }
   if (!results.runs.empty()) out << "\n  ";
@@ -433,5 +446,486 @@ ResultsFile parseResults(const nlohmann::json& document, StreamedRuns& streamed,
 }
 
 }  // namespace
+
+// ---- results.json's runs copied on (pbdval merge) --------------------------------------------
+// A merge writes every record of its shards again unchanged (but its trajectory path). Reading a
+// record into values (a map per metric, parameter and setting) and writing them back as text is
+// what cost a merge of 10,000 runs seconds; here each record is read once, token by token, in the
+// writer's own layout, and its text for the merged file is written as it is read. Strings are
+// copied as they are when they are printable ASCII without escapes (the form the writer gives
+// them); numbers are read and written again in the writer's form (nlohmann's shortest round trip),
+// so that a shard written by another JSON writer (another indentation or number spelling) gives
+// the same bytes as readResults and writeResults would. Whatever is of another form goes the
+// readResults way: a record with members in another order, missing or added (read as a document,
+// written from its values), or a file that is not in order (read again by readResults, whose error
+// the caller gets).
+namespace {
+
+/// What the copying reader does not take itself (see above).
+struct OtherForm {};
+
+bool isJsonSpace(char c) {
+  return c == ' ' || c == '\n' || c == '\r' || c == '\t';
+}
+
+/// A JSON string token: the bytes between its quotes, and whether they are the string itself
+/// (printable ASCII without a backslash: what appendString writes as it is).
+struct StringToken {
+  std::string_view raw;
+  bool plain = true;
+};
+
+/// JSON tokens read from text; whatever is not JSON throws OtherForm.
+class Cursor {
+ public:
+  Cursor(const char* begin, const char* end) : at_(begin), end_(end) {}
+  const char* at() const { return at_; }
+  const char* end() const { return end_; }
+  void skipSpace() {
+    while (at_ != end_ && isJsonSpace(*at_))
+      ++at_;
+  }
+  bool atEnd() {
+    skipSpace();
+    return at_ == end_;
+  }
+  /// Takes the character `c` when it comes next.
+  bool take(char c) {
+    skipSpace();
+    if (at_ == end_ || *at_ != c) return false;
+    ++at_;
+    return true;
+  }
+  void expect(char c) {
+    if (!take(c)) throw OtherForm{};
+  }
+  /// Takes the literal `word` (null) when it comes next.
+  bool takeWord(std::string_view word) {
+    skipSpace();
+    if (std::size_t(end_ - at_) < word.size() || std::string_view(at_, word.size()) != word)
+      return false;
+    at_ += word.size();
+    return true;
+  }
+  StringToken string() {
+    expect('"');
+    const char* begin = at_;
+    const void* quote = std::memchr(at_, '"', std::size_t(end_ - at_));
+    if (!quote) throw OtherForm{};
+    const char* close = static_cast<const char*>(quote);
+    unsigned other = 0;  // a control character, a backslash or a byte outside printable ASCII
+    for (const char* c = begin; c != close; ++c) {
+      const auto byte = static_cast<unsigned char>(*c);
+      other |= unsigned(byte < 0x20) | unsigned(byte >= 0x7f) | unsigned(byte == '\\');
+    }
+    if (!other) {
+      at_ = close + 1;
+      return {std::string_view(begin, std::size_t(close - begin)), true};
+    }
+    // The string's true end, past escaped quotes (its escapes and UTF-8 are checked by decoded).
+    const char* c = begin;
+    while (c != end_ && *c != '"') {
+      if (static_cast<unsigned char>(*c) < 0x20) throw OtherForm{};
+      if (*c == '\\' && ++c == end_) throw OtherForm{};
+      ++c;
+    }
+    if (c == end_) throw OtherForm{};
+    at_ = c + 1;
+    return {std::string_view(begin, std::size_t(c - begin)), false};
+  }
+  /// A number token (JSON's grammar: -?(0|[1-9][0-9]*)(.[0-9]+)?([eE][+-]?[0-9]+)?).
+  std::string_view number() {
+    skipSpace();
+    const char* begin = at_;
+    const auto digits = [this] {
+      const char* from = at_;
+      while (at_ != end_ && *at_ >= '0' && *at_ <= '9')
+        ++at_;
+      if (at_ == from) throw OtherForm{};
+    };
+    if (at_ != end_ && *at_ == '-') ++at_;
+    if (at_ != end_ && *at_ == '0')
+      ++at_;
+    else
+      digits();
+    if (at_ != end_ && *at_ == '.') {
+      ++at_;
+      digits();
+    }
+    if (at_ != end_ && (*at_ == 'e' || *at_ == 'E')) {
+      ++at_;
+      if (at_ != end_ && (*at_ == '+' || *at_ == '-')) ++at_;
+      digits();
+    }
+    return {begin, std::size_t(at_ - begin)};
+  }
+  /// Skips one value, following its brackets and strings only (what it spans is checked by the
+  /// JSON parser that reads it next).
+  void skipValue() {
+    int depth = 0;
+    do {
+      skipSpace();
+      if (at_ == end_) throw OtherForm{};
+      const char c = *at_;
+      if (c == '"') {
+        (void)string();
+      } else if (c == '{' || c == '[') {
+        ++depth;
+        ++at_;
+      } else if (c == '}' || c == ']') {
+        if (--depth < 0) throw OtherForm{};
+        ++at_;
+      } else if (c == ',' || c == ':') {
+        if (depth == 0) throw OtherForm{};
+        ++at_;
+      } else {  // a number or a literal
+        ++at_;
+        while (at_ != end_ && !isJsonSpace(*at_) && std::strchr(",:{}[]\"", *at_) == nullptr)
+          ++at_;
+      }
+    } while (depth > 0);
+  }
+
+ private:
+  const char* at_;
+  const char* end_;
+};
+
+/// The string a token of escapes or non-ASCII bytes stands for, decoded by nlohmann (the
+/// document reader's decoding, its checks of escapes and UTF-8).
+std::string decoded(const StringToken& token) {
+  try {
+    return Json::parse(token.raw.data() - 1, token.raw.data() + token.raw.size() + 1)
+        .get<std::string>();
+  } catch (const Json::exception&) {
+    throw OtherForm{};
+  }
+}
+
+// The indentation of a record's members, of the members of its objects and of theirs
+// (writeResultsText: the runs array is a top-level member's value).
+constexpr std::string_view kMemberIndent = "      ";
+constexpr std::string_view kNestedIndent = "        ";
+constexpr std::string_view kNested2Indent = "          ";
+
+/// One record of the runs array, read on the fast path (see above): its request, status, reason
+/// and the kept metrics as values, its text as writeResultsText writes it, up to the value of
+/// "trajectory". Throws OtherForm for a record of another form, having written part of it.
+class RecordCopier {
+ public:
+  explicit RecordCopier(const std::vector<std::string>& keptMetrics) : kept_(keptMetrics) {}
+
+  void copy(Cursor& in, RunRecord& record, std::string& out) {
+    RunRequest& request = record.request;
+    in.expect('{');
+    out += '{';
+    member(in, "assignments", true, out, kMemberIndent);
+    strings(in, out, &request.assignments);
+    member(in, "case", false, out, kMemberIndent);
+    request.caseName = string(in, out);
+    member(in, "caseFile", false, out, kMemberIndent);
+    request.caseFile = string(in, out);
+    member(in, "engine", false, out, kMemberIndent);
+    request.engine = string(in, out);
+    member(in, "facts", false, out, kMemberIndent);
+    in.expect('{');
+    out += '{';
+    member(in, "contactMargin", true, out, kNestedIndent);
+    (void)number(in, out, false);
+    member(in, "engineVersion", false, out, kNestedIndent);
+    (void)string(in, out);
+    member(in, "integratorStepsPerSceneStep", false, out, kNestedIndent);
+    (void)integer(in, out);
+    close(in, '}', out, kMemberIndent);
+    member(in, "fineDivisor", false, out, kMemberIndent);
+    request.fineDivisor = integer(in, out);
+    member(in, "joint_error_by_type", false, out, kMemberIndent);
+    map(in, out, kNestedIndent, kMemberIndent, [&](std::string_view) { jointErrors(in, out); });
+    member(in, "method", false, out, kMemberIndent);
+    request.method = string(in, out);
+    member(in, "metrics", false, out, kMemberIndent);
+    map(in, out, kNestedIndent, kMemberIndent, [&](std::string_view name) {
+      const double value = number(in, out, true);
+      if (std::find(kept_.begin(), kept_.end(), name) != kept_.end())
+        record.metrics.values[std::string(name)] = value;
+    });
+    member(in, "notes", false, out, kMemberIndent);
+    strings(in, out, nullptr);
+    member(in, "parameters", false, out, kMemberIndent);
+    map(in, out, kNestedIndent, kMemberIndent, [&](std::string_view) { (void)string(in, out); });
+    member(in, "reason", false, out, kMemberIndent);
+    record.reason = string(in, out);
+    member(in, "reference", false, out, kMemberIndent);
+    (void)string(in, out);
+    member(in, "referenceMode", false, out, kMemberIndent);
+    request.referenceMode = string(in, out);
+    member(in, "referenceStepSize", false, out, kMemberIndent);
+    request.referenceStepSize = number(in, out, false);
+    member(in, "sampleInterval", false, out, kMemberIndent);
+    request.sampleInterval = number(in, out, false);
+    member(in, "settings", false, out, kMemberIndent);
+    map(in, out, kNestedIndent, kMemberIndent, [&](std::string_view) { (void)string(in, out); });
+    member(in, "state_hash", false, out, kMemberIndent);
+    (void)string(in, out);
+    member(in, "status", false, out, kMemberIndent);
+    const std::optional<RunStatus> status = runStatusNamed(string(in, out));
+    if (!status) throw OtherForm{};
+    record.status = *status;
+    member(in, "trajectory", false, out, kMemberIndent);
+    const StringToken trajectory = in.string();  // written by writeResultsText, maybe changed
+    request.trajectoryPath = trajectory.plain ? std::string(trajectory.raw) : decoded(trajectory);
+    in.expect('}');
+  }
+
+ private:
+  /// The member `name` comes next (after a comma unless `first`): its line is written.
+  static void member(Cursor& in, std::string_view name, bool first, std::string& out,
+                     std::string_view indent) {
+    if (!first) in.expect(',');
+    const StringToken key = in.string();
+    if (!key.plain || key.raw != name) throw OtherForm{};
+    in.expect(':');
+    memberLine(key.raw, first, out, indent);
+  }
+  static void memberLine(std::string_view name, bool first, std::string& out,
+                         std::string_view indent) {
+    out += first ? "\n" : ",\n";
+    out += indent;
+    out += '"';
+    out += name;
+    out += "\": ";
+  }
+  /// The closing bracket `c` of an object or array that has members, on a line at `indent`.
+  static void close(Cursor& in, char c, std::string& out, std::string_view indent) {
+    in.expect(c);
+    out += '\n';
+    out += indent;
+    out += c;
+  }
+  /// A string, written as appendString writes it; the string (valid until the next call).
+  std::string_view string(Cursor& in, std::string& out) {
+    const StringToken token = in.string();
+    if (token.plain) {
+      out += '"';
+      out += token.raw;
+      out += '"';
+      return token.raw;
+    }
+    decoded_ = decoded(token);
+    appendString(out, decoded_);
+    return decoded_;
+  }
+  /// A number (or null where `nullable`: NaN, as recordFromJson reads it), written as
+  /// appendNumber writes its value; the value.
+  static double number(Cursor& in, std::string& out, bool nullable) {
+    if (nullable && in.takeWord("null")) {
+      out += "null";
+      return std::nan("");
+    }
+    const std::string_view text = in.number();
+    double value = 0;  // "-0" is the integer 0 to nlohmann, read as +0.0
+    if (text != "-0") {
+      const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+      // Out of a double's range (1e400): nlohmann's value is another (infinite), not ours.
+      if (error != std::errc() || end != text.data() + text.size()) throw OtherForm{};
+    }
+    appendNumber(out, value);
+    return value;
+  }
+  /// An integer in std::to_string's form (no fraction or exponent, not -0) and int's range
+  /// (at most 9 digits), written as it is.
+  static int integer(Cursor& in, std::string& out) {
+    const std::string_view text = in.number();
+    int value = 0;
+    const std::size_t digits = text.size() - (text[0] == '-' ? 1 : 0);
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (digits > 9 || text == "-0" || error != std::errc() || end != text.data() + text.size())
+      throw OtherForm{};
+    out += text;
+    return value;
+  }
+  /// An array of strings, written as appendStrings writes it at a record's member.
+  void strings(Cursor& in, std::string& out, std::vector<std::string>* values) {
+    in.expect('[');
+    if (in.take(']')) {
+      out += "[]";
+      return;
+    }
+    out += '[';
+    bool first = true;
+    do {
+      out += first ? "\n" : ",\n";
+      out += kNestedIndent;
+      const std::string_view text = string(in, out);
+      if (values) values->emplace_back(text);
+      first = false;
+    } while (in.take(','));
+    close(in, ']', out, kMemberIndent);
+  }
+  /// An object of a std::map (keys in increasing byte order, printable ASCII), its members at
+  /// `indent`; `value(key)` reads and writes each member's value.
+  template <class Value>
+  static void map(Cursor& in, std::string& out, std::string_view indent,
+                  std::string_view closeIndent, const Value& value) {
+    in.expect('{');
+    if (in.take('}')) {
+      out += "{}";
+      return;
+    }
+    out += '{';
+    std::string_view previous;
+    bool first = true;
+    do {
+      const StringToken key = in.string();
+      if (!key.plain || (!first && key.raw <= previous)) throw OtherForm{};
+      in.expect(':');
+      memberLine(key.raw, first, out, indent);
+      value(key.raw);
+      previous = key.raw;
+      first = false;
+    } while (in.take(','));
+    close(in, '}', out, closeIndent);
+  }
+  /// A joint type's summary: the angular pair when there is one, the linear pair, the joints,
+  /// the motor tracking's three when there is a quantity (recordJson's members).
+  void jointErrors(Cursor& in, std::string& out) {
+    in.expect('{');
+    out += '{';
+    StringToken key = in.string();
+    bool first = true;
+    // The member whose key was read last must be `name`; then its value, then nextKey.
+    const auto memberNamed = [&](std::string_view name) {
+      if (!key.plain || key.raw != name) throw OtherForm{};
+      in.expect(':');
+      memberLine(name, first, out, kNested2Indent);
+      first = false;
+    };
+    const auto nextKey = [&] {
+      in.expect(',');
+      key = in.string();
+    };
+    if (key.plain && key.raw == "joint_error_angular_max") {
+      memberNamed("joint_error_angular_max");
+      (void)number(in, out, true);
+      nextKey();
+      memberNamed("joint_error_angular_rms");
+      (void)number(in, out, true);
+      nextKey();
+    }
+    memberNamed("joint_error_linear_max");
+    (void)number(in, out, true);
+    nextKey();
+    memberNamed("joint_error_linear_rms");
+    (void)number(in, out, true);
+    nextKey();
+    memberNamed("joints");
+    (void)integer(in, out);
+    if (in.take(',')) {
+      key = in.string();
+      memberNamed("motor_tracking_max");
+      (void)number(in, out, true);
+      nextKey();
+      memberNamed("motor_tracking_quantity");
+      if (string(in, out).empty()) throw OtherForm{};  // an empty quantity: no tracking
+      nextKey();
+      memberNamed("motor_tracking_rms");
+      (void)number(in, out, true);
+    }
+    close(in, '}', out, kNestedIndent);
+  }
+
+  const std::vector<std::string>& kept_;
+  std::string decoded_;  ///< the last string decoded
+};
+
+/// A record of another form, read as the whole document's reader reads it (at the depth it has
+/// there: inside an object and an array); any error throws OtherForm (readResults says it).
+RunRecord recordOfOtherForm(std::string_view text, const std::string& path, std::size_t index) {
+  try {
+    const Json document = parseJsonText("[[" + std::string(text) + "]]", path);
+    return recordFromJson(document.at(0).at(0), path + ": runs[" + std::to_string(index) + "]");
+  } catch (const std::exception&) {
+    throw OtherForm{};
+  }
+}
+
+ResultsFile copyingRecords(const std::string& text, const std::string& path,
+                           const std::vector<std::string>& keptMetrics) {
+  Cursor in(text.data(), text.data() + text.size());
+  const char* runsBegin = nullptr;
+  const char* runsEnd = nullptr;
+  StreamedRuns streamed;
+  std::vector<std::string> texts;
+  RecordCopier copier(keptMetrics);
+  const auto copyRuns = [&] {
+    in.expect('[');
+    if (in.take(']')) return;
+    std::size_t capacity = 0;
+    do {
+      in.skipSpace();
+      const char* begin = in.at();
+      RunRecord record;
+      std::string recordText;
+      recordText.reserve(capacity);
+      try {
+        copier.copy(in, record, recordText);
+      } catch (const OtherForm&) {
+        Cursor span(begin, in.end());
+        span.skipValue();
+        record = recordOfOtherForm(std::string_view(begin, std::size_t(span.at() - begin)), path,
+                                   streamed.records.size());
+        recordText.clear();
+        in = span;
+      }
+      capacity = std::max(capacity, recordText.size());
+      streamed.records.push_back(std::move(record));
+      texts.push_back(std::move(recordText));
+    } while (in.take(','));
+    in.expect(']');
+  };
+  in.expect('{');
+  if (!in.take('}')) {
+    do {
+      const StringToken key = in.string();
+      if (!key.plain) throw OtherForm{};
+      in.expect(':');
+      if (key.raw == "runs") {
+        if (runsBegin) throw OtherForm{};  // twice: readResults keeps the last
+        in.skipSpace();
+        runsBegin = in.at();
+        copyRuns();
+        runsEnd = in.at();
+      } else {
+        in.skipValue();
+      }
+    } while (in.take(','));
+    in.expect('}');
+  }
+  if (!in.atEnd() || !runsBegin) throw OtherForm{};
+  // The document around the runs, read as readResults reads it (with an empty runs array).
+  std::string frame(text.data(), runsBegin);
+  frame += "[]";
+  frame.append(runsEnd, text.data() + text.size());
+  ResultsFile results = parseResults(parseJsonText(frame, path), streamed, path);
+  results.recordTexts = std::move(texts);
+  return results;
+}
+
+}  // namespace
+
+ResultsFile parseResultsTextCopyingRecords(const std::string& text, const std::string& sourceName,
+                                           const std::vector<std::string>& keptMetrics) {
+  try {
+    return copyingRecords(text, sourceName, keptMetrics);
+  } catch (const OtherForm&) {
+  } catch (const std::invalid_argument&) {
+  }
+  return parseResultsText(text, sourceName);
+}
+
+ResultsFile readResultsCopyingRecords(const std::string& path,
+                                      const std::vector<std::string>& keptMetrics) {
+  return parseResultsTextCopyingRecords(readJsonFileText(path, "results"), path, keptMetrics);
+}
 
 }  // namespace pbdval

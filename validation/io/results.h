@@ -62,6 +62,13 @@ struct ResultsFile {
   RunMetadata metadata;
   std::map<std::string, CaseGateData> cases;  ///< by case name
   std::vector<RunRecord> runs;
+  /// Set by readResultsCopyingRecords (pbdval merge, which copies every record on): when
+  /// recordTexts[i] is not empty it is runs[i]'s record as writeResultsText writes it, from its
+  /// opening brace up to the value of its last member, "trajectory" (which a merge rewrites), and
+  /// runs[i] holds only what the merge looks at: the request, the status, the reason and the
+  /// metrics asked for. writeResultsText then copies the text and writes the trajectory path
+  /// after it. Empty (or shorter than runs): runs[i] is the whole record.
+  std::vector<std::string> recordTexts;
 };
 
 void writeResults(const std::string& path, const ResultsFile& results);
@@ -72,5 +79,20 @@ void writeResultsText(std::ostream& out, const ResultsFile& results);
 ResultsFile readResults(const std::string& path);
 /// The same on the file's text; `sourceName` names it in messages.
 ResultsFile parseResultsText(const std::string& text, const std::string& sourceName);
+
+/// readResults for a command that writes the records on unchanged (pbdval merge): each run whose
+/// record has the form writeResultsText gives it (members in its order, every number and string
+/// of a JSON form; the layout and the numbers' spelling may differ: they are written again) is
+/// kept as its text (ResultsFile::recordTexts), with only its request, status, reason and the
+/// metrics named in `keptMetrics` as values; a run of any other form is read as readResults reads
+/// it. Written again, the file has the bytes readResults' file would have; bad input throws what
+/// readResults throws (it reads the file again to say it). Reading each record's text once,
+/// without building its values, is most of what makes a merge of 10,000 runs take a fraction of
+/// a second (docs/cluster.md#measured).
+ResultsFile readResultsCopyingRecords(const std::string& path,
+                                      const std::vector<std::string>& keptMetrics);
+/// The same on the file's text.
+ResultsFile parseResultsTextCopyingRecords(const std::string& text, const std::string& sourceName,
+                                           const std::vector<std::string>& keptMetrics);
 
 }  // namespace pbdval

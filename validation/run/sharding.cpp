@@ -175,12 +175,14 @@ ResultsFile mergeShards(const std::vector<ShardResults>& shards, const std::stri
                                 std::to_string(plan.count));
 
   // The unreadable cases are shard 1's records of status error with engine "-".
-  // (pointers into the shards: each record is copied once, into the merged results)
-  std::vector<std::vector<const RunRecord*>> runs(byIndex.size());
-  std::vector<const RunRecord*> unreadable;
+  // (indices into the shards: each record is copied once, into the merged results, with its
+  // text when the shard was read with it: readResultsCopyingRecords)
+  std::vector<std::vector<std::size_t>> runs(byIndex.size());
+  std::vector<std::size_t> unreadable;
   for (std::size_t k = 0; k < byIndex.size(); ++k)
-    for (const RunRecord& r : byIndex[k]->results.runs)
-      (k == 0 && r.request.engine == "-" ? unreadable : runs[k]).push_back(&r);
+    for (std::size_t i = 0; i < byIndex[k]->results.runs.size(); ++i)
+      (k == 0 && byIndex[k]->results.runs[i].request.engine == "-" ? unreadable : runs[k])
+          .push_back(i);
   const std::size_t requests = plan.planSize - unreadable.size();
   for (std::size_t k = 0; k < byIndex.size(); ++k) {
     const std::size_t expected = sliceSize(requests, int(k + 1), plan.count);
@@ -200,10 +202,19 @@ ResultsFile mergeShards(const std::vector<ShardResults>& shards, const std::stri
   for (const std::string& h : hosts)
     merged.metadata.hostname += (merged.metadata.hostname.empty() ? "" : ",") + h;
   merged.runs.reserve(unreadable.size() + requests);
-  for (const RunRecord* r : unreadable)
-    merged.runs.push_back(*r);
+  const auto take = [&](std::size_t k, std::size_t i) {
+    const ResultsFile& shard = byIndex[k]->results;
+    merged.runs.push_back(shard.runs[i]);
+    const bool text = i < shard.recordTexts.size() && !shard.recordTexts[i].empty();
+    if (text) {
+      merged.recordTexts.resize(merged.runs.size());
+      merged.recordTexts.back() = shard.recordTexts[i];
+    }
+  };
+  for (const std::size_t i : unreadable)
+    take(0, i);
   for (std::size_t p = 0; p < requests; ++p)
-    merged.runs.push_back(*runs[p % byIndex.size()][p / byIndex.size()]);
+    take(p % byIndex.size(), runs[p % byIndex.size()][p / byIndex.size()]);
   // The runs must be the plan's, in its order: `pbdval run --shard` records the whole plan's
   // runsDigest in every shard (metadata.planDigest); a run relabelled (another engine, method,
   // case or assignments), swapped with another or edited out of order changes the digest of the

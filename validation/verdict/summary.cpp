@@ -22,6 +22,13 @@ std::string padded(const std::string& text, std::size_t width) {
 
 }  // namespace
 
+const std::vector<std::string>& summaryTableMetrics() {
+  static const std::vector<std::string> metrics = {"energy_drift_max", "joint_error_linear_max",
+                                                   "penetration_max", "trajectory_error_max",
+                                                   "real_time_factor"};
+  return metrics;
+}
+
 void printSummaryTable(std::ostream& out, const std::vector<RunRecord>& runs) {
   std::size_t caseWidth = 4, runWidth = 13;
   for (const RunRecord& r : runs) {
@@ -41,10 +48,10 @@ void printSummaryTable(std::ostream& out, const std::vector<RunRecord>& runs) {
     out << padded(newCase ? r.request.caseName : "", caseWidth) << "  "
         << padded(runLabel(r.request), runWidth) << "  " << padded(runStatusName(r.status), 11);
     if (isMeasured(r.status)) {
-      for (const char* name : {"energy_drift_max", "joint_error_linear_max", "penetration_max",
-                               "trajectory_error_max"})
-        out << padded(cell(r.metrics, name), 13);
-      const auto rtf = r.metrics.values.find("real_time_factor");
+      const std::vector<std::string>& metrics = summaryTableMetrics();
+      for (std::size_t k = 0; k + 1 < metrics.size(); ++k)
+        out << padded(cell(r.metrics, metrics[k].c_str()), 13);
+      const auto rtf = r.metrics.values.find(metrics.back());
       char text[32];
       std::snprintf(text, sizeof text, "%.0f", rtf == r.metrics.values.end() ? 0.0 : rtf->second);
       out << text;
