@@ -792,8 +792,7 @@ TEST(FluidSeedFormulation, NeighbourOrderIsTheSeedsCellOrderFluidBeforeBoundaryC
       for (int dz = -1; dz <= 1; ++dz) {
         const auto inCell = [&](const Vector3& p) {
           return cell(p, 0) == cell(query, 0) + dx && cell(p, 1) == cell(query, 1) + dy &&
-                 cell(p, 2) == cell(query, 2) + dz &&
-                 (p - query).squaredNorm() < support * support;
+                 cell(p, 2) == cell(query, 2) + dz && (p - query).squaredNorm() < support * support;
         };
         for (std::size_t j = 0; j < n; ++j)
           if (j != n / 2 && inCell(fluid[j])) expected.push_back(int(j));
@@ -811,9 +810,8 @@ TEST(FluidSeedFormulation, NeighbourOrderIsTheSeedsCellOrderFluidBeforeBoundaryC
   ASSERT_LE(candidates.size(), 2 * kMaxFluidNeighbours);
   std::vector<int> ordered(candidates.size());
   std::size_t dropped = 0;
-  const int count =
-      seedOrderNeighbours(query, support, candidates.data(), int(candidates.size()), fluid.data(),
-                          n, boundary.data(), ordered.data(), dropped);
+  const int count = seedOrderNeighbours(query, support, candidates.data(), int(candidates.size()),
+                                        fluid.data(), n, boundary.data(), ordered.data(), dropped);
   ASSERT_EQ(count, kSeedMaxNeighbours);
   EXPECT_EQ(dropped, expected.size() - std::size_t(kSeedMaxNeighbours));
   for (int k = 0; k < count; ++k)
@@ -859,16 +857,15 @@ TEST(FluidScene, ListedParticlesSeedWallsAndTheFormulationAreReadAsGiven) {
   EXPECT_TRUE(containsAllOf(fluidError(R"({"particles": [[0, 0, 0]], "formulation": "pbf"})"),
                             {"FluidModels[0].formulation", "\"symmetric\"", "\"seed\""}))
       << fluidError(R"({"particles": [[0, 0, 0]], "formulation": "pbf"})");
-  EXPECT_TRUE(containsAllOf(
-      fluidError(R"({"particles": [[0, 0, 0]],
+  EXPECT_TRUE(containsAllOf(fluidError(R"({"particles": [[0, 0, 0]],
                      "boundaryWalls": [{"min": [0, 0, 0], "max": [1, -1, 1]}]})"),
-      {"FluidModels[0].boundaryWalls[0]", "an inverted wall", "along y"}));
+                            {"FluidModels[0].boundaryWalls[0]", "an inverted wall", "along y"}));
   EXPECT_TRUE(
       containsAllOf(fluidError(R"({"particles": [[0, 0]]})"), {"FluidModels[0].particles[0]"}));
-  EXPECT_TRUE(containsAllOf(
-      fluidError(R"({"particles": [[0, 0, 0]],
+  EXPECT_TRUE(
+      containsAllOf(fluidError(R"({"particles": [[0, 0, 0]],
                      "boundaryWalls": [{"min": [0, 0, 0], "max": [100, 100, 100]}]})"),
-      {"FluidModels[0].boundaryWalls[0]", "more than 10000000 boundary particles"}));
+                    {"FluidModels[0].boundaryWalls[0]", "more than 10000000 boundary particles"}));
 }
 
 }  // namespace

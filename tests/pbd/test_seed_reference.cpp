@@ -334,10 +334,11 @@ TEST(SeedReferenceFluid, TheDamBreakFollowsTheOriginalToAMicrometreOverTheWholeS
       ++compared;
     }
   }
-  std::printf("  %s: largest difference %.3e m up to %.2f s (%d rows), %.3e m over %.2f s; "
-              "first above 1 um at t = %.3f s\n",
-              name.c_str(), worstInWindow, kOriginalTwinWindow, compared, worstOverall,
-              rows.back().t, firstAbove);
+  std::printf(
+      "  %s: largest difference %.3e m up to %.2f s (%d rows), %.3e m over %.2f s; "
+      "first above 1 um at t = %.3f s\n",
+      name.c_str(), worstInWindow, kOriginalTwinWindow, compared, worstOverall, rows.back().t,
+      firstAbove);
   EXPECT_GT(compared, 50);
   EXPECT_LE(worstInWindow, 1e-6);
   EXPECT_LE(worstOverall, 1e-6);

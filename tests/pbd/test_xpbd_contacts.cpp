@@ -296,10 +296,11 @@ TEST(XpbdContacts, SphereRollingOnClosedFormContactKeepsHeightAndRollingEnergy) 
         worstSlip, std::abs(b.velocity[1].x() + b.angularVelocity[1].z() * radius));  // v − ω r
   }
   const Real loss = 1 - energy() / initialEnergy;
-  std::printf("  rolling ball, 0.5 s: |v_n| %.3e m/s, |y - r| %.3e m, slip %.3e m/s, energy loss "
-              "%.4e (N theta^2/14 = %.4e)\n",
-              double(worstNormalSpeed), double(worstHeight), double(worstSlip), double(loss),
-              double(expectedLoss));
+  std::printf(
+      "  rolling ball, 0.5 s: |v_n| %.3e m/s, |y - r| %.3e m, slip %.3e m/s, energy loss "
+      "%.4e (N theta^2/14 = %.4e)\n",
+      double(worstNormalSpeed), double(worstHeight), double(worstSlip), double(loss),
+      double(expectedLoss));
   EXPECT_LE(worstNormalSpeed, roundOff);
   EXPECT_LE(worstHeight, roundOff * substep);
   // It rolls: the velocity pass's dynamic friction cancels the slip v θ²/8 the angular update

@@ -238,8 +238,8 @@ void solveStretchShear(RodStretchShearConstraint& c, ParticleStates& particles,
                          c.restLength, c.stiffness, substepSize, c.multiplier);
     c.multiplier += d.multiplier;
   } else {
-    d = stretchShearPbd(particles.position[i0], w0, particles.position[i1], w1, q, wq,
-                        c.restLength, c.stiffness);
+    d = stretchShearPbd(particles.position[i0], w0, particles.position[i1], w1, q, wq, c.restLength,
+                        c.stiffness);
   }
   if (w0 != 0) particles.position[i0] += d.position0;
   if (w1 != 0) particles.position[i1] += d.position1;
@@ -282,8 +282,8 @@ void orderRodsAsTheSeed(RodConstraints& rods) {
   std::vector<int> list;
   std::size_t ss = 0, bt = 0;
   while (ss < rods.stretchShear.size() || bt < rods.bendTwist.size()) {
-    const int model = ss < rods.stretchShear.size() ? rods.stretchShear[ss].model
-                                                    : rods.bendTwist[bt].model;
+    const int model =
+        ss < rods.stretchShear.size() ? rods.stretchShear[ss].model : rods.bendTwist[bt].model;
     for (; ss < rods.stretchShear.size() && rods.stretchShear[ss].model == model; ++ss)
       list.push_back(int(ss));
     for (; bt < rods.bendTwist.size() && rods.bendTwist[bt].model == model; ++bt)
@@ -339,8 +339,7 @@ void solveRods(RodConstraints& rods, ParticleStates& particles, SegmentStates& s
         solveStretchShear(rods.stretchShear[std::size_t(k)], particles, segments, substepSize,
                           firstIteration);
       else
-        solveBendTwist(rods.bendTwist[std::size_t(-k - 1)], segments, substepSize,
-                       firstIteration);
+        solveBendTwist(rods.bendTwist[std::size_t(-k - 1)], segments, substepSize, firstIteration);
     }
     return;
   }

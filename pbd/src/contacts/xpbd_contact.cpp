@@ -104,8 +104,7 @@ ContactFrame currentFrame(const XpbdContact& c, const BodyStates& bodies,
   const Vector3& x0 = b.position[at(c.point)];
   const Vector3 center0 = c.pointCenterLocal.isZero(0) ? x0 : Vector3(x0 + q0 * c.pointCenterLocal);
   if (c.bodyRadius > 0) {
-    const Vector3 center1 =
-        c.bodyCenterLocal.isZero(0) ? x1 : Vector3(x1 + q1 * c.bodyCenterLocal);
+    const Vector3 center1 = c.bodyCenterLocal.isZero(0) ? x1 : Vector3(x1 + q1 * c.bodyCenterLocal);
     const Vector3 between = center0 - center1;
     const Real length = between.norm();
     // Coincident centres: the detected normal.
@@ -135,9 +134,7 @@ ContactFrame currentFrame(const XpbdContact& c, const BodyStates& bodies,
 /// The responses of body 0 at lever r₀ and body 1 at r₁ along d (a particle: m⁻¹, no rotation).
 struct PairResponse {
   Response point, surface;
-  Real inverseMass() const {
-    return point.generalizedInverseMass + surface.generalizedInverseMass;
-  }
+  Real inverseMass() const { return point.generalizedInverseMass + surface.generalizedInverseMass; }
 };
 
 PairResponse pairResponse(const XpbdContact& c, const BodyStates& bodies, const Vector3& pointLever,

@@ -103,8 +103,8 @@ std::vector<Vector3> seedWallParticles(const AxisAlignedBox& wall, Real particle
   for (unsigned j = 0; j < steps[0]; ++j)
     for (unsigned k = 0; k < steps[1]; ++k)
       for (unsigned l = 0; l < steps[2]; ++l)
-        points.push_back(wall.min + Vector3(Real(j) * distance, Real(k) * distance,
-                                            Real(l) * distance));
+        points.push_back(wall.min +
+                         Vector3(Real(j) * distance, Real(k) * distance, Real(l) * distance));
   return points;
 }
 
@@ -193,9 +193,9 @@ Fluid buildFluid(const FluidModelDesc& model) {
       const int count = seedOrderNeighbours(
           fluid.boundaryPositions[b], support, boundaryLists.begin(b), boundaryLists.count(b),
           fluid.boundaryPositions.data(), boundaryCount, nullptr, ordered, dropped);
-      fluid.boundaryPsi[b] = seedBoundaryPsi(fluid.boundaryPositions[b],
-                                             fluid.boundaryPositions.data(), ordered, count,
-                                             fluid.seedKernel, model.density0);
+      fluid.boundaryPsi[b] =
+          seedBoundaryPsi(fluid.boundaryPositions[b], fluid.boundaryPositions.data(), ordered,
+                          count, fluid.seedKernel, model.density0);
     }
   } else {
     for (std::size_t b = 0; b < boundaryCount; ++b)

@@ -80,8 +80,7 @@ KeyTable<FluidModelDesc> fluidKeys() {
       // XSPH blends a particle's velocity towards its neighbours': c > 1 overshoots.
       numberKey("viscosity", &F::viscosity, between(0, 1)),
       integerKey("iterations", &F::iterations, between(1, kMaxIterations)),
-      {"formulation", [](const JsonValue& v, F& f) { f.formulation = fluidFormulation(v); },
-       false,
+      {"formulation", [](const JsonValue& v, F& f) { f.formulation = fluidFormulation(v); }, false,
        [](const F& f, Json& j) {
          writeString(j, "formulation", fluidFormulationName(f.formulation));
        }},
@@ -113,9 +112,9 @@ FluidModelDesc readFluidModel(const JsonValue& element, Scene& scene) {
     }
   }
   // `blocks` may be left out when particles are listed.
-  const std::optional<JsonValue> blocks =
-      model.particles.empty() ? std::optional<JsonValue>(object.require("blocks"))
-                              : object.find("blocks");
+  const std::optional<JsonValue> blocks = model.particles.empty()
+                                              ? std::optional<JsonValue>(object.require("blocks"))
+                                              : object.find("blocks");
   const std::vector<JsonValue> blockValues =
       blocks ? blocks->elements("fluid blocks {\"min\", \"max\"}") : std::vector<JsonValue>{};
   if (blocks && blockValues.empty() && model.particles.empty())
@@ -151,8 +150,7 @@ FluidModelDesc readFluidModel(const JsonValue& element, Scene& scene) {
   }
   if ((long double)positions.size() + (long double)model.particles.size() >
       (long double)kMaxFluidParticles)
-    element.error("the model holds more than " + std::to_string(kMaxFluidParticles) +
-                  " particles");
+    element.error("the model holds more than " + std::to_string(kMaxFluidParticles) + " particles");
   positions.insert(positions.end(), model.particles.begin(), model.particles.end());
   object.warnUnknownKeys();
 

@@ -162,7 +162,7 @@ class CollisionDetector {
   bool sphereMayTouch(const Vector3& centerWorld, Real radius, int sdfBody, Real tolerance) const;
 
   std::vector<RigidObject> rigid_;
-  bool primitives_ = false;        ///< contactGeometryFor(scene) == Primitives
+  bool primitives_ = false;  ///< contactGeometryFor(scene) == Primitives
   /// Rigid body pairs (a < b) joined by a joint, sorted: they keep their samples (contacts.md).
   std::vector<ObjectPair> jointedPairs_;
   PrimitiveManifold manifold_;     ///< scratch of primitivePair

@@ -49,7 +49,7 @@ struct Fluid {
   SeedCubicKernel seedKernel;  ///< the seed formulation's kernel
   /// The container's walls, then the boundaryWalls' particles (static).
   std::vector<Vector3> boundaryPositions;
-  std::vector<Real> boundaryPsi;           ///< ψ_b = ρ₀ V_b (Akinci 2012)
+  std::vector<Real> boundaryPsi;  ///< ψ_b = ρ₀ V_b (Akinci 2012)
   NeighbourSearch fluidGrid;
   NeighbourSearch boundaryGrid;  ///< indexed once at build
   NeighbourLists fluidNeighbours;

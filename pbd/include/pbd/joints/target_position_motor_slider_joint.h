@@ -8,10 +8,11 @@
 // jointModel seed (the `pbd` method's default), as PositionBasedDynamics'
 // solve_TargetPositionMotorSliderJoint:
 //   C = (x₁ − x₀) + d₀ − s* a  (3 world rows) and the same rotation rows, with d₀ = x₀ − x₁ at
-//   t = 0 in world coordinates, never rotated with body 0 (docs/seed.md#position-motor-slider-offset),
-//   and a the axis rotating with body 0; the linear Jacobians are (−𝟙, 0) and (𝟙, 0): the
-//   linear correction moves the centres of mass only. (The seed writes C with the opposite sign;
-//   the projection is the same.) Both models agree while body 0 cannot rotate.
+//   t = 0 in world coordinates, never rotated with body 0
+//   (docs/seed.md#position-motor-slider-offset), and a the axis rotating with body 0; the linear
+//   Jacobians are (−𝟙, 0) and (𝟙, 0): the linear correction moves the centres of mass only. (The
+//   seed writes C with the opposite sign; the projection is the same.) Both models agree while body
+//   0 cannot rotate.
 // s* > 0 moves body 1 along +axis relative to body 0.
 // Reference: PositionBasedDynamics TargetPositionMotorSliderJoint.
 #pragma once

@@ -385,7 +385,7 @@ struct FluidModelDesc {
   /// min + 2r (j, k, l) for j ≤ floor(extent_x / 2r) …, overlaps kept.
   std::vector<AxisAlignedBox> boundaryWalls;
   FluidFormulation formulation = FluidFormulation::Symmetric;
-  int firstParticle = 0;                    ///< index of its first particle in Scene::particles
+  int firstParticle = 0;  ///< index of its first particle in Scene::particles
   int particleCount = 0;
 
   /// The seed's particle mass 0.8 (2r)³ ρ₀.

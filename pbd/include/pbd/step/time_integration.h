@@ -31,9 +31,10 @@ inline void semiImplicitEuler(Real h, Real inverseMass, Vector3& position, Vecto
 #if defined(__GNUC__)
 __attribute__((always_inline))
 #endif
-inline void semiImplicitEulerRotation(Real h, Real inverseMass, const Vector3& inertia,
-                                      const Vector3& inverseInertia, Quaternion& rotation,
-                                      Vector3& angularVelocity, const Vector3& torque) {
+inline void
+semiImplicitEulerRotation(Real h, Real inverseMass, const Vector3& inertia,
+                          const Vector3& inverseInertia, Quaternion& rotation,
+                          Vector3& angularVelocity, const Vector3& torque) {
   if (inverseMass == 0) return;
   const Matrix3 r = rotation.toRotationMatrix();
   const Vector3 angularMomentum = r * inertia.cwiseProduct(r.transpose() * angularVelocity);
