@@ -24,31 +24,22 @@ const char* axisName(int axis) {
   return names[axis];
 }
 
-/// {"min": [..], "max": [..]} with min < max in every component.
-AxisAlignedBox readBox(const JsonValue& value) {
-  JsonObject object = value.object();
-  AxisAlignedBox box;
-  box.min = object.require("min").vector3();
-  box.max = object.require("max").vector3();
-  for (int a = 0; a < 3; ++a)
-    if (!(box.min(a) < box.max(a)))
-      value.error(std::string("an empty box: min < max is needed in every component, but along ") +
-                  axisName(a) + " min = " + formatNumber(double(box.min(a))) +
-                  " and max = " + formatNumber(double(box.max(a))));
-  object.warnUnknownKeys();
-  return box;
-}
+/// {"min": [..], "max": [..]}: a box has min < max in every component; a wall (flat walls
+/// allowed) min ≤ max.
+enum class BoxKind { Solid, Wall };
 
-/// A wall {"min": [..], "max": [..]} with min ≤ max in every component (flat walls allowed).
-AxisAlignedBox readWall(const JsonValue& value) {
+AxisAlignedBox readBox(const JsonValue& value, BoxKind kind = BoxKind::Solid) {
   JsonObject object = value.object();
   AxisAlignedBox box;
   box.min = object.require("min").vector3();
   box.max = object.require("max").vector3();
+  const bool wall = kind == BoxKind::Wall;
   for (int a = 0; a < 3; ++a)
-    if (!(box.min(a) <= box.max(a)))
-      value.error(std::string("an inverted wall: min ≤ max is needed in every component, but "
-                              "along ") +
+    if (!(wall ? box.min(a) <= box.max(a) : box.min(a) < box.max(a)))
+      value.error(std::string(wall ? "an inverted wall: min ≤ max is needed in every component, "
+                                     "but along "
+                                   : "an empty box: min < max is needed in every component, "
+                                     "but along ") +
                   axisName(a) + " min = " + formatNumber(double(box.min(a))) +
                   " and max = " + formatNumber(double(box.max(a))));
   object.warnUnknownKeys();
@@ -104,7 +95,7 @@ FluidModelDesc readFluidModel(const JsonValue& element, Scene& scene) {
   if (auto walls = object.find("boundaryWalls")) {
     long double boundaryCount = 0;
     for (const JsonValue& wall : walls->elements("walls {\"min\", \"max\"}")) {
-      model.boundaryWalls.push_back(readWall(wall));
+      model.boundaryWalls.push_back(readBox(wall, BoxKind::Wall));
       boundaryCount += seedWallParticleCount(model.boundaryWalls.back(), model.particleRadius);
       if (boundaryCount > (long double)kMaxBoundaryParticles)
         wall.error("the walls hold more than " + std::to_string(kMaxBoundaryParticles) +

@@ -117,27 +117,29 @@ def _rotation(q: pp.FloatVector) -> np.ndarray:
                      [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
 
 
-def _z_to(axis: pp.FloatVector) -> pp.Quat:
-    """w, x, y, z of the shortest rotation taking z to `axis` (Newton's cylinders lie along z)."""
+def _rotation_to(axis: pp.FloatVector, start: int) -> pp.Quat:
+    """w, x, y, z of the shortest rotation taking the unit vector along coordinate `start`
+    (0 x, 2 z) to `axis`; opposite vectors turn half a turn about x (from z) or z (from x)."""
     a = np.asarray(axis, dtype=float)
     a = a / np.linalg.norm(a)
-    c = float(a[2])
+    c = float(a[start])
     if c < -1 + 1e-12:
-        return (0.0, 1.0, 0.0, 0.0)
-    v = np.cross([0.0, 0.0, 1.0], a)
+        half_turn = [0.0, 0.0, 0.0]
+        half_turn[2 - start] = 1.0  # z → -z about x, x → -x about z
+        return (0.0, half_turn[0], half_turn[1], half_turn[2])
+    v = np.cross(np.eye(3)[start], a)
     return pp.quat_normalized((1 + c, float(v[0]), float(v[1]), float(v[2])))
+
+
+def _z_to(axis: pp.FloatVector) -> pp.Quat:
+    """The shortest rotation taking z to `axis` (Newton's cylinders lie along z)."""
+    return _rotation_to(axis, 2)
 
 
 def _x_to(axis: pp.FloatVector) -> pp.Quat:
-    """w, x, y, z of the shortest rotation taking x to `axis`: the frame of a hinge or slider
-    joint, whose axis Newton is given as the frame's x (see NewtonRun._joint)."""
-    a = np.asarray(axis, dtype=float)
-    a = a / np.linalg.norm(a)
-    c = float(a[0])
-    if c < -1 + 1e-12:
-        return (0.0, 0.0, 0.0, 1.0)
-    v = np.cross([1.0, 0.0, 0.0], a)
-    return pp.quat_normalized((1 + c, float(v[0]), float(v[1]), float(v[2])))
+    """The shortest rotation taking x to `axis`: the frame of a hinge or slider joint, whose
+    axis Newton is given as the frame's x (see NewtonRun._joint)."""
+    return _rotation_to(axis, 0)
 
 
 class NewtonRun:
