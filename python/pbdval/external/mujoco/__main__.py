@@ -4,7 +4,14 @@
 many runs, each in a forked child (the catalogue's `serve`; pbdval.protocol.serve_runs).
 `python -m pbdval.external.mujoco --catalogue` prints that catalogue entry (catalogue.py)."""
 
+import os
 import sys
+
+# One BLAS thread (before numpy is loaded): the engine's array operations are small, and
+# OpenBLAS's thread pool costs the interpreter's start 40-45 ms of CPU and leaves threads
+# spinning in the server every run's child is forked from (docs/benchmarks.md#fourth-pass).
+# A value set in the environment is kept.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 if sys.argv[1:] == ["--catalogue"]:
     from pbdval.external.mujoco.catalogue import catalogue_text

@@ -7,6 +7,12 @@ import os
 import sys
 from typing import Any
 
+# One BLAS thread (before numpy is loaded: pybullet imports it): the engine's array operations
+# are small, and OpenBLAS's thread pool costs the interpreter's start 40-45 ms of CPU and leaves
+# threads spinning in the server every run's child is forked from
+# (docs/benchmarks.md#fourth-pass). A value set in the environment is kept.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 # pybullet's C code prints a "pybullet build time" banner to file descriptor 1 when it is
 # imported: an engine keeps standard output free of anything but data, so from here on file
 # descriptor 1 is standard error (before the import below loads pybullet).
