@@ -7,6 +7,13 @@ asserted in tests.
     scripts/bench persistent [--binary PBDVAL] [--before PBDVAL]
         [--cases A,B,...] [--jobs N] [--repeat N] [--all-methods] [--out FILE.json]
 
+The Python engines run as Python runs by default, their bytecode cached: a PYTHONDONTWRITEBYTECODE
+in the environment (set in some sandboxes) would make every engine server compile the engines'
+sources again at its start (15-20 ms of CPU each); the measured commands get the environment
+without it, and PYTHONPYCACHEPREFIX pointing into the bench's own temporary folder (nothing is
+written into the source tree), filled by one untimed run of each engine first.
+--keep-environment measures with the environment as it is.
+
 --before names another pbdval binary (e.g. a build without persistent engines) measured the same
 way, interleaved with --binary, so that both see the same machine load. Each figure is the best
 (minimum) of --repeat runs, the usual estimate of a cost on a machine whose other load only ever
@@ -19,6 +26,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import resource
 import subprocess
 import tempfile
@@ -50,8 +58,18 @@ def children_cpu_seconds() -> float:
     return usage.ru_utime + usage.ru_stime
 
 
-def run_once(binary: Path, engine: str, cases: list[str], jobs: int,
-             extra: list[str]) -> tuple[float, float, dict[str, int]]:
+def measured_environment(bytecode_cache: Path | None) -> dict[str, str]:
+    """The environment of the measured commands: this one, or (`bytecode_cache` given) without
+    PYTHONDONTWRITEBYTECODE and with Python's bytecode cached in that folder."""
+    environment = dict(os.environ)
+    if bytecode_cache is not None:
+        environment.pop("PYTHONDONTWRITEBYTECODE", None)
+        environment["PYTHONPYCACHEPREFIX"] = str(bytecode_cache)
+    return environment
+
+
+def run_once(binary: Path, engine: str, cases: list[str], jobs: int, extra: list[str],
+             environment: dict[str, str]) -> tuple[float, float, dict[str, int]]:
     """Wall seconds of one `pbdval run` of `cases` in `engine` (`extra` arguments added), its
     CPU seconds (user and system, its every process: runs, engine servers and their children),
     and its runs' statuses."""
@@ -61,7 +79,8 @@ def run_once(binary: Path, engine: str, cases: list[str], jobs: int,
                    "--timeout", "600", *extra]
         cpu_before = children_cpu_seconds()
         start = time.perf_counter()
-        result = subprocess.run(command, capture_output=True, text=True, check=False, cwd=folder)
+        result = subprocess.run(command, capture_output=True, text=True, check=False, cwd=folder,
+                                env=environment)
         seconds = time.perf_counter() - start
         cpu = children_cpu_seconds() - cpu_before
         if result.returncode not in (0, 1):  # 1: some run not ok (a gate of its own), still timed
@@ -71,15 +90,21 @@ def run_once(binary: Path, engine: str, cases: list[str], jobs: int,
 
 
 def measure(binaries: dict[str, Path], cases: list[str], jobs: int, repeat: int,
-            extra: dict[str, list[str]]) -> dict[str, Any]:
+            extra: dict[str, list[str]], environment: dict[str, str],
+            warm_up: bool) -> dict[str, Any]:
     engines = [e for pair in PAIRS for e in pair]
+    if warm_up:  # the bytecode cache filled (and the files read once), untimed
+        for binary in binaries.values():
+            for python, _ in PAIRS:
+                run_once(binary, python, cases[:2], jobs, extra.get(python, []), environment)
     best: dict[str, dict[str, float]] = {label: {} for label in binaries}
     best_cpu: dict[str, dict[str, float]] = {label: {} for label in binaries}
     statuses: dict[str, dict[str, dict[str, int]]] = {label: {} for label in binaries}
     for attempt in range(repeat):
         for label, binary in binaries.items():
             for engine in engines:
-                seconds, cpu, counts = run_once(binary, engine, cases, jobs, extra.get(engine, []))
+                seconds, cpu, counts = run_once(binary, engine, cases, jobs, extra.get(engine, []),
+                                                environment)
                 best[label][engine] = min(seconds, best[label].get(engine, float("inf")))
                 best_cpu[label][engine] = min(cpu, best_cpu[label].get(engine, float("inf")))
                 statuses[label][engine] = counts
@@ -94,7 +119,7 @@ def measure(binaries: dict[str, Path], cases: list[str], jobs: int, repeat: int,
 
 
 def context(binaries: dict[str, Path], cases: list[str], jobs: int, repeat: int,
-            extra: dict[str, list[str]]) -> dict[str, Any]:
+            extra: dict[str, list[str]], bytecode_cache: bool) -> dict[str, Any]:
     commit = subprocess.run(["git", "-C", str(REPO), "rev-parse", "--short", "HEAD"],
                             capture_output=True, text=True, check=False).stdout.strip()
     return {
@@ -103,6 +128,8 @@ def context(binaries: dict[str, Path], cases: list[str], jobs: int, repeat: int,
             [str(b), "--version"], capture_output=True, text=True, check=False).stdout.strip()}
             for label, b in binaries.items()},
         "cases": cases, "jobs": jobs, "repeat": repeat, "engine_arguments": extra,
+        "python_bytecode_cached": bytecode_cache,
+        "PYTHONDONTWRITEBYTECODE_in_environment": os.environ.get("PYTHONDONTWRITEBYTECODE"),
     }
 
 
@@ -115,6 +142,8 @@ def main() -> int:
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--all-methods", action="store_true",
                         help="each engine's own run methods (pybullet: two runs per case)")
+    parser.add_argument("--keep-environment", action="store_true",
+                        help="measure with the environment as it is (PYTHONDONTWRITEBYTECODE kept)")
     parser.add_argument("--out", type=Path, default=None,
                         help="JSON file (default: bench/results/<host>/persistent-<UTC stamp>.json)")
     args = parser.parse_args()
@@ -123,8 +152,13 @@ def main() -> int:
     if args.before is not None:
         binaries["before"] = args.before.resolve()
     extra = {} if args.all_methods else SAME_RUNS
-    document = {"context": context(binaries, cases, args.jobs, args.repeat, extra),
-                **measure(binaries, cases, args.jobs, args.repeat, extra)}
+    with tempfile.TemporaryDirectory(prefix="pbdval-bench-bytecode-") as cache:
+        bytecode_cache = None if args.keep_environment else Path(cache)
+        environment = measured_environment(bytecode_cache)
+        document = {"context": context(binaries, cases, args.jobs, args.repeat, extra,
+                                       bytecode_cache is not None),
+                    **measure(binaries, cases, args.jobs, args.repeat, extra, environment,
+                              warm_up=bytecode_cache is not None)}
     for label, ratios in document["ratios"].items():
         print(label, "wall", {k: round(v, 2) for k, v in ratios.items()},
               "CPU", {k: round(v, 2) for k, v in document["cpu_ratios"][label].items()})

@@ -184,6 +184,16 @@ def test_divergence_is_decided_by_the_norms_not_by_the_components() -> None:
     assert "non-finite" in (pp.divergence_reason(0.0, [body((math.inf, 0, 0), (0, 0, 0))]) or "")
 
 
+def test_divergence_cheap_look_at_the_sum_of_squares_never_decides_a_divergence() -> None:
+    # The first look sums the squares of every value; a sum past (limit/2)^2 only sends the
+    # state to the exact test. 1000 bodies at |x| = 3e5 m (each within the limit, the sum of
+    # squares 9e13 past 2.5e11) are fine; one at 1e200 m, whose square overflows, blew up.
+    def body(i: int, x: float) -> pp.BodyState:
+        return pp.BodyState(i, (x, 0, 0), (1, 0, 0, 0), (0, 0, 0), (0, 0, 0))
+    assert pp.divergence_reason(0.0, [body(i, 3e5) for i in range(1000)]) is None
+    assert "body 7 blew up" in (pp.divergence_reason(0.0, [body(3, 0.0), body(7, 1e200)]) or "")
+
+
 # --- pybullet's per-body material factors (pbdval.external.pybullet.materials)
 
 def test_material_factors_reproduce_a_star_of_pairs() -> None:

@@ -371,10 +371,13 @@ class MujocoRun:
         # than MuJoCo's step of a small scene.
         warning_counts = self.data.warning.number
         qpos, qvel = self.data.qpos, self.data.qvel
-        largest = np.maximum.reduce  # of |q|: ndarray.max without its Python wrapper
+        count_nonzero, dot = np.count_nonzero, np.vdot  # C functions, without Python wrappers
+        squared_limit = pp.DIVERGENCE_LIMIT**2
 
         def failure(t: float) -> str | None:
-            if not warning_counts[fatal_index].any():  # one look at every warning
+            # One look at every warning counter (no warning at all: the common case), then at
+            # the fatal ones.
+            if not count_nonzero(warning_counts) or not count_nonzero(warning_counts[fatal_index]):
                 return None
             for warning, text in fatal.items():
                 if self.data.warning[warning].number > 0:
@@ -384,12 +387,11 @@ class MujocoRun:
         def check(t: float) -> str | None:
             # Between samples: the runner's limits on the generalised state, vectorised (a free
             # body's qpos holds its position, its qvel its linear and angular velocity).
-            # One cheap look first, as the runner's check (pp._blow_up_reason): every value
-            # within the limit (NaN fails the comparison); only a state that fails it is looked
-            # at closer, for the reason.
-            limit = pp.DIVERGENCE_LIMIT
-            if (largest(np.abs(qpos), initial=0.0) <= limit
-                    and largest(np.abs(qvel), initial=0.0) <= limit):
+            # One cheap look first, sufficient but not necessary: the sum of the squares within
+            # the limit's square, so every value within the limit (NaN and infinity fail the
+            # comparison, so does a sum that overflows); only a state that fails it is looked at
+            # closer, by the exact test below, which decides.
+            if dot(qpos, qpos) + dot(qvel, qvel) <= squared_limit:
                 return None
             if not (np.isfinite(qpos).all() and np.isfinite(qvel).all()):
                 return f"non-finite state at t = {t:g} s"
