@@ -955,6 +955,11 @@ class EngineArguments:
 def parse_arguments(argv: Sequence[str] | None, description: str) -> EngineArguments:
     """Parses `--scene RESOLVED.json --out OUTDIR`; OUTDIR must be an existing directory. Bad
     usage exits with status 2 (argparse), which the runner reads as "no status.json"."""
+    if (argv is not None and len(argv) == 4 and argv[0] == "--scene" and argv[2] == "--out"
+            and not argv[1].startswith("-") and not argv[3].startswith("-") and Path(argv[3]).is_dir()):
+        # The runner's own form (a served run's too), valid: the same result without building a
+        # parser in every run's child; anything else goes to the parser, which says what is wrong.
+        return EngineArguments(scene=Path(argv[1]), out=Path(argv[3]))
     parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--scene", required=True, type=Path,
                         help="the resolved scene (pbdval export-scene)")

@@ -59,12 +59,21 @@ CONTACT_SLOP = 1e-5
 DEFAULT_PARTICLE_MARGIN = 1e-3
 
 
-def engine_version() -> str:
+def _read_engine_version() -> str:
     # The wheel's version from its dist-info folder beside the module: importlib.metadata would
     # cost 33 ms of imports per run, a fifth of the protocol's start-up (docs/benchmarks.md).
     found = sorted(Path(pb.__file__).parent.glob("pybullet-*.dist-info"))
     version = found[-1].name[len("pybullet-"):-len(".dist-info")] if found else "unknown version"
     return f"pybullet {version} (API {pb.getAPIVersion()})"
+
+
+#: Read once, when the module is imported: a served run's child has it from the server, instead
+#: of listing site-packages twice per run.
+_ENGINE_VERSION = _read_engine_version()
+
+
+def engine_version() -> str:
+    return _ENGINE_VERSION
 
 
 def xyzw(q: Any) -> list[float]:
