@@ -134,22 +134,89 @@ def test_the_child_waiting_for_the_next_run_is_replaced_when_it_dies(
     assert json.loads((out / "status.json").read_text())["status"] == "ok"
 
 
+#: Put first on the engines' PYTHONPATH (the runner appends the inherited one to its own, and a
+#: PYTHONPATH folder comes before the interpreter's own sitecustomize): every Python interpreter
+#: the runner starts writes its command line, one per line, to $PBDVAL_TEST_INTERPRETERS.
+INTERPRETER_LOG = """\
+import os, sys
+with open(os.environ["PBDVAL_TEST_INTERPRETERS"], "a") as log:
+    log.write(" ".join(sys.orig_argv) + "\\n")
+"""
+
+
+@pytest.mark.parametrize("tmpdir_length", ["short", "too long for a socket path"])
 def test_pbdval_run_hands_its_runs_to_servers_and_leaves_nothing_behind(
-        pbdval_binary: Path, tmp_path: Path) -> None:
-    scratch = tmp_path / "tmp"
-    scratch.mkdir()
+        pbdval_binary: Path, tmp_path: Path, tmpdir_length: str) -> None:
+    if tmpdir_length == "short":
+        scratch = Path(tempfile.mkdtemp(prefix="pv-", dir="/tmp"))
+    else:
+        # A socket path has at most 107 bytes: the servers' folder goes under /tmp instead.
+        scratch = tmp_path / ("a-temporary-folder-whose-path-is-long-" * 3)
+        scratch.mkdir()
+    site = tmp_path / "site"
+    site.mkdir()
+    (site / "sitecustomize.py").write_text(INTERPRETER_LOG)
+    interpreters = tmp_path / "interpreters.txt"
+    inherited = os.environ.get("PYTHONPATH", "")
+    environment = dict(os.environ, TMPDIR=str(scratch), PBDVAL_TEST_INTERPRETERS=str(interpreters),
+                       PYTHONPATH=str(site) + (os.pathsep + inherited if inherited else ""))
     cases = [str(REPO / "cases" / f"{name}.json") for name in ("projectile", "joint_hinge", "joint_ball")]
-    result = subprocess.run([str(pbdval_binary), "run", *cases, "--engines", "pybullet,mujoco-python",
-                             "--jobs", "2", "--out", str(tmp_path / "out")],
-                            capture_output=True, text=True, cwd=tmp_path, check=False, timeout=600,
-                            env=dict(os.environ, TMPDIR=str(scratch)))
-    assert result.returncode == 0, result.stderr
-    runs = json.loads((tmp_path / "out" / "results.json").read_text())["runs"]
-    # 3 cases × (pybullet's two run methods, maximal and reduced coordinates, + mujoco-python's).
-    assert len(runs) == 9
-    assert all(run["status"] == "ok" for run in runs), [(r["case"], r["engine"], r["reason"]) for r in runs]
-    # The servers' sockets and logs, the runs' scratch folders: all gone with the command.
-    assert list(scratch.iterdir()) == []
+    try:
+        process = subprocess.Popen([str(pbdval_binary), "run", *cases, "--engines", "pybullet,mujoco-python",
+                                    "--jobs", "2", "--out", str(tmp_path / "out")],
+                                   stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path,
+                                   env=environment)
+        _, stderr = process.communicate(timeout=600)
+        assert process.returncode == 0, stderr
+        runs = json.loads((tmp_path / "out" / "results.json").read_text())["runs"]
+        # 3 cases × (pybullet's two run methods, maximal and reduced coordinates, + mujoco-python's).
+        assert len(runs) == 9
+        assert all(run["status"] == "ok" for run in runs), [(r["case"], r["engine"], r["reason"]) for r in runs]
+        # Served: one interpreter per engine, started with its catalogue's `serve` command, and
+        # none for a single run (`--scene`): the nine runs were forked from the two servers.
+        started = interpreters.read_text().splitlines()
+        assert sorted(line.split()[2] for line in started) == [
+            "pbdval.external.mujoco", "pbdval.external.pybullet"], started
+        assert all("--serve" in line.split() and "--scene" not in line.split() for line in started), started
+        # The servers' sockets and logs, the runs' scratch folders: all gone with the command,
+        # wherever the servers' folder was.
+        assert list(scratch.iterdir()) == []
+        assert list(Path("/tmp").glob(f"pbdval-serve-{process.pid}-*")) == []
+    finally:
+        if tmpdir_length == "short":
+            shutil.rmtree(scratch, ignore_errors=True)
+
+
+def test_servers_started_before_the_plan_are_stopped_when_there_is_nothing_to_run(
+        pbdval_binary: Path, tmp_path: Path) -> None:
+    # `pbdval run` starts the servers of the engines it is given by name before it reads the
+    # cases; a command that then fails (a case file that does not exist) leaves none running
+    # and nothing in $TMPDIR, and one that only lists its plan starts none.
+    scratch = Path(tempfile.mkdtemp(prefix="pv-", dir="/tmp"))
+    try:
+        environment = dict(os.environ, TMPDIR=str(scratch))
+        failed = subprocess.run([str(pbdval_binary), "run", str(tmp_path / "no-such-case.json"),
+                                 "--engines", "pybullet,mujoco-python", "--out", str(tmp_path / "out")],
+                                capture_output=True, text=True, cwd=tmp_path, env=environment,
+                                check=False, timeout=120)
+        assert failed.returncode == 2 and "no-such-case.json" in failed.stderr, failed.stderr
+        listed = subprocess.run([str(pbdval_binary), "run", str(REPO / "cases" / "projectile.json"),
+                                 "--engines", "pybullet", "--list-plan", "--out", str(tmp_path / "out")],
+                                capture_output=True, text=True, cwd=tmp_path, env=environment,
+                                check=False, timeout=120)
+        assert listed.returncode == 0, listed.stderr
+        assert list(scratch.iterdir()) == []
+        # No process left whose command line names the scratch folder (a server's --socket).
+        left = []
+        for process in Path("/proc").iterdir():
+            try:
+                if str(scratch) in (process / "cmdline").read_bytes().decode(errors="replace"):
+                    left.append(process.name)
+            except OSError:
+                pass  # not a process, or one that ended meanwhile
+        assert left == []
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
 
 
 TOY_ENGINE = """\

@@ -121,6 +121,7 @@ int runCommand(const Context& context, const Arguments& arguments) {
   std::string wholePlanDigest;
   int jobs = 1;
   double timeout = kDefaultWallTimeLimit;
+  std::optional<ServerPool> servers;  // before anything that may return: it stops them
   try {
     options.engines = args.list("engines");
     options.methods = args.list("methods");
@@ -145,6 +146,20 @@ int runCommand(const Context& context, const Arguments& arguments) {
     const std::vector<std::string> paths =
         args.positionals.empty() ? std::vector<std::string>{defaultCaseFolder()} : args.positionals;
     if (wantsDask(args)) return runOnDask("run", arguments);
+    // The servers of the engines named (--engines, and those of --methods) start now, while the
+    // cases are read and the plan is made: their interpreters' start (0.1-0.15 s of imports)
+    // overlaps that instead of following it (docs/benchmarks.md#fourth-pass). A server the plan
+    // turns out not to use is stopped with the pool.
+    if (!args.flags.count("list-plan") && !args.has("fail-with")) {
+      std::vector<std::string> named = options.engines;
+      for (const std::string& method : options.methods)
+        named.push_back(context.engines.method(method).engine);
+      for (const std::string& name : named)
+        if (context.engines.engine(name).startServer) {
+          if (!servers) servers.emplace();
+          servers->launch(context.engines.engine(name));
+        }
+    }
     const std::vector<std::string> caseFiles = collectCaseFiles(paths);
     plan = planRuns(caseFiles, options, context.engines);
     // Every --set must mean something in every run, with a value it accepts: checked here, not
@@ -219,7 +234,8 @@ int runCommand(const Context& context, const Arguments& arguments) {
     if (!quiet)
       std::fprintf(stderr, "  %s: error: %s\n", r.request.caseName.c_str(), r.reason.c_str());
 
-  RunScheduler scheduler(context.engines, jobs, timeout, folder->staging() + "/.scratch");
+  RunScheduler scheduler(context.engines, jobs, timeout, folder->staging() + "/.scratch",
+                         servers ? &*servers : nullptr);
   int tick = 0;
   std::vector<RunRecord> records;
   if (args.has("fail-with"))

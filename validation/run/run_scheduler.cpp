@@ -17,6 +17,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <system_error>
 
@@ -95,63 +96,58 @@ RunRecord collect(const Child& child, int waitStatus, const RunRequest& request,
 
 }  // namespace
 
-/// The engine servers of a scheduler (EngineEntry::startServer,
-/// docs/external-engines.md#persistent-engines): one per engine, started when a run first needs
-/// it and shared by every worker (a server runs several runs at a time, each in a child of its
-/// own: the interpreter's start is paid once per command), restarted when it ended, all
-/// stopped with the pool. A run that ended abnormally (killed, crashed) leaves the server
-/// serving: its child's process group is killed by the run's engine (or by the server when the
-/// run's connection closes, or by removeEngineLeftovers), never by stopping the server, which
-/// may be running another worker's run. Their sockets are in a folder of their own under
-/// $TMPDIR (a Unix socket path has at most 107 bytes).
-class ServerPool {
- public:
-  static constexpr std::size_t kMaxSocketPath = 108;  ///< sizeof(sockaddr_un::sun_path) on Linux
-
-  ServerPool() {
-    std::string pattern = (std::filesystem::temp_directory_path() /
-                           ("pbdval-serve-" + std::to_string(::getpid()) + "-XXXXXX"))
-                              .string();
-    if (pattern.size() < 60 && ::mkdtemp(pattern.data())) folder_ = pattern;
-  }
-  ~ServerPool() {
-    if (::getpid() != owner_) return;  // a forked copy: the servers are the scheduler's
-    servers_.clear();
-    if (!folder_.empty()) {
-      std::error_code ignored;
-      std::filesystem::remove_all(folder_, ignored);
+ServerPool::ServerPool() : owner_(::getpid()) {
+  std::error_code noTemporaryFolder;
+  const std::filesystem::path temporary = std::filesystem::temp_directory_path(noTemporaryFolder);
+  for (const std::filesystem::path& parent : {temporary, std::filesystem::path("/tmp")}) {
+    if (parent.empty()) continue;
+    std::string pattern =
+        (parent / ("pbdval-serve-" + std::to_string(::getpid()) + "-XXXXXX")).string();
+    if (pattern.size() < kMaxFolderPath && ::mkdtemp(pattern.data())) {
+      folder_ = pattern;
+      return;
     }
   }
-  ServerPool(const ServerPool&) = delete;
-  ServerPool& operator=(const ServerPool&) = delete;
+}
 
-  /// The server folder for a run of `engine`, its server started when needed and listening;
-  /// empty when the engine has no server (or the pool has no folder: single-shot runs).
-  std::string prepare(const EngineEntry& engine) {
-    if (!engine.startServer || folder_.empty()) return "";
-    // A socket path longer than a sockaddr_un holds (a long engine name): single-shot runs.
-    if (serverSocketPath(folder_, engine.name).size() >= kMaxSocketPath) return "";
-    std::unique_ptr<EngineServer>& server = servers_[engine.name];
-    if (!server || !server->running()) {
-      server.reset();
-      server = engine.startServer(folder_);
-    }
-    server->awaitListening();
-    return folder_;
+ServerPool::~ServerPool() {
+  if (::getpid() != owner_) return;  // a forked copy: the servers are the scheduler's
+  servers_.clear();
+  if (!folder_.empty()) {
+    std::error_code ignored;
+    std::filesystem::remove_all(folder_, ignored);
   }
+}
 
- private:
-  pid_t owner_ = ::getpid();
-  std::string folder_;
-  std::map<std::string, std::unique_ptr<EngineServer>> servers_;
-};
+bool ServerPool::serves(const EngineEntry& engine) const {
+  // A socket path longer than a sockaddr_un holds (a long engine name): single-shot runs.
+  return engine.startServer && !folder_.empty() &&
+         serverSocketPath(folder_, engine.name).size() < kMaxSocketPath;
+}
+
+void ServerPool::launch(const EngineEntry& engine) {
+  if (!serves(engine)) return;
+  std::unique_ptr<EngineServer>& server = servers_[engine.name];
+  if (!server || !server->running()) {
+    server.reset();
+    server = engine.startServer(folder_);
+  }
+}
+
+std::string ServerPool::prepare(const EngineEntry& engine) {
+  if (!serves(engine)) return "";
+  launch(engine);
+  servers_[engine.name]->awaitListening();
+  return folder_;
+}
 
 RunScheduler::RunScheduler(const EngineRegistry& registry, int jobs, double timeout,
-                           std::string scratchFolder)
+                           std::string scratchFolder, ServerPool* servers)
     : registry_(registry),
       jobs_(std::max(1, jobs)),
       timeout_(timeout),
-      scratchFolder_(std::move(scratchFolder)) {}
+      scratchFolder_(std::move(scratchFolder)),
+      servers_(servers) {}
 
 namespace {
 
@@ -216,7 +212,8 @@ std::vector<RunRecord> RunScheduler::runAll(
   createFolders(scratchFolder_);
   std::vector<RunRecord> records(requests.size());
   std::vector<Child> running;
-  ServerPool servers;
+  std::optional<ServerPool> ownServers;
+  ServerPool& servers = servers_ ? *servers_ : ownServers.emplace();
   std::map<std::string, std::string> caseReferenceEngines;  ///< case file → referenceEngineOf
   std::size_t next = 0, done = 0;
   const auto stopAll = [&](int signal) {
