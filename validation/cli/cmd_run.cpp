@@ -1,5 +1,6 @@
 // pbdval run [CASES or folders ...] [--engines LIST] [--methods LIST] [--out DIR] [--jobs N]
 //            [--timeout S] [--set KEY=VALUE ...] [--no-trajectories] [--strict] [--quiet]
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -21,6 +22,7 @@
 #include "validation/io/results_folder.h"
 #include "validation/io/sha256.h"
 #include "validation/run/case_library.h"
+#include "validation/run/interrupts.h"
 #include "validation/run/overrides.h"
 #include "validation/run/run_plan.h"
 #include "validation/run/run_scheduler.h"
@@ -121,6 +123,10 @@ int runCommand(const Context& context, const Arguments& arguments) {
   std::string wholePlanDigest;
   int jobs = 1;
   double timeout = kDefaultWallTimeLimit;
+  // While servers run before the scheduler takes over, SIGINT, SIGTERM and SIGHUP wait (the
+  // watch outlives the pool: a signal still pending when the command returns early is
+  // delivered after the servers were stopped and their folder removed).
+  std::optional<InterruptWatch> interruptsWhilePlanning;
   std::optional<ServerPool> servers;  // before anything that may return: it stops them
   try {
     options.engines = args.list("engines");
@@ -156,7 +162,10 @@ int runCommand(const Context& context, const Arguments& arguments) {
         named.push_back(context.engines.method(method).engine);
       for (const std::string& name : named)
         if (context.engines.engine(name).startServer) {
-          if (!servers) servers.emplace();
+          if (!servers) {
+            interruptsWhilePlanning.emplace();
+            servers.emplace();
+          }
           servers->launch(context.engines.engine(name));
         }
     }
@@ -234,6 +243,15 @@ int runCommand(const Context& context, const Arguments& arguments) {
     if (!quiet)
       std::fprintf(stderr, "  %s: error: %s\n", r.request.caseName.c_str(), r.reason.c_str());
 
+  if (interruptsWhilePlanning) {
+    // The scheduler takes the interrupts from here (and its runs must not inherit the watch's
+    // mask). One that came while the plan was made ends the command as it would have then,
+    // the servers stopped first.
+    const int signal = interruptsWhilePlanning->pending();
+    if (signal) servers.reset();
+    interruptsWhilePlanning.reset();
+    if (signal) ::raise(signal);
+  }
   RunScheduler scheduler(context.engines, jobs, timeout, folder->staging() + "/.scratch",
                          servers ? &*servers : nullptr);
   int tick = 0;
