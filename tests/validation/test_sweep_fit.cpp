@@ -161,6 +161,88 @@ TEST(ConvergenceFit, PoorFitsAreFlagged) {
 // orders above the reference's own (~(1/16)^4 of it) and above round-off, so no floor is
 // expected; the fitted order must be 4 within 0.15 (the local orders measured on this machine
 // rise from 3.98 to 3.99 as the step shrinks, as the next term of the error fades).
+// The power law plus a floor: on exact sequences e = F + C·x^s the differences remove F and the
+// fit is exact, so the tolerances are round-off (1e-9 relative: a few hundred ulps of the logs).
+TEST(ConvergenceFit, PowerPlusFloorRecoversTheOrderAndTheFloorOfManufacturedSequences) {
+  for (const auto& [order, floor] :
+       std::vector<std::pair<double, double>>{{1.0, 0.02}, {2.0, 1e-6}, {4.0, 3e-11}}) {
+    const Sequence s = manufactured(order, 5, floor);
+    const SweepFit fit = fitConvergence("m", {"timeStepSize"}, s.values, s.errors,
+                                        FitModel::PowerPlusFloor);
+    ASSERT_EQ(fit.orders.size(), 1u);
+    EXPECT_NEAR(fit.orders[0], order, 1e-9 * order) << "order " << order;
+    EXPECT_NEAR(fit.floor, floor, 1e-9 * floor) << "order " << order;
+    EXPECT_NEAR(fit.rSquared, 1.0, 1e-12);
+    EXPECT_EQ(fit.points, 5);
+    EXPECT_TRUE(fit.flags.empty()) << fit.warning;
+    EXPECT_EQ(fit.model, FitModel::PowerPlusFloor);
+    EXPECT_EQ(fit.localOrders.size(), 4u);  // reported as for a power law
+  }
+}
+
+TEST(ConvergenceFit, PowerPlusFloorTakesAnErrorThatRisesToItsFloor) {
+  // e = F − C·h: the discretisation error cancels part of the modelling error (penalty joints'
+  // sag), so the error grows as h falls, towards F.
+  Sequence s;
+  for (double h = 0.01; h > 0.0006; h /= 2) {
+    s.values.push_back({h});
+    s.errors.push_back(0.0235 - 0.6 * h);
+  }
+  const SweepFit fit =
+      fitConvergence("m", {"timeStepSize"}, s.values, s.errors, FitModel::PowerPlusFloor);
+  EXPECT_NEAR(fit.orders[0], 1.0, 1e-9);
+  EXPECT_NEAR(fit.floor, 0.0235, 1e-9 * 0.0235);
+  EXPECT_TRUE(fit.flags.empty()) << fit.warning;
+}
+
+TEST(ConvergenceFit, PowerPlusFloorRefinesCountsUpwards) {
+  // e = F + C·n^−2 over substeps 1, 2, 4, 8, 16: the order in 1/n is 2.
+  Sequence s;
+  for (double n = 1; n <= 16; n *= 2) {
+    s.values.push_back({n});
+    s.errors.push_back(5e-4 + 0.1 / (n * n));
+  }
+  const SweepFit fit =
+      fitConvergence("m", {"subSteps"}, s.values, s.errors, FitModel::PowerPlusFloor);
+  EXPECT_NEAR(fit.orders[0], 2.0, 1e-9);
+  EXPECT_NEAR(fit.floor, 5e-4, 1e-9 * 5e-4);
+}
+
+TEST(ConvergenceFit, PowerPlusFloorFlagsWhatItCannotFit) {
+  const Sequence three = manufactured(1.0, 3, 0.01);
+  EXPECT_TRUE(hasFlag(fitConvergence("m", {"timeStepSize"}, three.values, three.errors,
+                                     FitModel::PowerPlusFloor),
+                      "too_few_points"));
+  // A negative floor: the errors show none (a power law with an offset below zero).
+  Sequence below = manufactured(1.0, 5);
+  for (double& e : below.errors)
+    e -= 1e-3;
+  EXPECT_TRUE(hasFlag(
+      fitConvergence("m", {"timeStepSize"}, below.values, below.errors, FitModel::PowerPlusFloor),
+      "no_floor"));
+  // Differences of both signs: no power law approaches a floor.
+  Sequence zigzag = manufactured(1.0, 5, 0.01);
+  zigzag.errors[3] = zigzag.errors[2] * 1.01;
+  EXPECT_TRUE(hasFlag(
+      fitConvergence("m", {"timeStepSize"}, zigzag.values, zigzag.errors, FitModel::PowerPlusFloor),
+      "differences_change_sign"));
+  // Steps not refined by one ratio: the differences would not remove the floor.
+  Sequence uneven = manufactured(1.0, 5, 0.01);
+  uneven.values[4][0] *= 0.9;
+  EXPECT_TRUE(hasFlag(
+      fitConvergence("m", {"timeStepSize"}, uneven.values, uneven.errors, FitModel::PowerPlusFloor),
+      "ratio_not_constant"));
+  // A 2 % error of alternating sign on every point (a floor that itself wobbles, e.g. float32
+  // round-off near it) is of the size of the finest differences: they no longer follow one power
+  // law (R² 0.93 by hand), and the fit says so.
+  Sequence wobbling = manufactured(1.0, 5, 0.02);
+  for (std::size_t k = 0; k < wobbling.errors.size(); ++k)
+    wobbling.errors[k] *= k % 2 ? 0.98 : 1.02;
+  const SweepFit fit = fitConvergence("m", {"timeStepSize"}, wobbling.values, wobbling.errors,
+                                      FitModel::PowerPlusFloor);
+  EXPECT_TRUE(hasFlag(fit, "r_squared_below_0.99")) << "R^2 " << fit.rSquared;
+}
+
 TEST(ConvergenceFit, RungeKuttaShowsOrderFourThroughTheWholeSweep) {
   SweepOptions options;
   options.caseFile = std::string(PBDVAL_SOURCE_DIR) + "/cases/joint_hinge.json";

@@ -169,9 +169,104 @@ std::vector<std::size_t> asymptoticRange(const std::string& parameter,
 
 }  // namespace
 
+const char* fitModelName(FitModel model) {
+  return model == FitModel::Power ? "power" : "power_plus_floor";
+}
+
+namespace {
+
+/// e = F + C·x^s over every usable point (one parameter varying, `column`): see the header
+/// comment. Fills the order, R², floor and flags of `fit`.
+void powerPlusFloorFit(const std::string& parameter,
+                       const std::vector<std::vector<double>>& parameterValues,
+                       const std::vector<double>& errors, std::vector<std::size_t> rows,
+                       std::size_t column, SweepFit& fit) {
+  const bool stepLike = isStepLike(parameter);
+  std::sort(rows.begin(), rows.end(), [&](std::size_t a, std::size_t b) {
+    return stepLike ? parameterValues[a][column] > parameterValues[b][column]
+                    : parameterValues[a][column] < parameterValues[b][column];
+  });
+  fit.model = FitModel::PowerPlusFloor;
+  fit.parameters = {parameter};
+  fit.points = static_cast<int>(rows.size());
+  const std::size_t differences = rows.size() - 1;
+  auto x = [&](std::size_t k) { return parameterValues[rows[k]][column]; };
+  auto e = [&](std::size_t k) { return errors[rows[k]]; };
+  if (differences < 3) {
+    fit.flags.push_back("too_few_points");
+    fit.warning = "the power law plus a floor needs four or more points (three differences), " +
+                  std::to_string(rows.size()) + " given";
+    fit.slopes = {std::nan("")};
+    fit.orders = {std::nan("")};
+    return;
+  }
+  const double ratio = x(1) / x(0);
+  bool constantRatio = true, oneSign = true;
+  for (std::size_t k = 0; k < differences; ++k) {
+    constantRatio = constantRatio && std::abs(x(k + 1) / x(k) - ratio) <= 1e-9 * ratio;
+    const double d = e(k) - e(k + 1);
+    oneSign = oneSign && d != 0 && (d > 0) == (e(0) - e(1) > 0);
+  }
+  if (!constantRatio || !oneSign) {
+    fit.flags.push_back(constantRatio ? "differences_change_sign" : "ratio_not_constant");
+    fit.warning = constantRatio
+                      ? "the successive differences of the error change sign or vanish: no "
+                        "power law approaches a floor"
+                      : "the parameter is not refined by a constant ratio: the differences do "
+                        "not remove the floor";
+    fit.slopes = {std::nan("")};
+    fit.orders = {std::nan("")};
+    return;
+  }
+  const auto count = static_cast<Eigen::Index>(differences);
+  Eigen::MatrixXd design(count, 2);
+  Eigen::VectorXd logDifference(count);
+  for (std::size_t k = 0; k < differences; ++k) {
+    design(Eigen::Index(k), 0) = 1;
+    design(Eigen::Index(k), 1) = std::log(x(k));
+    logDifference(Eigen::Index(k)) = std::log(std::abs(e(k) - e(k + 1)));
+  }
+  const Eigen::VectorXd coefficients = design.colPivHouseholderQr().solve(logDifference);
+  const Eigen::VectorXd residual = logDifference - design * coefficients;
+  const double total = (logDifference.array() - logDifference.mean()).square().sum();
+  fit.rSquared = total > 0 ? 1 - residual.squaredNorm() / total : 1;
+  const double slope = coefficients(1);
+  const double sign = e(0) - e(1) > 0 ? 1 : -1;
+  const double scale = sign * std::exp(coefficients(0)) / (1 - std::pow(ratio, slope));
+  double floorSum = 0;
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    floorSum += e(k) - scale * std::pow(x(k), slope);
+  fit.floor = floorSum / double(rows.size());
+  fit.slopes = {slope};
+  fit.orders = {stepLike ? slope : -slope};
+  std::vector<std::string> warnings;
+  if (fit.rSquared < kMinimumRSquared) {
+    fit.flags.push_back("r_squared_below_0.99");
+    warnings.push_back("R^2 " + shortNumber(fit.rSquared) +
+                       " < 0.99: the differences do not follow one power law");
+  }
+  if (!(fit.floor > 0)) {
+    fit.flags.push_back("no_floor");
+    warnings.push_back("the fitted floor " + shortNumber(fit.floor) +
+                       " is not positive: the errors show no floor, fit a power law");
+  }
+  if (!(fit.orders[0] > 0)) {
+    fit.flags.push_back("no_order");
+    warnings.push_back("the differences do not fall as " + parameter + " is refined");
+  }
+  if (warnings.empty())
+    warnings.push_back("floor " + shortNumber(fit.floor) + " (" +
+                       shortNumber(100 * fit.floor / e(rows.size() - 1)) +
+                       "% of the finest error): the error the parameter cannot remove");
+  for (const std::string& w : warnings)
+    fit.warning += (fit.warning.empty() ? "" : "; ") + w;
+}
+
+}  // namespace
+
 SweepFit fitConvergence(const std::string& method, const std::vector<std::string>& parameterNames,
                         const std::vector<std::vector<double>>& parameterValues,
-                        const std::vector<double>& errors) {
+                        const std::vector<double>& errors, FitModel model) {
   SweepFit fit;
   fit.method = method;
   // Keep the parameters that vary and the points with a positive error and positive values.
@@ -193,6 +288,19 @@ SweepFit fitConvergence(const std::string& method, const std::vector<std::string
   if (varying.empty() || usable.size() < varying.size() + 2) {
     fit.note =
         "not enough points with a positive error to fit (" + std::to_string(usable.size()) + ")";
+    return fit;
+  }
+  if (model == FitModel::PowerPlusFloor) {
+    if (varying.size() != 1) {
+      fit.note = "the power law plus a floor is fitted with one parameter varying, not " +
+                 std::to_string(varying.size());
+      return fit;
+    }
+    SweepFit scratch;  // the local orders, as for a power law
+    asymptoticRange(parameterNames[varying[0]], parameterValues, errors, usable, varying[0],
+                    scratch);
+    fit.localOrders = scratch.localOrders;
+    powerPlusFloorFit(parameterNames[varying[0]], parameterValues, errors, usable, varying[0], fit);
     return fit;
   }
   std::vector<std::size_t> rows = usable;
@@ -310,6 +418,7 @@ SweepPlan planSweep(const SweepOptions& options, const EngineRegistry& registry)
   plan.parameters = options.parameters;
   plan.methods = options.methods;
   plan.metric = options.metric;
+  plan.fitModel = options.fitModel;
   if (plan.parameters.empty()) {
     if (spec.sweeps.empty())
       throw OptionError(options.caseFile +
@@ -456,7 +565,7 @@ SweepResult collectSweep(const SweepPlan& plan, const std::vector<RunRecord>& re
       result.fits.push_back(fit);
       continue;
     }
-    result.fits.push_back(fitConvergence(method, names, values, errors));
+    result.fits.push_back(fitConvergence(method, names, values, errors, plan.fitModel));
   }
   return result;
 }
@@ -500,6 +609,11 @@ void printSweepTable(std::ostream& out, const SweepResult& result) {
           line, sizeof line, "  fitted order in %s: %.3f (slope %.3f, R^2 %.4f, %d points)\n",
           fit.parameters[i].c_str(), fit.orders[i], fit.slopes[i], fit.rSquared, fit.points);
       out << line;
+      if (fit.model == FitModel::PowerPlusFloor) {
+        std::snprintf(line, sizeof line,
+                      "  model e = F + C*x^s (differences' fit), floor F = %.4e\n", fit.floor);
+        out << line;
+      }
     }
     for (const LocalOrder& local : fit.localOrders) {
       std::snprintf(line, sizeof line, "  local order %g -> %g: %.3f\n", local.from, local.to,
@@ -556,7 +670,9 @@ void writeSweepJson(const std::string& path, const SweepResult& result,
                     {"note", f.note},
                     {"warning", f.warning},
                     {"excluded", excluded},
-                    {"flags", f.flags}});
+                    {"flags", f.flags},
+                    {"model", fitModelName(f.model)},
+                    {"floor", std::isfinite(f.floor) ? Json(f.floor) : Json(nullptr)}});
   }
   const Json document = {{"schema", "pbdval-sweep"},
                          {"schemaVersion", 1},
