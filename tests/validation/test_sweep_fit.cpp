@@ -301,5 +301,33 @@ TEST(SweepWallTime, IsTheMedianOfThePasses) {
   EXPECT_THROW(collectSweep(plan, first, repeats), std::invalid_argument);
 }
 
+TEST(SweepFitOfCollectedPoints, ASettingHeldAtOneTextValueDoesNotPreventTheFit) {
+  // --param stepControl=fixed --param timeStepSize=...: the text setting does not vary, so the
+  // fit is over the step alone (e = h³ here: order 3 exactly, to round-off).
+  SweepPlan plan;
+  plan.caseName = "c";
+  plan.metric = "trajectory_error_max";
+  plan.parameters = {{"stepControl", {"fixed"}}, {"timeStepSize", {"0.01", "0.005", "0.0025"}}};
+  plan.methods = {"drake.radau"};
+  std::vector<RunRecord> records;
+  for (const char* step : {"0.01", "0.005", "0.0025"}) {
+    SweepPoint point;
+    point.method = "drake.radau";
+    point.values = {{"stepControl", "fixed"}, {"timeStepSize", step}};
+    plan.points.push_back(point);
+    RunRecord record;
+    record.status = RunStatus::Ok;
+    record.metrics.values = {{"trajectory_error_max", std::pow(std::stod(step), 3)}};
+    records.push_back(record);
+  }
+  const SweepResult held = collectSweep(plan, records);
+  ASSERT_EQ(held.fits.size(), 1u);
+  EXPECT_EQ(held.fits[0].parameters, (std::vector<std::string>{"timeStepSize"}));
+  EXPECT_NEAR(held.fits[0].orders[0], 3.0, 1e-9);
+  // Two text values of one setting vary, and text has no order: no fit, said so.
+  plan.parameters[0].second = {"fixed", "error"};
+  EXPECT_NE(collectSweep(plan, records).fits[0].note.find("not all numeric"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace pbdval

@@ -53,14 +53,18 @@ std::vector<std::string> defaultMethods(const CaseSpec& spec, const EngineRegist
   return methods;
 }
 
-/// The numeric values of each parameter of a grid point; nullopt when one is not a number.
+/// The numeric values of each parameter of a grid point; nullopt when one that varies is not a
+/// number. A parameter given one value (a setting held for the whole sweep, e.g.
+/// stepControl=fixed) does not vary, and any text will do: it counts as 1.
 std::optional<std::vector<double>> numericValues(
-    const std::vector<std::pair<std::string, std::string>>& values) {
+    const std::vector<std::pair<std::string, std::string>>& values,
+    const std::vector<std::pair<std::string, std::vector<std::string>>>& parameters) {
   std::vector<double> row;
-  for (const auto& [name, text] : values) {
-    const std::optional<double> v = pbd::parseReal(text);
-    if (!v) return std::nullopt;
-    row.push_back(*v);
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const std::optional<double> v = pbd::parseReal(values[i].second);
+    const bool held = i < parameters.size() && parameters[i].second.size() == 1;
+    if (!v && !held) return std::nullopt;
+    row.push_back(v ? *v : 1.0);
   }
   return row;
 }
@@ -552,7 +556,7 @@ SweepResult collectSweep(const SweepPlan& plan, const std::vector<RunRecord>& re
     bool numeric = true;
     for (const SweepPoint& p : result.points) {
       if (p.method != method) continue;
-      const auto row = numericValues(p.values);
+      const auto row = numericValues(p.values, plan.parameters);
       numeric = numeric && row.has_value();
       values.push_back(row.value_or(std::vector<double>(p.values.size(), 0.0)));
       errors.push_back(p.metric);
