@@ -167,8 +167,8 @@ TEST(ConvergenceFit, PowerPlusFloorRecoversTheOrderAndTheFloorOfManufacturedSequ
   for (const auto& [order, floor] :
        std::vector<std::pair<double, double>>{{1.0, 0.02}, {2.0, 1e-6}, {4.0, 3e-11}}) {
     const Sequence s = manufactured(order, 5, floor);
-    const SweepFit fit = fitConvergence("m", {"timeStepSize"}, s.values, s.errors,
-                                        FitModel::PowerPlusFloor);
+    const SweepFit fit =
+        fitConvergence("m", {"timeStepSize"}, s.values, s.errors, FitModel::PowerPlusFloor);
     ASSERT_EQ(fit.orders.size(), 1u);
     EXPECT_NEAR(fit.orders[0], order, 1e-9 * order) << "order " << order;
     EXPECT_NEAR(fit.floor, floor, 1e-9 * floor) << "order " << order;
@@ -210,9 +210,9 @@ TEST(ConvergenceFit, PowerPlusFloorRefinesCountsUpwards) {
 
 TEST(ConvergenceFit, PowerPlusFloorFlagsWhatItCannotFit) {
   const Sequence three = manufactured(1.0, 3, 0.01);
-  EXPECT_TRUE(hasFlag(fitConvergence("m", {"timeStepSize"}, three.values, three.errors,
-                                     FitModel::PowerPlusFloor),
-                      "too_few_points"));
+  EXPECT_TRUE(hasFlag(
+      fitConvergence("m", {"timeStepSize"}, three.values, three.errors, FitModel::PowerPlusFloor),
+      "too_few_points"));
   // A negative floor: the errors show none (a power law with an offset below zero).
   Sequence below = manufactured(1.0, 5);
   for (double& e : below.errors)

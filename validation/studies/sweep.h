@@ -143,8 +143,7 @@ SweepResult runSweep(
 /// Least-squares fit of log e on log x (exposed for tests).
 SweepFit fitConvergence(const std::string& method, const std::vector<std::string>& parameterNames,
                         const std::vector<std::vector<double>>& parameterValues,
-                        const std::vector<double>& errors,
-                        FitModel model = FitModel::Power);
+                        const std::vector<double>& errors, FitModel model = FitModel::Power);
 
 /// Marks the points on the Pareto front of (wall time, metric), both minimised.
 void markParetoFront(std::vector<SweepPoint>& points);
