@@ -127,8 +127,12 @@ def test_newton_slider_slides_along_its_oblique_axis_as_semi_implicit_euler(
     """joint_slider's axis is (1, -1, 0)/√2. SolverXPBD bounds a joint's coordinates by a box
     per component of the axis in the joint frame, so the axis given in world axes freed both x
     and y and the box fell 3.2 m straight down in 1 s (docs/engine-newton.md); given as the x of
-    a joint frame turned onto it, the box slides along the line."""
-    scene_path = export_scene("joint_slider", method=method)
+    a joint frame turned onto it, the box slides along the line. SolverXPBD runs at relaxation 1
+    here: the engine's 0.4 leaves 0.6² of each step's drift off the line after two iterations
+    (1e-4 m), which is the solver's convergence, not the frame this test checks."""
+    parameters: dict[str, pp.ParameterValue] = (
+        {"jointLinearRelaxation": 1.0, "jointAngularRelaxation": 1.0} if method == "newton.xpbd" else {})
+    scene_path = export_scene("joint_slider", method=method, parameters=parameters)
     scene = pp.read_resolved_scene(scene_path)
     status, out = run_engine(NEWTON, scene_path)
     assert_ok(status)
@@ -144,8 +148,8 @@ def test_newton_slider_slides_along_its_oblique_axis_as_semi_implicit_euler(
     along = n * (n + 1) / 2 * h * h * float(np.dot(scene.gravity, axis))
     offset = rows[:, 1:4] - np.array(body.position)
     # float32 state: each internal step rounds the position (2^-24 |x|), N steps at most
-    # 2 N 2^-24 max|x| (the projectile test's bound); the XPBD projection of a straight line is
-    # exact in its two iterations up to the same round-off.
+    # 2 N 2^-24 max|x| (the projectile test's bound); the XPBD projection onto a straight line at
+    # relaxation 1 is exact up to the same round-off.
     bound = 2 * scene.steps * substeps * FLOAT32_EPSILON * float(np.max(np.abs(rows[:, 1:4])))
     assert float(np.max(np.abs(offset @ axis - along))) < bound
     off_line = offset - np.outer(offset @ axis, axis)
