@@ -329,5 +329,37 @@ TEST(SweepFitOfCollectedPoints, ASettingHeldAtOneTextValueDoesNotPreventTheFit) 
   EXPECT_NE(collectSweep(plan, records).fits[0].note.find("not all numeric"), std::string::npos);
 }
 
+TEST(SweepFitOfCollectedPoints, AnErrorControlledIntegratorsOrderInItsStepsIsFittedToo) {
+  // A third-order method whose controller takes N ∝ tol^(−1/3) steps and leaves e = N^−3 ∝ tol:
+  // the order in the tolerance is 1 and the order in the steps 3, exactly (to round-off).
+  SweepPlan plan;
+  plan.caseName = "c";
+  plan.metric = "trajectory_error_max";
+  plan.parameters = {{"targetAccuracy", {"1e-3", "1e-4", "1e-5", "1e-6"}}};
+  plan.methods = {"drake.rk3"};
+  std::vector<RunRecord> records;
+  for (const char* tolerance : {"1e-3", "1e-4", "1e-5", "1e-6"}) {
+    SweepPoint point;
+    point.method = "drake.rk3";
+    point.values = {{"targetAccuracy", tolerance}};
+    plan.points.push_back(point);
+    const double steps = 100 * std::cbrt(1e-3 / std::stod(tolerance));
+    RunRecord record;
+    record.status = RunStatus::Ok;
+    record.metrics.values = {{"trajectory_error_max", std::pow(steps, -3)}};
+    record.settings[kStepsTakenSetting] = std::to_string(steps);
+    records.push_back(record);
+  }
+  SweepResult result = collectSweep(plan, records);
+  ASSERT_EQ(result.fits.size(), 1u);
+  EXPECT_NEAR(result.fits[0].orders[0], 1.0, 1e-5);  // the steps are written with 6 digits
+  EXPECT_NEAR(result.fits[0].workOrder, 3.0, 1e-5);
+  EXPECT_TRUE(result.fits[0].workFlags.empty());
+  // A run without the setting (a fixed-step engine): no order in the work.
+  records[2].settings.clear();
+  result = collectSweep(plan, records);
+  EXPECT_TRUE(std::isnan(result.fits[0].workOrder));
+}
+
 }  // namespace
 }  // namespace pbdval

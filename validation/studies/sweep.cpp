@@ -569,7 +569,31 @@ SweepResult collectSweep(const SweepPlan& plan, const std::vector<RunRecord>& re
       result.fits.push_back(fit);
       continue;
     }
-    result.fits.push_back(fitConvergence(method, names, values, errors, plan.fitModel));
+    SweepFit fit = fitConvergence(method, names, values, errors, plan.fitModel);
+    // The order in the work: the steps the integrator took, where every run records them.
+    std::vector<std::vector<double>> steps;
+    std::vector<double> stepErrors;
+    for (const SweepPoint& p : result.points) {
+      if (p.method != method || !std::isfinite(p.metric)) continue;
+      const auto taken = p.record.settings.find(kStepsTakenSetting);
+      const std::optional<double> n =
+          taken == p.record.settings.end() ? std::nullopt : pbd::parseReal(taken->second);
+      if (!n || !(*n > 0)) {
+        steps.clear();
+        break;
+      }
+      steps.push_back({*n});
+      stepErrors.push_back(p.metric);
+    }
+    if (steps.size() >= 3) {
+      const SweepFit work = fitConvergence(method, {kStepsTakenSetting}, steps, stepErrors);
+      if (work.orders.size() == 1) {
+        fit.workOrder = work.orders[0];
+        fit.workRSquared = work.rSquared;
+        fit.workFlags = work.flags;
+      }
+    }
+    result.fits.push_back(fit);
   }
   return result;
 }
@@ -618,6 +642,12 @@ void printSweepTable(std::ostream& out, const SweepResult& result) {
                       "  model e = F + C*x^s (differences' fit), floor F = %.4e\n", fit.floor);
         out << line;
       }
+    }
+    if (std::isfinite(fit.workOrder)) {
+      std::snprintf(line, sizeof line, "  order in the steps taken (%s): %.3f (R^2 %.4f)%s\n",
+                    kStepsTakenSetting, fit.workOrder, fit.workRSquared,
+                    fit.workFlags.empty() ? "" : ", flagged");
+      out << line;
     }
     for (const LocalOrder& local : fit.localOrders) {
       std::snprintf(line, sizeof line, "  local order %g -> %g: %.3f\n", local.from, local.to,
@@ -677,6 +707,11 @@ void writeSweepJson(const std::string& path, const SweepResult& result,
                     {"flags", f.flags},
                     {"model", fitModelName(f.model)},
                     {"floor", std::isfinite(f.floor) ? Json(f.floor) : Json(nullptr)}});
+    if (std::isfinite(f.workOrder))
+      fits.back()["work"] = {{"parameter", kStepsTakenSetting},
+                             {"order", f.workOrder},
+                             {"r_squared", f.workRSquared},
+                             {"flags", f.workFlags}};
   }
   const Json document = {{"schema", "pbdval-sweep"},
                          {"schemaVersion", 1},

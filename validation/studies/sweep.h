@@ -100,7 +100,17 @@ struct SweepFit {
   std::vector<std::string> flags;
   FitModel model = FitModel::Power;
   double floor = std::nan("");  ///< F of the power law plus a floor (NaN for a power law)
+  /// The order in the work, for an error-controlled integrator whose runs record the steps they
+  /// took (settings "integrator.stepsTaken", Drake's continuous methods): e ∝ N^−p over the same
+  /// points, N the steps, fitted as a count (NaN when the runs do not record it). With the
+  /// duration fixed, N ∝ 1/h̄ and p is the integrator's order in its mean step.
+  double workOrder = std::nan("");
+  double workRSquared = std::nan("");
+  std::vector<std::string> workFlags;
 };
+
+/// The setting in which an error-controlled integrator's run records its steps.
+inline constexpr const char* kStepsTakenSetting = "integrator.stepsTaken";
 
 /// A fit whose R² is below this is flagged: the points do not follow one power law.
 inline constexpr double kMinimumRSquared = 0.99;
