@@ -769,7 +769,9 @@ def convergence_page(sweeps: Sequence[Path], colours: Colours, figures: Path, *,
             body.append(f"<p class='badge fail'>{escape(str(path))}: not a sweep ({escape(str(error))})</p>")
             continue
         points = document.get("points", [])
-        names = sorted({k for p in points for k in p.get("parameters", {})})
+        # the parameters that vary (one held at a single value, e.g. stepControl=fixed, does not)
+        names = sorted(k for k in {k for p in points for k in p.get("parameters", {})}
+                       if len({str(p.get("parameters", {}).get(k)) for p in points}) > 1)
         title = f"{document.get('case', '?')}: {document.get('metric', '?')}"
         if len(names) != 1 or not points:
             body.append(f"<h2>{escape(title)}</h2><p class='badge warn'>"
@@ -790,6 +792,8 @@ def convergence_page(sweeps: Sequence[Path], colours: Colours, figures: Path, *,
             order = fit.get("orders", {}).get(name, {}).get("order")
             label = f"{method}: p = {order:.2f}, R² {fit.get('r_squared', 0):.3f}" if order is not None else \
                 f"{method}: no fit"
+            if fit.get("model") == "power_plus_floor" and fit.get("floor") is not None:
+                label += f", floor {float(fit['floor']):.3g}"
             series.append(colours.series(label, xs, ys, style_label=method, markers=True,
                                          hollow=[x in excluded for x in xs]))
             for flag in fit.get("flags", []):
@@ -801,7 +805,7 @@ def convergence_page(sweeps: Sequence[Path], colours: Colours, figures: Path, *,
         first = next((s for s in series if any(math.isfinite(y) and y > 0 for y in s.y)), None)
         if first is not None:
             x0, y0 = next((x, y) for x, y in zip(first.x, first.y) if math.isfinite(y) and y > 0)
-            step_like = name in ("timeStepSize", "tolerance")
+            step_like = name in ("timeStepSize", "tolerance", "targetAccuracy")
             for p in (1, 2, 4):
                 xs = sorted(first.x)
                 series.append(Series(f"slope {p}", xs,

@@ -93,6 +93,34 @@ def test_a_free_body_falls_on_the_parabola_under_the_continuous_methods(method: 
                                                        np.full_like(t, v0[2])])).max() < 1e-11
 
 
+def test_implicit_euler_at_fixed_steps_takes_the_scene_steps_on_its_own_parabola(tmp_path: Path) -> None:
+    """stepControl=fixed: no error control, the scene's step h taken as is. Drake's implicit Euler
+    propagates its step-doubling solution, two implicit Euler half steps (its one Newton
+    iteration is exact on this linear system): after n steps, 2n half steps of h/2,
+    x_n = v0 n h + g (h/2)^2 (2n)(2n+1)/2. Any other step sequence misses this by ~g h^2."""
+    v0, h, steps = (1.0, 2.0, -0.5), 0.01, 100
+    status, rows = run(resolved([body(0, velocity=v0)], h=h, steps=steps, stride=10, method="drake.implicit_euler",
+                                parameters={"stepControl": "fixed"}), tmp_path)
+    assert status.status == "ok", status.reason
+    assert status.effective_settings["stepControl"] == "fixed"
+    assert "integrator.smallestStep" not in status.effective_settings  # no step was adapted
+    m = 2 * np.round(rows[:, 0] / h)  # half steps
+    half = h / 2
+    expected = np.column_stack([v0[0] * m * half, v0[1] * m * half - G * half * half * m * (m + 1) / 2,
+                                v0[2] * m * half])
+    # Round-off only: a few ulps of |x| ~ 5 m per step over two hundred half steps.
+    assert np.abs(rows[:, 2:5] - expected).max() < 1e-11
+    # Under error control the same method picks its own steps, and lands elsewhere.
+    status, controlled = run(resolved([body(0, velocity=v0)], h=h, steps=steps, stride=10,
+                                      method="drake.implicit_euler"), tmp_path)
+    assert np.abs(controlled[:, 2:5] - expected).max() > 1e-6
+
+
+def test_a_step_control_that_is_neither_error_nor_fixed_is_an_error_naming_it(tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match="parameter stepControl: expected error or fixed, got 'adaptive'"):
+        run(resolved([body(0)], parameters={"stepControl": "adaptive"}), tmp_path)
+
+
 @pytest.mark.parametrize("method", ["drake.sap", "drake.tamsi"])
 def test_a_free_body_under_the_discrete_methods_is_the_semi_implicit_euler_parabola(
         method: str, tmp_path: Path) -> None:

@@ -277,6 +277,21 @@ def test_sweep_writes_its_convergence_page(tmp_path: Path) -> None:
     assert done.returncode == 2 and "--repeat" in done.stderr
 
 
+def test_sweep_with_a_held_setting_and_a_floor_fit_draws_one_parameter(tmp_path: Path) -> None:
+    out = tmp_path / "floor"
+    pbdval("sweep", str(REPO / "cases/projectile.json"), "--param", "maxIterations=2",
+           "--param", "timeStepSize=0.01,0.005,0.0025,0.00125", "--methods", "pbd", "--fit", "floor",
+           "--repeat", "1", "--out", str(out), "--report", "--quiet")
+    fit = json.loads((out / "sweep.json").read_text())["fits"][0]
+    assert fit["model"] == "power_plus_floor" and "floor" in fit
+    assert list(fit["orders"]) == ["timeStepSize"]  # the held setting is not fitted
+    page = (out / "report/convergence.html").read_text()
+    assert "timeStepSize (s)" in page and "a grid of several parameters" not in page
+    done = pbdval("sweep", str(REPO / "cases/projectile.json"), "--param", "timeStepSize=0.01,0.005",
+                  "--methods", "pbd", "--fit", "offset", "--out", str(tmp_path / "bad"), check=False)
+    assert done.returncode == 2 and "--fit: expected power or floor, got 'offset'" in done.stderr
+
+
 def synthetic(folder: Path, runs: list[dict[str, Any]], schema_version: int = 1, case_file: str = "") -> Path:
     folder.mkdir(parents=True)
     cases = {r["case"]: {"file": case_file, "description": "synthetic", "checks": [], "tolerances": {}}

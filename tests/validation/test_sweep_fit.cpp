@@ -161,6 +161,88 @@ TEST(ConvergenceFit, PoorFitsAreFlagged) {
 // orders above the reference's own (~(1/16)^4 of it) and above round-off, so no floor is
 // expected; the fitted order must be 4 within 0.15 (the local orders measured on this machine
 // rise from 3.98 to 3.99 as the step shrinks, as the next term of the error fades).
+// The power law plus a floor: on exact sequences e = F + C·x^s the differences remove F and the
+// fit is exact, so the tolerances are round-off (1e-9 relative: a few hundred ulps of the logs).
+TEST(ConvergenceFit, PowerPlusFloorRecoversTheOrderAndTheFloorOfManufacturedSequences) {
+  for (const auto& [order, floor] :
+       std::vector<std::pair<double, double>>{{1.0, 0.02}, {2.0, 1e-6}, {4.0, 3e-11}}) {
+    const Sequence s = manufactured(order, 5, floor);
+    const SweepFit fit =
+        fitConvergence("m", {"timeStepSize"}, s.values, s.errors, FitModel::PowerPlusFloor);
+    ASSERT_EQ(fit.orders.size(), 1u);
+    EXPECT_NEAR(fit.orders[0], order, 1e-9 * order) << "order " << order;
+    EXPECT_NEAR(fit.floor, floor, 1e-9 * floor) << "order " << order;
+    EXPECT_NEAR(fit.rSquared, 1.0, 1e-12);
+    EXPECT_EQ(fit.points, 5);
+    EXPECT_TRUE(fit.flags.empty()) << fit.warning;
+    EXPECT_EQ(fit.model, FitModel::PowerPlusFloor);
+    EXPECT_EQ(fit.localOrders.size(), 4u);  // reported as for a power law
+  }
+}
+
+TEST(ConvergenceFit, PowerPlusFloorTakesAnErrorThatRisesToItsFloor) {
+  // e = F − C·h: the discretisation error cancels part of the modelling error (penalty joints'
+  // sag), so the error grows as h falls, towards F.
+  Sequence s;
+  for (double h = 0.01; h > 0.0006; h /= 2) {
+    s.values.push_back({h});
+    s.errors.push_back(0.0235 - 0.6 * h);
+  }
+  const SweepFit fit =
+      fitConvergence("m", {"timeStepSize"}, s.values, s.errors, FitModel::PowerPlusFloor);
+  EXPECT_NEAR(fit.orders[0], 1.0, 1e-9);
+  EXPECT_NEAR(fit.floor, 0.0235, 1e-9 * 0.0235);
+  EXPECT_TRUE(fit.flags.empty()) << fit.warning;
+}
+
+TEST(ConvergenceFit, PowerPlusFloorRefinesCountsUpwards) {
+  // e = F + C·n^−2 over substeps 1, 2, 4, 8, 16: the order in 1/n is 2.
+  Sequence s;
+  for (double n = 1; n <= 16; n *= 2) {
+    s.values.push_back({n});
+    s.errors.push_back(5e-4 + 0.1 / (n * n));
+  }
+  const SweepFit fit =
+      fitConvergence("m", {"subSteps"}, s.values, s.errors, FitModel::PowerPlusFloor);
+  EXPECT_NEAR(fit.orders[0], 2.0, 1e-9);
+  EXPECT_NEAR(fit.floor, 5e-4, 1e-9 * 5e-4);
+}
+
+TEST(ConvergenceFit, PowerPlusFloorFlagsWhatItCannotFit) {
+  const Sequence three = manufactured(1.0, 3, 0.01);
+  EXPECT_TRUE(hasFlag(
+      fitConvergence("m", {"timeStepSize"}, three.values, three.errors, FitModel::PowerPlusFloor),
+      "too_few_points"));
+  // A negative floor: the errors show none (a power law with an offset below zero).
+  Sequence below = manufactured(1.0, 5);
+  for (double& e : below.errors)
+    e -= 1e-3;
+  EXPECT_TRUE(hasFlag(
+      fitConvergence("m", {"timeStepSize"}, below.values, below.errors, FitModel::PowerPlusFloor),
+      "no_floor"));
+  // Differences of both signs: no power law approaches a floor.
+  Sequence zigzag = manufactured(1.0, 5, 0.01);
+  zigzag.errors[3] = zigzag.errors[2] * 1.01;
+  EXPECT_TRUE(hasFlag(
+      fitConvergence("m", {"timeStepSize"}, zigzag.values, zigzag.errors, FitModel::PowerPlusFloor),
+      "differences_change_sign"));
+  // Steps not refined by one ratio: the differences would not remove the floor.
+  Sequence uneven = manufactured(1.0, 5, 0.01);
+  uneven.values[4][0] *= 0.9;
+  EXPECT_TRUE(hasFlag(
+      fitConvergence("m", {"timeStepSize"}, uneven.values, uneven.errors, FitModel::PowerPlusFloor),
+      "ratio_not_constant"));
+  // A 2 % error of alternating sign on every point (a floor that itself wobbles, e.g. float32
+  // round-off near it) is of the size of the finest differences: they no longer follow one power
+  // law (R² 0.93 by hand), and the fit says so.
+  Sequence wobbling = manufactured(1.0, 5, 0.02);
+  for (std::size_t k = 0; k < wobbling.errors.size(); ++k)
+    wobbling.errors[k] *= k % 2 ? 0.98 : 1.02;
+  const SweepFit fit = fitConvergence("m", {"timeStepSize"}, wobbling.values, wobbling.errors,
+                                      FitModel::PowerPlusFloor);
+  EXPECT_TRUE(hasFlag(fit, "r_squared_below_0.99")) << "R^2 " << fit.rSquared;
+}
+
 TEST(ConvergenceFit, RungeKuttaShowsOrderFourThroughTheWholeSweep) {
   SweepOptions options;
   options.caseFile = std::string(PBDVAL_SOURCE_DIR) + "/cases/joint_hinge.json";
@@ -217,6 +299,66 @@ TEST(SweepWallTime, IsTheMedianOfThePasses) {
   EXPECT_EQ(result.points[1].metric, 0.005);
   repeats[1].pop_back();
   EXPECT_THROW(collectSweep(plan, first, repeats), std::invalid_argument);
+}
+
+TEST(SweepFitOfCollectedPoints, ASettingHeldAtOneTextValueDoesNotPreventTheFit) {
+  // --param stepControl=fixed --param timeStepSize=...: the text setting does not vary, so the
+  // fit is over the step alone (e = h³ here: order 3 exactly, to round-off).
+  SweepPlan plan;
+  plan.caseName = "c";
+  plan.metric = "trajectory_error_max";
+  plan.parameters = {{"stepControl", {"fixed"}}, {"timeStepSize", {"0.01", "0.005", "0.0025"}}};
+  plan.methods = {"drake.radau"};
+  std::vector<RunRecord> records;
+  for (const char* step : {"0.01", "0.005", "0.0025"}) {
+    SweepPoint point;
+    point.method = "drake.radau";
+    point.values = {{"stepControl", "fixed"}, {"timeStepSize", step}};
+    plan.points.push_back(point);
+    RunRecord record;
+    record.status = RunStatus::Ok;
+    record.metrics.values = {{"trajectory_error_max", std::pow(std::stod(step), 3)}};
+    records.push_back(record);
+  }
+  const SweepResult held = collectSweep(plan, records);
+  ASSERT_EQ(held.fits.size(), 1u);
+  EXPECT_EQ(held.fits[0].parameters, (std::vector<std::string>{"timeStepSize"}));
+  EXPECT_NEAR(held.fits[0].orders[0], 3.0, 1e-9);
+  // Two text values of one setting vary, and text has no order: no fit, said so.
+  plan.parameters[0].second = {"fixed", "error"};
+  EXPECT_NE(collectSweep(plan, records).fits[0].note.find("not all numeric"), std::string::npos);
+}
+
+TEST(SweepFitOfCollectedPoints, AnErrorControlledIntegratorsOrderInItsStepsIsFittedToo) {
+  // A third-order method whose controller takes N ∝ tol^(−1/3) steps and leaves e = N^−3 ∝ tol:
+  // the order in the tolerance is 1 and the order in the steps 3, exactly (to round-off).
+  SweepPlan plan;
+  plan.caseName = "c";
+  plan.metric = "trajectory_error_max";
+  plan.parameters = {{"targetAccuracy", {"1e-3", "1e-4", "1e-5", "1e-6"}}};
+  plan.methods = {"drake.rk3"};
+  std::vector<RunRecord> records;
+  for (const char* tolerance : {"1e-3", "1e-4", "1e-5", "1e-6"}) {
+    SweepPoint point;
+    point.method = "drake.rk3";
+    point.values = {{"targetAccuracy", tolerance}};
+    plan.points.push_back(point);
+    const double steps = 100 * std::cbrt(1e-3 / std::stod(tolerance));
+    RunRecord record;
+    record.status = RunStatus::Ok;
+    record.metrics.values = {{"trajectory_error_max", std::pow(steps, -3)}};
+    record.settings[kStepsTakenSetting] = std::to_string(steps);
+    records.push_back(record);
+  }
+  SweepResult result = collectSweep(plan, records);
+  ASSERT_EQ(result.fits.size(), 1u);
+  EXPECT_NEAR(result.fits[0].orders[0], 1.0, 1e-5);  // the steps are written with 6 digits
+  EXPECT_NEAR(result.fits[0].workOrder, 3.0, 1e-5);
+  EXPECT_TRUE(result.fits[0].workFlags.empty());
+  // A run without the setting (a fixed-step engine): no order in the work.
+  records[2].settings.clear();
+  result = collectSweep(plan, records);
+  EXPECT_TRUE(std::isnan(result.fits[0].workOrder));
 }
 
 }  // namespace

@@ -50,6 +50,10 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
       .option("fine-divisor", "N",
               "with --reference fine: the reference step is the smallest swept step / N, N from 2 "
               "to 1024 (default 16)")
+      .option("fit", "power|floor",
+              "the model fitted to each method's errors: power (default) e = C*x^p; floor e = F + "
+              "C*x^p, for a method that converges to a nearby model (penalty joints), one "
+              "parameter refined by a constant ratio (docs/convergence.md#a-floor)")
       .option("out", "DIR",
               "write DIR/sweep.json (default: out); locked while the sweep goes, replaced only "
               "at the end (docs/cli.md#results-folders)")
@@ -104,6 +108,10 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
         int(args.integerIn("jobs", std::max(1u, std::thread::hardware_concurrency()), 1, 1024));
     options.timeout = args.number("timeout", kDefaultWallTimeLimit);
     options.repetitions = int(args.integerIn("repeat", kSweepRepetitions, 1, 100));
+    const std::string fit = args.value("fit", "power");
+    if (fit != "power" && fit != "floor")
+      throw UsageError("--fit: expected power or floor, got '" + fit + "'");
+    options.fitModel = fit == "floor" ? FitModel::PowerPlusFloor : FitModel::Power;
     if (options.timeout < 0) throw UsageError("--timeout: expected seconds ≥ 0");
     out = args.value("out", "out");
     while (out.size() > 1 && out.back() == '/')

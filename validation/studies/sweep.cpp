@@ -53,14 +53,18 @@ std::vector<std::string> defaultMethods(const CaseSpec& spec, const EngineRegist
   return methods;
 }
 
-/// The numeric values of each parameter of a grid point; nullopt when one is not a number.
+/// The numeric values of each parameter of a grid point; nullopt when one that varies is not a
+/// number. A parameter given one value (a setting held for the whole sweep, e.g.
+/// stepControl=fixed) does not vary, and any text will do: it counts as 1.
 std::optional<std::vector<double>> numericValues(
-    const std::vector<std::pair<std::string, std::string>>& values) {
+    const std::vector<std::pair<std::string, std::string>>& values,
+    const std::vector<std::pair<std::string, std::vector<std::string>>>& parameters) {
   std::vector<double> row;
-  for (const auto& [name, text] : values) {
-    const std::optional<double> v = pbd::parseReal(text);
-    if (!v) return std::nullopt;
-    row.push_back(*v);
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const std::optional<double> v = pbd::parseReal(values[i].second);
+    const bool held = i < parameters.size() && parameters[i].second.size() == 1;
+    if (!v && !held) return std::nullopt;
+    row.push_back(v ? *v : 1.0);
   }
   return row;
 }
@@ -169,9 +173,104 @@ std::vector<std::size_t> asymptoticRange(const std::string& parameter,
 
 }  // namespace
 
+const char* fitModelName(FitModel model) {
+  return model == FitModel::Power ? "power" : "power_plus_floor";
+}
+
+namespace {
+
+/// e = F + C·x^s over every usable point (one parameter varying, `column`): see the header
+/// comment. Fills the order, R², floor and flags of `fit`.
+void powerPlusFloorFit(const std::string& parameter,
+                       const std::vector<std::vector<double>>& parameterValues,
+                       const std::vector<double>& errors, std::vector<std::size_t> rows,
+                       std::size_t column, SweepFit& fit) {
+  const bool stepLike = isStepLike(parameter);
+  std::sort(rows.begin(), rows.end(), [&](std::size_t a, std::size_t b) {
+    return stepLike ? parameterValues[a][column] > parameterValues[b][column]
+                    : parameterValues[a][column] < parameterValues[b][column];
+  });
+  fit.model = FitModel::PowerPlusFloor;
+  fit.parameters = {parameter};
+  fit.points = static_cast<int>(rows.size());
+  const std::size_t differences = rows.size() - 1;
+  auto x = [&](std::size_t k) { return parameterValues[rows[k]][column]; };
+  auto e = [&](std::size_t k) { return errors[rows[k]]; };
+  if (differences < 3) {
+    fit.flags.push_back("too_few_points");
+    fit.warning = "the power law plus a floor needs four or more points (three differences), " +
+                  std::to_string(rows.size()) + " given";
+    fit.slopes = {std::nan("")};
+    fit.orders = {std::nan("")};
+    return;
+  }
+  const double ratio = x(1) / x(0);
+  bool constantRatio = true, oneSign = true;
+  for (std::size_t k = 0; k < differences; ++k) {
+    constantRatio = constantRatio && std::abs(x(k + 1) / x(k) - ratio) <= 1e-9 * ratio;
+    const double d = e(k) - e(k + 1);
+    oneSign = oneSign && d != 0 && (d > 0) == (e(0) - e(1) > 0);
+  }
+  if (!constantRatio || !oneSign) {
+    fit.flags.push_back(constantRatio ? "differences_change_sign" : "ratio_not_constant");
+    fit.warning = constantRatio
+                      ? "the successive differences of the error change sign or vanish: no "
+                        "power law approaches a floor"
+                      : "the parameter is not refined by a constant ratio: the differences do "
+                        "not remove the floor";
+    fit.slopes = {std::nan("")};
+    fit.orders = {std::nan("")};
+    return;
+  }
+  const auto count = static_cast<Eigen::Index>(differences);
+  Eigen::MatrixXd design(count, 2);
+  Eigen::VectorXd logDifference(count);
+  for (std::size_t k = 0; k < differences; ++k) {
+    design(Eigen::Index(k), 0) = 1;
+    design(Eigen::Index(k), 1) = std::log(x(k));
+    logDifference(Eigen::Index(k)) = std::log(std::abs(e(k) - e(k + 1)));
+  }
+  const Eigen::VectorXd coefficients = design.colPivHouseholderQr().solve(logDifference);
+  const Eigen::VectorXd residual = logDifference - design * coefficients;
+  const double total = (logDifference.array() - logDifference.mean()).square().sum();
+  fit.rSquared = total > 0 ? 1 - residual.squaredNorm() / total : 1;
+  const double slope = coefficients(1);
+  const double sign = e(0) - e(1) > 0 ? 1 : -1;
+  const double scale = sign * std::exp(coefficients(0)) / (1 - std::pow(ratio, slope));
+  double floorSum = 0;
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    floorSum += e(k) - scale * std::pow(x(k), slope);
+  fit.floor = floorSum / double(rows.size());
+  fit.slopes = {slope};
+  fit.orders = {stepLike ? slope : -slope};
+  std::vector<std::string> warnings;
+  if (fit.rSquared < kMinimumRSquared) {
+    fit.flags.push_back("r_squared_below_0.99");
+    warnings.push_back("R^2 " + shortNumber(fit.rSquared) +
+                       " < 0.99: the differences do not follow one power law");
+  }
+  if (!(fit.floor > 0)) {
+    fit.flags.push_back("no_floor");
+    warnings.push_back("the fitted floor " + shortNumber(fit.floor) +
+                       " is not positive: the errors show no floor, fit a power law");
+  }
+  if (!(fit.orders[0] > 0)) {
+    fit.flags.push_back("no_order");
+    warnings.push_back("the differences do not fall as " + parameter + " is refined");
+  }
+  if (warnings.empty())
+    warnings.push_back("floor " + shortNumber(fit.floor) + " (" +
+                       shortNumber(100 * fit.floor / e(rows.size() - 1)) +
+                       "% of the finest error): the error the parameter cannot remove");
+  for (const std::string& w : warnings)
+    fit.warning += (fit.warning.empty() ? "" : "; ") + w;
+}
+
+}  // namespace
+
 SweepFit fitConvergence(const std::string& method, const std::vector<std::string>& parameterNames,
                         const std::vector<std::vector<double>>& parameterValues,
-                        const std::vector<double>& errors) {
+                        const std::vector<double>& errors, FitModel model) {
   SweepFit fit;
   fit.method = method;
   // Keep the parameters that vary and the points with a positive error and positive values.
@@ -193,6 +292,19 @@ SweepFit fitConvergence(const std::string& method, const std::vector<std::string
   if (varying.empty() || usable.size() < varying.size() + 2) {
     fit.note =
         "not enough points with a positive error to fit (" + std::to_string(usable.size()) + ")";
+    return fit;
+  }
+  if (model == FitModel::PowerPlusFloor) {
+    if (varying.size() != 1) {
+      fit.note = "the power law plus a floor is fitted with one parameter varying, not " +
+                 std::to_string(varying.size());
+      return fit;
+    }
+    SweepFit scratch;  // the local orders, as for a power law
+    asymptoticRange(parameterNames[varying[0]], parameterValues, errors, usable, varying[0],
+                    scratch);
+    fit.localOrders = scratch.localOrders;
+    powerPlusFloorFit(parameterNames[varying[0]], parameterValues, errors, usable, varying[0], fit);
     return fit;
   }
   std::vector<std::size_t> rows = usable;
@@ -310,6 +422,7 @@ SweepPlan planSweep(const SweepOptions& options, const EngineRegistry& registry)
   plan.parameters = options.parameters;
   plan.methods = options.methods;
   plan.metric = options.metric;
+  plan.fitModel = options.fitModel;
   if (plan.parameters.empty()) {
     if (spec.sweeps.empty())
       throw OptionError(options.caseFile +
@@ -443,7 +556,7 @@ SweepResult collectSweep(const SweepPlan& plan, const std::vector<RunRecord>& re
     bool numeric = true;
     for (const SweepPoint& p : result.points) {
       if (p.method != method) continue;
-      const auto row = numericValues(p.values);
+      const auto row = numericValues(p.values, plan.parameters);
       numeric = numeric && row.has_value();
       values.push_back(row.value_or(std::vector<double>(p.values.size(), 0.0)));
       errors.push_back(p.metric);
@@ -456,7 +569,31 @@ SweepResult collectSweep(const SweepPlan& plan, const std::vector<RunRecord>& re
       result.fits.push_back(fit);
       continue;
     }
-    result.fits.push_back(fitConvergence(method, names, values, errors));
+    SweepFit fit = fitConvergence(method, names, values, errors, plan.fitModel);
+    // The order in the work: the steps the integrator took, where every run records them.
+    std::vector<std::vector<double>> steps;
+    std::vector<double> stepErrors;
+    for (const SweepPoint& p : result.points) {
+      if (p.method != method || !std::isfinite(p.metric)) continue;
+      const auto taken = p.record.settings.find(kStepsTakenSetting);
+      const std::optional<double> n =
+          taken == p.record.settings.end() ? std::nullopt : pbd::parseReal(taken->second);
+      if (!n || !(*n > 0)) {
+        steps.clear();
+        break;
+      }
+      steps.push_back({*n});
+      stepErrors.push_back(p.metric);
+    }
+    if (steps.size() >= 3) {
+      const SweepFit work = fitConvergence(method, {kStepsTakenSetting}, steps, stepErrors);
+      if (work.orders.size() == 1) {
+        fit.workOrder = work.orders[0];
+        fit.workRSquared = work.rSquared;
+        fit.workFlags = work.flags;
+      }
+    }
+    result.fits.push_back(fit);
   }
   return result;
 }
@@ -499,6 +636,17 @@ void printSweepTable(std::ostream& out, const SweepResult& result) {
       std::snprintf(
           line, sizeof line, "  fitted order in %s: %.3f (slope %.3f, R^2 %.4f, %d points)\n",
           fit.parameters[i].c_str(), fit.orders[i], fit.slopes[i], fit.rSquared, fit.points);
+      out << line;
+      if (fit.model == FitModel::PowerPlusFloor) {
+        std::snprintf(line, sizeof line,
+                      "  model e = F + C*x^s (differences' fit), floor F = %.4e\n", fit.floor);
+        out << line;
+      }
+    }
+    if (std::isfinite(fit.workOrder)) {
+      std::snprintf(line, sizeof line, "  order in the steps taken (%s): %.3f (R^2 %.4f)%s\n",
+                    kStepsTakenSetting, fit.workOrder, fit.workRSquared,
+                    fit.workFlags.empty() ? "" : ", flagged");
       out << line;
     }
     for (const LocalOrder& local : fit.localOrders) {
@@ -556,7 +704,14 @@ void writeSweepJson(const std::string& path, const SweepResult& result,
                     {"note", f.note},
                     {"warning", f.warning},
                     {"excluded", excluded},
-                    {"flags", f.flags}});
+                    {"flags", f.flags},
+                    {"model", fitModelName(f.model)},
+                    {"floor", std::isfinite(f.floor) ? Json(f.floor) : Json(nullptr)}});
+    if (std::isfinite(f.workOrder))
+      fits.back()["work"] = {{"parameter", kStepsTakenSetting},
+                             {"order", f.workOrder},
+                             {"r_squared", f.workRSquared},
+                             {"flags", f.workFlags}};
   }
   const Json document = {{"schema", "pbdval-sweep"},
                          {"schemaVersion", 1},

@@ -11,8 +11,18 @@
 // once the error stops falling (a local order below half the first one, or ≤ 0: round-off, a
 // solver tolerance, a modelling error the parameter cannot remove), that point and the finer
 // ones are left out and named. A fit with R² < 0.99 or fewer than three points is flagged.
+//
+// The power law plus a floor (`--fit floor`, FitModel::PowerPlusFloor), for a method known to
+// converge to a nearby model instead of the scene's (penalty joints: the floor is set by their
+// compliance, not by the step): e = F + C·x^s. With one parameter refined by a constant ratio,
+// successive differences remove the floor, e_k − e_{k+1} = C·x_k^s·(1 − ρ^s) (ρ = x_{k+1}/x_k),
+// so s is the least-squares slope of log|e_k − e_{k+1}| on log x_k (the observed order from
+// successive refinements, Roache 1998, "Verification and Validation in Computational Science
+// and Engineering", ch. 5), its R² the fit's, and F the mean of e_k − C·x_k^s. Needs four or
+// more points (three differences) of one sign; flagged otherwise, and when F ≤ 0 (no floor).
 #pragma once
 
+#include <cmath>
 #include <functional>
 #include <iosfwd>
 #include <string>
@@ -26,6 +36,12 @@ namespace pbdval {
 
 /// The default passes of a sweep (`pbdval sweep --repeat`).
 inline constexpr int kSweepRepetitions = 3;
+
+/// What a sweep fits to each method's errors (header comment).
+enum class FitModel { Power, PowerPlusFloor };
+
+/// "power" or "power_plus_floor" (sweep.json's fits[].model).
+const char* fitModelName(FitModel model);
 
 struct SweepOptions {
   std::string caseFile;
@@ -41,6 +57,7 @@ struct SweepOptions {
   /// Passes over the sweep's runs: a point's wall time is the median of its passes (one wall
   /// time is one noisy sample: a Pareto front on single samples moves between sweeps).
   int repetitions = kSweepRepetitions;
+  FitModel fitModel = FitModel::Power;  ///< `--fit`
 };
 
 struct SweepPoint {
@@ -81,7 +98,19 @@ struct SweepFit {
   std::vector<LocalOrder> localOrders;
   std::vector<ExcludedPoint> excluded;
   std::vector<std::string> flags;
+  FitModel model = FitModel::Power;
+  double floor = std::nan("");  ///< F of the power law plus a floor (NaN for a power law)
+  /// The order in the work, for an error-controlled integrator whose runs record the steps they
+  /// took (settings "integrator.stepsTaken", Drake's continuous methods): e ∝ N^−p over the same
+  /// points, N the steps, fitted as a count (NaN when the runs do not record it). With the
+  /// duration fixed, N ∝ 1/h̄ and p is the integrator's order in its mean step.
+  double workOrder = std::nan("");
+  double workRSquared = std::nan("");
+  std::vector<std::string> workFlags;
 };
+
+/// The setting in which an error-controlled integrator's run records its steps.
+inline constexpr const char* kStepsTakenSetting = "integrator.stepsTaken";
 
 /// A fit whose R² is below this is flagged: the points do not follow one power law.
 inline constexpr double kMinimumRSquared = 0.99;
@@ -102,6 +131,7 @@ struct SweepPlan {
   std::vector<RunRequest> requests;
   std::vector<SweepPoint> points;  ///< one per request, in the same order, without records yet
   std::vector<std::string> notes;  ///< methods skipped (a parameter has no effect on them)
+  FitModel fitModel = FitModel::Power;
 };
 
 /// Plans the sweep. Throws std::invalid_argument for bad options (unknown method, no
@@ -123,7 +153,7 @@ SweepResult runSweep(
 /// Least-squares fit of log e on log x (exposed for tests).
 SweepFit fitConvergence(const std::string& method, const std::vector<std::string>& parameterNames,
                         const std::vector<std::vector<double>>& parameterValues,
-                        const std::vector<double>& errors);
+                        const std::vector<double>& errors, FitModel model = FitModel::Power);
 
 /// Marks the points on the Pareto front of (wall time, metric), both minimised.
 void markParetoFront(std::vector<SweepPoint>& points);

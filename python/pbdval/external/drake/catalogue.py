@@ -42,6 +42,12 @@ _CONTINUOUS_PARAMETERS: list[dict[str, Any]] = [
      "description": "the integrator's target accuracy (IntegratorBase::set_target_accuracy): the "
                     "relative local error its step-size control aims at; the step never exceeds "
                     "the scene's step"},
+    {"name": "stepControl", "kind": "choice", "default": "error", "choices": ["error", "fixed"], "unit": "",
+     "description": "error: the integrator chooses its steps from its error estimate, at most the "
+                    "scene's step (sweep targetAccuracy); fixed: it takes the scene's step, no error "
+                    "control (IntegratorBase::set_fixed_step_mode; sweep timeStepSize for the "
+                    "scheme's order; an implicit scheme still stops its Newton iteration at a "
+                    "tolerance from targetAccuracy)"},
 ]
 _FRICTION_PARAMETERS: list[dict[str, Any]] = [
     {"name": "stictionTolerance", "kind": "real", "default": 0.0001, "min": 1e-09, "max": 1.0,

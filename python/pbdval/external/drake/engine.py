@@ -28,6 +28,7 @@ Only the pydrake modules needed are imported (not pydrake.all, which imports mat
 from __future__ import annotations
 
 import importlib.metadata
+import math
 from collections import deque
 from dataclasses import dataclass
 from pathlib import Path
@@ -314,7 +315,15 @@ class DrakeRun:
         if not discrete:
             integrator = ResetIntegratorFromFlags(self.simulator, CONTINUOUS[method][0], h)
             integrator.set_target_accuracy(parameter("targetAccuracy"))
-            self.settings["integrator"] = f"{CONTINUOUS[method][0]}, maximum step {pp.format_number(h)} s"
+            control = scene.parameter("stepControl", catalogue.default(method, "stepControl"))
+            if control not in ("error", "fixed"):
+                raise ValueError(f"parameter stepControl: expected error or fixed, got {control!r}")
+            self.settings["stepControl"] = str(control)
+            if control == "fixed":
+                integrator.set_fixed_step_mode(True)
+                self.settings["integrator"] = f"{CONTINUOUS[method][0]}, fixed step {pp.format_number(h)} s"
+            else:
+                self.settings["integrator"] = f"{CONTINUOUS[method][0]}, maximum step {pp.format_number(h)} s"
         self.simulator.Initialize()
         self.settings["tree"] = (f"{len(self.tree.edges)} joints, {len(self.tree.floating_roots)} floating "
                                  f"roots, {plant.num_positions()} positions, {plant.num_velocities()} velocities")
@@ -526,7 +535,9 @@ class DrakeRun:
             self.settings["integrator.stepsTaken"] = int(integrator.get_num_steps_taken())
             self.settings["integrator.stepSizeShrinksForError"] = int(
                 integrator.get_num_step_shrinkages_from_error_control())
-            self.settings["integrator.smallestStep"] = float(integrator.get_smallest_adapted_step_size_taken())
+            smallest = float(integrator.get_smallest_adapted_step_size_taken())
+            if math.isfinite(smallest):  # NaN in fixed-step mode: no step was adapted
+                self.settings["integrator.smallestStep"] = smallest
         status.effective_settings = self.settings
         status.integrator_steps_per_scene_step = 1
         status.contact_margin = 0.0

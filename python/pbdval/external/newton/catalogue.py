@@ -25,6 +25,13 @@ SOLVERS = {
                                             "contacts as penalty forces")),
 }
 DEFAULT_METHOD = f"{ENGINE}.xpbd"
+#: SolverXPBD's joint relaxation here, linear and angular alike (Newton's defaults, 0.7 and 0.4,
+#: give a positional joint row's rotational correction 0.4/0.7 of its translational one: the
+#: bodies then turn under joint forces as if their inertia about the centre of mass were 1.75×
+#: larger; docs/engine-newton.md#relaxation). Newton's angular default for both: at its linear
+#: default, 0.7, for both, SolverXPBD's Jacobi sweeps overshoot and robot_dm_acrobot and
+#: robot_pendulum5 diverge (at 0.4 they run, as at Newton's defaults).
+JOINT_RELAXATION = 0.4
 
 _COMMON: list[dict[str, Any]] = [
     {"name": "angularDamping", "kind": "real", "default": 0.0, "min": 0.0, "max": 1000.0, "unit": "1/s",
@@ -37,6 +44,14 @@ _PER_SOLVER: dict[str, list[dict[str, Any]]] = {
          "description": "constraint projection iterations per step (SolverXPBD's default 2)"},
         {"name": "substeps", "kind": "integer", "default": 1, "min": 1, "max": 10000, "unit": "",
          "description": "solver steps per scene step (collision once per scene step)"},
+        {"name": "jointLinearRelaxation", "kind": "real", "default": JOINT_RELAXATION, "min": 0.0, "max": 1.0,
+         "unit": "", "description": "SolverXPBD joint_linear_relaxation: the factor on a positional joint "
+                                    "row's linear correction (Newton's default 0.7)"},
+        {"name": "jointAngularRelaxation", "kind": "real", "default": JOINT_RELAXATION, "min": 0.0, "max": 1.0,
+         "unit": "", "description": "SolverXPBD joint_angular_relaxation: the factor on an angular joint row "
+                                    "and on the rotational part of a positional row's correction (Newton's "
+                                    "default 0.4; unequal to the linear one it scales the joint's torque on "
+                                    "each body by angular/linear: docs/engine-newton.md#relaxation)"},
     ],
     "featherstone": [
         {"name": "substeps", "kind": "integer", "default": 10, "min": 1, "max": 10000, "unit": "",

@@ -209,9 +209,14 @@ class NewtonRun:
             iterations = int(parameter("iterations"))
             if iterations < 1:
                 raise ValueError(f"parameter iterations: expected >= 1, got {iterations}")
+            linear, angular = parameter("jointLinearRelaxation"), parameter("jointAngularRelaxation")
             self.solver = newton.solvers.SolverXPBD(self.model, iterations=iterations, angular_damping=damping,
+                                                    joint_linear_relaxation=linear,
+                                                    joint_angular_relaxation=angular,
                                                     enable_restitution=any(r > 0 for r in restitution))
             self.settings["iterations"] = iterations
+            self.settings["jointLinearRelaxation"] = linear
+            self.settings["jointAngularRelaxation"] = angular
             self.settings["enableRestitution"] = any(r > 0 for r in restitution)
         elif solver == "featherstone":
             self.solver = newton.solvers.SolverFeatherstone(self.model, angular_damping=damping)
