@@ -260,6 +260,19 @@ TEST(Runner, PlanSelectsEnginesAndMethods) {
   EXPECT_THROW(planRuns({kHinge}, options, testRegistry()), std::invalid_argument);
 }
 
+TEST(Runner, AMethodOfAnEngineRunByNameOnlySelectsItWithoutEngines) {
+  // selftest runs by name only (runByDefault false): a plan without --engines leaves it out...
+  PlanOptions options;
+  RunPlan plan = planRuns({kHinge}, options, testRegistry());
+  for (const RunRequest& r : plan.requests) EXPECT_NE(r.engine, "selftest");
+  // ...and its method named in --methods alone is enough to run it.
+  options.methods = {"pbd", "selftest.ok"};
+  plan = planRuns({kHinge}, options, testRegistry());
+  ASSERT_EQ(plan.requests.size(), 2u);
+  EXPECT_EQ(plan.requests[0].method, "pbd");
+  EXPECT_EQ(plan.requests[1].method, "selftest.ok");
+}
+
 TEST(Results, RoundTripKeepsEveryField) {
   RunRecord r;
   r.request = request("pbd", "pbd");

@@ -42,7 +42,9 @@ ArgParser runParser() {
       "(or .npy: --trajectory-format), and prints a summary table. A run that diverges, times\n"
       "out, crashes or lacks a feature gets that status; the others still complete.");
   parser.positionals("CASES", "scene files or folders of them (default: cases/)", 0, -1)
-      .option("engines", "LIST", "comma-separated engines (default: all; 'pbdval methods')")
+      .option("engines", "LIST",
+              "comma-separated engines; 'default' stands for those run when none is named "
+              "(default: those; 'pbdval methods' marks the others 'by name only')")
       .option("methods", "LIST",
               "comma-separated methods (default: each case's, else each engine's default)")
       .option("out", "DIR",
@@ -129,7 +131,7 @@ int runCommand(const Context& context, const Arguments& arguments) {
   std::optional<InterruptWatch> interruptsWhilePlanning;
   std::optional<ServerPool> servers;  // before anything that may return: it stops them
   try {
-    options.engines = args.list("engines");
+    options.engines = withDefaultEnginesExpanded(args.list("engines"), context.engines);
     options.methods = args.list("methods");
     checkNames(context.engines, "--engines", options.engines);
     checkNames(context.engines, "--methods", options.methods);

@@ -43,6 +43,12 @@ std::optional<pbd::LoadedScene> loadCommandScene(const ArgParser& parser, const 
 void checkNames(const EngineRegistry& engines, const std::string& option,
                 const std::vector<std::string>& names);
 
+/// `--engines` with the word `default` replaced by the engines that run when none is named
+/// (EngineRegistry::defaultEngineNames, in their order), each engine once: `--engines
+/// default,newton` is the default set plus an engine run by name only.
+std::vector<std::string> withDefaultEnginesExpanded(const std::vector<std::string>& names,
+                                                    const EngineRegistry& engines);
+
 struct Command {
   const char* name;
   const char* summary;

@@ -1,5 +1,6 @@
 // The scene a command is given on its command line: loaded with --strict honoured, its
 // warnings printed unless --quiet, a bad scene reported as the command's input error.
+#include <algorithm>
 #include <cstdio>
 #include <stdexcept>
 
@@ -36,6 +37,22 @@ void checkNames(const EngineRegistry& engines, const std::string& option,
       throw UsageError(option + ": " + e.what());
     }
   }
+}
+
+std::vector<std::string> withDefaultEnginesExpanded(const std::vector<std::string>& names,
+                                                    const EngineRegistry& engines) {
+  std::vector<std::string> expanded;
+  auto add = [&](const std::string& name) {
+    if (std::find(expanded.begin(), expanded.end(), name) == expanded.end())
+      expanded.push_back(name);
+  };
+  for (const std::string& name : names) {
+    if (name == "default")
+      for (const std::string& engine : engines.defaultEngineNames()) add(engine);
+    else
+      add(name);
+  }
+  return expanded;
 }
 
 }  // namespace pbdval::cli

@@ -79,8 +79,14 @@ RunPlan planRuns(const std::vector<std::string>& caseFiles, const PlanOptions& o
       throw std::invalid_argument("method " + method + " belongs to engine " + info.engine +
                                   ", which --engines does not select");
   }
-  const std::vector<std::string> engines =
+  // Without --engines: the engines that run by default, and those of the --methods named (an
+  // engine run by name only, such as newton, is named by its method as well as by --engines).
+  std::vector<std::string> engines =
       options.engines.empty() ? registry.defaultEngineNames() : options.engines;
+  if (options.engines.empty())
+    for (const std::string& method : options.methods)
+      if (!contains(engines, registry.method(method).engine))
+        engines.push_back(registry.method(method).engine);
 
   RunPlan plan;
   for (const std::string& file : caseFiles) {
