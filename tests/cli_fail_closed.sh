@@ -93,6 +93,19 @@ expect 2 '\xFF' -- "$pbdval" simulate "$work/utf8.json"
 expect 0 "pbdval gate: passed" -- "$pbdval" gate --baseline "$work/baseline.json" --results "$work/run"
 expect 2 'no case "no_such_case" in the baseline or the results' -- \
   "$pbdval" gate --baseline "$work/baseline.json" --results "$work/run" --cases no_such_case
+# --engines restricts both sides: a baseline of pbd and ode judges pbd's runs alone only when told.
+"$pbdval" run "$scene" --engines pbd,ode --out "$work/run_two" --no-trajectories --quiet >/dev/null ||
+  fail "pbdval run (two engines) failed"
+"$pbdval" baseline --results "$work/run_two" --out "$work/baseline_two.json" >/dev/null ||
+  fail "pbdval baseline (two engines) failed"
+expect 1 "run missing from the results" -- \
+  "$pbdval" gate --baseline "$work/baseline_two.json" --results "$work/run"
+expect 0 "pbdval gate: passed" -- \
+  "$pbdval" gate --baseline "$work/baseline_two.json" --results "$work/run" --engines pbd
+expect 2 "--engines: expected a comma-separated list of engine names" -- \
+  "$pbdval" gate --baseline "$work/baseline_two.json" --results "$work/run" --engines ,
+expect 2 "--engines: " -- \
+  "$pbdval" gate --baseline "$work/baseline_two.json" --results "$work/run" --engines no_such_engine
 python3 - "$work" <<'PY'
 import json, sys
 work = sys.argv[1]

@@ -1,5 +1,5 @@
 """The numbers README.md and docs/ state about the case library cannot go stale: each is checked
-against the plan `pbdval run cases --list-plan` prints and the committed baseline
+against the plan `scripts/validate` runs (`pbdval run cases --engines … --list-plan`) and the committed baseline
 (reports/baselines/main.json), recomputed from them by the rules docs/gate.md states, never
 copied from a run's output."""
 
@@ -27,8 +27,12 @@ UNGATED = ("wall_time_s", "steps", "real_time_factor")
 
 @pytest.fixture(scope="module")
 def plan() -> dict[str, Any]:
-    done = subprocess.run([str(pbdval_binary()), "run", "cases", "--list-plan"], cwd=REPO, capture_output=True,
-                          text=True, check=True)
+    # The plan scripts/validate runs: its engines are declared there (validated_engines=...).
+    declared = re.search(r"^validated_engines=(\S+)$", (REPO / "scripts" / "validate").read_text(encoding="utf-8"),
+                         re.MULTILINE)
+    assert declared, "scripts/validate no longer declares validated_engines=..."
+    done = subprocess.run([str(pbdval_binary()), "run", "cases", "--engines", declared[1], "--list-plan"], cwd=REPO,
+                          capture_output=True, text=True, check=True)
     document: dict[str, Any] = json.loads(done.stdout)
     return document
 

@@ -44,6 +44,22 @@ void restrictToCases(const std::vector<std::string>& cases, Baseline& baseline,
     it = wanted(it->first) ? std::next(it) : results.cases.erase(it);
 }
 
+/// Keeps only the runs of the named engines (`default`: those run when none is named) in both
+/// the baseline and the results: `--engines default` gates a run made without --engines against
+/// a baseline that also holds engines run by name only.
+void restrictToEngines(const std::vector<std::string>& named, const EngineRegistry& registry,
+                       Baseline& baseline, ResultsFile& results) {
+  const std::vector<std::string> engines = withDefaultEnginesExpanded(named, registry);
+  checkNames(registry, "--engines", engines);
+  auto unwanted = [&](const RunRecord& r) {
+    return std::find(engines.begin(), engines.end(), r.request.engine) == engines.end();
+  };
+  baseline.runs.erase(std::remove_if(baseline.runs.begin(), baseline.runs.end(), unwanted),
+                      baseline.runs.end());
+  results.runs.erase(std::remove_if(results.runs.begin(), results.runs.end(), unwanted),
+                     results.runs.end());
+}
+
 /// A case file's gate data as `pbdval run` would record it: its checks and tolerances, and the
 /// SHA-256 of its bytes; a file that is not a valid case keeps its hash and no checks.
 CaseFileReader caseFileReader(const EngineRegistry& engines) {
@@ -98,6 +114,9 @@ int gateCommand(const Context& context, const Arguments& arguments) {
       .option("json", "FILE",
               "also write every check's verdict as JSON (what 'pbdval report' shows)")
       .option("cases", "LIST", "compare only these cases (comma-separated); default: all")
+      .option("engines", "LIST",
+              "compare only the runs of these engines (comma-separated; 'default': those "
+              "'pbdval run' runs when none is named); default: all")
       .option("compare-as", "METHOD=BASELINE_METHOD",
               "compare only the results' runs of METHOD, with the baseline's runs of "
               "BASELINE_METHOD (an engine upgrade or another binding; repeatable)",
@@ -119,6 +138,8 @@ int gateCommand(const Context& context, const Arguments& arguments) {
   try {
     if (args.has("cases") && splitList(args.value("cases")).empty())
       return parser.usageError("--cases: expected a comma-separated list of case names");
+    if (args.has("engines") && splitList(args.value("engines")).empty())
+      return parser.usageError("--engines: expected a comma-separated list of engine names");
     // The reports must not replace what they report on, nor each other.
     checkOutputsAreNotInputs({{"--junit", args.value("junit")},
                               {"--markdown", args.value("markdown")},
@@ -131,6 +152,8 @@ int gateCommand(const Context& context, const Arguments& arguments) {
     refuseUnjudgeableResults(results, resultsPath);
     refuseOtherBuild(baseline, results);
     if (args.has("cases")) restrictToCases(splitList(args.value("cases")), baseline, results);
+    if (args.has("engines"))
+      restrictToEngines(splitList(args.value("engines")), context.engines, baseline, results);
     const std::vector<std::string> repinned = checkCaseFiles(
         baseline, results, caseFileReader(context.engines), args.flags.count("repin-cases") > 0);
     if (args.has("compare-as")) {
