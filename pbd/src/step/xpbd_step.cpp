@@ -43,7 +43,8 @@ Real detectionTolerance(const World& world) {
 
 void solvePositions(World& world, Real h) {
   const XpbdSettings& settings = world.settings.xpbd;
-  solveJointPositionsXpbd(world.joints, world.bodies, h, settings, world.xpbd.jointMultipliers);
+  solveJointPositionsXpbd(world.joints, world.xpbd.jointSchedule, world.bodies, h, settings,
+                          world.xpbd.jointMultipliers);
   // Stiff-rod trees: their own compliances, one direct solve per substep.
   for (StiffRodTreeSolver& tree : world.stiffRodTrees) {
     tree.beginSubstep(h);
@@ -59,7 +60,7 @@ void solvePositions(World& world, Real h) {
 }
 
 void solveVelocities(World& world, Real h) {
-  solveJointVelocitiesXpbd(world.joints, world.bodies);
+  solveJointVelocitiesXpbd(world.joints, world.xpbd.jointSchedule, world.bodies);
   const XpbdSettings& settings = world.settings.xpbd;
   if (settings.jointLinearDamping > 0 || settings.jointAngularDamping > 0)
     for (const JointDampingAnchor& anchor : world.xpbd.jointAnchors)
@@ -84,6 +85,7 @@ void prepareXpbd(World& world, const Scene& scene) {
         "XPBD settings: compliances, speculativeMargin and damping must be >= 0 (not NaN)");
   XpbdState& state = world.xpbd;
   state.jointMultipliers.assign(world.joints.size(), XpbdJointMultipliers::Zero());
+  state.jointSchedule = scheduleJointsXpbd(world.joints);
   state.jointAnchors.clear();
   const RigidBodyStates& rigid = world.bodies.rigid;
   for (int sceneIndex : world.jointSceneIndex) {
@@ -133,11 +135,10 @@ void stepWorldXpbd(World& world) {
   world.xpbd.contacts.initialise(world.contacts.geometry, world.bodies, world.materials, tolerance);
   for (int s = 0; s < substeps; ++s) {
     const Real substepEnd = startTime + static_cast<Real>(s + 1) * hs;
-    for (Joint& joint : world.joints)
-      std::visit([&](auto& j) { j.updateTarget(substepEnd); }, joint);
+    updateJointTargetsXpbd(world.joints, world.xpbd.jointSchedule, substepEnd);
     for (XpbdContact& contact : world.xpbd.contacts.contacts)
       contact.followSupportPoint(world.bodies);  // spheres: the rolling contact's new point
-    predictPositions(world, hs);
+    predictPositions(world, hs, /*keepLastState=*/false);  // first order: no last*
     for (XpbdContact& contact : world.xpbd.contacts.contacts)
       contact.beginSubstep(world.bodies);
     // Particle–tet contacts: detected on the predicted positions of every substep.

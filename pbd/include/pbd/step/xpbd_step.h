@@ -45,6 +45,7 @@ struct XpbdState {
   std::vector<XpbdJointMultipliers> jointMultipliers;  ///< λ of the last substep, per joint
   std::vector<Real> sampleRadius;                      ///< ρ_i per rigid body (m)
   std::vector<JointDampingAnchor> jointAnchors;        ///< per joint, in World::joints order
+  XpbdJointSchedule jointSchedule;                     ///< World::joints by type, for the loops
 };
 
 /// Sizes `state` for `world` (joints, contact capacity, sample radii) and fixes the joints'
