@@ -145,9 +145,9 @@ void solveJointPositionsXpbd(std::vector<Joint>& joints, const XpbdJointSchedule
       for (std::size_t j = run.begin; j < run.end; ++j, ++ball) {
         XpbdJointMultipliers& lambda = multipliers[j];
         lambda.setZero();
-        lambda.head<3>() += projectPointConstraint(bodies.rigid, ball->body0, ball->body1,
-                                                   ball->anchor0, ball->anchor1, ballCompliance,
-                                                   zero);
+        lambda.head<3>() +=
+            projectPointConstraint(bodies.rigid, ball->body0, ball->body1, ball->anchor0,
+                                   ball->anchor1, ballCompliance, zero);
       }
       continue;
     }
