@@ -15,7 +15,8 @@
 //   3. n times:
 //      - motors take their set point for the end of the substep;
 //      - predict: v ← v + h_s a, x ← x + h_s v; ω ← ω + h_s I_w⁻¹(τ − ω × I_w ω),
-//        q ← normalize(q + ½ h_s [0, ω] ⊗ q); contacts record their approach velocity ṽ_n;
+//        q ← normalize(q + ½ h_s [0, ω] ⊗ q); contacts with restitution record their approach
+//        velocity ṽ_n;
 //      - one position iteration: every joint (colouring order, joints/xpbd_joint.h) with
 //        λ reset, the particle distance and tet volume constraints (cloth and solid
 //        edges, tets: constraints/), then every contact (detection order,
