@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <variant>
 #include <vector>
 
 #include "common/joint_hold.h"
@@ -204,6 +205,59 @@ TEST(XpbdCompliance, CompliantDistanceJointIsASpringOfStiffnessOneOverAlpha) {
   // λ/h² = −C/α to round-off (relative to the force at the amplitude, k A, A = v₀/ω): a
   // few operations on C ~ A, whose absolute round-off ε |x| is 60 ε of A (x = 1 m).
   EXPECT_LE(worstForceError, 1000 * kEpsilon);
+}
+
+// The substep's joint schedule (XpbdJointSchedule): ball joints in a typed array, the others
+// through the variant, in runs that together are World::joints in its order; the motor targets
+// and the velocity pass only for the joint types that declare them (the target motors, and the
+// velocity motors: joints/xpbd_joint.h). Checked against the joints themselves, on a chain
+// whose joint types alternate.
+TEST(XpbdJointSchedule, KeepsTheJointOrderAndVisitsOnlyTheJointsThatNeedAPass) {
+  Scene s;
+  s.simulation.timeStepSize = Real(0.005);
+  s.rigidBodies.push_back(
+      test::boxBody(0, Vector3(0.2, 0.2, 0.2), Vector3(0, 2, 0), 1, /*dynamic=*/false));
+  test::appendChain(s, 7, JointType::Ball);
+  s.joints[2].type = JointType::Hinge;
+  s.joints[4].type = JointType::TargetVelocityMotorHinge;
+  s.joints[4].target = test::sequence({0, 0, 1, 3});
+  s.joints[5].type = JointType::TargetAngleMotorHinge;
+  s.joints[5].target = test::sequence({0, 0, 1, 1});
+  useXpbd(s, 4);
+  const World world = buildWorld(s);
+  const XpbdJointSchedule& schedule = world.xpbd.jointSchedule;
+
+  std::size_t next = 0, balls = 0;
+  std::vector<std::size_t> targets, velocityPasses;
+  for (std::size_t r = 0; r < schedule.runs.size(); ++r) {
+    const XpbdJointSchedule::Run& run = schedule.runs[r];
+    EXPECT_EQ(run.begin, next);  // contiguous, in World::joints order
+    EXPECT_LT(run.begin, run.end);
+    if (r > 0) {
+      EXPECT_NE(run.ball, schedule.runs[r - 1].ball);  // maximal runs
+    }
+    for (std::size_t j = run.begin; j < run.end; ++j) {
+      const bool ball = std::holds_alternative<BallJoint>(world.joints[j]);
+      EXPECT_EQ(run.ball, ball) << "joint " << j;
+      if (ball) {
+        ASSERT_EQ(run.firstBall + (j - run.begin), balls);
+        const XpbdJointSchedule::Ball& stored = schedule.balls[balls++];
+        EXPECT_EQ(stored.body0, jointEnds(world.joints[j]).body0);
+        EXPECT_EQ(stored.body1, jointEnds(world.joints[j]).body1);
+      }
+      const JointType type = jointType(world.joints[j]);
+      if (type == JointType::TargetVelocityMotorHinge || type == JointType::TargetAngleMotorHinge)
+        targets.push_back(j);
+      if (type == JointType::TargetVelocityMotorHinge) velocityPasses.push_back(j);
+    }
+    next = run.end;
+  }
+  EXPECT_EQ(next, world.joints.size());
+  EXPECT_EQ(balls, schedule.balls.size());
+  EXPECT_EQ(balls, 4u);  // joints 0, 1, 3, 6
+  EXPECT_EQ(schedule.withTarget, targets);
+  EXPECT_EQ(schedule.withVelocityPass, velocityPasses);
+  EXPECT_EQ(velocityPasses.size(), 1u);
 }
 
 // A chain of 10 links (0.1 m cubes, 10 g) from a static anchor holding a 1 kg cube (1:100),

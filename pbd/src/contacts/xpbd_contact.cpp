@@ -12,50 +12,87 @@ std::size_t at(int index) {
   return static_cast<std::size_t>(index);
 }
 
-/// One body's response to a unit impulse along the unit direction d at lever r: the inverse
-/// mass w = m⁻¹ + uᵀ I⁻¹ u with u = Rᵀ (r × d) in the principal frame (R the body's rotation q),
-/// and the rotation per unit impulse R (I⁻¹ ⊙ u) = I_w⁻¹ (r × d). Both from one evaluation of
-/// u: a row takes two quaternion rotations per body where computing w and then applying
-/// I_w⁻¹ (r × P) = R (I⁻¹ ⊙ Rᵀ (r × P)) took three. Zero for static bodies.
-struct Response {
-  bool dynamic = false;
-  Real inverseMass = 0;             ///< m⁻¹
-  Real generalizedInverseMass = 0;  ///< w
-  Vector3 rotationPerImpulse = Vector3::Zero();
+/// The bodies' rotations as the rows read them: the quaternions of the current poses (the
+/// position pass, where every row moves them), or rotation matrices formed once for a pass in
+/// which the poses do not change (the approach velocities and the velocity pass: a matrix turns
+/// a vector in 15 operations where a quaternion takes 30).
+struct QuaternionRotations {
+  const RigidBodyStates& bodies;
+  Vector3 toWorld(int body, const Vector3& v) const { return bodies.rotation[at(body)] * v; }
+  Vector3 toBody(int body, const Vector3& v) const {
+    return bodies.rotation[at(body)].conjugate() * v;
+  }
+};
+struct MatrixRotations {
+  const std::vector<Matrix3>& matrices;
+  Vector3 toWorld(int body, const Vector3& v) const { return matrices[at(body)] * v; }
+  Vector3 toBody(int body, const Vector3& v) const { return matrices[at(body)].transpose() * v; }
 };
 
-Response rigidResponse(const RigidBodyStates& b, int body, const Vector3& lever,
-                       const Vector3& direction) {
-  const std::size_t i = at(body);
+/// One body's response to a unit impulse along the unit direction d at lever r, from
+/// u = Rᵀ (r × d), r × d in the body's principal frame (R the body's rotation q): the inverse
+/// mass w = m⁻¹ + uᵀ D u (D = diag(I⁻¹)) and the rotation per unit impulse D u, also in the
+/// principal frame (I_w⁻¹ (r × d) = R D u). A position row turns the body in its own frame,
+/// q ← normalize(q + ½ q ⊗ [0, λ D u]) (the same update as ½ [0, R λ D u] ⊗ q), so it never
+/// rotates D u back; a velocity row rotates it once. Zero for static bodies.
+struct Response {
+  bool dynamic = false;
+  Real inverseMass = 0;                               ///< m⁻¹
+  Real generalizedInverseMass = 0;                    ///< w
+  Vector3 localRotationPerImpulse = Vector3::Zero();  ///< D u
+};
+
+Response localResponse(const RigidBodyStates& b, std::size_t i, const Vector3& u) {
   Response r;
-  if (!b.isDynamic(i)) return r;
-  const Quaternion& q = b.rotation[i];
-  const Vector3 u = q.conjugate() * lever.cross(direction);
-  const Vector3 scaled = b.inverseInertia[i].cwiseProduct(u);
   r.dynamic = true;
   r.inverseMass = b.inverseMass[i];
-  r.generalizedInverseMass = r.inverseMass + u.dot(scaled);
-  r.rotationPerImpulse = q * scaled;
+  r.localRotationPerImpulse = b.inverseInertia[i].cwiseProduct(u);
+  r.generalizedInverseMass = r.inverseMass + u.dot(r.localRotationPerImpulse);
   return r;
 }
 
-/// A positional impulse λ d on a rigid body: x += m⁻¹ λ d, q ← normalize(q + ½ [0, θ] ⊗ q)
-/// with θ = λ I_w⁻¹ (r × d).
+/// The response of `body` at lever r (world) along d (world): one inverse rotation.
+template <typename Rotations>
+Response rigidResponse(const RigidBodyStates& b, const Rotations& rotations, int body,
+                       const Vector3& lever, const Vector3& direction) {
+  const std::size_t i = at(body);
+  if (!b.isDynamic(i)) return {};
+  return localResponse(b, i, rotations.toBody(body, lever.cross(direction)));
+}
+
+/// The response of `body` given u = Rᵀ (r × d) itself (no rotation).
+Response rigidResponseFromLocal(const RigidBodyStates& b, int body, const Vector3& u) {
+  const std::size_t i = at(body);
+  if (!b.isDynamic(i)) return {};
+  return localResponse(b, i, u);
+}
+
+/// q ← normalize(q + ½ q ⊗ [0, θ]) for a turn θ in the body's principal frame
+/// (q ⊗ [0, θ] = [−q_v·θ, q_w θ + q_v × θ]: 20 operations where the full product takes 28).
+void turnInBodyFrame(Quaternion& q, const Vector3& turn) {
+  const Real scalar = -q.vec().dot(turn);
+  const Vector3 vector = q.w() * turn + q.vec().cross(turn);
+  q.w() += Real(0.5) * scalar;
+  q.vec() += Real(0.5) * vector;
+  q.normalize();
+}
+
+/// A positional impulse λ d on a rigid body: x += m⁻¹ λ d, q ← normalize(q + ½ q ⊗ [0, λ D u]).
 void applyRigidPosition(RigidBodyStates& b, int body, const Response& r, const Vector3& direction,
                         Real magnitude) {
   if (!r.dynamic) return;
   const std::size_t i = at(body);
   b.position[i] += (magnitude * r.inverseMass) * direction;
-  addAngularDisplacement(b.rotation[i], magnitude * r.rotationPerImpulse);
+  turnInBodyFrame(b.rotation[i], magnitude * r.localRotationPerImpulse);
 }
 
-/// A velocity impulse λ d on a rigid body: v += m⁻¹ λ d, ω += λ I_w⁻¹ (r × d).
-void applyRigidVelocity(RigidBodyStates& b, int body, const Response& r, const Vector3& direction,
-                        Real magnitude) {
+/// A velocity impulse λ d on a rigid body: v += m⁻¹ λ d, ω += λ R D u (= λ I_w⁻¹ (r × d)).
+void applyRigidVelocity(RigidBodyStates& b, const MatrixRotations& rotations, int body,
+                        const Response& r, const Vector3& direction, Real magnitude) {
   if (!r.dynamic) return;
   const std::size_t i = at(body);
   b.velocity[i] += (magnitude * r.inverseMass) * direction;
-  b.angularVelocity[i] += magnitude * r.rotationPerImpulse;
+  b.angularVelocity[i] += rotations.toWorld(body, magnitude * r.localRotationPerImpulse);
 }
 
 Vector3 rigidPointVelocity(const RigidBodyStates& b, int body, const Vector3& lever) {
@@ -71,28 +108,34 @@ struct ContactFrame {
   Vector3 material, anchor;          ///< p₀ᵐ, the anchor (static friction)
   Vector3 materialLever, anchorLever;
   Vector3 normal;
+  /// The normal row's surface point is the anchor R₁ a₁ and n = R₁ n₁ (every contact but a
+  /// sphere–sphere pair): then R₁ᵀ (r₁ × n) = a₁ × n₁, body 1's normal response without a
+  /// rotation.
+  bool surfaceIsAnchor = true;
 };
 
 /// The contact's frame at the current poses. `frictionPoints`: also the friction point and the
 /// anchor of a sphere's contact (the normal row and the velocity pass do not need them; for
 /// every other contact they are the normal row's points anyway).
+template <typename Rotations>
 ContactFrame currentFrame(const XpbdContact& c, const BodyStates& bodies,
-                          bool frictionPoints = true) {
+                          const Rotations& rotations, bool frictionPoints = true) {
   const RigidBodyStates& b = bodies.rigid;
   ContactFrame f;
-  const Quaternion& q1 = b.rotation[at(c.body)];
+  const auto q1 = [&](const Vector3& v) { return rotations.toWorld(c.body, v); };
+  const auto q0 = [&](const Vector3& v) { return rotations.toWorld(c.point, v); };
   const Vector3& x1 = b.position[at(c.body)];
   if (!(c.pointRadius > 0)) {
-    f.anchorLever = q1 * c.surfaceLocal;
+    f.anchorLever = q1(c.surfaceLocal);
     f.anchor = x1 + f.anchorLever;
     if (c.pointIsParticle) {
       f.material = bodies.particles.position[at(c.point)];
       f.materialLever = Vector3::Zero();
     } else {
-      f.materialLever = b.rotation[at(c.point)] * c.pointLocal;
+      f.materialLever = q0(c.pointLocal);
       f.material = b.position[at(c.point)] + f.materialLever;
     }
-    f.normal = q1 * c.normalLocal;
+    f.normal = q1(c.normalLocal);
     f.surface = f.anchor;
     f.surfaceLever = f.anchorLever;
     f.point = f.material;
@@ -100,24 +143,24 @@ ContactFrame currentFrame(const XpbdContact& c, const BodyStates& bodies,
     return f;
   }
   // A sphere (body 0): its centre, usually its centre of mass (no rotation needed then).
-  const Quaternion& q0 = b.rotation[at(c.point)];
   const Vector3& x0 = b.position[at(c.point)];
-  const Vector3 center0 = c.pointCenterLocal.isZero(0) ? x0 : Vector3(x0 + q0 * c.pointCenterLocal);
+  const Vector3 center0 = c.pointCenterLocal.isZero(0) ? x0 : Vector3(x0 + q0(c.pointCenterLocal));
   if (c.bodyRadius > 0) {
-    const Vector3 center1 = c.bodyCenterLocal.isZero(0) ? x1 : Vector3(x1 + q1 * c.bodyCenterLocal);
+    const Vector3 center1 = c.bodyCenterLocal.isZero(0) ? x1 : Vector3(x1 + q1(c.bodyCenterLocal));
     const Vector3 between = center0 - center1;
     const Real length = between.norm();
     // Coincident centres: the detected normal.
-    f.normal = length > 0 ? Vector3(between / length) : Vector3(q1 * c.normalLocal);
+    f.normal = length > 0 ? Vector3(between / length) : Vector3(q1(c.normalLocal));
+    f.surfaceIsAnchor = false;
     f.surface = center1 + c.bodyRadius * f.normal;
     f.surfaceLever = f.surface - x1;
     if (frictionPoints) {
-      f.anchorLever = q1 * c.surfaceLocal;
+      f.anchorLever = q1(c.surfaceLocal);
       f.anchor = x1 + f.anchorLever;
     }
   } else {
-    f.normal = q1 * c.normalLocal;
-    f.anchorLever = q1 * c.surfaceLocal;
+    f.normal = q1(c.normalLocal);
+    f.anchorLever = q1(c.surfaceLocal);
     f.anchor = x1 + f.anchorLever;
     f.surface = f.anchor;
     f.surfaceLever = f.anchorLever;
@@ -125,7 +168,7 @@ ContactFrame currentFrame(const XpbdContact& c, const BodyStates& bodies,
   f.point = center0 - c.pointRadius * f.normal;
   f.pointLever = f.point - x0;
   if (frictionPoints) {
-    f.materialLever = q0 * c.pointLocal;
+    f.materialLever = q0(c.pointLocal);
     f.material = x0 + f.materialLever;
   }
   return f;
@@ -137,16 +180,35 @@ struct PairResponse {
   Real inverseMass() const { return point.generalizedInverseMass + surface.generalizedInverseMass; }
 };
 
-PairResponse pairResponse(const XpbdContact& c, const BodyStates& bodies, const Vector3& pointLever,
+template <typename Rotations>
+PairResponse pairResponse(const XpbdContact& c, const BodyStates& bodies,
+                          const Rotations& rotations, const Vector3& pointLever,
                           const Vector3& surfaceLever, const Vector3& direction) {
   PairResponse r;
   if (c.pointIsParticle) {
     r.point.inverseMass = r.point.generalizedInverseMass =
         bodies.particles.inverseMass[at(c.point)];
   } else {
-    r.point = rigidResponse(bodies.rigid, c.point, pointLever, direction);
+    r.point = rigidResponse(bodies.rigid, rotations, c.point, pointLever, direction);
   }
-  r.surface = rigidResponse(bodies.rigid, c.body, surfaceLever, direction);
+  r.surface = rigidResponse(bodies.rigid, rotations, c.body, surfaceLever, direction);
+  return r;
+}
+
+/// The responses along the contact's normal at the normal row's points.
+template <typename Rotations>
+PairResponse normalResponse(const XpbdContact& c, const BodyStates& bodies,
+                            const Rotations& rotations, const ContactFrame& f) {
+  if (!f.surfaceIsAnchor)
+    return pairResponse(c, bodies, rotations, f.pointLever, f.surfaceLever, f.normal);
+  PairResponse r;
+  if (c.pointIsParticle) {
+    r.point.inverseMass = r.point.generalizedInverseMass =
+        bodies.particles.inverseMass[at(c.point)];
+  } else {
+    r.point = rigidResponse(bodies.rigid, rotations, c.point, f.pointLever, f.normal);
+  }
+  r.surface = rigidResponseFromLocal(bodies.rigid, c.body, c.surfaceLocal.cross(c.normalLocal));
   return r;
 }
 
@@ -161,13 +223,14 @@ void applyPositionImpulse(const XpbdContact& c, BodyStates& bodies, const PairRe
 }
 
 /// +λ d on body 0, −λ d on body 1 (velocities).
-void applyVelocityImpulse(const XpbdContact& c, BodyStates& bodies, const PairResponse& r,
+void applyVelocityImpulse(const XpbdContact& c, BodyStates& bodies,
+                          const MatrixRotations& rotations, const PairResponse& r,
                           const Vector3& direction, Real magnitude) {
   if (c.pointIsParticle)
     bodies.particles.velocity[at(c.point)] += (magnitude * r.point.inverseMass) * direction;
   else
-    applyRigidVelocity(bodies.rigid, c.point, r.point, direction, magnitude);
-  applyRigidVelocity(bodies.rigid, c.body, r.surface, direction, -magnitude);
+    applyRigidVelocity(bodies.rigid, rotations, c.point, r.point, direction, magnitude);
+  applyRigidVelocity(bodies.rigid, rotations, c.body, r.surface, direction, -magnitude);
 }
 
 /// u = (v₀ + ω₀ × r₀) − (v₁ + ω₁ × r₁) at p₀ and p₁.
@@ -227,7 +290,7 @@ void XpbdContact::init(const ContactPointGeometry& geometry, bool particle,
 
 void XpbdContact::followSupportPoint(const BodyStates& bodies) {
   if (!(pointRadius > 0)) return;
-  const ContactFrame f = currentFrame(*this, bodies);
+  const ContactFrame f = currentFrame(*this, bodies, QuaternionRotations{bodies.rigid});
   const Vector3 slip = tangentialPart(f.material - f.anchor, f.normal);  // not yet undone
   const Vector3 anchor = f.point - slip - f.normal.dot(f.point - f.surface) * f.normal;
   const RigidBodyStates& b = bodies.rigid;
@@ -235,41 +298,43 @@ void XpbdContact::followSupportPoint(const BodyStates& bodies) {
   surfaceLocal = b.rotation[at(body)].conjugate() * (anchor - b.position[at(body)]);
 }
 
-void XpbdContact::beginSubstep(const BodyStates& bodies) {
+void XpbdContact::beginSubstep(const BodyStates& bodies, const std::vector<Matrix3>& rotations) {
   normalMultiplier = 0;
   tangentMultiplier = 0;
-  const ContactFrame f = currentFrame(*this, bodies, /*frictionPoints=*/false);
+  if (!(restitution > 0)) return;  // ṽ_n only sets the restitution target (e = 0: none)
+  const ContactFrame f =
+      currentFrame(*this, bodies, MatrixRotations{rotations}, /*frictionPoints=*/false);
   approachVelocity = f.normal.dot(relativeVelocity(*this, bodies, f));
 }
 
 void XpbdContact::solvePosition(BodyStates& bodies, Real substepSize, Real compliance) {
-  ContactFrame f = currentFrame(*this, bodies, /*frictionPoints=*/false);
+  const QuaternionRotations rotations{bodies.rigid};
+  ContactFrame f = currentFrame(*this, bodies, rotations, /*frictionPoints=*/false);
   const Real c = f.normal.dot(f.point - f.surface);
   if (!(c < 0)) {
     // Not touching: the anchor follows the point.
-    reanchor(*this, bodies, pointRadius > 0 ? currentFrame(*this, bodies) : f);
+    reanchor(*this, bodies, pointRadius > 0 ? currentFrame(*this, bodies, rotations) : f);
     return;
   }
   // Normal row.
   const Real scaledCompliance = compliance / (substepSize * substepSize);  // α̃ = α/h²
-  const PairResponse normalResponse =
-      pairResponse(*this, bodies, f.pointLever, f.surfaceLever, f.normal);
-  const Real w = normalResponse.inverseMass();
+  const PairResponse normal = normalResponse(*this, bodies, rotations, f);
+  const Real w = normal.inverseMass();
   if (!(w + scaledCompliance > 0)) return;
   const Real deltaNormal = (-c - scaledCompliance * normalMultiplier) / (w + scaledCompliance);
   normalMultiplier += deltaNormal;
-  applyPositionImpulse(*this, bodies, normalResponse, f.normal, deltaNormal);
+  applyPositionImpulse(*this, bodies, normal, f.normal, deltaNormal);
 
   // Static friction: the tangential offset of p₀ᵐ from its anchor, C_t = |d_t|, removed by
   // Δλ_t = C_t / w_t, clamped to the cone μ λ_n; when clamped the point slides and the anchor
   // moves under it.
-  f = currentFrame(*this, bodies);
+  f = currentFrame(*this, bodies, rotations);
   const Vector3 tangential = tangentialPart(f.material - f.anchor, f.normal);
   const Real slip = tangential.norm();
   if (!(slip > 0)) return;
   const Vector3 direction = tangential / slip;
   const PairResponse tangentResponse =
-      pairResponse(*this, bodies, f.materialLever, f.anchorLever, direction);
+      pairResponse(*this, bodies, rotations, f.materialLever, f.anchorLever, direction);
   const Real wt = tangentResponse.inverseMass();
   if (!(wt > 0)) return;
   const Real budget = std::max(Real(0), friction * normalMultiplier - tangentMultiplier);
@@ -277,22 +342,22 @@ void XpbdContact::solvePosition(BodyStates& bodies, Real substepSize, Real compl
   const Real deltaTangent = std::min(wanted, budget);
   tangentMultiplier += deltaTangent;
   applyPositionImpulse(*this, bodies, tangentResponse, direction, -deltaTangent);
-  if (wanted > budget) reanchor(*this, bodies, currentFrame(*this, bodies));
+  if (wanted > budget) reanchor(*this, bodies, currentFrame(*this, bodies, rotations));
 }
 
-void XpbdContact::solveVelocity(BodyStates& bodies, Real substepSize,
-                                Real restitutionThreshold) const {
+void XpbdContact::solveVelocity(BodyStates& bodies, const std::vector<Matrix3>& rotationMatrices,
+                                Real substepSize, Real restitutionThreshold) const {
   if (!(normalMultiplier > 0)) return;
-  const ContactFrame f = currentFrame(*this, bodies, /*frictionPoints=*/false);
+  const MatrixRotations rotations{rotationMatrices};
+  const ContactFrame f = currentFrame(*this, bodies, rotations, /*frictionPoints=*/false);
   // Restitution: the normal velocity becomes max(−e ṽ_n, 0), by a normal impulse P_n.
   const Real normalVelocity = f.normal.dot(relativeVelocity(*this, bodies, f));
   const Real e = std::abs(approachVelocity) <= restitutionThreshold ? Real(0) : restitution;
-  const Real target = std::max(-e * approachVelocity, Real(0));
-  const PairResponse normalResponse =
-      pairResponse(*this, bodies, f.pointLever, f.surfaceLever, f.normal);
-  const Real wn = normalResponse.inverseMass();
+  const Real target = e > 0 ? std::max(-e * approachVelocity, Real(0)) : Real(0);
+  const PairResponse normal = normalResponse(*this, bodies, rotations, f);
+  const Real wn = normal.inverseMass();
   const Real normalImpulse = wn > 0 ? (target - normalVelocity) / wn : Real(0);
-  applyVelocityImpulse(*this, bodies, normalResponse, f.normal, normalImpulse);
+  applyVelocityImpulse(*this, bodies, rotations, normal, f.normal, normalImpulse);
 
   // Dynamic friction against the sliding velocity, within what the substep's Coulomb bound
   // μ (λ_n/h + P_n) leaves after the static friction impulse λ_t/h.
@@ -304,14 +369,33 @@ void XpbdContact::solveVelocity(BodyStates& bodies, Real substepSize,
   if (!(speed > 0)) return;
   const Vector3 direction = sliding / speed;
   const PairResponse tangentResponse =
-      pairResponse(*this, bodies, f.pointLever, f.surfaceLever, direction);
+      pairResponse(*this, bodies, rotations, f.pointLever, f.surfaceLever, direction);
   const Real wt = tangentResponse.inverseMass();
   if (!(wt > 0)) return;
-  applyVelocityImpulse(*this, bodies, tangentResponse, direction, -std::min(budget, speed / wt));
+  applyVelocityImpulse(*this, bodies, rotations, tangentResponse, direction,
+                       -std::min(budget, speed / wt));
 }
 
-void XpbdContactSet::reserve(const ContactGeometryBuffer& geometry) {
+void XpbdContactSet::reserve(const ContactGeometryBuffer& geometry, std::size_t rigidBodies) {
   contacts.reserve(geometry.rigid.capacity() + geometry.particle.capacity());
+  rotations.assign(rigidBodies, Matrix3::Identity());
+}
+
+void XpbdContactSet::formRotations(const RigidBodyStates& bodies) {
+  for (std::size_t i = 0; i < rotations.size(); ++i)
+    rotations[i] = bodies.rotation[i].toRotationMatrix();
+}
+
+bool XpbdContactSet::anyRestitution() const {
+  for (const XpbdContact& contact : contacts)
+    if (contact.restitution > 0) return true;
+  return false;
+}
+
+bool XpbdContactSet::anyActive() const {
+  for (const XpbdContact& contact : contacts)
+    if (contact.normalMultiplier > 0) return true;
+  return false;
 }
 
 void XpbdContactSet::initialise(const ContactGeometryBuffer& geometry, const BodyStates& bodies,

@@ -1,5 +1,8 @@
 #include "pbd/joints/xpbd_joint.h"
 
+#include <type_traits>
+#include <variant>
+
 namespace pbd {
 namespace {
 
@@ -86,27 +89,81 @@ void solve(StretchBendingTwistingJoint& joint, BodyStates& bodies, Real substepS
   multipliers += joint.project(bodies, compliance, multipliers);
 }
 
+/// Whether T's per-substep hooks do anything: a type that does not declare its own inherits
+/// JointDefaults' empty one.
+template <typename T>
+constexpr bool hasTarget =
+    !std::is_same_v<decltype(&T::updateTarget), void (JointDefaults::*)(Real)>;
+template <typename T>
+constexpr bool hasVelocityPass =
+    !std::is_same_v<decltype(&T::solveVelocity), void (JointDefaults::*)(BodyStates&)>;
+static_assert(!hasTarget<BallJoint> && !hasVelocityPass<BallJoint> &&
+                  hasTarget<TargetVelocityMotorSliderJoint> &&
+                  hasVelocityPass<TargetVelocityMotorSliderJoint>,
+              "the hooks are told apart from JointDefaults' empty ones");
+
 }  // namespace
 
-void solveJointPositionsXpbd(std::vector<Joint>& joints, BodyStates& bodies, Real substepSize,
-                             const XpbdSettings& settings,
-                             std::vector<XpbdJointMultipliers>& multipliers) {
+XpbdJointSchedule scheduleJointsXpbd(const std::vector<Joint>& joints) {
+  XpbdJointSchedule schedule;
   for (std::size_t j = 0; j < joints.size(); ++j) {
-    XpbdJointMultipliers& lambda = multipliers[j];
-    lambda.setZero();
-    // Ball joints (the chains) without the call through the variant's table: 34 instructions a
-    // joint and substep (bench/callgrind_step.py on chain_100); the same solve either way.
-    if (BallJoint* ball = std::get_if<BallJoint>(&joints[j]))
-      solve(*ball, bodies, substepSize, settings, lambda);
-    else
+    const BallJoint* ball = std::get_if<BallJoint>(&joints[j]);
+    if (schedule.runs.empty() || schedule.runs.back().ball != (ball != nullptr))
+      schedule.runs.push_back({j, j, ball != nullptr, schedule.balls.size()});
+    schedule.runs.back().end = j + 1;
+    if (ball) {
+      const PointAxisFrames& frames = ball->frames();
+      schedule.balls.push_back(
+          {frames.body0, frames.body1, frames.anchor0.inBody, frames.anchor1.inBody});
+    }
+    std::visit(
+        [&](const auto& joint) {
+          using T = std::decay_t<decltype(joint)>;
+          if (hasTarget<T>) schedule.withTarget.push_back(j);
+          if (hasVelocityPass<T>) schedule.withVelocityPass.push_back(j);
+        },
+        joints[j]);
+  }
+  return schedule;
+}
+
+void updateJointTargetsXpbd(std::vector<Joint>& joints, const XpbdJointSchedule& schedule,
+                            Real time) {
+  for (std::size_t j : schedule.withTarget)
+    std::visit([&](auto& joint) { joint.updateTarget(time); }, joints[j]);
+}
+
+void solveJointPositionsXpbd(std::vector<Joint>& joints, const XpbdJointSchedule& schedule,
+                             BodyStates& bodies, Real substepSize, const XpbdSettings& settings,
+                             std::vector<XpbdJointMultipliers>& multipliers) {
+  // Ball joints: α̃ = α/h² once per substep, and λ from zero, as BallJoint's own solve.
+  const Real ballCompliance = settings.jointLinearCompliance / (substepSize * substepSize);
+  const Vector3 zero = Vector3::Zero();
+  for (const XpbdJointSchedule::Run& run : schedule.runs) {
+    if (run.ball) {
+      const XpbdJointSchedule::Ball* ball = schedule.balls.data() + run.firstBall;
+      for (std::size_t j = run.begin; j < run.end; ++j, ++ball) {
+        XpbdJointMultipliers& lambda = multipliers[j];
+        lambda.setZero();
+        lambda.head<3>() +=
+            projectPointConstraint(bodies.rigid, ball->body0, ball->body1, ball->anchor0,
+                                   ball->anchor1, ballCompliance, zero);
+      }
+      continue;
+    }
+    for (std::size_t j = run.begin; j < run.end; ++j) {
+      XpbdJointMultipliers& lambda = multipliers[j];
+      lambda.setZero();
       std::visit([&](auto& joint) { solve(joint, bodies, substepSize, settings, lambda); },
                  joints[j]);
+    }
   }
 }
 
-void solveJointVelocitiesXpbd(std::vector<Joint>& joints, BodyStates& bodies) {
-  for (Joint& joint : joints)
-    std::visit([&](auto& j) { j.solveVelocity(bodies); }, joint);
+void solveJointVelocitiesXpbd(std::vector<Joint>& joints, const XpbdJointSchedule& schedule,
+                              BodyStates& bodies) {
+  for (std::size_t j : schedule.withVelocityPass)
+    std::visit([&](auto& joint) { joint.solveVelocity(bodies); }, joints[j]);
 }
 
 }  // namespace pbd

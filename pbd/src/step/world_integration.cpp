@@ -15,21 +15,23 @@ void resetAccelerations(World& world) {
     particles.acceleration[i] = particles.inverseMass[i] > 0 ? g : Vector3::Zero();
 }
 
-void predictPositions(World& world, Real h) {
+void predictPositions(World& world, Real h, bool keepLastState) {
   auto& b = world.bodies.rigid;
   for (std::size_t i = 0; i < b.size(); ++i) {
-    b.lastPosition[i] = b.oldPosition[i];
+    if (keepLastState) {
+      b.lastPosition[i] = b.oldPosition[i];
+      b.lastRotation[i] = b.oldRotation[i];
+    }
     b.oldPosition[i] = b.position[i];
     integration::semiImplicitEuler(h, b.inverseMass[i], b.position[i], b.velocity[i],
                                    b.acceleration[i]);
-    b.lastRotation[i] = b.oldRotation[i];
     b.oldRotation[i] = b.rotation[i];
     integration::semiImplicitEulerRotation(h, b.inverseMass[i], b.inertia[i], b.inverseInertia[i],
                                            b.rotation[i], b.angularVelocity[i], b.torque[i]);
   }
   auto& p = world.bodies.particles;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    p.lastPosition[i] = p.oldPosition[i];
+    if (keepLastState) p.lastPosition[i] = p.oldPosition[i];
     p.oldPosition[i] = p.position[i];
     integration::semiImplicitEuler(h, p.inverseMass[i], p.position[i], p.velocity[i],
                                    p.acceleration[i]);
@@ -47,29 +49,31 @@ void predictPositions(World& world, Real h) {
 }
 
 void updateVelocities(World& world, Real h, bool secondOrder) {
+  const Real inverseStep = Real(1) / h;
+  const Real twoOverStep = Real(2) / h;
   auto& b = world.bodies.rigid;
   for (std::size_t i = 0; i < b.size(); ++i) {
     if (secondOrder)
-      integration::velocityUpdateSecondOrder(h, b.inverseMass[i], b.position[i], b.oldPosition[i],
-                                             b.lastPosition[i], b.velocity[i]);
+      integration::velocityUpdateSecondOrder(inverseStep, b.inverseMass[i], b.position[i],
+                                             b.oldPosition[i], b.lastPosition[i], b.velocity[i]);
     else
-      integration::velocityUpdateFirstOrder(h, b.inverseMass[i], b.position[i], b.oldPosition[i],
-                                            b.velocity[i]);
-    integration::angularVelocityUpdateFirstOrder(h, b.inverseMass[i], b.rotation[i],
+      integration::velocityUpdateFirstOrder(inverseStep, b.inverseMass[i], b.position[i],
+                                            b.oldPosition[i], b.velocity[i]);
+    integration::angularVelocityUpdateFirstOrder(twoOverStep, b.inverseMass[i], b.rotation[i],
                                                  b.oldRotation[i], b.angularVelocity[i]);
   }
   auto& p = world.bodies.particles;
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (secondOrder)
-      integration::velocityUpdateSecondOrder(h, p.inverseMass[i], p.position[i], p.oldPosition[i],
-                                             p.lastPosition[i], p.velocity[i]);
+      integration::velocityUpdateSecondOrder(inverseStep, p.inverseMass[i], p.position[i],
+                                             p.oldPosition[i], p.lastPosition[i], p.velocity[i]);
     else
-      integration::velocityUpdateFirstOrder(h, p.inverseMass[i], p.position[i], p.oldPosition[i],
-                                            p.velocity[i]);
+      integration::velocityUpdateFirstOrder(inverseStep, p.inverseMass[i], p.position[i],
+                                            p.oldPosition[i], p.velocity[i]);
   }
   auto& r = world.bodies.segments;  // first order in both modes, as the seed's angular update
   for (std::size_t i = 0; i < r.size(); ++i)
-    integration::angularVelocityUpdateFirstOrder(h, r.inverseMass[i], r.rotation[i],
+    integration::angularVelocityUpdateFirstOrder(twoOverStep, r.inverseMass[i], r.rotation[i],
                                                  r.oldRotation[i], r.angularVelocity[i]);
 }
 

@@ -43,7 +43,8 @@ Real detectionTolerance(const World& world) {
 
 void solvePositions(World& world, Real h) {
   const XpbdSettings& settings = world.settings.xpbd;
-  solveJointPositionsXpbd(world.joints, world.bodies, h, settings, world.xpbd.jointMultipliers);
+  solveJointPositionsXpbd(world.joints, world.xpbd.jointSchedule, world.bodies, h, settings,
+                          world.xpbd.jointMultipliers);
   // Stiff-rod trees: their own compliances, one direct solve per substep.
   for (StiffRodTreeSolver& tree : world.stiffRodTrees) {
     tree.beginSubstep(h);
@@ -59,15 +60,18 @@ void solvePositions(World& world, Real h) {
 }
 
 void solveVelocities(World& world, Real h) {
-  solveJointVelocitiesXpbd(world.joints, world.bodies);
+  solveJointVelocitiesXpbd(world.joints, world.xpbd.jointSchedule, world.bodies);
   const XpbdSettings& settings = world.settings.xpbd;
   if (settings.jointLinearDamping > 0 || settings.jointAngularDamping > 0)
     for (const JointDampingAnchor& anchor : world.xpbd.jointAnchors)
       dampJoint(world.bodies.rigid, anchor, settings.jointLinearDamping,
                 settings.jointAngularDamping, h);
   const Real restitutionThreshold = 2 * world.settings.gravitation.norm() * h;  // 2|g|h
-  for (const XpbdContact& contact : world.xpbd.contacts.contacts)
-    contact.solveVelocity(world.bodies, h, restitutionThreshold);
+  XpbdContactSet& contacts = world.xpbd.contacts;
+  if (!contacts.anyActive()) return;
+  contacts.formRotations(world.bodies.rigid);  // the poses are fixed in the velocity pass
+  for (const XpbdContact& contact : contacts.contacts)
+    contact.solveVelocity(world.bodies, contacts.rotations, h, restitutionThreshold);
 }
 
 }  // namespace
@@ -84,6 +88,7 @@ void prepareXpbd(World& world, const Scene& scene) {
         "XPBD settings: compliances, speculativeMargin and damping must be >= 0 (not NaN)");
   XpbdState& state = world.xpbd;
   state.jointMultipliers.assign(world.joints.size(), XpbdJointMultipliers::Zero());
+  state.jointSchedule = scheduleJointsXpbd(world.joints);
   state.jointAnchors.clear();
   const RigidBodyStates& rigid = world.bodies.rigid;
   for (int sceneIndex : world.jointSceneIndex) {
@@ -112,7 +117,7 @@ void prepareXpbd(World& world, const Scene& scene) {
     }
     state.jointAnchors.push_back(anchor);
   }
-  state.contacts.reserve(world.contacts.geometry);
+  state.contacts.reserve(world.contacts.geometry, world.bodies.rigid.size());
   const RigidBodyStates& b = world.bodies.rigid;
   state.sampleRadius.assign(b.size(), 0);
   for (std::size_t i = 0; i < b.size() && i < world.collision.rigidBodyCount(); ++i)
@@ -131,15 +136,16 @@ void stepWorldXpbd(World& world) {
   const Real tolerance = detectionTolerance(world);
   world.collision.detect(world.bodies, tolerance, world.contacts.geometry);
   world.xpbd.contacts.initialise(world.contacts.geometry, world.bodies, world.materials, tolerance);
+  const bool hasRestitution = world.xpbd.contacts.anyRestitution();
   for (int s = 0; s < substeps; ++s) {
     const Real substepEnd = startTime + static_cast<Real>(s + 1) * hs;
-    for (Joint& joint : world.joints)
-      std::visit([&](auto& j) { j.updateTarget(substepEnd); }, joint);
+    updateJointTargetsXpbd(world.joints, world.xpbd.jointSchedule, substepEnd);
     for (XpbdContact& contact : world.xpbd.contacts.contacts)
       contact.followSupportPoint(world.bodies);  // spheres: the rolling contact's new point
-    predictPositions(world, hs);
+    predictPositions(world, hs, /*keepLastState=*/false);  // first order: no last*
+    if (hasRestitution) world.xpbd.contacts.formRotations(world.bodies.rigid);
     for (XpbdContact& contact : world.xpbd.contacts.contacts)
-      contact.beginSubstep(world.bodies);
+      contact.beginSubstep(world.bodies, world.xpbd.contacts.rotations);
     // Particle–tet contacts: detected on the predicted positions of every substep.
     world.collision.detectParticleTet(world.bodies.particles, world.tetContacts.geometry);
     world.tetContacts.initialise(world.bodies.particles, world.materials);

@@ -15,13 +15,19 @@
 //   Δλ_n = (−C − α̃ λ_n)/(w₀ + w₁ + α̃),  α̃ = α/h²,  w_k = m_k⁻¹ + (r_k × n)ᵀ I_k⁻¹ (r_k × n);
 //   positional impulse P = Δλ_n n at p₀ on body 0 and −P at p₁ on body 1:
 //   x₀ += m₀⁻¹ P, q₀ ← normalize(q₀ + ½ [0, I₀⁻¹ (r₀ × P)] ⊗ q₀), body 1 likewise with −P.
+//   Evaluated in each body's principal frame (R_k the rotation q_k, D_k = diag(I_k⁻¹)):
+//   u_k = R_kᵀ (r_k × n), w_k = m_k⁻¹ + u_kᵀ D_k u_k, and the turn as
+//   q_k ← normalize(q_k + ½ q_k ⊗ [0, Δλ D_k u_k]) (the same update: [0, R v] ⊗ q = q ⊗ [0, v]),
+//   one inverse rotation per body and row, none for body 1 of a normal row
+//   (R₁ᵀ (R₁ a₁ × R₁ n₁) = a₁ × n₁, a₁ the anchor and n₁ the normal in its frame).
 //   Static friction: d_t = the tangential part of p₀ − p₁, C_t = |d_t|, t = d_t / C_t,
 //   Δλ_t = min(C_t / w_t, μ λ_n − λ_t) along −t. Unclamped, the point sticks to its anchor;
 //   clamped, it slides (the Coulomb bound at position level) and the anchor moves under it
 //   (p₁ ← p₀ − (n·(p₀ − p₁)) n); an inactive contact's anchor follows its point likewise.
 // Velocity level, per substep, for contacts active in the substep (λ_n > 0):
 //   u = (v₀ + ω₀ × r₀) − (v₁ + ω₁ × r₁), v_n = n·u, u_t = u − v_n n;
-//   restitution: v_n → max(−e ṽ_n, 0), ṽ_n the normal velocity after the substep's prediction;
+//   restitution: v_n → max(−e ṽ_n, 0), ṽ_n the normal velocity after the substep's prediction
+//   (recorded only for contacts with e > 0; with e = 0 the target is 0);
 //   e = 0 when |ṽ_n| ≤ 2|g|h (the paper's jitter threshold);
 //   dynamic friction: an impulse against u_t of magnitude min((μ λ_n − λ_t)/h, |u_t|/w_t) —
 //   what the Coulomb bound μ f_n h (f_n = λ_n/h²) leaves after the static friction.
@@ -86,20 +92,32 @@ struct XpbdContact {
   /// Sphere contacts: makes the current support point the friction point and moves the anchor
   /// with it, keeping the slip not yet undone (call before the prediction). Others: nothing.
   void followSupportPoint(const BodyStates& bodies);
-  /// Resets λ and records ṽ_n (call after the prediction).
-  void beginSubstep(const BodyStates& bodies);
+  /// Resets λ and, when the contact has restitution, records ṽ_n (call after the prediction,
+  /// `rotations` the bodies' rotation matrices at the predicted poses, when any contact has
+  /// restitution: XpbdContactSet::formRotations).
+  void beginSubstep(const BodyStates& bodies, const std::vector<Matrix3>& rotations);
   /// Normal projection and static friction (moves the anchor when the point slides).
   void solvePosition(BodyStates& bodies, Real substepSize, Real compliance);
-  /// Restitution and dynamic friction.
-  void solveVelocity(BodyStates& bodies, Real substepSize, Real restitutionThreshold) const;
+  /// Restitution and dynamic friction; `rotations` the bodies' rotation matrices at the current
+  /// poses (XpbdContactSet::formRotations after the position pass: the velocity pass does not
+  /// move the bodies).
+  void solveVelocity(BodyStates& bodies, const std::vector<Matrix3>& rotations, Real substepSize,
+                     Real restitutionThreshold) const;
 };
 
 /// The XPBD contacts of one step, in detection order (rigid points, then particles). Sized
 /// once at world build; a step allocates nothing.
 struct XpbdContactSet {
   std::vector<XpbdContact> contacts;
+  /// R_k of every rigid body, formed once for a pass that does not move the bodies (the
+  /// approach velocities, the velocity pass): a matrix rotates a vector in 15 operations, a
+  /// quaternion in 30, and each contact row rotates several.
+  std::vector<Matrix3> rotations;
 
-  void reserve(const ContactGeometryBuffer& geometry);
+  void reserve(const ContactGeometryBuffer& geometry, std::size_t rigidBodies);
+  void formRotations(const RigidBodyStates& bodies);
+  bool anyRestitution() const;  ///< of the step's contacts
+  bool anyActive() const;       ///< λ_n > 0 in the current substep
   void initialise(const ContactGeometryBuffer& geometry, const BodyStates& bodies,
                   const ContactMaterials& materials, Real contactTolerance);
 };

@@ -30,6 +30,7 @@ class BallJoint : public JointDefaults {
   ConstraintRows<kRows> positionRows(const BodyStates& bodies) const;
   JointError error(const BodyStates& bodies) const;
   JointEnds ends() const { return frames_.ends(); }
+  const PointAxisFrames& frames() const { return frames_; }
 
  private:
   PointAxisFrames frames_;

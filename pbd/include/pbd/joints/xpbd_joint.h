@@ -35,16 +35,56 @@ namespace pbd {
 /// λ of one joint (rows beyond the joint's kRows unused).
 using XpbdJointMultipliers = Eigen::Matrix<Real, 6, 1>;
 
+/// The joints of World::joints arranged once for the substep's loops, so that a joint costs
+/// no more per substep than its own work (bench/callgrind_step.py on chain_100,
+/// docs/benchmarks.md#the-xpbd-substep-at-its-operation-count-issue-30):
+///   - ball joints (the chains) are stored by type, their bodies and principal-frame anchors in
+///     one contiguous array solved by a typed loop that calls the point-constraint solve
+///     directly (no variant dispatch, no per-joint reload of the joint's frames);
+///   - the joints' order is kept: the position pass walks runs of consecutive joints of one
+///     kind (ball joints in the typed loop, the others through the variant), so the Gauss–Seidel
+///     order and every result are those of one loop over World::joints;
+///   - the motor targets and the velocity pass visit only the joints that have them (the
+///     velocity motors and the target motors), not every joint for an empty call.
+struct XpbdJointSchedule {
+  struct Ball {
+    int body0 = -1;
+    int body1 = -1;
+    Vector3 anchor0 = Vector3::Zero();  ///< in body0's principal frame
+    Vector3 anchor1 = Vector3::Zero();
+  };
+  /// Joints [begin, end) of World::joints, all ball joints (solved from `balls`, starting at
+  /// `firstBall`) or none.
+  struct Run {
+    std::size_t begin = 0;
+    std::size_t end = 0;
+    bool ball = false;
+    std::size_t firstBall = 0;
+  };
+  std::vector<Ball> balls;
+  std::vector<Run> runs;
+  std::vector<std::size_t> withTarget;        ///< joints whose updateTarget does something
+  std::vector<std::size_t> withVelocityPass;  ///< joints whose solveVelocity does something
+};
+
+/// The schedule of `joints` (called once, when the world is built; allocates).
+XpbdJointSchedule scheduleJointsXpbd(const std::vector<Joint>& joints);
+
+/// Every joint with a target takes its set point for time `time` (the substep's end).
+void updateJointTargetsXpbd(std::vector<Joint>& joints, const XpbdJointSchedule& schedule,
+                            Real time);
+
 /// One position iteration of the substep: every joint of `joints` in order, its λ
 /// (`multipliers[j]`, sized like `joints`) reset to zero and then accumulated by one XPBD
-/// projection (see above). One call per substep: the joints are dispatched inside one loop, ball
-/// joints without the variant's call table (bench/callgrind_step.py measures the loop against
-/// the operation count, docs/benchmarks.md#the-xpbd-substep-at-its-operation-count-issue-30).
-void solveJointPositionsXpbd(std::vector<Joint>& joints, BodyStates& bodies, Real substepSize,
-                             const XpbdSettings& settings,
+/// projection (see above). One call per substep, through `schedule` (scheduleJointsXpbd of the
+/// same joints).
+void solveJointPositionsXpbd(std::vector<Joint>& joints, const XpbdJointSchedule& schedule,
+                             BodyStates& bodies, Real substepSize, const XpbdSettings& settings,
                              std::vector<XpbdJointMultipliers>& multipliers);
 
-/// The joints' velocity pass, in order (velocity motors; nothing for the others).
-void solveJointVelocitiesXpbd(std::vector<Joint>& joints, BodyStates& bodies);
+/// The joints' velocity pass, in order (velocity motors; nothing for the others, which are
+/// not visited).
+void solveJointVelocitiesXpbd(std::vector<Joint>& joints, const XpbdJointSchedule& schedule,
+                              BodyStates& bodies);
 
 }  // namespace pbd

@@ -11,9 +11,10 @@ class World;
 
 /// Accelerations of dynamic bodies and particles := gravitation; static ones 0.
 void resetAccelerations(World& world);
-/// Semi-implicit Euler prediction of every body and particle over `h`, keeping the previous
-/// two positions and rotations for the velocity update.
-void predictPositions(World& world, Real h);
+/// Semi-implicit Euler prediction of every body and particle over `h`, keeping the substep's
+/// start (old*) and, when `keepLastState`, the previous substep's start (last*: read only by the
+/// second-order velocity update; the XPBD step, first order, skips the copies).
+void predictPositions(World& world, Real h, bool keepLastState = true);
 /// Velocities from the positions: first order, or the seed's second order (BDF2, linear part
 /// only) when `secondOrder`.
 void updateVelocities(World& world, Real h, bool secondOrder);

@@ -15,7 +15,8 @@
 //   3. n times:
 //      - motors take their set point for the end of the substep;
 //      - predict: v ← v + h_s a, x ← x + h_s v; ω ← ω + h_s I_w⁻¹(τ − ω × I_w ω),
-//        q ← normalize(q + ½ h_s [0, ω] ⊗ q); contacts record their approach velocity ṽ_n;
+//        q ← normalize(q + ½ h_s [0, ω] ⊗ q); contacts with restitution record their approach
+//        velocity ṽ_n;
 //      - one position iteration: every joint (colouring order, joints/xpbd_joint.h) with
 //        λ reset, the particle distance and tet volume constraints (cloth and solid
 //        edges, tets: constraints/), then every contact (detection order,
@@ -45,6 +46,7 @@ struct XpbdState {
   std::vector<XpbdJointMultipliers> jointMultipliers;  ///< λ of the last substep, per joint
   std::vector<Real> sampleRadius;                      ///< ρ_i per rigid body (m)
   std::vector<JointDampingAnchor> jointAnchors;        ///< per joint, in World::joints order
+  XpbdJointSchedule jointSchedule;                     ///< World::joints by type, for the loops
 };
 
 /// Sizes `state` for `world` (joints, contact capacity, sample radii) and fixes the joints'
