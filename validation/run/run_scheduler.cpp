@@ -264,7 +264,9 @@ std::vector<RunRecord> RunScheduler::runAll(
           EngineOptions options = registry_.options();
           options.serverFolder = serverFolder;
           const RunRecord record = executeRun(requests[next], registry_.withOptions(options));
-          writeFileAtomically(file, toJsonText(record));
+          // A scratch file, read by the scheduler once this process has exited and removed:
+          // the rename keeps a crashed run from leaving half a record; no fsync.
+          writeFileAtomically(file, toJsonText(record), Durability::ProcessCrash);
         } catch (...) {
           ::_exit(3);
         }
