@@ -41,6 +41,51 @@ TEST(TrajectoryCsv, ReadsWhatWriteCsvRowsWrites) {
   EXPECT_EQ(t.samples[0].bodies.at(0).position, Vector3(1, -2, 3));  // exact: shortest round trip
 }
 
+TEST(TrajectoryCsv, ARowWriterWritesEachSampleAsFormattingEveryNumberAloneWould) {
+  // CsvRowWriter reuses a column's text when its number is bit for bit the previous row's:
+  // the bytes must be those of every number formatted on its own (pbd::formatReal, the
+  // shortest round trip), through repeats, a change of sign of zero, NaN and a change in the
+  // number of bodies.
+  const auto expectedRows = [](const State& s) {
+    std::string rows;
+    for (const BodyState& b : s.bodies) {
+      rows += formatNumber(s.time) + "," + std::to_string(b.id);
+      for (double v : {b.position.x(), b.position.y(), b.position.z(), b.rotation.w(),
+                       b.rotation.x(), b.rotation.y(), b.rotation.z(), b.velocity.x(),
+                       b.velocity.y(), b.velocity.z(), b.angularVelocity.x(),
+                       b.angularVelocity.y(), b.angularVelocity.z()})
+        rows += "," + formatNumber(v);
+      rows += "\n";
+    }
+    return rows;
+  };
+  std::vector<State> samples(5);
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    State& s = samples[k];
+    s.time = 0.1 * double(k);
+    BodyState ground;  // static: every column repeats
+    ground.id = 0;
+    ground.position = Vector3(0, -0.5, 0);
+    BodyState moving;
+    moving.id = 4;
+    moving.position = Vector3(1.0 / double(k + 3), 2.0, k == 2 ? 2.0 : 1.0 / 3);
+    moving.rotation = Quaternion(1, 0, 0, 0);
+    moving.velocity = Vector3(k % 2 == 0 ? 0.0 : -0.0, k == 3 ? std::nan("") : 0.25, 1e-300);
+    moving.angularVelocity = Vector3(0, 0, double(k));
+    s.bodies = {ground, moving};
+    if (k == 4) s.bodies.pop_back();  // the writer starts its columns again
+  }
+  CsvRowWriter writer;
+  std::ostringstream written;
+  std::string expected;
+  for (const State& s : samples) {
+    writer.write(written, s);
+    expected += expectedRows(s);
+  }
+  EXPECT_EQ(written.str(), expected);
+  EXPECT_NE(expected.find(",-0,"), std::string::npos);  // the sign of zero is in the text
+}
+
 TEST(TrajectoryNpy, ReadsBackExactlyWhatWriteTrajectoryNpyWrites) {
   // Two samples of two bodies with values no short decimal holds, a quaternion with w < 0
   // (written with w ≥ 0, as the CSV writes it) and a non-finite state (a diverged run's last

@@ -137,6 +137,45 @@ TEST(JsonSchema, APatternIsAnEcmaScriptExpressionSearchedInTheString) {
   EXPECT_EQ(schemaViolations(unanchored, Json("ac")).size(), 1u);
 }
 
+TEST(JsonSchema, OneCheckerOverManyDocumentsReportsWhatAFreshCheckOfEachWould) {
+  // SchemaChecker keeps the compiled patterns, the strings they matched and each subschema's
+  // keywords between documents: each document's violations must still be exactly those of a
+  // check of that document alone, whichever documents came before (the same strings valid in
+  // one place and not in another, paths through references and arrays).
+  const Json schema = Json::parse(R"({"type": "object", "required": ["name"],
+    "properties": {"name": {"type": "string", "pattern": "^[a-z][a-z0-9-]*$"},
+                   "methods": {"type": "array", "items": {"$ref": "#/$defs/method"}}},
+    "additionalProperties": false,
+    "$defs": {"method": {"type": "object", "required": ["name"], "properties": {
+      "name": {"type": "string", "pattern": "^[a-z][A-Za-z0-9]*(\\.[a-z][A-Za-z0-9]*)*$"},
+      "kind": {"enum": ["a", "b"]}},
+      "if": {"properties": {"kind": {"const": "b"}}}, "then": {"required": ["extra"]}}}})");
+  const std::vector<Json> documents = {
+      Json::parse(R"({"name": "pbd", "methods": [{"name": "pbd.xpbd"}, {"name": "Pbd"}]})"),
+      Json::parse(R"({"name": "Pbd", "methods": [{"name": "pbd.xpbd", "kind": "b"}]})"),
+      Json::parse(R"({"name": "mujoco-python"})"),
+      Json::parse(R"({"name": "pbd", "methods": [{"name": "pbd.xpbd"}, {"name": "pbd"}]})"),
+      Json::parse(R"({"methods": [{"kind": "c"}, {"name": "pbd.Xpbd"}], "other": 1})"),
+      // A string each pattern has seen, now where the other pattern applies: both wrong.
+      Json::parse(R"({"name": "pbd.xpbd", "methods": [{"name": "mujoco-python"}]})"),
+      Json::parse(R"({"name": "pbd"})")};
+  SchemaChecker checker(schema);
+  std::size_t violationsSeen = 0;
+  for (const Json& document : documents) {
+    const std::vector<std::string> alone = schemaViolations(schema, document);
+    EXPECT_EQ(checker.violations(document), alone) << document.dump();
+    violationsSeen += alone.size();
+  }
+  // The documents do break the rules (8 violations by hand): the comparison means something.
+  EXPECT_GE(violationsSeen, 8u);
+  // An unsupported keyword is refused when a document first reaches it, and every time after.
+  const Json partly = Json::parse(R"({"properties": {"deep": {"maxLength": 1}}})");
+  SchemaChecker partlyChecker(partly);
+  EXPECT_TRUE(partlyChecker.violations(Json::parse(R"({"shallow": 1})")).empty());
+  EXPECT_THROW(partlyChecker.violations(Json::parse(R"({"deep": "x"})")), std::invalid_argument);
+  EXPECT_THROW(partlyChecker.violations(Json::parse(R"({"deep": "x"})")), std::invalid_argument);
+}
+
 TEST(JsonSchema, UniqueItemsNamesEachRepeatAndTheItemItRepeats) {
   const Json schema = Json::parse(R"({"properties": {"m": {"uniqueItems": true}}})");
   EXPECT_TRUE(schemaViolations(schema, Json::parse(R"({"m": ["a", "b", 1, "1"]})")).empty());

@@ -86,6 +86,26 @@ TEST_F(OutputFileTest, UncommittedFileLeavesTheTargetAsItWas) {
   expectOnlyEntries(1);
 }
 
+TEST_F(OutputFileTest, AScratchFileWithoutFsyncIsStillReplacedAtomically) {
+  // Durability::ProcessCrash leaves out the fsync only: the target holds the old content until
+  // commit() renames the complete new one over it, and an uncommitted file changes nothing.
+  const std::string path = file("run-1.json");
+  writeFileAtomically(path, "old\n", Durability::ProcessCrash);
+  {
+    OutputFile output(path, Durability::ProcessCrash);
+    output.stream() << "new\n";
+    EXPECT_EQ(read(path), "old\n");
+    output.commit();
+  }
+  EXPECT_EQ(read(path), "new\n");
+  {
+    OutputFile output(path, Durability::ProcessCrash);
+    output.stream() << "never committed";
+  }
+  EXPECT_EQ(read(path), "new\n");
+  expectOnlyEntries(1);
+}
+
 TEST_F(OutputFileTest, SymbolicLinkIsFollowedAndStaysALink) {
   const std::string target = file("target.txt"), link = file("link.txt");
   writeFileAtomically(target, "old\n");

@@ -192,9 +192,10 @@ int simulateCommand(const Context& context, const Arguments& arguments) {
     if (exporter) exporter->onState(state);
   };
   std::size_t samples = 0;
+  CsvRowWriter rows;
   callbacks.onSample = [&](const State& state) {
     if (npy || particleNpy || segmentNpy) kept.push_back(state);
-    if (!npy) writeCsvRows(out, state);
+    if (!npy) rows.write(out, state);
     if (particleFile && !particleNpy) writeParticleCsvRows(particleFile->stream(), state);
     if (segmentFile && !segmentNpy) writeSegmentCsvRows(segmentFile->stream(), state);
     ++samples;

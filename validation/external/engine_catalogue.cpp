@@ -121,13 +121,13 @@ ExternalCommand catalogueCommand(const Json& argv, const ProjectPython& python,
 }
 
 EngineEntry catalogueEntry(const std::string& file, const ProjectPython& python,
-                           const Json& schema) {
+                           SchemaChecker& schema) {
   std::ifstream in(file);
   std::stringstream text;
   text << in.rdbuf();
   const Json root = Json::parse(text.str(), nullptr, false);
   if (root.is_discarded()) throw std::invalid_argument(file + ": not valid JSON");
-  const std::vector<std::string> violations = schemaViolations(schema, root);
+  const std::vector<std::string> violations = schema.violations(root);
   if (!violations.empty()) {
     std::string message;
     for (const std::string& v : violations)
@@ -213,8 +213,9 @@ std::vector<EngineEntry> readEngineCatalogue(const std::string& folder,
   std::vector<EngineEntry> entries;
   if (files.empty()) return entries;
   const Json schema = projectSchema(kSchemaName);
+  SchemaChecker checker(schema);  // one for all the files: its patterns compiled once
   for (const std::string& file : files)
-    entries.push_back(catalogueEntry(file, python, schema));
+    entries.push_back(catalogueEntry(file, python, checker));
   return entries;
 }
 

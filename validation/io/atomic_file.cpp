@@ -233,7 +233,8 @@ void checkOutputFile(const std::string& path) {
          "cannot create files in the folder " + plan.folder + " (" + errnoText(errno) + ")");
 }
 
-OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
+OutputFile::OutputFile(std::string path, Durability durability)
+    : path_(std::move(path)), durability_(durability) {
   const Plan plan = planOutput(path_);
   target_ = plan.target;
   const std::string& shown = plan.shown;
@@ -279,8 +280,10 @@ void OutputFile::commit() {
   const bool drained = buffer_->drain();
   const int writeError = buffer_->error();
   const bool streamOk = static_cast<bool>(*stream_);
-  // fsync only regular files: a device or FIFO may not support it (EINVAL).
-  const bool synced = temporary_.empty() || ::fsync(descriptor_) == 0;
+  // fsync only regular files (a device or FIFO may not support it: EINVAL), and only when the
+  // file must survive a system crash.
+  const bool synced = temporary_.empty() || durability_ == Durability::ProcessCrash ||
+                      ::fsync(descriptor_) == 0;
   const int syncError = synced ? 0 : errno;
   const bool closed = ::close(descriptor_) == 0;
   const int closeError = closed ? 0 : errno;
@@ -368,8 +371,9 @@ void checkOutputsAreNotInputs(const std::vector<NamedPath>& outputs,
   }
 }
 
-void writeFileAtomically(const std::string& path, const std::string& content) {
-  OutputFile file(path);
+void writeFileAtomically(const std::string& path, const std::string& content,
+                         Durability durability) {
+  OutputFile file(path, durability);
   file.stream() << content;
   file.commit();
 }

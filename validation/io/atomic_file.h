@@ -26,13 +26,25 @@ namespace pbdval {
 /// How long OutputFile waits for a reader of a FIFO it is asked to write, in seconds.
 inline constexpr double kFifoReaderWait = 5;
 
+/// What a regular file's atomic replacement survives.
+enum class Durability {
+  /// A system crash (power loss) too: the data is fsync'ed before the rename, so a rename that
+  /// reached the disk never shows an empty or partial file. Every file a user reads.
+  SystemCrash,
+  /// A crashed or interrupted process only (the rename alone; the kernel holds the data): for
+  /// scratch files this command reads back and removes itself, which a system crash discards
+  /// anyway (a run's result file, handed from its process to the scheduler). Saves an fsync,
+  /// 1–2 ms per file on this machine's disk (docs/benchmarks.md#outside-the-stepping).
+  ProcessCrash,
+};
+
 /// An output file being written. stream() buffers; commit() flushes, checks every write and
 /// (for regular files) renames the temporary file into place. Destroyed without commit(), a
 /// temporary file is removed and the target is left as it was. Throws std::runtime_error naming
 /// the file on any failure, in the constructor (cannot be written) or in commit().
 class OutputFile {
  public:
-  explicit OutputFile(std::string path);
+  explicit OutputFile(std::string path, Durability durability = Durability::SystemCrash);
   ~OutputFile();
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
@@ -51,6 +63,7 @@ class OutputFile {
   std::unique_ptr<Buffer> buffer_;
   std::unique_ptr<std::ostream> stream_;
   bool finished_ = false;
+  Durability durability_;
 };
 
 /// The name existing callers use.
@@ -76,7 +89,8 @@ void checkOutputsAreNotInputs(const std::vector<NamedPath>& outputs,
                               const std::vector<NamedPath>& inputs);
 
 /// Writes `content` to `path` through OutputFile (creating parent folders).
-void writeFileAtomically(const std::string& path, const std::string& content);
+void writeFileAtomically(const std::string& path, const std::string& content,
+                         Durability durability = Durability::SystemCrash);
 
 /// Creates `folder` and its parents; throws std::runtime_error naming it on failure (and, when
 /// a part of the path is a file, which part).

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,24 @@ namespace pbdval {
 /// so that a schema never checks silently less than it says.
 std::vector<std::string> schemaViolations(const nlohmann::json& schema,
                                           const nlohmann::json& document);
+
+/// schemaViolations for many documents against one schema (the engine catalogue's files): what
+/// does not depend on the document (the compiled patterns, which subschemas use only supported
+/// keywords) is worked out once. `schema` must outlive the checker.
+class SchemaChecker {
+ public:
+  explicit SchemaChecker(const nlohmann::json& schema);
+  ~SchemaChecker();
+  SchemaChecker(const SchemaChecker&) = delete;
+  SchemaChecker& operator=(const SchemaChecker&) = delete;
+  /// schemaViolations(schema, document).
+  std::vector<std::string> violations(const nlohmann::json& document);
+
+  struct Validation;
+
+ private:
+  std::unique_ptr<Validation> validation_;
+};
 
 /// The project's schema docs/schemas/`name` ("status.schema.json"), read from the source tree.
 /// Throws std::runtime_error naming the path when it cannot be read or is not a JSON object.

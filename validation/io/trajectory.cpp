@@ -22,6 +22,10 @@ void writeCsvHeader(std::ostream& out) {
 }
 
 void writeCsvRows(std::ostream& out, const State& state) {
+  CsvRowWriter().write(out, state);
+}
+
+void CsvRowWriter::write(std::ostream& out, const State& state) {
   // The time exactly as the engine's clock has it (an accumulated clock reads 0.30000000000000004,
   // not 0.3): metrics computed from a CSV then equal the runner's to the bit (docs/python.md).
   // A row is formatted into one buffer and written at once: no string per number (the CSV is
@@ -29,6 +33,9 @@ void writeCsvRows(std::ostream& out, const State& state) {
   char time[pbd::kRealTextCapacity];
   const std::size_t timeLength = std::size_t(pbd::writeReal(time, state.time) - time);
   char row[16 * (pbd::kRealTextCapacity + 1)];  // the time, the id, 13 numbers, commas, newline
+  static_assert(kCsvNumberCapacity == pbd::kRealTextCapacity);
+  if (columns_.size() != 13 * state.bodies.size()) columns_.assign(13 * state.bodies.size(), {});
+  Column* column = columns_.data();
   for (const BodyState& b : state.bodies) {
     const Quaternion q = b.rotation.w() < 0 ? Quaternion(-b.rotation.coeffs()) : b.rotation;
     char* end = row;
@@ -42,7 +49,15 @@ void writeCsvRows(std::ostream& out, const State& state) {
           double(b.velocity.y()), double(b.velocity.z()), double(b.angularVelocity.x()),
           double(b.angularVelocity.y()), double(b.angularVelocity.z())}) {
       *end++ = ',';
-      end = pbd::writeReal(end, v);
+      std::uint64_t bits;
+      std::memcpy(&bits, &v, sizeof bits);
+      if (column->length == 0 || column->bits != bits) {
+        column->bits = bits;
+        column->length = static_cast<unsigned char>(pbd::writeReal(column->text, v) - column->text);
+      }
+      std::memcpy(end, column->text, column->length);
+      end += column->length;
+      ++column;
     }
     *end++ = '\n';
     out.write(row, std::streamsize(end - row));

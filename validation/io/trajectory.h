@@ -6,6 +6,7 @@
 // the shortest form that reads back to the same double, so a CSV round-trips bit for bit.
 #pragma once
 
+#include <cstdint>
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -22,11 +23,31 @@ struct Trajectory {
 };
 
 inline constexpr const char* kTrajectoryCsvHeader = "t,id,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz";
+/// Room one number of a trajectory CSV takes at most (pbd::kRealTextCapacity).
+inline constexpr std::size_t kCsvNumberCapacity = 32;
 
 /// Writes the header.
 void writeCsvHeader(std::ostream& out);
 /// Writes the rows of one sample.
 void writeCsvRows(std::ostream& out, const State& state);
+
+/// writeCsvRows for the samples of one trajectory, in order, the same bytes: a number equal (bit
+/// for bit) to the one in the same column of the body's previous row reuses that row's text
+/// instead of formatting it again (a static body's 13 columns, a planar motion's zero
+/// components; formatting is most of a CSV trajectory's cost, docs/benchmarks.md).
+class CsvRowWriter {
+ public:
+  void write(std::ostream& out, const State& state);
+
+ private:
+  /// One column of one body: the last number written there and its text.
+  struct Column {
+    std::uint64_t bits = 0;
+    unsigned char length = 0;  ///< 0: nothing written yet
+    char text[kCsvNumberCapacity];
+  };
+  std::vector<Column> columns_;  ///< 13 per body, bodies in state order
+};
 /// Reads a trajectory CSV (bodies only). Throws std::runtime_error naming the file and line.
 Trajectory readTrajectoryCsv(const std::string& path);
 /// The same on the file's text; `sourceName` names it in messages.

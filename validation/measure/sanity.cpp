@@ -200,7 +200,9 @@ std::vector<IntervalMismatch> velocityMismatches(const pbd::Scene& scene, const 
     // A body that holds still reports rest, up to the method's declared velocity pass.
     // Per world axis: a coordinate that holds still cannot carry a velocity (a box whose
     // height holds to 1e-12 m while it reports v_y = −0.02 m/s).
-    const double turned = angleBetween(ba.rotation, bb.rotation);
+    // The rotation from a to b, once: its angle here, its rate below.
+    const Vector3 turn = rotationVector(ba.rotation, bb.rotation);
+    const double turned = turn.norm();
     const double residual = std::max(kRestSpeedFloor, kRestSpeedFraction * stepCorrection);
     const double restLinear = restAllowance + residual;
     const double restAngular =
@@ -246,7 +248,7 @@ std::vector<IntervalMismatch> velocityMismatches(const pbd::Scene& scene, const 
     const Vector3& wb = bb.angularVelocity;
     const double spin = std::max(wa.norm(), wb.norm());
     if (spin * dt > M_PI / 2) continue;
-    const Vector3 fdw = rotationVector(ba.rotation, bb.rotation) / dt;
+    const Vector3 fdw = turn / dt;
     const double deviationW = distanceToSegment(fdw, wa, wb);
     const double boundW = intervalAllowance(bp ? &bp->angularVelocity : nullptr, wa, wb,
                                             bn ? &bn->angularVelocity : nullptr, fdw) +
@@ -415,7 +417,8 @@ void BoundaryChecker::checkInterval(std::size_t first) {
   // A mismatch counts when it persists over kPersistentIntervals intervals in a row: an
   // impact, a velocity pass at a contact event or a split-impulse push lasts one or two; a
   // protocol mistake or a defect holds at every sample.
-  std::vector<int> failing(streaks_.size(), 0);
+  std::vector<char>& failing = failing_;
+  failing.assign(streaks_.size(), 0);
   for (IntervalMismatch& m :
        velocityMismatches(scene_, before, window_[first], window_[first + 1], after, k,
                           restVelocityAllowance_, sizes_, skipVelocity_)) {
@@ -439,11 +442,15 @@ const std::optional<CheckViolation>& BoundaryChecker::add(const State& sample) {
   if (samplesSeen_ == 0)
     violation_ = initialStateViolation(scene_, sample, initialTolerance_, velocitiesProjected_);
   if (!violation_) violation_ = unitQuaternionViolation(scene_, sample, samplesSeen_);
-  // Only the bodies are checked: keep them, not the particles (a fluid's 10⁵ per step).
-  if (window_.size() == 4) window_.erase(window_.begin());
-  window_.emplace_back();
+  // Only the bodies are checked: keep them, not the particles (a fluid's 10⁵ per step). The
+  // oldest sample's slot is reused for the newest (a rotation swaps the vectors): no allocation
+  // per sample once the window is full.
+  if (window_.size() == 4)
+    std::rotate(window_.begin(), window_.begin() + 1, window_.end());
+  else
+    window_.emplace_back();
   window_.back().time = sample.time;
-  window_.back().bodies = sample.bodies;
+  window_.back().bodies.assign(sample.bodies.begin(), sample.bodies.end());
   ++samplesSeen_;
   // The interval [j−2, j−1] has both neighbours once sample j (the newest) is here.
   if (window_.size() >= 3) checkInterval(window_.size() - 3);

@@ -79,6 +79,7 @@ class BoundaryChecker {
   /// message.
   std::vector<int> streaks_;
   std::vector<IntervalMismatch> streakStart_;
+  std::vector<char> failing_;  ///< per slot, a mismatch in the interval checked (reused)
   double restVelocityAllowance_;
   std::vector<double> sizes_;  ///< per body, √(tr I / 2m) (m), for the angular rest allowance
   std::vector<bool> skipVelocity_;  ///< per body: RunFacts::velocityDrivenBodies

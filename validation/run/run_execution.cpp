@@ -236,9 +236,10 @@ RunRecord executeRun(const RunRequest& request, const EngineRegistry& registry) 
       if (!npy) writeCsvHeader(trajectory->stream());
     }
     RunCallbacks callbacks;
+    CsvRowWriter rows;
     callbacks.onSample = [&](const State& s) {
       samples.push_back(s);
-      if (trajectory && !npy) writeCsvRows(trajectory->stream(), s);
+      if (trajectory && !npy) rows.write(trajectory->stream(), s);
     };
     const RunOutcome outcome =
         runSimulation(*engine, c.scene, c.method, lengthOf(c, request), callbacks);
