@@ -300,9 +300,12 @@ TEST(SeedReferenceFluid, TheDamBreakFollowsTheOriginalToAMicrometreOverTheWholeS
   if (sizeof(Real) != sizeof(double)) GTEST_SKIP() << "the recordings are double precision";
   const std::string name = "fluid_dam_break_seed";
   constexpr double kOriginalTwinWindow = 0.09;  // s, see above
-  const Scene scene = loadSeedScene(name);
+  Scene scene = loadSeedScene(name);
   ASSERT_EQ(scene.fluidModels.size(), 1u);
   ASSERT_EQ(scene.fluidModels[0].formulation, FluidFormulation::Seed);
+  // The run leaves the key out: the seed's formulation is the `pbd` method's default.
+  scene.fluidModels[0].formulation.reset();
+  ASSERT_EQ(fluidFormulationFor(scene.fluidModels[0], scene.simulation), FluidFormulation::Seed);
   const std::vector<RecordedRow> rows =
       readParticleRecording(kReferenceDir + "/" + name + ".particles.csv");
   const double h = double(scene.simulation.timeStepSize);
