@@ -335,7 +335,7 @@ TEST(SeedReferenceFluid, TheDamBreakFollowsTheOriginalToAMicrometreOverTheWholeS
 INSTANTIATE_TEST_SUITE_P(Recorded, SeedReferenceParticles,
                          ::testing::Values("fem_cloth_10x10", "fem_tet_bar", "fem_tet_bar_xpbd",
                                            "cloth_on_sphere", "cloth_collision_scene",
-                                           "deformable_solid_collision_scene",
+                                           "cloth_scene", "deformable_solid_collision_scene",
                                            "armadillo_collision_scene", "cosserat_helix",
                                            "cloth_on_bunny", "fluid_dam_break_seed"),
                          [](const ::testing::TestParamInfo<const char*>& param) {
