@@ -146,7 +146,7 @@ RunFacts PbdEngine::runFacts() const {
 std::map<std::string, std::string> PbdEngine::effectiveSettings() const {
   const pbd::SimulationSettings& s = world_->settings;
   const auto number = [](pbd::Real v) { return pbd::formatReal(double(v)); };
-  return {{"timeStepSize", number(s.timeStepSize)},
+  std::map<std::string, std::string> settings = {{"timeStepSize", number(s.timeStepSize)},
           {"subSteps", std::to_string(s.subSteps)},
           {"maxIterations", std::to_string(s.maxIterations)},
           {"maxIterationsV", std::to_string(s.maxIterationsV)},
@@ -172,6 +172,11 @@ std::map<std::string, std::string> PbdEngine::effectiveSettings() const {
           {"xpbd.jointLinearDamping", number(s.xpbd.jointLinearDamping)},
           {"xpbd.jointAngularDamping", number(s.xpbd.jointAngularDamping)},
           {"precision", sizeof(pbd::Real) == 8 ? "double" : "float"}};
+  // Each fluid's formulation (fluidFormulationFor: the scene's, else the method's own).
+  for (std::size_t f = 0; f < world_->fluids.size(); ++f)
+    settings["FluidModels[" + std::to_string(f) + "].formulation"] =
+        pbd::fluidFormulationName(world_->fluids[f].formulation);
+  return settings;
 }
 
 std::optional<std::string> PbdEngine::stateHash() const {

@@ -838,7 +838,7 @@ TEST(FluidScene, ListedParticlesSeedWallsAndTheFormulationAreReadAsGiven) {
   // The walls as the seed's addWall samples them: floor(extent / 2r) + 1 points per axis from
   // min, spacing 2r = 0.05: 3 × 1 × 2 on the first wall, 1 × 2 × 1 on the second, the shared
   // corner (0, 0, 0) twice.
-  const Fluid fluid = buildFluid(a);
+  const Fluid fluid = buildFluid(a, scene.simulation);
   ASSERT_EQ(fluid.boundaryPositions.size(), 8u);
   const Real d = 2 * Real(0.025);
   EXPECT_EQ(fluid.boundaryPositions[0], Vector3::Zero());
@@ -850,8 +850,14 @@ TEST(FluidScene, ListedParticlesSeedWallsAndTheFormulationAreReadAsGiven) {
   // twice), so its ψ is below that of particle 1, which has no twin and fewer close neighbours.
   EXPECT_LT(fluid.boundaryPsi[0], fluid.boundaryPsi[1]);
   const FluidModelDesc& b = scene.fluidModels[1];
-  EXPECT_EQ(b.formulation, FluidFormulation::Symmetric);  // the default
-  ASSERT_EQ(b.particleCount, 2);                          // the block's, then the listed one
+  // Not given: the method's own, the seed's for `pbd` and the symmetric one for `pbd.xpbd`.
+  EXPECT_FALSE(b.formulation.has_value());
+  EXPECT_EQ(fluidFormulationFor(b, scene.simulation), FluidFormulation::Seed);
+  SimulationSettings xpbd = scene.simulation;
+  xpbd.stepMethod = StepMethod::Xpbd;
+  EXPECT_EQ(fluidFormulationFor(b, xpbd), FluidFormulation::Symmetric);
+  EXPECT_EQ(buildFluid(b, xpbd).formulation, FluidFormulation::Symmetric);
+  ASSERT_EQ(b.particleCount, 2);  // the block's, then the listed one
   EXPECT_EQ(scene.particles[std::size_t(b.firstParticle) + 1].position, Vector3(1, 1, 1));
   // The errors name the path and what was expected.
   EXPECT_TRUE(containsAllOf(fluidError(R"({"particles": [[0, 0, 0]], "formulation": "pbf"})"),

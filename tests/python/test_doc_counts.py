@@ -104,3 +104,38 @@ def test_the_report_page_counts_the_library_of_the_plan(plan: dict[str, Any]) ->
     assert found, "docs/report.md no longer states the size of the library it measured"
     assert int(found[1]) == plan["planSize"]
     assert int(found[2]) == len({r["case"] for r in plan["runs"]})
+
+
+#: Superscript digits and minus as docs/ write exponents ("2.0·10⁻³").
+SUPERSCRIPTS = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹⁻", "0123456789-")
+
+
+def documented_figure(text: str) -> tuple[float, float]:
+    """A figure as the docs write it ("−5.33", "+0.40", "2.0·10⁻³") and half a unit of its last digit."""
+    mantissa, _, exponent = text.replace("−", "-").partition("·10")
+    power = int(exponent.translate(SUPERSCRIPTS)) if exponent else 0
+    decimals = len(mantissa.partition(".")[2])
+    return float(mantissa) * 10.0**power, 0.5 * 10.0 ** (power - decimals)
+
+
+def test_the_rod_helix_figures_in_methods_are_the_baselines(baseline: dict[str, Any]) -> None:
+    text = " ".join((REPO / "docs/methods.md").read_text(encoding="utf-8").split())
+    start = text.find("The case `cases/rod_helix.json`")
+    assert start >= 0, "docs/methods.md no longer describes cases/rod_helix.json"
+    paragraph = text[start:text.find("The case checks the final drift only.", start)]
+    figure = r"([−+]?[\d.]+(?:·10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+)?)"
+    pattern = (rf"`{{method}}`(?: \([^)]*\))? energy_drift_final {figure} %, energy_drift_max {figure} %, "
+               rf"particle_stretch_max {figure}")
+    for method in ("pbd", "pbd.xpbd"):
+        found = re.search(pattern.format(method=re.escape(method)), paragraph)
+        assert found, f"docs/methods.md no longer gives rod_helix's figures for {method} in the checked form"
+        run = next(r for r in baseline["runs"]
+                   if r["case"] == "rod_helix" and r["engine"] == "pbd" and r["method"] == method)
+        # Drifts are written in per cent, the stretch as a fraction (docs/metrics.md).
+        for written, metric, scale in zip(found.groups(), ("energy_drift_final", "energy_drift_max",
+                                                           "particle_stretch_max"), (100.0, 100.0, 1.0)):
+            value, half_unit = documented_figure(written)
+            measured = run["metrics"][metric] * scale
+            # The docs round to the digits they show: the baseline's value is within half a unit
+            # of the last one (plus the binary round-off of that comparison).
+            assert abs(measured - value) <= half_unit * (1 + 1e-9), f"{method} {metric}: {written} vs {measured}"

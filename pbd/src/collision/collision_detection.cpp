@@ -37,11 +37,13 @@ void deepestFirst(std::vector<ContactPointGeometry>::iterator begin,
   });
 }
 
-/// Orders contacts as the seed reports them: by the seed's rank of their points.
+/// Orders contacts as the seed reports them: by the seed's rank of their points, `rank` indexed
+/// by the sample less `firstSample` (a particle model's first particle).
 void seedOrder(std::vector<ContactPointGeometry>::iterator begin,
-               std::vector<ContactPointGeometry>::iterator end, const std::vector<int>& rank) {
+               std::vector<ContactPointGeometry>::iterator end, const std::vector<int>& rank,
+               int firstSample = 0) {
   std::sort(begin, end, [&](const ContactPointGeometry& a, const ContactPointGeometry& b) {
-    return rank[std::size_t(a.sample)] < rank[std::size_t(b.sample)];
+    return rank[std::size_t(a.sample - firstSample)] < rank[std::size_t(b.sample - firstSample)];
   });
 }
 
@@ -105,6 +107,7 @@ CollisionDetector::CollisionDetector(const Scene& scene,
     for (auto it = begin; it != begin + static_cast<std::ptrdiff_t>(count); ++it)
       positions.push_back(it->position);
     model.hierarchy = PointBvh(positions);
+    model.seedRank = seedPointReportRank(positions);
     particleModels_.push_back(std::move(model));
     if (testMesh) particlePoints += count;
   };
@@ -415,7 +418,10 @@ void CollisionDetector::orderDirection(const ObjectPair& direction,
   if (order == ContactOrder::Seed && direction.first < rigidCount &&
       !rigid_[std::size_t(direction.first)].seedRank.empty())
     seedOrder(begin, end, rigid_[std::size_t(direction.first)].seedRank);
-  else
+  else if (order == ContactOrder::Seed && direction.first >= rigidCount) {
+    const ParticleModel& model = particleModels_[std::size_t(direction.first - rigidCount)];
+    seedOrder(begin, end, model.seedRank, model.firstParticle);
+  } else
     deepestFirst(begin, end);
 }
 

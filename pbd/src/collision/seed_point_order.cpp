@@ -211,14 +211,31 @@ void buildSeedKdTree(const std::vector<SeedVector>& points, const SeedBox& box, 
   buildSeedKdTree(points, right, begin + half, count - half, list);
 }
 
+/// rank[i]: point i's position in the index list of the seed's kd-tree over `points` (the
+/// root cell is the points' bounding box).
+std::vector<int> seedKdTreeRank(const std::vector<SeedVector>& points) {
+  const std::size_t n = points.size();
+  std::vector<int> rank(n);
+  if (n == 0) return rank;
+  SeedBox box;
+  box.setEmpty();
+  for (const SeedVector& p : points)
+    box.extend(p);
+  std::vector<unsigned> list(n);
+  std::iota(list.begin(), list.end(), 0u);
+  buildSeedKdTree(points, box, 0, static_cast<unsigned>(n), list);
+  for (std::size_t k = 0; k < n; ++k)
+    rank[list[k]] = static_cast<int>(k);
+  return rank;
+}
+
 }  // namespace
 
 std::vector<int> seedVertexReportRank(const TriangleMesh& scaledMesh, const Vector3& scale,
                                       const Vector3& translation, const Quaternion& rotation,
                                       Real density) {
   const std::size_t n = scaledMesh.vertices.size();
-  std::vector<int> rank(n);
-  if (n == 0) return rank;
+  if (n == 0) return {};
   // 1. The mesh as the seed holds it: each file coordinate in single precision, times scale.
   const SeedVector seedScale(double(scale.x()), double(scale.y()), double(scale.z()));
   std::vector<SeedVector> vertices(n);
@@ -249,16 +266,14 @@ std::vector<int> seedVertexReportRank(const TriangleMesh& scaledMesh, const Vect
     local[i] = principal.transpose() * (world - centerOfMass);
   }
   // 4. The kd-tree's index list.
-  SeedBox box;
-  box.setEmpty();
-  for (const SeedVector& p : local)
-    box.extend(p);
-  std::vector<unsigned> list(n);
-  std::iota(list.begin(), list.end(), 0u);
-  buildSeedKdTree(local, box, 0, static_cast<unsigned>(n), list);
-  for (std::size_t k = 0; k < n; ++k)
-    rank[list[k]] = static_cast<int>(k);
-  return rank;
+  return seedKdTreeRank(local);
+}
+
+std::vector<int> seedPointReportRank(const std::vector<Vector3>& points) {
+  std::vector<SeedVector> seedPoints(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    seedPoints[i] = SeedVector(double(points[i].x()), double(points[i].y()), double(points[i].z()));
+  return seedKdTreeRank(seedPoints);
 }
 
 }  // namespace pbd

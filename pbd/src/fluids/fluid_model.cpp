@@ -156,7 +156,7 @@ AxisAlignedBox containerWalls(const AxisAlignedBox& container, Real particleRadi
   return {container.min - r, container.max + r};
 }
 
-Fluid buildFluid(const FluidModelDesc& model) {
+Fluid buildFluid(const FluidModelDesc& model, const SimulationSettings& settings) {
   Fluid fluid;
   fluid.firstParticle = model.firstParticle;
   fluid.particleCount = model.particleCount;
@@ -167,7 +167,7 @@ Fluid buildFluid(const FluidModelDesc& model) {
   const Real support = 4 * model.particleRadius;  // the seed's support radius
   fluid.kernel = CubicSplineKernel(support);
   fluid.seedKernel = SeedCubicKernel(support);
-  fluid.formulation = model.formulation;
+  fluid.formulation = fluidFormulationFor(model, settings);
   if (model.container)
     fluid.boundaryPositions = containerBoundaryParticles(
         containerWalls(*model.container, model.particleRadius), model.particleRadius);
@@ -221,7 +221,7 @@ std::vector<Fluid> buildFluids(const Scene& scene) {
   std::vector<Fluid> fluids;
   fluids.reserve(scene.fluidModels.size());
   for (const FluidModelDesc& model : scene.fluidModels)
-    fluids.push_back(buildFluid(model));
+    fluids.push_back(buildFluid(model, scene.simulation));
   return fluids;
 }
 

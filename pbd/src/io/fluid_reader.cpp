@@ -73,7 +73,7 @@ KeyTable<FluidModelDesc> fluidKeys() {
       integerKey("iterations", &F::iterations, between(1, kMaxIterations)),
       {"formulation", [](const JsonValue& v, F& f) { f.formulation = fluidFormulation(v); }, false,
        [](const F& f, Json& j) {
-         writeString(j, "formulation", fluidFormulationName(f.formulation));
+         if (f.formulation) writeString(j, "formulation", fluidFormulationName(*f.formulation));
        }},
   };
 }

@@ -164,6 +164,13 @@ JointModel jointModelFor(const SimulationSettings& settings) {
   return settings.stepMethod == StepMethod::Xpbd ? JointModel::Corrected : JointModel::Seed;
 }
 
+FluidFormulation fluidFormulationFor(const FluidModelDesc& model,
+                                     const SimulationSettings& settings) {
+  if (model.formulation) return *model.formulation;
+  return settings.stepMethod == StepMethod::Xpbd ? FluidFormulation::Symmetric
+                                                 : FluidFormulation::Seed;
+}
+
 const char* contactGeometryName(ContactGeometry geometry) {
   return geometry == ContactGeometry::Samples ? "samples" : "primitives";
 }

@@ -171,6 +171,53 @@ def cloth_collision_scene() -> Json:
     }
 
 
+def cloth_scene() -> Json:
+    """The cloth demo of ClothScene.py (the generator's only scene without a JSON file in the
+    original's data/scenes): a free 10 m FEM cloth of 50 x 50 particles falling onto a static
+    analytic torus (collision scale 2 x 1) over a box ground, with the generator's parameters:
+    5 substeps of 5 iterations, cloth_bendingStiffness 0.005 and the cloth keys' defaults. Its
+    `gravity` key, which PositionBasedDynamics does not read, is left out (the demo runs with the
+    default gravitation), and so are the keys clothSimulationMethod 2 does not use
+    (`cloth_stiffness`, `cloth_normalizeStretch`, `cloth_normalizeShear`: the defaults)."""
+    return {
+        "Name": "cloth_scene",
+        "Simulation": {
+            "timeStepSize": 0.005,
+            "subSteps": 5,
+            "maxIterations": 5,
+            "maxIterationsV": 5,
+            "velocityUpdateMethod": 0,
+            "contactTolerance": 0.05,
+            "clothSimulationMethod": 2,
+            "clothBendingMethod": 2,
+            "contactStiffnessRigidBody": 1.0,
+            "contactStiffnessParticleRigidBody": 100.0,
+            "cloth_bendingStiffness": 0.005,
+            "cloth_xxStiffness": 1.0,
+            "cloth_yyStiffness": 1.0,
+            "cloth_xyStiffness": 1.0,
+            "cloth_xyPoissonRatio": 0.3,
+            "cloth_yxPoissonRatio": 0.3,
+        },
+        "TriangleModels": [{
+            "id": 2,
+            "geometryFile": "../models/plane_50x50.obj",
+            "translation": [0, 10, 0],
+            "rotationAxis": [1, 0, 0],
+            "rotationAngle": 0.0,
+            "scale": [10, 10, 10],
+            "staticParticles": [],
+            "restitution": 0.2,
+            "friction": 0.1,
+        }],
+        "RigidBodies": [
+            rigid_body(0, CUBE, 2, [100, 1, 100], [0, 0, 0], dynamic=False),
+            rigid_body(1, TORUS, 4, [2, 2, 2], [0, 5, 0], dynamic=False, restitution=0.2,
+                       friction=0.1, collision_scale=[2, 1, 2]),
+        ],
+    }
+
+
 def pile_scene() -> Json:
     """The pile demo: eight bodies dropped onto a 5 x 5 field of static pins (analytic cylinders)
     on a box ground. The demo's two bunnies (grid read from a Discregrid .csdf) are tori here,
@@ -585,6 +632,7 @@ def main() -> None:
         write_atomically(HERE / "models" / f"tet_cube.{suffix}", without_comments(source))
     for name, scene in [("car_scene", car_scene()),
                         ("cloth_collision_scene", cloth_collision_scene()),
+                        ("cloth_scene", cloth_scene()),
                         ("pile_scene", pile_scene()),
                         ("stiff_rod_cantilever", stiff_rod_cantilever()),
                         ("cosserat_helix", cosserat_helix()),

@@ -21,8 +21,11 @@
 //      docs/seed.md#unscaled-grid-distance);
 //   5. the contacts of one direction are ordered. ContactOrder::Seed (the `seed` contact model):
 //      a rigid body with a mesh reports in the seed's kd-tree order (seed_point_order.h), which
-//      depends on the mesh's vertex numbering and its round-off-determined principal frame;
-//      primitives without a mesh and particles (no seed order to follow) deepest first.
+//      depends on the mesh's vertex numbering and its round-off-determined principal frame,
+//      and a particle model in the order of the seed's kd-tree over its starting positions
+//      (a solid landing on a dynamic body: its particles' contacts share the body, and the
+//      Gauss–Seidel pass's result depends on their order); primitives without a mesh deepest
+//      first.
 //      ContactOrder::DeepestFirst (the `corrected` model): deepest first, ties by point index.
 //      The order matters to the Gauss–Seidel velocity pass: with several points of a sphere
 //      inside the shell, solving the deepest (the support point) first gives the rebound e·u_n
@@ -138,6 +141,7 @@ class CollisionDetector {
     int firstParticle = 0, particleCount = 0;
     bool testMesh = true;
     PointBvh hierarchy;  ///< over the model's particles, refitted every detection
+    std::vector<int> seedRank;  ///< the seed's report rank per particle of the model
   };
   struct Frame {
     Matrix3 rotation = Matrix3::Identity();  ///< scene frame → world

@@ -18,7 +18,9 @@
 //      bounding box).
 // rank[v] is vertex v's position in that list: contacts of one direction sorted by rank come
 // out in the seed's order. (Pruning by bounding spheres drops no contact, so it does not
-// change the order.)
+// change the order.) The particles of a cloth or a solid are reported the same way, by a
+// kd-tree over their world positions at the start (step 4 alone: the seed's PointCloudBSH of a
+// particle model is built once, when its collision object is added, and only refitted after).
 #pragma once
 
 #include <vector>
@@ -33,5 +35,10 @@ namespace pbd {
 std::vector<int> seedVertexReportRank(const TriangleMesh& scaledMesh, const Vector3& scale,
                                       const Vector3& translation, const Quaternion& rotation,
                                       Real density);
+
+/// The seed's report rank of a particle model's particles, from their positions when the model's
+/// collision object was made (the scene's start: the seed builds the kd-tree of step 4 over them
+/// once and only refits it as the particles move).
+std::vector<int> seedPointReportRank(const std::vector<Vector3>& points);
 
 }  // namespace pbd

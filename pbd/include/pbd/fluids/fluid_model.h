@@ -100,7 +100,8 @@ int seedOrderNeighbours(const Vector3& query, Real support, const int* candidate
 AxisAlignedBox containerWalls(const AxisAlignedBox& container, Real particleRadius);
 
 /// The fluid of one scene model: boundary particles and their ψ, grids, buffers.
-Fluid buildFluid(const FluidModelDesc& model);
+/// `settings` decides the formulation a model does not give (fluidFormulationFor).
+Fluid buildFluid(const FluidModelDesc& model, const SimulationSettings& settings);
 std::vector<Fluid> buildFluids(const Scene& scene);
 
 /// Neighbour lists on the current (predicted) positions.

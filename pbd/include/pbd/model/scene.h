@@ -384,7 +384,8 @@ struct FluidModelDesc {
   /// Boxes sampled with boundary particles as the seed's FluidDemo samples its walls (addWall):
   /// min + 2r (j, k, l) for j ≤ floor(extent_x / 2r) …, overlaps kept.
   std::vector<AxisAlignedBox> boundaryWalls;
-  FluidFormulation formulation = FluidFormulation::Symmetric;
+  /// Extension; unset: the method's own (fluidFormulationFor).
+  std::optional<FluidFormulation> formulation;
   int firstParticle = 0;  ///< index of its first particle in Scene::particles
   int particleCount = 0;
 
@@ -501,6 +502,12 @@ Real solidVolumeStiffnessFor(const SimulationSettings& settings);
 /// `Simulation.jointModel` when the scene gives it, else the method's own: `seed` for `pbd`,
 /// `corrected` for `pbd.xpbd`.
 JointModel jointModelFor(const SimulationSettings& settings);
+
+/// A fluid's `formulation` when its FluidModels entry gives it, else the method's own: `seed` for
+/// the `pbd` method (its fidelity to PositionBasedDynamics' FluidDemo), `symmetric` for
+/// `pbd.xpbd` (momentum-conserving XSPH, the kernel zero past its support: docs/methods.md#fluids).
+FluidFormulation fluidFormulationFor(const FluidModelDesc& model,
+                                     const SimulationSettings& settings);
 
 /// `Simulation.contactGeometry` when the scene gives it, else the method's own: the seed's
 /// `samples` for `pbd` (its fidelity to PositionBasedDynamics), `primitives` for `pbd.xpbd`.
