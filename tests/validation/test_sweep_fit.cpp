@@ -377,7 +377,8 @@ TEST(SweepPointsAlongAPath, ParametersVariedTogetherTakeTheirIthValuesAndTheRest
     // Every point lists the parameters in the order they were given.
     EXPECT_EQ(points[k][0].first, "substeps");
     EXPECT_EQ(points[k][0].second, k < 3 ? "5" : "10");
-    EXPECT_EQ(points[k][1], (std::pair<std::string, std::string>{"timeStepSize", pairs[k % 3].first}));
+    EXPECT_EQ(points[k][1],
+              (std::pair<std::string, std::string>{"timeStepSize", pairs[k % 3].first}));
     EXPECT_EQ(points[k][2],
               (std::pair<std::string, std::string>{"jointStiffness", pairs[k % 3].second}));
   }
@@ -466,8 +467,8 @@ TEST(SweepFitOfCollectedPoints, APairedSweepIsFittedInItsCoordinateAlone) {
   // log2((3h + 5h²) / (3h/2 + 5h²/4)) for h = 0.04 … 0.005: 1 + log2((1 + 5h/3)/(1 + 5h/6)).
   for (std::size_t k = 0; k < fit.localOrders.size(); ++k) {
     const double h = steps[k];
-    EXPECT_NEAR(fit.localOrders[k].order,
-                1 + std::log2((1 + 5 * h / 3) / (1 + 5 * h / 6)), 1e-9)  // round-off
+    EXPECT_NEAR(fit.localOrders[k].order, 1 + std::log2((1 + 5 * h / 3) / (1 + 5 * h / 6)),
+                1e-9)  // round-off
         << "from h = " << h;
   }
   EXPECT_NEAR(fit.orders[0], 1.0, 0.05);  // the h² term bends the slope by < 0.05 here

@@ -91,8 +91,8 @@ std::vector<std::vector<std::pair<std::string, std::string>>> sweepPoints(
       if (parameters[k].first == together[i]) index = k;
     if (index == parameters.size())
       throw OptionError("--together: " + together[i] +
-                        " is not a swept parameter (give its values with --param " +
-                        together[i] + "=v1,v2,...)");
+                        " is not a swept parameter (give its values with --param " + together[i] +
+                        "=v1,v2,...)");
     const std::size_t count = parameters[index].second.size();
     if (count < 2)
       throw OptionError("--together: --param " + together[i] + " has one value; a path needs " +
@@ -594,9 +594,9 @@ SweepResult collectSweep(const SweepPlan& plan, const std::vector<RunRecord>& re
   std::vector<std::string> names;
   std::vector<bool> fitted;
   for (const auto& [name, values] : plan.parameters) {
-    const bool follows = !plan.together.empty() && name != plan.together[0] &&
-                         std::find(plan.together.begin(), plan.together.end(), name) !=
-                             plan.together.end();
+    const bool follows =
+        !plan.together.empty() && name != plan.together[0] &&
+        std::find(plan.together.begin(), plan.together.end(), name) != plan.together.end();
     fitted.push_back(!follows);
     if (!follows) names.push_back(name);
   }
@@ -670,8 +670,8 @@ void printSweepTable(std::ostream& out, const SweepResult& result) {
     out << "along one path: ";
     for (std::size_t i = 0; i < result.together.size(); ++i)
       out << (i ? ", " : "") << result.together[i];
-    out << " varied together (the i-th values at the i-th point); orders in "
-        << result.together[0] << "\n";
+    out << " varied together (the i-th values at the i-th point); orders in " << result.together[0]
+        << "\n";
   }
   for (const SweepFit& fit : result.fits) {
     out << "\n" << fit.method << "\n";

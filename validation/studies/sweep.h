@@ -127,7 +127,7 @@ struct SweepResult {
   std::string caseName, metric;
   std::vector<SweepPoint> points;
   std::vector<SweepFit> fits;
-  std::vector<std::string> notes;  ///< skipped combinations (parameter not applicable, ...)
+  std::vector<std::string> notes;     ///< skipped combinations (parameter not applicable, ...)
   std::vector<std::string> together;  ///< the parameters varied together, the coordinate first
 };
 
