@@ -769,10 +769,14 @@ def convergence_page(sweeps: Sequence[Path], colours: Colours, figures: Path, *,
             body.append(f"<p class='badge fail'>{escape(str(path))}: not a sweep ({escape(str(error))})</p>")
             continue
         points = document.get("points", [])
-        # the parameters that vary (one held at a single value, e.g. stepControl=fixed, does not)
+        # the parameters that vary (one held at a single value, e.g. stepControl=fixed, does not;
+        # nor do those varied with the coordinate of a --together path, functions of it)
+        together = [str(n) for n in document.get("together", [])]
         names = sorted(k for k in {k for p in points for k in p.get("parameters", {})}
-                       if len({str(p.get("parameters", {}).get(k)) for p in points}) > 1)
+                       if k not in together[1:] and len({str(p.get("parameters", {}).get(k)) for p in points}) > 1)
         title = f"{document.get('case', '?')}: {document.get('metric', '?')}"
+        if together:
+            title += f" along {', '.join(together)} together"
         if len(names) != 1 or not points:
             body.append(f"<h2>{escape(title)}</h2><p class='badge warn'>"
                         f"{'no points' if not points else 'a grid of several parameters: see sweep.json'}</p>")

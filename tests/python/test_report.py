@@ -292,6 +292,30 @@ def test_sweep_with_a_held_setting_and_a_floor_fit_draws_one_parameter(tmp_path:
     assert done.returncode == 2 and "--fit: expected power or floor, got 'offset'" in done.stderr
 
 
+def test_sweep_along_a_path_fits_its_coordinate_and_draws_it(tmp_path: Path) -> None:
+    """--together timeStepSize,subSteps halves the step and doubles the substeps at once: PBD's
+    projectile error is its integration step h/n times g t/2 (first order, exactly:
+    convergence.md), and h/n falls as h², so the order in the path's coordinate h is 2."""
+    out = tmp_path / "path"
+    pbdval("sweep", str(REPO / "cases/projectile.json"), "--param", "timeStepSize=0.01,0.005,0.0025",
+           "--param", "subSteps=1,2,4", "--together", "timeStepSize,subSteps", "--methods", "pbd",
+           "--repeat", "1", "--out", str(out), "--report", "--quiet")
+    document = json.loads((out / "sweep.json").read_text())
+    assert document["together"] == ["timeStepSize", "subSteps"]
+    assert [(p["parameters"]["timeStepSize"], p["parameters"]["subSteps"]) for p in document["points"]] == [
+        ("0.01", "1"), ("0.005", "2"), ("0.0025", "4")]  # a path of three points, not a grid of nine
+    fit = document["fits"][0]
+    assert list(fit["orders"]) == ["timeStepSize"]
+    assert fit["orders"]["timeStepSize"]["order"] == pytest.approx(2.0, abs=0.01)  # 1.000 per step: 2 here
+    page = (out / "report/convergence.html").read_text()
+    assert "timeStepSize (s)" in page and "a grid of several parameters" not in page
+    done = pbdval("sweep", str(REPO / "cases/projectile.json"), "--param", "timeStepSize=0.01,0.005",
+                  "--param", "subSteps=1,2,4", "--together", "timeStepSize,subSteps", "--methods", "pbd",
+                  "--out", str(tmp_path / "bad"), check=False)
+    assert done.returncode == 2
+    assert "--together: --param subSteps has 3 values and --param timeStepSize 2" in done.stderr
+
+
 def synthetic(folder: Path, runs: list[dict[str, Any]], schema_version: int = 1, case_file: str = "") -> Path:
     folder.mkdir(parents=True)
     cases = {r["case"]: {"file": case_file, "description": "synthetic", "checks": [], "tolerances": {}}

@@ -9,6 +9,7 @@
 
 #include "engines/selftest_engine.h"
 #include "pbdval/build_info.h"
+#include "validation/run/overrides.h"
 #include "validation/studies/sweep.h"
 
 namespace pbdval {
@@ -359,6 +360,127 @@ TEST(SweepFitOfCollectedPoints, AnErrorControlledIntegratorsOrderInItsStepsIsFit
   records[2].settings.clear();
   result = collectSweep(plan, records);
   EXPECT_TRUE(std::isnan(result.fits[0].workOrder));
+}
+
+TEST(SweepPointsAlongAPath, ParametersVariedTogetherTakeTheirIthValuesAndTheRestSpanTheGrid) {
+  // k·h² held: the i-th step with the i-th stiffness, times the two substep counts of the grid.
+  const std::vector<std::pair<std::string, std::vector<std::string>>> parameters = {
+      {"substeps", {"5", "10"}},
+      {"timeStepSize", {"0.01", "0.005", "0.0025"}},
+      {"jointStiffness", {"1e4", "4e4", "1.6e5"}}};
+  const auto points = sweepPoints(parameters, {"timeStepSize", "jointStiffness"});
+  ASSERT_EQ(points.size(), 6u);  // 2 substep counts × 3 points of the path, not 2 × 3 × 3
+  const std::vector<std::pair<std::string, std::string>> pairs = {
+      {"0.01", "1e4"}, {"0.005", "4e4"}, {"0.0025", "1.6e5"}};
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    ASSERT_EQ(points[k].size(), 3u);
+    // Every point lists the parameters in the order they were given.
+    EXPECT_EQ(points[k][0].first, "substeps");
+    EXPECT_EQ(points[k][0].second, k < 3 ? "5" : "10");
+    EXPECT_EQ(points[k][1],
+              (std::pair<std::string, std::string>{"timeStepSize", pairs[k % 3].first}));
+    EXPECT_EQ(points[k][2],
+              (std::pair<std::string, std::string>{"jointStiffness", pairs[k % 3].second}));
+  }
+  // Without --together the same lists are the Cartesian grid.
+  EXPECT_EQ(sweepPoints(parameters, {}).size(), 18u);
+}
+
+TEST(SweepPointsAlongAPath, AListThatCannotBeAPathIsAnErrorNamingIt) {
+  const std::vector<std::pair<std::string, std::vector<std::string>>> parameters = {
+      {"timeStepSize", {"0.01", "0.005", "0.0025"}},
+      {"jointStiffness", {"1e4", "4e4"}},
+      {"stepControl", {"fixed"}}};
+  auto message = [&](const std::vector<std::string>& together) -> std::string {
+    try {
+      sweepPoints(parameters, together);
+    } catch (const OptionError& error) {
+      return error.what();
+    }
+    return "no error";
+  };
+  EXPECT_NE(message({"timeStepSize"}).find("two or more parameters"), std::string::npos);
+  EXPECT_NE(message({"timeStepSize", "jointStifness"}).find("jointStifness is not a swept"),
+            std::string::npos);
+  EXPECT_NE(message({"timeStepSize", "timeStepSize"}).find("named twice"), std::string::npos);
+  const std::string unequal = message({"timeStepSize", "jointStiffness"});
+  EXPECT_NE(unequal.find("--together: --param jointStiffness has 2 values and --param "
+                         "timeStepSize 3"),
+            std::string::npos)
+      << unequal;
+  EXPECT_NE(message({"stepControl", "timeStepSize"}).find("stepControl has one value"),
+            std::string::npos);
+}
+
+TEST(SweepPointsAlongAPath, ThePlanRunsThePairedAssignmentsOfEachPoint) {
+  SweepOptions options;
+  options.caseFile = std::string(PBDVAL_SOURCE_DIR) + "/cases/joint_hinge.json";
+  options.parameters = {{"timeStepSize", {"0.01", "0.005"}}, {"subSteps", {"2", "4"}}};
+  options.together = {"timeStepSize", "subSteps"};
+  options.methods = {"pbd"};
+  const SweepPlan plan = planSweep(options, testRegistry());
+  ASSERT_EQ(plan.requests.size(), 2u);
+  EXPECT_EQ(plan.requests[0].assignments,
+            (std::vector<std::string>{"timeStepSize=0.01", "subSteps=2"}));
+  EXPECT_EQ(plan.requests[1].assignments,
+            (std::vector<std::string>{"timeStepSize=0.005", "subSteps=4"}));
+  EXPECT_EQ(plan.together, options.together);
+  options.together = {"timeStepSize", "maxIterations"};
+  EXPECT_THROW(planSweep(options, testRegistry()), OptionError);
+}
+
+TEST(SweepFitOfCollectedPoints, APairedSweepIsFittedInItsCoordinateAlone) {
+  // A penalty scheme along k = 1/h²: a first-order discretisation error 3h plus a compliance
+  // error 5/k = 5h², added (the manufactured e = 3h + 5h²). The fit is in h alone (k is a
+  // function of it: fitting both would be singular), and the local orders fall towards 1 as h
+  // falls (the h² term dies out), as written below.
+  SweepPlan plan;
+  plan.caseName = "c";
+  plan.metric = "trajectory_error_max";
+  const std::vector<double> steps = {0.04, 0.02, 0.01, 0.005, 0.0025};
+  std::vector<std::string> stepText, stiffnessText;
+  for (double h : steps) {
+    stepText.push_back(std::to_string(h));
+    stiffnessText.push_back(std::to_string(1 / (h * h)));
+  }
+  plan.parameters = {{"timeStepSize", stepText}, {"jointStiffness", stiffnessText}};
+  plan.together = {"timeStepSize", "jointStiffness"};
+  plan.methods = {"newton.semiImplicit"};
+  std::vector<RunRecord> records;
+  for (const auto& values : sweepPoints(plan.parameters, plan.together)) {
+    SweepPoint point;
+    point.method = "newton.semiImplicit";
+    point.values = values;
+    plan.points.push_back(point);
+    const double h = std::stod(values[0].second), k = std::stod(values[1].second);
+    RunRecord record;
+    record.status = RunStatus::Ok;
+    record.metrics.values = {{"trajectory_error_max", 3 * h + 5 / k}};
+    records.push_back(record);
+  }
+  ASSERT_EQ(plan.points.size(), steps.size());
+  const SweepResult result = collectSweep(plan, records);
+  ASSERT_EQ(result.fits.size(), 1u);
+  const SweepFit& fit = result.fits[0];
+  EXPECT_EQ(fit.parameters, (std::vector<std::string>{"timeStepSize"}));
+  ASSERT_EQ(fit.localOrders.size(), steps.size() - 1);
+  // log2((3h + 5h²) / (3h/2 + 5h²/4)) for h = 0.04 … 0.005: 1 + log2((1 + 5h/3)/(1 + 5h/6)).
+  for (std::size_t k = 0; k < fit.localOrders.size(); ++k) {
+    const double h = steps[k];
+    EXPECT_NEAR(fit.localOrders[k].order, 1 + std::log2((1 + 5 * h / 3) / (1 + 5 * h / 6)),
+                1e-9)  // round-off
+        << "from h = " << h;
+  }
+  EXPECT_NEAR(fit.orders[0], 1.0, 0.05);  // the h² term bends the slope by < 0.05 here
+  EXPECT_EQ(result.together, plan.together);
+
+  // e = 2h² exactly along the path: order 2 to the digits the values are written with.
+  for (std::size_t k = 0; k < records.size(); ++k)
+    records[k].metrics.values["trajectory_error_max"] = 2 / std::stod(stiffnessText[k]);
+  const SweepResult quadratic = collectSweep(plan, records);
+  EXPECT_NEAR(quadratic.fits[0].orders[0], 2.0, 1e-9);  // round-off: the values are exact
+  EXPECT_GT(quadratic.fits[0].rSquared, 1 - 1e-9);
+  EXPECT_TRUE(quadratic.fits[0].flags.empty());
 }
 
 }  // namespace

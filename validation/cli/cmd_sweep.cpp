@@ -37,6 +37,10 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
   parser.positionals("CASE", "a scene with a Validation block", 1, 1)
       .option("param", "NAME=v1,v2,...",
               "a parameter and its values (default: the case's Validation.sweeps)", true)
+      .option("together", "NAME,NAME,...",
+              "vary these --param lists together, the i-th values at the i-th point (one path, "
+              "not a grid: a penalty stiffness raised as the step falls); the order is fitted in "
+              "the first")
       .option("methods", "LIST",
               "comma-separated methods (default: the case's, else every engine's default)")
       .option("metric", "NAME",
@@ -90,6 +94,9 @@ int sweepCommand(const Context& context, const Arguments& arguments) {
       if (values.empty()) throw UsageError("--param " + name + ": no values");
       options.parameters.emplace_back(name, values);
     }
+    options.together = args.list("together");
+    if (args.has("together") && options.together.empty())
+      throw UsageError("--together: expected two or more parameter names, got none");
     options.methods = args.list("methods");
     checkNames(context.engines, "--methods", options.methods);
     options.metric = args.value("metric");

@@ -29,22 +29,6 @@ bool isStepLike(const std::string& parameter) {
   return parameter == "timeStepSize" || parameter == "tolerance" || parameter == "targetAccuracy";
 }
 
-std::vector<std::vector<std::pair<std::string, std::string>>> grid(
-    const std::vector<std::pair<std::string, std::vector<std::string>>>& parameters) {
-  std::vector<std::vector<std::pair<std::string, std::string>>> points{{}};
-  for (const auto& [name, values] : parameters) {
-    std::vector<std::vector<std::pair<std::string, std::string>>> next;
-    for (const auto& partial : points)
-      for (const std::string& value : values) {
-        auto extended = partial;
-        extended.emplace_back(name, value);
-        next.push_back(extended);
-      }
-    points = next;
-  }
-  return points;
-}
-
 std::vector<std::string> defaultMethods(const CaseSpec& spec, const EngineRegistry& registry) {
   if (!spec.methods.empty()) return spec.methods;
   std::vector<std::string> methods;
@@ -60,9 +44,11 @@ std::optional<std::vector<double>> numericValues(
     const std::vector<std::pair<std::string, std::string>>& values,
     const std::vector<std::pair<std::string, std::vector<std::string>>>& parameters) {
   std::vector<double> row;
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    const std::optional<double> v = pbd::parseReal(values[i].second);
-    const bool held = i < parameters.size() && parameters[i].second.size() == 1;
+  for (const auto& [name, value] : values) {
+    const std::optional<double> v = pbd::parseReal(value);
+    bool held = false;
+    for (const auto& [declared, list] : parameters)
+      held = held || (declared == name && list.size() == 1);
     if (!v && !held) return std::nullopt;
     row.push_back(v ? *v : 1.0);
   }
@@ -88,6 +74,59 @@ double commonSampleInterval(const std::vector<double>& steps, double atLeast) {
 }
 
 }  // namespace
+
+std::vector<std::vector<std::pair<std::string, std::string>>> sweepPoints(
+    const std::vector<std::pair<std::string, std::vector<std::string>>>& parameters,
+    const std::vector<std::string>& together) {
+  if (together.size() == 1)
+    throw OptionError("--together " + together[0] +
+                      ": expected two or more parameters varied together, got one");
+  std::vector<std::size_t> path;  // indices into `parameters`, the coordinate first
+  for (std::size_t i = 0; i < together.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j)
+      if (together[j] == together[i])
+        throw OptionError("--together: " + together[i] + " is named twice");
+    std::size_t index = parameters.size();
+    for (std::size_t k = 0; k < parameters.size(); ++k)
+      if (parameters[k].first == together[i]) index = k;
+    if (index == parameters.size())
+      throw OptionError("--together: " + together[i] +
+                        " is not a swept parameter (give its values with --param " + together[i] +
+                        "=v1,v2,...)");
+    const std::size_t count = parameters[index].second.size();
+    if (count < 2)
+      throw OptionError("--together: --param " + together[i] + " has one value; a path needs " +
+                        "two or more");
+    if (!path.empty() && count != parameters[path[0]].second.size())
+      throw OptionError("--together: --param " + together[i] + " has " + std::to_string(count) +
+                        " values and --param " + together[0] + " " +
+                        std::to_string(parameters[path[0]].second.size()) +
+                        ": the i-th values are taken together, so the lists must be as long");
+    path.push_back(index);
+  }
+  // The axes of the grid: each parameter alone, except the path, one axis at its coordinate.
+  std::vector<std::vector<std::size_t>> axes;
+  for (std::size_t k = 0; k < parameters.size(); ++k) {
+    if (std::find(path.begin(), path.end(), k) == path.end())
+      axes.push_back({k});
+    else if (k == path[0])
+      axes.push_back(path);
+  }
+  std::vector<std::vector<std::pair<std::string, std::string>>> points{
+      std::vector<std::pair<std::string, std::string>>(parameters.size())};
+  for (const std::vector<std::size_t>& axis : axes) {
+    std::vector<std::vector<std::pair<std::string, std::string>>> next;
+    for (const auto& partial : points)
+      for (std::size_t v = 0; v < parameters[axis[0]].second.size(); ++v) {
+        auto extended = partial;
+        for (std::size_t k : axis)
+          extended[k] = {parameters[k].first, parameters[k].second[v]};
+        next.push_back(extended);
+      }
+    points = next;
+  }
+  return points;
+}
 
 namespace {
 
@@ -423,6 +462,7 @@ SweepPlan planSweep(const SweepOptions& options, const EngineRegistry& registry)
   plan.methods = options.methods;
   plan.metric = options.metric;
   plan.fitModel = options.fitModel;
+  plan.together = options.together;
   if (plan.parameters.empty()) {
     if (spec.sweeps.empty())
       throw OptionError(options.caseFile +
@@ -467,6 +507,7 @@ SweepPlan planSweep(const SweepOptions& options, const EngineRegistry& registry)
         "compared with the reference by cubic Hermite interpolation");
 
   checkSweepNames(plan, !options.methods.empty(), options.metric.empty(), registry);
+  const auto points = sweepPoints(plan.parameters, plan.together);  // checks --together
   for (const std::string& method : plan.methods) {
     const MethodInfo& info = registry.method(method);
     const EngineEntry& engine = registry.engine(info.engine);
@@ -481,7 +522,7 @@ SweepPlan planSweep(const SweepOptions& options, const EngineRegistry& registry)
     for (const auto& [name, values] : plan.parameters)
       for (const std::string& value : values)
         checkAssignmentValue(name, value, info, "--param " + name + "=" + value);
-    for (const auto& values : grid(plan.parameters)) {
+    for (const auto& values : points) {
       RunRequest r;
       r.caseName = plan.caseName;
       r.caseFile = options.caseFile;
@@ -530,6 +571,7 @@ SweepResult collectSweep(const SweepPlan& plan, const std::vector<RunRecord>& re
   result.metric = plan.metric;
   result.notes = plan.notes;
   result.points = plan.points;
+  result.together = plan.together;
   for (std::size_t k = 0; k < result.points.size(); ++k) {
     SweepPoint& p = result.points[k];
     p.record = records.at(k);
@@ -547,9 +589,17 @@ SweepResult collectSweep(const SweepPlan& plan, const std::vector<RunRecord>& re
   }
   markParetoFront(result.points);
 
+  // The parameters that follow the path's coordinate (--together) are functions of it: the fit
+  // is in the coordinate alone (their columns are left out).
   std::vector<std::string> names;
-  for (const auto& [name, values] : plan.parameters)
-    names.push_back(name);
+  std::vector<bool> fitted;
+  for (const auto& [name, values] : plan.parameters) {
+    const bool follows =
+        !plan.together.empty() && name != plan.together[0] &&
+        std::find(plan.together.begin(), plan.together.end(), name) != plan.together.end();
+    fitted.push_back(!follows);
+    if (!follows) names.push_back(name);
+  }
   for (const std::string& method : plan.methods) {
     std::vector<std::vector<double>> values;
     std::vector<double> errors;
@@ -558,7 +608,10 @@ SweepResult collectSweep(const SweepPlan& plan, const std::vector<RunRecord>& re
       if (p.method != method) continue;
       const auto row = numericValues(p.values, plan.parameters);
       numeric = numeric && row.has_value();
-      values.push_back(row.value_or(std::vector<double>(p.values.size(), 0.0)));
+      std::vector<double> columns;
+      for (std::size_t i = 0; row && i < row->size(); ++i)
+        if (i >= fitted.size() || fitted[i]) columns.push_back((*row)[i]);
+      values.push_back(row ? columns : std::vector<double>(names.size(), 0.0));
       errors.push_back(p.metric);
     }
     if (values.empty()) continue;
@@ -613,6 +666,13 @@ SweepResult runSweep(
 void printSweepTable(std::ostream& out, const SweepResult& result) {
   char line[256];
   out << "sweep of " << result.caseName << ": " << result.metric << " and wall time per method\n";
+  if (!result.together.empty()) {
+    out << "along one path: ";
+    for (std::size_t i = 0; i < result.together.size(); ++i)
+      out << (i ? ", " : "") << result.together[i];
+    out << " varied together (the i-th values at the i-th point); orders in " << result.together[0]
+        << "\n";
+  }
   for (const SweepFit& fit : result.fits) {
     out << "\n" << fit.method << "\n";
     for (const SweepPoint& p : result.points) {
@@ -720,7 +780,8 @@ void writeSweepJson(const std::string& path, const SweepResult& result,
                          {"metric", result.metric},
                          {"points", points},
                          {"fits", fits},
-                         {"notes", result.notes}};
+                         {"notes", result.notes},
+                         {"together", result.together}};
   writeFileAtomically(path, jsonText(document) + "\n");
 }
 

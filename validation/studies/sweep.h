@@ -20,6 +20,11 @@
 // successive refinements, Roache 1998, "Verification and Validation in Computational Science
 // and Engineering", ch. 5), its R² the fit's, and F the mean of e_k − C·x_k^s. Needs four or
 // more points (three differences) of one sign; flagged otherwise, and when F ≤ 0 (no floor).
+//
+// Parameters varied together (`--together A,B,...`, SweepOptions::together): the i-th value of
+// each at the i-th point, one path instead of a grid (a penalty stiffness k raised as the step
+// h falls, k·h² held: the convergence path of an explicit penalty scheme). The first named is
+// the path's coordinate: the fit is in it alone, the others being functions of it.
 #pragma once
 
 #include <cmath>
@@ -58,6 +63,9 @@ struct SweepOptions {
   /// time is one noisy sample: a Pareto front on single samples moves between sweeps).
   int repetitions = kSweepRepetitions;
   FitModel fitModel = FitModel::Power;  ///< `--fit`
+  /// `--together`: parameters of `parameters` varied together (header comment), the first the
+  /// coordinate of the fit; empty: every parameter spans the grid.
+  std::vector<std::string> together;
 };
 
 struct SweepPoint {
@@ -119,7 +127,8 @@ struct SweepResult {
   std::string caseName, metric;
   std::vector<SweepPoint> points;
   std::vector<SweepFit> fits;
-  std::vector<std::string> notes;  ///< skipped combinations (parameter not applicable, ...)
+  std::vector<std::string> notes;     ///< skipped combinations (parameter not applicable, ...)
+  std::vector<std::string> together;  ///< the parameters varied together, the coordinate first
 };
 
 /// The runs of a sweep, before they run: the case's declared sweep filling what the options
@@ -132,7 +141,16 @@ struct SweepPlan {
   std::vector<SweepPoint> points;  ///< one per request, in the same order, without records yet
   std::vector<std::string> notes;  ///< methods skipped (a parameter has no effect on them)
   FitModel fitModel = FitModel::Power;
+  std::vector<std::string> together;  ///< SweepOptions::together, checked
 };
+
+/// The assignments of every point of a sweep, each in the order of `parameters`: the Cartesian
+/// grid, except that the parameters of `together` take their i-th values together (one axis
+/// of the grid). Throws OptionError (naming --together) when `together` names fewer than two
+/// parameters, one that is not among `parameters` or one twice, or lists of unequal lengths.
+std::vector<std::vector<std::pair<std::string, std::string>>> sweepPoints(
+    const std::vector<std::pair<std::string, std::vector<std::string>>>& parameters,
+    const std::vector<std::string>& together);
 
 /// Plans the sweep. Throws std::invalid_argument for bad options (unknown method, no
 /// parameters, non-positive step sizes, ...).
