@@ -50,10 +50,10 @@ TEST(TrajectoryCsv, ARowWriterWritesEachSampleAsFormattingEveryNumberAloneWould)
     std::string rows;
     for (const BodyState& b : s.bodies) {
       rows += formatNumber(s.time) + "," + std::to_string(b.id);
-      for (double v : {b.position.x(), b.position.y(), b.position.z(), b.rotation.w(),
-                       b.rotation.x(), b.rotation.y(), b.rotation.z(), b.velocity.x(),
-                       b.velocity.y(), b.velocity.z(), b.angularVelocity.x(),
-                       b.angularVelocity.y(), b.angularVelocity.z()})
+      for (double v :
+           {b.position.x(), b.position.y(), b.position.z(), b.rotation.w(), b.rotation.x(),
+            b.rotation.y(), b.rotation.z(), b.velocity.x(), b.velocity.y(), b.velocity.z(),
+            b.angularVelocity.x(), b.angularVelocity.y(), b.angularVelocity.z()})
         rows += "," + formatNumber(v);
       rows += "\n";
     }

@@ -264,7 +264,8 @@ TEST(Runner, AMethodOfAnEngineRunByNameOnlySelectsItWithoutEngines) {
   // selftest runs by name only (runByDefault false): a plan without --engines leaves it out...
   PlanOptions options;
   RunPlan plan = planRuns({kHinge}, options, testRegistry());
-  for (const RunRequest& r : plan.requests) EXPECT_NE(r.engine, "selftest");
+  for (const RunRequest& r : plan.requests)
+    EXPECT_NE(r.engine, "selftest");
   // ...and its method named in --methods alone is enough to run it.
   options.methods = {"pbd", "selftest.ok"};
   plan = planRuns({kHinge}, options, testRegistry());

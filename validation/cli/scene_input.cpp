@@ -48,7 +48,8 @@ std::vector<std::string> withDefaultEnginesExpanded(const std::vector<std::strin
   };
   for (const std::string& name : names) {
     if (name == "default")
-      for (const std::string& engine : engines.defaultEngineNames()) add(engine);
+      for (const std::string& engine : engines.defaultEngineNames())
+        add(engine);
     else
       add(name);
   }

@@ -282,8 +282,8 @@ void OutputFile::commit() {
   const bool streamOk = static_cast<bool>(*stream_);
   // fsync only regular files (a device or FIFO may not support it: EINVAL), and only when the
   // file must survive a system crash.
-  const bool synced = temporary_.empty() || durability_ == Durability::ProcessCrash ||
-                      ::fsync(descriptor_) == 0;
+  const bool synced =
+      temporary_.empty() || durability_ == Durability::ProcessCrash || ::fsync(descriptor_) == 0;
   const int syncError = synced ? 0 : errno;
   const bool closed = ::close(descriptor_) == 0;
   const int closeError = closed ? 0 : errno;

@@ -24,7 +24,25 @@ constexpr std::array<const char*, 17> kKeywords = {
     "items", "minimum", "minLength", "minItems", "uniqueItems", "pattern",
     "if",    "then",    "else",      "allOf",    "$ref"};
 /// The keywords by their place in kKeywords.
-enum Keyword { kType, kConst, kEnum, kRequired, kProperties, kAdditionalProperties, kItems, kMinimum, kMinLength, kMinItems, kUniqueItems, kPattern, kIf, kThen, kElse, kAllOf, kRef };
+enum Keyword {
+  kType,
+  kConst,
+  kEnum,
+  kRequired,
+  kProperties,
+  kAdditionalProperties,
+  kItems,
+  kMinimum,
+  kMinLength,
+  kMinItems,
+  kUniqueItems,
+  kPattern,
+  kIf,
+  kThen,
+  kElse,
+  kAllOf,
+  kRef
+};
 
 // How many `$ref`s may follow one another without the document moving to a child value: more
 // is a loop in the schema ({"$ref": "#"}), refused instead of recursing without end. The
@@ -128,8 +146,8 @@ struct SchemaChecker::Validation {
         found = patterns.emplace(pattern, Pattern{std::regex(pattern, std::regex::ECMAScript), {}})
                     .first;
       } catch (const std::regex_error&) {
-        throw std::invalid_argument("schema: pattern \"" + pattern + "\" at " +
-                                    shown(path.text()) + " is not a regular expression");
+        throw std::invalid_argument("schema: pattern \"" + pattern + "\" at " + shown(path.text()) +
+                                    " is not a regular expression");
       }
     }
     Pattern& compiled = found->second;
@@ -253,7 +271,8 @@ void check(Validation& validation, const Json& schema, const Json& value, const 
           if (properties)
             for (const auto& p : properties->items())
               names.push_back(p.key());
-          violations.push_back(member.text() + ": not a known key (known: " + alternatives(names) + ")");
+          violations.push_back(member.text() + ": not a known key (known: " + alternatives(names) +
+                               ")");
         } else {
           check(validation, extra, item.value(), member, 0, violations);
         }
@@ -277,8 +296,7 @@ void check(Validation& validation, const Json& schema, const Json& value, const 
 
 }  // namespace
 
-SchemaChecker::SchemaChecker(const Json& schema)
-    : validation_(new Validation{schema, {}, {}}) {}
+SchemaChecker::SchemaChecker(const Json& schema) : validation_(new Validation{schema, {}, {}}) {}
 
 SchemaChecker::~SchemaChecker() = default;
 

@@ -140,7 +140,7 @@ class CollisionDetector {
   struct ParticleModel {
     int firstParticle = 0, particleCount = 0;
     bool testMesh = true;
-    PointBvh hierarchy;  ///< over the model's particles, refitted every detection
+    PointBvh hierarchy;         ///< over the model's particles, refitted every detection
     std::vector<int> seedRank;  ///< the seed's report rank per particle of the model
   };
   struct Frame {
