@@ -337,7 +337,8 @@ INSTANTIATE_TEST_SUITE_P(Recorded, SeedReferenceParticles,
                                            "cloth_on_sphere", "cloth_collision_scene",
                                            "cloth_scene", "deformable_solid_collision_scene",
                                            "armadillo_collision_scene", "cosserat_helix",
-                                           "cloth_on_bunny", "fluid_dam_break_seed"),
+                                           "cloth_on_bunny", "fluid_dam_break_seed",
+                                           "cloth_dihedral_10x10", "tet_bar_shape_matching"),
                          [](const ::testing::TestParamInfo<const char*>& param) {
                            return std::string(param.param);
                          });
