@@ -338,7 +338,8 @@ INSTANTIATE_TEST_SUITE_P(Recorded, SeedReferenceParticles,
                                            "cloth_scene", "deformable_solid_collision_scene",
                                            "armadillo_collision_scene", "cosserat_helix",
                                            "cloth_on_bunny", "fluid_dam_break_seed",
-                                           "cloth_dihedral_10x10", "tet_bar_shape_matching"),
+                                           "cloth_dihedral_10x10", "tet_bar_shape_matching",
+                                           "cloth_distance_10x10"),
                          [](const ::testing::TestParamInfo<const char*>& param) {
                            return std::string(param.param);
                          });
