@@ -4,8 +4,10 @@
 // gets from clothBendingMethod.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <vector>
 
 #include "common/tolerances.h"
@@ -181,8 +183,16 @@ Real hingePeriod(Real mass, Real d, Real stiffness, Real theta0) {
   return 4 * sum * h / 3;
 }
 
-TEST(IsometricBendingWorld, XpbdHingeSwingsWithTheClosedFormPeriodAndKeepsItsEnergy) {
-  const Real mass = 1, d = Real(0.7), stiffness = 10, theta0 = Real(0.4);
+/// The times at which the XPBD hinge's tip 2 crosses the flat state (T/4, then 3T/4) within
+/// `limit` seconds, and the kinetic energy there: two triangles folded by 2θ₀ about a static
+/// hinge, inextensible, no gravity, bending stiffness k. `femCutoff` as the scene gives it.
+struct HingeSwing {
+  std::vector<Real> crossings;
+  std::vector<Real> kineticAtCrossing;
+};
+
+HingeSwing swingXpbdHinge(Real mass, Real d, Real stiffness, Real theta0, Real limit,
+                          std::optional<Real> femCutoff) {
   Scene scene;
   scene.simulation.gravitation = Vector3::Zero();
   scene.simulation.timeStepSize = Real(0.001);
@@ -192,6 +202,7 @@ TEST(IsometricBendingWorld, XpbdHingeSwingsWithTheClosedFormPeriodAndKeepsItsEne
   scene.simulation.cloth_stiffness = Real(1e12);  // α̃ = 10⁻⁴ against Σw = 1: inextensible
   scene.simulation.clothBendingMethod = 3;
   scene.simulation.cloth_bendingStiffness = stiffness;
+  scene.simulation.femCutoff = femCutoff;
   TriangleModelDesc cloth;
   const std::array<Vector3, 4> flat = fold(0, d);
   cloth.mesh.vertices.assign(flat.begin(), flat.end());
@@ -200,27 +211,34 @@ TEST(IsometricBendingWorld, XpbdHingeSwingsWithTheClosedFormPeriodAndKeepsItsEne
   for (std::size_t i = 0; i < 4; ++i)
     scene.particles.push_back({flat[i], Vector3::Zero(), i < 2 ? Real(0) : mass});
   World world = buildWorld(scene);
-  ASSERT_EQ(world.constraints.clothBending.size(), 1u);
+  EXPECT_EQ(world.constraints.clothBending.size(), 1u);
   const std::array<Vector3, 4> folded = fold(2 * theta0, d);
   for (std::size_t i = 0; i < 4; ++i)
     world.bodies.particles.position[i] = folded[i];
-
-  const Real period = hingePeriod(mass, d, stiffness, theta0);
-  const Real initialEnergy = stiffness * std::pow(6 / d * std::pow(std::sin(theta0), 2), 2) / 2;
   // Tip 2's height z = d sin θ crosses 0 downwards at T/4 and upwards at 3T/4.
-  std::vector<Real> crossings;
-  std::vector<Real> kineticAtCrossing;
+  HingeSwing swing;
   Real previous = world.bodies.particles.position[2].z();
-  while (world.time < period && crossings.size() < 2) {
+  while (world.time < limit && swing.crossings.size() < 2) {
     world.step();
     const Real now = world.bodies.particles.position[2].z();
     if ((previous > 0) != (now > 0)) {
-      crossings.push_back(world.time - world.settings.timeStepSize * now / (now - previous));
+      swing.crossings.push_back(world.time - world.settings.timeStepSize * now / (now - previous));
       const auto& v = world.bodies.particles.velocity;
-      kineticAtCrossing.push_back(mass * (v[2].squaredNorm() + v[3].squaredNorm()) / 2);
+      swing.kineticAtCrossing.push_back(mass * (v[2].squaredNorm() + v[3].squaredNorm()) / 2);
     }
     previous = now;
   }
+  return swing;
+}
+
+TEST(IsometricBendingWorld, XpbdHingeSwingsWithTheClosedFormPeriodAndKeepsItsEnergy) {
+  const Real mass = 1, d = Real(0.7), stiffness = 10, theta0 = Real(0.4);
+  const Real period = hingePeriod(mass, d, stiffness, theta0);
+  const Real initialEnergy = stiffness * std::pow(6 / d * std::pow(std::sin(theta0), 2), 2) / 2;
+  // femCutoff 0: pbdval's own formulation (the `pbd` method's default, the seed's, is below).
+  const HingeSwing swing = swingXpbdHinge(mass, d, stiffness, theta0, period, Real(0));
+  const std::vector<Real>& crossings = swing.crossings;
+  const std::vector<Real>& kineticAtCrossing = swing.kineticAtCrossing;
   ASSERT_EQ(crossings.size(), 2u);
   std::printf(
       "  XPBD hinge: half period %.6f s (closed form %.6f s), kinetic energy at the "
@@ -237,6 +255,23 @@ TEST(IsometricBendingWorld, XpbdHingeSwingsWithTheClosedFormPeriodAndKeepsItsEne
     EXPECT_LT(kinetic, initialEnergy * (1 + 1e-3));  // it never gains (round-off, stretch: 10⁻³)
     EXPECT_GT(kinetic, initialEnergy * (1 - 0.02));
   }
+}
+
+// The seed's XPBD isometric bending (the `pbd` method's default, femCutoff 10⁻⁶) takes as its
+// constraint ½ xᵀQx with Q = −3/(2(A₀ + A₁)) K Kᵀ (XPBD::init_IsometricBendingConstraint): −½
+// times pbdval's energy. An XPBD constraint scaled by c with compliance α̃ is the unscaled one
+// with compliance α̃/c²: the seed's bending of stiffness k is pbdval's of stiffness k/4, and the
+// hinge swings with the closed-form period of k/4 (docs/seed.md, "XPBD isometric bending scale").
+TEST(IsometricBendingWorld, TheSeedsXpbdHingeSwingsAsAQuarterOfItsStiffness) {
+  const Real mass = 1, d = Real(0.7), stiffness = 10, theta0 = Real(0.4);
+  const Real period = hingePeriod(mass, d, stiffness / 4, theta0);
+  const HingeSwing swing = swingXpbdHinge(mass, d, stiffness, theta0, period, std::nullopt);
+  ASSERT_EQ(swing.crossings.size(), 2u);
+  std::printf("  the seed's XPBD hinge: half period %.6f s (closed form with k/4: %.6f s)\n",
+              double(swing.crossings[1] - swing.crossings[0]), double(period / 2));
+  // The same error budget as the test above (0.5 % of the period).
+  EXPECT_NEAR(swing.crossings[1] - swing.crossings[0], period / 2, 0.005 * period);
+  EXPECT_NEAR(swing.crossings[0], period / 4, 0.005 * period);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 // triangle models give.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -289,8 +290,9 @@ TEST(ParticleDistanceWorld, XpbdChainStretchIsTheClosedFormAndPbdsIsSetByIterati
 }
 
 TEST(ParticleDistanceWorld, ClothEdgesComeFromTheTriangleModels) {
-  // Two triangles sharing an edge: 5 edges; with particle 0 and 1 static the edge 0–1 is left
-  // out. Only clothSimulationMethod 1 and 4 make constraints, with cloth_stiffness.
+  // Two triangles sharing an edge: 5 edges, the edge 0–1 between the two static particles 0 and
+  // 1 included (the seed keeps it: it moves nothing but takes its particles in a colour group).
+  // Only clothSimulationMethod 1 and 4 make constraints, with cloth_stiffness.
   Scene scene;
   TriangleModelDesc cloth;
   cloth.mesh.vertices = {Vector3(0, 0, 0), Vector3(1, 0, 0), Vector3(0, 0, 1), Vector3(1, 0, 1)};
@@ -306,7 +308,7 @@ TEST(ParticleDistanceWorld, ClothEdgesComeFromTheTriangleModels) {
   for (int method : {0, 1, 2, 3, 4}) {
     scene.simulation.clothSimulationMethod = method;
     const World world = buildWorld(scene);
-    const std::size_t expected = method == 1 || method == 4 ? 4u : 0u;
+    const std::size_t expected = method == 1 || method == 4 ? 5u : 0u;
     ASSERT_EQ(world.constraints.particleDistances.size(), expected)
         << "clothSimulationMethod " << method;
     for (const ParticleDistanceConstraint& c : world.constraints.particleDistances) {
@@ -315,8 +317,17 @@ TEST(ParticleDistanceWorld, ClothEdgesComeFromTheTriangleModels) {
       EXPECT_EQ(c.restLength, (cloth.mesh.vertices[std::size_t(c.particle1)] -
                                cloth.mesh.vertices[std::size_t(c.particle2)])
                                   .norm());
-      EXPECT_FALSE(c.particle1 < 2 && c.particle2 < 2);
     }
+  }
+  // The seed's IndexedFaceMesh order and orientation: per triangle (t₀, t₁), (t₁, t₂), (t₂, t₀),
+  // each side where it first appears.
+  scene.simulation.clothSimulationMethod = 1;
+  const std::vector<ParticleDistanceConstraint> listed = deformableDistanceConstraints(scene);
+  const std::vector<std::array<int, 2>> seedOrder = {{0, 1}, {1, 2}, {2, 0}, {1, 3}, {3, 2}};
+  ASSERT_EQ(listed.size(), seedOrder.size());
+  for (std::size_t k = 0; k < listed.size(); ++k) {
+    EXPECT_EQ(listed[k].particle1, seedOrder[k][0]) << "edge " << k;
+    EXPECT_EQ(listed[k].particle2, seedOrder[k][1]) << "edge " << k;
   }
 }
 

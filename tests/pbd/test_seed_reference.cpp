@@ -278,7 +278,8 @@ double largestParticleDeviationOverFirstSecond(const std::string& name) {
 // the two programs: every sample of the first second is compared, past the horizon too.
 TEST(SeedReferenceFem, ClothAndTetScenesAgreeWithTheOriginalToAMicrometreOverTheFirstSecond) {
   if (sizeof(Real) != sizeof(double)) GTEST_SKIP() << "the recordings are double precision";
-  for (const char* name : {"fem_cloth_10x10", "fem_tet_bar", "fem_tet_bar_xpbd"}) {
+  for (const char* name :
+       {"fem_cloth_10x10", "fem_tet_bar", "fem_tet_bar_xpbd", "cloth_xpbd_isometric_10x10"}) {
     const double worst = largestParticleDeviationOverFirstSecond(name);
     std::printf("  %-20s largest difference over the first second %.3e m\n", name, worst);
     EXPECT_LE(worst, 1e-6) << name;
@@ -337,7 +338,10 @@ INSTANTIATE_TEST_SUITE_P(Recorded, SeedReferenceParticles,
                                            "cloth_on_sphere", "cloth_collision_scene",
                                            "cloth_scene", "deformable_solid_collision_scene",
                                            "armadillo_collision_scene", "cosserat_helix",
-                                           "cloth_on_bunny", "fluid_dam_break_seed"),
+                                           "cloth_on_bunny", "fluid_dam_break_seed",
+                                           "cloth_dihedral_10x10", "tet_bar_shape_matching",
+                                           "cloth_distance_10x10", "cloth_xpbd_distance_10x10",
+                                           "cloth_xpbd_isometric_10x10"),
                          [](const ::testing::TestParamInfo<const char*>& param) {
                            return std::string(param.param);
                          });

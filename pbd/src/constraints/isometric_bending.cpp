@@ -83,24 +83,43 @@ Real isometricBendingEnergy(const std::array<Vector3, 4>& x, const std::array<Re
   return scale * h.squaredNorm() / 2;
 }
 
+namespace {
+
+/// The energy, its gradients and Σ w |∇C|² (static particles skipped) as the seed's
+/// solve_IsometricBendingConstraint (PBD and XPBD) computes them, operation by operation.
+struct SeedBendingTerms {
+  Real energy = 0;
+  std::array<Vector3, 4> g = {Vector3::Zero(), Vector3::Zero(), Vector3::Zero(), Vector3::Zero()};
+  Real sum = 0;
+};
+
+SeedBendingTerms seedBendingTerms(const std::array<Vector3, 4>& x,
+                                  const std::array<Real, 4>& inverseMasses,
+                                  const IsometricBendingConstraint& c) {
+  SeedBendingTerms t;
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j < 4; ++j)
+      t.energy += c.seedQ(j, k) * x[std::size_t(k)].dot(x[std::size_t(j)]);
+  t.energy *= Real(0.5);
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j < 4; ++j)
+      t.g[std::size_t(j)] += c.seedQ(j, k) * x[std::size_t(k)];
+  for (std::size_t j = 0; j < 4; ++j)
+    if (inverseMasses[j] != 0) t.sum += inverseMasses[j] * t.g[j].squaredNorm();
+  return t;
+}
+
+}  // namespace
+
 BendingCorrection isometricBendingPbd(const std::array<Vector3, 4>& x,
                                       const std::array<Real, 4>& inverseMasses,
                                       const IsometricBendingConstraint& c) {
   BendingCorrection out;
   if (c.cutoff > 0) {
     // The seed's solve_IsometricBendingConstraint, operation by operation.
-    Real energy = 0;
-    for (int k = 0; k < 4; ++k)
-      for (int j = 0; j < 4; ++j)
-        energy += c.seedQ(j, k) * x[std::size_t(k)].dot(x[std::size_t(j)]);
-    energy *= Real(0.5);
-    std::array<Vector3, 4> g = {Vector3::Zero(), Vector3::Zero(), Vector3::Zero(), Vector3::Zero()};
-    for (int k = 0; k < 4; ++k)
-      for (int j = 0; j < 4; ++j)
-        g[std::size_t(j)] += c.seedQ(j, k) * x[std::size_t(k)];
-    Real sum = 0;
-    for (std::size_t j = 0; j < 4; ++j)
-      if (inverseMasses[j] != 0) sum += inverseMasses[j] * g[j].squaredNorm();
+    const SeedBendingTerms t = seedBendingTerms(x, inverseMasses, c);
+    const Real energy = t.energy, sum = t.sum;
+    const std::array<Vector3, 4>& g = t.g;
     if (!(std::abs(sum) > c.cutoff)) return out;
     const Real s = energy / sum;
     for (std::size_t j = 0; j < 4; ++j)
@@ -121,6 +140,18 @@ BendingCorrection isometricBendingXpbd(const std::array<Vector3, 4>& x,
                                        const IsometricBendingConstraint& c, Real substepSize) {
   BendingCorrection out;
   if (!(c.stiffness > 0)) return out;
+  if (c.cutoff > 0) {
+    // The seed's XPBD::solve_IsometricBendingConstraint, operation by operation: α̃ added to
+    // Σ w |∇C|², no correction when that sum is at most the cut-off.
+    const SeedBendingTerms t = seedBendingTerms(x, inverseMasses, c);
+    const Real compliance = Real(1) / (c.stiffness * substepSize * substepSize);  // α̃
+    const Real sum = t.sum + compliance;
+    if (!(std::abs(sum) > c.cutoff)) return out;
+    out.multiplier = -(t.energy + compliance * c.multiplier) / sum;
+    for (std::size_t j = 0; j < 4; ++j)
+      out.positions[j] = (out.multiplier * inverseMasses[j]) * t.g[j];
+    return out;
+  }
   const Gradients g = gradients(x, inverseMasses, c);
   const Real compliance = Real(1) / (c.stiffness * substepSize * substepSize);  // α̃
   out.multiplier = (-isometricBendingEnergy(x, c.weights, c.scale) - compliance * c.multiplier) /

@@ -1,6 +1,7 @@
 #include "pbd/constraints/particle_distance.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "pbd/model/body_states.h"
 #include "pbd/model/mesh.h"
@@ -14,38 +15,47 @@ Real particleDistanceValue(const Vector3& p1, const Vector3& p2, Real restLength
 
 DistanceCorrection particleDistancePbd(const Vector3& p1, const Vector3& p2, Real inverseMass1,
                                        Real inverseMass2, Real restLength, Real stiffness) {
+  // In the seed's operation order (PositionBasedDynamics::solve_DistanceConstraint), so that the
+  // two agree bit for bit: n = (p₂ − p₁)/|p₂ − p₁|, c = k n (d − L) / Σw, Δp₁ = w₁ c, Δp₂ = −w₂ c.
   DistanceCorrection c;
   const Real inverseMassSum = inverseMass1 + inverseMass2;
-  const Vector3 d = p1 - p2;
+  const Vector3 d = p2 - p1;
   const Real length = d.norm();
   if (!(inverseMassSum > 0) || !(length > 0)) return c;
   const Vector3 n = d / length;
-  const Real s = (length - restLength) / inverseMassSum;
-  c.first = -stiffness * inverseMass1 * s * n;
-  c.second = stiffness * inverseMass2 * s * n;
+  const Vector3 correction = stiffness * n * (length - restLength) / inverseMassSum;
+  c.first = inverseMass1 * correction;
+  c.second = -inverseMass2 * correction;
   return c;
 }
 
 DistanceCorrection particleDistanceXpbd(const Vector3& p1, const Vector3& p2, Real inverseMass1,
                                         Real inverseMass2, Real restLength, Real stiffness,
                                         Real substepSize, Real multiplier) {
+  // In the seed's operation order and with its cut-offs (XPBD::solve_DistanceConstraint): no
+  // correction (and λ unchanged) when |p₁ − p₂| ≤ 10⁻⁶ m or Σw + α̃ ≤ 10⁻⁶;
+  // Δλ = −(C + α̃ λ) · (1/(Σw + α̃)), Δp₁ = w₁ (n Δλ), Δp₂ = −w₂ (n Δλ).
   DistanceCorrection c;
-  const Real inverseMassSum = inverseMass1 + inverseMass2;
   const Vector3 d = p1 - p2;
   const Real length = d.norm();
-  if (!(inverseMassSum > 0) || !(length > 0) || !(stiffness > 0)) return c;
+  if (!(length > Real(1e-6)) || !(stiffness > 0)) return c;
   const Vector3 n = d / length;
   const Real compliance = Real(1) / (stiffness * substepSize * substepSize);  // α̃
-  c.multiplier = (-(length - restLength) - compliance * multiplier) / (inverseMassSum + compliance);
-  c.first = inverseMass1 * c.multiplier * n;
-  c.second = -inverseMass2 * c.multiplier * n;
+  const Real k = inverseMass1 + inverseMass2 + compliance;
+  if (!(std::abs(k) > Real(1e-6))) return c;
+  const Real inverseK = Real(1) / k;
+  c.multiplier = -inverseK * ((length - restLength) + compliance * multiplier);
+  const Vector3 step = n * c.multiplier;
+  c.first = inverseMass1 * step;
+  c.second = -inverseMass2 * step;
   return c;
 }
 
 namespace {
 
 /// A constraint along every edge of `elements` (triangles or tets of one model), each edge once,
-/// in the order it first appears (uniqueEdges); none between two static particles.
+/// in the seed's order (uniqueEdges), between two static particles too: the seed keeps those,
+/// and though they move nothing they take their particles in a colour group.
 template <std::size_t N>
 void addEdges(const std::vector<std::array<int, N>>& elements, int firstParticle,
               const Scene& scene, bool xpbd, Real stiffness,
@@ -55,7 +65,6 @@ void addEdges(const std::vector<std::array<int, N>>& elements, int firstParticle
     const int b = firstParticle + edge[1];
     const ParticleDesc& pa = scene.particles[std::size_t(a)];
     const ParticleDesc& pb = scene.particles[std::size_t(b)];
-    if (!(pa.mass > 0) && !(pb.mass > 0)) continue;
     ParticleDistanceConstraint c;
     c.particle1 = a;
     c.particle2 = b;

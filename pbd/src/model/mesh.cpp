@@ -26,7 +26,16 @@ std::vector<std::array<int, 2>> edgesOf(const std::vector<std::array<int, N>>& e
 }  // namespace
 
 std::vector<std::array<int, 2>> uniqueEdges(const std::vector<std::array<int, 3>>& triangles) {
-  return edgesOf(triangles);
+  // The seed's IndexedFaceMesh::buildNeighbors: per triangle the sides (t₀, t₁), (t₁, t₂),
+  // (t₂, t₀), a side's first appearance fixing its orientation.
+  std::set<std::pair<int, int>> seen;
+  std::vector<std::array<int, 2>> edges;
+  for (const auto& t : triangles)
+    for (std::size_t k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      if (seen.insert({std::min(a, b), std::max(a, b)}).second) edges.push_back({a, b});
+    }
+  return edges;
 }
 
 std::vector<std::array<int, 2>> uniqueEdges(const std::vector<std::array<int, 4>>& tetrahedra) {

@@ -60,8 +60,8 @@ DistanceCorrection particleDistanceXpbd(const Vector3& p1, const Vector3& p2, Re
 /// clothSimulationMethod is 1 (PBD) or 4 (XPBD), with clothStiffnessFor, then of its tet models
 /// whose solidSimulationMethod is 1 (PBD) or 6 (XPBD), with solidStiffnessFor (each family its
 /// own stiffness: the seed writes one into all). Rest lengths at t = 0; per model, each edge once
-/// in the order it first appears (per element, vertex pairs (i, j), i < j); edges between two
-/// static particles are left out.
+/// in the seed's order and orientation (uniqueEdges), edges between two static particles
+/// included (they move nothing, but the seed colours them).
 std::vector<ParticleDistanceConstraint> deformableDistanceConstraints(const Scene& scene);
 
 /// One Gauss–Seidel sweep over `constraints` in order; the XPBD ones reset λ first when

@@ -27,8 +27,10 @@ struct TetMesh {
   std::vector<std::array<int, 4>> tetrahedra;
 };
 
-/// Every edge of the elements once, in the order it first appears: per element the vertex pairs
-/// (element[i], element[j]) with i < j, a pair's first appearance fixing its orientation.
+/// Every edge of the elements once, in the order it first appears, a pair's first appearance
+/// fixing its orientation — the order of the seed's meshes: per triangle its sides
+/// (t₀, t₁), (t₁, t₂), (t₂, t₀) (IndexedFaceMesh), per tet the vertex pairs (tᵢ, tⱼ) with i < j
+/// (IndexedTetMesh).
 std::vector<std::array<int, 2>> uniqueEdges(const std::vector<std::array<int, 3>>& triangles);
 std::vector<std::array<int, 2>> uniqueEdges(const std::vector<std::array<int, 4>>& tetrahedra);
 

@@ -437,7 +437,8 @@ struct SimulationSettings {
   /// Extension; unset: the method's own (distanceGridFor).
   std::optional<GridInterpolation> distanceGrid;
   /// Extension; unset: the method's own (femCutoffFor). The FEM triangle and FEM tet solves
-  /// (PBD and XPBD) and the isometric bending PBD solve skip an element whose weighted
+  /// (PBD and XPBD) and the isometric bending solves (PBD and XPBD; above 0 in the seed's
+  /// form, docs/seed.md "XPBD isometric bending scale") skip an element whose weighted
   /// gradient sum Σ w_i |∇_iC|² (for XPBD tets plus α̃ C²) is below it, and the FEM builders
   /// drop an element whose rest matrix has |det D_m| ≤ it (docs/methods.md, "Particle
   /// constraints").
