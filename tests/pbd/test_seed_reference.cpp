@@ -333,18 +333,15 @@ TEST(SeedReferenceFluid, TheDamBreakFollowsTheOriginalToAMicrometreOverTheWholeS
 }
 
 // The particle scenes the `pbd` method reproduces (tests/data/seed_reference/README.md).
-INSTANTIATE_TEST_SUITE_P(Recorded, SeedReferenceParticles,
-                         ::testing::Values("fem_cloth_10x10", "fem_tet_bar", "fem_tet_bar_xpbd",
-                                           "cloth_on_sphere", "cloth_collision_scene",
-                                           "cloth_scene", "deformable_solid_collision_scene",
-                                           "armadillo_collision_scene", "cosserat_helix",
-                                           "cloth_on_bunny", "fluid_dam_break_seed",
-                                           "cloth_dihedral_10x10", "tet_bar_shape_matching",
-                                           "cloth_distance_10x10", "cloth_xpbd_distance_10x10",
-                                           "cloth_xpbd_isometric_10x10"),
-                         [](const ::testing::TestParamInfo<const char*>& param) {
-                           return std::string(param.param);
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Recorded, SeedReferenceParticles,
+    ::testing::Values("fem_cloth_10x10", "fem_tet_bar", "fem_tet_bar_xpbd", "cloth_on_sphere",
+                      "cloth_collision_scene", "cloth_scene", "deformable_solid_collision_scene",
+                      "armadillo_collision_scene", "cosserat_helix", "cloth_on_bunny",
+                      "fluid_dam_break_seed", "cloth_dihedral_10x10", "tet_bar_shape_matching",
+                      "cloth_distance_10x10", "cloth_xpbd_distance_10x10",
+                      "cloth_xpbd_isometric_10x10"),
+    [](const ::testing::TestParamInfo<const char*>& param) { return std::string(param.param); });
 
 class SeedReference : public ::testing::TestWithParam<const char*> {};
 
