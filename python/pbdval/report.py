@@ -900,11 +900,13 @@ def build_report(results_dir: Path, out: Path, *, baseline: Path | None = None, 
     colours = Colours()
     labels = sorted({r.label for r in results}, key=declared_order)
     figures = out / "figures"
+    # The verdicts are read (or the gate run) before anything is written: a bad --gate-json or
+    # baseline leaves no half-made report folder behind.
+    verdicts = (read_gate_json(gate_json) if gate_json
+                else run_gate(results_dir, baseline, cases) if baseline else None)
     three = copy_assets(out)
     if not three:
         progress("pbdval report: three.js is not installed (scripts/install-deps): no 3D replay", quiet)
-    verdicts = (read_gate_json(gate_json) if gate_json
-                else run_gate(results_dir, baseline, cases) if baseline else None)
     gate = gate_section(verdicts, baseline, results) if verdicts else None
     checks, checks_note = case_checks(results, verdicts)
     if checks_note:

@@ -256,6 +256,12 @@ def test_a_file_that_is_not_gate_verdicts_is_a_clear_error(real_results: Path, t
     done = pbdval("report", str(real_results), "--out", str(tmp_path / "r"), "--gate-json", str(wrong), check=False)
     assert done.returncode == 2
     assert f"{wrong}: not the verdicts of pbdval gate --json" in done.stderr
+    # Nothing was written before the verdicts were read (a missing file too).
+    assert not (tmp_path / "r").exists()
+    missing = pbdval("report", str(real_results), "--out", str(tmp_path / "m"), "--gate-json",
+                     str(tmp_path / "no_such_gate.json"), check=False)
+    assert missing.returncode == 2 and "no_such_gate.json" in missing.stderr
+    assert not (tmp_path / "m").exists()
 
 
 def test_sweep_writes_its_convergence_page(tmp_path: Path) -> None:
