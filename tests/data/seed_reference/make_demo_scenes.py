@@ -69,6 +69,25 @@ def rigid_body(
     return body
 
 
+def plane_cloth(model_id: int, translation: list[float], *, restitution: float,
+                static_particles: list[int] | None = None) -> Json:
+    """The demos' cloth: the 10 m plane of 50 x 50 particles (models/plane_50x50.obj) in the xz
+    plane, friction 0.1; `staticParticles` written only when given (ClothOnBunny has none)."""
+    model: Json = {
+        "id": model_id,
+        "geometryFile": "../models/plane_50x50.obj",
+        "translation": translation,
+        "rotationAxis": [1, 0, 0],
+        "rotationAngle": 0.0,
+        "scale": [10, 10, 10],
+    }
+    if static_particles is not None:
+        model["staticParticles"] = static_particles
+    model["restitution"] = restitution
+    model["friction"] = 0.1
+    return model
+
+
 def car_scene() -> Json:
     """The car demo: a chassis on four damper joints, steered by a target-angle motor hinge,
     driven by four target-velocity motor hinges on sphere wheels, on a box ground.
@@ -146,17 +165,7 @@ def cloth_collision_scene() -> Json:
             "contactStiffnessRigidBody": 1.0,
             "contactStiffnessParticleRigidBody": 100.0,
         },
-        "TriangleModels": [{
-            "id": 0,
-            "geometryFile": "../models/plane_50x50.obj",
-            "translation": [5, 8, 0],
-            "rotationAxis": [1, 0, 0],
-            "rotationAngle": 0.0,
-            "scale": [10, 10, 10],
-            "staticParticles": [0, 49],
-            "restitution": 0.1,
-            "friction": 0.1,
-        }],
+        "TriangleModels": [plane_cloth(0, [5, 8, 0], restitution=0.1, static_particles=[0, 49])],
         "RigidBodies": [
             rigid_body(1, CUBE, 2, [100, 1, 100], [0, 0, 0], dynamic=False, friction=0.0),
             rigid_body(2, SPHERE, 1, [1.5, 1.5, 1.5], [5, 6, 0], dynamic=True, density=200,
@@ -199,17 +208,7 @@ def cloth_scene() -> Json:
             "cloth_xyPoissonRatio": 0.3,
             "cloth_yxPoissonRatio": 0.3,
         },
-        "TriangleModels": [{
-            "id": 2,
-            "geometryFile": "../models/plane_50x50.obj",
-            "translation": [0, 10, 0],
-            "rotationAxis": [1, 0, 0],
-            "rotationAngle": 0.0,
-            "scale": [10, 10, 10],
-            "staticParticles": [],
-            "restitution": 0.2,
-            "friction": 0.1,
-        }],
+        "TriangleModels": [plane_cloth(2, [0, 10, 0], restitution=0.2, static_particles=[])],
         "RigidBodies": [
             rigid_body(0, CUBE, 2, [100, 1, 100], [0, 0, 0], dynamic=False),
             rigid_body(1, TORUS, 4, [2, 2, 2], [0, 5, 0], dynamic=False, restitution=0.2,
@@ -536,16 +535,7 @@ def cloth_on_bunny() -> Json:
             "contactStiffnessRigidBody": 1.0,
             "contactStiffnessParticleRigidBody": 100.0,
         },
-        "TriangleModels": [{
-            "id": 0,
-            "geometryFile": "../models/plane_50x50.obj",
-            "translation": [5, 8, 0],
-            "rotationAxis": [1, 0, 0],
-            "rotationAngle": 0.0,
-            "scale": [10, 10, 10],
-            "restitution": 0.1,
-            "friction": 0.1,
-        }],
+        "TriangleModels": [plane_cloth(0, [5, 8, 0], restitution=0.1)],
         "RigidBodies": [
             rigid_body(1, CUBE, 2, [100, 1, 100], [0, 0, 0], dynamic=False, friction=0.0),
             cloth_on_torus,
