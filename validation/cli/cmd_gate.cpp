@@ -19,6 +19,15 @@
 namespace pbdval::cli {
 namespace {
 
+/// Keeps, in both the baseline and the results, only the runs `wanted` accepts.
+template <typename Predicate>
+void keepRuns(const Predicate& wanted, Baseline& baseline, ResultsFile& results) {
+  for (std::vector<RunRecord>* runs : {&baseline.runs, &results.runs})
+    runs->erase(
+        std::remove_if(runs->begin(), runs->end(), [&](const RunRecord& r) { return !wanted(r); }),
+        runs->end());
+}
+
 /// Keeps only the named cases in both the baseline and the results.
 void restrictToCases(const std::vector<std::string>& cases, Baseline& baseline,
                      ResultsFile& results) {
@@ -33,13 +42,7 @@ void restrictToCases(const std::vector<std::string>& cases, Baseline& baseline,
     if (!inBaseline && !results.cases.count(name))
       throw UsageError("--cases: no case \"" + name + "\" in the baseline or the results");
   }
-  auto drop = [&](std::vector<RunRecord>& runs) {
-    runs.erase(std::remove_if(runs.begin(), runs.end(),
-                              [&](const RunRecord& r) { return !wanted(r.request.caseName); }),
-               runs.end());
-  };
-  drop(baseline.runs);
-  drop(results.runs);
+  keepRuns([&](const RunRecord& r) { return wanted(r.request.caseName); }, baseline, results);
   for (auto it = results.cases.begin(); it != results.cases.end();)
     it = wanted(it->first) ? std::next(it) : results.cases.erase(it);
 }
@@ -51,13 +54,11 @@ void restrictToEngines(const std::vector<std::string>& named, const EngineRegist
                        Baseline& baseline, ResultsFile& results) {
   const std::vector<std::string> engines = withDefaultEnginesExpanded(named, registry);
   checkNames(registry, "--engines", engines);
-  auto unwanted = [&](const RunRecord& r) {
-    return std::find(engines.begin(), engines.end(), r.request.engine) == engines.end();
-  };
-  baseline.runs.erase(std::remove_if(baseline.runs.begin(), baseline.runs.end(), unwanted),
-                      baseline.runs.end());
-  results.runs.erase(std::remove_if(results.runs.begin(), results.runs.end(), unwanted),
-                     results.runs.end());
+  keepRuns(
+      [&](const RunRecord& r) {
+        return std::find(engines.begin(), engines.end(), r.request.engine) != engines.end();
+      },
+      baseline, results);
 }
 
 /// A case file's gate data as `pbdval run` would record it: its checks and tolerances, and the
