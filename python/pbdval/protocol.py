@@ -636,6 +636,23 @@ def read_resolved_scene(path: str | os.PathLike[str]) -> ResolvedScene:
     return parse_resolved_scene(document, source)
 
 
+def combine_friction(rule: str, a: float, b: float) -> float:
+    """pbd::combineMaterials (contactCombineRule) for friction: the friction PBD uses for a
+    contact between two materials, e.g. a cloth's and a rigid body's (Scene::particleMaterial).
+    Restitution combines otherwise under the seed rule (a product)."""
+    if rule == "seed":
+        return a + b
+    if rule == "product":
+        return a * b
+    if rule == "average":
+        return (a + b) / 2
+    if rule == "min":
+        return min(a, b)
+    if rule == "max":
+        return max(a, b)
+    raise ValueError(f"contactCombineRule: unknown rule {rule!r}")
+
+
 def unsupported_particle_models(scene: ResolvedScene, engine: str, cloth_methods: Iterable[int],
                                 bending_methods: Iterable[int],
                                 solid_methods: Iterable[int]) -> list[str]:

@@ -20,6 +20,7 @@ import pytest
 import linear_fem
 from conftest import REPO
 from pbdval import protocol as pp
+from pbdval.external import cloth_bending
 from pbdval.external.mujoco import engine, flexes
 
 MUJOCO = "mujoco-python"  # the catalogue entry run_engine runs
@@ -242,11 +243,11 @@ def test_seed_bending_energy_of_a_symmetric_fold(distance: float, fold: float) -
     c, s = math.cos(fold / 2), math.sin(fold / 2)
     folded = np.array([[0, 0, 0], [1, 0, 0], [0.4, distance * c, distance * s],
                        [0.4, -distance * c, distance * s]])
-    stencils = flexes.bending_stencils(rest, np.array([[0, 1, 2], [1, 0, 3]]))
+    stencils = cloth_bending.bending_stencils(rest, np.array([[0, 1, 2], [1, 0, 3]]))
     assert len(stencils) == 1
     k = 2.0
     expected = 0.5 * k * (6 / distance * math.sin(fold / 2) ** 2) ** 2
-    assert flexes.isometric_xpbd_energy(stencils, folded, k) == pytest.approx(expected, rel=1e-13)
+    assert cloth_bending.isometric_xpbd_energy(stencils, folded, k) == pytest.approx(expected, rel=1e-13)
 
 
 def test_mujoco_bending_of_a_cylinder_is_kirchhoffs_on_the_interior_hinges(export_scene: Export) -> None:
@@ -259,7 +260,7 @@ def test_mujoco_bending_of_a_cylinder_is_kirchhoffs_on_the_interior_hinges(expor
     x = np.array([p.position for p in scene.particles])
     triangles = scene.triangle_models[0].triangles
     kappa = 0.01
-    work = flexes.kirchhoff_energy_per_rigidity(x, triangles, flexes.cylinder(x, triangles, kappa),
+    work = flexes.kirchhoff_energy_per_rigidity(x, triangles, cloth_bending.cylinder(x, triangles, kappa),
                                                 flexes.NETWORK_POISSON)
     assert work == pytest.approx(7 / 8 * kappa**2 / 2, rel=1e-5)
 

@@ -37,6 +37,11 @@ _COMMON: list[dict[str, Any]] = [
     {"name": "angularDamping", "kind": "real", "default": 0.0, "min": 0.0, "max": 1000.0, "unit": "1/s",
      "description": "Newton's angular damping of rigid bodies (its default 0.05 for Featherstone and "
                     "semi-implicit; 0 here, as the scene's bodies are undamped)"},
+    {"name": "clothBendingCurvature", "kind": "real", "default": 2.0, "min": 0.0, "max": 1000.0, "unit": "1/m",
+     "description": "curvature at which Newton's dihedral edge bending (quadratic in the angle) is matched to "
+                    "the quartic XPBD isometric bending (clothBendingMethod 3): both store the same energy on "
+                    "the cloth bent into a cylinder of this curvature (docs/engine-newton.md#cloth); 0: no "
+                    "bending"},
 ]
 _PER_SOLVER: dict[str, list[dict[str, Any]]] = {
     "xpbd": [

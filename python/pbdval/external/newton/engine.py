@@ -27,7 +27,7 @@ import numpy as np
 
 from pbdval import protocol as pp
 from pbdval.external import joint_trees
-from pbdval.external.newton import catalogue
+from pbdval.external.newton import catalogue, cloth
 from pbdval.external.newton.catalogue import DEFAULT_METHOD, ENGINE
 from pbdval.external.newton.features import MUJOCO_WARP, MUJOCO_WARP_REASON, SHAPES, TREE_JOINTS
 
@@ -35,6 +35,9 @@ from pbdval.external.newton.features import MUJOCO_WARP, MUJOCO_WARP_REASON, SHA
 KERNEL_CACHE = Path(__file__).resolve().parents[4] / "build" / "cache" / "warp"
 #: Relative agreement demanded of (m_a + m_b) / 2 with a pair's value (float32 state: 1e-6).
 AVERAGE_TOLERANCE = 1e-6
+#: A particle faster than this fraction of Newton's particle_max_velocity is at its clamp
+#: (float32: the clamped speed reads back within 1e-6 of the limit).
+PARTICLE_CLAMP_FRACTION = 0.999
 
 
 def _import_newton() -> tuple[Any, Any]:
@@ -57,13 +60,26 @@ def solver_of(method: str) -> str | None:
     return suffix if suffix in catalogue.SOLVERS else None
 
 
+def particle_pairs(scene: pp.ResolvedScene) -> list[tuple[int, int, float]]:
+    """The particle-shape friction pairs (len(bodies), body index, the scene's value): Newton
+    gives every particle one friction, soft_contact_mu, averaged with the shape's like a body's;
+    the scene's value is the particle's model combined with the body by contactCombineRule."""
+    particles = len(scene.bodies)
+    return [(particles, b.index, pp.combine_friction(scene.contact_combine_rule, m.friction, b.material.friction))
+            for m in (*scene.triangle_models, *scene.tet_models) for b in scene.bodies if b.shape.type != "none"]
+
+
 def average_per_body(scene: pp.ResolvedScene, which: str) -> list[float] | None:
     """Per-body values m_i with (m_a + m_b) / 2 = the pair's value for every pair (Newton
     averages the two shapes' friction and restitution), by least squares, or None when the pairs
-    are not of that form (or need a negative value). A body in no pair gets 0."""
+    are not of that form (or need a negative value). A body in no pair gets 0. For friction in
+    a scene with particles, one more value, the particles' (particle_pairs), comes last."""
     index = {b.id: b.index for b in scene.bodies}
     pairs = [(index[p.bodies[0]], index[p.bodies[1]], float(getattr(p, which))) for p in scene.contact_pairs]
     values = [0.0] * len(scene.bodies)
+    if which == "friction" and scene.particles:
+        pairs += particle_pairs(scene)
+        values.append(0.0)
     if not pairs:
         return values
     unknowns = sorted({b for i, j, _ in pairs for b in (i, j)})
@@ -100,9 +116,7 @@ def unsupported_features(scene: pp.ResolvedScene) -> list[str]:
         if j.type not in TREE_JOINTS:
             missing.append(f"{j.json_path}: joint {j.type} (newton maps {', '.join(sorted(TREE_JOINTS))})")
     missing += joint_trees.loop_messages(scene, joint_trees.plan_forest(scene, TREE_JOINTS), "Newton")
-    if scene.particles or scene.triangle_models or scene.tet_models or scene.line_models or scene.fluid_models:
-        missing.append(f"particles ({len(scene.particles)}: cloth, solids, rods or fluids): the newton "
-                       "engine maps no particles")
+    missing += cloth.unsupported(scene)
     for which in ("friction", "restitution"):
         if average_per_body(scene, which) is None:
             missing.append(f"contact {which}: the pairs' values are not averages of per-body values "
@@ -198,10 +212,25 @@ class NewtonRun:
                 joints.append(self._joint(builder, tree_joint))
         if joints:
             builder.add_articulation(joints)
+        if scene.particles:
+            self.particles = cloth.add_particles(
+                builder, wp.vec3, scene, cloth.EXPLICIT_BENDING if penalty else cloth.XPBD_BENDING,
+                parameter("clothBendingCurvature"), self.settings)
         self.model = builder.finalize(device="cpu")
         self.state, self.next_state = self.model.state(), self.model.state()
         self.control = self.model.control()
-        self.pipeline = newton.CollisionPipeline(self.model)
+        if scene.particles:
+            # One friction for every particle (Newton averages it with the shape's, as a body's).
+            self.model.soft_contact_mu = friction[len(scene.bodies)]
+            self.settings["particleFriction"] = self.model.soft_contact_mu
+            self.settings["particleContactGap"] = scene.contact_tolerance
+            self.settings["particleRestitution"] = "0: Newton's soft contacts here are inelastic (approximated)"
+            if penalty:  # the particle's half of the averaged penalty equal to the shapes'
+                self.model.soft_contact_ke = shape_config["ke"]
+                self.model.soft_contact_kd = shape_config["kd"]
+            self.pipeline = newton.CollisionPipeline(self.model, soft_contact_gap=scene.contact_tolerance)
+        else:
+            self.pipeline = newton.CollisionPipeline(self.model)
         self.contacts = self.pipeline.contacts() if hasattr(self.pipeline, "contacts") else self.model.contacts()
         damping = parameter("angularDamping")
         self.settings["angularDamping"] = damping
@@ -314,6 +343,8 @@ class NewtonRun:
         """body_q, body_qd from the scene; the joint coordinates from them (eval_ik), and for
         Featherstone (reduced coordinates) the bodies again from the joints (eval_fk)."""
         newton = self.newton
+        if not self.body_of:  # particles only: Newton has no body arrays
+            return
         q = self.state.body_q.numpy()
         qd = self.state.body_qd.numpy()
         for b, n in self.body_of.items():
@@ -343,6 +374,8 @@ class NewtonRun:
                              list(b.angular_velocity)) for b in self.scene.bodies]
 
     def states(self) -> list[pp.BodyState]:
+        if not self.body_of:  # no dynamic body (a cloth alone, or on static shapes): no body_q
+            return self.initial_states()
         q = self.state.body_q.numpy().astype(float)
         qd = self.state.body_qd.numpy().astype(float)
         out = []
@@ -359,8 +392,28 @@ class NewtonRun:
                                     [float(v) for v in qd[n, 0:3]], [float(v) for v in qd[n, 3:6]]))
         return out
 
+    def particle_states(self) -> np.ndarray:
+        """(P, 6): every particle's position and velocity in scene order (Newton's order)."""
+        out = np.empty((len(self.scene.particles), 6))
+        out[:, :3] = self.state.particle_q.numpy()
+        out[:, 3:] = self.state.particle_qd.numpy()
+        return out
+
+    def initial_particle_states(self) -> np.ndarray:
+        """The scene's particles as given (static ones at rest)."""
+        return np.array([[*p.position, *((0.0, 0.0, 0.0) if p.mass <= 0 else p.velocity)]
+                         for p in self.scene.particles], dtype=float).reshape(-1, 6)
+
     def run(self, out_dir: Path) -> pp.Status:
         def check(t: float) -> str | None:
+            if self.scene.particles:
+                # Newton clamps every particle's speed to particle_max_velocity (1e5 m/s), below
+                # the runner's divergence limit: a particle at the clamp has diverged.
+                limit = float(self.model.particle_max_velocity)
+                speed = float(np.linalg.norm(self.state.particle_qd.numpy(), axis=1).max())
+                if not speed < PARTICLE_CLAMP_FRACTION * limit:
+                    return (f"a particle at Newton's speed clamp ({speed:g} m/s, particle_max_velocity "
+                            f"{limit:g}) at t = {t:g} s")
             if not self.body_of:
                 return None
             q, qd = self.state.body_q.numpy(), self.state.body_qd.numpy()
@@ -375,7 +428,11 @@ class NewtonRun:
             # relative), which the runner's check of the first sample would read as another state.
             return self.initial_states() if t == 0 else self.states()
 
-        status = pp.simulate(self.scene, out_dir, self.step, states, check=check)
+        def particles(t: float) -> np.ndarray:  # t = 0: as given, like the bodies
+            return self.initial_particle_states() if t == 0 else self.particle_states()
+
+        status = pp.simulate(self.scene, out_dir, self.step, states, check=check,
+                             particles=particles if self.scene.particles else None)
         status.engine_version = engine_version()
         status.effective_settings = self.settings
         status.integrator_steps_per_scene_step = self.substeps

@@ -34,7 +34,7 @@ _TABLE: list[dict[str, Any]] = [
     {"feature": "joint.ballOnLine", "support": "unsupported",
      "text": "not mapped (a d6 joint could carry it; not done)"},
     {"feature": "joint.rigidBodyParticleBall", "support": "unsupported",
-     "text": "the newton engine maps no particles"},
+     "text": "not mapped (Newton has no joint between a body and a particle)"},
     {"feature": "joint.rigidBodySpring", "support": "unsupported", "text": "not mapped"},
     {"feature": "joint.distance", "support": "unsupported",
      "text": "not mapped (Newton has add_joint_distance; not done)"},
@@ -63,11 +63,28 @@ _TABLE: list[dict[str, Any]] = [
     {"feature": "contact.nonSeparableMaterials", "support": "unsupported",
      "text": "Newton averages the two shapes' friction and restitution: pair values that are not averages "
              "of per-body values cannot be given"},
-    {"feature": "particle", "support": "unsupported", "text": "not mapped by the newton engine (not done)"},
-    {"feature": "cloth", "support": "unsupported",
-     "text": "not mapped by the newton engine (Newton's add_cloth_mesh takes springs and triangle FEM; not done)"},
-    {"feature": "solid", "support": "unsupported",
-     "text": "not mapped by the newton engine (Newton's add_soft_mesh takes tets; not done)"},
+    {"feature": "particle.initialVelocity", "support": "native", "text": "add_particle's velocity"},
+    {"feature": "cloth.method.none", "support": "native", "text": "free Newton particles (add_particle)"},
+    {"feature": "cloth.method.xpbdDistance", "support": "native",
+     "text": "a spring per distinct edge, add_spring(ke = k, kd = 0): SolverXPBD's distance constraint "
+             "with compliance 1/k, the explicit solvers' force k (l - L): the potential ½ k C² of the method"},
+    {"feature": "cloth.method.fem", "support": "unsupported",
+     "text": "SolverXPBD solves no triangles, and the explicit solvers' triangles are a stable neo-Hookean "
+             "membrane, where the seed's FEM triangles are an orthotropic St. Venant-Kirchhoff projection whose "
+             "stiffness comes from its iterations: not mapped"},
+    {"feature": "cloth.method", "support": "unsupported",
+     "text": "a fraction per iteration of the PBD solver, not a stiffness Newton's springs or triangles can take"},
+    {"feature": "cloth.bending.none", "support": "native", "text": "no bending edges"},
+    {"feature": "cloth.bending.isometricXpbd", "support": "approximated",
+     "text": "Newton's dihedral edge bending (add_edge), quadratic in the angle, matched to the quartic XPBD "
+             "isometric energy at one curvature (clothBendingCurvature)"},
+    {"feature": "cloth.bending", "support": "unsupported",
+     "text": "a fraction per iteration of the PBD solver, not a stiffness Newton's edges can take"},
+    {"feature": "solid.method.none", "support": "native", "text": "free Newton particles (add_particle)"},
+    {"feature": "solid.method", "support": "unsupported",
+     "text": "not mapped by the newton engine (Newton's tet FEM, add_soft_mesh; not done)"},
+    {"feature": "solid.femPoissonOutOfRange", "support": "unsupported",
+     "text": "not mapped by the newton engine (Newton's tet FEM, add_soft_mesh; not done)"},
     {"feature": "rod", "support": "unsupported", "text": "not mapped by the newton engine"},
     {"feature": "fluid", "support": "unsupported", "text": "Newton has no position-based fluid"},
 

@@ -239,17 +239,7 @@ def substep_count(step: float, omega: float) -> int:
 
 def combine(rule: str, a: float, b: float) -> float:
     """pbd::combineMaterials for friction: the pair value PBD uses for two materials."""
-    if rule == "seed":
-        return a + b
-    if rule == "product":
-        return a * b
-    if rule == "average":
-        return (a + b) / 2
-    if rule == "min":
-        return min(a, b)
-    if rule == "max":
-        return max(a, b)
-    raise ValueError(f"contactCombineRule: unknown rule {rule!r}")
+    return pp.combine_friction(rule, a, b)
 
 
 class SoftBodies:
