@@ -167,7 +167,8 @@ def test_newton_mujoco_warp_method_is_unsupported_with_its_measured_reason(expor
 @pytest.mark.parametrize("case,feature", [
     ("joint_damper", "DamperJoints[0]: joint damper"),
     ("contact_sphere_pile", "RigidBodies[0]: shape hollowBox"),
-    ("cloth_hanging", "particles"),
+    ("tet_cantilever", "TetModels[0]: solid method 3 (fem_xpbd)"),
+    ("joint_rigid_body_particle_ball", "RigidBodyParticleBallJoints[0]"),
 ])
 def test_newton_names_what_it_cannot_run(export_scene: Export, run_engine: Run, case: str, feature: str) -> None:
     status, out = run_engine(NEWTON, export_scene(case, method="newton.xpbd"))

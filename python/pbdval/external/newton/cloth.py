@@ -175,8 +175,8 @@ def add_particles(builder: Any, vector: Any, scene: pp.ResolvedScene, bending_ki
             builder.add_spring(first + a, first + b, k, 0.0, 0.0)
         settings[f"{path}.springs"] = (f"{len(springs)} springs ke = {k:g} N/m, kd = 0, one per distinct "
                                        "edge: the XPBD distance constraint's (1/2) k C^2 (native)")
-        if tm.bending_method == 3 and curvature > 0:
-            edges = bending_edges(tm.triangles)
+        edges = bending_edges(tm.triangles)
+        if tm.bending_method == 3 and curvature > 0 and edges:
             ke = matched_edge_stiffness(x, tm.triangles, float(tm.material["bendingStiffness"]), curvature,
                                         bending_kind)
             for (i, j, k_, l), rest in zip(edges, dihedral_angles(x, edges), strict=True):
@@ -189,7 +189,8 @@ def add_particles(builder: Any, vector: Any, scene: pp.ResolvedScene, bending_ki
                 f"{float(tm.material['bendingStiffness']):g}) on a cylinder of curvature {curvature:g} 1/m")
         else:
             settings[f"{path}.bending"] = ("none (native)" if tm.bending_method == 0 else
-                                           f"omitted: method {tm.bending_method} with clothBendingCurvature 0")
+                                           f"omitted: method {tm.bending_method} with clothBendingCurvature 0, "
+                                           "or a mesh without interior edges")
     for sm in scene.tet_models:
         settings[f"{sm.json_path}.elasticity"] = "none (method 0, native)"
     masses = np.array([p.mass for p in scene.particles], dtype=np.float64)
