@@ -38,8 +38,13 @@ Cloth (TriangleModels):
   neo-Hookean membrane whose small-strain Lame parameters are (tri_ke, tri_ka - tri_ke), where the
   seed's method 2 is an orthotropic St. Venant-Kirchhoff projection whose stiffness comes from its
   iterations: not mapped.
-Solids (TetModels): method 0 (free particles) native; the others unsupported by name (Newton's
-tet FEM, `add_soft_mesh`, is not mapped). Rods and fluids: unsupported.
+Solids (TetModels): method 0 (free particles) native; the others unsupported by name.
+SolverXPBD's tets (`solve_tetrahedra`) project C_D = tr(F^T F) - 3 and C_H = det F - 1 with
+compliances 1/(k_mu V), 1/(k_lambda V): at small strain C_D = 2 tr(eps) + O(eps^2), so shear
+(tr eps = 0) costs energy only at fourth order: no small-strain shear modulus, and no (k_mu,
+k_lambda) gives the seed's St. Venant-Kirchhoff tets (method 3, E and nu). The explicit solvers'
+neo-Hookean tets (`eval_tetrahedra`) could be matched at small strain as pybullet's are: not done.
+Rods and fluids: unsupported.
 
 Contacts: Newton's particle-shape ("soft") contacts, found once per scene step by the collision
 pipeline within the scene's contactTolerance (soft_contact_gap) of each particle's sphere, and

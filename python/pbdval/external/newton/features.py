@@ -81,10 +81,14 @@ _TABLE: list[dict[str, Any]] = [
     {"feature": "cloth.bending", "support": "unsupported",
      "text": "a fraction per iteration of the PBD solver, not a stiffness Newton's edges can take"},
     {"feature": "solid.method.none", "support": "native", "text": "free Newton particles (add_particle)"},
+    {"feature": "solid.method.femXpbd", "support": "unsupported",
+     "text": "SolverXPBD's tets (solve_tetrahedra: tr(FᵀF) − 3 and det F − 1 as XPBD constraints) have no "
+             "small-strain shear stiffness, so no E, ν matches the seed's St. Venant-Kirchhoff tets; the explicit "
+             "solvers' neo-Hookean tets could be matched at small strain (not done)"},
     {"feature": "solid.method", "support": "unsupported",
-     "text": "not mapped by the newton engine (Newton's tet FEM, add_soft_mesh; not done)"},
+     "text": "a fraction per iteration of the PBD solver, not a stiffness Newton's tets can take"},
     {"feature": "solid.femPoissonOutOfRange", "support": "unsupported",
-     "text": "not mapped by the newton engine (Newton's tet FEM, add_soft_mesh; not done)"},
+     "text": "FEM solids are not mapped by the newton engine"},
     {"feature": "rod", "support": "unsupported", "text": "not mapped by the newton engine"},
     {"feature": "fluid", "support": "unsupported", "text": "Newton has no position-based fluid"},
 
