@@ -30,7 +30,7 @@ Run = Callable[[str, Path], tuple[dict[str, Any], Path]]
 
 
 
-def scene_of(export_scene: Export, case: str, method: str, edit: Callable[[dict], None] | None = None,
+def scene_of(export_scene: Export, case: str, method: str, edit: Callable[[dict[str, Any]], None] | None = None,
              **kwargs: Any) -> pp.ResolvedScene:
     path = export_scene(case, method=method, **kwargs)
     document = json.loads(path.read_text())
@@ -40,7 +40,7 @@ def scene_of(export_scene: Export, case: str, method: str, edit: Callable[[dict]
     return pp.read_resolved_scene(path)
 
 
-def without_bodies(document: dict) -> None:
+def without_bodies(document: dict[str, Any]) -> None:
     document["bodies"], document["contactPairs"] = [], []
 
 
@@ -56,7 +56,8 @@ def elastic_forces(run: Any, positions: np.ndarray) -> np.ndarray:
     run.data.qpos[layout.qpos] = (positions - layout.positions0)[layout.dynamic]
     run.data.qvel[:] = 0.0
     mujoco.mj_forward(run.model, run.data)
-    return run.data.qfrc_passive[layout.dofs].copy()
+    forces: np.ndarray = run.data.qfrc_passive[layout.dofs].copy()
+    return forces
 
 
 # --- the model is the scene's --------------------------------------------------------------
@@ -275,7 +276,7 @@ def test_free_cloth_centre_of_mass_follows_the_discrete_parabola(export_scene: E
     # internal, so the centre of mass moves as one particle under gravity in the integrator's
     # step, v_k = v0 + k h g, x_k = x0 + k h v0 + k (k + 1)/2 h^2 g (velocity first), with h the
     # internal step and k the internal steps taken.
-    def thrown(document: dict) -> None:
+    def thrown(document: dict[str, Any]) -> None:
         without_bodies(document)
         rng = np.random.default_rng(7)
         for p in document["particles"]:
@@ -394,7 +395,7 @@ def test_pinned_particles_stay_and_the_particles_file_has_every_sample(export_sc
 ])
 def test_particle_features_without_a_mujoco_counterpart_are_named(
         export_scene: Export, run_engine: Run, case: str, method: str,
-        edit: Callable[[dict], None] | None, feature: str) -> None:
+        edit: Callable[[dict[str, Any]], None] | None, feature: str) -> None:
     path = export_scene(case, method=method, duration=0.02)
     if edit is not None:
         document = json.loads(path.read_text())
