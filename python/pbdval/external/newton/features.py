@@ -72,12 +72,14 @@ _TABLE: list[dict[str, Any]] = [
      "text": "SolverXPBD solves no triangles, and the explicit solvers' triangles are a stable neo-Hookean "
              "membrane, where the seed's FEM triangles are an orthotropic St. Venant-Kirchhoff projection whose "
              "stiffness comes from its iterations: not mapped"},
+    {"feature": "cloth.method.other", "support": "unsupported", "text": "no such cloth method"},
     {"feature": "cloth.method", "support": "unsupported",
      "text": "a fraction per iteration of the PBD solver, not a stiffness Newton's springs or triangles can take"},
     {"feature": "cloth.bending.none", "support": "native", "text": "no bending edges"},
     {"feature": "cloth.bending.isometricXpbd", "support": "approximated",
      "text": "Newton's dihedral edge bending (add_edge), quadratic in the angle, matched to the quartic XPBD "
              "isometric energy at one curvature (clothBendingCurvature)"},
+    {"feature": "cloth.bending.other", "support": "unsupported", "text": "no such bending method"},
     {"feature": "cloth.bending", "support": "unsupported",
      "text": "a fraction per iteration of the PBD solver, not a stiffness Newton's edges can take"},
     {"feature": "solid.method.none", "support": "native", "text": "free Newton particles (add_particle)"},
@@ -85,6 +87,10 @@ _TABLE: list[dict[str, Any]] = [
      "text": "SolverXPBD's tets (solve_tetrahedra: tr(FᵀF) − 3 and det F − 1 as XPBD constraints) have no "
              "small-strain shear stiffness, so no E, ν matches the seed's St. Venant-Kirchhoff tets; the explicit "
              "solvers' neo-Hookean tets could be matched at small strain (not done)"},
+    {"feature": "solid.method.distanceVolumeXpbd", "support": "unsupported",
+     "text": "Newton has springs for the edges (k N/m) but no tet-volume constraint (its tets are the FEM "
+             "above): not mapped"},
+    {"feature": "solid.method.other", "support": "unsupported", "text": "no such solid method"},
     {"feature": "solid.method", "support": "unsupported",
      "text": "a fraction per iteration of the PBD solver, not a stiffness Newton's tets can take"},
     {"feature": "solid.femPoissonOutOfRange", "support": "unsupported",
