@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from test_engines import assert_ok
 
+import linear_fem
 from pbdval import protocol as pp
 from pbdval.external.newton import cloth
 
@@ -256,3 +257,38 @@ def test_newton_names_the_particle_model_it_cannot_run(export_scene: Export, run
     assert status["status"] == "unsupported"
     assert any(u.startswith(feature) for u in status["unsupported"]), status["unsupported"]
     assert not (out / "particles.npy").exists()
+
+
+@pytest.mark.parametrize("poisson", [0.0, 0.3, 0.45])
+def test_newton_neo_hookean_tet_gives_the_linear_elastic_forces_of_the_mapped_young_and_poisson(
+        poisson: float) -> None:
+    """cloth.neo_hookean's reading of eval_tetrahedra: at small strain Newton's stable
+    neo-Hookean tet with k_mu = 4/3 mu, k_lambda = lambda + 5/6 mu has linear elasticity's
+    forces -K u for (E, nu) (tests/python/linear_fem.py, numpy alone), measured as m dv/h after
+    one semi-implicit step from rest under a homogeneous strain of size eps = 1e-3."""
+    from pbdval.external.newton.engine import _import_newton
+
+    wp, newton = _import_newton()
+    young, eps, step = 1e4, 1e-3, 1e-4
+    rest = np.array([[0.0, 0.0, 0.0], [1.0, 0.1, 0.0], [0.2, 0.9, 0.1], [0.1, 0.2, 1.1]])
+    gradient = np.array([[0.3, -0.8, 0.5], [0.6, 0.2, -0.4], [-0.1, 0.7, 0.9]])  # fixed, generic
+    u = eps * rest @ gradient.T
+    k_mu, k_lambda = cloth.neo_hookean(young, poisson)
+    builder = newton.ModelBuilder(gravity=(0.0, 0.0, 0.0))
+    for x in rest:
+        builder.add_particle(wp.vec3(*x), wp.vec3(0.0, 0.0, 0.0), 1.0, radius=1e-3)
+    builder.add_tetrahedron(0, 1, 2, 3, k_mu=k_mu, k_lambda=k_lambda, k_damp=0.0)
+    model = builder.finalize(device="cpu")
+    state_in, state_out = model.state(), model.state()
+    state_in.particle_q.assign((rest + u).astype(np.float32))
+    state_in.clear_forces()
+    newton.solvers.SolverSemiImplicit(model).step(state_in, state_out, model.control(), None, step)
+    force = state_out.particle_qd.numpy().astype(float) / step  # m = 1
+    expected = -(linear_fem.stiffness_matrix(rest, np.array([[0, 1, 2, 3]]), young, poisson)
+                 @ u.reshape(-1)).reshape(-1, 3)
+    # The models differ at second order in the strain: a relative O(eps), 5 eps allowed (the
+    # quadratic terms' coefficients are O(1) multiples of the moduli' linear ones); float32 loses
+    # 2^-24 of the stresses ~k I that cancel at rest, 2^-24 / eps = 6e-5 relative. With mu and
+    # lambda given to Newton unmapped the error is 0.08-0.67.
+    tolerance = 5 * eps
+    assert np.max(np.abs(force - expected)) < tolerance * np.max(np.abs(expected))

@@ -38,13 +38,19 @@ Cloth (TriangleModels):
   neo-Hookean membrane whose small-strain Lame parameters are (tri_ke, tri_ka - tri_ke), where the
   seed's method 2 is an orthotropic St. Venant-Kirchhoff projection whose stiffness comes from its
   iterations: not mapped.
-Solids (TetModels): method 0 (free particles) native; the others unsupported by name.
-SolverXPBD's tets (`solve_tetrahedra`) project C_D = tr(F^T F) - 3 and C_H = det F - 1 with
-compliances 1/(k_mu V), 1/(k_lambda V): at small strain C_D = 2 tr(eps) + O(eps^2), so shear
-(tr eps = 0) costs energy only at fourth order: no small-strain shear modulus, and no (k_mu,
-k_lambda) gives the seed's St. Venant-Kirchhoff tets (method 3, E and nu). The explicit solvers'
-neo-Hookean tets (`eval_tetrahedra`) could be matched at small strain as pybullet's are: not done.
-Rods and fluids: unsupported.
+Solids (TetModels): method 0 (free particles) native. Method 3 (FEM-XPBD: St. Venant-Kirchhoff
+linear tets of Young's modulus E and Poisson ratio nu) under the explicit solvers: Newton's stable
+neo-Hookean tets (`add_tetrahedron`, `eval_tetrahedra`; Smith et al., "Stable Neo-Hookean Flesh
+Simulation", 2018): P = k_mu (1 - 1/(I_C + 1)) F + k_lambda (J - alpha) cof F,
+alpha = 1 + 3 k_mu / (4 k_lambda). Linearised at F = I: dP = (3/2) k_mu eps + (k_lambda -
+5/8 k_mu) tr(eps) I, so the small-strain Lame parameters (mu, lambda) of E, nu are those of
+k_mu = 4/3 mu, k_lambda = lambda + 5/6 mu (neo_hookean). Both models are linear elasticity at
+small strain and differ at large: approximated. nu outside [0, 0.49] is refused (the seed's
+range). Under SolverXPBD: unsupported. SolverXPBD's tets (`solve_tetrahedra`) project
+C_D = tr(F^T F) - 3 and C_H = det F - 1 with compliances 1/(k_mu V), 1/(k_lambda V): at small
+strain C_D = 2 tr(eps) + O(eps^2), so shear (tr eps = 0) costs energy only at fourth order: no
+small-strain shear modulus, and no (k_mu, k_lambda) gives the seed's tets. The other solid
+methods: unsupported by name. Rods and fluids: unsupported.
 
 Contacts: Newton's particle-shape ("soft") contacts, found once per scene step by the collision
 pipeline within the scene's contactTolerance (soft_contact_gap) of each particle's sphere, and
@@ -70,6 +76,10 @@ from pbdval.external import cloth_bending
 CLOTH_METHODS = {0: "none", 4: "xpbd_distance"}
 BENDING_METHODS = {0: "none", 3: "isometric_xpbd (matched at one curvature)"}
 SOLID_METHODS = {0: "none"}
+#: The explicit solvers' (eval_tetrahedra) solid methods.
+EXPLICIT_SOLID_METHODS = {0: "none", 3: "fem_xpbd (stable neo-Hookean, small-strain E and nu)"}
+#: The Poisson ratios of the seed's FEM solids (adapters/features.cpp: solid.femPoissonOutOfRange).
+POISSON_RANGE = (0.0, 0.49)
 #: Newton's particle radius (m): the sphere its particle-shape contacts keep off a surface, as
 #: thin as mujoco-python's cloth (1 mm).
 PARTICLE_RADIUS = 1e-3
@@ -79,10 +89,25 @@ XPBD_BENDING = "xpbd"
 EXPLICIT_BENDING = "explicit"
 
 
-def unsupported(scene: pp.ResolvedScene) -> list[str]:
-    """The particle features the newton engine cannot represent, each naming its JSON path."""
-    missing = pp.unsupported_particle_models(scene, "the newton engine", CLOTH_METHODS,
-                                             BENDING_METHODS, SOLID_METHODS)
+def neo_hookean(young: float, poisson: float) -> tuple[float, float]:
+    """(k_mu, k_lambda) of Newton's stable neo-Hookean tets with the small-strain Lame
+    parameters of (young, poisson): 4/3 mu and lambda + 5/6 mu (module comment)."""
+    mu = young / (2 * (1 + poisson))
+    lam = young * poisson / ((1 + poisson) * (1 - 2 * poisson))
+    return 4.0 / 3.0 * mu, lam + 5.0 / 6.0 * mu
+
+
+def unsupported(scene: pp.ResolvedScene, explicit: bool) -> list[str]:
+    """The particle features the newton engine cannot represent, each naming its JSON path;
+    `explicit`: under SolverSemiImplicit or SolverFeatherstone (their tets)."""
+    missing = pp.unsupported_particle_models(scene, "the newton engine", CLOTH_METHODS, BENDING_METHODS,
+                                             EXPLICIT_SOLID_METHODS if explicit else SOLID_METHODS)
+    for sm in scene.tet_models:
+        poisson = float(sm.material["poissonRatio"])
+        low, high = POISSON_RANGE
+        if sm.simulation_method in (2, 3) and not low <= poisson <= high:
+            missing.append(f"{sm.json_path}: FEM solid with solid_poissonRatio {poisson:g} outside "
+                           f"[{low:g}, {high:g}]")
     counted = sum(m.particle_count for m in (*scene.triangle_models, *scene.tet_models))
     if not (scene.line_models or scene.fluid_models) and counted != len(scene.particles):
         missing.append(f"particles: {len(scene.particles)} in the scene, {counted} in its triangle "
@@ -197,7 +222,19 @@ def add_particles(builder: Any, vector: Any, scene: pp.ResolvedScene, bending_ki
                                            f"omitted: method {tm.bending_method} with clothBendingCurvature 0, "
                                            "or a mesh without interior edges")
     for sm in scene.tet_models:
-        settings[f"{sm.json_path}.elasticity"] = "none (method 0, native)"
+        if sm.simulation_method != 3:
+            settings[f"{sm.json_path}.elasticity"] = "none (method 0, native)"
+            continue
+        young, poisson = float(sm.material["stiffness"]), float(sm.material["poissonRatio"])
+        k_mu, k_lambda = neo_hookean(young, poisson)
+        for a, b, c, d in np.asarray(sm.tets, dtype=np.int64):
+            first = sm.first_particle
+            builder.add_tetrahedron(first + int(a), first + int(b), first + int(c), first + int(d),
+                                    k_mu=k_mu, k_lambda=k_lambda, k_damp=0.0)
+        settings[f"{sm.json_path}.elasticity"] = (
+            f"{len(sm.tets)} stable neo-Hookean tets, k_mu = {k_mu:.6g}, k_lambda = {k_lambda:.6g} Pa: the "
+            f"small-strain E = {young:g} Pa, nu = {poisson:g} of the seed's St. Venant-Kirchhoff tets "
+            "(approximated)")
     masses = np.array([p.mass for p in scene.particles], dtype=np.float64)
     settings["particleRadius"] = PARTICLE_RADIUS
     return ParticleLayout(count=len(scene.particles), dynamic=masses > 0)

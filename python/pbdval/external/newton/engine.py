@@ -33,6 +33,8 @@ from pbdval.external.newton.features import MUJOCO_WARP, MUJOCO_WARP_REASON, SHA
 
 #: Warp's kernel cache: the source tree's build/cache/warp (python/pbdval/external/newton/ → root).
 KERNEL_CACHE = Path(__file__).resolve().parents[4] / "build" / "cache" / "warp"
+#: The solvers with penalty contacts and explicit particle forces (tets among them).
+PENALTY_SOLVERS = ("featherstone", "semiImplicit")
 #: Relative agreement demanded of (m_a + m_b) / 2 with a pair's value (float32 state: 1e-6).
 AVERAGE_TOLERANCE = 1e-6
 #: A particle faster than this fraction of Newton's particle_max_velocity is at its clamp
@@ -116,7 +118,7 @@ def unsupported_features(scene: pp.ResolvedScene) -> list[str]:
         if j.type not in TREE_JOINTS:
             missing.append(f"{j.json_path}: joint {j.type} (newton maps {', '.join(sorted(TREE_JOINTS))})")
     missing += joint_trees.loop_messages(scene, joint_trees.plan_forest(scene, TREE_JOINTS), "Newton")
-    missing += cloth.unsupported(scene)
+    missing += cloth.unsupported(scene, explicit=solver_of(scene.method.name) in PENALTY_SOLVERS)
     for which in ("friction", "restitution"):
         if average_per_body(scene, which) is None:
             missing.append(f"contact {which}: the pairs' values are not averages of per-body values "
@@ -177,7 +179,7 @@ class NewtonRun:
         friction = average_per_body(scene, "friction")
         restitution = average_per_body(scene, "restitution")
         assert friction is not None and restitution is not None
-        penalty = solver in ("featherstone", "semiImplicit")
+        penalty = solver in PENALTY_SOLVERS
         builder = newton.ModelBuilder(gravity=tuple(float(g) for g in scene.gravity))
         self.settings: dict[str, pp.ParameterValue] = {
             "method": f"{ENGINE}.{solver}", "solver": catalogue.SOLVERS[solver][0], "device": "cpu",

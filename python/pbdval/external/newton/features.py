@@ -85,8 +85,10 @@ _TABLE: list[dict[str, Any]] = [
     {"feature": "solid.method.none", "support": "native", "text": "free Newton particles (add_particle)"},
     {"feature": "solid.method.femXpbd", "support": "unsupported",
      "text": "SolverXPBD's tets (solve_tetrahedra: tr(FᵀF) − 3 and det F − 1 as XPBD constraints) have no "
-             "small-strain shear stiffness, so no E, ν matches the seed's St. Venant-Kirchhoff tets; the explicit "
-             "solvers' neo-Hookean tets could be matched at small strain (not done)"},
+             "small-strain shear stiffness, so no E, ν matches the seed's St. Venant-Kirchhoff tets"},
+    {"feature": "solid.method.femXpbd", "support": "approximated", "methods": _PENALTY,
+     "text": "Newton's stable neo-Hookean tets (add_tetrahedron) with the seed's small-strain Lamé parameters: "
+             "k_mu = 4/3 μ, k_lambda = λ + 5/6 μ; the seed's St. Venant-Kirchhoff tets differ at large strain"},
     {"feature": "solid.method.distanceVolumeXpbd", "support": "unsupported",
      "text": "Newton has springs for the edges (k N/m) but no tet-volume constraint (its tets are the FEM "
              "above): not mapped"},
@@ -94,7 +96,7 @@ _TABLE: list[dict[str, Any]] = [
     {"feature": "solid.method", "support": "unsupported",
      "text": "a fraction per iteration of the PBD solver, not a stiffness Newton's tets can take"},
     {"feature": "solid.femPoissonOutOfRange", "support": "unsupported",
-     "text": "FEM solids are not mapped by the newton engine"},
+     "text": "the seed's range [0, 0.49] is the one mapped (and SolverXPBD maps no FEM solid)"},
     {"feature": "rod", "support": "unsupported", "text": "not mapped by the newton engine"},
     {"feature": "fluid", "support": "unsupported", "text": "Newton has no position-based fluid"},
 
