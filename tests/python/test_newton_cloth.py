@@ -240,20 +240,21 @@ def test_newton_bending_matches_the_seeds_energy_on_the_matching_cylinder_and_no
     assert seed_half / seed == pytest.approx(1 / 16, rel=2e-2)
 
 
-@pytest.mark.parametrize("case,edit,feature", [
-    ("cloth_hanging", {"simulationMethod": 1, "methodName": "distance"},
+@pytest.mark.parametrize("case,method,edit,feature", [
+    ("cloth_hanging", "newton.xpbd", {"simulationMethod": 1, "methodName": "distance"},
      "TriangleModels[0]: cloth method 1 (distance)"),
-    ("cloth_hanging", {"bendingMethod": 2, "bendingMethodName": "isometric"},
+    ("cloth_hanging", "newton.semiImplicit", {"bendingMethod": 2, "bendingMethodName": "isometric"},
      "TriangleModels[0]: bending method 2 (isometric)"),
-    ("tet_bar", {}, "TetModels[0]: solid method 3 (fem_xpbd)"),
+    ("tet_bar", "newton.xpbd", {}, "TetModels[0]: solid method 3 (fem_xpbd)"),
+    ("solid_collision", "newton.semiImplicit", {}, "contact between particle models (TetModels[0], TetModels[1])"),
 ])
 def test_newton_names_the_particle_model_it_cannot_run(export_scene: Export, run_engine: Run, case: str,
-                                                       edit: dict[str, Any], feature: str) -> None:
+                                                       method: str, edit: dict[str, Any], feature: str) -> None:
     def change(d: dict[str, Any]) -> None:
         if edit:
             d["triangleModels"][0].update(edit)
 
-    status, out = run_engine(NEWTON, edited(export_scene(case, method="newton.xpbd"), change))
+    status, out = run_engine(NEWTON, edited(export_scene(case, method=method), change))
     assert status["status"] == "unsupported"
     assert any(u.startswith(feature) for u in status["unsupported"]), status["unsupported"]
     assert not (out / "particles.npy").exists()
