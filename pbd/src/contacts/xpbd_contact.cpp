@@ -22,32 +22,15 @@ std::size_t at(int index) {
   return static_cast<std::size_t>(index);
 }
 
-/// R v for the rotation q: Eigen's formula (QuaternionBase::_transformVector, 30 operations),
-/// written out so that it is inlined (GCC kept Eigen's as a call, 16 % of the contact pyramid's
-/// step time); the same operations in the same order, so the same roundings.
-PBD_INLINE Vector3 rotate(const Quaternion& q, const Vector3& v) {
-  Vector3 twiceCross = q.vec().cross(v);
-  twiceCross += twiceCross;
-  return v + q.w() * twiceCross + q.vec().cross(twiceCross);
-}
-
-/// Rᵀ v: the rotation by q's conjugate (its vector part negated, exactly).
-PBD_INLINE Vector3 rotateInverse(const Quaternion& q, const Vector3& v) {
-  const Vector3 axis = -q.vec();
-  Vector3 twiceCross = axis.cross(v);
-  twiceCross += twiceCross;
-  return v + q.w() * twiceCross + axis.cross(twiceCross);
-}
-
 /// The bodies' rotations as the rows read them: the quaternions of the current poses (the
 /// position pass, where every row moves them), or rotation matrices formed once for a pass in
 /// which the poses do not change (the approach velocities and the velocity pass: a matrix turns
 /// a vector in 15 operations where a quaternion takes 30).
 struct QuaternionRotations {
   const RigidBodyStates& bodies;
-  Vector3 toWorld(int body, const Vector3& v) const { return rotate(bodies.rotation[at(body)], v); }
+  Vector3 toWorld(int body, const Vector3& v) const { return rotateVector(bodies.rotation[at(body)], v); }
   Vector3 toBody(int body, const Vector3& v) const {
-    return rotateInverse(bodies.rotation[at(body)], v);
+    return rotateVectorInverse(bodies.rotation[at(body)], v);
   }
 };
 struct MatrixRotations {
@@ -293,7 +276,7 @@ PBD_INLINE Vector3 tangentialPart(const Vector3& v, const Vector3& normal) {
 PBD_INLINE void reanchor(XpbdContact& c, const BodyStates& bodies, const ContactFrame& f) {
   const Vector3 anchor = f.material - f.normal.dot(f.material - f.surface) * f.normal;
   c.surfaceLocal =
-      rotateInverse(bodies.rigid.rotation[at(c.body)], anchor - bodies.rigid.position[at(c.body)]);
+      rotateVectorInverse(bodies.rigid.rotation[at(c.body)], anchor - bodies.rigid.position[at(c.body)]);
 }
 
 #undef PBD_INLINE
@@ -339,8 +322,8 @@ void XpbdContact::followSupportPoint(const BodyStates& bodies) {
   const Vector3 slip = tangentialPart(f.material - f.anchor, f.normal);  // not yet undone
   const Vector3 anchor = f.point - slip - f.normal.dot(f.point - f.surface) * f.normal;
   const RigidBodyStates& b = bodies.rigid;
-  pointLocal = rotateInverse(b.rotation[at(point)], f.point - b.position[at(point)]);
-  surfaceLocal = rotateInverse(b.rotation[at(body)], anchor - b.position[at(body)]);
+  pointLocal = rotateVectorInverse(b.rotation[at(point)], f.point - b.position[at(point)]);
+  surfaceLocal = rotateVectorInverse(b.rotation[at(body)], anchor - b.position[at(body)]);
 }
 
 void XpbdContact::beginSubstep(const BodyStates& bodies, const std::vector<Matrix3>& rotations) {
