@@ -14,8 +14,10 @@ namespace {
 // never computed. The arithmetic and its order are unchanged (bitwise the same results).
 #if defined(__GNUC__)
 #define PBD_INLINE inline __attribute__((always_inline))
+#define PBD_INLINE_LAMBDA __attribute__((always_inline))
 #else
 #define PBD_INLINE inline
+#define PBD_INLINE_LAMBDA
 #endif
 
 std::size_t at(int index) {
@@ -28,15 +30,19 @@ std::size_t at(int index) {
 /// a vector in 15 operations where a quaternion takes 30).
 struct QuaternionRotations {
   const RigidBodyStates& bodies;
-  Vector3 toWorld(int body, const Vector3& v) const { return rotateVector(bodies.rotation[at(body)], v); }
-  Vector3 toBody(int body, const Vector3& v) const {
+  PBD_INLINE Vector3 toWorld(int body, const Vector3& v) const {
+    return rotateVector(bodies.rotation[at(body)], v);
+  }
+  PBD_INLINE Vector3 toBody(int body, const Vector3& v) const {
     return rotateVectorInverse(bodies.rotation[at(body)], v);
   }
 };
 struct MatrixRotations {
   const std::vector<Matrix3>& matrices;
-  Vector3 toWorld(int body, const Vector3& v) const { return matrices[at(body)] * v; }
-  Vector3 toBody(int body, const Vector3& v) const { return matrices[at(body)].transpose() * v; }
+  PBD_INLINE Vector3 toWorld(int body, const Vector3& v) const { return matrices[at(body)] * v; }
+  PBD_INLINE Vector3 toBody(int body, const Vector3& v) const {
+    return matrices[at(body)].transpose() * v;
+  }
 };
 
 /// One body's response to a unit impulse along the unit direction d at lever r, from
@@ -132,8 +138,8 @@ PBD_INLINE ContactFrame currentFrame(const XpbdContact& c, const BodyStates& bod
                           const Rotations& rotations, bool frictionPoints = true) {
   const RigidBodyStates& b = bodies.rigid;
   ContactFrame f;
-  const auto q1 = [&](const Vector3& v) { return rotations.toWorld(c.body, v); };
-  const auto q0 = [&](const Vector3& v) { return rotations.toWorld(c.point, v); };
+  const auto q1 = [&](const Vector3& v) PBD_INLINE_LAMBDA { return rotations.toWorld(c.body, v); };
+  const auto q0 = [&](const Vector3& v) PBD_INLINE_LAMBDA { return rotations.toWorld(c.point, v); };
   const Vector3& x1 = b.position[at(c.body)];
   if (!(c.pointRadius > 0)) {
     f.anchorLever = q1(c.surfaceLocal);
@@ -280,6 +286,7 @@ PBD_INLINE void reanchor(XpbdContact& c, const BodyStates& bodies, const Contact
 }
 
 #undef PBD_INLINE
+#undef PBD_INLINE_LAMBDA
 
 }  // namespace
 
