@@ -135,8 +135,8 @@ TEST(Integration, InlinedQuaternionRotationIsBitwiseEigens) {
   for (int trial = 0; trial < 10000; ++trial) {
     const Quaternion q =
         Quaternion(normal(random), normal(random), normal(random), normal(random)).normalized();
-    const Vector3 v =
-        std::pow(Real(10), exponent(random)) * Vector3(normal(random), normal(random), normal(random));
+    const Vector3 v = std::pow(Real(10), exponent(random)) *
+                      Vector3(normal(random), normal(random), normal(random));
     const Vector3 rotated = rotateVector(q, v), back = rotateVectorInverse(q, v);
     const Vector3 eigenRotated = q * v, eigenBack = q.conjugate() * v;
     for (int k = 0; k < 3; ++k) {

@@ -70,7 +70,7 @@ PBD_INLINE Response localResponse(const RigidBodyStates& b, std::size_t i, const
 /// The response of `body` at lever r (world) along d (world): one inverse rotation.
 template <typename Rotations>
 PBD_INLINE Response rigidResponse(const RigidBodyStates& b, const Rotations& rotations, int body,
-                       const Vector3& lever, const Vector3& direction) {
+                                  const Vector3& lever, const Vector3& direction) {
   const std::size_t i = at(body);
   if (!b.isDynamic(i)) return {};
   return localResponse(b, i, rotations.toBody(body, lever.cross(direction)));
@@ -94,8 +94,8 @@ PBD_INLINE void turnInBodyFrame(Quaternion& q, const Vector3& turn) {
 }
 
 /// A positional impulse λ d on a rigid body: x += m⁻¹ λ d, q ← normalize(q + ½ q ⊗ [0, λ D u]).
-PBD_INLINE void applyRigidPosition(RigidBodyStates& b, int body, const Response& r, const Vector3& direction,
-                        Real magnitude) {
+PBD_INLINE void applyRigidPosition(RigidBodyStates& b, int body, const Response& r,
+                                   const Vector3& direction, Real magnitude) {
   if (!r.dynamic) return;
   const std::size_t i = at(body);
   b.position[i] += (magnitude * r.inverseMass) * direction;
@@ -104,7 +104,7 @@ PBD_INLINE void applyRigidPosition(RigidBodyStates& b, int body, const Response&
 
 /// A velocity impulse λ d on a rigid body: v += m⁻¹ λ d, ω += λ R D u (= λ I_w⁻¹ (r × d)).
 PBD_INLINE void applyRigidVelocity(RigidBodyStates& b, const MatrixRotations& rotations, int body,
-                        const Response& r, const Vector3& direction, Real magnitude) {
+                                   const Response& r, const Vector3& direction, Real magnitude) {
   if (!r.dynamic) return;
   const std::size_t i = at(body);
   b.velocity[i] += (magnitude * r.inverseMass) * direction;
@@ -135,7 +135,7 @@ struct ContactFrame {
 /// every other contact they are the normal row's points anyway).
 template <typename Rotations>
 PBD_INLINE ContactFrame currentFrame(const XpbdContact& c, const BodyStates& bodies,
-                          const Rotations& rotations, bool frictionPoints = true) {
+                                     const Rotations& rotations, bool frictionPoints = true) {
   const RigidBodyStates& b = bodies.rigid;
   ContactFrame f;
   const auto q1 = [&](const Vector3& v) PBD_INLINE_LAMBDA { return rotations.toWorld(c.body, v); };
@@ -214,8 +214,8 @@ struct PairResponse {
 
 template <typename Rotations>
 PBD_INLINE PairResponse pairResponse(const XpbdContact& c, const BodyStates& bodies,
-                          const Rotations& rotations, const Vector3& pointLever,
-                          const Vector3& surfaceLever, const Vector3& direction) {
+                                     const Rotations& rotations, const Vector3& pointLever,
+                                     const Vector3& surfaceLever, const Vector3& direction) {
   PairResponse r;
   if (c.pointIsParticle) {
     r.point.inverseMass = r.point.generalizedInverseMass =
@@ -230,7 +230,7 @@ PBD_INLINE PairResponse pairResponse(const XpbdContact& c, const BodyStates& bod
 /// The responses along the contact's normal at the normal row's points.
 template <typename Rotations>
 PBD_INLINE PairResponse normalResponse(const XpbdContact& c, const BodyStates& bodies,
-                            const Rotations& rotations, const ContactFrame& f) {
+                                       const Rotations& rotations, const ContactFrame& f) {
   if (!f.surfaceIsAnchor)
     return pairResponse(c, bodies, rotations, f.pointLever, f.surfaceLever, f.normal);
   PairResponse r;
@@ -245,8 +245,9 @@ PBD_INLINE PairResponse normalResponse(const XpbdContact& c, const BodyStates& b
 }
 
 /// +λ d on body 0, −λ d on body 1 (positions).
-PBD_INLINE void applyPositionImpulse(const XpbdContact& c, BodyStates& bodies, const PairResponse& r,
-                          const Vector3& direction, Real magnitude) {
+PBD_INLINE void applyPositionImpulse(const XpbdContact& c, BodyStates& bodies,
+                                     const PairResponse& r, const Vector3& direction,
+                                     Real magnitude) {
   if (c.pointIsParticle)
     bodies.particles.position[at(c.point)] += (magnitude * r.point.inverseMass) * direction;
   else
@@ -256,8 +257,8 @@ PBD_INLINE void applyPositionImpulse(const XpbdContact& c, BodyStates& bodies, c
 
 /// +λ d on body 0, −λ d on body 1 (velocities).
 PBD_INLINE void applyVelocityImpulse(const XpbdContact& c, BodyStates& bodies,
-                          const MatrixRotations& rotations, const PairResponse& r,
-                          const Vector3& direction, Real magnitude) {
+                                     const MatrixRotations& rotations, const PairResponse& r,
+                                     const Vector3& direction, Real magnitude) {
   if (c.pointIsParticle)
     bodies.particles.velocity[at(c.point)] += (magnitude * r.point.inverseMass) * direction;
   else
@@ -266,7 +267,8 @@ PBD_INLINE void applyVelocityImpulse(const XpbdContact& c, BodyStates& bodies,
 }
 
 /// u = (v₀ + ω₀ × r₀) − (v₁ + ω₁ × r₁) at p₀ and p₁.
-PBD_INLINE Vector3 relativeVelocity(const XpbdContact& c, const BodyStates& bodies, const ContactFrame& f) {
+PBD_INLINE Vector3 relativeVelocity(const XpbdContact& c, const BodyStates& bodies,
+                                    const ContactFrame& f) {
   const Vector3 u0 = c.pointIsParticle ? bodies.particles.velocity[at(c.point)]
                                        : rigidPointVelocity(bodies.rigid, c.point, f.pointLever);
   return u0 - rigidPointVelocity(bodies.rigid, c.body, f.surfaceLever);
@@ -281,8 +283,8 @@ PBD_INLINE Vector3 tangentialPart(const Vector3& v, const Vector3& normal) {
 /// separation from the surface point p₁.
 PBD_INLINE void reanchor(XpbdContact& c, const BodyStates& bodies, const ContactFrame& f) {
   const Vector3 anchor = f.material - f.normal.dot(f.material - f.surface) * f.normal;
-  c.surfaceLocal =
-      rotateVectorInverse(bodies.rigid.rotation[at(c.body)], anchor - bodies.rigid.position[at(c.body)]);
+  c.surfaceLocal = rotateVectorInverse(bodies.rigid.rotation[at(c.body)],
+                                       anchor - bodies.rigid.position[at(c.body)]);
 }
 
 #undef PBD_INLINE
