@@ -2,8 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "common/scene_fixtures.h"
+#include "pbd/math/quaternion.h"
 #include "pbd/model/world.h"
 
 namespace pbd {
@@ -120,6 +122,31 @@ TEST(Integration, SceneFrameStateUndoesPrincipalAxes) {
   EXPECT_LE(rotationAngleBetween(state.rotation, scene.rigidBodies[0].rotation), 1e-14);
   EXPECT_TRUE(state.centerOfMass.isApprox(scene.rigidBodies[0].translation +
                                           scene.rigidBodies[0].rotation * Vector3(0.1, 0.2, -0.3)));
+}
+
+// rotateVector / rotateVectorInverse claim Eigen's own operations in Eigen's order (they exist
+// to be inlined where Eigen's call is not): compared bit for bit, not within a tolerance, on
+// random unit quaternions and vectors of mixed magnitudes; also R v against the rotation
+// matrix's product to a round-off bound, so that an agreement of two wrong formulas fails too.
+TEST(Integration, InlinedQuaternionRotationIsBitwiseEigens) {
+  std::mt19937_64 random(20261129);
+  std::normal_distribution<Real> normal(0, 1);
+  std::uniform_real_distribution<Real> exponent(-6, 3);
+  for (int trial = 0; trial < 10000; ++trial) {
+    const Quaternion q =
+        Quaternion(normal(random), normal(random), normal(random), normal(random)).normalized();
+    const Vector3 v = std::pow(Real(10), exponent(random)) *
+                      Vector3(normal(random), normal(random), normal(random));
+    const Vector3 rotated = rotateVector(q, v), back = rotateVectorInverse(q, v);
+    const Vector3 eigenRotated = q * v, eigenBack = q.conjugate() * v;
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(rotated[k], eigenRotated[k]) << "trial " << trial;
+      EXPECT_EQ(back[k], eigenBack[k]) << "trial " << trial;
+    }
+    // A product of a unit quaternion's rotation and its matrix's: a few ulps of |v| each.
+    EXPECT_LE((rotated - q.toRotationMatrix() * v).norm(), 64 * kEpsilon * v.norm());
+    EXPECT_LE((back - q.toRotationMatrix().transpose() * v).norm(), 64 * kEpsilon * v.norm());
+  }
 }
 
 }  // namespace
