@@ -135,7 +135,7 @@ Vector3 projectAlongPredicted(RigidBodyStates& bodies, int body0, int body1, con
 }
 
 /// SHAKE's step (see the header): the corrections along the substep-start directions G_n,
-/// Δx₀ = −w₀ Δλ, Δθ₀ = J₀ⁿ [r₀ⁿ]× Δλ, … with Δλ from the Newton step on C(Δλ) at the
+/// Δx₀ = −w₀ Δλ, Δθ₀ = −J₀ⁿ (r₀ⁿ × Δλ), … with Δλ from the Newton step on C(Δλ) at the
 /// current poses, K = ∂C/∂λ = (w₀ + w₁ + α̃) 𝟙 − Σ_k [r_k]× J_kⁿ [r_kⁿ]× (current arms on the
 /// left, not symmetric; Ryckaert et al. 1977's SHAKE denominator). K's pivots are positive
 /// while the arms turn by well under 90° in a substep; when one is not, the projection falls
