@@ -38,7 +38,8 @@ namespace pbd {
 /// JointDirections::Start projects a joint along its substep-start directions only while each
 /// of its rigid ends has turned by at most kStartDirectionsMaxTurn = 0.1 rad since the substep's
 /// start (a turn resolved by more than 60 substeps per revolution; the library's joint cases
-/// stay below 0.05 rad, chain_100's whip touches it); beyond, the joint is projected along
+/// stay below 0.05 rad at their samples, chain_100's whip and robot_minitaur_drop's landing
+/// touch it between them); beyond, the joint is projected along
 /// the current directions. The limit keeps scenes whose constraints fight finite: in
 /// cases/double_pendulum_boxes.json (contacts inside the joints, energy already 10⁵ × the
 /// scale with the current directions) the start directions without a limit, or with 0.2 rad,
