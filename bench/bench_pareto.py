@@ -206,10 +206,32 @@ def sweep(binary: Path, case: Path, methods: list[str], parameters: list[str], f
     return document
 
 
+def is_number(text: Any) -> bool:
+    """Whether a parameter's value reads as a number (a choice such as "start" does not)."""
+    try:
+        float(text)
+    except (TypeError, ValueError):
+        return False
+    return True
+
+
+def method_parameters(entries: list[str]) -> dict[str, list[str]]:
+    """`--method-param METHOD:KEY=VALUE` entries by method: each a fixed `--param KEY=VALUE` of
+    that method's sweep. Raises ValueError naming the entry when it is not of that form."""
+    by_method: dict[str, list[str]] = {}
+    for entry in entries:
+        method, _, assignment = entry.partition(":")
+        key, equals, value = assignment.partition("=")
+        if not method or not key or not equals or not value or "," in value:
+            raise ValueError(f"--method-param: expected METHOD:KEY=VALUE (one value), got {entry!r}")
+        by_method.setdefault(method, []).append(f"{key}={value}")
+    return by_method
+
+
 def point_record(point: dict[str, Any], engine: str, duration: float) -> dict[str, Any]:
     """What the front needs of a sweep point, and what a reader needs to check it."""
     run = point.get("run", {})
-    settings = {k: float(v) for k, v in point.get("parameters", {}).items()}
+    settings = {k: float(v) for k, v in point.get("parameters", {}).items() if is_number(v)}
     frame = settings.get("timeStepSize", math.nan)
     substeps = next((settings[p] for p in SUBSTEP_PARAMETER.values() if p in settings), 1.0)
     metric = point.get("metric")
@@ -326,6 +348,9 @@ def main() -> int:
     parser.add_argument("--timeout", type=float, default=TIMEOUT,
                         help=f"wall seconds a run may take before it is stopped (a `timeout` point, on no front; "
                              f"default {TIMEOUT:g})")
+    parser.add_argument("--method-param", action="append", default=[], metavar="METHOD:KEY=VALUE",
+                        help="a fixed parameter of one PBD method's sweep (repeatable), e.g. "
+                             "pbd.xpbd:jointDirections=start")
     parser.add_argument("--quick", action="store_true", help="a small plan for the test of this script")
     parser.add_argument("--svg-dir", type=Path, help="write pareto-<family>.svg here")
     parser.add_argument("--markdown", type=Path, help="write the table of distances here")
@@ -346,6 +371,10 @@ def main() -> int:
         render(sorted(by_family.values(), key=lambda f: order.index(f["family"]) if f["family"] in order
                       else len(order)), args.svg_dir, args.markdown)
         return 0
+    try:
+        fixed = method_parameters(args.method_param)
+    except ValueError as error:
+        parser.error(str(error))
     if args.repeat < 3:
         parser.error("--repeat: at least 3 (each time is the median of the passes)")
     if not args.timeout > 0:
@@ -374,6 +403,10 @@ def main() -> int:
     steps = STEPS[:2] if args.quick else STEPS
     substeps = SUBSTEPS[:2] if args.quick else SUBSTEPS
     methods = {e: m for e, m in declared if e in chosen}
+    stray = [m for m in fixed if m not in methods.get(PBD_ENGINE, [])]
+    if stray:
+        parser.error(f"--method-param: {', '.join(stray)} is no method of {PBD_ENGINE} "
+                     f"(expected one of {', '.join(methods.get(PBD_ENGINE, []))})")
 
     commit = subprocess.run(["git", "-C", str(REPO), "rev-parse", "HEAD"], capture_output=True, text=True,
                             check=False).stdout.strip()
@@ -395,7 +428,8 @@ def main() -> int:
                                    "repeat": args.repeat, "jobs": args.jobs, "timeout_s": args.timeout,
                                    "quick": args.quick,
                                    "frame_step_s": FRAME_STEP, "steps_s": list(steps), "substeps": list(substeps),
-                                   "substep_parameter": SUBSTEP_PARAMETER, "binary": str(args.binary)},
+                                   "substep_parameter": SUBSTEP_PARAMETER, "binary": str(args.binary),
+                                   "method_parameters": fixed},
                     "families": recorded}
         write_record("pareto", document, out)
 
@@ -417,7 +451,7 @@ def main() -> int:
                     notes.append(f"{m}: no substep parameter declared in SUBSTEP_PARAMETER; left out")
                     continue
                 counts = ",".join(str(n) for n in substeps)
-                plans.append(([m], [f"timeStepSize={FRAME_STEP:g}", f"{parameter}={counts}"]))
+                plans.append(([m], [f"timeStepSize={FRAME_STEP:g}", f"{parameter}={counts}", *fixed.get(m, [])]))
             for k, (plan_methods, parameters) in enumerate(plans):
                 print(f"[{family.name}] {', '.join(plan_methods)}: {' '.join(parameters)}", file=sys.stderr, flush=True)
                 document = sweep(args.binary, case, plan_methods, parameters, family, args.repeat, args.jobs,

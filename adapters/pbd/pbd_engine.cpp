@@ -47,6 +47,11 @@ std::vector<MethodInfo> pbdMethods() {
                     "joint damping of the anchors' relative velocity (Mueller et al. 2020, 3.6)"),
       realParameter("jointAngularDamping", double(defaults.jointAngularDamping), 0, 1e6, "1/s",
                     "joint damping of the relative angular velocity"),
+      choiceParameter("jointDirections", pbd::jointDirectionsName(defaults.jointDirections),
+                      {pbd::jointDirectionsName(pbd::JointDirections::Start),
+                       pbd::jointDirectionsName(pbd::JointDirections::Predicted)},
+                      "joints' constraint directions (Jacobians): start = of the substep's start "
+                      "(SHAKE), predicted = of the current poses (PBD/XPBD)"),
       threads,
   };
   return {seed, xpbd};
@@ -66,6 +71,10 @@ pbd::SimulationSettings pbdSettingsFor(const pbd::Scene& scene, const Method& me
   settings.xpbd.speculativeMargin = pbd::Real(method.real("speculativeMargin"));
   settings.xpbd.jointLinearDamping = pbd::Real(method.real("jointLinearDamping"));
   settings.xpbd.jointAngularDamping = pbd::Real(method.real("jointAngularDamping"));
+  settings.xpbd.jointDirections =
+      method.choice("jointDirections") == pbd::jointDirectionsName(pbd::JointDirections::Start)
+          ? pbd::JointDirections::Start
+          : pbd::JointDirections::Predicted;
   return settings;
 }
 
@@ -172,6 +181,7 @@ std::map<std::string, std::string> PbdEngine::effectiveSettings() const {
       {"xpbd.speculativeMargin", number(s.xpbd.speculativeMargin)},
       {"xpbd.jointLinearDamping", number(s.xpbd.jointLinearDamping)},
       {"xpbd.jointAngularDamping", number(s.xpbd.jointAngularDamping)},
+      {"xpbd.jointDirections", pbd::jointDirectionsName(s.xpbd.jointDirections)},
       {"precision", sizeof(pbd::Real) == 8 ? "double" : "float"}};
   // Each fluid's formulation (fluidFormulationFor: the scene's, else the method's own).
   for (std::size_t f = 0; f < world_->fluids.size(); ++f)

@@ -108,5 +108,28 @@ TEST(PbdXpbdMethod, RunFactsAndSettingsNameTheStepAndItsSubsteps) {
   EXPECT_EQ(engine.runFacts().integratorStepsPerSceneStep, 12);
 }
 
+TEST(PbdXpbdMethod, JointDirectionsReachTheStepAndTheRecordedSettings) {
+  pbd::Scene scene;
+  EXPECT_EQ(pbdSettingsFor(scene, testRegistry().resolve("pbd.xpbd")).xpbd.jointDirections,
+            pbd::XpbdSettings{}.jointDirections);
+  for (const auto& [text, directions] : std::vector<std::pair<std::string, pbd::JointDirections>>{
+           {"start", pbd::JointDirections::Start},
+           {"predicted", pbd::JointDirections::Predicted}}) {
+    const Method method = testRegistry().resolve("pbd.xpbd", {{"jointDirections", text}});
+    EXPECT_EQ(pbdSettingsFor(scene, method).xpbd.jointDirections, directions) << text;
+    scene.rigidBodies.assign(1, pbd::test::boxBody(0, Vector3::Ones(), Vector3::Zero(), 1, false));
+    PbdEngine engine;
+    engine.load(scene, method);
+    EXPECT_EQ(engine.effectiveSettings().at("xpbd.jointDirections"), text);
+  }
+  try {
+    testRegistry().resolve("pbd.xpbd", {{"jointDirections", "sideways"}});
+    ADD_FAILURE() << "jointDirections = sideways accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("method pbd.xpbd: jointDirections"), std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace pbdval::test

@@ -182,6 +182,9 @@ def test_a_series_left_out_of_the_legend_is_drawn_but_not_named() -> None:
     (["--timeout", "0"], "--timeout: seconds > 0"),
     (["--families", "pendulum,chian"], "unknown family 'chian'"),
     (["--engines", "pbd,odee"], "unknown engine(s) odee"),
+    (["--method-param", "pbd.xpbd=start"], "--method-param: expected METHOD:KEY=VALUE"),
+    (["--method-param", "pbd.xpbd:substeps=5,10"], "--method-param: expected METHOD:KEY=VALUE (one value)"),
+    (["--method-param", "ode.step:erp=0.1"], "--method-param: ode.step is no method of pbd"),
 ])
 def test_bad_options_are_refused_with_the_option_named(pbdval_binary: Path, arguments: list[str],
                                                        named: str) -> None:

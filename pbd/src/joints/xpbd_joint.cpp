@@ -3,6 +3,8 @@
 #include <type_traits>
 #include <variant>
 
+#include "pbd/joints/point_constraint.h"
+
 namespace pbd {
 namespace {
 
@@ -44,26 +46,91 @@ bool exertsNothing(const DamperJoint& damper) {
   return !(damper.stiffness() > 0);
 }
 
+/// A joint's two ends moved to their poses of the substep's start (oldPosition, oldRotation; a
+/// particle end's oldPosition) for as long as this lives; the current poses are put back when
+/// it goes. The rows of JointDirections::Start are evaluated through it: every joint type's
+/// positionRows() then gives its Jacobians at the start poses, with no second implementation
+/// of any joint's geometry (and no allocation: the two ends' poses are kept here).
+class StartPosesOfEnds {
+ public:
+  StartPosesOfEnds(BodyStates& bodies, const JointEnds& ends) : bodies_(bodies), ends_(ends) {
+    RigidBodyStates& b = bodies_.rigid;
+    for (int k = 0; k < 2; ++k) {
+      const int body = k == 0 ? ends_.body0 : ends_.body1;
+      if (body < 0) continue;
+      const auto i = static_cast<std::size_t>(body);
+      position_[k] = b.position[i];
+      rotation_[k] = b.rotation[i];
+      b.position[i] = b.oldPosition[i];
+      b.rotation[i] = b.oldRotation[i];
+    }
+    if (ends_.particle >= 0) {
+      ParticleStates& p = bodies_.particles;
+      const auto i = static_cast<std::size_t>(ends_.particle);
+      particlePosition_ = p.position[i];
+      p.position[i] = p.oldPosition[i];
+    }
+  }
+  ~StartPosesOfEnds() {
+    RigidBodyStates& b = bodies_.rigid;
+    for (int k = 0; k < 2; ++k) {
+      const int body = k == 0 ? ends_.body0 : ends_.body1;
+      if (body < 0) continue;
+      const auto i = static_cast<std::size_t>(body);
+      b.position[i] = position_[k];
+      b.rotation[i] = rotation_[k];
+    }
+    if (ends_.particle >= 0)
+      bodies_.particles.position[std::size_t(ends_.particle)] = particlePosition_;
+  }
+  StartPosesOfEnds(const StartPosesOfEnds&) = delete;
+  StartPosesOfEnds& operator=(const StartPosesOfEnds&) = delete;
+
+ private:
+  BodyStates& bodies_;
+  JointEnds ends_;
+  std::array<Vector3, 2> position_{Vector3::Zero(), Vector3::Zero()};
+  std::array<Quaternion, 2> rotation_{Quaternion::Identity(), Quaternion::Identity()};
+  Vector3 particlePosition_ = Vector3::Zero();
+};
+
+/// Inverse mass and world inverse inertia of a joint's two ends at the bodies' current poses.
+std::array<EndInverseMass, 2> endInverseMasses(const BodyStates& bodies, const JointEnds& ends) {
+  return {joint_parts::rigidEnd(bodies.rigid, ends.body0),
+          ends.particle >= 0
+              ? EndInverseMass{bodies.particles.inverseMass[std::size_t(ends.particle)],
+                               Matrix3::Zero()}
+              : joint_parts::rigidEnd(bodies.rigid, ends.body1)};
+}
+
 template <typename T>
 void solve(const T& joint, BodyStates& bodies, Real substepSize, const XpbdSettings& settings,
            XpbdJointMultipliers& multipliers) {
   constexpr int kRows = T::kRows;
   using Vector = Eigen::Matrix<Real, kRows, 1>;
   if (exertsNothing(joint)) return;
-  const ConstraintRows<kRows> rows = joint.positionRows(bodies);
+  const JointEnds ends = joint.ends();
+  const bool particleEnd = ends.particle >= 0;
+  const ConstraintRows<kRows> rows = joint.positionRows(bodies);  // C and ∇C now
   const Vector compliance =
       rowCompliance(joint, rows, settings) / (substepSize * substepSize);  // α̃ = α/h²
   const Vector lambda = multipliers.template head<kRows>();
-  const JointEnds ends = joint.ends();
-  const bool particleEnd = ends.particle >= 0;
-  const std::array<EndInverseMass, 2> inverseMasses{
-      joint_parts::rigidEnd(bodies.rigid, ends.body0),
-      particleEnd ? EndInverseMass{bodies.particles.inverseMass[std::size_t(ends.particle)],
-                                   Matrix3::Zero()}
-                  : joint_parts::rigidEnd(bodies.rigid, ends.body1)};
-  RowCorrection<kRows> c;
   const Vector rhs = -rows.value - compliance.cwiseProduct(lambda);
-  if (!solveRows(rows, inverseMasses, compliance, rhs, c)) return;
+  RowCorrection<kRows> c;
+  bool solved = false;
+  if (settings.jointDirections == JointDirections::Start &&
+      startDirectionsApply(bodies.rigid, ends.body0) &&
+      startDirectionsApply(bodies.rigid, ends.body1)) {
+    ConstraintRows<kRows> start;
+    std::array<EndInverseMass, 2> startInverseMasses;
+    {
+      const StartPosesOfEnds startPoses(bodies, ends);
+      start = joint.positionRows(bodies);  // ∇C at the substep's start
+      startInverseMasses = endInverseMasses(bodies, ends);
+    }
+    solved = solveRowsAlongStart(start, rows, startInverseMasses, compliance, rhs, c);
+  }
+  if (!solved && !solveRows(rows, endInverseMasses(bodies, ends), compliance, rhs, c)) return;
   multipliers.template head<kRows>() += c.multiplier;
   joint_parts::applyPositionCorrection(bodies.rigid, ends.body0, c.linear[0], c.angular[0]);
   if (particleEnd)
@@ -76,8 +143,8 @@ void solve(const T& joint, BodyStates& bodies, Real substepSize, const XpbdSetti
 void solve(BallJoint& joint, BodyStates& bodies, Real substepSize, const XpbdSettings& settings,
            XpbdJointMultipliers& multipliers) {
   const Real complianceTilde = settings.jointLinearCompliance / (substepSize * substepSize);
-  multipliers.head<3>() +=
-      joint.solvePositionCompliant(bodies, complianceTilde, multipliers.head<3>());
+  multipliers.head<3>() += joint.solvePositionCompliant(
+      bodies, complianceTilde, multipliers.head<3>(), settings.jointDirections);
 }
 
 /// The stiff-rod joint: its own compliances (stretch regularisation, 1/(K L h²)), not the
@@ -147,7 +214,7 @@ void solveJointPositionsXpbd(std::vector<Joint>& joints, const XpbdJointSchedule
         lambda.setZero();
         lambda.head<3>() +=
             projectPointConstraint(bodies.rigid, ball->body0, ball->body1, ball->anchor0,
-                                   ball->anchor1, ballCompliance, zero);
+                                   ball->anchor1, ballCompliance, zero, settings.jointDirections);
       }
       continue;
     }

@@ -130,6 +130,16 @@ const char* stepMethodName(StepMethod method) {
   return "?";
 }
 
+const char* jointDirectionsName(JointDirections directions) {
+  switch (directions) {
+    case JointDirections::Start:
+      return "start";
+    case JointDirections::Predicted:
+      return "predicted";
+  }
+  return "?";
+}
+
 Real clothStiffnessFor(const SimulationSettings& settings) {
   if (settings.cloth_stiffness) return *settings.cloth_stiffness;
   return settings.clothSimulationMethod == 4 ? Real(1e5) : Real(1);

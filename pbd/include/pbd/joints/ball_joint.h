@@ -20,12 +20,14 @@ class BallJoint : public JointDefaults {
 
   BallJoint(const BodyStates& bodies, const JointDesc& desc);
   void solvePosition(BodyStates& bodies, Real substepSize);
-  /// XPBD: one projection with compliance α̃ = α/h² and the accumulated λ; returns Δλ.
+  /// XPBD: one projection with compliance α̃ = α/h² and the accumulated λ, along the
+  /// constraint directions `directions` take; returns Δλ.
   /// Defined here so that the XPBD joint loop calls the point-constraint solve directly.
-  Vector3 solvePositionCompliant(BodyStates& bodies, Real complianceTilde, const Vector3& lambda) {
+  Vector3 solvePositionCompliant(BodyStates& bodies, Real complianceTilde, const Vector3& lambda,
+                                 JointDirections directions) {
     return projectPointConstraint(bodies.rigid, frames_.body0, frames_.body1,
                                   frames_.anchor0.inBody, frames_.anchor1.inBody, complianceTilde,
-                                  lambda);
+                                  lambda, directions);
   }
   ConstraintRows<kRows> positionRows(const BodyStates& bodies) const;
   JointError error(const BodyStates& bodies) const;

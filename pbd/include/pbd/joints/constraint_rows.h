@@ -100,6 +100,69 @@ bool solveSymmetricUnpivoted(Eigen::Matrix<Real, Rows, Rows> k,
   return true;
 }
 
+/// Solves a general (not symmetric) K x = b by K = L U without pivoting (Doolittle; fixed size,
+/// unrolled by the compiler). Returns false when a pivot of U is not above 10⁻¹² of K's largest
+/// diagonal entry. For the matrices it is used on — K of SHAKE's Newton step, a perturbation of
+/// a symmetric positive definite K (constraint directions of the substep's start on the right,
+/// current ones on the left) — positive pivots say the perturbation is small enough for the
+/// step to be meaningful; the callers then use the symmetric projection instead.
+template <int Rows>
+bool solveUnpivoted(Eigen::Matrix<Real, Rows, Rows> k, const Eigen::Matrix<Real, Rows, 1>& b,
+                    Eigen::Matrix<Real, Rows, 1>& x) {
+  const Real floor = Real(1e-12) * k.diagonal().maxCoeff();
+  for (int j = 0; j < Rows; ++j) {  // in place: U on and above the diagonal, L (unit) below
+    for (int i = j; i < Rows; ++i)
+      for (int m = 0; m < j; ++m)
+        k(j, i) -= k(j, m) * k(m, i);
+    if (!(k(j, j) > floor)) return false;
+    for (int i = j + 1; i < Rows; ++i) {
+      for (int m = 0; m < j; ++m)
+        k(i, j) -= k(i, m) * k(m, j);
+      k(i, j) /= k(j, j);
+    }
+  }
+  x = b;
+  for (int i = 0; i < Rows; ++i)
+    for (int m = 0; m < i; ++m)
+      x(i) -= k(i, m) * x(m);
+  for (int i = Rows - 1; i >= 0; --i) {
+    for (int m = i + 1; m < Rows; ++m)
+      x(i) -= k(i, m) * x(m);
+    x(i) /= k(i, i);
+  }
+  return x.allFinite();
+}
+
+/// SHAKE's Newton step on a joint's rows (JointDirections::Start): the corrections act along
+/// the Jacobians `start` (A_k, B_k of the substep's start, with `ends` its inverse masses), and
+/// Δλ solves the linearisation of C at the current poses along them,
+///   K = ∂C/∂λ = Σ_k (w_k A_kⁿᵒʷ A_kᵀ + B_kⁿᵒʷ J_k B_kᵀ) + diag(compliance),   K Δλ = rhs,
+/// A_kⁿᵒʷ, B_kⁿᵒʷ those of `current` (K not symmetric; Ryckaert, Ciccotti, Berendsen 1977).
+/// Returns false (no correction) when a pivot of K's L U is not positive (solveUnpivoted):
+/// the directions have turned too far in the substep for the step to mean anything.
+template <int Rows>
+bool solveRowsAlongStart(const ConstraintRows<Rows>& start, const ConstraintRows<Rows>& current,
+                         const std::array<EndInverseMass, 2>& ends,
+                         const Eigen::Matrix<Real, Rows, 1>& compliance,
+                         const Eigen::Matrix<Real, Rows, 1>& rhs, RowCorrection<Rows>& out) {
+  Eigen::Matrix<Real, Rows, Rows> k = compliance.asDiagonal();
+  for (std::size_t e = 0; e < 2; ++e) {
+    const Real w = ends[e].linear;
+    const Eigen::Matrix<Real, Rows, 3> n = current.angular[e] * ends[e].angular;
+    for (int i = 0; i < Rows; ++i)
+      for (int j = 0; j < Rows; ++j)
+        k(i, j) += w * current.linear[e].row(i).dot(start.linear[e].row(j)) +
+                   n.row(i).dot(start.angular[e].row(j));
+  }
+  if (!(k.diagonal().maxCoeff() > 0)) return false;
+  if (!solveUnpivoted(k, rhs, out.multiplier)) return false;
+  for (std::size_t e = 0; e < 2; ++e) {
+    out.linear[e] = ends[e].linear * (start.linear[e].transpose() * out.multiplier);
+    out.angular[e] = ends[e].angular * (start.angular[e].transpose() * out.multiplier);
+  }
+  return true;
+}
+
 /// Solves K Δλ = rhs and maps Δλ to per-end corrections. Returns false (and no correction)
 /// when K is singular, e.g. both ends static.
 template <int Rows>

@@ -403,6 +403,19 @@ enum class StepMethod : int { Seed, Xpbd };
 
 const char* stepMethodName(StepMethod method);
 
+/// Where the XPBD step takes a joint's constraint directions (its Jacobians: lever arms, axes,
+/// the inverse inertias in K and the directions the correction is applied along) for the one
+/// projection of a substep. C itself is always evaluated at the current poses.
+///   Predicted: at the current (predicted, then partly corrected) poses, as PBD and XPBD do —
+///     Goldenthal et al. 2007's "implicit constraint direction", first order with numerical
+///     damping;
+///   Start: at the poses of the substep's start (RigidBodyStates::oldPosition/oldRotation), as
+///     SHAKE does (Ryckaert, Ciccotti, Berendsen 1977): the constraint force of the substep
+///     acts along the constraint gradient of its start (docs/methods.md, "pbd.xpbd").
+enum class JointDirections : int { Start, Predicted };
+
+const char* jointDirectionsName(JointDirections directions);
+
 /// Parameters of the XPBD step (docs/methods.md, "pbd.xpbd"). Compliances are inverse
 /// stiffnesses per constraint family; 0 is rigid. Springs and the damper joint keep their own
 /// stiffness from the scene.
@@ -419,6 +432,9 @@ struct XpbdSettings {
   /// of a joint's anchors and the relative angular velocity fall by min(μ h, 1) per substep.
   Real jointLinearDamping = 0;
   Real jointAngularDamping = 0;
+  /// The joints' constraint directions (every joint but the stiff-rod ones; contacts are not
+  /// joints).
+  JointDirections jointDirections = JointDirections::Predicted;
 };
 
 /// The `Simulation` block: every key the seed documents, with the seed's code defaults.
