@@ -340,7 +340,8 @@ INSTANTIATE_TEST_SUITE_P(
                       "armadillo_collision_scene", "cosserat_helix", "cloth_on_bunny",
                       "fluid_dam_break_seed", "cloth_dihedral_10x10", "tet_bar_shape_matching",
                       "cloth_distance_10x10", "cloth_xpbd_distance_10x10",
-                      "cloth_xpbd_isometric_10x10"),
+                      "cloth_xpbd_isometric_10x10", "tet_bar_distance_volume",
+                      "tet_bar_xpbd_distance_volume", "tet_bar_strain", "cloth_strain_10x10"),
     [](const ::testing::TestParamInfo<const char*>& param) { return std::string(param.param); });
 
 class SeedReference : public ::testing::TestWithParam<const char*> {};
