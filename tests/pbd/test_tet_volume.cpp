@@ -153,7 +153,7 @@ TEST(TetVolumeWorld, PbdMethodKeepsTetsOfStaticParticlesAsTheSeedDoes) {
 
 // A tet with a static base (right triangle of legs 1 in the xz-plane, area A = ½) and an apex of
 // mass m at height 1, gravity along −y, the volume constraint alone.
-World apexOnBase(bool xpbd, Real stiffness, int iterations) {
+World apexOnBase(bool xpbd, Real stiffness, int iterations, bool seedForm = false) {
   Scene scene;
   scene.simulation.timeStepSize = Real(0.005);
   scene.simulation.subSteps = 5;
@@ -169,6 +169,13 @@ World apexOnBase(bool xpbd, Real stiffness, int iterations) {
                                   scene.particles[2].position, scene.particles[3].position});
   c.xpbd = xpbd;
   c.stiffness = stiffness;
+  if (seedForm) {
+    // The seed's form: |V₀| (listed with positive orientation, so C = 0 at rest), 6 ∇V.
+    c.particles = {0, 2, 1, 3};
+    c.restVolume = seedRestTetVolume({scene.particles[0].position, scene.particles[2].position,
+                                      scene.particles[1].position, scene.particles[3].position});
+    c.cutoff = kSeedFemCutoff;
+  }
   world.constraints.tetVolumes.push_back(c);
   return world;
 }
@@ -217,6 +224,31 @@ TEST(TetVolumeWorld, XpbdCompressionIsTheClosedFormAndPbdsIsSetByIterations) {
                 iterations, double(measured), double(closed));
     EXPECT_NEAR(measured, closed, 0.01 * closed);
   }
+}
+
+TEST(TetVolumeWorld, SeedFormActsAsSixTimesTheXpbdStiffnessAndASixthOfThePbdStep) {
+  // The seed's XPBD form: at rest the correction 6 w |∇C| |Δλ| of each substep, with
+  // Δλ = −C/(36 w |∇C|² + α̃), |∇C| = A/3, m = 1, must undo the prediction's g h_s², so
+  // C = g h_s² (36 |∇C|² + α̃)/(6 |∇C|) and the compression is 9 m g/(6 k A²) + 6 g h_s²
+  // (5.945 mm for k = 10⁴ N/m⁵, h_s = 1 ms): k acts as 6k (its force −6 k C ∇C is that of
+  // ½ (6k) C²). The mean over 3 s, as above: 1 %.
+  const Real g = Real(9.81), area = Real(0.5), k = Real(1e4), substep = Real(0.001);
+  const Real expected = 9 * g / (6 * k * area * area) + 6 * g * substep * substep;
+  World xpbd = apexOnBase(true, k, 1, true);
+  const Real measured = meanCompression(xpbd, 0, 3);
+  std::printf("  seed-form XPBD tet apex: compression %.6g m (9 m g/(6 k A^2) + 6 g h^2 = %.6g m)\n",
+              double(measured), double(expected));
+  EXPECT_NEAR(measured, expected, 0.01 * expected);
+  // The seed's PBD step is ⅙ of the projection: each iteration keeps (1 − k/6) of the error,
+  // so the apex settles at (1 − k/6) g h_s²/(1 − (1 − k/6)) with one iteration, 11 g h_s² for
+  // k = ½ (C is linear in the apex height, as above).
+  const Real kept = 1 - Real(0.5) / 6;
+  const Real closed = kept * g * substep * substep / (1 - kept);
+  World pbd = apexOnBase(false, Real(0.5), 1, true);
+  const Real settled = meanCompression(pbd, 2, 3);
+  std::printf("  seed-form PBD tet apex, k = 0.5: compression %.6g m (closed form %.6g m)\n",
+              double(settled), double(closed));
+  EXPECT_NEAR(settled, closed, 0.01 * closed);
 }
 
 TEST(TetVolumeWorld, SolidsGetEdgeAndVolumeConstraintsFromTheirMethod) {
