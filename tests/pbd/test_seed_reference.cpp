@@ -280,9 +280,8 @@ double largestParticleDeviationOverFirstSecond(const std::string& name) {
 // sign flip by orientation, is evaluated in the seed's operations; measured bit for bit).
 TEST(SeedReferenceFem, ClothAndTetScenesAgreeWithTheOriginalToAMicrometreOverTheFirstSecond) {
   if (sizeof(Real) != sizeof(double)) GTEST_SKIP() << "the recordings are double precision";
-  for (const char* name :
-       {"fem_cloth_10x10", "fem_tet_bar", "fem_tet_bar_xpbd", "cloth_xpbd_isometric_10x10",
-        "cloth_dihedral_10x10"}) {
+  for (const char* name : {"fem_cloth_10x10", "fem_tet_bar", "fem_tet_bar_xpbd",
+                           "cloth_xpbd_isometric_10x10", "cloth_dihedral_10x10"}) {
     const double worst = largestParticleDeviationOverFirstSecond(name);
     std::printf("  %-20s largest difference over the first second %.3e m\n", name, worst);
     EXPECT_LE(worst, 1e-6) << name;

@@ -283,9 +283,10 @@ TEST(StrainTet, SeedFormProjectsInTheSeedsInterleavedOrder) {
       seedGap = std::max(seedGap, (x[i] + seed[i] - expected[i]).norm());
       ownGap = std::max(ownGap, (x[i] + own[i] - expected[i]).norm());
     }
-    std::printf("  strain tet (normalize %d): seed form %.2e, stretches-first order %.2e from the "
-                "interleaved sequence\n",
-                int(normalize), double(seedGap), double(ownGap));
+    std::printf(
+        "  strain tet (normalize %d): seed form %.2e, stretches-first order %.2e from the "
+        "interleaved sequence\n",
+        int(normalize), double(seedGap), double(ownGap));
     EXPECT_LT(seedGap, kRoundOff);
     EXPECT_GT(ownGap, 1e3 * kRoundOff);  // another order, another result
   }

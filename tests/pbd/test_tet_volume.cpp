@@ -105,8 +105,7 @@ TEST(TetVolume, SeedFormIsTheProjectionOfSixTimesTheGradients) {
     const Vector3 pbdExpected = -Real(0.7) * c / (6 * sum) * w[i] * g[i];
     const Vector3 xpbdExpected = 6 * expectedMultiplier * w[i] * g[i];
     EXPECT_LT((pbd.positions[i] - pbdExpected).norm(), 100 * kEpsilon * pbdExpected.norm()) << i;
-    EXPECT_LT((xpbd.positions[i] - xpbdExpected).norm(), 100 * kEpsilon * xpbdExpected.norm())
-        << i;
+    EXPECT_LT((xpbd.positions[i] - xpbdExpected).norm(), 100 * kEpsilon * xpbdExpected.norm()) << i;
   }
   // A tet listed with negative orientation: its rest volume is |V₀|, so at rest it starts at
   // C = −2|V₀| and is pushed towards inversion (docs/seed.md#tet-orientation).
@@ -119,8 +118,7 @@ TEST(TetVolume, SeedFormIsTheProjectionOfSixTimesTheGradients) {
     moved[i] = flipped[i] + inverted.positions[i];
   EXPECT_GT(signedTetVolume(moved), signedTetVolume(flipped));  // towards +|V₀|
   // Below the cut-off nothing moves: every particle static.
-  const TetVolumeCorrection none =
-      seedTetVolumePbd(kTet, {0, 0, 0, 0}, rest, 1, Real(1e-6));
+  const TetVolumeCorrection none = seedTetVolumePbd(kTet, {0, 0, 0, 0}, rest, 1, Real(1e-6));
   for (const Vector3& d : none.positions)
     EXPECT_EQ(d, Vector3::Zero());
 }
@@ -236,8 +234,9 @@ TEST(TetVolumeWorld, SeedFormActsAsSixTimesTheXpbdStiffnessAndASixthOfThePbdStep
   const Real expected = 9 * g / (6 * k * area * area) + 6 * g * substep * substep;
   World xpbd = apexOnBase(true, k, 1, true);
   const Real measured = meanCompression(xpbd, 0, 3);
-  std::printf("  seed-form XPBD tet apex: compression %.6g m (9 m g/(6 k A^2) + 6 g h^2 = %.6g m)\n",
-              double(measured), double(expected));
+  std::printf(
+      "  seed-form XPBD tet apex: compression %.6g m (9 m g/(6 k A^2) + 6 g h^2 = %.6g m)\n",
+      double(measured), double(expected));
   EXPECT_NEAR(measured, expected, 0.01 * expected);
   // The seed's PBD step is ⅙ of the projection: each iteration keeps (1 − k/6) of the error,
   // so the apex settles at (1 − k/6) g h_s²/(1 − (1 − k/6)) with one iteration, 11 g h_s² for

@@ -136,8 +136,8 @@ BendingCorrection seedDihedralBendingPbd(const std::array<Vector3, 4>& x,
   if (dot < -1) dot = -1;
   if (dot > 1) dot = 1;
   const Real phi = std::acos(dot);
-  Real lambda = w0 * d0.squaredNorm() + w1 * d1.squaredNorm() + w2 * d2.squaredNorm() +
-                w3 * d3.squaredNorm();
+  Real lambda =
+      w0 * d0.squaredNorm() + w1 * d1.squaredNorm() + w2 * d2.squaredNorm() + w3 * d3.squaredNorm();
   if (lambda == 0) return out;
   lambda = (phi - c.restAngle) / lambda * c.stiffness;
   if (n1.cross(n2).dot(e) > 0) lambda = -lambda;

@@ -240,7 +240,8 @@ void solveStrainTets(const std::vector<StrainTetConstraint>& constraints, Partic
       x[i] = particles.position[std::size_t(c.particles[i])];
       w[i] = particles.inverseMass[std::size_t(c.particles[i])];
     }
-    const std::array<Vector3, 4> d = c.cutoff > 0 ? seedStrainTetPbd(x, w, c) : strainTetPbd(x, w, c);
+    const std::array<Vector3, 4> d =
+        c.cutoff > 0 ? seedStrainTetPbd(x, w, c) : strainTetPbd(x, w, c);
     for (std::size_t i = 0; i < 4; ++i)
       particles.position[std::size_t(c.particles[i])] += d[i];
   }

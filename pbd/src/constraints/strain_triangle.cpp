@@ -149,7 +149,8 @@ std::array<Vector3, 3> seedStrainTrianglePbd(const std::array<Vector3, 3>& x,
                                              const StrainTriangleConstraint& c) {
   // PositionBasedDynamics::solve_StrainTriangleConstraint, operation by operation.
   const Matrix2x2& b = c.restInverse;
-  const std::array<Vector3, 2> columns = {Vector3(b(0, 0), b(1, 0), 0), Vector3(b(0, 1), b(1, 1), 0)};
+  const std::array<Vector3, 2> columns = {Vector3(b(0, 0), b(1, 0), 0),
+                                          Vector3(b(0, 1), b(1, 1), 0)};
   std::array<Vector3, 3> corr = {Vector3::Zero(), Vector3::Zero(), Vector3::Zero()};
   for (int i = 0; i < 2; ++i)
     for (int j = 0; j <= i; ++j) {

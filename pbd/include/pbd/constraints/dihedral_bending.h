@@ -8,10 +8,11 @@
 //   ∇₀θ = −((x₂ − x₁)·ê) N_A/|N_A|² − ((x₃ − x₁)·ê) N_B/|N_B|²,
 //   ∇₁θ = ((x₂ − x₀)·ê) N_A/|N_A|² + ((x₃ − x₀)·ê) N_B/|N_B|²     (Σ ∇_iθ = 0).
 // PBD, k ∈ [0, 1] per iteration: s = C / Σ w_i |∇_iθ|², Δx_i = −k s w_i ∇_iθ.
-// Deliberate difference from the seed (pbdval's form: pbd.xpbd, or femCutoff 0): the seed measures the unsigned angle acos(N̂_A·N̂_B) and
-// flips the correction's sign by orientation, so C is discontinuous at the flat state whenever
-// θ₀ ≠ 0 (a fold with the mirror angle of its rest angle is not corrected towards it); here the
-// angle is signed and C is continuous except at θ = ±π.
+// Deliberate difference from the seed (pbdval's form: pbd.xpbd, or femCutoff 0): the seed measures
+// the unsigned angle acos(N̂_A·N̂_B) and flips the correction's sign by orientation, so C is
+// discontinuous at the flat state whenever θ₀ ≠ 0 (a fold with the mirror angle of its rest angle
+// is not corrected towards it); here the angle is signed and C is continuous except at θ = ±π.
+//
 // The seed's form (the `pbd` method: DihedralBendingConstraint::seedForm, set when femCutoffFor is
 // above 0 as for the other seed forms, docs/methods.md "The seed's forms"), for its fidelity to
 // PositionBasedDynamics: its solve_DihedralConstraint operation by operation — with the seed's
