@@ -119,6 +119,45 @@ TEST(DihedralBending, CorrectionConservesMomentumAndIsExactToFirstOrder) {
   EXPECT_GT(moved, 0);
 }
 
+// The seed's form (the `pbd` method's; dihedral_bending.h): its rest angle is the unsigned fold
+// angle, and with a flat rest state (φ₀ = 0, where its sign flip by orientation makes C = |θ|
+// act as θ) its correction is pbdval's signed one, computed from ∇θ (checked against central
+// differences above), up to round-off. With a folded rest state it is not: a fold by −θ₀ is at
+// rest for the seed (|−θ₀| = φ₀: C = 0), while pbdval corrects it towards +θ₀.
+TEST(DihedralBending, SeedFormIsTheUnsignedAngleWithItsSignFlippedByOrientation) {
+  const std::array<Real, 4> w = {1, 2, Real(0.5), Real(0.25)};
+  DihedralBendingConstraint seed;
+  seed.seedForm = true;
+  seed.stiffness = Real(0.8);
+  DihedralBendingConstraint own = seed;
+  own.seedForm = false;
+  seed.restAngle = seedDihedralRestAngle(hinge(0));
+  own.restAngle = dihedralAngle(hinge(0));
+  // acos near 1: a round-off δ of a few ε in n̂₁·n̂₂ gives √(2δ) ≈ 3·10⁻⁸.
+  EXPECT_NEAR(seed.restAngle, 0, 1e-7);
+  for (Real theta : {Real(0.3), Real(-0.5), Real(1.2), Real(-2.5)}) {
+    EXPECT_NEAR(seedDihedralRestAngle(hinge(theta)), std::abs(theta), 1e-7) << theta;
+    const BendingCorrection a = seedDihedralBendingPbd(hinge(theta), w, seed);
+    const BendingCorrection b = dihedralBendingPbd(hinge(theta), w, own);
+    for (std::size_t i = 0; i < 4; ++i)
+      // The rest angle's 3·10⁻⁸ against corrections of O(θ): 10⁻⁷ relative and absolute.
+      EXPECT_LT((a.positions[i] - b.positions[i]).norm(), 1e-7 * (1 + b.positions[i].norm()))
+          << theta << " " << i;
+  }
+  seed.restAngle = seedDihedralRestAngle(hinge(Real(0.6)));
+  own.restAngle = dihedralAngle(hinge(Real(0.6)));
+  const BendingCorrection mirrored = seedDihedralBendingPbd(hinge(Real(-0.6)), w, seed);
+  for (const Vector3& dx : mirrored.positions)
+    EXPECT_LT(dx.norm(), 1e-7);  // the seed leaves the mirrored fold alone (C ≈ 0)
+  Real moved = 0;
+  for (const Vector3& dx : dihedralBendingPbd(hinge(Real(-0.6)), w, own).positions)
+    moved = std::max(moved, dx.norm());
+  EXPECT_GT(moved, 0.1);  // pbdval corrects C = −1.2 rad
+  // Both opposite vertices static: no correction in the seed's form (its early return).
+  for (const Vector3& dx : seedDihedralBendingPbd(hinge(Real(0.9)), {1, 1, 0, 0}, seed).positions)
+    EXPECT_EQ(dx, Vector3::Zero());
+}
+
 TEST(DihedralBending, ClothGetsOneConstraintPerInteriorEdgeWithItsRestAngle) {
   // A folded strip of four triangles: 3 interior edges.
   Scene scene;
@@ -142,16 +181,24 @@ TEST(DihedralBending, ClothGetsOneConstraintPerInteriorEdgeWithItsRestAngle) {
     EXPECT_EQ(buildWorld(scene).constraints.clothDihedrals.size(), method == 0 ? 0u : 3u) << method;
   }
   scene.simulation.clothSimulationMethod = 1;
-  const World world = buildWorld(scene);
-  // The diagonals (1–2 and 3–4) are flat; the crease 2–3 is folded by π/4.
-  std::vector<Real> angles;
-  for (const DihedralBendingConstraint& c : world.constraints.clothDihedrals) {
-    angles.push_back(std::abs(c.restAngle));
-    EXPECT_EQ(c.stiffness, Real(0.01));  // the seed's default cloth_bendingStiffness
+  // The diagonals (1–2 and 3–4) are flat; the crease 2–3 is folded by π/4. pbdval's form
+  // (femCutoff 0): atan2, exact to round-off. The seed's (the `pbd` method's default): acos of
+  // n̂₁·n̂₂, which turns a round-off δ of a few ε in a dot product near 1 into √(2δ) ≈ 3·10⁻⁸.
+  for (const bool seedForm : {false, true}) {
+    Scene form = scene;
+    if (!seedForm) form.simulation.femCutoff = Real(0);
+    const World world = buildWorld(form);
+    std::vector<Real> angles;
+    for (const DihedralBendingConstraint& c : world.constraints.clothDihedrals) {
+      EXPECT_EQ(c.seedForm, seedForm);
+      angles.push_back(std::abs(c.restAngle));
+      EXPECT_EQ(c.stiffness, Real(0.01));  // the seed's default cloth_bendingStiffness
+    }
+    const Real tolerance = seedForm ? Real(1e-7) : Real(1e-15);
+    EXPECT_NEAR(angles[0], 0, tolerance) << seedForm;
+    EXPECT_NEAR(angles[1], kPi / 4, tolerance) << seedForm;
+    EXPECT_NEAR(angles[2], 0, tolerance) << seedForm;
   }
-  EXPECT_NEAR(angles[0], 0, 1e-15);
-  EXPECT_NEAR(angles[1], kPi / 4, 1e-15);
-  EXPECT_NEAR(angles[2], 0, 1e-15);
   // Held at rest with gravity off, a step leaves every particle where it is.
   scene.simulation.gravitation = Vector3::Zero();
   scene.simulation.cloth_bendingStiffness = 1;

@@ -234,10 +234,62 @@ TEST(StrainTetWorld, SolidsGetStrainConstraintsFromMethodFourOnly) {
     EXPECT_FALSE(c.normalizeStretch);
     EXPECT_TRUE(c.normalizeShear);
   }
-  // Tets of four static particles are left out: with 0, 1, 2, 4 static, tet {0, 1, 2, 4} is.
+  // Tets of four static particles: with 0, 1, 2, 4 static, tet {0, 1, 2, 4} is one. The `pbd`
+  // method (the seed's form, femCutoff > 0) keeps it, as the seed does (it takes a colour
+  // group); pbdval's form (femCutoff 0, pbd.xpbd's) leaves it out.
   for (int i : {0, 1, 2, 4})
     scene.particles[std::size_t(i)].mass = 0;
+  EXPECT_EQ(buildWorld(scene).constraints.strainTets.size(), 5u);
+  EXPECT_GT(buildWorld(scene).constraints.strainTets[0].cutoff, 0);
+  scene.simulation.femCutoff = Real(0);
   EXPECT_EQ(buildWorld(scene).constraints.strainTets.size(), 4u);
+}
+
+// The seed's form projects the six components in its loop order xx, xy, yy, xz, yz, zz
+// (stretches and shears interleaved). An independent computation of that sequence from the
+// components' values and gradients (strainTetValue, strainTetGradients: checked against closed
+// forms and central differences above), each projected at the positions the previous ones
+// corrected, gives the same corrections up to round-off; pbdval's order (stretches first)
+// gives others.
+TEST(StrainTet, SeedFormProjectsInTheSeedsInterleavedOrder) {
+  const std::array<Real, 4> w = {1, 2, Real(0.5), Real(0.25)};
+  const std::array<TetStrainComponent, 6> seedOrder = {
+      TetStrainComponent::Xx, TetStrainComponent::Xy, TetStrainComponent::Yy,
+      TetStrainComponent::Xz, TetStrainComponent::Yz, TetStrainComponent::Zz};
+  for (bool normalize : {false, true}) {
+    StrainTetConstraint c = constraintFor(normalize, normalize);
+    c.stretchStiffness = Real(0.9);
+    c.shearStiffness = Real(0.7);
+    c.cutoff = Real(1e-6);
+    const std::array<Vector3, 4> x = deformed(
+        matrix(Real(1.1), Real(0.1), 0, Real(-0.05), Real(0.9), Real(0.1), 0, Real(0.1), Real(1.2)),
+        kMoved);
+    std::array<Vector3, 4> expected = x;
+    for (TetStrainComponent component : seedOrder) {
+      const Real value = strainTetValue(expected, c, component);
+      const std::array<Vector3, 4> g = strainTetGradients(expected, c, component);
+      Real sum = 0;
+      for (std::size_t i = 0; i < 4; ++i)
+        sum += w[i] * g[i].squaredNorm();
+      const bool stretch = int(component) < 3;
+      const Real s = (stretch ? c.stretchStiffness : c.shearStiffness) * value / sum;
+      for (std::size_t i = 0; i < 4; ++i)
+        expected[i] -= s * w[i] * g[i];
+    }
+    const std::array<Vector3, 4> seed = seedStrainTetPbd(x, w, c);
+    const std::array<Vector3, 4> own = strainTetPbd(x, w, c);
+    Real seedGap = 0, ownGap = 0;
+    for (std::size_t i = 0; i < 4; ++i) {
+      seedGap = std::max(seedGap, (x[i] + seed[i] - expected[i]).norm());
+      ownGap = std::max(ownGap, (x[i] + own[i] - expected[i]).norm());
+    }
+    std::printf(
+        "  strain tet (normalize %d): seed form %.2e, stretches-first order %.2e from the "
+        "interleaved sequence\n",
+        int(normalize), double(seedGap), double(ownGap));
+    EXPECT_LT(seedGap, kRoundOff);
+    EXPECT_GT(ownGap, 1e3 * kRoundOff);  // another order, another result
+  }
 }
 
 TEST(StrainTetWorld, HangingBlockStaysBoundedAndStretchesLessWithMoreIterations) {

@@ -214,6 +214,9 @@ Scene verticalCloth(int n, int method) {
   for (const Vector3& v : cloth.mesh.vertices)
     scene.particles.push_back({v, Vector3::Zero(), 1});
   scene.simulation.clothSimulationMethod = method;
+  // pbdval's form (the rest state in the triangle's own plane): the seed's, the `pbd` method's
+  // default, drops every triangle of a vertical cloth (SeedFormRestsOnTheXzProjection).
+  scene.simulation.femCutoff = Real(0);
   return scene;
 }
 
@@ -240,6 +243,73 @@ TEST(StrainTriangleWorld, ClothGetsOneConstraintPerTriangleForMethodThreeOnly) {
   for (int i : {0, 1, 3, 4})
     scene.particles[std::size_t(i)].mass = 0;
   EXPECT_EQ(buildWorld(scene).constraints.strainTriangles.size(), 6u);
+}
+
+// The seed's form (the `pbd` method's default, femCutoff > 0): the rest matrix from the x and z
+// coordinates. Repeated sweeps bring a triangle to S = I of that rest matrix, so its edges take
+// the lengths of the rest triangle's xz projection: the true ones for a triangle in a y = const
+// plane, the projected ones for a tilted triangle (the seed's flaw, docs/seed.md#sbd-triangle-
+// rest-shape); a vertical triangle gets no rest matrix.
+TEST(StrainTriangle, SeedFormRestsOnTheXzProjection) {
+  const std::array<Vector3, 3> horizontal = {Vector3(Real(0.1), 2, Real(0.2)),
+                                             Vector3(Real(1.2), 2, Real(0.1)),
+                                             Vector3(Real(0.4), 2, Real(0.9))};
+  const Quaternion tilt(AngleAxis(Real(0.5), Vector3::UnitX()));
+  std::array<Vector3, 3> tilted;
+  for (std::size_t i = 0; i < 3; ++i)
+    tilted[i] = tilt * horizontal[i];
+  const std::array<Real, 3> w = {1, 2, Real(0.5)};
+  for (const auto& rest : {horizontal, tilted}) {
+    StrainTriangleConstraint c;
+    c.seedForm = true;
+    ASSERT_TRUE(seedStrainTriangleRest(rest, c.restInverse));
+    // Start 10 % stretched along one edge and sheared, then sweep.
+    std::array<Vector3, 3> x = rest;
+    x[1] += Real(0.1) * (rest[1] - rest[0]) + Vector3(0, Real(0.05), Real(0.03));
+    for (int sweep = 0; sweep < 300; ++sweep) {
+      const std::array<Vector3, 3> d = seedStrainTrianglePbd(x, w, c);
+      Vector3 momentum = Vector3::Zero();
+      for (std::size_t i = 0; i < 3; ++i) {
+        momentum += d[i] / w[i];
+        x[i] += d[i];
+      }
+      EXPECT_LT(momentum.norm(), kRoundOff);  // the seed's ∇_{x₀}C = −∇_{x₁}C − ∇_{x₂}C
+    }
+    for (std::size_t i = 0; i < 3; ++i)
+      for (std::size_t j = i + 1; j < 3; ++j) {
+        const Vector3 e = rest[i] - rest[j];
+        const Real projected = Vector2(e.x(), e.z()).norm();
+        // Converged to round-off (as RepeatedProjectionsRestoreTheRestShape…: 10⁴ ε).
+        EXPECT_NEAR((x[i] - x[j]).norm(), projected, 1e4 * kEpsilon) << i << j;
+      }
+  }
+  // The tilted triangle's projected edges are shorter than its own: the seed's distortion.
+  EXPECT_LT(Vector2(tilted[1].x() - tilted[2].x(), tilted[1].z() - tilted[2].z()).norm(),
+            (tilted[1] - tilted[2]).norm() - Real(0.01));
+  Matrix2x2 b;
+  EXPECT_FALSE(seedStrainTriangleRest(placed(Matrix2x2::Identity(), Quaternion::Identity(), kShift),
+                                      b));  // in the xy plane: no xz extent
+}
+
+TEST(StrainTriangleWorld, PbdMethodKeepsTheSeedsTrianglesAndDropsItsVerticalOnes) {
+  // The seed's form (femCutoff unset: the `pbd` method's 10⁻⁶): a vertical cloth gets no
+  // constraint, as in the seed; a horizontal one gets every triangle, those of three static
+  // particles too (they take a colour group in the seed's solve order).
+  Scene vertical = verticalCloth(3, 3);
+  vertical.simulation.femCutoff.reset();
+  EXPECT_EQ(buildWorld(vertical).constraints.strainTriangles.size(), 0u);
+  Scene horizontal = vertical;
+  for (std::size_t i = 0; i < horizontal.particles.size(); ++i) {
+    const Vector3 v = horizontal.triangleModels[0].mesh.vertices[i];
+    horizontal.particles[i].position = Vector3(v.y(), 0, v.z());
+    horizontal.triangleModels[0].mesh.vertices[i] = horizontal.particles[i].position;
+  }
+  for (int i : {0, 1, 3, 4})
+    horizontal.particles[std::size_t(i)].mass = 0;
+  const World world = buildWorld(horizontal);
+  ASSERT_EQ(world.constraints.strainTriangles.size(), 8u);
+  for (const StrainTriangleConstraint& c : world.constraints.strainTriangles)
+    EXPECT_TRUE(c.seedForm);
 }
 
 TEST(StrainTriangleWorld, HangingVerticalClothStaysBoundedAndStretchesLessWithMoreIterations) {

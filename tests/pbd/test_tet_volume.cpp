@@ -80,9 +80,78 @@ TEST(TetVolume, RigidMotionsAndMomentum) {
             0.05 * std::abs(0.2 * signedTetVolume(kTet)));
 }
 
+// The seed's solve_VolumeConstraint (PBD and XPBD) takes C = V − |V₀| but the cross products
+// 6 ∇V as its gradients (docs/seed.md, "Volume constraint scale"). Its corrections are therefore
+// those of the ∇V projection with C ∇C / Σ w |∇C|² scaled by ⅙ (PBD), and with
+// Σ w |6∇V|² + α̃ in the XPBD denominator: both computed here from tetVolumeGradients
+// (checked against central differences above).
+TEST(TetVolume, SeedFormIsTheProjectionOfSixTimesTheGradients) {
+  const std::array<Real, 4> w = {1, 2, Real(0.5), Real(0.25)};
+  const Real rest = Real(0.8) * signedTetVolume(kTet);  // compressed by a fifth
+  EXPECT_EQ(seedRestTetVolume(kTet), std::abs(signedTetVolume(kTet)));
+  const std::array<Vector3, 4> g = tetVolumeGradients(kTet);
+  Real sum = 0;  // Σ w |∇V|²
+  for (std::size_t i = 0; i < 4; ++i)
+    sum += w[i] * g[i].squaredNorm();
+  const Real c = signedTetVolume(kTet) - rest;
+  const TetVolumeCorrection pbd = seedTetVolumePbd(kTet, w, rest, Real(0.7), Real(1e-6));
+  const Real stiffness = 1e5, h = 1e-2, lambda = Real(3e-4), compliance = 1 / (stiffness * h * h);
+  const TetVolumeCorrection xpbd =
+      seedTetVolumeXpbd(kTet, w, rest, stiffness, h, lambda, Real(1e-6));
+  const Real expectedMultiplier = -(c + compliance * lambda) / (36 * sum + compliance);
+  // Round-off of a few dozen O(1) operations, relative.
+  EXPECT_NEAR(xpbd.multiplier, expectedMultiplier, 100 * kEpsilon * std::abs(expectedMultiplier));
+  for (std::size_t i = 0; i < 4; ++i) {
+    const Vector3 pbdExpected = -Real(0.7) * c / (6 * sum) * w[i] * g[i];
+    const Vector3 xpbdExpected = 6 * expectedMultiplier * w[i] * g[i];
+    EXPECT_LT((pbd.positions[i] - pbdExpected).norm(), 100 * kEpsilon * pbdExpected.norm()) << i;
+    EXPECT_LT((xpbd.positions[i] - xpbdExpected).norm(), 100 * kEpsilon * xpbdExpected.norm()) << i;
+  }
+  // A tet listed with negative orientation: its rest volume is |V₀|, so at rest it starts at
+  // C = −2|V₀| and is pushed towards inversion (docs/seed.md#tet-orientation).
+  std::array<Vector3, 4> flipped = kTet;
+  std::swap(flipped[1], flipped[2]);
+  const TetVolumeCorrection inverted =
+      seedTetVolumePbd(flipped, w, seedRestTetVolume(flipped), 1, Real(1e-6));
+  std::array<Vector3, 4> moved;
+  for (std::size_t i = 0; i < 4; ++i)
+    moved[i] = flipped[i] + inverted.positions[i];
+  EXPECT_GT(signedTetVolume(moved), signedTetVolume(flipped));  // towards +|V₀|
+  // Below the cut-off nothing moves: every particle static.
+  const TetVolumeCorrection none = seedTetVolumePbd(kTet, {0, 0, 0, 0}, rest, 1, Real(1e-6));
+  for (const Vector3& d : none.positions)
+    EXPECT_EQ(d, Vector3::Zero());
+}
+
+TEST(TetVolumeWorld, PbdMethodKeepsTetsOfStaticParticlesAsTheSeedDoes) {
+  // Two tets sharing a face; the first's four particles static. The seed keeps its constraint
+  // (it moves nothing, but takes a colour group and so decides the solve order): the `pbd`
+  // method too (femCutoff unset: the seed's form), pbdval's form (femCutoff 0) leaves it out.
+  Scene scene;
+  TetModelDesc solid;
+  solid.mesh.vertices = {Vector3(0, 0, 0), Vector3(1, 0, 0), Vector3(0, 1, 0), Vector3(0, 0, 1),
+                         Vector3(1, 1, 1)};
+  solid.mesh.tetrahedra = {{0, 1, 2, 3}, {1, 3, 2, 4}};
+  scene.tetModels.push_back(solid);
+  for (std::size_t i = 0; i < solid.mesh.vertices.size(); ++i)
+    scene.particles.push_back({solid.mesh.vertices[i], Vector3::Zero(), i < 4 ? Real(0) : 1});
+  for (int method : {1, 6}) {
+    scene.simulation.solidSimulationMethod = method;
+    scene.simulation.femCutoff.reset();
+    const World seed = buildWorld(scene);
+    ASSERT_EQ(seed.constraints.tetVolumes.size(), 2u) << method;
+    for (const TetVolumeConstraint& c : seed.constraints.tetVolumes)
+      EXPECT_GT(c.restVolume, 0);  // |V₀|, whatever the orientation ({1, 3, 2, 4} is negative)
+    scene.simulation.femCutoff = Real(0);
+    const World own = buildWorld(scene);
+    ASSERT_EQ(own.constraints.tetVolumes.size(), 1u) << method;
+    EXPECT_LT(own.constraints.tetVolumes[0].restVolume, 0);  // signed
+  }
+}
+
 // A tet with a static base (right triangle of legs 1 in the xz-plane, area A = ½) and an apex of
 // mass m at height 1, gravity along −y, the volume constraint alone.
-World apexOnBase(bool xpbd, Real stiffness, int iterations) {
+World apexOnBase(bool xpbd, Real stiffness, int iterations, bool seedForm = false) {
   Scene scene;
   scene.simulation.timeStepSize = Real(0.005);
   scene.simulation.subSteps = 5;
@@ -98,6 +167,13 @@ World apexOnBase(bool xpbd, Real stiffness, int iterations) {
                                   scene.particles[2].position, scene.particles[3].position});
   c.xpbd = xpbd;
   c.stiffness = stiffness;
+  if (seedForm) {
+    // The seed's form: |V₀| (listed with positive orientation, so C = 0 at rest), 6 ∇V.
+    c.particles = {0, 2, 1, 3};
+    c.restVolume = seedRestTetVolume({scene.particles[0].position, scene.particles[2].position,
+                                      scene.particles[1].position, scene.particles[3].position});
+    c.cutoff = kSeedFemCutoff;
+  }
   world.constraints.tetVolumes.push_back(c);
   return world;
 }
@@ -148,6 +224,32 @@ TEST(TetVolumeWorld, XpbdCompressionIsTheClosedFormAndPbdsIsSetByIterations) {
   }
 }
 
+TEST(TetVolumeWorld, SeedFormActsAsSixTimesTheXpbdStiffnessAndASixthOfThePbdStep) {
+  // The seed's XPBD form: at rest the correction 6 w |∇C| |Δλ| of each substep, with
+  // Δλ = −C/(36 w |∇C|² + α̃), |∇C| = A/3, m = 1, must undo the prediction's g h_s², so
+  // C = g h_s² (36 |∇C|² + α̃)/(6 |∇C|) and the compression is 9 m g/(6 k A²) + 6 g h_s²
+  // (5.945 mm for k = 10⁴ N/m⁵, h_s = 1 ms): k acts as 6k (its force −6 k C ∇C is that of
+  // ½ (6k) C²). The mean over 3 s, as above: 1 %.
+  const Real g = Real(9.81), area = Real(0.5), k = Real(1e4), substep = Real(0.001);
+  const Real expected = 9 * g / (6 * k * area * area) + 6 * g * substep * substep;
+  World xpbd = apexOnBase(true, k, 1, true);
+  const Real measured = meanCompression(xpbd, 0, 3);
+  std::printf(
+      "  seed-form XPBD tet apex: compression %.6g m (9 m g/(6 k A^2) + 6 g h^2 = %.6g m)\n",
+      double(measured), double(expected));
+  EXPECT_NEAR(measured, expected, 0.01 * expected);
+  // The seed's PBD step is ⅙ of the projection: each iteration keeps (1 − k/6) of the error,
+  // so the apex settles at (1 − k/6) g h_s²/(1 − (1 − k/6)) with one iteration, 11 g h_s² for
+  // k = ½ (C is linear in the apex height, as above).
+  const Real kept = 1 - Real(0.5) / 6;
+  const Real closed = kept * g * substep * substep / (1 - kept);
+  World pbd = apexOnBase(false, Real(0.5), 1, true);
+  const Real settled = meanCompression(pbd, 2, 3);
+  std::printf("  seed-form PBD tet apex, k = 0.5: compression %.6g m (closed form %.6g m)\n",
+              double(settled), double(closed));
+  EXPECT_NEAR(settled, closed, 0.01 * closed);
+}
+
 TEST(TetVolumeWorld, SolidsGetEdgeAndVolumeConstraintsFromTheirMethod) {
   // A unit cube of five tets: 12 cube edges and 6 face diagonals, 5 volumes.
   Scene scene;
@@ -177,10 +279,12 @@ TEST(TetVolumeWorld, SolidsGetEdgeAndVolumeConstraintsFromTheirMethod) {
       EXPECT_EQ(c.stiffness, method == 6 ? Real(1e5) : Real(1));
   }
   // The cube stands on its own static bottom face: a step keeps its volume (no load but
-  // gravity on the top four, 1 kg each, against 10⁵-stiff constraints).
+  // gravity on the top four, 1 kg each, against 10⁵-stiff constraints). pbdval's form
+  // (femCutoff 0; the seed's is SeedFormIsTheProjectionOfSixTimesTheGradients').
   for (int i = 0; i < 8; ++i)
     if (((i >> 1) & 1) == 0) scene.particles[std::size_t(i)].mass = 0;
   scene.simulation.solidSimulationMethod = 6;
+  scene.simulation.femCutoff = Real(0);
   World world = buildWorld(scene);
   Real worst = 0;
   while (world.time < 1) {

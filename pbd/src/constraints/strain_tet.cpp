@@ -139,6 +139,60 @@ std::array<Vector3, 4> strainTetPbd(const std::array<Vector3, 4>& x,
   return correction;
 }
 
+std::array<Vector3, 4> seedStrainTetPbd(const std::array<Vector3, 4>& x,
+                                        const std::array<Real, 4>& inverseMasses,
+                                        const StrainTetConstraint& c) {
+  // PositionBasedDynamics::solve_StrainTetraConstraint, operation by operation.
+  std::array<Vector3, 4> corr = {Vector3::Zero(), Vector3::Zero(), Vector3::Zero(),
+                                 Vector3::Zero()};
+  const Matrix3& b = c.restInverse;
+  const std::array<Vector3, 3> columns = {b.col(0), b.col(1), b.col(2)};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j <= i; ++j) {
+      Matrix3 p;
+      p.col(0) = (x[1] + corr[1]) - (x[0] + corr[0]);
+      p.col(1) = (x[2] + corr[2]) - (x[0] + corr[0]);
+      p.col(2) = (x[3] + corr[3]) - (x[0] + corr[0]);
+      const Vector3 fi = p * columns[std::size_t(i)];
+      const Vector3 fj = p * columns[std::size_t(j)];
+      Real sij = fi.dot(fj);
+      const bool normalizedShear = c.normalizeShear && i != j;
+      Real wi = 0, wj = 0, s1 = 0, s3 = 0;
+      if (normalizedShear) {
+        wi = fi.norm();
+        wj = fj.norm();
+        s1 = Real(1) / (wi * wj);
+        s3 = s1 * s1 * s1;
+      }
+      std::array<Vector3, 4> d;
+      d[0] = Vector3::Zero();
+      for (int k = 0; k < 3; ++k) {
+        Vector3& dk = d[std::size_t(k) + 1];
+        dk = fj * b(k, i) + fi * b(k, j);
+        if (normalizedShear)
+          dk = s1 * dk - sij * s3 * (wj * wj * fi * b(k, i) + wi * wi * fj * b(k, j));
+        d[0] -= dk;
+      }
+      if (normalizedShear) sij *= s1;
+      Real lambda = inverseMasses[0] * d[0].squaredNorm() + inverseMasses[1] * d[1].squaredNorm() +
+                    inverseMasses[2] * d[2].squaredNorm() + inverseMasses[3] * d[3].squaredNorm();
+      if (std::abs(lambda) < c.cutoff) continue;
+      if (i == j) {
+        if (c.normalizeStretch) {
+          const Real s = std::sqrt(sij);
+          lambda = Real(2) * s * (s - Real(1)) / lambda * c.stretchStiffness;
+        } else {
+          lambda = (sij - Real(1)) / lambda * c.stretchStiffness;
+        }
+      } else {
+        lambda = sij / lambda * c.shearStiffness;
+      }
+      for (std::size_t n = 0; n < 4; ++n)
+        corr[n] -= lambda * inverseMasses[n] * d[n];
+    }
+  return corr;
+}
+
 std::vector<StrainTetConstraint> strainTetConstraints(const Scene& scene) {
   std::vector<StrainTetConstraint> constraints;
   const SimulationSettings& settings = scene.simulation;
@@ -155,7 +209,18 @@ std::vector<StrainTetConstraint> strainTetConstraints(const Scene& scene) {
         rest[i] = particle.position;
         anyDynamic = anyDynamic || particle.mass > 0;
       }
-      if (!anyDynamic || !strainTetRest(rest, c.restInverse)) continue;
+      c.cutoff = femCutoffFor(settings);
+      if (c.cutoff > 0) {
+        // The seed's init_StrainTetraConstraint: D_m⁻¹ when |det D_m| > 10⁻⁶.
+        Matrix3 d;
+        d.col(0) = rest[1] - rest[0];
+        d.col(1) = rest[2] - rest[0];
+        d.col(2) = rest[3] - rest[0];
+        if (!(std::abs(d.determinant()) > c.cutoff)) continue;
+        c.restInverse = d.inverse();
+      } else if (!anyDynamic || !strainTetRest(rest, c.restInverse)) {
+        continue;
+      }
       c.stretchStiffness = stiffness;
       c.shearStiffness = stiffness;
       c.normalizeStretch = settings.solid_normalizeStretch;
@@ -175,7 +240,8 @@ void solveStrainTets(const std::vector<StrainTetConstraint>& constraints, Partic
       x[i] = particles.position[std::size_t(c.particles[i])];
       w[i] = particles.inverseMass[std::size_t(c.particles[i])];
     }
-    const std::array<Vector3, 4> d = strainTetPbd(x, w, c);
+    const std::array<Vector3, 4> d =
+        c.cutoff > 0 ? seedStrainTetPbd(x, w, c) : strainTetPbd(x, w, c);
     for (std::size_t i = 0; i < 4; ++i)
       particles.position[std::size_t(c.particles[i])] += d[i];
   }

@@ -130,6 +130,87 @@ std::array<Vector3, 3> strainTrianglePbd(const std::array<Vector3, 3>& x,
   return correction;
 }
 
+bool seedStrainTriangleRest(const std::array<Vector3, 3>& rest, Matrix2x2& restInverse) {
+  // PositionBasedDynamics::init_StrainTriangleConstraint on (x, z, 0) of each vertex.
+  const Real a = rest[1].x() - rest[0].x(), b = rest[2].x() - rest[0].x();
+  const Real c = rest[1].z() - rest[0].z(), d = rest[2].z() - rest[0].z();
+  const Real det = a * d - b * c;
+  if (std::abs(det) < kSeedFemCutoff) return false;
+  const Real s = Real(1) / det;
+  restInverse(0, 0) = d * s;
+  restInverse(0, 1) = -b * s;
+  restInverse(1, 0) = -c * s;
+  restInverse(1, 1) = a * s;
+  return true;
+}
+
+std::array<Vector3, 3> seedStrainTrianglePbd(const std::array<Vector3, 3>& x,
+                                             const std::array<Real, 3>& inverseMasses,
+                                             const StrainTriangleConstraint& c) {
+  // PositionBasedDynamics::solve_StrainTriangleConstraint, operation by operation.
+  const Matrix2x2& b = c.restInverse;
+  const std::array<Vector3, 2> columns = {Vector3(b(0, 0), b(1, 0), 0),
+                                          Vector3(b(0, 1), b(1, 1), 0)};
+  std::array<Vector3, 3> corr = {Vector3::Zero(), Vector3::Zero(), Vector3::Zero()};
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j <= i; ++j) {
+      std::array<Vector3, 3> r;
+      for (int k = 0; k < 3; ++k)
+        r[std::size_t(k)] = Vector3((x[1][k] + corr[1][k]) - (x[0][k] + corr[0][k]),
+                                    (x[2][k] + corr[2][k]) - (x[0][k] + corr[0][k]), 0);
+      const Vector3& ci = columns[std::size_t(i)];
+      const Vector3& cj = columns[std::size_t(j)];
+      const Vector3 fi(r[0].dot(ci), r[1].dot(ci), r[2].dot(ci));
+      const Vector3 fj(r[0].dot(cj), r[1].dot(cj), r[2].dot(cj));
+      Real sij = 0;
+      for (std::size_t k = 0; k < 3; ++k)
+        sij += r[k].dot(ci) * r[k].dot(cj);
+      std::array<Vector3, 3> d;
+      d[0] = Vector3::Zero();
+      for (int k = 0; k < 2; ++k) {
+        Vector3& dk = d[std::size_t(k) + 1];
+        dk = fj * b(k, i);
+        dk += fi * b(k, j);
+        d[0] -= dk;
+      }
+      if (i != j && c.normalizeShear) {
+        Real fi2 = 0, fj2 = 0;
+        for (std::size_t k = 0; k < 3; ++k) {
+          fi2 += r[k].dot(ci) * r[k].dot(ci);
+          fj2 += r[k].dot(cj) * r[k].dot(cj);
+        }
+        const Real li = std::sqrt(fi2), lj = std::sqrt(fj2);
+        d[0] = Vector3::Zero();
+        const Real s = sij / (fi2 * li * fj2 * lj);
+        for (int k = 0; k < 2; ++k) {
+          Vector3& dk = d[std::size_t(k) + 1];
+          dk /= li * lj;
+          dk -= lj * lj * fi * b(k, i) * s;
+          dk -= li * li * fj * b(k, j) * s;
+          d[0] -= dk;
+        }
+        sij = sij / (li * lj);
+      }
+      Real lambda = inverseMasses[0] * d[0].squaredNorm() + inverseMasses[1] * d[1].squaredNorm() +
+                    inverseMasses[2] * d[2].squaredNorm();
+      if (lambda == 0) continue;
+      if (i == j) {
+        const Real k = i == 0 ? c.xxStiffness : c.yyStiffness;
+        if (c.normalizeStretch) {
+          const Real s = std::sqrt(sij);
+          lambda = Real(2) * s * (s - Real(1)) / lambda * k;
+        } else {
+          lambda = (sij - Real(1)) / lambda * k;
+        }
+      } else {
+        lambda = sij / lambda * c.xyStiffness;
+      }
+      for (std::size_t n = 0; n < 3; ++n)
+        corr[n] -= lambda * inverseMasses[n] * d[n];
+    }
+  return corr;
+}
+
 std::vector<StrainTriangleConstraint> strainTriangleConstraints(const Scene& scene) {
   std::vector<StrainTriangleConstraint> constraints;
   const SimulationSettings& settings = scene.simulation;
@@ -141,7 +222,10 @@ std::vector<StrainTriangleConstraint> strainTriangleConstraints(const Scene& sce
         c.particles[i] = model.firstParticle + triangle[i];
       std::array<Vector3, 3> rest;
       const bool anyDynamic = restPositions(scene, c.particles, rest);
-      if (!anyDynamic || !strainTriangleRest(rest, c.restInverse)) continue;
+      c.seedForm = femCutoffFor(settings) > 0;
+      if (c.seedForm ? !seedStrainTriangleRest(rest, c.restInverse)
+                     : !anyDynamic || !strainTriangleRest(rest, c.restInverse))
+        continue;
       c.xxStiffness = settings.cloth_xxStiffness;
       c.yyStiffness = settings.cloth_yyStiffness;
       c.xyStiffness = settings.cloth_xyStiffness;
@@ -160,7 +244,8 @@ void solveStrainTriangles(const std::vector<StrainTriangleConstraint>& constrain
     std::array<Vector3, 3> x;
     std::array<Real, 3> w;
     gatherParticles(particles, c.particles, x, w);
-    const std::array<Vector3, 3> d = strainTrianglePbd(x, w, c);
+    const std::array<Vector3, 3> d =
+        c.seedForm ? seedStrainTrianglePbd(x, w, c) : strainTrianglePbd(x, w, c);
     applyCorrections(particles, c.particles, d);
   }
 }

@@ -21,6 +21,15 @@
 // Σ w_i |∇_iC|² = 0. No inversion handling (as the seed): an inverted tet has the same S as its
 // mirror image, so the constraints cannot tell it from the rest state's reflection.
 //
+// The seed's form (the `pbd` method: StrainTetConstraint::cutoff > 0, femCutoffFor), for its
+// fidelity to PositionBasedDynamics: the seed's solve_StrainTetraConstraint operation by
+// operation. It projects the components in its loop order i = 0…2, j = 0…i — xx, xy, yy, xz,
+// yz, zz: stretches and shears interleaved —, with f_i = P B.col(i), ∇_{x_{k+1}}C =
+// f_j B(k, i) + f_i B(k, j), ∇_{x₀}C accumulated by subtraction, a normalized stretch as
+// 2 s (s − 1) / Σ w |∇S|² on ∇S (s = √S_ii), no correction when |Σ w_i |∇_iC|²| is below the
+// cut-off (10⁻⁶), and keeps every tet whose |det D_m| exceeds the cut-off (four static
+// particles too: they take a colour group).
+//
 // Deliberate difference from the seed: solid_normalizeStretch normalizes the stretches and
 // solid_normalizeShear the shears; the seed passes normalizeStretch for both flags, so
 // solid_normalizeShear is ignored there (docs/seed.md#sbd-tet-flags).
@@ -52,6 +61,9 @@ struct StrainTetConstraint {
   Real shearStiffness = 1;
   bool normalizeStretch = false;
   bool normalizeShear = false;
+  /// > 0: the seed's form (see above) with this cut-off (femCutoffFor: 10⁻⁶ in the `pbd`
+  /// method); 0: pbdval's (stretches, then shears; pbd.xpbd, or a femCutoff of 0).
+  Real cutoff = 0;
 };
 
 /// B of the rest tet. False for a degenerate tet (|det D_m| no larger than the round-off of the
@@ -73,9 +85,16 @@ std::array<Vector3, 4> strainTetPbd(const std::array<Vector3, 4>& x,
                                     const std::array<Real, 4>& inverseMasses,
                                     const StrainTetConstraint& c);
 
+/// The seed's solve_StrainTetraConstraint (see above; c.cutoff > 0): the summed corrections.
+std::array<Vector3, 4> seedStrainTetPbd(const std::array<Vector3, 4>& x,
+                                        const std::array<Real, 4>& inverseMasses,
+                                        const StrainTetConstraint& c);
+
 /// One constraint per tet of every tet model when solidSimulationMethod is 4, with
-/// solidStiffnessFor (stretch and shear), solid_normalizeStretch and solid_normalizeShear; in
-/// the models' tet order; none whose four particles are static or whose rest tet is degenerate.
+/// solidStiffnessFor (stretch and shear), solid_normalizeStretch and solid_normalizeShear and
+/// cutoff femCutoffFor; in the models' tet order. In the seed's form (cutoff > 0) every tet
+/// whose |det D_m| exceeds the cut-off, with the seed's D_m⁻¹; otherwise none whose four
+/// particles are static or whose rest tet is degenerate (strainTetRest).
 std::vector<StrainTetConstraint> strainTetConstraints(const Scene& scene);
 
 /// One Gauss–Seidel sweep over `constraints` in order.

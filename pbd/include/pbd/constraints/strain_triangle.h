@@ -20,14 +20,25 @@
 // cloth_xyStiffness, cloth_yyStiffness (dimensionless, [0, 1], per iteration); none when
 // Σ w_i |∇_iC|² = 0.
 //
-// Deliberate differences from the seed:
+// The seed's form (the `pbd` method: StrainTriangleConstraint::seedForm, set when femCutoffFor
+// is above 0 as for the other seed forms), for its fidelity to PositionBasedDynamics: the rest
+// matrix from the world x and z coordinates alone (the seed's StrainTriangleConstraint::
+// initConstraint; a triangle whose xz projection has |det| < 10⁻⁶ gets no constraint, and one
+// out of a y = const plane a distorted rest shape, docs/seed.md#sbd-triangle-rest-shape), every
+// triangle kept (three static particles too: they take a colour group), and the seed's
+// solve_StrainTriangleConstraint operation by operation (F's entries as dot products with B's
+// columns padded to 3-vectors, a normalized stretch as 2 s (s − 1) / Σ w |∇S|² on ∇S, no
+// correction when Σ w |∇C|² = 0).
+//
+// Deliberate differences from the seed (outside its form, pbd.xpbd or femCutoff 0):
 //  - The rest frame is the triangle's own plane. The seed builds its rest matrix from two world
 //    coordinates only (docs/seed.md#sbd-triangle-rest-shape), so triangles not in that plane get a
 //    wrong rest state, and triangles perpendicular to it are dropped; here every non-degenerate
 //    triangle gets its true rest shape, whatever its orientation (tested). The material x axis is
 //    the first edge (the seed's is a world axis): the components, and so the corrections of one
 //    Gauss–Seidel pass, depend on that frame; the rest shape they restore (S = I) does not.
-//  - Each stiffness from its own key: the seed's setters write xx into yy and xy (§5.3 #4).
+//  - Each stiffness from its own key: the seed's setters write xx into yy and xy (§5.3 #4);
+//    in the seed's form too.
 // Pure functions (positions in, corrections out); nothing allocates.
 #pragma once
 
@@ -53,6 +64,8 @@ struct StrainTriangleConstraint {
   Real xyStiffness = 1;
   bool normalizeStretch = false;
   bool normalizeShear = false;
+  /// The seed's form (see above): restInverse from the x and z coordinates, the seed's solve.
+  bool seedForm = false;
 };
 
 /// B of the rest triangle in the frame above. False for a degenerate triangle (zero area).
@@ -73,10 +86,21 @@ std::array<Vector3, 3> strainTrianglePbd(const std::array<Vector3, 3>& x,
                                          const std::array<Real, 3>& inverseMasses,
                                          const StrainTriangleConstraint& c);
 
+/// The seed's rest matrix (init_StrainTriangleConstraint on the x and z coordinates): false when
+/// the projection's |det| < 10⁻⁶.
+bool seedStrainTriangleRest(const std::array<Vector3, 3>& rest,
+                            Eigen::Matrix<Real, 2, 2>& restInverse);
+
+/// The seed's solve_StrainTriangleConstraint (see above): the summed corrections.
+std::array<Vector3, 3> seedStrainTrianglePbd(const std::array<Vector3, 3>& x,
+                                             const std::array<Real, 3>& inverseMasses,
+                                             const StrainTriangleConstraint& c);
+
 /// One constraint per triangle of every triangle model when clothSimulationMethod is 3, with
 /// cloth_xxStiffness, cloth_yyStiffness, cloth_xyStiffness, cloth_normalizeStretch and
-/// cloth_normalizeShear; in the models' triangle order; none whose three particles are static or
-/// whose rest triangle is degenerate.
+/// cloth_normalizeShear; in the models' triangle order. In the seed's form (femCutoffFor > 0)
+/// every triangle seedStrainTriangleRest accepts; otherwise none whose three particles are
+/// static or whose rest triangle is degenerate.
 std::vector<StrainTriangleConstraint> strainTriangleConstraints(const Scene& scene);
 
 /// One Gauss–Seidel sweep over `constraints` in order.

@@ -13,6 +13,16 @@
 // PBD, stiffness k ∈ [0, 1] per iteration:  s = C / Σ w_i |∇_iC|²,  Δp_i = −k s w_i ∇_iC.
 // XPBD, stiffness k in N/m⁵ (½ k C² is the energy), α̃ = 1/(k h_s²), λ reset every substep:
 //   Δλ = (−C − α̃ λ) / (Σ w_i |∇_iC|² + α̃),  Δp_i = w_i Δλ ∇_iC.
+//
+// The seed's form (the `pbd` method: TetVolumeConstraint::cutoff > 0, femCutoffFor), for its
+// fidelity to PositionBasedDynamics (solve_VolumeConstraint, PBD and XPBD; docs/seed.md,
+// "Volume constraint scale" and "Tet orientation"): the rest volume |V₀|, the gradients
+// g_i = 6 ∇_iC (the cross products themselves, g₁ = (p₂ − p₃) × (p₄ − p₃) computed on its own),
+// the same C = V − |V₀|, no correction when |Σ w_i |g_i|²| (+ α̃) is below the cut-off, every
+// tet kept (four static particles too: they move nothing, but take a colour group), and the
+// operations in the seed's order. So the PBD correction is ⅙ of the projection's and the XPBD
+// one has Σ w |6∇V|² + α̃ in its denominator. k = 0 leaves an XPBD constraint out here as well
+// (the seed's XPBD solve would take it as hard, α̃ = 0).
 // Pure functions (positions in, corrections out); nothing allocates.
 #pragma once
 
@@ -33,6 +43,9 @@ struct TetVolumeConstraint {
   bool xpbd = false;    ///< false: PBD, stiffness ∈ [0, 1]; true: XPBD, stiffness in N/m⁵
   Real stiffness = 1;
   Real multiplier = 0;  ///< λ of the current substep (XPBD)
+  /// > 0: the seed's form (see above) with this cut-off (femCutoffFor: 10⁻⁶ in the `pbd`
+  /// method); 0: the projection of ∇V (pbd.xpbd, or a femCutoff of 0).
+  Real cutoff = 0;
 };
 
 struct TetVolumeCorrection {
@@ -58,9 +71,26 @@ TetVolumeCorrection tetVolumeXpbd(const std::array<Vector3, 4>& p,
                                   const std::array<Real, 4>& inverseMasses, Real restVolume,
                                   Real stiffness, Real substepSize, Real multiplier);
 
+/// The seed's rest volume |⅙ (p₄ − p₁) · ((p₃ − p₁) × (p₂ − p₁))|, in its operation order.
+Real seedRestTetVolume(const std::array<Vector3, 4>& p);
+
+/// The seed's PBD solve_VolumeConstraint (gradients 6 ∇V, see above): no correction when k = 0
+/// or |Σ w_i |g_i|²| < cutoff.
+TetVolumeCorrection seedTetVolumePbd(const std::array<Vector3, 4>& p,
+                                     const std::array<Real, 4>& inverseMasses, Real restVolume,
+                                     Real stiffness, Real cutoff);
+
+/// The seed's XPBD::solve_VolumeConstraint (gradients 6 ∇V): no correction when k = 0 or
+/// |Σ w_i |g_i|² + α̃| < cutoff.
+TetVolumeCorrection seedTetVolumeXpbd(const std::array<Vector3, 4>& p,
+                                      const std::array<Real, 4>& inverseMasses, Real restVolume,
+                                      Real stiffness, Real substepSize, Real multiplier,
+                                      Real cutoff);
+
 /// The volume constraints of every tet of the scene's tet models whose solidSimulationMethod
-/// is 1 (PBD) or 6 (XPBD), with solidVolumeStiffnessFor; tets of four static particles are left
-/// out.
+/// is 1 (PBD) or 6 (XPBD), with solidVolumeStiffnessFor and cutoff femCutoffFor. In the seed's
+/// form (cutoff > 0) every tet, with the rest volume |V₀|; otherwise tets of four static
+/// particles are left out and the rest volume is signed.
 std::vector<TetVolumeConstraint> solidVolumeConstraints(const Scene& scene);
 
 /// One Gauss–Seidel sweep over `constraints` in order; the XPBD ones reset λ first when

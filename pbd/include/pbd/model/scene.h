@@ -457,7 +457,9 @@ struct SimulationSettings {
   /// form, docs/seed.md "XPBD isometric bending scale") skip an element whose weighted
   /// gradient sum Σ w_i |∇_iC|² (for XPBD tets plus α̃ C²) is below it, and the FEM builders
   /// drop an element whose rest matrix has |det D_m| ≤ it (docs/methods.md, "Particle
-  /// constraints").
+  /// constraints"). Above 0 it also selects the seed's forms of the dihedral bending, the
+  /// volume constraint, the strain-based tets (with this cut-off) and the strain-based
+  /// triangles (docs/methods.md, "The seed's forms").
   std::optional<Real> femCutoff;
   /// Extension; unset: the method's own (jointModelFor).
   std::optional<JointModel> jointModel;
