@@ -1516,17 +1516,21 @@ def serve_runs(argv: Sequence[str] | None, main: Callable[[list[str]], int], des
     unreaped: list[_Standby] = []  # runs over and replied to, their children not yet reaped
     standby = _Standby([listener], rule)  # the fresh child the next run goes to when none waits
 
-    def server_ends() -> list[socket.socket | int]:
-        """What a new child must close: the listener, every other child's pipes, every run's
-        connection."""
+    def server_ends(pending: socket.socket | None) -> list[socket.socket | int]:
+        """What a new child must close: the listener, every other child's pipes (each child
+        once: the fresh one may also be a run's), every run's connection and the one being
+        handed over."""
         ends: list[socket.socket | int] = [listener]
-        for child in [standby, *idle, *(run.child for run in runs)]:
+        children = {id(child): child for child in [standby, *idle, *(run.child for run in runs)]}
+        for child in children.values():
             ends += [fd for fd in (child.report_fd, child.write_fd) if fd >= 0]
         ends += [run.connection for run in runs]
+        if pending is not None:
+            ends.append(pending)
         return ends
 
-    def new_standby() -> _Standby:
-        return _Standby(server_ends(), rule)
+    def new_standby(pending: socket.socket | None = None) -> _Standby:
+        return _Standby(server_ends(pending), rule)
 
     def needs_a_fresh_child(line: bytes) -> bool:
         if fresh_child_for is None or not idle:
@@ -1536,7 +1540,7 @@ def serve_runs(argv: Sequence[str] | None, main: Callable[[list[str]], int], des
         except Exception:  # noqa: BLE001 -- a scene it cannot look at: the fresh child, which reports it
             return True
 
-    def hand_over(line: bytes) -> _Standby:
+    def hand_over(line: bytes, connection: socket.socket) -> _Standby:
         """The child that runs this request: the most recently used of the waiting children that
         is still there, else (or when the run must have a fresh child) the fresh one."""
         nonlocal standby
@@ -1551,7 +1555,7 @@ def serve_runs(argv: Sequence[str] | None, main: Callable[[list[str]], int], des
             child.discard()
         if not standby.alive():  # it died while waiting (killed from outside): a new one
             standby.discard()
-            standby = new_standby()
+            standby = new_standby(connection)
         standby.start(line)
         return standby
 
@@ -1607,7 +1611,7 @@ def serve_runs(argv: Sequence[str] | None, main: Callable[[list[str]], int], des
             if not line:  # the runner's probe, or a request answered with an error
                 connection.close()
                 continue
-            child = hand_over(line)
+            child = hand_over(line, connection)
             _send(connection, {"started": child.pid})
             runs.append(_ServedRun(connection, child))
             if child is standby:  # the next run's child, while this one runs (it closes this run's ends)
