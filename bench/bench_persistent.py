@@ -25,6 +25,7 @@ run are recorded beside the times.
 from __future__ import annotations
 
 import argparse
+import ctypes
 import json
 import os
 import resource
@@ -58,6 +59,29 @@ def children_cpu_seconds() -> float:
     return usage.ru_utime + usage.ru_stime
 
 
+_PR_SET_CHILD_SUBREAPER = 36  # <linux/prctl.h>
+
+
+def adopt_orphans() -> None:
+    """Makes this process the subreaper of every process it starts: a process whose parent ends
+    first (an engine server's children, killed when their server is: serve.runsPerChild keeps
+    them alive between runs, so their server never reaps them) becomes this one's, and its CPU
+    time is counted in RUSAGE_CHILDREN once reap_orphans has reaped it."""
+    ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0)
+
+
+def reap_orphans() -> None:
+    """Reaps the processes adopted during a command (each dies with its server: PR_SET_PDEATHSIG)."""
+    deadline = time.monotonic() + 10
+    while time.monotonic() < deadline:
+        try:
+            pid, _ = os.waitpid(-1, os.WNOHANG)
+        except ChildProcessError:
+            return
+        if pid == 0:
+            time.sleep(0.005)
+
+
 def measured_environment(bytecode_cache: Path | None) -> dict[str, str]:
     """The environment of the measured commands: this one, or (`bytecode_cache` given) without
     PYTHONDONTWRITEBYTECODE and with Python's bytecode cached in that folder."""
@@ -82,6 +106,7 @@ def run_once(binary: Path, engine: str, cases: list[str], jobs: int, extra: list
         result = subprocess.run(command, capture_output=True, text=True, check=False, cwd=folder,
                                 env=environment)
         seconds = time.perf_counter() - start
+        reap_orphans()
         cpu = children_cpu_seconds() - cpu_before
         if result.returncode not in (0, 1):  # 1: some run not ok (a gate of its own), still timed
             raise RuntimeError(f"{' '.join(command)} exited {result.returncode}: {result.stderr[-2000:]}")
@@ -147,6 +172,7 @@ def main() -> int:
     parser.add_argument("--out", type=Path, default=None,
                         help="JSON file (default: bench/results/<host>/persistent-<UTC stamp>.json)")
     args = parser.parse_args()
+    adopt_orphans()
     cases = [c for c in args.cases.split(",") if c]
     binaries = {"after": args.binary.resolve()}
     if args.before is not None:

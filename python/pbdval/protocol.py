@@ -1181,10 +1181,12 @@ def _request_fields(line: bytes) -> tuple[str, str, str]:
 
 
 def _run_in_child(main: Callable[[list[str]], int], request: bytes, stdout_to_stderr: bool,
-                  preparation_failure: str | None) -> int:
+                  preparation_failure: str | None) -> tuple[int, str | None]:
     """In the run's child, once its request has come: the single-shot run, exactly as
     `<command> --scene S --out O` makes it, with the child's standard error in the request's
-    file (where a failed preparation is reported). Returns its exit status."""
+    file (where a failed preparation is reported). Returns its exit status and its output folder
+    (None when the request named none)."""
+    out: str | None = None
     try:
         scene, out, stderr_path = _request_fields(request)
         signal.signal(signal.SIGINT, signal.default_int_handler)
@@ -1198,39 +1200,133 @@ def _run_in_child(main: Callable[[list[str]], int], request: bytes, stdout_to_st
         os.close(null)
         if preparation_failure is not None:
             print(f"the engine's preparation for the run failed:\n{preparation_failure}", file=sys.stderr)
-            return 1
-        return int(main(["--scene", scene, "--out", out]) or 0)
+            return 1, out
+        return int(main(["--scene", scene, "--out", out]) or 0), out
     except SystemExit as e:  # argparse's usage error (2), an engine's sys.exit
         if e.code is None or isinstance(e.code, int):
-            return int(e.code or 0)
+            return int(e.code or 0), out
         print(e.code, file=sys.stderr)
-        return 1
+        return 1, out
     except BaseException:  # noqa: BLE001 -- as an uncaught exception ends the single-shot interpreter
         traceback.print_exc()
-        return 1
+        return 1, out
 
 
-def _read_all(fd: int) -> bytes:
+#: A child that serves several runs (`--runs-per-child`) is retired when its resident memory has
+#: grown by more than this since its first run, bytes: what a run leaks is bounded by it.
+RETIRE_RESIDENT_GROWTH = 64 << 20
+#: The run statuses after which a child may serve another run (any other, or an exit status
+#: other than 0, retires it: docs/external-engines.md#persistent-engines).
+_STATUSES_A_CHILD_SURVIVES = ("ok", "unsupported")
+
+
+def _resident_bytes() -> int:
+    """This process's resident memory (Linux /proc/self/statm)."""
+    with open("/proc/self/statm", "rb") as statm:
+        return int(statm.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+
+
+def _has_processes_of_its_own() -> bool:
+    """Whether this process has a child process (running, or ended and not reaped)."""
+    try:
+        os.waitpid(-1, os.WNOHANG)
+    except ChildProcessError:
+        return False
+    return True
+
+
+def _may_serve_another_run(code: int, out: str | None) -> bool:
+    """After a run in a child that may serve several: whether the run ended as a clean run does
+    (exit status 0, status.json readable with status ok or unsupported) and left no process."""
+    if code != 0 or out is None or _has_processes_of_its_own():
+        return False
+    try:
+        with open(os.path.join(out, "status.json"), "rb") as status_file:
+            status = json.load(status_file)
+    except (OSError, ValueError):
+        return False
+    return isinstance(status, dict) and status.get("status") in _STATUSES_A_CHILD_SURVIVES
+
+
+def _read_line(fd: int) -> bytes:
+    """One request line from the server's pipe (without its newline); empty at the pipe's end
+    (the server closed it: there is no further run)."""
     data = b""
-    while chunk := os.read(fd, 65536):
+    while not data.endswith(b"\n"):
+        chunk = os.read(fd, 65536)
+        if not chunk:
+            return b""
         data += chunk
-    return data
+    return data[:-1]
+
+
+@dataclass(frozen=True)
+class _ChildRule:
+    """What a run's child does besides the run (serve_runs' arguments, the same for every child)."""
+
+    main: Callable[[list[str]], int]
+    prepare: Callable[[], None] | None
+    stdout_to_stderr: bool
+    runs_per_child: int  # the most runs one child serves in turn (1: a child per run)
+    between_runs: Callable[[], bool] | None  # readies the engine for another run; False: cannot
+
+
+def _serve_in_child(rule: _ChildRule, requests: int, reports: int) -> int:
+    """A run's child, from its start to its last run: `prepare()`, then the runs the server
+    hands it on `requests` (one, or up to `rule.runs_per_child`), each reported on `reports` as
+    two bytes (exit status, 1 when the child stays for another run) but the last, which the
+    caller reports as it exits. Returns the last run's exit status (0 without a run: the server
+    stopped)."""
+    failure = None
+    try:
+        if rule.prepare is not None:
+            rule.prepare()
+    except BaseException:  # noqa: BLE001 -- reported on the run's standard error
+        failure = traceback.format_exc()
+    # The child's own standard streams (the server's log), put back between runs.
+    standard = [os.dup(fd) for fd in (0, 1, 2)] if rule.runs_per_child > 1 else []
+    resident_at_first_run = 0
+    runs = 0
+    while request := _read_line(requests):
+        if runs == 0 and standard:
+            resident_at_first_run = _resident_bytes()
+        code, out = _run_in_child(rule.main, request, rule.stdout_to_stderr, failure)
+        runs += 1
+        if runs >= rule.runs_per_child or failure is not None or not _may_serve_another_run(code, out):
+            return code
+        sys.stdout.flush()
+        sys.stderr.flush()
+        for fd, saved in enumerate(standard):
+            os.dup2(saved, fd)
+        if _resident_bytes() - resident_at_first_run > RETIRE_RESIDENT_GROWTH:
+            return code
+        try:
+            if rule.between_runs is not None and not rule.between_runs():
+                return code
+        except Exception:  # noqa: BLE001 -- an engine that cannot be readied again retires the child
+            traceback.print_exc()
+            return code
+        os.write(reports, bytes([code & 0xFF, 1]))
+    return 0
 
 
 class _Standby:
-    """The next run's child, forked ahead from the pristine server: in a process group of its
-    own, SIGKILL when the server dies, `prepare()` done (what every run does first whatever its
+    """A run's child, forked ahead from the pristine server: in a process group of its own,
+    SIGKILL when the server dies, `prepare()` done (what every run does first whatever its
     scene), waiting on a pipe for its request. Forking, the copies of the pages its run would
     write first, and preparing are then off the run's critical path; the child is as fresh as
-    one forked at the request. When its run is over it
-    reports its exit status on a second pipe before it exits, so that the reply need not wait
-    for the kernel to tear down a large process (milliseconds)."""
+    one forked at the request. When its run is over it reports its exit status on a second pipe
+    (before it exits, so that the reply need not wait for the kernel to tear down a large
+    process: milliseconds), and whether it stays for another run: with `runs_per_child` > 1 a
+    child that ended its run cleanly (_may_serve_another_run), has served fewer runs than that,
+    has not grown by RETIRE_RESIDENT_GROWTH and whose engine is ready again (`between_runs`)
+    waits for the next request instead of exiting (docs/external-engines.md#persistent-engines)."""
 
-    def __init__(self, inherited: Sequence[socket.socket | int], main: Callable[[list[str]], int],
-                 prepare: Callable[[], None] | None, stdout_to_stderr: bool) -> None:
+    def __init__(self, inherited: Sequence[socket.socket | int], rule: _ChildRule) -> None:
         read_end, self._write_end = os.pipe()
         self._report_read, report_write = os.pipe()
         self.reaped = False
+        self.runs = 0  # runs handed to it
         sys.stdout.flush()
         sys.stderr.flush()
         server = os.getpid()
@@ -1256,20 +1352,12 @@ class _Standby:
                 os.setpgid(0, 0)
                 _die_with_parent()
                 if os.getppid() == server:  # else the server died before prctl
-                    failure = None
-                    try:
-                        if prepare is not None:
-                            prepare()
-                    except BaseException:  # noqa: BLE001 -- reported on the run's standard error
-                        failure = traceback.format_exc()
-                    request = _read_all(read_end)
-                    # No request: the server stopped, there is no run.
-                    code = _run_in_child(main, request, stdout_to_stderr, failure) if request else 0
+                    code = _serve_in_child(rule, read_end, report_write)
             finally:
                 try:
                     sys.stdout.flush()
                     sys.stderr.flush()
-                    os.write(report_write, bytes([code & 0xFF]))
+                    os.write(report_write, bytes([code & 0xFF, 0]))
                 finally:
                     os._exit(code & 0xFF)
         os.close(read_end)
@@ -1281,36 +1369,41 @@ class _Standby:
         self._write_end_open = True
 
     def start(self, request: bytes) -> None:
-        """Hands the child its request (it starts the run)."""
-        try:
-            os.write(self._write_end, request)
-        finally:
-            os.close(self._write_end)
-            self._write_end_open = False
+        """Hands the child its request (it starts the run). OSError when the child has ended
+        (its pipe's read end is closed)."""
+        line = memoryview(request + b"\n")
+        while line:
+            line = line[os.write(self._write_end, line):]
+        self.runs += 1
+
+    @property
+    def write_fd(self) -> int:
+        """The pipe on which the server sends it requests (-1 once closed)."""
+        return self._write_end if self._write_end_open else -1
 
     @property
     def report_fd(self) -> int:
         """The pipe on which the child reports its exit status (readable when its run is over)."""
         return self._report_read
 
-    def poll_end(self) -> tuple[bool, int | None]:
-        """Whether the run is over, without waiting for it, and then its exit status as the
-        child reported it, or None when the child ended without one (a crash, a kill; it is
-        then a zombie, not reaped)."""
+    def poll_end(self) -> tuple[bool, int | None, bool]:
+        """Whether the run is over, without waiting for it; then its exit status as the child
+        reported it, or None when the child ended without one (a crash, a kill; it is then a
+        zombie, not reaped); and whether the child stays for another run."""
         readable, _, _ = select.select([self._report_read], [], [], 0)
         if readable:
-            report = os.read(self._report_read, 1)
-            if report:
-                return True, report[0]
+            report = os.read(self._report_read, 2)
+            if len(report) == 2:
+                return True, report[0], report[1] == 1
             os.waitid(os.P_PID, self.pid, os.WEXITED | os.WNOWAIT)  # it is ending: its pipe closed
-            return True, None
+            return True, None, False
         ended = os.waitid(os.P_PID, self.pid, os.WEXITED | os.WNOHANG | os.WNOWAIT)
         if ended is not None and ended.si_pid == self.pid:
             # A process the run left may hold the pipe open: the child's end decides.
             readable, _, _ = select.select([self._report_read], [], [], 0)
-            report = os.read(self._report_read, 1) if readable else b""
-            return True, report[0] if report else None
-        return False, None
+            report = os.read(self._report_read, 2) if readable else b""
+            return True, report[0] if len(report) == 2 else None, False
+        return False, None, False
 
     def alive(self) -> bool:
         """False once it has ended (it is then reaped)."""
@@ -1322,7 +1415,7 @@ class _Standby:
         return not self.reaped
 
     def close_pipes(self) -> None:
-        """Closes the server's ends of its pipes (its run is over, or it is being discarded)."""
+        """Closes the server's ends of its pipes (its last run is over, or it is being discarded)."""
         if self._write_end_open:
             os.close(self._write_end)
             self._write_end_open = False
@@ -1384,8 +1477,17 @@ def _finish(run: _ServedRun, code: int | None) -> None:
         _send(run.connection, {"exited": os.waitstatus_to_exitcode(status)})
 
 
+def _positive_integer(text: str) -> int:
+    value = int(text)
+    if value < 1:
+        raise ValueError(text)
+    return value
+
+
 def serve_runs(argv: Sequence[str] | None, main: Callable[[list[str]], int], description: str,
-               *, stdout_to_stderr: bool = False, prepare: Callable[[], None] | None = None) -> int:
+               *, stdout_to_stderr: bool = False, prepare: Callable[[], None] | None = None,
+               between_runs: Callable[[], bool] | None = None,
+               fresh_child_for: Callable[[str], bool] | None = None) -> int:
     """A persistent engine process: the whole serve loop of a catalogue's `serve` command.
 
     Listens on the Unix socket `--socket PATH` and serves every connection, several at a time
@@ -1403,28 +1505,77 @@ def serve_runs(argv: Sequence[str] | None, main: Callable[[list[str]], int], des
     first whatever its scene (connecting to a physics server). Everything the engine imports
     before calling this is paid once; nothing a run does (a crash, a leak, a hang the runner
     kills) reaches another run: each is a fresh child of the pristine server, which runs no
-    engine code itself. Returns only on an error (bad usage exits 2)."""
+    engine code itself.
+
+    `--runs-per-child N` (the catalogue's `serve.runsPerChild`, default 1) lets one child serve
+    up to N runs in turn, for an engine that rebuilds its world from scratch in every run and
+    whose runs leave nothing behind: a child whose run ended cleanly is then not killed but kept
+    for a later run (its group is killed when it retires), and `between_runs()` (in the child,
+    after each such run) readies the engine for the next one, or returns False when it cannot
+    (the child retires). `fresh_child_for(scene)` (in the server, with the request's resolved
+    scene path) names the runs that must have a fresh child all the same: those a used child
+    would not run as a new process does. A run that crashes, hangs, fails or leaves a process
+    ends its child; the next run goes to a fresh one (_Standby,
+    docs/external-engines.md#persistent-engines).
+    Returns only on an error (bad usage exits 2)."""
     parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--socket", required=True, help="the Unix socket to listen on")
+    parser.add_argument("--runs-per-child", type=_positive_integer, default=1, metavar="N",
+                        help="the most runs one forked child serves in turn (default 1: a child per run)")
     args = parser.parse_args(argv)
+    rule = _ChildRule(main, prepare, stdout_to_stderr, args.runs_per_child, between_runs)
     _die_with_parent()
     listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     listener.bind(args.socket)
     listener.listen(16)
     runs: list[_ServedRun] = []
+    idle: list[_Standby] = []  # children that served a run and wait for another
     unreaped: list[_Standby] = []  # runs over and replied to, their children not yet reaped
+    standby = _Standby([listener], rule)  # the fresh child the next run goes to when none waits
 
-    def server_ends() -> list[socket.socket | int]:
-        """What a new child must close: the listener, every run's connection and report pipe."""
+    def server_ends(pending: socket.socket | None) -> list[socket.socket | int]:
+        """What a new child must close: the listener, every other child's pipes (each child
+        once: the fresh one may also be a run's), every run's connection and the one being
+        handed over."""
         ends: list[socket.socket | int] = [listener]
-        for run in runs:
-            ends += [run.connection, run.child.report_fd]
+        children = {id(child): child for child in [standby, *idle, *(run.child for run in runs)]}
+        for child in children.values():
+            ends += [fd for fd in (child.report_fd, child.write_fd) if fd >= 0]
+        ends += [run.connection for run in runs]
+        if pending is not None:
+            ends.append(pending)
         return ends
 
-    def new_standby() -> _Standby:
-        return _Standby(server_ends(), main, prepare, stdout_to_stderr)
+    def new_standby(pending: socket.socket | None = None) -> _Standby:
+        return _Standby(server_ends(pending), rule)
 
-    standby = new_standby()
+    def needs_a_fresh_child(line: bytes) -> bool:
+        if fresh_child_for is None or not idle:
+            return False
+        try:
+            return fresh_child_for(_request_fields(line)[0])
+        except Exception:  # noqa: BLE001 -- a scene it cannot look at: the fresh child, which reports it
+            return True
+
+    def hand_over(line: bytes, connection: socket.socket) -> _Standby:
+        """The child that runs this request: the most recently used of the waiting children that
+        is still there, else (or when the run must have a fresh child) the fresh one."""
+        nonlocal standby
+        while idle and not needs_a_fresh_child(line):
+            child = idle.pop()
+            if child.alive():
+                try:
+                    child.start(line)
+                    return child
+                except OSError:  # it ended meanwhile
+                    pass
+            child.discard()
+        if not standby.alive():  # it died while waiting (killed from outside): a new one
+            standby.discard()
+            standby = new_standby(connection)
+        standby.start(line)
+        return standby
+
     while True:
         watched: list[Any] = [listener]
         watched += [run.child.report_fd for run in runs]
@@ -1446,11 +1597,16 @@ def serve_runs(argv: Sequence[str] | None, main: Callable[[list[str]], int], des
                 except OSError:
                     pass
         for run in list(runs):
-            over, code = run.child.poll_end()
+            over, code, stays = run.child.poll_end()
             if not over:
                 continue
-            _finish(run, code)
             runs.remove(run)
+            if stays and not run.runner_gone:
+                _send(run.connection, {"exited": code})
+                run.connection.close()
+                idle.append(run.child)
+                continue
+            _finish(run, code)
             run.connection.close()
             run.child.close_pipes()
             if not run.child.reaped:  # killed with its group: reaped as soon as it is gone
@@ -1472,13 +1628,11 @@ def serve_runs(argv: Sequence[str] | None, main: Callable[[list[str]], int], des
             if not line:  # the runner's probe, or a request answered with an error
                 connection.close()
                 continue
-            if not standby.alive():  # it died while waiting (killed from outside): a new one
-                standby.discard()
+            child = hand_over(line, connection)
+            _send(connection, {"started": child.pid})
+            runs.append(_ServedRun(connection, child))
+            if child is standby:  # the next run's child, while this one runs (it closes this run's ends)
                 standby = new_standby()
-            standby.start(line)
-            _send(connection, {"started": standby.pid})
-            runs.append(_ServedRun(connection, standby))
-            standby = new_standby()  # the next run's child, while this one runs
 
 
 # ---------------------------------------------------------------------------------------------

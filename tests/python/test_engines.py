@@ -312,7 +312,10 @@ def test_catalogue_is_well_formed(path: Path) -> None:
     else:  # a script, relative to the catalogue file (docs/external-engines.md#the-catalogue)
         assert (path.parent / c["command"][1]).is_file()
     if "serve" in c:  # the persistent process: the same module, served
-        assert c["serve"] == {"protocol": 1, "command": [*c["command"], "--serve"]}
+        serve = dict(c["serve"])
+        runs_per_child = serve.pop("runsPerChild", 1)  # children that serve several runs in turn
+        assert serve == {"protocol": 1, "command": [*c["command"], "--serve"]}
+        assert isinstance(runs_per_child, int) and runs_per_child >= 1
     names = [m["name"] for m in c["methods"]]
     assert c["defaultMethod"] in names and len(set(names)) == len(names)
     assert all(n.startswith(c["name"] + ".") for n in names)

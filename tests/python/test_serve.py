@@ -21,10 +21,13 @@ from conftest import REPO, VENV_PYTHON, engine_environment
 
 
 def serve_command(name: str) -> list[str]:
-    """The catalogue entry's `serve` command as the runner runs it ("{python}" replaced)."""
+    """The catalogue entry's `serve` command as the runner runs it ("{python}" replaced,
+    `--runs-per-child N` appended for a `runsPerChild` above 1: engine_catalogue.cpp)."""
     entry = json.loads((REPO / "engines" / f"{name}.json").read_text())
     assert entry["serve"]["protocol"] == 1
-    return [str(VENV_PYTHON) if word == "{python}" else word for word in entry["serve"]["command"]]
+    command = [str(VENV_PYTHON) if word == "{python}" else word for word in entry["serve"]["command"]]
+    runs_per_child = entry["serve"].get("runsPerChild", 1)
+    return command + (["--runs-per-child", str(runs_per_child)] if runs_per_child > 1 else [])
 
 
 @pytest.fixture

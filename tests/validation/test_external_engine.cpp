@@ -1103,6 +1103,19 @@ TEST(EngineCatalogue, AServeEntryOfAnotherProtocolIsAnErrorNamingItsPath) {
       readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"});
   ASSERT_EQ(entries.size(), 1u);
   EXPECT_TRUE(bool(entries[0].startServer));
+  // runsPerChild (docs/external-engines.md#children-that-serve-several-runs): an integer >= 1.
+  for (const std::string bad : {"0", "2.5", "\"50\""}) {
+    std::ofstream(folder / "served.json") << R"({"protocol": 1, "name": "served",
+      "command": ["{python}", "engine.py"], "serve": {"protocol": 1, "command": ["{python}", "engine.py", "--serve"], "runsPerChild": )"
+                                           << bad << R"(},
+      "defaultMethod": "served.a", "methods": [{"name": "served.a", "parameters": []}]})";
+    try {
+      readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"});
+      FAIL() << "runsPerChild " << bad << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_TRUE(containsAll(e.what(), {"served.json", "serve.runsPerChild"})) << e.what();
+    }
+  }
   fs::remove_all(folder);
 }
 

@@ -142,8 +142,15 @@ EngineEntry catalogueEntry(const std::string& file, const ProjectPython& python,
   const ExternalCommand command = catalogueCommand(root.at("command"), python, folder);
   // A persistent process that serves many runs (docs/external-engines.md#persistent-engines).
   std::optional<ExternalCommand> serve;
-  if (root.contains("serve"))
+  if (root.contains("serve")) {
     serve = catalogueCommand(root.at("serve").at("command"), python, folder);
+    // One child may serve several runs in turn (the engine rebuilds its world in each run).
+    const std::int64_t runsPerChild = root.at("serve").value("runsPerChild", std::int64_t{1});
+    if (runsPerChild > 1) {
+      serve->argv.push_back("--runs-per-child");
+      serve->argv.push_back(std::to_string(runsPerChild));
+    }
+  }
   entry.defaultMethod = root.at("defaultMethod").get<std::string>();
   const Json& methods = root.at("methods");
   for (std::size_t i = 0; i < methods.size(); ++i) {

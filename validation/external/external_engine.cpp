@@ -390,7 +390,12 @@ Exit runServed(const std::string& socketPath, const std::string& serverLog,
         (reply.contains("error") ? ""
                                  : " (expected {\"exited\": code} or {\"signaled\": signal})") +
         serverSays();
+    return exit;
   }
+  // The run is over and the server has ended its group, or keeps its child for a later run
+  // (serve.runsPerChild): nothing may kill that group from this run's folder any more.
+  std::error_code ignored;
+  fs::remove(groupFile, ignored);
   return exit;
 }
 

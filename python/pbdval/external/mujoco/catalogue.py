@@ -103,12 +103,19 @@ def catalogue() -> dict[str, Any]:
                        "docs/external-engines.md#mujoco-python). Not the built-in 'mujoco' engine "
                        "(MuJoCo 2.2.2, C++).",
         "command": ["{python}", "-m", "pbdval.external.mujoco"],
-        "serve": {"protocol": 1, "command": ["{python}", "-m", "pbdval.external.mujoco", "--serve"]},
+        # Every run builds its own MjModel and MjData; one child may serve RUNS_PER_CHILD of them.
+        "serve": {"protocol": 1, "command": ["{python}", "-m", "pbdval.external.mujoco", "--serve"],
+                  "runsPerChild": RUNS_PER_CHILD},
         "defaultMethod": DEFAULT_METHOD,
         "version": f"mujoco {MUJOCO_VERSION}",
         "methods": methods,
         "features": FEATURES,
     }
+
+
+#: The most runs one served child makes in turn (docs/external-engines.md#persistent-engines):
+#: the fork's copy-on-write faults are paid once per child, and whatever a run leaks is bounded.
+RUNS_PER_CHILD = 50
 
 
 def catalogue_text() -> str:
