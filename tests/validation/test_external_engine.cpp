@@ -1107,7 +1107,7 @@ TEST(EngineCatalogue, AServeEntryOfAnotherProtocolIsAnErrorNamingItsPath) {
   for (const std::string bad : {"0", "2.5", "\"50\""}) {
     std::ofstream(folder / "served.json") << R"({"protocol": 1, "name": "served",
       "command": ["{python}", "engine.py"], "serve": {"protocol": 1, "command": ["{python}", "engine.py", "--serve"], "runsPerChild": )"
-                                           << bad << R"(},
+                                          << bad << R"(},
       "defaultMethod": "served.a", "methods": [{"name": "served.a", "parameters": []}]})";
     try {
       readEngineCatalogue(folder.string(), {"/venv/python", "/src/python"});
