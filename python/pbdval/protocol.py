@@ -122,7 +122,10 @@ class _Reader:
         items = self.arr(value, path)
         if len(items) != size:
             raise self.fail(path, f"an array of {size} numbers", value)
-        return tuple(self.num(v, f"{path}[{i}]") for i, v in enumerate(items))
+        for i, v in enumerate(items):  # self.num's test, each element's path made on failure only
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise self.fail(f"{path}[{i}]", "a finite number", v)
+        return tuple(map(float, items))
 
 
 class _Missing:
@@ -988,9 +991,15 @@ def parse_arguments(argv: Sequence[str] | None, description: str) -> EngineArgum
     return EngineArguments(scene=ns.scene, out=ns.out)
 
 
+def _no_failure(time: float) -> str | None:
+    """`simulate`'s `failure` when the engine gives none: it never finds one (and `simulate`
+    skips the call)."""
+    return None
+
+
 def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callable[[], None],
              states: Callable[[float], list[BodyState] | np.ndarray],
-             failure: Callable[[float], str | None] = lambda t: None,
+             failure: Callable[[float], str | None] = _no_failure,
              check: Callable[[float], str | None] | None = None,
              particles: Callable[[float], np.ndarray] | None = None,
              finish_states: Callable[[np.ndarray], np.ndarray] | None = None) -> Status:
@@ -1021,6 +1030,9 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
         raise ValueError(f"the scene has {len(scene.particles)} particles and the engine "
                          "reads none back (simulate's `particles`)")
     sampled = set(scene.sample_steps())
+    h = scene.time_step_size
+    failing = failure is not _no_failure  # whether `failure` may find one (else not called)
+    between_samples = check is not None or failing  # whether a step between samples is tested
     particle_writer = (ParticleTrajectoryWriter(out_dir, capacity=len(sampled) * len(scene.particles))
                        if particles is not None and scene.particles else None)
     ids = np.array([b.id for b in scene.bodies], dtype=np.float64)
@@ -1044,8 +1056,10 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
                 raise TypeError("simulate's `finish_states` takes state arrays; `states` gave BodyStates")
             state = state_rows(t, given)[:, 2:]
         # The runner's test on the state (the rows' columns after t and id; the flip of a
-        # quaternion's sign changes no magnitude).
-        reason = _blow_up_reason(t, body_name, state[:, 0:3], state[:, 7:10], state) if body_count else None
+        # quaternion's sign changes no magnitude). Its first cheap look here, before slicing:
+        # a state that passes it passes the test.
+        reason = (_blow_up_reason(t, body_name, state[:, 0:3], state[:, 7:10], state)
+                  if body_count and not np.vdot(state, state) < _QUARTER_SQUARED_LIMIT else None)
         particle_sample = None
         if particle_writer is not None and particles is not None:
             particle_sample = particle_rows(t, particles(t))
@@ -1053,7 +1067,7 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
                 raise ValueError(f"particles({t:g}) gave {len(particle_sample)} particles, "
                                  f"the scene has {len(scene.particles)}")
             reason = reason or particle_rows_divergence_reason(t, particle_sample)
-        return state, particle_sample, reason or failure(t)
+        return state, particle_sample, reason or (failure(t) if failing else None)
 
     def write(t: float, state: np.ndarray, particle_sample: np.ndarray | None) -> None:
         kept[len(kept_times)] = state
@@ -1081,18 +1095,19 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
                 write(0.0, state, particle_sample)
                 for n in range(1, scene.steps + 1):
                     step()
-                    t = n * scene.time_step_size
                     if n in sampled:
+                        t = n * h
                         state, particle_sample, reason = sample(t)
-                    else:
-                        reason = (check(t) if check is not None else None) or failure(t)
+                        write(t, state, particle_sample)
+                        if reason:
+                            return Status("diverged", reason=reason, diverged_at=t)
+                    elif between_samples:
+                        t = n * h
+                        reason = (check(t) if check is not None else None) or (failure(t) if failing else None)
                         if reason:
                             state, particle_sample, _ = sample(t)
-                    if reason:
-                        write(t, state, particle_sample)
-                        return Status("diverged", reason=reason, diverged_at=t)
-                    if n in sampled:
-                        write(t, state, particle_sample)
+                            write(t, state, particle_sample)
+                            return Status("diverged", reason=reason, diverged_at=t)
             finally:
                 writer.write_rows(trajectory_rows())
         return Status("ok")
