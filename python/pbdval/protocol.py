@@ -1044,7 +1044,9 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
     def body_name(i: int) -> str:
         return f"body {int(ids[i])}"
 
-    def sample(t: float) -> tuple[np.ndarray, np.ndarray | None, str | None]:
+    def sample(t: float) -> str | None:
+        """Reads the state at `t`, keeps it (and writes the particles') and returns the
+        divergence found in it, if any."""
         given = states(t)
         if isinstance(given, np.ndarray):
             if given.shape != (body_count, STATE_COLUMNS):
@@ -1067,13 +1069,12 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
                 raise ValueError(f"particles({t:g}) gave {len(particle_sample)} particles, "
                                  f"the scene has {len(scene.particles)}")
             reason = reason or particle_rows_divergence_reason(t, particle_sample)
-        return state, particle_sample, reason or (failure(t) if failing else None)
-
-    def write(t: float, state: np.ndarray, particle_sample: np.ndarray | None) -> None:
+        reason = reason or (failure(t) if failing else None)
         kept[len(kept_times)] = state
         kept_times.append(t)
         if particle_writer is not None and particle_sample is not None:
             particle_writer.write_rows(particle_sample)
+        return reason
 
     def trajectory_rows() -> np.ndarray:
         """The rows of every sample kept, as state_array_rows makes them one sample at a time."""
@@ -1091,22 +1092,19 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
     try:
         with TrajectoryWriter(out_dir, capacity=len(sampled) * body_count) as writer:
             try:
-                state, particle_sample, _ = sample(0.0)
-                write(0.0, state, particle_sample)
+                sample(0.0)  # the start: its divergence test not used
                 for n in range(1, scene.steps + 1):
                     step()
                     if n in sampled:
                         t = n * h
-                        state, particle_sample, reason = sample(t)
-                        write(t, state, particle_sample)
+                        reason = sample(t)
                         if reason:
                             return Status("diverged", reason=reason, diverged_at=t)
                     elif between_samples:
                         t = n * h
                         reason = (check(t) if check is not None else None) or (failure(t) if failing else None)
                         if reason:
-                            state, particle_sample, _ = sample(t)
-                            write(t, state, particle_sample)
+                            sample(t)  # the state that diverged, kept as the last sample
                             return Status("diverged", reason=reason, diverged_at=t)
             finally:
                 writer.write_rows(trajectory_rows())
