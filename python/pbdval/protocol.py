@@ -122,7 +122,10 @@ class _Reader:
         items = self.arr(value, path)
         if len(items) != size:
             raise self.fail(path, f"an array of {size} numbers", value)
-        return tuple(self.num(v, f"{path}[{i}]") for i, v in enumerate(items))
+        for i, v in enumerate(items):  # self.num's test, each element's path made on failure only
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise self.fail(f"{path}[{i}]", "a finite number", v)
+        return tuple(map(float, items))
 
 
 class _Missing:
@@ -988,9 +991,15 @@ def parse_arguments(argv: Sequence[str] | None, description: str) -> EngineArgum
     return EngineArguments(scene=ns.scene, out=ns.out)
 
 
+def _no_failure(time: float) -> str | None:
+    """`simulate`'s `failure` when the engine gives none: it never finds one (and `simulate`
+    skips the call)."""
+    return None
+
+
 def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callable[[], None],
              states: Callable[[float], list[BodyState] | np.ndarray],
-             failure: Callable[[float], str | None] = lambda t: None,
+             failure: Callable[[float], str | None] = _no_failure,
              check: Callable[[float], str | None] | None = None,
              particles: Callable[[float], np.ndarray] | None = None,
              finish_states: Callable[[np.ndarray], np.ndarray] | None = None) -> Status:
@@ -1021,6 +1030,9 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
         raise ValueError(f"the scene has {len(scene.particles)} particles and the engine "
                          "reads none back (simulate's `particles`)")
     sampled = set(scene.sample_steps())
+    h = scene.time_step_size
+    failing = failure is not _no_failure  # whether `failure` may find one (else not called)
+    between_samples = check is not None or failing  # whether a step between samples is tested
     particle_writer = (ParticleTrajectoryWriter(out_dir, capacity=len(sampled) * len(scene.particles))
                        if particles is not None and scene.particles else None)
     ids = np.array([b.id for b in scene.bodies], dtype=np.float64)
@@ -1032,7 +1044,9 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
     def body_name(i: int) -> str:
         return f"body {int(ids[i])}"
 
-    def sample(t: float) -> tuple[np.ndarray, np.ndarray | None, str | None]:
+    def sample(t: float) -> str | None:
+        """Reads the state at `t`, keeps it (and writes the particles') and returns the
+        divergence found in it, if any."""
         given = states(t)
         if isinstance(given, np.ndarray):
             if given.shape != (body_count, STATE_COLUMNS):
@@ -1044,8 +1058,10 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
                 raise TypeError("simulate's `finish_states` takes state arrays; `states` gave BodyStates")
             state = state_rows(t, given)[:, 2:]
         # The runner's test on the state (the rows' columns after t and id; the flip of a
-        # quaternion's sign changes no magnitude).
-        reason = _blow_up_reason(t, body_name, state[:, 0:3], state[:, 7:10], state) if body_count else None
+        # quaternion's sign changes no magnitude). Its first cheap look here, before slicing:
+        # a state that passes it passes the test.
+        reason = (_blow_up_reason(t, body_name, state[:, 0:3], state[:, 7:10], state)
+                  if body_count and not np.vdot(state, state) < _QUARTER_SQUARED_LIMIT else None)
         particle_sample = None
         if particle_writer is not None and particles is not None:
             particle_sample = particle_rows(t, particles(t))
@@ -1053,13 +1069,12 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
                 raise ValueError(f"particles({t:g}) gave {len(particle_sample)} particles, "
                                  f"the scene has {len(scene.particles)}")
             reason = reason or particle_rows_divergence_reason(t, particle_sample)
-        return state, particle_sample, reason or failure(t)
-
-    def write(t: float, state: np.ndarray, particle_sample: np.ndarray | None) -> None:
+        reason = reason or (failure(t) if failing else None)
         kept[len(kept_times)] = state
         kept_times.append(t)
         if particle_writer is not None and particle_sample is not None:
             particle_writer.write_rows(particle_sample)
+        return reason
 
     def trajectory_rows() -> np.ndarray:
         """The rows of every sample kept, as state_array_rows makes them one sample at a time."""
@@ -1077,22 +1092,20 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
     try:
         with TrajectoryWriter(out_dir, capacity=len(sampled) * body_count) as writer:
             try:
-                state, particle_sample, _ = sample(0.0)
-                write(0.0, state, particle_sample)
+                sample(0.0)  # the start: its divergence test not used
                 for n in range(1, scene.steps + 1):
                     step()
-                    t = n * scene.time_step_size
                     if n in sampled:
-                        state, particle_sample, reason = sample(t)
-                    else:
-                        reason = (check(t) if check is not None else None) or failure(t)
+                        t = n * h
+                        reason = sample(t)
                         if reason:
-                            state, particle_sample, _ = sample(t)
-                    if reason:
-                        write(t, state, particle_sample)
-                        return Status("diverged", reason=reason, diverged_at=t)
-                    if n in sampled:
-                        write(t, state, particle_sample)
+                            return Status("diverged", reason=reason, diverged_at=t)
+                    elif between_samples:
+                        t = n * h
+                        reason = (check(t) if check is not None else None) or (failure(t) if failing else None)
+                        if reason:
+                            sample(t)  # the state that diverged, kept as the last sample
+                            return Status("diverged", reason=reason, diverged_at=t)
             finally:
                 writer.write_rows(trajectory_rows())
         return Status("ok")

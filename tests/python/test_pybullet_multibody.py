@@ -355,3 +355,47 @@ def test_every_case_runs_or_is_unsupported_in_reduced_coordinates(
     status, out = run_engine(PYBULLET, export_scene(case, method=METHOD, duration=0.02))
     assert status["status"] in ("ok", "unsupported"), status["reason"]
     assert (status["status"] == "ok") == trajectory_written(out)
+
+
+# --- the state reads ------------------------------------------------------------------------
+
+@pytest.mark.parametrize(("case", "method"), [("chain_10", METHOD), ("double_pendulum_boxes", METHOD),
+                                              ("contact_stack_5", METHOD),
+                                              ("contact_stack_5", "pybullet.si"),
+                                              ("double_pendulum_boxes", "pybullet.si")])
+def test_the_state_reads_are_pybullets_per_body_calls_bit_for_bit(export_scene: Export, case: str,
+                                                                  method: str) -> None:
+    # `states` reads every multibody's links in one getLinkStates call and fills one array
+    # made when the run starts (docs/benchmarks.md#sixth-pass): each row must be what
+    # pybullet's per-body calls give, bit for bit (getLinkState per link, with the same
+    # velocity and forward-kinematics flags; getBasePositionAndOrientation and getBaseVelocity
+    # for a base or a maximal-coordinate body), read in the same moving world.
+    import pybullet as pb
+
+    from pbdval.external.pybullet import engine, multibody
+
+    scene = pp.read_resolved_scene(export_scene(case, method=method))
+    run = (multibody.MultibodyRun(scene) if method.startswith(engine.MULTIBODY_PREFIX)
+           else engine.PybulletRun(scene))
+    try:
+        handles = getattr(run, "handles", [multibody._Link(body, -1) for body in run.ids])
+        # Links (getLinkStates) exactly where joints make trees in reduced coordinates.
+        assert any(h.link >= 0 for h in handles) == (
+            method.startswith(engine.MULTIBODY_PREFIX) and bool(scene.joints))
+        for _ in range(3):
+            for _ in range(17):  # a moving world: bodies and links away from their start
+                pb.stepSimulation(physicsClientId=run.client)
+            read = run.states(0.0).copy()
+            for b in scene.bodies:
+                h = handles[b.index]
+                if h.link < 0:
+                    expected = (pb.getBasePositionAndOrientation(h.body, physicsClientId=run.client)
+                                + pb.getBaseVelocity(h.body, physicsClientId=run.client))
+                else:
+                    s = pb.getLinkState(h.body, h.link, computeLinkVelocity=1,
+                                        computeForwardKinematics=1, physicsClientId=run.client)
+                    expected = (s[0], s[1], s[6], s[7])
+                values = [v for part in expected for v in part]
+                assert read[b.index].tolist() == values, b.json_path
+    finally:
+        pb.disconnect(physicsClientId=run.client)

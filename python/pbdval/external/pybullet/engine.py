@@ -24,6 +24,7 @@ table in docs/external-engines.md#pybullet.
 
 from __future__ import annotations
 
+import functools
 import math
 import tempfile
 from collections.abc import Sequence
@@ -272,6 +273,12 @@ class PybulletRun:
             self._soft_bodies(folder)
         if self.notes:
             self.settings["approximations"] = "; ".join(self.notes)
+        self._prepare_state_reads()
+
+    def _prepare_state_reads(self) -> None:
+        """What `states` needs at every sample, made once the world is built: its array, a row
+        per body in scene order."""
+        self._read = np.empty((len(self.scene.bodies), pp.STATE_COLUMNS))
 
     def _solver(self, method: str) -> int:
         return int(SOLVERS[method])
@@ -405,18 +412,18 @@ class PybulletRun:
         """Every body's state as pybullet reports it: the inertial (principal) frame, x y z,
         qx qy qz qw, v, w; finish_states turns the whole trajectory's into the scene frame's
         state arrays (pp.state_array_rows' columns) when the run ends. pybullet reads a
-        maximal-coordinate body's state in two calls and has no batched form: the tuples are
-        gathered into one list, made an array once."""
+        maximal-coordinate body's state in two calls and has no batched form: each body's four
+        tuples, joined, fill its row of one array made when the run starts and filled again at
+        every sample (simulate copies it before the next call)."""
+        read = self._read
         c = self.client
-        values: list[float] = []
-        for body in self.ids:
-            position, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=c)
-            velocity, angular = pb.getBaseVelocity(body, physicsClientId=c)
-            values += position
-            values += orientation
-            values += velocity
-            values += angular
-        return np.array(values).reshape(-1, 13)
+        get_pose = pb.getBasePositionAndOrientation
+        get_velocity = pb.getBaseVelocity
+        for row, body in enumerate(self.ids):
+            position, orientation = get_pose(body, c)
+            velocity, angular = get_velocity(body, c)
+            read[row] = position + orientation + velocity + angular
+        return read
 
     def finish_states(self, read: np.ndarray) -> np.ndarray:
         """The scene frames' state arrays from `states`' (a whole trajectory's at once, pp.simulate's
@@ -426,8 +433,8 @@ class PybulletRun:
 
     def run(self, out_dir: Path) -> pp.Status:
         if self.soft is None:
-            status = pp.simulate(self.scene, out_dir,
-                                 lambda: pb.stepSimulation(physicsClientId=self.client),
+            # The step is pybullet's function itself, its client bound: no Python frame per step.
+            status = pp.simulate(self.scene, out_dir, functools.partial(pb.stepSimulation, self.client),
                                  self.states, finish_states=self.finish_states)
         else:
             status = self._run_with_particles(out_dir)

@@ -35,6 +35,7 @@ What pybullet 3.2.7 does, measured (tests/python/test_pybullet_multibody.py):
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -723,38 +724,56 @@ class MultibodyRun(engine.PybulletRun):
         pb.stepSimulation(physicsClientId=self.client)
         self.step_count += 1
 
-    def states(self, time: float) -> np.ndarray:
-        """Every body's state as pybullet reports it (the principal frame, pybullet's
-        quaternion order: engine.PybulletRun.states), gathered into one array."""
-        c = self.client
-        # Every multibody's links in one call (getLinkStates): the inertial (principal) frame
-        # and its velocities, world (module docstring).
+    def _prepare_state_reads(self) -> None:
+        """`states`' array and its reads, once the multibodies are built: the links of each
+        multibody read in one getLinkStates call (in scene order), and for each body (row) the
+        index of its link's state among those calls' results, or -1 for a base or a
+        maximal-coordinate body (read by getBasePositionAndOrientation and getBaseVelocity)."""
+        super()._prepare_state_reads()
         links: dict[int, list[int]] = {}
         for h in self.handles:
             if h.link >= 0:
                 links.setdefault(h.body, []).append(h.link)
-        read = {}
-        for body, indices in links.items():
-            for link, s in zip(indices, pb.getLinkStates(
-                    body, indices, computeLinkVelocity=1, computeForwardKinematics=1,
-                    physicsClientId=c)):
-                read[(body, link)] = (s[0], s[1], s[6], s[7])
-        values: list[float] = []
+        self._link_reads: list[tuple[int, list[int]]] = list(links.items())
+        slot: dict[tuple[int, int], int] = {}
+        for body, indices in self._link_reads:
+            for link in indices:
+                slot[(body, link)] = len(slot)
+        self._body_reads: list[tuple[int, int]] = []
         for b in self.scene.bodies:
             h = self.handles[b.index]
-            if h.link < 0:
-                position, orientation = pb.getBasePositionAndOrientation(h.body, physicsClientId=c)
-                velocity, angular = pb.getBaseVelocity(h.body, physicsClientId=c)
+            self._body_reads.append((h.body, slot[(h.body, h.link)] if h.link >= 0 else -1))
+
+    def states(self, time: float) -> np.ndarray:
+        """Every body's state as pybullet reports it (the principal frame, pybullet's
+        quaternion order: engine.PybulletRun.states), a row per body of one array filled again
+        at every sample (simulate copies it before the next call)."""
+        c = self.client
+        # Every multibody's links in one call (getLinkStates): the inertial (principal) frame
+        # and its velocities, world (module docstring).
+        link_states: list[Any] = []
+        for body, indices in self._link_reads:
+            link_states += pb.getLinkStates(body, indices, computeLinkVelocity=1,
+                                            computeForwardKinematics=1, physicsClientId=c)
+        read = self._read
+        get_pose = pb.getBasePositionAndOrientation
+        get_velocity = pb.getBaseVelocity
+        for row, (body, slot) in enumerate(self._body_reads):
+            if slot < 0:
+                position, orientation = get_pose(body, c)
+                velocity, angular = get_velocity(body, c)
+                read[row] = position + orientation + velocity + angular
             else:
-                position, orientation, velocity, angular = read[(h.body, h.link)]
-            values += position
-            values += orientation
-            values += velocity
-            values += angular
-        return np.array(values).reshape(-1, 13)
+                s = link_states[slot]
+                read[row] = s[0] + s[1] + s[6] + s[7]
+        return read
 
     def run(self, out_dir: Path) -> pp.Status:
-        status = pp.simulate(self.scene, out_dir, self._step, self.states,
+        # Without motors, dampers or springs nothing happens before a step: the step is
+        # pybullet's function itself, its client bound (no Python frame per step).
+        driven = self.motors or self.dampers or self.springs
+        step = self._step if driven else functools.partial(pb.stepSimulation, self.client)
+        status = pp.simulate(self.scene, out_dir, step, self.states,
                              finish_states=self.finish_states)
         status.engine_version = engine.engine_version()
         status.effective_settings = self.settings
