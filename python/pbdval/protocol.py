@@ -683,6 +683,16 @@ def unsupported_particle_models(scene: ResolvedScene, engine: str, cloth_methods
     return missing
 
 
+def particles_outside_models(scene: ResolvedScene) -> list[str]:
+    """The refusal of a scene whose particles are not all in its triangle and tet models (an
+    engine that builds its particles from those models would drop the others), or none; scenes
+    with rods or fluids, whose particles no model lists here, are not judged."""
+    counted = sum(m.particle_count for m in (*scene.triangle_models, *scene.tet_models))
+    if scene.line_models or scene.fluid_models or counted == len(scene.particles):
+        return []
+    return [f"particles: {len(scene.particles)} in the scene, {counted} in its triangle and tet models"]
+
+
 # ---------------------------------------------------------------------------------------------
 # Output: the trajectory CSV and status.json
 

@@ -15,6 +15,7 @@ import pytest
 
 from conftest import REPO
 from pbdval import protocol as pp
+from pbdval.external import cloth_bending
 from pbdval.external.pybullet import deformables, engine
 
 PYBULLET = "pybullet"  # the catalogue entry run_engine runs
@@ -151,7 +152,7 @@ def test_the_substep_count_keeps_the_explicit_step_stable(export_scene: Export) 
         node_mass = sum(p.mass for p in scene.particles) / dynamic.sum()
         if scene.triangle_models:
             m = scene.triangle_models[0]
-            edges = deformables.mesh_edges(m.triangles)
+            edges = cloth_bending.mesh_edges(m.triangles)
             k = float(m.material["stiffness"])
             exact = stiffness_of_springs(x, edges, k)
             bound = deformables.omega_max_bound(deformables.spring_row_sums(x, edges, k),

@@ -253,27 +253,28 @@ sys.exit(main())
 """
 
 
-def toy_catalogue(tmp_path: Path) -> Path:
-    """A catalogue folder with the toy engine (TOY_ENGINE) as `toy`, single-shot and served."""
+def toy_catalogue(tmp_path: Path, engine_source: str = TOY_ENGINE, **serve: Any) -> Path:
+    """A catalogue folder with a toy engine (TOY_ENGINE unless given) as `toy`, single-shot and
+    served, with `serve`'s extra members in its serve entry (e.g. runsPerChild=4)."""
     catalogue = tmp_path / "catalogue"
     catalogue.mkdir()
-    (catalogue / "toy.py").write_text(TOY_ENGINE.format(examples=str(REPO / "examples")))
+    (catalogue / "toy.py").write_text(engine_source.format(examples=str(REPO / "examples")))
     (catalogue / "toy.json").write_text(json.dumps({
         "protocol": 1, "name": "toy", "command": ["{python}", "toy.py"],
-        "serve": {"protocol": 1, "command": ["{python}", "toy.py", "--serve"]},
+        "serve": {"protocol": 1, "command": ["{python}", "toy.py", "--serve"], **serve},
         "defaultMethod": "toy.a", "methods": [{"name": "toy.a", "parameters": []}]}))
     return catalogue
 
 
-@pytest.mark.parametrize("jobs", [1, 2])
-def test_a_hang_a_crash_and_a_leak_in_pbdval_run_do_not_reach_the_other_runs_of_its_one_server(
-        pbdval_binary: Path, tmp_path: Path, jobs: int) -> None:
-    catalogue = toy_catalogue(tmp_path)
+def run_named_projectiles(pbdval_binary: Path, tmp_path: Path, catalogue: Path, order: list[str],
+                          jobs: int) -> tuple[dict[str, dict[str, Any]], list[Path]]:
+    """`pbdval run` of the projectile case under each name of `order` (the toy engine's mode),
+    with the catalogue's toy engine, a 3 s timeout and `jobs` workers: its runs by case name and
+    what its servers left in $TMPDIR. The command must succeed."""
     cases = tmp_path / "cases"
     cases.mkdir()
     (cases / "models").symlink_to(REPO / "cases" / "models")  # the meshes the case names
     projectile = (REPO / "cases" / "projectile.json").read_text()
-    order = ["a_first", "b_hang", "c_leak", "d_next", "e_crash", "f_leak", "g_last"]
     for name in order:
         (cases / f"{name}.json").write_text(projectile.replace('"Name": "projectile"', f'"Name": "{name}"'))
     # A short $TMPDIR: under pytest's long one the servers' socket paths would not fit a Unix
@@ -291,6 +292,15 @@ def test_a_hang_a_crash_and_a_leak_in_pbdval_run_do_not_reach_the_other_runs_of_
         shutil.rmtree(scratch, ignore_errors=True)
     assert result.returncode == 0, result.stderr
     runs = {r["case"]: r for r in json.loads((tmp_path / "out" / "results.json").read_text())["runs"]}
+    return runs, left
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_a_hang_a_crash_and_a_leak_in_pbdval_run_do_not_reach_the_other_runs_of_its_one_server(
+        pbdval_binary: Path, tmp_path: Path, jobs: int) -> None:
+    catalogue = toy_catalogue(tmp_path)
+    order = ["a_first", "b_hang", "c_leak", "d_next", "e_crash", "f_leak", "g_last"]
+    runs, left = run_named_projectiles(pbdval_binary, tmp_path, catalogue, order, jobs)
     assert runs["b_hang"]["status"] == "timeout", runs["b_hang"]
     assert runs["e_crash"]["status"] == "error" and "signal 11" in runs["e_crash"]["reason"], runs["e_crash"]
     # Every other run saw a pristine engine (the toy raises on what a leak run left).

@@ -6,17 +6,14 @@ that child alone, the next run going to a fresh one."""
 from __future__ import annotations
 
 import json
-import os
-import shutil
 import subprocess
-import tempfile
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
 import pytest
-from test_serve import request, serve_command, server  # noqa: F401 -- `server` is a fixture
+from test_serve import named_scene, request, run_named_projectiles, serve_command, server, toy_catalogue  # noqa: F401 -- `server` is a fixture
 
 from conftest import REPO, VENV_PYTHON, engine_environment
 
@@ -133,16 +130,6 @@ def toy_server(tmp_path: Path) -> Iterator[Callable[[int], Path]]:
         process.wait()
 
 
-def named_scene(export_scene: Callable[..., Path], name: str) -> Path:
-    """The projectile's resolved scene under another scene name (the toy engine's mode)."""
-    path = export_scene("projectile", method="toy.a", duration=0.1)
-    document = json.loads(path.read_text())
-    document["name"] = name
-    named = path.with_name(f"{name}.json")
-    named.write_text(json.dumps(document))
-    return named
-
-
 def status(out: Path) -> str:
     return str(json.loads((out / "status.json").read_text())["status"])
 
@@ -206,33 +193,9 @@ def test_a_child_retires_after_its_runs_per_child(
 
 def test_pbdval_run_passes_runs_per_child_and_a_hang_or_crash_reaches_no_other_run(
         pbdval_binary: Path, tmp_path: Path) -> None:
-    catalogue = tmp_path / "catalogue"
-    catalogue.mkdir()
-    (catalogue / "toy.py").write_text(REUSE_TOY.format(examples=str(REPO / "examples")))
-    (catalogue / "toy.json").write_text(json.dumps({
-        "protocol": 1, "name": "toy", "command": ["{python}", "toy.py"],
-        "serve": {"protocol": 1, "command": ["{python}", "toy.py", "--serve"], "runsPerChild": 4},
-        "defaultMethod": "toy.a", "methods": [{"name": "toy.a", "parameters": []}]}))
-    cases = tmp_path / "cases"
-    cases.mkdir()
-    (cases / "models").symlink_to(REPO / "cases" / "models")  # the meshes the case names
-    projectile = (REPO / "cases" / "projectile.json").read_text()
+    catalogue = toy_catalogue(tmp_path, REUSE_TOY, runsPerChild=4)
     order = ["a_first", "b_second", "c_hang", "d_next", "e_crash", "f_next", "g_fail", "h_last"]
-    for name in order:
-        (cases / f"{name}.json").write_text(projectile.replace('"Name": "projectile"', f'"Name": "{name}"'))
-    scratch = Path(tempfile.mkdtemp(prefix="pbdval-t-", dir="/tmp"))  # a socket path that fits
-    try:
-        result = subprocess.run([str(pbdval_binary), "run", *[str(cases / f"{n}.json") for n in order],
-                                 "--engines", "toy", "--jobs", "1", "--timeout", "3",
-                                 "--out", str(tmp_path / "out")],
-                                capture_output=True, text=True, cwd=tmp_path, check=False, timeout=600,
-                                env=dict(os.environ, TMPDIR=str(scratch),
-                                         PBDVAL_ENGINE_CATALOGUE=str(catalogue)))
-        left = list(scratch.iterdir())
-    finally:
-        shutil.rmtree(scratch, ignore_errors=True)
-    assert result.returncode == 0, result.stderr
-    runs = {r["case"]: r for r in json.loads((tmp_path / "out" / "results.json").read_text())["runs"]}
+    runs, left = run_named_projectiles(pbdval_binary, tmp_path, catalogue, order, 1)
     assert runs["c_hang"]["status"] == "timeout", runs["c_hang"]
     assert runs["e_crash"]["status"] == "error" and "signal 11" in runs["e_crash"]["reason"], runs["e_crash"]
     assert runs["g_fail"]["status"] == "error" and "a failing run" in runs["g_fail"]["reason"], runs["g_fail"]

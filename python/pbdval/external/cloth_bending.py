@@ -2,7 +2,8 @@
 Model for Inextensible Surfaces", SGP 2006) as plain numpy: its stencils, its energy, and the
 flat sheet bent into a cylinder, on which the external engines that have another bending model
 (MuJoCo's flexes, Newton's dihedral edges) match their stiffness to it at one curvature
-(docs/external-engines.md, docs/engine-newton.md#cloth). numpy only: no engine is imported.
+(docs/external-engines.md, docs/engine-newton.md#cloth); and the mesh's distinct edges, which
+the engines' springs follow. numpy only: no engine is imported.
 """
 
 from __future__ import annotations
@@ -10,6 +11,13 @@ from __future__ import annotations
 import numpy as np
 
 Stencil = tuple[list[int], np.ndarray, float]
+
+
+def mesh_edges(triangles: np.ndarray) -> np.ndarray:
+    """The distinct edges (i < j) of a triangle mesh, sorted."""
+    t = np.asarray(triangles, dtype=np.int64)
+    e = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
+    return np.unique(np.sort(e, axis=1), axis=0)
 
 
 def bending_stencils(positions: np.ndarray, triangles: np.ndarray) -> list[Stencil]:

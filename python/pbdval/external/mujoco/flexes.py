@@ -129,10 +129,7 @@ def unsupported(scene: Any) -> list[str]:
                 f"{tm.json_path}: cloth method 2 (fem) with cloth_xyStiffness {m['xyStiffness']:g} "
                 f"and Poisson ratio {m['xyPoissonRatio']:g}: MuJoCo needs a positive shear modulus "
                 "and 0 <= nu < 0.5")
-    counted = sum(m.particle_count for m in (*scene.triangle_models, *scene.tet_models))
-    if not (scene.line_models or scene.fluid_models) and counted != len(scene.particles):
-        missing.append(f"particles: {len(scene.particles)} in the scene, {counted} in its triangle "
-                       "and tet models")
+    missing += pp.particles_outside_models(scene)
     return missing
 
 

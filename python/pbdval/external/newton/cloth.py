@@ -116,18 +116,8 @@ def unsupported(scene: pp.ResolvedScene, explicit: bool) -> list[str]:
         missing.append(f"contact between particle models ({', '.join(models)}): the newton engine lets "
                        "particles touch rigid shapes only (no particle-triangle or particle-tet contact is "
                        "mapped), so the models would pass through each other")
-    counted = sum(m.particle_count for m in (*scene.triangle_models, *scene.tet_models))
-    if not (scene.line_models or scene.fluid_models) and counted != len(scene.particles):
-        missing.append(f"particles: {len(scene.particles)} in the scene, {counted} in its triangle "
-                       "and tet models")
+    missing += pp.particles_outside_models(scene)
     return missing
-
-
-def spring_edges(triangles: np.ndarray) -> list[tuple[int, int]]:
-    """The distinct edges of `triangles` (local indices), each once, (min, max), sorted."""
-    edges = {(min(int(a), int(b)), max(int(a), int(b)))
-             for t in np.asarray(triangles, dtype=np.int64) for a, b in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0]))}
-    return sorted(edges)
 
 
 def bending_edges(triangles: np.ndarray) -> list[tuple[int, int, int, int]]:
@@ -208,9 +198,9 @@ def add_particles(builder: Any, vector: Any, scene: pp.ResolvedScene, bending_ki
             settings[f"{path}.elasticity"] = "none (method 0, native)"
             continue
         k = float(tm.material["stiffness"])
-        springs = spring_edges(tm.triangles)
+        springs = cloth_bending.mesh_edges(tm.triangles)
         for a, b in springs:
-            builder.add_spring(first + a, first + b, k, 0.0, 0.0)
+            builder.add_spring(first + int(a), first + int(b), k, 0.0, 0.0)
         settings[f"{path}.springs"] = (f"{len(springs)} springs ke = {k:g} N/m, kd = 0, one per distinct "
                                        "edge: the XPBD distance constraint's (1/2) k C^2 (native)")
         edges = bending_edges(tm.triangles)

@@ -48,6 +48,7 @@ import numpy as np
 import pybullet as pb
 
 from pbdval import protocol as pp
+from pbdval.external.cloth_bending import mesh_edges
 
 #: triangle-model simulationMethod → name; only the XPBD distance cloth has a physical
 #: stiffness (N/m per edge) that a spring can take.
@@ -166,12 +167,6 @@ def node_order(loaded: np.ndarray, expected: np.ndarray, what: str) -> np.ndarra
     if len(set(order.tolist())) != len(order):
         raise ValueError(f"{what}: two particles map to one pybullet node")
     return order
-
-
-def mesh_edges(triangles: np.ndarray) -> np.ndarray:
-    """The distinct edges (i < j) of a triangle mesh, sorted."""
-    e = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
-    return np.unique(np.sort(e, axis=1), axis=0)
 
 
 def second_neighbours(edges: np.ndarray, count: int) -> np.ndarray:
