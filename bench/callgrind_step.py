@@ -4,9 +4,9 @@ Instruction counts do not depend on the machine's load, so they compare builds w
 a shared machine cannot.
 
     .venv/bin/python bench/callgrind_step.py [--pbdval PATH] [--method pbd.xpbd]
-        [--duration 0.25] [--label NAME] CASE...
+        [--duration 0.25] [--label NAME] [--set KEY=VALUE ...] CASE...
 
-Runs `pbdval simulate CASE --engine pbd --method M --duration D` under
+Runs `pbdval simulate CASE --engine pbd --method M --duration D [--set KEY=VALUE ...]` under
 `valgrind --tool=callgrind` and reads, from the profile, the inclusive instructions and the
 number of calls of the step and of its parts (contact set-up and solves, prediction, velocity
 update, collision detection, joint solves). Writes them with their metadata (machine, the
@@ -73,13 +73,16 @@ def read_profile(profile: Path) -> dict[str, dict[str, int]]:
     return parts
 
 
-def profile_case(pbdval: Path, case: Path, method: str, duration: float) -> dict[str, Any]:
-    """One case under callgrind: every part's instructions per step and per call."""
+def profile_case(pbdval: Path, case: Path, method: str, duration: float,
+                 assignments: list[str]) -> dict[str, Any]:
+    """One case under callgrind (`assignments`: the method parameters, --set KEY=VALUE): every
+    part's instructions per step and per call."""
     with tempfile.TemporaryDirectory() as scratch:
         out = Path(scratch) / "profile.out"
         subprocess.run(["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", str(pbdval),
                         "simulate", str(case), "--engine", "pbd", "--method", method, "--duration",
-                        str(duration), "--out", str(Path(scratch) / "t.npy"), "--quiet"],
+                        str(duration), "--out", str(Path(scratch) / "t.npy"), "--quiet",
+                        *(arg for assignment in assignments for arg in ("--set", assignment))],
                        check=True, capture_output=True)
         parts = read_profile(out)
     steps = parts["step"]["calls"]
@@ -100,8 +103,11 @@ def main() -> int:
     parser.add_argument("--method", default="pbd.xpbd")
     parser.add_argument("--duration", type=float, default=0.25, help="simulated seconds (default 0.25)")
     parser.add_argument("--label", default="", help="a name for this build in the record (e.g. before, after)")
+    parser.add_argument("--set", dest="assignments", action="append", default=[], metavar="KEY=VALUE",
+                        help="a method parameter for every case, passed to pbdval simulate (repeatable)")
     args = parser.parse_args()
-    results = [profile_case(args.pbdval, case, args.method, args.duration) for case in args.cases]
+    results = [profile_case(args.pbdval, case, args.method, args.duration, args.assignments)
+               for case in args.cases]
     for result in results:
         print(f"{result['case']}: {result['per_step']['step']:,.0f} instructions per step; "
               f"contacts {result['calls_per_step']['contact_position']:.1f} per step "
@@ -110,6 +116,7 @@ def main() -> int:
                              check=True).stdout.strip()
     write_record("callgrind-step", {"machine": machine(), "version": version, "label": args.label,
                                     "method": args.method, "duration_s": args.duration,
+                                    "assignments": args.assignments,
                                     "results": results})
     return 0
 

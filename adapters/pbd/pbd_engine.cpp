@@ -52,6 +52,9 @@ std::vector<MethodInfo> pbdMethods() {
                        pbd::jointDirectionsName(pbd::JointDirections::Predicted)},
                       "joints' constraint directions (Jacobians): start = of the substep's start "
                       "(SHAKE), predicted = of the current poses (PBD/XPBD)"),
+      integerParameter("jointIterations", defaults.jointIterations, 1, 1000,
+                       "Gauss-Seidel sweeps over the joints per substep (lambda continued after "
+                       "the first; contacts keep one)"),
       threads,
   };
   return {seed, xpbd};
@@ -75,6 +78,7 @@ pbd::SimulationSettings pbdSettingsFor(const pbd::Scene& scene, const Method& me
       method.choice("jointDirections") == pbd::jointDirectionsName(pbd::JointDirections::Start)
           ? pbd::JointDirections::Start
           : pbd::JointDirections::Predicted;
+  settings.xpbd.jointIterations = static_cast<int>(method.integer("jointIterations"));
   return settings;
 }
 
@@ -182,6 +186,7 @@ std::map<std::string, std::string> PbdEngine::effectiveSettings() const {
       {"xpbd.jointLinearDamping", number(s.xpbd.jointLinearDamping)},
       {"xpbd.jointAngularDamping", number(s.xpbd.jointAngularDamping)},
       {"xpbd.jointDirections", pbd::jointDirectionsName(s.xpbd.jointDirections)},
+      {"xpbd.jointIterations", std::to_string(s.xpbd.jointIterations)},
       {"precision", sizeof(pbd::Real) == 8 ? "double" : "float"}};
   // Each fluid's formulation (fluidFormulationFor: the scene's, else the method's own).
   for (std::size_t f = 0; f < world_->fluids.size(); ++f)

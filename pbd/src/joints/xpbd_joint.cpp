@@ -202,25 +202,26 @@ void updateJointTargetsXpbd(std::vector<Joint>& joints, const XpbdJointSchedule&
 
 void solveJointPositionsXpbd(std::vector<Joint>& joints, const XpbdJointSchedule& schedule,
                              BodyStates& bodies, Real substepSize, const XpbdSettings& settings,
-                             std::vector<XpbdJointMultipliers>& multipliers) {
-  // Ball joints: α̃ = α/h² once per substep, and λ from zero, as BallJoint's own solve.
+                             std::vector<XpbdJointMultipliers>& multipliers, bool firstSweep) {
+  // Ball joints: α̃ = α/h² once per substep; λ from zero in the substep's first sweep (as
+  // BallJoint's own solve), continued in the next.
   const Real ballCompliance = settings.jointLinearCompliance / (substepSize * substepSize);
-  const Vector3 zero = Vector3::Zero();
   for (const XpbdJointSchedule::Run& run : schedule.runs) {
     if (run.ball) {
       const XpbdJointSchedule::Ball* ball = schedule.balls.data() + run.firstBall;
       for (std::size_t j = run.begin; j < run.end; ++j, ++ball) {
         XpbdJointMultipliers& lambda = multipliers[j];
-        lambda.setZero();
-        lambda.head<3>() +=
-            projectPointConstraint(bodies.rigid, ball->body0, ball->body1, ball->anchor0,
-                                   ball->anchor1, ballCompliance, zero, settings.jointDirections);
+        if (firstSweep) lambda.setZero();
+        const Vector3 accumulated = lambda.head<3>();
+        lambda.head<3>() += projectPointConstraint(bodies.rigid, ball->body0, ball->body1,
+                                                   ball->anchor0, ball->anchor1, ballCompliance,
+                                                   accumulated, settings.jointDirections);
       }
       continue;
     }
     for (std::size_t j = run.begin; j < run.end; ++j) {
       XpbdJointMultipliers& lambda = multipliers[j];
-      lambda.setZero();
+      if (firstSweep) lambda.setZero();
       std::visit([&](auto& joint) { solve(joint, bodies, substepSize, settings, lambda); },
                  joints[j]);
     }

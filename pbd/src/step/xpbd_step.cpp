@@ -43,8 +43,9 @@ Real detectionTolerance(const World& world) {
 
 void solvePositions(World& world, Real h) {
   const XpbdSettings& settings = world.settings.xpbd;
-  solveJointPositionsXpbd(world.joints, world.xpbd.jointSchedule, world.bodies, h, settings,
-                          world.xpbd.jointMultipliers);
+  for (int sweep = 0; sweep < settings.jointIterations; ++sweep)
+    solveJointPositionsXpbd(world.joints, world.xpbd.jointSchedule, world.bodies, h, settings,
+                            world.xpbd.jointMultipliers, /*firstSweep=*/sweep == 0);
   // Stiff-rod trees: their own compliances, one direct solve per substep.
   for (StiffRodTreeSolver& tree : world.stiffRodTrees) {
     tree.beginSubstep(h);
@@ -81,6 +82,9 @@ void prepareXpbd(World& world, const Scene& scene) {
   if (settings.substeps < 1)
     throw std::invalid_argument("XPBD settings: substeps must be at least 1, got " +
                                 std::to_string(settings.substeps));
+  if (settings.jointIterations < 1)
+    throw std::invalid_argument("XPBD settings: jointIterations must be at least 1, got " +
+                                std::to_string(settings.jointIterations));
   if (!(settings.jointLinearCompliance >= 0) || !(settings.jointAngularCompliance >= 0) ||
       !(settings.contactCompliance >= 0) || !(settings.speculativeMargin >= 0) ||
       !(settings.jointLinearDamping >= 0) || !(settings.jointAngularDamping >= 0))

@@ -11,7 +11,12 @@
 // constraint_rows.h; Müller et al. 2020 solve the positional and the angular part of a joint
 // as two scalar constraints along the correction's direction — the block solve is the same
 // projection when both parts are hard and couples them exactly when they are not).
-// λ is reset at the start of every substep (one position iteration per substep).
+// λ is reset at the start of every substep (one position iteration per substep); with
+// XpbdSettings::jointIterations = k > 1 the joints are swept k times per substep (before the
+// other constraints and the contacts), λ continued after the first sweep: for hard rows each
+// sweep is a further Gauss–Seidel pass of the same Newton steps (SHAKE iterated, Ryckaert,
+// Ciccotti, Berendsen 1977, with JointDirections::Start), for compliant rows the sweeps
+// converge to the XPBD solution C + α̃ λ = 0 of the substep (Macklin et al. 2016, §4).
 //
 // Compliance α_r of row r, by family:
 //   rotation rows (no linear Jacobian): C = sin(θ/2) ≈ θ/2, so ½ k_θ θ² = ½ (4 k_θ) C² and
@@ -74,13 +79,15 @@ XpbdJointSchedule scheduleJointsXpbd(const std::vector<Joint>& joints);
 void updateJointTargetsXpbd(std::vector<Joint>& joints, const XpbdJointSchedule& schedule,
                             Real time);
 
-/// One position iteration of the substep: every joint of `joints` in order, its λ
-/// (`multipliers[j]`, sized like `joints`) reset to zero and then accumulated by one XPBD
-/// projection (see above). One call per substep, through `schedule` (scheduleJointsXpbd of the
-/// same joints).
+/// One Gauss–Seidel sweep of the substep's position iteration: every joint of `joints` in
+/// order, its λ (`multipliers[j]`, sized like `joints`) accumulated by one XPBD projection (see
+/// above) — reset to zero first when `firstSweep` (the substep's first sweep), continued in the
+/// XpbdSettings::jointIterations − 1 sweeps after it. Through `schedule` (scheduleJointsXpbd
+/// of the same joints).
 void solveJointPositionsXpbd(std::vector<Joint>& joints, const XpbdJointSchedule& schedule,
                              BodyStates& bodies, Real substepSize, const XpbdSettings& settings,
-                             std::vector<XpbdJointMultipliers>& multipliers);
+                             std::vector<XpbdJointMultipliers>& multipliers,
+                             bool firstSweep = true);
 
 /// The joints' velocity pass, in order (velocity motors; nothing for the others, which are
 /// not visited).

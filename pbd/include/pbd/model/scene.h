@@ -435,6 +435,11 @@ struct XpbdSettings {
   /// The joints' constraint directions (every joint but the stiff-rod ones; contacts are not
   /// joints).
   JointDirections jointDirections = JointDirections::Predicted;
+  /// Gauss–Seidel sweeps over the joints in every substep (≥ 1; the stiff-rod trees, the
+  /// particle constraints and the contacts keep one): the first with λ from zero, the others
+  /// continuing λ, all along jointDirections (joints/xpbd_joint.h; docs/methods.md, "Joint
+  /// directions").
+  int jointIterations = 1;
 };
 
 /// The `Simulation` block: every key the seed documents, with the seed's code defaults.

@@ -18,7 +18,8 @@
 //        q ← normalize(q + ½ h_s [0, ω] ⊗ q); contacts with restitution record their approach
 //        velocity ṽ_n;
 //      - one position iteration: every joint (colouring order, joints/xpbd_joint.h) with
-//        λ reset, the particle distance and tet volume constraints (cloth and solid
+//        λ reset (swept XpbdSettings::jointIterations times, λ continued after the first
+//        sweep), the particle distance and tet volume constraints (cloth and solid
 //        edges, tets: constraints/), then every contact (detection order,
 //        contacts/xpbd_contact.h): the normal
 //        projection and static friction, contacts re-evaluated at the current poses;
