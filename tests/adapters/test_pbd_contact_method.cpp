@@ -131,5 +131,24 @@ TEST(PbdXpbdMethod, JointDirectionsReachTheStepAndTheRecordedSettings) {
   }
 }
 
+TEST(PbdXpbdMethod, JointIterationsReachTheStepAndTheRecordedSettings) {
+  pbd::Scene scene;
+  EXPECT_EQ(pbdSettingsFor(scene, testRegistry().resolve("pbd.xpbd")).xpbd.jointIterations,
+            pbd::XpbdSettings{}.jointIterations);
+  const Method method = testRegistry().resolve("pbd.xpbd", {{"jointIterations", "3"}});
+  EXPECT_EQ(pbdSettingsFor(scene, method).xpbd.jointIterations, 3);
+  scene.rigidBodies.assign(1, pbd::test::boxBody(0, Vector3::Ones(), Vector3::Zero(), 1, false));
+  PbdEngine engine;
+  engine.load(scene, method);
+  EXPECT_EQ(engine.effectiveSettings().at("xpbd.jointIterations"), "3");
+  try {
+    testRegistry().resolve("pbd.xpbd", {{"jointIterations", "0"}});
+    ADD_FAILURE() << "jointIterations = 0 accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("method pbd.xpbd: jointIterations"), std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace pbdval::test
