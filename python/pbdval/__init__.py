@@ -100,7 +100,7 @@ _ERRORS = {"ArgumentError", "BuildMissingError", "CommandError", "DivergenceErro
 def __getattr__(name: str) -> object:
     # Loaded on first use, so that external engines importing pbdval.protocol never need the
     # C++ core or numpy's import time, and an engine server's start does not pay for the errors'
-    # module (it imports subprocess: 3-4 ms of CPU; docs/benchmarks.md#seventh-pass).
+    # module (it imports subprocess: 3-4 ms of CPU; docs/benchmarks.md, seventh pass).
     if name in _ERRORS:
         from pbdval import errors
 

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 # What an engine server imports is paid in every `pbdval run` that starts one: argparse and
 # traceback are imported where they are used (a command line that is not the runner's own form,
-# a failed run), and temporary files are made without tempfile (docs/benchmarks.md#seventh-pass).
+# a failed run), and temporary files are made without tempfile (docs/benchmarks.md, seventh pass).
 import ctypes
 import gc
 import itertools

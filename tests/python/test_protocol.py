@@ -100,7 +100,7 @@ def test_temporary_files_beside_a_target_are_new_private_and_distinct(tmp_path: 
 
 
 def test_an_engine_server_imports_no_argparse_tempfile_traceback_or_subprocess() -> None:
-    # What pbdval's side adds to an engine server's start (docs/benchmarks.md#seventh-pass):
+    # What pbdval's side adds to an engine server's start (docs/benchmarks.md, seventh pass):
     # these are imported only where a run needs them (a bad command line, a failure).
     code = ("import sys, pbdval.protocol, pbdval.external.pybullet.engine, "
             "pbdval.external.pybullet.multibody; "

@@ -307,7 +307,7 @@ class ReplyReader {
       }
       // Asleep until the reply, an interrupt or the deadline: without a signal descriptor, an
       // interrupt is looked for every 2 ms (a wake-up every 2 ms of every served run cost the
-      // runner 8-12 ms of CPU per 24 runs: docs/benchmarks.md#seventh-pass).
+      // runner 8-12 ms of CPU per 24 runs: docs/benchmarks.md, seventh pass).
       pollfd items[2] = {{fd_, POLLIN, 0}, {interrupts_.descriptor(), POLLIN, 0}};
       const nfds_t count = items[1].fd >= 0 ? 2 : 1;
       if (::poll(items, count, count == 2 ? millisecondsUntil(deadline) : 2) <= 0 ||
