@@ -989,7 +989,8 @@ TEST_F(ServedEngineTest, SIGTERMDuringAServedRunIsTakenAtOnceItsChildKilledAndTh
   const auto sent = std::chrono::steady_clock::now();
   ::kill(runner, SIGTERM);
   const int status = waitBounded(runner);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
   ASSERT_TRUE(WIFEXITED(status)) << "the runner died of the signal instead of taking it";
   EXPECT_EQ(WEXITSTATUS(status), 10 + SIGTERM);
   // Taken when it is pending, not at the poll's 1 s cap: half of that tells the two apart

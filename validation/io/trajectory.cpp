@@ -192,8 +192,8 @@ void appendBodyRow(Trajectory& trajectory, const double* fields, const RowPlace&
 void appendParticleRow(Trajectory& trajectory, const double* fields, const RowPlace& where) {
   State& sample = sampleOfRow(trajectory, fields, where, "particle index");
   if (fields[1] != double(sample.particles.size()))
-    throw std::runtime_error(where.text() + ": particle " + formatNumber(fields[1]) + ", expected " +
-                             std::to_string(sample.particles.size()) +
+    throw std::runtime_error(where.text() + ": particle " + formatNumber(fields[1]) +
+                             ", expected " + std::to_string(sample.particles.size()) +
                              " (each sample lists every particle in scene order, from 0)");
   ParticleState p;
   p.position = Vector3(Real(fields[2]), Real(fields[3]), Real(fields[4]));
@@ -226,7 +226,8 @@ std::string readWholeFile(const std::string& path, const char* what) {
   in.seekg(0);
   in.read(bytes.data(), std::streamsize(bytes.size()));
   bytes.resize(std::size_t(in.gcount()));  // a file that shrank meanwhile
-  char rest[4096];  // and one that grew, or whose size was not known
+  // and the rest of one that grew, or whose size was not known
+  char rest[4096];
   while (in.read(rest, sizeof rest) || in.gcount() > 0)
     bytes.append(rest, std::size_t(in.gcount()));
   return bytes;
