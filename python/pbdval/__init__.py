@@ -21,18 +21,6 @@ from typing import TYPE_CHECKING
 # The extension lives in the build folder's pbdval/ (no __init__.py there): join it.
 __path__ = extend_path(__path__, __name__)
 
-from pbdval.errors import (
-    ArgumentError,
-    BuildMissingError,
-    CommandError,
-    DivergenceError,
-    EngineError,
-    PbdvalError,
-    ResultsError,
-    SceneError,
-    UnsupportedError,
-)
-
 if TYPE_CHECKING:  # what the lazy __getattr__ below returns, for type checkers
     from pbdval.api import (
         BodyStates,
@@ -53,6 +41,17 @@ if TYPE_CHECKING:  # what the lazy __getattr__ below returns, for type checkers
         read_particles,
         read_segments,
         simulate,
+    )
+    from pbdval.errors import (
+        ArgumentError,
+        BuildMissingError,
+        CommandError,
+        DivergenceError,
+        EngineError,
+        PbdvalError,
+        ResultsError,
+        SceneError,
+        UnsupportedError,
     )
     from pbdval.results import Results, RunResult, load_results, run
 
@@ -94,11 +93,18 @@ _API = {"BodyStates", "Energy", "EngineInfo", "Engines", "MethodInfo", "Metrics"
         "RunInfo", "Scene", "Simulation", "Trajectory", "energy", "engines", "load_scene",
         "measure", "read_particles", "read_segments", "simulate"}
 _RESULTS = {"Results", "RunResult", "load_results", "run"}
+_ERRORS = {"ArgumentError", "BuildMissingError", "CommandError", "DivergenceError", "EngineError",
+           "PbdvalError", "ResultsError", "SceneError", "UnsupportedError"}
 
 
 def __getattr__(name: str) -> object:
     # Loaded on first use, so that external engines importing pbdval.protocol never need the
-    # C++ core or numpy's import time.
+    # C++ core or numpy's import time, and an engine server's start does not pay for the errors'
+    # module (it imports subprocess: 3-4 ms of CPU; docs/benchmarks.md, seventh pass).
+    if name in _ERRORS:
+        from pbdval import errors
+
+        return getattr(errors, name)
     if name in _API:
         from pbdval import api
 

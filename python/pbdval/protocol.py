@@ -18,9 +18,12 @@ a persistent engine process (serve protocol 1: imports paid once, each run a for
 
 from __future__ import annotations
 
-import argparse
+# What an engine server imports is paid in every `pbdval run` that starts one: argparse and
+# traceback are imported where they are used (a command line that is not the runner's own form,
+# a failed run), and temporary files are made without tempfile (docs/benchmarks.md, seventh pass).
 import ctypes
 import gc
+import itertools
 import json
 import math
 import os
@@ -28,8 +31,6 @@ import select
 import signal
 import socket
 import sys
-import tempfile
-import traceback
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -351,8 +352,10 @@ class ResolvedScene:
     def sample_steps(self) -> list[int]:
         """The step numbers after which a sample is written (0: the initial state): every
         `sample_stride`-th step and the last (validation/run/simulation.cpp)."""
-        return [n for n in range(self.steps + 1)
-                if n == 0 or n % self.sample_stride == 0 or n == self.steps]
+        steps = list(range(0, self.steps + 1, self.sample_stride))  # the stride is >= 1
+        if steps[-1] != self.steps:
+            steps.append(self.steps)
+        return steps
 
     def parameter(self, name: str, default: ParameterValue) -> ParameterValue:
         """A method parameter, or `default` when the runner did not give it."""
@@ -796,6 +799,24 @@ def rows_divergence_reason(time: float, rows: np.ndarray) -> str | None:
     return _blow_up_reason(time, lambda i: f"body {int(rows[i, 1])}", rows[:, 2:5], rows[:, 9:12], rows[:, 2:])
 
 
+def _new_file_beside(target: Path) -> tuple[int, Path]:
+    """A new, empty file in `target`'s folder named after it (`target`.<pid>-<n>.tmp), created
+    exclusively (O_EXCL, mode 0600) and open for writing: what tempfile.mkstemp makes, without
+    importing tempfile (2-3 ms of an engine server's start). FileExistsError after 100 names
+    taken."""
+    for _ in range(100):
+        temporary = target.parent / f"{target.name}.{os.getpid()}-{next(_TEMPORARY_NUMBERS)}.tmp"
+        try:
+            flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_CLOEXEC
+            return os.open(temporary, flags, 0o600), temporary
+        except FileExistsError:
+            continue
+    raise FileExistsError(f"{target.parent}: no free temporary name for {target.name}")
+
+
+_TEMPORARY_NUMBERS = itertools.count()
+
+
 class _RowWriter:
     """Rows of `columns` float64 into OUTDIR/`npy_name` (binary: an NPY file of shape (rows,
     columns)) or, with `binary=False`, OUTDIR/`csv_name` under `header`, the first two columns
@@ -813,9 +834,7 @@ class _RowWriter:
         self._buffer = np.empty((capacity if binary else 0, columns))
         self._filled = 0
         self.path = Path(out_dir) / (npy_name if binary else csv_name)
-        fd, temporary = tempfile.mkstemp(prefix=self.path.name + ".", suffix=".tmp",
-                                         dir=str(self.path.parent))
-        self._temporary = Path(temporary)
+        fd, self._temporary = _new_file_beside(self.path)
         self._file: BinaryIO = os.fdopen(fd, "wb")
         self._rows: list[np.ndarray] = []
         if not binary:
@@ -955,7 +974,7 @@ def write_json_atomically(path: str | os.PathLike[str], document: Any, *, durabl
     if target.exists() and not target.is_file():
         raise OSError(f"{target}: exists and is not a regular file; not replaced")
     text = json.dumps(document, indent=1, allow_nan=False) + "\n"
-    fd, temporary = tempfile.mkstemp(prefix=target.name + ".", suffix=".tmp", dir=str(target.parent))
+    fd, temporary = _new_file_beside(target)
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as f:
             f.write(text)
@@ -964,7 +983,7 @@ def write_json_atomically(path: str | os.PathLike[str], document: Any, *, durabl
                 os.fsync(f.fileno())
         os.replace(temporary, target)
     except BaseException:
-        Path(temporary).unlink(missing_ok=True)
+        temporary.unlink(missing_ok=True)
         raise
 
 
@@ -990,6 +1009,8 @@ def parse_arguments(argv: Sequence[str] | None, description: str) -> EngineArgum
         # The runner's own form (a served run's too), valid: the same result without building a
         # parser in every run's child; anything else goes to the parser, which says what is wrong.
         return EngineArguments(scene=Path(argv[1]), out=Path(argv[3]))
+    import argparse
+
     parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--scene", required=True, type=Path,
                         help="the resolved scene (pbdval export-scene)")
@@ -1054,12 +1075,18 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
     def body_name(i: int) -> str:
         return f"body {int(ids[i])}"
 
+    state_shape = (body_count, STATE_COLUMNS)
+    # A sample is the bodies' states alone (no particles to read, no `failure` to ask): it is
+    # kept as soon as it is read (sample's short way: 0.6 us of Python less per sample).
+    bodies_alone = particle_writer is None and not failing
+    vdot = np.vdot
+
     def sample(t: float) -> str | None:
         """Reads the state at `t`, keeps it (and writes the particles') and returns the
         divergence found in it, if any."""
         given = states(t)
         if isinstance(given, np.ndarray):
-            if given.shape != (body_count, STATE_COLUMNS):
+            if given.shape != state_shape:
                 raise ValueError(f"expected a state array of shape ({body_count}, {STATE_COLUMNS}), "
                                  f"got {given.shape}")
             state = given
@@ -1071,7 +1098,11 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
         # quaternion's sign changes no magnitude). Its first cheap look here, before slicing:
         # a state that passes it passes the test.
         reason = (_blow_up_reason(t, body_name, state[:, 0:3], state[:, 7:10], state)
-                  if body_count and not np.vdot(state, state) < _QUARTER_SQUARED_LIMIT else None)
+                  if body_count and not vdot(state, state) < _QUARTER_SQUARED_LIMIT else None)
+        if bodies_alone:
+            kept[len(kept_times)] = state
+            kept_times.append(t)
+            return reason
         particle_sample = None
         if particle_writer is not None and particles is not None:
             particle_sample = particle_rows(t, particles(t))
@@ -1103,6 +1134,20 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
         with TrajectoryWriter(out_dir, capacity=len(sampled) * body_count) as writer:
             try:
                 sample(0.0)  # the start: its divergence test not used
+                if not between_samples:
+                    # Nothing to test between samples: the steps up to each sample in one loop
+                    # without a test per step (the same calls, in the same order).
+                    done = 0
+                    for target in sorted(sampled):
+                        for _ in itertools.repeat(None, target - done):
+                            step()
+                        done = target
+                        if target:
+                            t = target * h
+                            reason = sample(t)
+                            if reason:
+                                return Status("diverged", reason=reason, diverged_at=t)
+                    return Status("ok")
                 for n in range(1, scene.steps + 1):
                     step()
                     if n in sampled:
@@ -1110,7 +1155,7 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
                         reason = sample(t)
                         if reason:
                             return Status("diverged", reason=reason, diverged_at=t)
-                    elif between_samples:
+                    else:
                         t = n * h
                         reason = (check(t) if check is not None else None) or (failure(t) if failing else None)
                         if reason:
@@ -1231,6 +1276,8 @@ def _run_in_child(main: Callable[[list[str]], int], request: bytes, stdout_to_st
         print(e.code, file=sys.stderr)
         return 1, out
     except BaseException:  # noqa: BLE001 -- as an uncaught exception ends the single-shot interpreter
+        import traceback
+
         traceback.print_exc()
         return 1, out
 
@@ -1305,6 +1352,8 @@ def _serve_in_child(rule: _ChildRule, requests: int, reports: int) -> int:
         if rule.prepare is not None:
             rule.prepare()
     except BaseException:  # noqa: BLE001 -- reported on the run's standard error
+        import traceback
+
         failure = traceback.format_exc()
     # The child's own standard streams (the server's log), put back between runs.
     standard = [os.dup(fd) for fd in (0, 1, 2)] if rule.runs_per_child > 1 else []
@@ -1327,6 +1376,8 @@ def _serve_in_child(rule: _ChildRule, requests: int, reports: int) -> int:
             if rule.between_runs is not None and not rule.between_runs():
                 return code
         except Exception:  # noqa: BLE001 -- an engine that cannot be readied again retires the child
+            import traceback
+
             traceback.print_exc()
             return code
         os.write(reports, bytes([code & 0xFF, 1]))
@@ -1507,6 +1558,29 @@ def _positive_integer(text: str) -> int:
     return value
 
 
+def _serve_arguments(argv: Sequence[str] | None, description: str) -> tuple[str, int]:
+    """`--socket PATH [--runs-per-child N]`: the socket path and N (default 1). Bad usage exits
+    with status 2 (argparse)."""
+    options = dict(zip(argv[::2], argv[1::2], strict=False)) if argv is not None else {}
+    runs = options.get("--runs-per-child", "1")
+    if (argv is not None and len(argv) in (2, 4) and len(options) == len(argv) // 2
+            and set(options) <= {"--socket", "--runs-per-child"} and options.get("--socket")
+            and not options["--socket"].startswith("-") and runs.isascii() and runs.isdigit()
+            and int(runs) >= 1):
+        # The runner's own form, valid: the same result without building a parser (argparse
+        # is 1-2 ms of the server's start); anything else goes to the parser, which says what
+        # is wrong.
+        return options["--socket"], int(runs)
+    import argparse
+
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--socket", required=True, help="the Unix socket to listen on")
+    parser.add_argument("--runs-per-child", type=_positive_integer, default=1, metavar="N",
+                        help="the most runs one forked child serves in turn (default 1: a child per run)")
+    args = parser.parse_args(argv)
+    return str(args.socket), int(args.runs_per_child)
+
+
 def serve_runs(argv: Sequence[str] | None, main: Callable[[list[str]], int], description: str,
                *, stdout_to_stderr: bool = False, prepare: Callable[[], None] | None = None,
                between_runs: Callable[[], bool] | None = None,
@@ -1541,15 +1615,11 @@ def serve_runs(argv: Sequence[str] | None, main: Callable[[list[str]], int], des
     ends its child; the next run goes to a fresh one (_Standby,
     docs/external-engines.md#persistent-engines).
     Returns only on an error (bad usage exits 2)."""
-    parser = argparse.ArgumentParser(description=description)
-    parser.add_argument("--socket", required=True, help="the Unix socket to listen on")
-    parser.add_argument("--runs-per-child", type=_positive_integer, default=1, metavar="N",
-                        help="the most runs one forked child serves in turn (default 1: a child per run)")
-    args = parser.parse_args(argv)
-    rule = _ChildRule(main, prepare, stdout_to_stderr, args.runs_per_child, between_runs)
+    socket_path, runs_per_child = _serve_arguments(argv, description)
+    rule = _ChildRule(main, prepare, stdout_to_stderr, runs_per_child, between_runs)
     _die_with_parent()
     listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-    listener.bind(args.socket)
+    listener.bind(socket_path)
     listener.listen(16)
     runs: list[_ServedRun] = []
     idle: list[_Standby] = []  # children that served a run and wait for another

@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import random
+import subprocess
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -51,6 +54,61 @@ def test_sample_steps_follow_the_stride_and_include_the_last_step() -> None:
     assert scene.sample_steps() == [0, 3, 6, 9, 10]
     assert scene.parameter("iterations", 1) == 7
     assert scene.parameter("missing", 5) == 5
+
+
+def test_sample_steps_are_every_stride_th_step_and_the_last_for_any_stride() -> None:
+    # The definition, one step at a time (validation/run/simulation.cpp), against the list made
+    # from a range: the same steps for strides that divide the run and strides that do not.
+    for steps in (1, 2, 9, 10, 16000):  # the reader takes steps >= 1
+        for stride in (1, 2, 3, 7, 16, 10, 20000):
+            doc = minimal_document()
+            doc["steps"], doc["sampleStride"] = steps, stride
+            scene = pp.parse_resolved_scene(doc)
+            assert scene.sample_steps() == [n for n in range(steps + 1)
+                                            if n == 0 or n % stride == 0 or n == steps]
+
+
+def test_the_serve_command_line_reads_as_its_parser_reads_it() -> None:
+    # The runner's own forms (either option first) read without the parser; anything else goes
+    # to argparse, which rejects what is wrong with exit status 2.
+    read = pp._serve_arguments
+    assert read(["--socket", "/s"], "t") == ("/s", 1)
+    assert read(["--socket", "/s", "--runs-per-child", "50"], "t") == ("/s", 50)
+    assert read(["--runs-per-child", "7", "--socket", "/s"], "t") == ("/s", 7)
+    assert read(["--socket", "/a", "--socket", "/b"], "t") == ("/b", 1)  # argparse: the last
+    for bad in (["--socket"], [], ["--socket", "/s", "--runs-per-child", "0"],
+                ["--socket", "/s", "--runs-per-child", "x"], ["--socket", "/s", "--other", "1"]):
+        with pytest.raises(SystemExit) as stopped:
+            read(bad, "t")
+        assert stopped.value.code == 2, bad
+
+
+def test_temporary_files_beside_a_target_are_new_private_and_distinct(tmp_path: Path) -> None:
+    target = tmp_path / "status.json"
+    made = [pp._new_file_beside(target) for _ in range(3)]
+    try:
+        paths = [path for _, path in made]
+        assert len(set(paths)) == 3
+        for path in paths:
+            assert path.parent == tmp_path and path.name.startswith("status.json.")
+            assert path.stat().st_size == 0
+            assert path.stat().st_mode & 0o777 == 0o600
+    finally:
+        for fd, _ in made:
+            os.close(fd)
+    assert not target.exists()
+
+
+def test_an_engine_server_imports_no_argparse_tempfile_traceback_or_subprocess() -> None:
+    # What pbdval's side adds to an engine server's start (docs/benchmarks.md, seventh pass):
+    # these are imported only where a run needs them (a bad command line, a failure).
+    code = ("import sys, pbdval.protocol, pbdval.external.pybullet.engine, "
+            "pbdval.external.pybullet.multibody; "
+            "print(sorted(m for m in ('argparse', 'tempfile', 'traceback', 'subprocess') "
+            "if m in sys.modules))")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                            env={**os.environ, "PYTHONPATH": str(Path(pp.__file__).parents[1])})
+    assert result.stdout.strip() == "[]", result.stderr
 
 
 def test_parse_errors_name_the_file_and_the_json_path() -> None:

@@ -963,6 +963,43 @@ TEST_F(ServedEngineTest, AHangingRunIsATimeoutItsChildIsKilledAndTheServerGoesOn
   EXPECT_EQ(next.status, RunStatus::Ok) << next.reason;
 }
 
+TEST_F(ServedEngineTest, SIGTERMDuringAServedRunIsTakenAtOnceItsChildKilledAndThrown) {
+  // The runner sleeps in poll() until the reply, an interrupt or the deadline (no wall-time
+  // limit here: no deadline); the interrupt must wake it, not the poll's one-second cap.
+  std::ofstream(folder_ / "mode") << "hang\n";
+  fs::remove(folder_ / "run.pid");
+  std::fflush(nullptr);
+  const pid_t runner = ::fork();
+  if (runner == 0) {
+    ExternalEngine engine("py", command(), {}, serverFolder_.string());
+    Method method;
+    method.name = "py.test";
+    try {
+      runSimulation(engine, scene_, method, length_, {}, 0);
+    } catch (const SignalInterrupt& e) {
+      ::_exit(10 + e.signal());
+    } catch (...) {
+    }
+    ::_exit(99);
+  }
+  ASSERT_GT(runner, 0);
+  const pid_t child = recordedPid(folder_ / "run.pid");
+  ASSERT_GT(child, 0);
+  const KillAtExit guard{child};
+  const auto sent = std::chrono::steady_clock::now();
+  ::kill(runner, SIGTERM);
+  const int status = waitBounded(runner);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+  ASSERT_TRUE(WIFEXITED(status)) << "the runner died of the signal instead of taking it";
+  EXPECT_EQ(WEXITSTATUS(status), 10 + SIGTERM);
+  // Taken when it is pending, not at the poll's 1 s cap: half of that tells the two apart
+  // (the runner's own work after the signal, killing the child's group, is milliseconds).
+  EXPECT_LT(seconds, 0.5);
+  EXPECT_FALSE(stillRunsAfterWaiting(child));
+  EXPECT_TRUE(server_->running());
+}
+
 TEST_F(ServedEngineTest, AServerThatCannotStartMakesItsRunsErrorsQuotingItsStandardError) {
   server_.reset();
   const ExternalCommand broken{

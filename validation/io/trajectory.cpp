@@ -66,9 +66,17 @@ void CsvRowWriter::write(std::ostream& out, const State& state) {
 
 namespace {
 
-/// A trajectory file's rows, `columns` doubles each, handed to `row` with a name for messages
-/// ("FILE: line 3", "FILE: row 2").
-using RowSink = std::function<void(const double* fields, const std::string& where)>;
+/// Where a row is, for messages: "FILE: line 3", "FILE: row 2". The text is made only when a
+/// message needs it (a runner reads tens of thousands of rows per second of external runs).
+struct RowPlace {
+  const std::string& path;
+  const char* unit;  ///< "line" or "row"
+  std::size_t number;
+  std::string text() const { return path + ": " + unit + " " + std::to_string(number); }
+};
+
+/// A trajectory file's rows, `columns` doubles each, handed to `row` with their place.
+using RowSink = std::function<void(const double* fields, const RowPlace& where)>;
 
 /// The rows of a CSV with exactly `header` on its first line and `columns` numbers per line.
 void parseCsvRows(const std::string& text, const char* header, int columns, const std::string& path,
@@ -92,7 +100,7 @@ void parseCsvRows(const std::string& text, const char* header, int columns, cons
                                  std::to_string(columns) + " comma-separated numbers");
       p = r.ptr + 1;
     }
-    row(fields.data(), path + ": line " + std::to_string(lineNumber));
+    row(fields.data(), RowPlace{path, "line", std::size_t(lineNumber)});
   }
 }
 
@@ -145,21 +153,21 @@ void parseNpyRows(const std::string& bytes, int columns, const std::string& path
   std::vector<double> fields(std::size_t(columns), 0.0);
   for (std::size_t i = 0; i < rows; ++i) {
     std::memcpy(fields.data(), bytes.data() + dataAt + i * rowBytes, rowBytes);
-    row(fields.data(), path + ": row " + std::to_string(i));
+    row(fields.data(), RowPlace{path, "row", i});
   }
 }
 
 /// The time and the id or index of a row (fields 1 and 2) must be finite, the second an integer;
 /// a state may not be finite: a diverged run's last sample holds its NaN or inf (the runner then
 /// reports the run diverged). A new sample starts when the time changes.
-State& sampleOfRow(Trajectory& trajectory, const double* fields, const std::string& where,
+State& sampleOfRow(Trajectory& trajectory, const double* fields, const RowPlace& where,
                    const char* idName) {
   for (int f = 0; f < 2; ++f)
     if (!std::isfinite(fields[f]))
-      throw std::runtime_error(where + ": field " + std::to_string(f + 1) +
+      throw std::runtime_error(where.text() + ": field " + std::to_string(f + 1) +
                                " is not a finite number");
   if (fields[1] != std::floor(fields[1]) || std::abs(fields[1]) > 2147483647.0)
-    throw std::runtime_error(where + ": the " + std::string(idName) +
+    throw std::runtime_error(where.text() + ": the " + std::string(idName) +
                              " (field 2) is not an integer");
   if (trajectory.samples.empty() || trajectory.samples.back().time != fields[0]) {
     trajectory.samples.emplace_back();
@@ -169,7 +177,7 @@ State& sampleOfRow(Trajectory& trajectory, const double* fields, const std::stri
 }
 
 /// One body row (t, id, x y z, qw qx qy qz, vx vy vz, wx wy wz).
-void appendBodyRow(Trajectory& trajectory, const double* fields, const std::string& where) {
+void appendBodyRow(Trajectory& trajectory, const double* fields, const RowPlace& where) {
   State& sample = sampleOfRow(trajectory, fields, where, "body id");
   BodyState b;
   b.id = static_cast<int>(fields[1]);
@@ -181,11 +189,11 @@ void appendBodyRow(Trajectory& trajectory, const double* fields, const std::stri
 }
 
 /// One particle row (t, index, x y z, vx vy vz); the indices of a sample run 0, 1, 2, ...
-void appendParticleRow(Trajectory& trajectory, const double* fields, const std::string& where) {
+void appendParticleRow(Trajectory& trajectory, const double* fields, const RowPlace& where) {
   State& sample = sampleOfRow(trajectory, fields, where, "particle index");
   if (fields[1] != double(sample.particles.size()))
-    throw std::runtime_error(where + ": particle " + formatNumber(fields[1]) + ", expected " +
-                             std::to_string(sample.particles.size()) +
+    throw std::runtime_error(where.text() + ": particle " + formatNumber(fields[1]) +
+                             ", expected " + std::to_string(sample.particles.size()) +
                              " (each sample lists every particle in scene order, from 0)");
   ParticleState p;
   p.position = Vector3(Real(fields[2]), Real(fields[3]), Real(fields[4]));
@@ -194,10 +202,10 @@ void appendParticleRow(Trajectory& trajectory, const double* fields, const std::
 }
 
 /// One segment row (t, index, qw qx qy qz, wx wy wz); the indices of a sample run 0, 1, 2, ...
-void appendSegmentRow(Trajectory& trajectory, const double* fields, const std::string& where) {
+void appendSegmentRow(Trajectory& trajectory, const double* fields, const RowPlace& where) {
   State& sample = sampleOfRow(trajectory, fields, where, "segment index");
   if (fields[1] != double(sample.segments.size()))
-    throw std::runtime_error(where + ": segment " + formatNumber(fields[1]) + ", expected " +
+    throw std::runtime_error(where.text() + ": segment " + formatNumber(fields[1]) + ", expected " +
                              std::to_string(sample.segments.size()) +
                              " (each sample lists every rod segment in order, from 0)");
   SegmentState q;
@@ -209,11 +217,20 @@ void appendSegmentRow(Trajectory& trajectory, const double* fields, const std::s
 std::string readWholeFile(const std::string& path, const char* what) {
   const std::string problem = pbd::inputFileProblem(path, what);
   if (!problem.empty()) throw std::runtime_error(pbd::printableText(path + ": " + problem));
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw std::runtime_error(pbd::printableText(path + ": cannot be read"));
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
+  // Read in one piece into a string of the file's size (through a stringstream the bytes were
+  // copied twice: a tenth of an external run's cost on the runner's side).
+  const std::streamoff size = in.tellg();
+  std::string bytes(size > 0 ? std::size_t(size) : 0, '\0');
+  in.seekg(0);
+  in.read(bytes.data(), std::streamsize(bytes.size()));
+  bytes.resize(std::size_t(in.gcount()));  // a file that shrank meanwhile
+  // and the rest of one that grew, or whose size was not known
+  char rest[4096];
+  while (in.read(rest, sizeof rest) || in.gcount() > 0)
+    bytes.append(rest, std::size_t(in.gcount()));
+  return bytes;
 }
 
 }  // namespace
@@ -226,7 +243,7 @@ Trajectory parseTrajectoryCsv(const std::string& text, const std::string& source
   Trajectory trajectory;
   parseCsvRows(
       text, kTrajectoryCsvHeader, 15, pbd::printableText(sourceName),
-      [&](const double* f, const std::string& where) { appendBodyRow(trajectory, f, where); });
+      [&](const double* f, const RowPlace& where) { appendBodyRow(trajectory, f, where); });
   return trajectory;
 }
 
@@ -238,7 +255,7 @@ Trajectory parseTrajectoryNpy(const std::string& bytes, const std::string& sourc
   Trajectory trajectory;
   parseNpyRows(
       bytes, 15, pbd::printableText(sourceName),
-      [&](const double* f, const std::string& where) { appendBodyRow(trajectory, f, where); });
+      [&](const double* f, const RowPlace& where) { appendBodyRow(trajectory, f, where); });
   return trajectory;
 }
 
@@ -246,7 +263,7 @@ Trajectory parseParticleTrajectoryCsv(const std::string& text, const std::string
   Trajectory trajectory;
   parseCsvRows(
       text, kParticleCsvHeader, 8, pbd::printableText(sourceName),
-      [&](const double* f, const std::string& where) { appendParticleRow(trajectory, f, where); });
+      [&](const double* f, const RowPlace& where) { appendParticleRow(trajectory, f, where); });
   return trajectory;
 }
 
@@ -254,7 +271,7 @@ Trajectory parseParticleTrajectoryNpy(const std::string& bytes, const std::strin
   Trajectory trajectory;
   parseNpyRows(
       bytes, 8, pbd::printableText(sourceName),
-      [&](const double* f, const std::string& where) { appendParticleRow(trajectory, f, where); });
+      [&](const double* f, const RowPlace& where) { appendParticleRow(trajectory, f, where); });
   return trajectory;
 }
 
@@ -268,7 +285,7 @@ Trajectory parseSegmentTrajectoryCsv(const std::string& text, const std::string&
   Trajectory trajectory;
   parseCsvRows(
       text, kSegmentCsvHeader, 9, pbd::printableText(sourceName),
-      [&](const double* f, const std::string& where) { appendSegmentRow(trajectory, f, where); });
+      [&](const double* f, const RowPlace& where) { appendSegmentRow(trajectory, f, where); });
   return trajectory;
 }
 
@@ -276,7 +293,7 @@ Trajectory parseSegmentTrajectoryNpy(const std::string& bytes, const std::string
   Trajectory trajectory;
   parseNpyRows(
       bytes, 9, pbd::printableText(sourceName),
-      [&](const double* f, const std::string& where) { appendSegmentRow(trajectory, f, where); });
+      [&](const double* f, const RowPlace& where) { appendSegmentRow(trajectory, f, where); });
   return trajectory;
 }
 

@@ -1,6 +1,8 @@
 #include "validation/run/interrupts.h"
 
 #include <pthread.h>
+#include <sys/signalfd.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -36,7 +38,16 @@ InterruptWatch::InterruptWatch() {
 }
 
 InterruptWatch::~InterruptWatch() {
+  if (descriptor_ >= 0) ::close(descriptor_);
   pthread_sigmask(SIG_SETMASK, &previous_, nullptr);
+}
+
+int InterruptWatch::descriptor() const {
+  if (!descriptorTried_) {
+    descriptorTried_ = true;
+    descriptor_ = ::signalfd(-1, &signals_, SFD_NONBLOCK | SFD_CLOEXEC);
+  }
+  return descriptor_;
 }
 
 int InterruptWatch::wait(double seconds) const {

@@ -41,10 +41,17 @@ class InterruptWatch {
   /// For a child process between fork and exec: SIGINT, SIGTERM and SIGHUP unblocked, whatever
   /// the parent's watches (the program it starts gets them as usual).
   void unblockInChild() const;
+  /// A file descriptor that poll() sees readable while one of them is pending (a signalfd,
+  /// made on first use and closed with the watch; pending() still takes the signal), so that
+  /// a wait for a socket wakes for an interrupt without looking every few milliseconds; -1
+  /// when the system gives none.
+  int descriptor() const;
 
  private:
   sigset_t signals_;
   sigset_t previous_;
+  mutable int descriptor_ = -1;
+  mutable bool descriptorTried_ = false;
 };
 
 /// "SIGINT", "SIGTERM", "SIGHUP" or "signal N".

@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import functools
 import math
-import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -490,6 +489,9 @@ def run(scene: pp.ResolvedScene, out: Path) -> pp.Status:
         return multibody.run(scene, out)
     if not deformables.has_deformables(scene):
         return PybulletRun(scene).run(out)
-    # The soft bodies' meshes go to a scratch folder of our own, never into OUTDIR.
+    # The soft bodies' meshes go to a scratch folder of our own, never into OUTDIR (tempfile
+    # imported here: the runs without particles, and the server's start, do without it).
+    import tempfile
+
     with tempfile.TemporaryDirectory(prefix="pbdval-pybullet-") as folder:
         return PybulletRun(scene, folder).run(out)
