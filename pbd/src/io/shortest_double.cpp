@@ -728,37 +728,59 @@ Decimal shortestDecimal(std::uint64_t c, int q, bool irregular) {
   return {digits, exponent};
 }
 
+void writeTwoDigits(char* destination, std::uint32_t value) {
+  std::memcpy(destination, &kDigitPairs.text[2 * value], 2);
+}
+
+void writeEightDigits(char* destination, std::uint32_t value) {
+  const std::uint32_t high = value / 10000;
+  const std::uint32_t low = value - high * 10000;
+  writeTwoDigits(destination, high / 100);
+  writeTwoDigits(destination + 2, high % 100);
+  writeTwoDigits(destination + 4, low / 100);
+  writeTwoDigits(destination + 6, low % 100);
+}
+
 /// Writes `value`'s decimal digits so that they end at `end`; returns where they begin.
 char* writeDigitsBackward(char* end, std::uint64_t value) {
-  while (value >= 100) {
-    end -= 2;
-    std::memcpy(end, &kDigitPairs.text[2 * (value % 100)], 2);
-    value /= 100;
+  constexpr std::uint64_t kTen8 = 100000000;
+  while (value >= kTen8) {
+    const std::uint64_t upper = value / kTen8;
+    end -= 8;
+    writeEightDigits(end, static_cast<std::uint32_t>(value - upper * kTen8));
+    value = upper;
   }
-  if (value >= 10) {
+  auto rest = static_cast<std::uint32_t>(value);
+  while (rest >= 100) {
     end -= 2;
-    std::memcpy(end, &kDigitPairs.text[2 * value], 2);
+    writeTwoDigits(end, rest % 100);
+    rest /= 100;
+  }
+  if (rest >= 10) {
+    end -= 2;
+    writeTwoDigits(end, rest);
   } else {
-    *--end = static_cast<char>('0' + value);
+    *--end = static_cast<char>('0' + rest);
   }
   return end;
 }
 
+/// Writes an integer below 10^24 at `destination`; returns the end.
 char* writeInteger(char* destination, Uint128 value) {
   char buffer[40];
   char* const end = buffer + sizeof(buffer);
   char* begin = end;
   constexpr std::uint64_t kTen16 = 10000000000000000u;
-  while (value > UINT64_MAX) {
+  if (value > UINT64_MAX) {
     // The lower 16 digits, zero-padded.
-    const std::uint64_t lower = static_cast<std::uint64_t>(value % kTen16);
+    const auto lower = static_cast<std::uint64_t>(value % kTen16);
     value /= kTen16;
-    char* const lowerBegin = writeDigitsBackward(begin, lower);
-    std::memset(begin - 16, '0', static_cast<std::size_t>(lowerBegin - (begin - 16)));
+    std::memset(begin - 16, '0', 16);
+    writeDigitsBackward(begin, lower);
     begin -= 16;
   }
   begin = writeDigitsBackward(begin, static_cast<std::uint64_t>(value));
-  const std::size_t length = static_cast<std::size_t>(end - begin);
+  const auto length = static_cast<std::size_t>(end - begin);
   std::memcpy(destination, begin, length);
   return destination + length;
 }
@@ -782,64 +804,66 @@ int floorLog2Pow10(int e) { return static_cast<int>((std::int64_t{e} * 142675725
 char* writeShortestDouble(char* destination, double value) {
   std::uint64_t bits = 0;
   std::memcpy(&bits, &value, sizeof(bits));
-  char* out = destination;
-  if (bits >> 63) *out++ = '-';
+  const bool negative = (bits >> 63) != 0;
   const std::uint64_t fraction = bits & ((std::uint64_t{1} << 52) - 1);
   const int biasedExponent = static_cast<int>((bits >> 52) & 0x7ff);
   if (biasedExponent == 0 && fraction == 0) {
-    *out++ = '0';
-    return out;
+    destination[0] = '-';
+    destination[negative ? 1 : 0] = '0';
+    return destination + (negative ? 2 : 1);
   }
   const std::uint64_t c = biasedExponent == 0 ? fraction : fraction | (std::uint64_t{1} << 52);
   const int q = biasedExponent == 0 ? -1074 : biasedExponent - 1075;
   const Decimal decimal = shortestDecimal(c, q, fraction == 0 && biasedExponent > 1);
 
-  char digitBuffer[20];
-  char* const digitsEnd = digitBuffer + sizeof(digitBuffer);
-  const char* const digitsBegin = writeDigitsBackward(digitsEnd, decimal.digits);
-  const int n = static_cast<int>(digitsEnd - digitsBegin);
+  // The text is built in `text` with copies of fixed sizes (no loop over a length, no call),
+  // then copied whole: kShortestDoubleCapacity characters, the room the caller gives.
+  char text[64];
+  char digitBuffer[64];
+  char* const digitsEnd = digitBuffer + 20;
+  const char* const digits = writeDigitsBackward(digitsEnd, decimal.digits);
+  const int n = static_cast<int>(digitsEnd - digits);  // 1 to 17
   const int e = decimal.exponent;
   const int scientificExponent = e + n - 1;
   const int absoluteExponent = scientificExponent < 0 ? -scientificExponent : scientificExponent;
   const int scientificLength = n + (n > 1 ? 1 : 0) + (absoluteExponent >= 100 ? 5 : 4);
   const int fixedLength = e >= 0 ? n + e : n + e > 0 ? n + 1 : 2 - e;
+  char* out = text;
+  if (negative) *out++ = '-';
 
-  if (fixedLength <= scientificLength) {
-    if (e >= 0) {
-      const Uint128 exact = q >= 0 ? static_cast<Uint128>(c) << q : c >> -q;
-      return writeInteger(out, exact);
+  if (fixedLength > scientificLength) {
+    out[0] = digits[0];
+    out[1] = '.';
+    std::memcpy(out + 2, digits + 1, 16);
+    out += n > 1 ? n + 1 : 1;
+    out[0] = 'e';
+    out[1] = scientificExponent < 0 ? '-' : '+';
+    out += 2;
+    if (absoluteExponent >= 100) {
+      *out++ = static_cast<char>('0' + absoluteExponent / 100);
+      writeTwoDigits(out, static_cast<std::uint32_t>(absoluteExponent % 100));
+    } else {
+      writeTwoDigits(out, static_cast<std::uint32_t>(absoluteExponent));
     }
-    if (n + e > 0) {
-      const std::size_t whole = static_cast<std::size_t>(n + e);
-      std::memcpy(out, digitsBegin, whole);
-      out += whole;
-      *out++ = '.';
-      std::memcpy(out, digitsBegin + whole, static_cast<std::size_t>(-e));
-      return out - e;
-    }
-    *out++ = '0';
-    *out++ = '.';
-    const std::size_t zeros = static_cast<std::size_t>(-(n + e));
-    std::memset(out, '0', zeros);
-    out += zeros;
-    std::memcpy(out, digitsBegin, static_cast<std::size_t>(n));
-    return out + n;
-  }
-  *out++ = digitsBegin[0];
-  if (n > 1) {
-    *out++ = '.';
-    std::memcpy(out, digitsBegin + 1, static_cast<std::size_t>(n - 1));
-    out += n - 1;
-  }
-  *out++ = 'e';
-  *out++ = scientificExponent < 0 ? '-' : '+';
-  if (absoluteExponent >= 100) {
-    *out++ = static_cast<char>('0' + absoluteExponent / 100);
-    std::memcpy(out, &kDigitPairs.text[2 * (absoluteExponent % 100)], 2);
+    out += 2;
+  } else if (e >= 0) {
+    // The double's exact integer value (below 10^22, see above).
+    out = writeInteger(out, q >= 0 ? static_cast<Uint128>(c) << q : c >> -q);
+  } else if (n + e > 0) {
+    // A point inside the digits: at most 16 on either side.
+    const int whole = n + e;
+    std::memcpy(out, digits, 16);
+    out[whole] = '.';
+    std::memcpy(out + whole + 1, digits + whole, 16);
+    out += n + 1;
   } else {
-    std::memcpy(out, &kDigitPairs.text[2 * absoluteExponent], 2);
+    // "0." and at most 3 zeros (2 - e <= n + 5) before the digits.
+    std::memcpy(out, "0.000", 5);
+    std::memcpy(out + 2 - (n + e), digits, 17);
+    out += 2 - e;
   }
-  return out + 2;
+  std::memcpy(destination, text, kShortestDoubleCapacity);
+  return destination + (out - text);
 }
 
 }  // namespace pbd

@@ -16,7 +16,7 @@ inline constexpr std::size_t kShortestDoubleCapacity = 24;
 
 /// Writes the shortest round-trip text of a finite `value` at `destination`
 /// (kShortestDoubleCapacity characters of room, no terminator) and returns the end of what it
-/// wrote. No allocation, no state.
+/// wrote; it may write anything in the rest of that room. No allocation, no state.
 char* writeShortestDouble(char* destination, double value);
 
 /// The parts of the method a test checks by exact integer arithmetic.
