@@ -183,6 +183,19 @@ TEST(ShortestDouble, TheFixedPointLogarithmsAreTheFloorsOfTheExactOnes) {
   }
 }
 
+TEST(ShortestDouble, EveryEightDigitNumberIsWrittenWithItsDigits) {
+  long differences = 0;
+  char digits[8];
+  for (std::uint32_t value = 0; value < 100000000; ++value) {
+    detail::writeEightDigits(digits, value);
+    std::uint32_t rest = value;
+    bool same = true;
+    for (int i = 7; i >= 0; --i, rest /= 10) same = same && digits[i] == static_cast<char>('0' + rest % 10);
+    if (!same && differences++ < 10) ADD_FAILURE() << value << ": " << std::string(digits, 8);
+  }
+  EXPECT_EQ(differences, 0);
+}
+
 // ---- The text, against std::to_chars, class by class ----
 
 TEST(ShortestDouble, SignedZerosAreWrittenAsToCharsWritesThem) {

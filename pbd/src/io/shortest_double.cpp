@@ -732,54 +732,66 @@ void writeTwoDigits(char* destination, std::uint32_t value) {
   std::memcpy(destination, &kDigitPairs.text[2 * value], 2);
 }
 
-void writeEightDigits(char* destination, std::uint32_t value) {
-  const std::uint32_t high = value / 10000;
-  const std::uint32_t low = value - high * 10000;
-  writeTwoDigits(destination, high / 100);
-  writeTwoDigits(destination + 2, high % 100);
-  writeTwoDigits(destination + 4, low / 100);
-  writeTwoDigits(destination + 6, low % 100);
+using shortest_double_detail::writeEightDigits;
+
+struct PowersOfTen64 {
+  std::uint64_t value[20];
+  constexpr PowersOfTen64() : value() {
+    value[0] = 1;
+    for (int i = 1; i < 20; ++i) value[i] = value[i - 1] * 10;
+  }
+};
+constexpr PowersOfTen64 kPowersOfTen64{};
+
+/// The number of decimal digits of value >= 1. With b its bit length, the digits are
+/// floor(log10 value) + 1, either floor(b log10 2) (1233 / 4096 rounds log10 2 down closely
+/// enough for b <= 64) or one more.
+int decimalLength(std::uint64_t value) {
+  const int bits = 64 - __builtin_clzll(value);
+  const int guess = (bits * 1233) >> 12;
+  return guess + (value >= kPowersOfTen64.value[guess] ? 1 : 0);
 }
 
-/// Writes `value`'s decimal digits so that they end at `end`; returns where they begin.
+/// Writes the decimal digits of 1 <= value < 10^17 so that they end at `end`; returns where
+/// they begin. Eight at a time: up to 16 characters before `end` are written.
 char* writeDigitsBackward(char* end, std::uint64_t value) {
   constexpr std::uint64_t kTen8 = 100000000;
-  while (value >= kTen8) {
-    const std::uint64_t upper = value / kTen8;
-    end -= 8;
-    writeEightDigits(end, static_cast<std::uint32_t>(value - upper * kTen8));
-    value = upper;
+  const int length = decimalLength(value);
+  const std::uint64_t upper = value / kTen8;
+  writeEightDigits(end - 8, static_cast<std::uint32_t>(value - upper * kTen8));
+  if (length > 8) {
+    const std::uint64_t top = upper / kTen8;
+    writeEightDigits(end - 16, static_cast<std::uint32_t>(upper - top * kTen8));
+    if (length > 16) end[-17] = static_cast<char>('0' + top);
   }
-  auto rest = static_cast<std::uint32_t>(value);
-  while (rest >= 100) {
-    end -= 2;
-    writeTwoDigits(end, rest % 100);
-    rest /= 100;
-  }
-  if (rest >= 10) {
-    end -= 2;
-    writeTwoDigits(end, rest);
-  } else {
-    *--end = static_cast<char>('0' + rest);
-  }
-  return end;
+  return end - length;
 }
 
-/// Writes an integer below 10^24 at `destination`; returns the end.
+/// The digits of a value >= 1 of any size: up to 17 digits at once, then 16 at a time.
+char* writeIntegerDigitsBackward(char* end, std::uint64_t value) {
+  constexpr std::uint64_t kTen16 = 10000000000000000u;
+  if (value < kTen16 * 10) return writeDigitsBackward(end, value);
+  const std::uint64_t lower = value % kTen16;
+  std::memset(end - 16, '0', 16);
+  if (lower != 0) writeDigitsBackward(end, lower);
+  return writeDigitsBackward(end - 16, value / kTen16);
+}
+
+/// Writes an integer 1 <= value < 10^24 at `destination`; returns the end.
 char* writeInteger(char* destination, Uint128 value) {
-  char buffer[40];
+  char buffer[48];
   char* const end = buffer + sizeof(buffer);
   char* begin = end;
   constexpr std::uint64_t kTen16 = 10000000000000000u;
   if (value > UINT64_MAX) {
-    // The lower 16 digits, zero-padded.
+    // The lower 16 digits, zero-padded, then the rest (at most 8 digits).
     const auto lower = static_cast<std::uint64_t>(value % kTen16);
     value /= kTen16;
     std::memset(begin - 16, '0', 16);
-    writeDigitsBackward(begin, lower);
+    if (lower != 0) writeDigitsBackward(begin, lower);
     begin -= 16;
   }
-  begin = writeDigitsBackward(begin, static_cast<std::uint64_t>(value));
+  begin = writeIntegerDigitsBackward(begin, static_cast<std::uint64_t>(value));
   const auto length = static_cast<std::size_t>(end - begin);
   std::memcpy(destination, begin, length);
   return destination + length;
@@ -790,6 +802,23 @@ char* writeInteger(char* destination, Uint128 value) {
 namespace shortest_double_detail {
 
 Power128 powerOfTen(int e) { return kPowersOfTen[e - kMinPowerOfTen]; }
+
+// The eight digits of value < 10^8, two at a time from a 32.32 fixed-point value / 10^6: y =
+// floor(value ceil(2^52 / 10^6) / 2^20) + 1 slightly exceeds value 2^32 / 10^6, by less than
+// what would carry into the integer part of y, 100 (y mod 2^32), 100 (that mod 2^32), ...
+// for any value < 10^8 (checked for every one by the test).
+void writeEightDigits(char* destination, std::uint32_t value) {
+  constexpr std::uint64_t kScale = 4503599628;  // ceil(2^52 / 10^6)
+  constexpr std::uint64_t kFraction = 0xffffffff;
+  std::uint64_t y = ((std::uint64_t{value} * kScale) >> 20) + 1;
+  writeTwoDigits(destination, static_cast<std::uint32_t>(y >> 32));
+  y = (y & kFraction) * 100;
+  writeTwoDigits(destination + 2, static_cast<std::uint32_t>(y >> 32));
+  y = (y & kFraction) * 100;
+  writeTwoDigits(destination + 4, static_cast<std::uint32_t>(y >> 32));
+  y = (y & kFraction) * 100;
+  writeTwoDigits(destination + 6, static_cast<std::uint32_t>(y >> 32));
+}
 
 // Fixed-point logarithms, round(log10 2 2^32), round(-log10(3/4) 2^32), round(log2 10 2^32);
 // the test checks each against exact powers over the whole stated range.

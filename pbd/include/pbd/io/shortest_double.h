@@ -38,5 +38,8 @@ int floorLog10Pow2(int q);
 int floorLog10ThreeQuartersPow2(int q);
 int floorLog2Pow10(int e);
 
+/// Writes the 8 decimal digits of value < 10^8, leading zeros included.
+void writeEightDigits(char* destination, std::uint32_t value);
+
 }  // namespace shortest_double_detail
 }  // namespace pbd
