@@ -752,11 +752,11 @@ int decimalLength(std::uint64_t value) {
   return guess + (value >= kPowersOfTen64.value[guess] ? 1 : 0);
 }
 
-/// Writes the decimal digits of 1 <= value < 10^17 so that they end at `end`; returns where
-/// they begin. Eight at a time: up to 16 characters before `end` are written.
-char* writeDigitsBackward(char* end, std::uint64_t value) {
+/// Writes the `length` = decimalLength(value) digits of 1 <= value < 10^17 so that they end at
+/// `end`; returns where they begin. Eight at a time: the 8 or 16 characters before `end` are
+/// written, zeros before the digits.
+char* writeDigitsBackward(char* end, std::uint64_t value, int length) {
   constexpr std::uint64_t kTen8 = 100000000;
-  const int length = decimalLength(value);
   const std::uint64_t upper = value / kTen8;
   writeEightDigits(end - 8, static_cast<std::uint32_t>(value - upper * kTen8));
   if (length > 8) {
@@ -770,11 +770,11 @@ char* writeDigitsBackward(char* end, std::uint64_t value) {
 /// The digits of a value >= 1 of any size: up to 17 digits at once, then 16 at a time.
 char* writeIntegerDigitsBackward(char* end, std::uint64_t value) {
   constexpr std::uint64_t kTen16 = 10000000000000000u;
-  if (value < kTen16 * 10) return writeDigitsBackward(end, value);
+  if (value < kTen16 * 10) return writeDigitsBackward(end, value, decimalLength(value));
   const std::uint64_t lower = value % kTen16;
   std::memset(end - 16, '0', 16);
-  if (lower != 0) writeDigitsBackward(end, lower);
-  return writeDigitsBackward(end - 16, value / kTen16);
+  if (lower != 0) writeDigitsBackward(end, lower, decimalLength(lower));
+  return writeDigitsBackward(end - 16, value / kTen16, decimalLength(value / kTen16));
 }
 
 /// Writes an integer 1 <= value < 10^24 at `destination`; returns the end.
@@ -788,7 +788,7 @@ char* writeInteger(char* destination, Uint128 value) {
     const auto lower = static_cast<std::uint64_t>(value % kTen16);
     value /= kTen16;
     std::memset(begin - 16, '0', 16);
-    if (lower != 0) writeDigitsBackward(begin, lower);
+    if (lower != 0) writeDigitsBackward(begin, lower, decimalLength(lower));
     begin -= 16;
   }
   begin = writeIntegerDigitsBackward(begin, static_cast<std::uint64_t>(value));
@@ -845,25 +845,26 @@ char* writeShortestDouble(char* destination, double value) {
   const int q = biasedExponent == 0 ? -1074 : biasedExponent - 1075;
   const Decimal decimal = shortestDecimal(c, q, fraction == 0 && biasedExponent > 1);
 
-  // The text is built in `text` with copies of fixed sizes (no loop over a length, no call),
-  // then copied whole: kShortestDoubleCapacity characters, the room the caller gives.
-  char text[64];
-  char digitBuffer[64];
-  char* const digitsEnd = digitBuffer + 20;
-  const char* const digits = writeDigitsBackward(digitsEnd, decimal.digits);
-  const int n = static_cast<int>(digitsEnd - digits);  // 1 to 17
+  // The text is built in `text`, the digits written once where they go (no copy of characters
+  // just written: a load spanning several recent stores waits for them), then copied whole:
+  // kShortestDoubleCapacity characters, the room the caller gives. The digits' writer may
+  // write up to 16 characters before them, hence the 16 before `text`.
+  char buffer[16 + 64];
+  char* const text = buffer + 16;
+  const int n = decimalLength(decimal.digits);  // 1 to 17
   const int e = decimal.exponent;
   const int scientificExponent = e + n - 1;
   const int absoluteExponent = scientificExponent < 0 ? -scientificExponent : scientificExponent;
   const int scientificLength = n + (n > 1 ? 1 : 0) + (absoluteExponent >= 100 ? 5 : 4);
   const int fixedLength = e >= 0 ? n + e : n + e > 0 ? n + 1 : 2 - e;
-  char* out = text;
-  if (negative) *out++ = '-';
+  const int sign = negative ? 1 : 0;
+  char* out = text + sign;
 
   if (fixedLength > scientificLength) {
-    out[0] = digits[0];
+    // The digits one place right, the first moved left over the point.
+    writeDigitsBackward(out + 1 + n, decimal.digits, n);
+    out[0] = out[1];
     out[1] = '.';
-    std::memcpy(out + 2, digits + 1, 16);
     out += n > 1 ? n + 1 : 1;
     out[0] = 'e';
     out[1] = scientificExponent < 0 ? '-' : '+';
@@ -879,18 +880,22 @@ char* writeShortestDouble(char* destination, double value) {
     // The double's exact integer value (below 10^22, see above).
     out = writeInteger(out, q >= 0 ? static_cast<Uint128>(c) << q : c >> -q);
   } else if (n + e > 0) {
-    // A point inside the digits: at most 16 on either side.
+    // A point inside the digits: the digits one place right, the whole part moved left.
     const int whole = n + e;
-    std::memcpy(out, digits, 16);
+    writeDigitsBackward(out + 1 + n, decimal.digits, n);
+    for (int i = 0; i < whole; ++i) out[i] = out[i + 1];
     out[whole] = '.';
-    std::memcpy(out + whole + 1, digits + whole, 16);
     out += n + 1;
   } else {
     // "0." and at most 3 zeros (2 - e <= n + 5) before the digits.
-    std::memcpy(out, "0.000", 5);
-    std::memcpy(out + 2 - (n + e), digits, 17);
+    const int zeros = -(n + e);
+    writeDigitsBackward(out + 2 + zeros + n, decimal.digits, n);
+    out[0] = '0';
+    out[1] = '.';
+    for (int i = 0; i < zeros; ++i) out[2 + i] = '0';
     out += 2 - e;
   }
+  if (negative) text[0] = '-';
   std::memcpy(destination, text, kShortestDoubleCapacity);
   return destination + (out - text);
 }
