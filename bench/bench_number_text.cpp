@@ -26,7 +26,8 @@ std::vector<double> trajectoryValues() {
   std::mt19937_64 random(1);
   std::uniform_real_distribution<double> uniform(-10.0, 10.0);
   std::vector<double> values(kNumbers);
-  for (double& value : values) value = uniform(random);
+  for (double& value : values)
+    value = uniform(random);
   return values;
 }
 
@@ -57,7 +58,9 @@ void writeAll(benchmark::State& state, const std::vector<double>& values, Write 
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * values.size()));
 }
 
-char* withToChars(char* text, double value) { return std::to_chars(text, text + 64, value).ptr; }
+char* withToChars(char* text, double value) {
+  return std::to_chars(text, text + 64, value).ptr;
+}
 char* withShortestDouble(char* text, double value) {
   return pbd::writeShortestDouble(text, value);
 }

@@ -54,8 +54,10 @@ BigInteger multiplied(const BigInteger& a, const BigInteger& b) {
 /// factor 2^twos 10^tens, twos and tens >= 0.
 BigInteger power(std::uint32_t factor, int twos, int tens) {
   BigInteger value{factor};
-  for (int i = 0; i < tens; ++i) multiplyBy(value, 10);
-  for (int i = 0; i < twos; ++i) multiplyBy(value, 2);
+  for (int i = 0; i < tens; ++i)
+    multiplyBy(value, 10);
+  for (int i = 0; i < twos; ++i)
+    multiplyBy(value, 2);
   return value;
 }
 
@@ -66,8 +68,10 @@ BigInteger fromHalves(std::uint64_t high, std::uint64_t low) {
 
 /// -1, 0, 1 as a < b, a = b, a > b.
 int compare(BigInteger a, BigInteger b) {
-  while (!a.empty() && a.back() == 0) a.pop_back();
-  while (!b.empty() && b.back() == 0) b.pop_back();
+  while (!a.empty() && a.back() == 0)
+    a.pop_back();
+  while (!b.empty() && b.back() == 0)
+    b.pop_back();
   if (a.size() != b.size()) return a.size() < b.size() ? -1 : 1;
   for (std::size_t i = a.size(); i-- > 0;)
     if (a[i] != b[i]) return a[i] < b[i] ? -1 : 1;
@@ -98,8 +102,7 @@ std::optional<std::string> differenceFromToChars(double value) {
            "\"";
   double readBack = 0;
   const auto [end, error] = std::from_chars(mine, mineEnd, readBack);
-  if (error != std::errc() || end != mineEnd ||
-      std::memcmp(&readBack, &value, sizeof(double)) != 0)
+  if (error != std::errc() || end != mineEnd || std::memcmp(&readBack, &value, sizeof(double)) != 0)
     return std::string(hex) + ": \"" + mineText + "\" does not read back to the same double";
   return std::nullopt;
 }
@@ -190,7 +193,8 @@ TEST(ShortestDouble, EveryEightDigitNumberIsWrittenWithItsDigits) {
     detail::writeEightDigits(digits, value);
     std::uint32_t rest = value;
     bool same = true;
-    for (int i = 7; i >= 0; --i, rest /= 10) same = same && digits[i] == static_cast<char>('0' + rest % 10);
+    for (int i = 7; i >= 0; --i, rest /= 10)
+      same = same && digits[i] == static_cast<char>('0' + rest % 10);
     if (!same && differences++ < 10) ADD_FAILURE() << value << ": " << std::string(digits, 8);
   }
   EXPECT_EQ(differences, 0);
@@ -214,28 +218,33 @@ TEST(ShortestDouble, SubnormalsAndTheEndsOfTheNormalRangeAreWrittenAsToCharsWrit
   count.check(fromBits(2));
   count.check(fromBits(3));
   std::mt19937_64 random(20261129);
-  for (int i = 0; i < 100000; ++i) count.check(fromBits(random() & ((std::uint64_t{1} << 52) - 1)));
+  for (int i = 0; i < 100000; ++i)
+    count.check(fromBits(random() & ((std::uint64_t{1} << 52) - 1)));
   EXPECT_EQ(count.differences(), 0);
 }
 
-TEST(ShortestDouble, PowersOfTwoAndTenAcrossTheRangeAndTheirNeighboursAreWrittenAsToCharsWritesThem) {
+TEST(ShortestDouble,
+     PowersOfTwoAndTenAcrossTheRangeAndTheirNeighboursAreWrittenAsToCharsWritesThem) {
   DifferenceCount count;
-  for (int e = -1074; e <= 1023; ++e) count.checkWithNeighbours(std::ldexp(1.0, e));
-  for (int e = -323; e <= 308; ++e) count.checkWithNeighbours(parsed("1e" + std::to_string(e)));
+  for (int e = -1074; e <= 1023; ++e)
+    count.checkWithNeighbours(std::ldexp(1.0, e));
+  for (int e = -323; e <= 308; ++e)
+    count.checkWithNeighbours(parsed("1e" + std::to_string(e)));
   EXPECT_EQ(count.differences(), 0);
 }
 
 TEST(ShortestDouble, IntegersUpToTwoToTheFiftyThreeAndBeyondAreWrittenAsToCharsWritesThem) {
   DifferenceCount count;
-  for (int i = 0; i <= 100000; ++i) count.check(static_cast<double>(i));
+  for (int i = 0; i <= 100000; ++i)
+    count.check(static_cast<double>(i));
   for (std::int64_t i = -1000; i <= 1000; ++i) {
     count.check(static_cast<double>((std::int64_t{1} << 53) + i));
     count.check(static_cast<double>((std::int64_t{1} << 62) + i * 1024));
   }
   std::mt19937_64 random(53);
   for (int i = 0; i < 200000; ++i) {
-    count.check(static_cast<double>(random() >> 11));                // below 2^53
-    count.check(static_cast<double>(random()));                      // up to 2^64
+    count.check(static_cast<double>(random() >> 11));                  // below 2^53
+    count.check(static_cast<double>(random()));                        // up to 2^64
     count.check(std::ldexp(static_cast<double>(random() >> 11), 30));  // integers to 2^83
   }
   EXPECT_EQ(count.differences(), 0);
@@ -243,9 +252,9 @@ TEST(ShortestDouble, IntegersUpToTwoToTheFiftyThreeAndBeyondAreWrittenAsToCharsW
 
 TEST(ShortestDouble, NumbersAtTheFixedScientificSwitchAreWrittenAsToCharsWritesThem) {
   DifferenceCount count;
-  for (const char* text : {"1e-5", "1e-4", "1.5e-5", "0.000123", "0.0001234", "1e15", "1e16",
-                           "1e21", "1e22", "1e23", "123456789012345680000",
-                           "1.2345678901234567e21", "1.23e22", "12345678901234567e5"})
+  for (const char* text :
+       {"1e-5", "1e-4", "1.5e-5", "0.000123", "0.0001234", "1e15", "1e16", "1e21", "1e22", "1e23",
+        "123456789012345680000", "1.2345678901234567e21", "1.23e22", "12345678901234567e5"})
     count.checkWithNeighbours(parsed(text));
   // Every digit count at every decimal exponent around both switches (fixed and scientific
   // of the same length meet there), random digits.
@@ -254,7 +263,8 @@ TEST(ShortestDouble, NumbersAtTheFixedScientificSwitchAreWrittenAsToCharsWritesT
     for (int exponent = -12; exponent <= 26; ++exponent) {
       for (int i = 0; i < 200; ++i) {
         std::string text = std::to_string(1 + random() % 9) + ".";
-        for (int d = 1; d < digits; ++d) text += static_cast<char>('0' + random() % 10);
+        for (int d = 1; d < digits; ++d)
+          text += static_cast<char>('0' + random() % 10);
         count.checkWithNeighbours(parsed(text + "e" + std::to_string(exponent)));
       }
     }
@@ -268,7 +278,8 @@ TEST(ShortestDouble, ValuesOfOneToSeventeenSignificantDigitsAreWrittenAsToCharsW
   for (int digits = 1; digits <= 17; ++digits) {
     for (int i = 0; i < 20000; ++i) {
       std::string text;
-      for (int d = 0; d < digits; ++d) text += static_cast<char>('0' + random() % 10);
+      for (int d = 0; d < digits; ++d)
+        text += static_cast<char>('0' + random() % 10);
       const int exponent = static_cast<int>(random() % 640) - 330;
       count.check(parsed(text + "e" + std::to_string(exponent)));
     }
@@ -290,7 +301,8 @@ TEST(ShortestDouble, OneMillionRandomDoublesInATrajectorysRangeAreWrittenAsToCha
   DifferenceCount count;
   std::mt19937_64 random(10);
   std::uniform_real_distribution<double> uniform(-10.0, 10.0);
-  for (int i = 0; i < 1000000; ++i) count.check(uniform(random));
+  for (int i = 0; i < 1000000; ++i)
+    count.check(uniform(random));
   EXPECT_EQ(count.differences(), 0);
 }
 

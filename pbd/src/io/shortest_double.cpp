@@ -17,10 +17,12 @@
 // cp = 4 c 2^h (4 c - 2, 4 c - 1, 4 c + 2 for the ends), h = q + floor(log2 10^-k) + 1 in
 // [1, 4], and g = floor(10^-k 2^(127 - floor(log2 10^-k))) + 1, a 128-bit integer in
 // [2^127, 2^128). Rounding to odd keeps every comparison with an even number (the candidates'
-// 4 s and the midpoint 4 s + 2) exact; the paper proves that the product's error (g is 10^-k
-// rounded up by less than one unit of its last bit, so at most cp 2^-128 < 2^-69) never
-// crosses an integer nor makes an integer product look fractional, because a fraction of
-// c 2^q 10^-k that is not zero is at least 2^-63 away from an integer for every double.
+// 4 s and the midpoint 4 s + 2) exact. The product's error (g is 10^-k 2^(...) rounded up by
+// less than 1, so the error is below cp 2^-128 < 2^-69) neither crosses an integer nor makes an
+// integral product look fractional: the paper bounds how near an integer a fractional
+// c 2^q 10^-k can come, for every double, and proves this with a 126-bit g and 63 fraction
+// bits; here g has 128 bits and the fraction 64 (tests/pbd/test_shortest_double.cpp compares
+// the text with std::to_chars on 11 million doubles).
 //
 // Text: digits d (n of them, trailing zeros removed) and exponent e, v = d 10^e. Scientific
 // "d.ddde+XX" has n + (n > 1) + 4 characters (+1 for a three-digit exponent); fixed has n + e
@@ -738,7 +740,8 @@ struct PowersOfTen64 {
   std::uint64_t value[20];
   constexpr PowersOfTen64() : value() {
     value[0] = 1;
-    for (int i = 1; i < 20; ++i) value[i] = value[i - 1] * 10;
+    for (int i = 1; i < 20; ++i)
+      value[i] = value[i - 1] * 10;
   }
 };
 constexpr PowersOfTen64 kPowersOfTen64{};
@@ -801,7 +804,9 @@ char* writeInteger(char* destination, Uint128 value) {
 
 namespace shortest_double_detail {
 
-Power128 powerOfTen(int e) { return kPowersOfTen[e - kMinPowerOfTen]; }
+Power128 powerOfTen(int e) {
+  return kPowersOfTen[e - kMinPowerOfTen];
+}
 
 // The eight digits of value < 10^8, two at a time from a 32.32 fixed-point value / 10^6: y =
 // floor(value ceil(2^52 / 10^6) / 2^20) + 1 slightly exceeds value 2^32 / 10^6, by less than
@@ -822,11 +827,15 @@ void writeEightDigits(char* destination, std::uint32_t value) {
 
 // Fixed-point logarithms, round(log10 2 2^32), round(-log10(3/4) 2^32), round(log2 10 2^32);
 // the test checks each against exact powers over the whole stated range.
-int floorLog10Pow2(int q) { return static_cast<int>((std::int64_t{q} * 1292913986) >> 32); }
+int floorLog10Pow2(int q) {
+  return static_cast<int>((std::int64_t{q} * 1292913986) >> 32);
+}
 int floorLog10ThreeQuartersPow2(int q) {
   return static_cast<int>((std::int64_t{q} * 1292913986 - 536607788) >> 32);
 }
-int floorLog2Pow10(int e) { return static_cast<int>((std::int64_t{e} * 14267572527) >> 32); }
+int floorLog2Pow10(int e) {
+  return static_cast<int>((std::int64_t{e} * 14267572527) >> 32);
+}
 
 }  // namespace shortest_double_detail
 
@@ -883,7 +892,8 @@ char* writeShortestDouble(char* destination, double value) {
     // A point inside the digits: the digits one place right, the whole part moved left.
     const int whole = n + e;
     writeDigitsBackward(out + 1 + n, decimal.digits, n);
-    for (int i = 0; i < whole; ++i) out[i] = out[i + 1];
+    for (int i = 0; i < whole; ++i)
+      out[i] = out[i + 1];
     out[whole] = '.';
     out += n + 1;
   } else {
@@ -892,7 +902,8 @@ char* writeShortestDouble(char* destination, double value) {
     writeDigitsBackward(out + 2 + zeros + n, decimal.digits, n);
     out[0] = '0';
     out[1] = '.';
-    for (int i = 0; i < zeros; ++i) out[2 + i] = '0';
+    for (int i = 0; i < zeros; ++i)
+      out[2 + i] = '0';
     out += 2 - e;
   }
   if (negative) text[0] = '-';
