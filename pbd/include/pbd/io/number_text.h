@@ -28,8 +28,8 @@ std::string formatReal(double value);
 /// Room `writeReal` needs at its destination.
 inline constexpr std::size_t kRealTextCapacity = 32;
 /// Writes formatReal's text at `destination` (kRealTextCapacity characters of room, no
-/// terminator) and returns the end of what it wrote: for writers that format many numbers
-/// into one buffer.
+/// terminator; the rest of that room may be written too) and returns the end of the text: for
+/// writers that format many numbers into one buffer.
 char* writeReal(char* destination, double value);
 
 }  // namespace pbd
