@@ -5,6 +5,8 @@
 #include <cmath>
 #include <system_error>
 
+#include "pbd/io/shortest_double.h"
+
 namespace pbd {
 
 std::optional<double> parseReal(std::string_view text) {
@@ -30,7 +32,8 @@ char* writeReal(char* destination, double value) {
     const std::string_view text = std::isnan(value) ? "nan" : value > 0 ? "inf" : "-inf";
     return std::copy(text.begin(), text.end(), destination);
   }
-  return std::to_chars(destination, destination + kRealTextCapacity, value).ptr;
+  static_assert(kShortestDoubleCapacity <= kRealTextCapacity);
+  return writeShortestDouble(destination, value);
 }
 
 std::string formatReal(double value) {

@@ -3,7 +3,8 @@
 //
 // Reading is strict: the whole text must be one number in C locale form ("0.25", "-1e-3"),
 // finite and representable; no leading '+', no spaces, no "inf" or "nan". Writing gives the
-// shortest text that reads back to the same double ("0.1", not "0.10000000000000001").
+// shortest text that reads back to the same double ("0.1", not "0.10000000000000001"), byte for
+// byte what std::to_chars(double) writes (pbd/io/shortest_double.h).
 #pragma once
 
 #include <cstddef>
@@ -27,8 +28,8 @@ std::string formatReal(double value);
 /// Room `writeReal` needs at its destination.
 inline constexpr std::size_t kRealTextCapacity = 32;
 /// Writes formatReal's text at `destination` (kRealTextCapacity characters of room, no
-/// terminator) and returns the end of what it wrote: for writers that format many numbers
-/// into one buffer.
+/// terminator; the rest of that room may be written too) and returns the end of the text: for
+/// writers that format many numbers into one buffer.
 char* writeReal(char* destination, double value);
 
 }  // namespace pbd
