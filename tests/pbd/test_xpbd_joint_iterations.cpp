@@ -28,8 +28,7 @@ Scene chainScene(int links, JointType type, int substeps, JointDirections direct
                  int iterations) {
   Scene scene;
   scene.simulation.timeStepSize = Real(0.005);
-  scene.rigidBodies.push_back(
-      test::boxBody(0, Vector3(0.1, 0.1, 0.1), Vector3(0, 2, 0), 1, false));
+  scene.rigidBodies.push_back(test::boxBody(0, Vector3(0.1, 0.1, 0.1), Vector3(0, 2, 0), 1, false));
   test::appendChain(scene, links, type);
   scene.simulation.stepMethod = StepMethod::Xpbd;
   scene.simulation.xpbd.substeps = substeps;
@@ -68,9 +67,9 @@ ChainRun runDoublePendulum(int iterations, JointDirections directions) {
     for (std::size_t i = 1; i < 3; ++i) {
       const Real accel = (b.velocity[i] - v[i]).norm() / h;
       const Real angularAccel = (b.angularVelocity[i] - w[i]).norm() / h;
-      run.drift = std::max(
-          run.drift,
-          hs * hs * (accel + (b.angularVelocity[i].squaredNorm() + angularAccel) * lever));
+      run.drift =
+          std::max(run.drift,
+                   hs * hs * (accel + (b.angularVelocity[i].squaredNorm() + angularAccel) * lever));
     }
     for (const Joint& joint : world.joints)
       run.jointError = std::max(run.jointError, jointError(joint, world.bodies).linear);
@@ -117,8 +116,7 @@ BallResiduals ballResiduals(const World& world, const std::vector<XpbdJointMulti
   for (std::size_t j = 0; j < world.joints.size(); ++j) {
     const Vector3 c = std::get<BallJoint>(world.joints[j]).positionRows(world.bodies).value;
     r.value = std::max(r.value, c.norm());
-    r.residual =
-        std::max(r.residual, (c + complianceTilde * lambda[j].head<3>()).norm());
+    r.residual = std::max(r.residual, (c + complianceTilde * lambda[j].head<3>()).norm());
   }
   return r;
 }
@@ -145,8 +143,8 @@ TEST(XpbdJointIterations, ContinuedSweepsConvergeToTheCompliantSolutionNotTheRig
     b.position[1] += Vector3(0.01, -0.02, 0.005);
     b.position[2] += Vector3(0.02, -0.01, -0.01);
     b.position[3] += Vector3(0.005, 0.015, 0.01);
-    b.rotation[3] = (Quaternion(AngleAxis(0.03, Vector3(1, 2, 3).normalized())) * b.rotation[3])
-                        .normalized();
+    b.rotation[3] =
+        (Quaternion(AngleAxis(0.03, Vector3(1, 2, 3).normalized())) * b.rotation[3]).normalized();
     const Real complianceTilde = kCompliance / (substep * substep);
     std::vector<XpbdJointMultipliers> lambda(world.joints.size(), XpbdJointMultipliers::Zero());
     const Real offset = ballResiduals(world, lambda, complianceTilde).value;
@@ -157,10 +155,11 @@ TEST(XpbdJointIterations, ContinuedSweepsConvergeToTheCompliantSolutionNotTheRig
       solveJointPositionsXpbd(world.joints, world.xpbd.jointSchedule, world.bodies, substep,
                               world.settings.xpbd, lambda, /*firstSweep=*/false);
     const BallResiduals converged = ballResiduals(world, lambda, complianceTilde);
-    std::printf("  3 compliant ball joints, %s: offsets %.3e m; |C + a~ lambda| 1 sweep %.3e m, "
-                "200 sweeps %.3e m; |C| %.3e m\n",
-                jointDirectionsName(directions), double(offset), double(first.residual),
-                double(converged.residual), double(converged.value));
+    std::printf(
+        "  3 compliant ball joints, %s: offsets %.3e m; |C + a~ lambda| 1 sweep %.3e m, "
+        "200 sweeps %.3e m; |C| %.3e m\n",
+        jointDirectionsName(directions), double(offset), double(first.residual),
+        double(converged.residual), double(converged.value));
     EXPECT_GT(first.residual, 1e-2 * offset);
     EXPECT_LT(converged.residual, test::roundOffBound(1e-10) * offset);
     EXPECT_GT(converged.value, 1e-2 * offset);  // open by α̃ λ, not closed
