@@ -1060,7 +1060,8 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
     if scene.particles and particles is None:
         raise ValueError(f"the scene has {len(scene.particles)} particles and the engine "
                          "reads none back (simulate's `particles`)")
-    sampled = set(scene.sample_steps())
+    sample_steps = scene.sample_steps()  # ascending
+    sampled = set(sample_steps)
     h = scene.time_step_size
     failing = failure is not _no_failure  # whether `failure` may find one (else not called)
     between_samples = check is not None or failing  # whether a step between samples is tested
@@ -1138,7 +1139,7 @@ def simulate(scene: ResolvedScene, out_dir: str | os.PathLike[str], step: Callab
                     # Nothing to test between samples: the steps up to each sample in one loop
                     # without a test per step (the same calls, in the same order).
                     done = 0
-                    for target in sorted(sampled):
+                    for target in sample_steps:
                         for _ in itertools.repeat(None, target - done):
                             step()
                         done = target

@@ -4,25 +4,12 @@
 #include <gtest/gtest.h>
 
 #include "common/tolerances.h"
+#include "common/two_bodies.h"
 #include "pbd/joints/joint_parts.h"
 #include "pbd/joints/point_constraint.h"
 
 namespace pbd {
 namespace {
-
-RigidBodyStates twoBodies(bool firstDynamic) {
-  RigidBodyStates b;
-  b.resize(2);
-  b.position[0] = Vector3(0.1, -0.2, 0.3);
-  b.position[1] = Vector3(0.6, 0.1, -0.2);
-  b.rotation[0] = Quaternion(AngleAxis(0.7, Vector3(1, 2, -1).normalized()));
-  b.rotation[1] = Quaternion(AngleAxis(-1.9, Vector3(0, 3, 1).normalized()));
-  b.inverseMass[0] = firstDynamic ? Real(1) / 3 : 0;
-  b.inverseMass[1] = Real(1) / Real(0.7);
-  b.inverseInertia[0] = firstDynamic ? Vector3(2.0, 5.0, 11.0) : Vector3::Zero();
-  b.inverseInertia[1] = Vector3(13.0, 3.0, 7.0);
-  return b;
-}
 
 // The same projection through the generic m-row path.
 Vector3 genericProjection(RigidBodyStates& b, const Vector3& a0, const Vector3& a1, Real compliance,
@@ -37,8 +24,8 @@ Vector3 genericProjection(RigidBodyStates& b, const Vector3& a0, const Vector3& 
 
 void expectSameProjection(bool firstDynamic, Real compliance, const Vector3& lambda) {
   const Vector3 a0(0.25, -0.1, 0.4), a1(-0.3, 0.2, 0.05);
-  RigidBodyStates direct = twoBodies(firstDynamic);
-  RigidBodyStates generic = twoBodies(firstDynamic);
+  RigidBodyStates direct = test::twoTurnedBodies(firstDynamic);
+  RigidBodyStates generic = test::twoTurnedBodies(firstDynamic);
   const Vector3 directMultiplier = projectPointConstraint(direct, 0, 1, a0, a1, compliance, lambda);
   const Vector3 genericMultiplier = genericProjection(generic, a0, a1, compliance, lambda);
   // Both solve the same 3×3 system (K's condition number here is below 10³) in a different
@@ -67,7 +54,7 @@ TEST(PointConstraint, MatchesTheGenericBlockSolveWithComplianceAndMultiplier) {
 }
 
 TEST(PointConstraint, TwoStaticEndsAreNotMoved) {
-  RigidBodyStates b = twoBodies(false);
+  RigidBodyStates b = test::twoTurnedBodies(false);
   b.inverseMass[1] = 0;
   b.inverseInertia[1].setZero();
   const RigidBodyStates before = b;
@@ -81,7 +68,7 @@ TEST(PointConstraint, OneHardProjectionOfASmallErrorLeavesOnlyASecondOrderResidu
   // Newton's step on C(x, q): C after one projection is O(|C before|²) (the rotation update is
   // linearised). Halving the error must divide the residual by about 4 (at least 3).
   auto residualAfter = [](Real offset) {
-    RigidBodyStates b = twoBodies(true);
+    RigidBodyStates b = test::twoTurnedBodies(true);
     const Vector3 a0(0.25, -0.1, 0.4);
     const Vector3 c0 = b.position[0] + b.rotation[0] * a0;
     const Vector3 a1 =

@@ -15,6 +15,7 @@
 #include "common/joint_hold.h"
 #include "common/scene_fixtures.h"
 #include "common/tolerances.h"
+#include "common/two_bodies.h"
 #include "pbd/joints/point_constraint.h"
 #include "pbd/model/world.h"
 
@@ -154,15 +155,8 @@ TEST(XpbdJointDirections, BothSettingsAreBitwiseDeterministicAndDiffer) {
   }
 }
 
-RigidBodyStates twoTurnedBodies() {
-  RigidBodyStates b;
-  b.resize(2);
-  b.position[0] = Vector3(0.1, -0.2, 0.3);
-  b.position[1] = Vector3(0.6, 0.1, -0.2);
-  b.rotation[0] = Quaternion(AngleAxis(0.7, Vector3(1, 2, -1).normalized()));
-  b.rotation[1] = Quaternion(AngleAxis(-1.9, Vector3(0, 3, 1).normalized()));
-  b.inverseMass = {Real(1) / 3, Real(1) / Real(0.7)};
-  b.inverseInertia = {Vector3(2.0, 5.0, 11.0), Vector3(13.0, 3.0, 7.0)};
+RigidBodyStates twoTurnedBodiesWithStart() {
+  RigidBodyStates b = test::twoTurnedBodies();
   // The substep's start: both bodies turned back by 0.04 rad (below the 0.1 rad limit).
   b.oldRotation[0] = Quaternion(AngleAxis(-0.04, Vector3(0, 0, 1))) * b.rotation[0];
   b.oldRotation[1] = Quaternion(AngleAxis(0.04, Vector3(1, 0, 0))) * b.rotation[1];
@@ -177,7 +171,7 @@ RigidBodyStates twoTurnedBodies() {
 // offset; a symmetric K of the start directions alone leaves about the 0.04 rad turn times
 // |C_before|, a step that ignored the turn entirely O(1)).
 TEST(XpbdJointDirections, PointConstraintStepActsAlongTheStartDirectionsAndClosesTheJoint) {
-  RigidBodyStates b = twoTurnedBodies();
+  RigidBodyStates b = twoTurnedBodiesWithStart();
   const Vector3 a0(0.25, -0.1, 0.4), a1(-0.3, 0.2, 0.05);
   const auto c = [&](const RigidBodyStates& s) -> Vector3 {
     return (s.position[1] + s.rotation[1] * a1) - (s.position[0] + s.rotation[0] * a0);
@@ -215,7 +209,7 @@ TEST(XpbdJointDirections, PointConstraintStepActsAlongTheStartDirectionsAndClose
 
 // With no turn in the substep (start = current poses) both settings are the same projection.
 TEST(XpbdJointDirections, PointConstraintStepIsThePredictedOneWhenTheBodiesDidNotTurn) {
-  RigidBodyStates start = twoTurnedBodies();
+  RigidBodyStates start = twoTurnedBodiesWithStart();
   start.oldRotation = start.rotation;
   RigidBodyStates predicted = start;
   const Vector3 a0(0.25, -0.1, 0.4), a1(-0.3, 0.2, 0.05);

@@ -191,7 +191,7 @@ def test_friction_combination_rules_match_pbd() -> None:
     # pbd::combineMaterials (pbd/src/model/scene.cpp) for friction values 0.2 and 0.5
     expected = {"seed": 0.7, "product": 0.1, "average": 0.35, "min": 0.2, "max": 0.5}
     for rule, value in expected.items():
-        assert deformables.combine(rule, 0.2, 0.5) == pytest.approx(value, rel=1e-15)
+        assert pp.combine_friction(rule, 0.2, 0.5) == pytest.approx(value, rel=1e-15)
 
 
 # --- whole runs -----------------------------------------------------------------------------
@@ -273,7 +273,7 @@ def test_cloth_rests_on_the_sphere_at_the_margin(export_scene: Export, run_engin
     factors = engine.material_factors(scene, "friction")
     assert factors is not None and settings["TriangleModels[0].frictionCoeff"] == factors[1]
     assert factors[0] * factors[1] == pytest.approx(
-        deformables.combine(scene.contact_combine_rule, cloth.friction, sphere.material.friction),
+        pp.combine_friction(scene.contact_combine_rule, cloth.friction, sphere.material.friction),
         rel=1e-9)
     # The static sphere, a btRigidBody in the deformable world, stays where it is, exactly.
     spheres = np.load(out / "trajectory.npy")
@@ -340,7 +340,7 @@ def test_the_runner_measures_pybullet_solids(pbdval_binary: Path, export_scene: 
     lower, upper = scene.tet_models
     kdf = [float(pair["settings"][f"TetModels[{i}].frictionCoeff"]) for i in (0, 1)]
     assert kdf[0] * kdf[1] == pytest.approx(
-        deformables.combine(scene.contact_combine_rule, lower.friction, upper.friction), rel=1e-9)
+        pp.combine_friction(scene.contact_combine_rule, lower.friction, upper.friction), rel=1e-9)
 
 
 def whole_period_mean(t: np.ndarray, y: np.ndarray) -> tuple[float, float, float]:

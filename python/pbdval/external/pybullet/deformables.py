@@ -232,11 +232,6 @@ def substep_count(step: float, omega: float) -> int:
     return max(1, math.ceil(step * omega / COURANT - 1e-12))
 
 
-def combine(rule: str, a: float, b: float) -> float:
-    """pbd::combineMaterials for friction: the pair value PBD uses for two materials."""
-    return pp.combine_friction(rule, a, b)
-
-
 class SoftBodies:
     """The scene's triangle and tet models loaded into a deformable world: `models` (scene
     order), `omega` (the bound on ω_max over all of them), `notes` (approximations made)."""

@@ -133,10 +133,10 @@ def material_factors(scene: pp.ResolvedScene, which: str) -> list[float] | None:
             for b in scene.bodies:
                 if b.shape.type != "none":
                     pairs.append((count + i, b.index,
-                                  deformables.combine(rule, m.friction, b.material.friction)))
+                                  pp.combine_friction(rule, m.friction, b.material.friction)))
             for j in range(i + 1, len(soft)):
                 pairs.append((count + i, count + j,
-                              deformables.combine(rule, m.friction, soft[j].friction)))
+                              pp.combine_friction(rule, m.friction, soft[j].friction)))
         count += len(soft)
     factors = materials.per_body_factors(count, pairs)
     if (factors is not None and which == "friction"
